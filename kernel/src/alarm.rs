@@ -1,0 +1,145 @@
+//! Alarms: every problem softnc finds is an [`Alarm`] with a stable number, the program,
+//! the source position and the block, printed like a compiler diagnostic.
+//!
+//! The numbers are listed in docs/alarms.md. Where a seed manual names a number (840C 3021,
+//! Fanuc 026) softnc uses it; the others follow the SINUMERIK 840D numbering where a matching
+//! alarm exists there, so that a Siemens user recognises them.
+
+use std::fmt;
+
+/// Stable alarm numbers. A number, once shipped, never changes meaning.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum AlarmCode {
+    /// Fanuc P/S 026: compensation start or end in a block that is not G00/G01 (seed 003).
+    FanucTrcNotLinear,
+    /// 840C 3021: contour violation with TRC (11.11, 11.12).
+    ContourViolation,
+    /// TRC selection or deselection in a circular block (Siemens/ISG wording of Fanuc 026).
+    TrcSelectionNotLinear,
+    /// A function that may not be programmed while TRC is active (840C 11.4).
+    ForbiddenWithTrc,
+    /// Plane change while TRC is active.
+    PlaneChangeWithTrc,
+    /// Working area limitation (840C G25/G26) violated.
+    WorkingArea,
+    /// Syntax error: a character or token that cannot start or continue a word.
+    Syntax,
+    /// An address (word letter) that the dialect does not know, or an axis the machine lacks.
+    UnknownAddress,
+    /// The same address twice in one block.
+    AddressTwice,
+    /// Two G codes of the same modal group in one block.
+    SameGroupTwice,
+    /// A G code the dialect does not define.
+    UnknownGCode,
+    /// A number that cannot be read, or a value outside its range.
+    BadNumber,
+    /// A function the dialect defines but softnc does not implement.
+    NotSupported,
+    /// A variable that is read before it is defined, or that cannot be written.
+    UndefinedName,
+    /// Arithmetic error in an expression (division by zero, square root of a negative number).
+    Arithmetic,
+    /// Control structures ($FOR/$IF/$WHILE) not properly nested or not closed.
+    ControlNesting,
+    /// A loop ran more iterations than the machine data allows (guards against endless programs).
+    LoopLimit,
+    /// Circle end point not on the circle, or radius programming impossible.
+    ArcEndPoint,
+    /// Missing information for a motion (no centre for an arc, ...).
+    MissingValue,
+    /// Too many auxiliary functions or words in one block.
+    TooManyWords,
+    /// Tool offset (D, T/D) not in the tool table.
+    UnknownOffset,
+    /// A feed motion with no feed programmed.
+    NoFeed,
+}
+
+impl AlarmCode {
+    pub const fn number(self) -> u32 {
+        match self {
+            AlarmCode::FanucTrcNotLinear => 26,
+            AlarmCode::ContourViolation => 3021,
+            AlarmCode::TrcSelectionNotLinear => 10751,
+            AlarmCode::ForbiddenWithTrc => 10754,
+            AlarmCode::PlaneChangeWithTrc => 10755,
+            AlarmCode::WorkingArea => 10630,
+            AlarmCode::Syntax => 12080,
+            AlarmCode::UnknownAddress => 12050,
+            AlarmCode::AddressTwice => 12040,
+            AlarmCode::SameGroupTwice => 12060,
+            AlarmCode::UnknownGCode => 12470,
+            AlarmCode::BadNumber => 12160,
+            AlarmCode::NotSupported => 12580,
+            AlarmCode::UndefinedName => 12550,
+            AlarmCode::Arithmetic => 14000,
+            AlarmCode::ControlNesting => 12640,
+            AlarmCode::LoopLimit => 12650,
+            AlarmCode::ArcEndPoint => 14040,
+            AlarmCode::MissingValue => 14045,
+            AlarmCode::TooManyWords => 14750,
+            AlarmCode::UnknownOffset => 17180,
+            AlarmCode::NoFeed => 10860,
+        }
+    }
+}
+
+/// Where in which program an alarm arose. Lines and columns count from 1; columns count
+/// characters, not bytes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Alarm {
+    pub code: AlarmCode,
+    pub program: String,
+    pub line: u32,
+    pub col: u32,
+    /// The block's N word as written (`N20`), if it has one.
+    pub block: Option<String>,
+    pub message: String,
+}
+
+impl Alarm {
+    pub fn number(&self) -> u32 {
+        self.code.number()
+    }
+}
+
+impl fmt::Display for Alarm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: alarm {:03}: ",
+            self.program,
+            self.line,
+            self.col,
+            self.number()
+        )?;
+        if let Some(b) = &self.block {
+            write!(f, "{b}: ")?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Alarm {}
+
+/// Renders an alarm like a compiler diagnostic, with the offending source line and a caret
+/// under the column.
+pub fn render(alarm: &Alarm, source: &str) -> String {
+    let mut out = alarm.to_string();
+    if let Some(text) = source.lines().nth(alarm.line.saturating_sub(1) as usize) {
+        let text = text.trim_end_matches('\r');
+        let gutter = alarm.line.to_string();
+        let pad = " ".repeat(gutter.len());
+        let caret_at: String = text
+            .chars()
+            .take(alarm.col.saturating_sub(1) as usize)
+            .map(|c| if c == '\t' { '\t' } else { ' ' })
+            .collect();
+        out.push_str(&format!(
+            "\n{pad} |\n{gutter} | {text}\n{pad} | {caret_at}^"
+        ));
+    }
+    out
+}

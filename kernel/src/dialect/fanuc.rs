@@ -1,0 +1,63 @@
+//! Fanuc-style milling control with cutter compensation C (seed 003).
+
+use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::machine_data::{DialectName, Units};
+
+use GEffect::*;
+
+static GCODES: &[GCodeDef] = &[
+    g(0, Motion(MotionMode::Rapid)),
+    g(1, Motion(MotionMode::Linear)),
+    g(2, Motion(MotionMode::ArcCw)),
+    g(3, Motion(MotionMode::ArcCcw)),
+    g(4, Dwell),
+    g(9, ExactStopBlock),
+    g(17, Plane(Plane::XY)),
+    g(18, Plane(Plane::ZX)),
+    g(19, Plane(Plane::YZ)),
+    g(20, Units(Units::Inch)),
+    g(21, Units(Units::Mm)),
+    g(40, Trc(TrcSide::Off)),
+    g(41, Trc(TrcSide::Left)),
+    g(42, Trc(TrcSide::Right)),
+    g(53, Unsupported("machine coordinate system G53")),
+    g(54, WorkOffset(1)),
+    g(55, WorkOffset(2)),
+    g(56, WorkOffset(3)),
+    g(57, WorkOffset(4)),
+    g(61, ExactStopModal(true)),
+    g(64, ExactStopModal(false)),
+    g(90, Distance(Distance::Absolute)),
+    g(91, Distance(Distance::Incremental)),
+    g(92, Unsupported("coordinate system setting G92")),
+];
+
+pub static DIALECT: Dialect = Dialect {
+    name: DialectName::Fanuc,
+    gcodes: GCODES,
+    semicolon: Semicolon::EndOfBlock,
+    radius_word: RadiusWord::R,
+    lf_block_end: false,
+    variables: false,
+    at_commands: false,
+    polar_words: false,
+    diameter_words: false,
+    o_numbers: true,
+    decimal_switch: true,
+    tool_edges: false,
+    dwell: DwellWords {
+        x_seconds: true,
+        f_seconds: false,
+        p_millis: true,
+        bare_seconds: false,
+    },
+    trc_not_linear: AlarmCode::FanucTrcNotLinear,
+    plane_code_forbidden_with_trc: false,
+    d0_deselects: false,
+    m18_stops: false,
+    initial_motion: MotionMode::Linear,
+    initial_corner_intersection: CornerPolicy::TransitionCircle,
+    initial_selection: SelectionPolicy::OffsetVector,
+};

@@ -1,0 +1,81 @@
+//! ISG kernel / Beckhoff TwinCAT CNC (seed 002; TF5200 programming manual).
+
+use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{
+    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
+};
+use crate::machine_data::{DialectName, Units};
+
+use GEffect::*;
+
+static GCODES: &[GCodeDef] = &[
+    g(0, Motion(MotionMode::Rapid)),
+    g(1, Motion(MotionMode::Linear)),
+    g(2, Motion(MotionMode::ArcCw)),
+    g(3, Motion(MotionMode::ArcCcw)),
+    g(4, Dwell),
+    // G05: tangential selection/deselection, non-modal.
+    g(5, Approach(SelectionPolicy::Tangential)),
+    // G09: deceleration at block end; G60: exact stop for this block end.
+    g(9, ExactStopBlock),
+    // G10/G11: feed adaption with TRC (not polar coordinates as on the 840C).
+    g(10, FeedAdaption(FeedAdaption::Centre)),
+    g(11, FeedAdaption(FeedAdaption::Contour)),
+    g(17, Plane(Plane::XY)),
+    g(18, Plane(Plane::ZX)),
+    g(19, Plane(Plane::YZ)),
+    // G25/G26: TRC transition type (not the working area as on the 840C).
+    g(25, Corner(CornerPolicy::LinearTransition)),
+    g(26, Corner(CornerPolicy::TransitionCircle)),
+    g(40, Trc(TrcSide::Off)),
+    g(41, Trc(TrcSide::Left)),
+    g(42, Trc(TrcSide::Right)),
+    g(53, WorkOffset(0)),
+    g(54, WorkOffset(1)),
+    g(55, WorkOffset(2)),
+    g(56, WorkOffset(3)),
+    g(57, WorkOffset(4)),
+    g(60, ExactStopBlock),
+    g(70, Units(Units::Inch)),
+    g(71, Units(Units::Mm)),
+    g(90, Distance(Distance::Absolute)),
+    g(91, Distance(Distance::Incremental)),
+    g(138, Selection(SelectionPolicy::Direct)),
+    g(139, Selection(SelectionPolicy::Indirect)),
+    g(140, Masking(false)),
+    g(141, Masking(true)),
+    g(237, Selection(SelectionPolicy::Perpendicular)),
+    g(238, Selection(SelectionPolicy::InnerCorner)),
+    g(239, Selection(SelectionPolicy::WithoutBlock)),
+    g(359, ExactStopModal(false)),
+    g(360, ExactStopModal(true)),
+];
+
+pub static DIALECT: Dialect = Dialect {
+    name: DialectName::Isg,
+    gcodes: GCODES,
+    semicolon: Semicolon::Comment,
+    radius_word: RadiusWord::R,
+    lf_block_end: false,
+    variables: true,
+    at_commands: false,
+    polar_words: false,
+    diameter_words: false,
+    o_numbers: false,
+    decimal_switch: false,
+    tool_edges: false,
+    dwell: DwellWords {
+        x_seconds: true,
+        f_seconds: false,
+        p_millis: false,
+        bare_seconds: true,
+    },
+    trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    plane_code_forbidden_with_trc: false,
+    d0_deselects: false,
+    m18_stops: false,
+    initial_motion: MotionMode::Rapid,
+    initial_corner_intersection: CornerPolicy::LinearTransition,
+    initial_selection: SelectionPolicy::Indirect,
+};

@@ -1,0 +1,71 @@
+//! SINUMERIK 808D turning (seed 004).
+
+use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::machine_data::{DialectName, Units};
+
+use GEffect::*;
+
+/// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
+pub const G451_LIMIT_DEG: f64 = 100.0;
+
+static GCODES: &[GCodeDef] = &[
+    g(0, Motion(MotionMode::Rapid)),
+    g(1, Motion(MotionMode::Linear)),
+    g(2, Motion(MotionMode::ArcCw)),
+    g(3, Motion(MotionMode::ArcCcw)),
+    g(4, Dwell),
+    g(9, ExactStopBlock),
+    g(17, Plane(Plane::XY)),
+    g(18, Plane(Plane::ZX)),
+    g(19, Plane(Plane::YZ)),
+    g(40, Trc(TrcSide::Off)),
+    g(41, Trc(TrcSide::Left)),
+    g(42, Trc(TrcSide::Right)),
+    g(53, WorkOffset(0)),
+    g(54, WorkOffset(1)),
+    g(55, WorkOffset(2)),
+    g(56, WorkOffset(3)),
+    g(57, WorkOffset(4)),
+    g(60, ExactStopModal(true)),
+    g(64, ExactStopModal(false)),
+    g(70, Units(Units::Inch)),
+    g(71, Units(Units::Mm)),
+    g(90, Distance(Distance::Absolute)),
+    g(91, Distance(Distance::Incremental)),
+    g(450, Corner(CornerPolicy::TransitionCircle)),
+    g(451, Corner(CornerPolicy::IntersectionLimited { limit_deg: G451_LIMIT_DEG })),
+    g(700, Units(Units::Inch)),
+    g(710, Units(Units::Mm)),
+];
+
+pub static DIALECT: Dialect = Dialect {
+    name: DialectName::Siemens808D,
+    gcodes: GCODES,
+    semicolon: Semicolon::Comment,
+    radius_word: RadiusWord::CrEquals,
+    lf_block_end: false,
+    variables: false,
+    at_commands: false,
+    polar_words: false,
+    diameter_words: true,
+    o_numbers: false,
+    decimal_switch: false,
+    tool_edges: true,
+    dwell: DwellWords {
+        x_seconds: false,
+        f_seconds: true,
+        p_millis: false,
+        bare_seconds: false,
+    },
+    trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    plane_code_forbidden_with_trc: false,
+    d0_deselects: false,
+    m18_stops: false,
+    initial_motion: MotionMode::Rapid,
+    initial_corner_intersection: CornerPolicy::IntersectionLimited {
+        limit_deg: G451_LIMIT_DEG,
+    },
+    initial_selection: SelectionPolicy::NormalPosition,
+};

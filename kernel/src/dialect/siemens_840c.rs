@@ -1,0 +1,81 @@
+//! SINUMERIK 840C (seed 000; polar coordinates as in the 880/840C programming guide 4.2.5).
+
+use super::{g, g_no_trc, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::machine_data::{DialectName, Units};
+
+use GEffect::*;
+
+static GCODES: &[GCodeDef] = &[
+    g(0, Motion(MotionMode::Rapid)),
+    g(1, Motion(MotionMode::Linear)),
+    g(2, Motion(MotionMode::ArcCw)),
+    g(3, Motion(MotionMode::ArcCcw)),
+    g(4, Dwell),
+    g(9, ExactStopBlock),
+    // 880/840C polar coordinates (TRC may be selected in G10/G11 blocks, 11.3 and 11.5).
+    g(10, Motion(MotionMode::PolarRapid)),
+    g(11, Motion(MotionMode::PolarLinear)),
+    g(12, Motion(MotionMode::PolarCw)),
+    g(13, Motion(MotionMode::PolarCcw)),
+    g_no_trc(16, Unsupported("free plane selection G16")),
+    g_no_trc(17, Plane(Plane::XY)),
+    g_no_trc(18, Plane(Plane::ZX)),
+    g_no_trc(19, Plane(Plane::YZ)),
+    // Working area limitation (min / max), not with TRC (11.4).
+    g_no_trc(25, WorkingArea { max: false }),
+    g_no_trc(26, WorkingArea { max: true }),
+    g(40, Trc(TrcSide::Off)),
+    g(41, Trc(TrcSide::Left)),
+    g(42, Trc(TrcSide::Right)),
+    g(53, WorkOffset(0)),
+    g_no_trc(54, WorkOffset(1)),
+    g_no_trc(55, WorkOffset(2)),
+    g_no_trc(56, WorkOffset(3)),
+    g_no_trc(57, WorkOffset(4)),
+    g_no_trc(58, Unsupported("programmable zero offset G58")),
+    g_no_trc(59, Unsupported("programmable zero offset G59")),
+    g(60, ExactStopModal(true)),
+    g(64, ExactStopModal(false)),
+    g(70, Units(Units::Inch)),
+    g(71, Units(Units::Mm)),
+    g_no_trc(74, Unsupported("reference point approach G74")),
+    g(90, Distance(Distance::Absolute)),
+    g(91, Distance(Distance::Incremental)),
+    g_no_trc(92, Unsupported("set actual value / speed limit G92")),
+    g(110, PoleHere),
+    g(111, Unsupported("polar programming G111")),
+    g(450, Corner(CornerPolicy::TransitionCircle)),
+    g(451, Corner(CornerPolicy::Intersection)),
+    g(455, Approach(SelectionPolicy::Compensated)),
+    g(456, Approach(SelectionPolicy::NormalPosition)),
+];
+
+pub static DIALECT: Dialect = Dialect {
+    name: DialectName::Siemens840C,
+    gcodes: GCODES,
+    semicolon: Semicolon::Comment,
+    radius_word: RadiusWord::CrEquals,
+    lf_block_end: true,
+    variables: false,
+    at_commands: true,
+    polar_words: true,
+    diameter_words: false,
+    o_numbers: false,
+    decimal_switch: false,
+    tool_edges: false,
+    dwell: DwellWords {
+        x_seconds: true,
+        f_seconds: true,
+        p_millis: false,
+        bare_seconds: false,
+    },
+    trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    plane_code_forbidden_with_trc: true,
+    d0_deselects: true,
+    m18_stops: true,
+    initial_motion: MotionMode::Rapid,
+    initial_corner_intersection: CornerPolicy::Intersection,
+    initial_selection: SelectionPolicy::Compensated,
+};

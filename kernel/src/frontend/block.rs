@@ -1,0 +1,376 @@
+//! Interpreted blocks: what the front end hands to block preparation. Dialect-free: no G
+//! numbers here, only the policies the dialect table mapped them onto.
+
+use crate::machine_data::Units;
+
+/// A position in the basic coordinate system: program coordinates plus the active zero offset,
+/// in mm, X as a radius on lathes.
+pub type Pos = [f64; 3];
+
+pub const AXIS_NAMES: [char; 3] = ['X', 'Y', 'Z'];
+
+/// A working plane as (abscissa, ordinate, normal) axis indices; always right-handed, so
+/// counter-clockwise means from abscissa towards ordinate, looking against the normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plane {
+    pub abscissa: u8,
+    pub ordinate: u8,
+    pub normal: u8,
+}
+
+impl Plane {
+    /// G17
+    pub const XY: Plane = Plane { abscissa: 0, ordinate: 1, normal: 2 };
+    /// G18: Z abscissa, X ordinate.
+    pub const ZX: Plane = Plane { abscissa: 2, ordinate: 0, normal: 1 };
+    /// G19
+    pub const YZ: Plane = Plane { abscissa: 1, ordinate: 2, normal: 0 };
+
+    pub fn name(self) -> &'static str {
+        match (self.abscissa, self.ordinate) {
+            (0, 1) => "XY",
+            (2, 0) => "ZX",
+            _ => "YZ",
+        }
+    }
+
+    /// Whether the axis lies in this plane.
+    pub fn contains(self, axis: usize) -> bool {
+        axis == self.abscissa as usize || axis == self.ordinate as usize
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionMode {
+    Rapid,
+    Linear,
+    ArcCw,
+    ArcCcw,
+    /// Polar coordinates (840C/880 G10…G13): the same four, end point given by angle and radius
+    /// about the pole.
+    PolarRapid,
+    PolarLinear,
+    PolarCw,
+    PolarCcw,
+}
+
+impl MotionMode {
+    pub fn is_arc(self) -> bool {
+        matches!(
+            self,
+            MotionMode::ArcCw | MotionMode::ArcCcw | MotionMode::PolarCw | MotionMode::PolarCcw
+        )
+    }
+    pub fn is_polar(self) -> bool {
+        matches!(
+            self,
+            MotionMode::PolarRapid
+                | MotionMode::PolarLinear
+                | MotionMode::PolarCw
+                | MotionMode::PolarCcw
+        )
+    }
+    pub fn kind(self) -> MotionKind {
+        match self {
+            MotionMode::Rapid | MotionMode::PolarRapid => MotionKind::Rapid,
+            MotionMode::Linear | MotionMode::PolarLinear => MotionKind::Linear,
+            MotionMode::ArcCw | MotionMode::PolarCw => MotionKind::ArcCw,
+            MotionMode::ArcCcw | MotionMode::PolarCcw => MotionKind::ArcCcw,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            MotionMode::Rapid => "rapid",
+            MotionMode::Linear => "linear",
+            MotionMode::ArcCw => "cw",
+            MotionMode::ArcCcw => "ccw",
+            MotionMode::PolarRapid => "polar-rapid",
+            MotionMode::PolarLinear => "polar-linear",
+            MotionMode::PolarCw => "polar-cw",
+            MotionMode::PolarCcw => "polar-ccw",
+        }
+    }
+}
+
+/// What the axes do in a block, once coordinates are resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionKind {
+    Rapid,
+    Linear,
+    ArcCw,
+    ArcCcw,
+}
+
+impl MotionKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            MotionKind::Rapid => "rapid",
+            MotionKind::Linear => "linear",
+            MotionKind::ArcCw => "cw",
+            MotionKind::ArcCcw => "ccw",
+        }
+    }
+    pub fn is_arc(self) -> bool {
+        matches!(self, MotionKind::ArcCw | MotionKind::ArcCcw)
+    }
+}
+
+/// A motion block's geometry. For arcs, `center` lies in the plane of `start` (its normal
+/// coordinate is the start's) and `start`/`end` are at exactly the same distance from it; an
+/// arc with `start == end` in the plane is a full circle. The normal axis moves linearly over
+/// the sweep (helix).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    pub kind: MotionKind,
+    pub plane: Plane,
+    pub start: Pos,
+    pub end: Pos,
+    pub center: Pos,
+    /// Axes programmed in the block (bit 0 = X, 1 = Y, 2 = Z), for "at least one axis of the
+    /// plane programmed" (840C 11.3) and the 808D completion rule.
+    pub programmed: u8,
+}
+
+impl Motion {
+    /// True if the block moves the axes of `plane` by more than `eps`.
+    pub fn moves_in_plane(&self, eps: f64) -> bool {
+        let (a, o) = (self.plane.abscissa as usize, self.plane.ordinate as usize);
+        self.kind.is_arc()
+            || (self.end[a] - self.start[a]).abs() > eps
+            || (self.end[o] - self.start[o]).abs() > eps
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distance {
+    Absolute,
+    Incremental,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrcSide {
+    Off,
+    Left,
+    Right,
+}
+
+impl TrcSide {
+    pub fn name(self) -> &'static str {
+        match self {
+            TrcSide::Off => "off",
+            TrcSide::Left => "left",
+            TrcSide::Right => "right",
+        }
+    }
+}
+
+/// Behaviour at outer corners (840C 11.1, 808D, ISG G25/G26).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CornerPolicy {
+    /// Transition circle of radius R about the corner (840C/808D G450, ISG G26).
+    TransitionCircle,
+    /// Intersection of the equidistants with up to three linear intermediate blocks where it
+    /// runs too far (840C G451).
+    Intersection,
+    /// Intersection, switching to the transition circle above a limit angle (808D G451).
+    IntersectionLimited { limit_deg: f64 },
+    /// Intersection with linear transition blocks per the TF5200 table (ISG G25).
+    LinearTransition,
+}
+
+impl CornerPolicy {
+    pub fn name(self) -> &'static str {
+        match self {
+            CornerPolicy::TransitionCircle => "transition-circle",
+            CornerPolicy::Intersection => "intersection",
+            CornerPolicy::IntersectionLimited { .. } => "intersection-limited",
+            CornerPolicy::LinearTransition => "linear-transition",
+        }
+    }
+}
+
+/// How TRC is selected and deselected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SelectionPolicy {
+    /// 840C G455: at α < 180° the corner mode applies (compensated approach/departure).
+    Compensated,
+    /// 840C G456 and 808D: straight to / from the normal position.
+    NormalPosition,
+    /// Fanuc type C start-up: the offset vector on the normal at the start of the next block.
+    OffsetVector,
+    /// ISG G138
+    Direct,
+    /// ISG G139
+    Indirect,
+    /// ISG G237
+    Perpendicular,
+    /// ISG G238
+    InnerCorner,
+    /// ISG G239
+    WithoutBlock,
+    /// ISG G05 (non-modal)
+    Tangential,
+}
+
+impl SelectionPolicy {
+    pub fn name(self) -> &'static str {
+        match self {
+            SelectionPolicy::Compensated => "compensated",
+            SelectionPolicy::NormalPosition => "normal-position",
+            SelectionPolicy::OffsetVector => "offset-vector",
+            SelectionPolicy::Direct => "direct",
+            SelectionPolicy::Indirect => "indirect",
+            SelectionPolicy::Perpendicular => "perpendicular",
+            SelectionPolicy::InnerCorner => "inner-corner",
+            SelectionPolicy::WithoutBlock => "without-block",
+            SelectionPolicy::Tangential => "tangential",
+        }
+    }
+}
+
+/// ISG G10/G11: which point the programmed feed applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedAdaption {
+    /// Programmed feed at the tool centre.
+    Centre,
+    /// Programmed feed at the contour engagement point.
+    Contour,
+}
+
+/// The modal state after a block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModalState {
+    pub motion: MotionMode,
+    pub plane: Plane,
+    pub distance: Distance,
+    pub units: Units,
+    /// Path feed, mm/min.
+    pub feed: f64,
+    /// Spindle speed, rev/min.
+    pub spindle: f64,
+    pub trc: TrcSide,
+    pub corner: CornerPolicy,
+    /// The modal selection/deselection method (ISG G138…G239; fixed per dialect elsewhere).
+    pub selection: SelectionPolicy,
+    pub feed_adaption: FeedAdaption,
+    /// ISG contour masking (G141).
+    pub masking: bool,
+    /// Modal exact stop (G60 / G61) instead of continuous path (G64).
+    pub exact_stop: bool,
+    /// 0 = none, 1..=4 = G54..G57.
+    pub work_offset: u8,
+    /// X programmed as a diameter.
+    pub diameter: bool,
+    pub tool: Option<u32>,
+    /// Active offset number (0 = none).
+    pub d: u32,
+    /// Effective tool radius of the active offset (geometry + wear, or as the program set it).
+    pub radius: f64,
+    /// Effective tool length of the active offset.
+    pub length: f64,
+    /// Pole for polar coordinates (840C/880).
+    pub pole: Pos,
+}
+
+/// An auxiliary or technology word as programmed (M3, S2000, H2, T1, D1, F400).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AuxWord {
+    pub address: u8,
+    pub value: f64,
+}
+
+impl std::fmt::Display for AuxWord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.value.fract() == 0.0 && self.value.abs() < 1e15 {
+            write!(f, "{}{}", self.address as char, self.value as i64)
+        } else {
+            write!(f, "{}{}", self.address as char, self.value)
+        }
+    }
+}
+
+/// Program-flow M functions that act at block end (840C 11.10: M00, M01, M02, M18, M30).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProgramStop {
+    /// M00
+    Stop,
+    /// M01 (acts only with the optional-stop switch on)
+    OptionalStop,
+    /// M18 (840C: programmed stop at block end, like M00, listed with the end functions)
+    StopAtEnd,
+    /// M02
+    End,
+    /// M30
+    EndRewind,
+}
+
+impl ProgramStop {
+    pub fn code(self) -> &'static str {
+        match self {
+            ProgramStop::Stop => "M0",
+            ProgramStop::OptionalStop => "M1",
+            ProgramStop::StopAtEnd => "M18",
+            ProgramStop::End => "M2",
+            ProgramStop::EndRewind => "M30",
+        }
+    }
+    pub fn ends_program(self) -> bool {
+        matches!(self, ProgramStop::End | ProgramStop::EndRewind)
+    }
+}
+
+/// Capacity for non-motion words in one block (alarm 14750 beyond it).
+pub const MAX_AUX_WORDS: usize = 12;
+
+/// The block number as written: value and digit count (keeps `N05` as `N05`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockNo {
+    pub value: u32,
+    pub digits: u8,
+}
+
+impl std::fmt::Display for BlockNo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "N{:0width$}", self.value, width = self.digits as usize)
+    }
+}
+
+/// One interpreted block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    /// 1-based source line and column of the block's first character.
+    pub line: u32,
+    pub col: u32,
+    pub number: Option<BlockNo>,
+    pub motion: Option<Motion>,
+    /// Modal state after the block.
+    pub modal: ModalState,
+    /// Non-motion words in program order (M, H, S, T, D, F, ...).
+    pub words: heapless::Vec<AuxWord, MAX_AUX_WORDS>,
+    /// G40/G41/G42 as programmed in this block (a repetition of the active side counts).
+    pub trc: Option<TrcSide>,
+    /// A block-level selection method (840C G455/G456, ISG G05), if programmed.
+    pub approach: Option<SelectionPolicy>,
+    /// Non-modal exact stop (G09).
+    pub exact_stop: bool,
+    /// Dwell (G04), seconds.
+    pub dwell: Option<f64>,
+    /// M00/M01/M02/M18/M30.
+    pub stop: Option<ProgramStop>,
+    /// A new offset (D or T word, or a write of the active radius) was programmed here.
+    pub offset_changed: bool,
+    /// The block assigned variables (a calculation block, 840C 11.11).
+    pub calculation: bool,
+    /// Preprocessing stop (840C @714).
+    pub preprocess_stop: bool,
+}
+
+impl Block {
+    /// The N word as written, or `L<line>` for a block without one.
+    pub fn label(&self) -> String {
+        match self.number {
+            Some(n) => n.to_string(),
+            None => format!("L{}", self.line),
+        }
+    }
+}

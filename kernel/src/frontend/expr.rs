@@ -1,0 +1,442 @@
+//! ISG arithmetic expressions and variables (seed 002, TF5200 "calculation operations").
+//!
+//! Grouping with `[ ]` as ISG writes it, and with `( )` where a parenthesis cannot be a
+//! comment (right after an operator or a function name). Angles are in degrees. A condition
+//! is true when its absolute value is at least 0.5 (TF5200 `$IF`).
+
+use super::lexer::Cursor;
+use crate::alarm::AlarmCode;
+use std::collections::HashMap;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExprError {
+    pub at: usize,
+    pub code: AlarmCode,
+    pub message: String,
+}
+
+fn err(at: usize, code: AlarmCode, message: impl Into<String>) -> ExprError {
+    ExprError {
+        at,
+        code,
+        message: message.into(),
+    }
+}
+
+/// Nesting depth beyond which an expression is refused (keeps the recursion bounded).
+const MAX_DEPTH: u32 = 64;
+
+/// Program variables (V.P., V.L., V.S.) and the system variables the front end binds.
+#[derive(Clone, Debug, Default)]
+pub struct Variables {
+    values: HashMap<String, f64>,
+    /// V.G.WZ_AKT.R: the active tool radius.
+    pub tool_radius: f64,
+    /// V.G.WZ_AKT.L: the active tool length.
+    pub tool_length: f64,
+}
+
+/// Result of writing a variable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Written {
+    Program,
+    ToolRadius,
+}
+
+pub const TOOL_RADIUS: &str = "V.G.WZ_AKT.R";
+const TOOL_RADIUS_SHORT: &str = "V.G.WZR";
+const TOOL_LENGTH: &str = "V.G.WZ_AKT.L";
+
+impl Variables {
+    pub fn get(&self, name: &str) -> Option<f64> {
+        match name {
+            TOOL_RADIUS | TOOL_RADIUS_SHORT => Some(self.tool_radius),
+            TOOL_LENGTH => Some(self.tool_length),
+            _ => self.values.get(name).copied(),
+        }
+    }
+
+    /// Writes a variable. V.P./V.L./V.S. are created on first write (TF5200 allows this for
+    /// V.P./V.S.; softnc extends it to V.L.); of the V.G. variables only the tool radius is
+    /// writable.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<Written, String> {
+        match name {
+            TOOL_RADIUS | TOOL_RADIUS_SHORT => {
+                self.tool_radius = value;
+                Ok(Written::ToolRadius)
+            }
+            _ if is_program_var(name) => {
+                self.values.insert(name.to_string(), value);
+                Ok(Written::Program)
+            }
+            _ if name.starts_with("V.G.") => Err(format!("system variable {name} is read-only or unknown")),
+            _ => Err(format!("{name} is not a variable name (V.P., V.L., V.S. or V.G.)")),
+        }
+    }
+}
+
+fn is_program_var(name: &str) -> bool {
+    ["V.P.", "V.L.", "V.S."]
+        .iter()
+        .any(|p| name.len() > p.len() && name.starts_with(p))
+}
+
+/// True if a variable reference starts at the cursor (`V.`).
+pub fn at_variable(c: &Cursor) -> bool {
+    matches!(c.letter(), Some(b'V')) && c.peek_at(1) == Some(b'.')
+}
+
+pub fn truthy(v: f64) -> bool {
+    v.abs() >= 0.5
+}
+
+/// Evaluates a full expression (comparisons and logic included).
+pub fn eval(c: &mut Cursor, vars: &Variables) -> Result<f64, ExprError> {
+    Parser { vars, depth: 0 }.or(c)
+}
+
+/// Evaluates one operand (`X[...]`, `X SIN[...]`, `XV.P.A`, `X-V.P.A`): a signed primary.
+pub fn eval_operand(c: &mut Cursor, vars: &Variables) -> Result<f64, ExprError> {
+    Parser { vars, depth: 0 }.unary(c)
+}
+
+struct Parser<'v> {
+    vars: &'v Variables,
+    depth: u32,
+}
+
+impl Parser<'_> {
+    fn enter(&mut self, c: &Cursor) -> Result<(), ExprError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            Err(err(c.i, AlarmCode::Syntax, "expression nested too deeply"))
+        } else {
+            Ok(())
+        }
+    }
+
+    fn or(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let mut v = self.and(c)?;
+        loop {
+            c.skip_blanks();
+            if c.keyword("OR") {
+                c.i += 2;
+            } else if c.peek() == Some(b'|') && c.peek_at(1) == Some(b'|') {
+                c.i += 2;
+            } else {
+                return Ok(v);
+            }
+            let r = self.and(c)?;
+            v = (truthy(v) || truthy(r)) as u8 as f64;
+        }
+    }
+
+    fn and(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let mut v = self.cmp(c)?;
+        loop {
+            c.skip_blanks();
+            if c.keyword("AND") {
+                c.i += 3;
+            } else if c.peek() == Some(b'&') && c.peek_at(1) == Some(b'&') {
+                c.i += 2;
+            } else {
+                return Ok(v);
+            }
+            let r = self.cmp(c)?;
+            v = (truthy(v) && truthy(r)) as u8 as f64;
+        }
+    }
+
+    fn cmp(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let l = self.add(c)?;
+        c.skip_blanks();
+        let op: &[u8] = match (c.peek(), c.peek_at(1)) {
+            (Some(b'='), Some(b'=')) => b"==",
+            (Some(b'!'), Some(b'=')) => b"!=",
+            (Some(b'<'), Some(b'>')) => b"<>",
+            (Some(b'<'), Some(b'=')) => b"<=",
+            (Some(b'>'), Some(b'=')) => b">=",
+            (Some(b'<'), _) => b"<",
+            (Some(b'>'), _) => b">",
+            _ => return Ok(l),
+        };
+        c.i += op.len();
+        let r = self.add(c)?;
+        let t = match op {
+            b"==" => l == r,
+            b"!=" | b"<>" => l != r,
+            b"<=" => l <= r,
+            b">=" => l >= r,
+            b"<" => l < r,
+            _ => l > r,
+        };
+        Ok(t as u8 as f64)
+    }
+
+    fn add(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let mut v = self.mul(c)?;
+        loop {
+            c.skip_blanks();
+            match c.peek() {
+                Some(b'+') => {
+                    c.i += 1;
+                    v += self.mul(c)?;
+                }
+                Some(b'-') => {
+                    c.i += 1;
+                    v -= self.mul(c)?;
+                }
+                _ => return Ok(v),
+            }
+        }
+    }
+
+    fn mul(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let mut v = self.unary(c)?;
+        loop {
+            c.skip_blanks();
+            let at = c.i;
+            match (c.peek(), c.peek_at(1)) {
+                (Some(b'*'), Some(b'*')) => return Ok(v),
+                (Some(b'*'), _) => {
+                    c.i += 1;
+                    v *= self.unary(c)?;
+                }
+                (Some(b'/'), _) => {
+                    c.i += 1;
+                    let r = self.unary(c)?;
+                    if r == 0.0 {
+                        return Err(err(at, AlarmCode::Arithmetic, "division by zero"));
+                    }
+                    v /= r;
+                }
+                _ if c.keyword("MOD") => {
+                    c.i += 3;
+                    let r = self.unary(c)?;
+                    if r == 0.0 {
+                        return Err(err(at, AlarmCode::Arithmetic, "MOD by zero"));
+                    }
+                    v %= r;
+                }
+                _ => return Ok(v),
+            }
+        }
+    }
+
+    fn unary(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        self.enter(c)?;
+        c.skip_blanks();
+        let v = match c.peek() {
+            Some(b'-') => {
+                c.i += 1;
+                -self.unary(c)?
+            }
+            Some(b'+') => {
+                c.i += 1;
+                self.unary(c)?
+            }
+            Some(b'!') => {
+                c.i += 1;
+                (!truthy(self.unary(c)?)) as u8 as f64
+            }
+            _ if c.keyword("NOT") => {
+                c.i += 3;
+                (!truthy(self.unary(c)?)) as u8 as f64
+            }
+            _ => self.power(c)?,
+        };
+        self.depth -= 1;
+        Ok(v)
+    }
+
+    fn power(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        let base = self.primary(c)?;
+        c.skip_blanks();
+        if c.peek() == Some(b'*') && c.peek_at(1) == Some(b'*') {
+            let at = c.i;
+            c.i += 2;
+            let e = self.unary(c)?;
+            let v = libm::pow(base, e);
+            return finite(v, at, "power");
+        }
+        Ok(base)
+    }
+
+    fn group(&mut self, c: &mut Cursor, open: u8) -> Result<f64, ExprError> {
+        let close = if open == b'[' { b']' } else { b')' };
+        let at = c.i;
+        c.i += 1;
+        let v = self.or(c)?;
+        c.skip_blanks();
+        if c.peek() != Some(close) {
+            return Err(err(
+                at,
+                AlarmCode::Syntax,
+                format!("'{}' is not closed", open as char),
+            ));
+        }
+        c.i += 1;
+        Ok(v)
+    }
+
+    fn primary(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+        c.skip_blanks();
+        let at = c.i;
+        match c.peek() {
+            Some(b'[') => self.group(c, b'['),
+            Some(b'(') => self.group(c, b'('),
+            Some(ch) if ch.is_ascii_digit() || ch == b'.' => {
+                let (n, next) = super::number::parse(c.b, c.i)
+                    .filter(|(_, next)| *next <= c.end)
+                    .ok_or_else(|| err(at, AlarmCode::BadNumber, "bad number"))?;
+                c.i = next;
+                Ok(n.value)
+            }
+            Some(_) if at_variable(c) => {
+                let name = c.name();
+                self.vars.get(&name).ok_or_else(|| {
+                    err(
+                        at,
+                        AlarmCode::UndefinedName,
+                        format!("variable {name} is read before it is defined"),
+                    )
+                })
+            }
+            Some(ch) if ch.is_ascii_alphabetic() => {
+                let name = c.name();
+                let f = func(&name).ok_or_else(|| {
+                    err(at, AlarmCode::Syntax, format!("unknown function or name `{name}`"))
+                })?;
+                c.skip_blanks();
+                match c.peek() {
+                    Some(open @ (b'[' | b'(')) => {
+                        let arg = self.group(c, open)?;
+                        apply(f, arg, at)
+                    }
+                    _ => Err(err(
+                        c.i,
+                        AlarmCode::Syntax,
+                        format!("{name} needs an argument in [ ]"),
+                    )),
+                }
+            }
+            Some(ch) => Err(err(
+                at,
+                AlarmCode::Syntax,
+                format!("unexpected '{}' in expression", ch as char),
+            )),
+            None => Err(err(at, AlarmCode::Syntax, "expression expected")),
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Func {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Sqrt,
+    Sqr,
+    Abs,
+    Int,
+    Fract,
+    Round,
+    Exp,
+    Ln,
+}
+
+fn func(name: &str) -> Option<Func> {
+    Some(match name {
+        "SIN" => Func::Sin,
+        "COS" => Func::Cos,
+        "TAN" => Func::Tan,
+        "ASIN" => Func::Asin,
+        "ACOS" => Func::Acos,
+        "ATAN" => Func::Atan,
+        "SQRT" => Func::Sqrt,
+        "SQR" => Func::Sqr,
+        "ABS" => Func::Abs,
+        "INT" => Func::Int,
+        "FRACT" => Func::Fract,
+        "ROUND" => Func::Round,
+        "EXP" | "DEXP" => Func::Exp,
+        "LN" => Func::Ln,
+        _ => return None,
+    })
+}
+
+fn finite(v: f64, at: usize, what: &str) -> Result<f64, ExprError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(at, AlarmCode::Arithmetic, format!("{what}: result is not a finite number")))
+    }
+}
+
+fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
+    let rad = x.to_radians();
+    let v = match f {
+        Func::Sin => libm::sin(rad),
+        Func::Cos => libm::cos(rad),
+        Func::Tan => libm::tan(rad),
+        Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => {
+            return Err(err(at, AlarmCode::Arithmetic, format!("argument {x} outside -1..1")))
+        }
+        Func::Asin => libm::asin(x).to_degrees(),
+        Func::Acos => libm::acos(x).to_degrees(),
+        Func::Atan => libm::atan(x).to_degrees(),
+        Func::Sqrt if x < 0.0 => {
+            return Err(err(at, AlarmCode::Arithmetic, format!("square root of {x}")))
+        }
+        Func::Sqrt => libm::sqrt(x),
+        Func::Sqr => x * x,
+        Func::Abs => x.abs(),
+        Func::Int => libm::trunc(x),
+        Func::Fract => x - libm::trunc(x),
+        Func::Round => libm::round(x),
+        Func::Exp => libm::exp(x),
+        Func::Ln if x <= 0.0 => {
+            return Err(err(at, AlarmCode::Arithmetic, format!("logarithm of {x}")))
+        }
+        Func::Ln => libm::log(x),
+    };
+    finite(v, at, "function")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ev(s: &str) -> Result<f64, ExprError> {
+        let mut vars = Variables::default();
+        vars.set("V.P.A", 2.0).unwrap();
+        vars.tool_radius = 10.0;
+        let mut c = Cursor::new(s.as_bytes(), 0, s.len());
+        eval(&mut c, &vars)
+    }
+
+    #[test]
+    fn arithmetic_and_precedence() {
+        assert_eq!(ev("1+2*3").unwrap(), 7.0);
+        assert_eq!(ev("[1+2]*3").unwrap(), 9.0);
+        assert_eq!(ev("(1+2)*3").unwrap(), 9.0);
+        assert_eq!(ev("-V.P.A**2").unwrap(), -4.0);
+        assert_eq!(ev("V.G.WZ_AKT.R - 0.01").unwrap(), 10.0 - 0.01);
+        assert_eq!(ev("-2*COS[60] + 60 + SIN[90]").unwrap(), 60.0);
+        assert_eq!(ev("V.P.A >= 2 AND 1 < 0.2").unwrap(), 0.0);
+        assert_eq!(ev("V.P.A == 2 || 0").unwrap(), 1.0);
+    }
+
+    #[test]
+    fn errors() {
+        assert_eq!(ev("1/0").unwrap_err().code, AlarmCode::Arithmetic);
+        assert_eq!(ev("SQRT[-1]").unwrap_err().code, AlarmCode::Arithmetic);
+        assert_eq!(ev("V.P.NOPE").unwrap_err().code, AlarmCode::UndefinedName);
+        assert_eq!(ev("[1+2").unwrap_err().code, AlarmCode::Syntax);
+        let deep = "[".repeat(200) + "1" + &"]".repeat(200);
+        assert_eq!(ev(&deep).unwrap_err().code, AlarmCode::Syntax);
+    }
+}

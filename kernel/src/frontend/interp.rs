@@ -1,0 +1,1111 @@
+//! The interpreter: reads a program block by block, keeps the modal state and the current
+//! position, and hands out interpreted [`Block`]s. It streams: nothing is read ahead except
+//! to skip the body of a false `$IF` or a finished loop, and loops jump back in the text.
+
+use super::arc::{self, ArcError, CentreSpec};
+use super::block::*;
+use super::control::{self, ControlStmt, Frame};
+use super::expr::{self, Variables, Written};
+use super::lexer::{column, Cursor};
+use super::number::{self, Number};
+use crate::alarm::{Alarm, AlarmCode};
+use crate::dialect::{Dialect, GEffect, RadiusWord, Semicolon};
+use crate::machine_data::{DecimalInput, MachineData, PlaneName, Units};
+use crate::tools::ToolTable;
+
+/// A value as written, with the byte offset of its address letter.
+#[derive(Clone, Copy, Debug)]
+struct Val {
+    n: Number,
+    at: usize,
+}
+
+/// The words of one block, collected before they are interpreted.
+#[derive(Default)]
+struct Words {
+    g: heapless::Vec<(u16, usize), 16>,
+    axis: [Option<Val>; 3],
+    centre: [Option<Val>; 3],
+    radius: Option<Val>,
+    angle: Option<Val>,
+    polar_radius: Option<Val>,
+    f: Option<Val>,
+    p: Option<Val>,
+    bare: Option<Val>,
+    d: Option<Val>,
+    t: Option<Val>,
+    m: heapless::Vec<Val, 8>,
+    aux: heapless::Vec<AuxWord, MAX_AUX_WORDS>,
+    at_codes: heapless::Vec<(u16, usize), 4>,
+    diameter: Option<bool>,
+    radius_written: Option<usize>,
+    calculation: bool,
+}
+
+/// An alarm position before it is turned into line:column.
+struct Fault {
+    code: AlarmCode,
+    at: usize,
+    message: String,
+}
+
+fn fault(code: AlarmCode, at: usize, message: impl Into<String>) -> Fault {
+    Fault {
+        code,
+        at,
+        message: message.into(),
+    }
+}
+
+type R<T> = Result<T, Fault>;
+
+/// Streams interpreted blocks out of one part program.
+pub struct Interpreter<'a> {
+    name: &'a str,
+    src: &'a [u8],
+    d: &'static Dialect,
+    md: &'a MachineData,
+    tools: &'a ToolTable,
+    /// Start of the next block's text.
+    pos: usize,
+    /// Line number and line start of `pos`.
+    line: u32,
+    line_start: usize,
+    /// Line, line start and number of the block being interpreted (for alarms).
+    blk_line: u32,
+    blk_line_start: usize,
+    blk_number: Option<BlockNo>,
+    state: ModalState,
+    cur: Pos,
+    vars: Variables,
+    frames: Vec<Frame>,
+    work_min: Pos,
+    work_max: Pos,
+    finished: bool,
+    /// The block text where the last `skip_to` stopped.
+    last_skip: (usize, usize),
+}
+
+impl<'a> Interpreter<'a> {
+    /// `name` is how alarms name the program (usually its path).
+    pub fn new(name: &'a str, source: &'a str, md: &'a MachineData, tools: &'a ToolTable) -> Self {
+        let d = Dialect::get(md.dialect);
+        let plane = match md.program.initial_plane {
+            PlaneName::Xy => Plane::XY,
+            PlaneName::Zx => Plane::ZX,
+            PlaneName::Yz => Plane::YZ,
+        };
+        let corner = match md.trc.corner_mode {
+            crate::machine_data::CornerModeSetting::TransitionCircle => CornerPolicy::TransitionCircle,
+            crate::machine_data::CornerModeSetting::Intersection => d.initial_corner_intersection,
+        };
+        let state = ModalState {
+            motion: d.initial_motion,
+            plane,
+            distance: Distance::Absolute,
+            units: md.program.units,
+            feed: 0.0,
+            spindle: 0.0,
+            trc: TrcSide::Off,
+            corner,
+            selection: d.initial_selection,
+            feed_adaption: FeedAdaption::Centre,
+            masking: false,
+            exact_stop: false,
+            work_offset: 0,
+            diameter: md.program.diameter_programming,
+            tool: None,
+            d: 0,
+            radius: 0.0,
+            length: 0.0,
+            pole: [0.0; 3],
+        };
+        Interpreter {
+            name,
+            src: source.as_bytes(),
+            d,
+            md,
+            tools,
+            pos: 0,
+            line: 1,
+            line_start: 0,
+            blk_line: 1,
+            blk_line_start: 0,
+            blk_number: None,
+            state,
+            cur: [0.0; 3],
+            vars: Variables::default(),
+            frames: Vec::new(),
+            work_min: [f64::NEG_INFINITY; 3],
+            work_max: [f64::INFINITY; 3],
+            finished: false,
+            last_skip: (0, 0),
+        }
+    }
+
+    /// The modal state after the last block handed out.
+    pub fn state(&self) -> &ModalState {
+        &self.state
+    }
+
+    /// The position after the last block handed out.
+    pub fn position(&self) -> Pos {
+        self.cur
+    }
+
+    fn alarm(&self, f: Fault) -> Alarm {
+        Alarm {
+            code: f.code,
+            program: self.name.to_string(),
+            line: self.blk_line,
+            col: column(self.src, self.blk_line_start, f.at),
+            block: self.blk_number.map(|n| n.to_string()),
+            message: f.message,
+        }
+    }
+
+    /// Next block's text: `(start, end)`; advances past its terminator.
+    fn next_segment(&mut self) -> Option<(usize, usize)> {
+        if self.pos >= self.src.len() {
+            return None;
+        }
+        let start = self.pos;
+        self.blk_line = self.line;
+        self.blk_line_start = self.line_start;
+        let b = self.src;
+        let mut i = start;
+        if self.d.semicolon == Semicolon::EndOfBlock {
+            let mut depth = 0u32;
+            while let Some(&c) = b.get(i) {
+                match c {
+                    b'\n' => break,
+                    b'(' => depth += 1,
+                    b')' => depth = depth.saturating_sub(1),
+                    b';' if depth == 0 => {
+                        self.pos = i + 1;
+                        return Some((start, i));
+                    }
+                    _ => {}
+                }
+                i += 1;
+            }
+        } else {
+            i = match b[start..].iter().position(|&c| c == b'\n') {
+                Some(k) => start + k,
+                None => b.len(),
+            };
+        }
+        self.pos = (i + 1).min(b.len().max(i + 1));
+        self.line += 1;
+        self.line_start = self.pos;
+        Some((start, i))
+    }
+
+    /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
+    pub(super) fn step(&mut self) -> Result<Option<Block>, Alarm> {
+        loop {
+            if self.finished {
+                return Ok(None);
+            }
+            let Some((start, end)) = self.next_segment() else {
+                self.finished = true;
+                if let Some(f) = self.frames.last() {
+                    let (line, line_start, at) = f.origin();
+                    return Err(Alarm {
+                        code: AlarmCode::ControlNesting,
+                        program: self.name.to_string(),
+                        line,
+                        col: column(self.src, line_start, at),
+                        block: None,
+                        message: format!("{} is not closed by {}", f.opener(), f.closer()),
+                    });
+                }
+                return Ok(None);
+            };
+            self.blk_number = None;
+            match self.segment(start, end) {
+                Ok(Some(b)) => return Ok(Some(b)),
+                Ok(None) => continue,
+                Err(f) => {
+                    self.finished = true;
+                    return Err(self.alarm(f));
+                }
+            }
+        }
+    }
+
+    /// One block's text: header, skip, number, control statement or words.
+    fn segment(&mut self, start: usize, end: usize) -> R<Option<Block>> {
+        let mut c = Cursor::new(self.src, start, end);
+        c.skip_blanks();
+        match c.peek() {
+            None => return Ok(None),
+            // Program header: `%name`, `%` alone (Fanuc tape start/end).
+            Some(b'%') => return Ok(None),
+            Some(b'/') => {
+                c.i += 1;
+                if matches!(c.peek(), Some(b'0'..=b'9')) {
+                    c.i += 1;
+                }
+                if self.md.program.block_skip {
+                    return Ok(None);
+                }
+                c.skip_blanks();
+            }
+            _ => {}
+        }
+        if self.d.o_numbers && c.letter() == Some(b'O') && matches!(c.peek_at(1), Some(b'0'..=b'9')) {
+            // Fanuc program number line.
+            return Ok(None);
+        }
+        let block_col = c.i;
+        if c.letter() == Some(b'N') {
+            let at = c.i;
+            c.i += 1;
+            let ds = c.i;
+            let mut v: u64 = 0;
+            while let Some(ch @ b'0'..=b'9') = c.peek() {
+                v = v * 10 + (ch - b'0') as u64;
+                if v > u32::MAX as u64 {
+                    return Err(fault(AlarmCode::BadNumber, at, "block number too large"));
+                }
+                c.i += 1;
+            }
+            if c.i == ds {
+                return Err(fault(AlarmCode::Syntax, at, "N must be followed by the block number"));
+            }
+            self.blk_number = Some(BlockNo {
+                value: v as u32,
+                digits: (c.i - ds).min(10) as u8,
+            });
+            c.skip_blanks();
+        }
+        if self.d.variables && c.peek() == Some(b'$') {
+            return self.control(c).map(|()| None);
+        }
+        let words = self.words(&mut c)?;
+        self.build(words, block_col)
+    }
+
+    /// Collects the words of a block.
+    fn words(&mut self, c: &mut Cursor) -> R<Words> {
+        let mut w = Words::default();
+        let d = self.d;
+        loop {
+            c.skip_blanks();
+            let Some(ch) = c.peek() else { break };
+            let at = c.i;
+            match ch {
+                b'(' => {
+                    if !c.skip_comment() {
+                        if d.variables {
+                            // ISG: `(` alone comments out the rest of the block.
+                            break;
+                        }
+                        return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
+                    }
+                    continue;
+                }
+                b';' => break, // comment (Siemens, ISG); Fanuc's ';' never gets here
+                _ => {}
+            }
+            let Some(letter) = c.letter() else {
+                if d.at_commands && ch == b'@' {
+                    c.i += 1;
+                    let (n, next) = number::parse(c.b, c.i)
+                        .filter(|(n, e)| *e <= c.end && !n.has_point)
+                        .ok_or_else(|| fault(AlarmCode::Syntax, at, "@ must be followed by a command number"))?;
+                    c.i = next;
+                    let code = int_value(n.value, at, "@ command")?;
+                    push(&mut w.at_codes, (code as u16, at), at)?;
+                    continue;
+                }
+                if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
+                    if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+                        c.i = next;
+                        w.bare = Some(Val { n, at });
+                        continue;
+                    }
+                }
+                let shown = std::str::from_utf8(&c.b[at..c.end])
+                    .ok()
+                    .and_then(|s| s.chars().next())
+                    .unwrap_or('?');
+                return Err(fault(AlarmCode::Syntax, at, format!("unexpected character '{shown}'")));
+            };
+            // Multi-letter words first.
+            if d.lf_block_end && letter == b'L' && matches!(c.peek_at(1), Some(b'F' | b'f'))
+                && !matches!(c.peek_at(2), Some(x) if x.is_ascii_alphanumeric() || x == b'.' || x == b'-' || x == b'+')
+            {
+                // 840C listings: `LF` ends the block; only comments may follow.
+                c.i += 2;
+                loop {
+                    c.skip_blanks();
+                    match c.peek() {
+                        None | Some(b';') => break,
+                        Some(b'(') => {
+                            if !c.skip_comment() {
+                                return Err(fault(AlarmCode::Syntax, c.i, "comment not closed with ')'"));
+                            }
+                        }
+                        Some(_) => {
+                            return Err(fault(AlarmCode::Syntax, c.i, "nothing but a comment may follow LF (end of block)"))
+                        }
+                    }
+                }
+                break;
+            }
+            if d.radius_word == RadiusWord::CrEquals && letter == b'C' && matches!(c.peek_at(1), Some(b'R' | b'r')) {
+                c.i += 2;
+                c.skip_blanks();
+                if c.peek() != Some(b'=') {
+                    return Err(fault(AlarmCode::Syntax, at, "CR must be followed by '='"));
+                }
+                c.i += 1;
+                let v = self.value(c, at, "CR=")?;
+                set_once(&mut w.radius, v, "CR=")?;
+                continue;
+            }
+            if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
+                let on = c.keyword("DIAMON");
+                c.i += 6;
+                if w.diameter.replace(on).is_some() {
+                    return Err(fault(AlarmCode::AddressTwice, at, "DIAMON/DIAMOF twice in one block"));
+                }
+                continue;
+            }
+            if d.variables && expr::at_variable(c) {
+                let name = c.name();
+                c.skip_blanks();
+                if c.peek() != Some(b'=') || c.peek_at(1) == Some(b'=') {
+                    return Err(fault(AlarmCode::Syntax, c.i, format!("'=' expected after {name}")));
+                }
+                c.i += 1;
+                let value = expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+                let written = self.vars.set(&name, value).map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
+                if written == Written::ToolRadius {
+                    w.radius_written = Some(at);
+                }
+                w.calculation = true;
+                continue;
+            }
+            c.i += 1;
+            let v = self.value(c, at, "")?;
+            let name = letter as char;
+            match letter {
+                b'G' => {
+                    let code = int_value(v.n.value, at, "G code")?;
+                    if code >= 1000 {
+                        return Err(fault(
+                            AlarmCode::UnknownGCode,
+                            at,
+                            format!("G{code} is not a {} G code", d.name.as_str()),
+                        ));
+                    }
+                    push(&mut w.g, (code as u16, at), at)?;
+                }
+                b'X' | b'Y' | b'Z' => {
+                    let i = (letter - b'X') as usize;
+                    set_once(&mut w.axis[i], v, &name.to_string())?;
+                }
+                b'I' | b'J' | b'K' => {
+                    let i = (letter - b'I') as usize;
+                    set_once(&mut w.centre[i], v, &name.to_string())?;
+                }
+                b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R")?,
+                b'A' if d.polar_words => set_once(&mut w.angle, v, "A")?,
+                b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B")?,
+                b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P")?,
+                b'F' => {
+                    set_once(&mut w.f, v, "F")?;
+                    push(&mut w.aux, AuxWord { address: b'F', value: v.n.value }, at)?;
+                }
+                b'D' => {
+                    set_once(&mut w.d, v, "D")?;
+                    push(&mut w.aux, AuxWord { address: b'D', value: v.n.value }, at)?;
+                }
+                b'T' => {
+                    set_once(&mut w.t, v, "T")?;
+                    push(&mut w.aux, AuxWord { address: b'T', value: v.n.value }, at)?;
+                }
+                b'M' => {
+                    push(&mut w.m, v, at)?;
+                    push(&mut w.aux, AuxWord { address: b'M', value: v.n.value }, at)?;
+                }
+                b'S' | b'H' => push(&mut w.aux, AuxWord { address: letter, value: v.n.value }, at)?,
+                b'N' => {
+                    return Err(fault(AlarmCode::Syntax, at, "the block number N must come first in the block"))
+                }
+                _ => {
+                    return Err(fault(
+                        AlarmCode::UnknownAddress,
+                        at,
+                        format!("address {name} is not defined in the {} dialect", d.name.as_str()),
+                    ))
+                }
+            }
+        }
+        Ok(w)
+    }
+
+    /// The value after an address: a number, or in the ISG dialect an expression operand.
+    fn value(&mut self, c: &mut Cursor, at: usize, what: &str) -> R<Val> {
+        c.skip_blanks();
+        if self.d.variables && matches!(c.peek(), Some(b'[') | Some(b'-') | Some(b'+') | Some(b'a'..=b'z') | Some(b'A'..=b'Z'))
+            && !matches!((c.peek(), c.peek_at(1)), (Some(b'-' | b'+'), Some(b'0'..=b'9' | b'.')))
+        {
+            let v = expr::eval_operand(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+            return Ok(Val {
+                n: Number { value: v, has_point: true },
+                at,
+            });
+        }
+        match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+            Some((n, next)) => {
+                c.i = next;
+                Ok(Val { n, at })
+            }
+            None => {
+                let shown = if what.is_empty() {
+                    (c.b[at] as char).to_ascii_uppercase().to_string()
+                } else {
+                    what.to_string()
+                };
+                Err(fault(AlarmCode::BadNumber, c.i, format!("{shown} must be followed by a number")))
+            }
+        }
+    }
+
+    /// A length value in mm: decimal-input switch, inch conversion.
+    fn length(&self, v: Val, units: Units) -> f64 {
+        let mut x = v.n.value;
+        if self.d.decimal_switch && !v.n.has_point && self.md.program.decimal_input == DecimalInput::Increment {
+            x *= match units {
+                Units::Mm => self.md.program.least_input_increment_mm,
+                Units::Inch => self.md.program.least_input_increment_inch,
+            };
+        }
+        if units == Units::Inch {
+            x * 25.4
+        } else {
+            x
+        }
+    }
+
+    /// Turns collected words into a block.
+    fn build(&mut self, w: Words, block_col: usize) -> R<Option<Block>> {
+        let d = self.d;
+        let old = self.state;
+        let mut new = self.state;
+        let mut blk = Block {
+            line: self.blk_line,
+            col: column(self.src, self.blk_line_start, block_col),
+            number: self.blk_number,
+            motion: None,
+            modal: new,
+            words: w.aux.clone(),
+            trc: None,
+            approach: None,
+            exact_stop: false,
+            dwell: None,
+            stop: None,
+            offset_changed: false,
+            calculation: w.calculation,
+            preprocess_stop: false,
+        };
+
+        // G codes: look up, check groups and TRC restrictions, then apply.
+        let mut effects: heapless::Vec<(GEffect, u16, usize), 16> = heapless::Vec::new();
+        for &(code, at) in &w.g {
+            let def = d.gcode(code).ok_or_else(|| {
+                fault(AlarmCode::UnknownGCode, at, format!("G{code} is not a {} G code", d.name.as_str()))
+            })?;
+            if let Some((_, other, _)) = effects.iter().find(|(e, _, _)| Dialect::same_group(*e, def.effect)) {
+                return Err(fault(
+                    AlarmCode::SameGroupTwice,
+                    at,
+                    format!("G{code} and G{other} belong to the same group"),
+                ));
+            }
+            if def.forbidden_with_trc && old.trc != TrcSide::Off {
+                return Err(fault(
+                    AlarmCode::ForbiddenWithTrc,
+                    at,
+                    format!("G{code} may not be programmed while TRC (G41/G42) is active; deselect TRC first"),
+                ));
+            }
+            if let GEffect::Unsupported(what) = def.effect {
+                return Err(fault(AlarmCode::NotSupported, at, format!("{what} is not supported by softnc")));
+            }
+            let _ = effects.push((def.effect, code, at));
+        }
+        for &(code, at) in &w.at_codes {
+            if code != 714 {
+                return Err(fault(AlarmCode::NotSupported, at, format!("@{code} is not supported by softnc")));
+            }
+            if old.trc != TrcSide::Off {
+                return Err(fault(
+                    AlarmCode::ForbiddenWithTrc,
+                    at,
+                    "@714 may not be programmed while TRC (G41/G42) is active; deselect TRC first",
+                ));
+            }
+            blk.preprocess_stop = true;
+        }
+
+        let mut dwell = false;
+        let mut working_area: Option<bool> = None;
+        let mut trc_code_at = None;
+        for &(effect, code, at) in &effects {
+            match effect {
+                GEffect::Motion(m) => new.motion = m,
+                GEffect::Dwell => dwell = true,
+                GEffect::ExactStopBlock => blk.exact_stop = true,
+                GEffect::ExactStopModal(on) => new.exact_stop = on,
+                GEffect::Plane(p) => {
+                    if old.trc != TrcSide::Off && p != old.plane {
+                        return Err(fault(
+                            AlarmCode::PlaneChangeWithTrc,
+                            at,
+                            format!("G{code}: the plane cannot be changed while TRC is active"),
+                        ));
+                    }
+                    new.plane = p;
+                }
+                GEffect::Units(u) => new.units = u,
+                GEffect::Distance(x) => new.distance = x,
+                GEffect::Trc(side) => {
+                    blk.trc = Some(side);
+                    new.trc = side;
+                    trc_code_at = Some(at);
+                }
+                GEffect::Corner(cp) => new.corner = cp,
+                GEffect::Approach(sp) => blk.approach = Some(sp),
+                GEffect::Selection(sp) => {
+                    if sp == SelectionPolicy::InnerCorner && old.trc != TrcSide::Off && old.selection != sp {
+                        return Err(fault(
+                            AlarmCode::ForbiddenWithTrc,
+                            at,
+                            format!("G{code}: inner-corner selection cannot be switched on while TRC is active"),
+                        ));
+                    }
+                    new.selection = sp;
+                }
+                GEffect::FeedAdaption(fa) => new.feed_adaption = fa,
+                GEffect::Masking(on) => new.masking = on,
+                GEffect::WorkOffset(i) => new.work_offset = i,
+                GEffect::WorkingArea { max } => working_area = Some(max),
+                GEffect::PoleHere => new.pole = self.cur,
+                GEffect::Unsupported(_) => {}
+            }
+        }
+        if let Some(on) = w.diameter {
+            new.diameter = on;
+        }
+        let units = new.units;
+        let scale = if units == Units::Inch { 25.4 } else { 1.0 };
+
+        // Technology words.
+        if !dwell {
+            if let Some(f) = w.f {
+                if !(f.n.value > 0.0) || !f.n.value.is_finite() {
+                    return Err(fault(AlarmCode::BadNumber, f.at, "the feed F must be positive"));
+                }
+                new.feed = f.n.value * scale;
+            }
+        }
+        for a in &w.aux {
+            if a.address == b'S' {
+                if a.value < 0.0 {
+                    return Err(fault(AlarmCode::BadNumber, block_col, "the spindle speed S must not be negative"));
+                }
+                new.spindle = a.value;
+            }
+        }
+        if let Some(t) = w.t {
+            new.tool = Some(int_value(t.n.value, t.at, "T")?);
+            blk.offset_changed = true;
+        }
+        let d_word = match w.d {
+            Some(v) => Some((int_value(v.n.value, v.at, "D")?, v.at)),
+            None if d.tool_edges && w.t.is_some() && new.d != 0 => Some((new.d, block_col)),
+            None => None,
+        };
+        if let Some((dn, at)) = d_word {
+            if dn == 0 {
+                new.d = 0;
+                new.radius = 0.0;
+                new.length = 0.0;
+                if d.d0_deselects && old.trc != TrcSide::Off && blk.trc.is_none() {
+                    blk.trc = Some(TrcSide::Off);
+                    new.trc = TrcSide::Off;
+                }
+            } else {
+                let tool = if d.tool_edges { new.tool } else { None };
+                let (radius, length, _edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
+                    let what = match tool {
+                        Some(t) => format!("T{t} D{dn}"),
+                        None => format!("D{dn}"),
+                    };
+                    fault(AlarmCode::UnknownOffset, at, format!("tool offset {what} is not in the tool table"))
+                })?;
+                new.d = dn;
+                new.radius = radius;
+                new.length = length;
+            }
+            blk.offset_changed = true;
+        }
+        self.vars.tool_length = new.length;
+        if w.radius_written.is_some() {
+            new.radius = self.vars.tool_radius;
+            blk.offset_changed = true;
+        }
+        self.vars.tool_radius = new.radius;
+
+        // Program flow M functions.
+        for m in &w.m {
+            let stop = match m.n.value {
+                v if v == 0.0 => Some(ProgramStop::Stop),
+                v if v == 1.0 => Some(ProgramStop::OptionalStop),
+                v if v == 2.0 => Some(ProgramStop::End),
+                v if v == 30.0 => Some(ProgramStop::EndRewind),
+                v if v == 18.0 && d.m18_stops => Some(ProgramStop::StopAtEnd),
+                _ => None,
+            };
+            if let Some(s) = stop {
+                if blk.stop.is_some_and(|prev| prev != s) {
+                    return Err(fault(AlarmCode::SameGroupTwice, m.at, "two program-flow M functions in one block"));
+                }
+                blk.stop = Some(s);
+            }
+        }
+
+        // Dwell, working area: the axis words carry times or limits, not positions.
+        if dwell {
+            let secs = if let (true, Some(x)) = (d.dwell.x_seconds, w.axis[0]) {
+                Some(x)
+            } else if let (true, Some(f)) = (d.dwell.f_seconds, w.f) {
+                Some(f)
+            } else if let (true, Some(p)) = (d.dwell.p_millis, w.p) {
+                Some(Val { n: Number { value: p.n.value / 1000.0, has_point: true }, at: p.at })
+            } else {
+                w.bare
+            };
+            let secs = secs.ok_or_else(|| fault(AlarmCode::MissingValue, block_col, "G4 needs a dwell time"))?;
+            if !(secs.n.value >= 0.0) || secs.n.value > 1e6 {
+                return Err(fault(AlarmCode::BadNumber, secs.at, "dwell time out of range"));
+            }
+            let axis_used_as_time = d.dwell.x_seconds && w.axis[0].is_some();
+            for (i, a) in w.axis.iter().enumerate() {
+                if let Some(a) = a {
+                    if !(i == 0 && axis_used_as_time) {
+                        return Err(fault(AlarmCode::Syntax, a.at, "a dwell block (G4) cannot move axes"));
+                    }
+                }
+            }
+            blk.dwell = Some(secs.n.value);
+        } else if let Some(max) = working_area {
+            for (i, a) in w.axis.iter().enumerate() {
+                if let Some(a) = a {
+                    let v = self.length(*a, units);
+                    if max {
+                        self.work_max[i] = v;
+                    } else {
+                        self.work_min[i] = v;
+                    }
+                }
+            }
+        } else {
+            blk.motion = self.motion(&w, &mut new, block_col)?;
+        }
+
+        // TRC selection/deselection only in linear blocks (840C 11.3/11.5, Fanuc 026).
+        if let (Some(_), Some(at)) = (blk.trc, trc_code_at) {
+            let arc = new.motion.is_arc();
+            if arc && (blk.motion.is_some() || d.trc_not_linear == AlarmCode::FanucTrcNotLinear) {
+                return Err(fault(
+                    d.trc_not_linear,
+                    at,
+                    "tool radius compensation can only be selected or deselected in a G0/G1 block",
+                ));
+            }
+        }
+
+        if let Some(m) = &blk.motion {
+            self.cur = m.end;
+        }
+        if blk.stop.is_some_and(|s| s.ends_program()) {
+            new.pole = self.md.zero_offsets.get(new.work_offset);
+            self.finished = true;
+        }
+        blk.modal = new;
+        self.state = new;
+        Ok(Some(blk))
+    }
+
+    /// The block's motion, if it has one.
+    fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<Option<Motion>> {
+        let units = new.units;
+        let offset = self.md.zero_offsets.get(new.work_offset);
+        let plane = new.plane;
+        let (pa, po) = (plane.abscissa as usize, plane.ordinate as usize);
+        let mut programmed = 0u8;
+        for (i, a) in w.axis.iter().enumerate() {
+            if let Some(a) = a {
+                if !self.md.has_axis(i) {
+                    return Err(fault(
+                        AlarmCode::UnknownAddress,
+                        a.at,
+                        format!("axis {} is not configured on this machine", AXIS_NAMES[i]),
+                    ));
+                }
+                programmed |= 1 << i;
+            }
+        }
+        let start = self.cur;
+        let mut end = start;
+        let diameter_factor = |i: usize| if i == 0 && new.diameter { 0.5 } else { 1.0 };
+        let mode = new.motion;
+        let feed_needed = !matches!(mode, MotionMode::Rapid | MotionMode::PolarRapid);
+
+        if mode.is_polar() {
+            // 880/840C: plane-axis words give the pole, A the angle, U or B the radius.
+            for i in [pa, po] {
+                if let Some(a) = w.axis[i] {
+                    let v = self.length(a, units) * diameter_factor(i);
+                    new.pole[i] = match new.distance {
+                        Distance::Absolute => v + offset[i],
+                        Distance::Incremental => new.pole[i] + v,
+                    };
+                }
+            }
+            let normal = plane.normal as usize;
+            if let Some(a) = w.axis[normal] {
+                let v = self.length(a, units);
+                end[normal] = match new.distance {
+                    Distance::Absolute => v + offset[normal],
+                    Distance::Incremental => start[normal] + v,
+                };
+            }
+            if w.angle.is_none() && w.polar_radius.is_none() && w.axis[normal].is_none() {
+                return Ok(None);
+            }
+            let (rx, ry) = (start[pa] - new.pole[pa], start[po] - new.pole[po]);
+            let r_now = libm::hypot(rx, ry);
+            let ang_now = libm::atan2(ry, rx).to_degrees();
+            let ang = match w.angle {
+                Some(a) if new.distance == Distance::Incremental => ang_now + a.n.value,
+                Some(a) => a.n.value,
+                None => ang_now,
+            };
+            let r = match w.polar_radius {
+                Some(u) => {
+                    let r = self.length(u, units);
+                    if r < 0.0 {
+                        return Err(fault(AlarmCode::BadNumber, u.at, "the polar radius U/B is written without sign"));
+                    }
+                    r
+                }
+                None => r_now,
+            };
+            let arc = mode.is_arc();
+            if arc {
+                if r_now <= 1e-9 {
+                    return Err(fault(AlarmCode::ArcEndPoint, block_col, "polar circle: the start point lies on the pole"));
+                }
+                if (r - r_now).abs() > self.md.program.arc_endpoint_tolerance {
+                    return Err(fault(
+                        AlarmCode::ArcEndPoint,
+                        w.polar_radius.map_or(block_col, |u| u.at),
+                        format!("polar circle: radius {r:.4} differs from the start radius {r_now:.4}"),
+                    ));
+                }
+            }
+            let rr = if arc { r_now } else { r };
+            let rad = ang.to_radians();
+            end[pa] = new.pole[pa] + rr * libm::cos(rad);
+            end[po] = new.pole[po] + rr * libm::sin(rad);
+            let mut centre = start;
+            centre[pa] = new.pole[pa];
+            centre[po] = new.pole[po];
+            if feed_needed && new.feed <= 0.0 {
+                return Err(fault(AlarmCode::NoFeed, block_col, "no feed programmed (F)"));
+            }
+            self.check_area(&end, block_col)?;
+            return Ok(Some(Motion {
+                kind: mode.kind(),
+                plane,
+                start,
+                end,
+                center: if arc { centre } else { end },
+                programmed,
+            }));
+        }
+
+        for (i, a) in w.axis.iter().enumerate() {
+            if let Some(a) = a {
+                let v = self.length(*a, units) * diameter_factor(i);
+                end[i] = match new.distance {
+                    Distance::Absolute => v + offset[i],
+                    Distance::Incremental => start[i] + v,
+                };
+                if !end[i].is_finite() || end[i].abs() > 1e9 {
+                    return Err(fault(AlarmCode::BadNumber, a.at, "coordinate out of range"));
+                }
+            }
+        }
+        let arc = mode.is_arc();
+        let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
+        if programmed == 0 && !(arc && has_centre) {
+            if has_centre {
+                let at = w.centre.iter().flatten().map(|v| v.at).chain(w.radius.map(|v| v.at)).next().unwrap_or(block_col);
+                return Err(fault(AlarmCode::Syntax, at, "circle parameters without a circular motion"));
+            }
+            return Ok(None);
+        }
+        if feed_needed && new.feed <= 0.0 {
+            return Err(fault(AlarmCode::NoFeed, block_col, "no feed programmed (F)"));
+        }
+        let mut centre = end;
+        if arc {
+            for (i, v) in w.centre.iter().enumerate() {
+                if let (Some(v), false) = (v, plane.contains(i)) {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        v.at,
+                        format!("{} is not a centre coordinate in the {} plane", ['I', 'J', 'K'][i], plane.name()),
+                    ));
+                }
+            }
+            let spec = match (w.radius, w.centre.iter().any(Option::is_some)) {
+                (Some(r), false) => CentreSpec::Radius(self.length(r, units)),
+                (None, true) => {
+                    let mut off = [0.0; 3];
+                    for (i, v) in w.centre.iter().enumerate() {
+                        if let Some(v) = v {
+                            off[i] = self.length(*v, units);
+                        }
+                    }
+                    CentreSpec::Offsets(off)
+                }
+                (Some(r), true) => {
+                    return Err(fault(AlarmCode::Syntax, r.at, "a circle takes either a centre or a radius, not both"))
+                }
+                (None, false) => {
+                    return Err(fault(
+                        AlarmCode::MissingValue,
+                        block_col,
+                        "a circle needs its centre (I, J, K) or its radius",
+                    ))
+                }
+            };
+            let at = w.radius.map(|r| r.at).or_else(|| w.centre.iter().flatten().next().map(|v| v.at)).unwrap_or(block_col);
+            let tol = self.md.program.arc_endpoint_tolerance;
+            let ccw = mode == MotionMode::ArcCcw;
+            centre = arc::centre(start, end, plane, ccw, spec, tol).map_err(|e| {
+                let msg = match e {
+                    ArcError::EndPointOff { r_start, r_end } => format!(
+                        "end point not on the circle: start radius {r_start:.4}, end radius {r_end:.4} (tolerance {tol})"
+                    ),
+                    ArcError::ZeroRadius => "the centre lies on the start point".to_string(),
+                    ArcError::FullCircleByRadius => {
+                        "a full circle cannot be programmed with a radius; give the centre".to_string()
+                    }
+                    ArcError::RadiusTooSmall { radius, half_chord } => format!(
+                        "radius {:.4} is smaller than half the distance to the end point ({half_chord:.4})",
+                        radius.abs()
+                    ),
+                };
+                fault(AlarmCode::ArcEndPoint, at, msg)
+            })?;
+        }
+        self.check_area(&end, block_col)?;
+        Ok(Some(Motion {
+            kind: mode.kind(),
+            plane,
+            start,
+            end,
+            center: centre,
+            programmed,
+        }))
+    }
+
+    /// 840C G25/G26: end points must stay inside the working area.
+    fn check_area(&self, p: &Pos, at: usize) -> R<()> {
+        for i in 0..3 {
+            if p[i] < self.work_min[i] || p[i] > self.work_max[i] {
+                return Err(fault(
+                    AlarmCode::WorkingArea,
+                    at,
+                    format!(
+                        "{} {:.4} lies outside the working area limitation {} .. {}",
+                        AXIS_NAMES[i], p[i], self.work_min[i], self.work_max[i]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `$FOR`, `$IF`, `$WHILE` and their closing statements (ISG).
+    fn control(&mut self, mut c: Cursor) -> R<()> {
+        let stmt = control::parse(&mut c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+        let origin = (self.blk_line, self.blk_line_start, c.i);
+        let max = self.md.program.max_loop_iterations;
+        match stmt {
+            ControlStmt::For { var, var_at, start, end, step, at } => {
+                if step == 0.0 {
+                    return Err(fault(AlarmCode::BadNumber, at, "$FOR with step 0 would never end"));
+                }
+                self.vars.set(&var, start).map_err(|m| fault(AlarmCode::UndefinedName, var_at, m))?;
+                if control::for_continues(start, end, step) {
+                    self.frames.push(Frame::For {
+                        var,
+                        end,
+                        step,
+                        body: (self.pos, self.line, self.line_start),
+                        iterations: 1,
+                        origin: (origin.0, origin.1, at),
+                    });
+                } else {
+                    self.skip_to(&["ENDFOR"], at)?;
+                }
+            }
+            ControlStmt::EndFor { at } => match self.frames.pop() {
+                Some(Frame::For { var, end, step, body, iterations, origin }) => {
+                    let v = self.vars.get(&var).unwrap_or(end) + step;
+                    let _ = self.vars.set(&var, v);
+                    if control::for_continues(v, end, step) {
+                        if iterations >= max {
+                            return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
+                        }
+                        (self.pos, self.line, self.line_start) = body;
+                        self.frames.push(Frame::For { var, end, step, body, iterations: iterations + 1, origin });
+                    }
+                }
+                other => return Err(self.mismatch(other, "$ENDFOR", at)),
+            },
+            ControlStmt::While { cond, cond_range, at } => {
+                if expr::truthy(cond) {
+                    self.frames.push(Frame::While {
+                        cond: cond_range,
+                        body: (self.pos, self.line, self.line_start),
+                        iterations: 1,
+                        origin: (origin.0, origin.1, at),
+                    });
+                } else {
+                    self.skip_to(&["ENDWHILE"], at)?;
+                }
+            }
+            ControlStmt::EndWhile { at } => match self.frames.pop() {
+                Some(Frame::While { cond, body, iterations, origin }) => {
+                    let mut cc = Cursor::new(self.src, cond.0, cond.1);
+                    let v = expr::eval(&mut cc, &self.vars).map_err(|e| fault(e.code, at, e.message))?;
+                    if expr::truthy(v) {
+                        if iterations >= max {
+                            return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
+                        }
+                        (self.pos, self.line, self.line_start) = body;
+                        self.frames.push(Frame::While { cond, body, iterations: iterations + 1, origin });
+                    }
+                }
+                other => return Err(self.mismatch(other, "$ENDWHILE", at)),
+            },
+            ControlStmt::If { cond, at } => {
+                let mut taken = expr::truthy(cond);
+                let mut at_kw = at;
+                // Walk $ELSEIF / $ELSE until a branch is taken.
+                while !taken {
+                    let kw = self.skip_to(&["ELSEIF", "ELSE", "ENDIF"], at_kw)?;
+                    match kw.as_str() {
+                        "ENDIF" => return Ok(()),
+                        "ELSE" => {
+                            taken = true;
+                        }
+                        _ => {
+                            // The $ELSEIF line was consumed by skip_to; evaluate its condition.
+                            let (s, e) = self.last_skip;
+                            let (cond, cat) = control::elseif_condition(self.src, s, e, &self.vars)
+                                .map_err(|e| fault(e.code, e.at, e.message))?;
+                            taken = expr::truthy(cond);
+                            at_kw = cat;
+                        }
+                    }
+                }
+                self.frames.push(Frame::If { origin: (origin.0, origin.1, at) });
+            }
+            ControlStmt::Else { at } | ControlStmt::ElseIf { at } => match self.frames.pop() {
+                Some(Frame::If { .. }) => {
+                    // The taken branch ends here: skip the rest up to $ENDIF.
+                    self.skip_to(&["ENDIF"], at)?;
+                }
+                other => return Err(self.mismatch(other, "$ELSE", at)),
+            },
+            ControlStmt::EndIf { at } => match self.frames.pop() {
+                Some(Frame::If { .. }) => {}
+                other => return Err(self.mismatch(other, "$ENDIF", at)),
+            },
+        }
+        Ok(())
+    }
+
+    fn mismatch(&self, open: Option<Frame>, close: &str, at: usize) -> Fault {
+        match open {
+            Some(f) => fault(
+                AlarmCode::ControlNesting,
+                at,
+                format!("{close} does not close {} (line {})", f.opener(), f.origin().0),
+            ),
+            None => fault(AlarmCode::ControlNesting, at, format!("{close} without an opening statement")),
+        }
+    }
+
+    /// Skips blocks up to the `$keyword` (one of `targets`) that matches at this nesting level;
+    /// returns the keyword found. Leaves `pos` after that line. Used for false conditions and
+    /// finished loops.
+    fn skip_to(&mut self, targets: &[&str], at: usize) -> R<String> {
+        let origin = (self.blk_line, self.blk_line_start);
+        let mut depth = 0u32;
+        while let Some((s, e)) = self.next_segment() {
+            let Some(kw) = control::keyword_of(self.src, s, e) else { continue };
+            match kw.as_str() {
+                "FOR" | "WHILE" | "IF" => depth += 1,
+                "ENDFOR" | "ENDWHILE" | "ENDIF" if depth > 0 => depth -= 1,
+                k if depth == 0 && targets.contains(&k) => {
+                    self.last_skip = (s, e);
+                    return Ok(kw);
+                }
+                _ => {}
+            }
+        }
+        self.blk_line = origin.0;
+        self.blk_line_start = origin.1;
+        Err(fault(
+            AlarmCode::ControlNesting,
+            at,
+            format!("missing ${} for this statement", targets.last().copied().unwrap_or("END")),
+        ))
+    }
+}
+
+fn push<T, const N: usize>(v: &mut heapless::Vec<T, N>, x: T, at: usize) -> R<()> {
+    v.push(x)
+        .map_err(|_| fault(AlarmCode::TooManyWords, at, format!("more than {N} words of this kind in one block")))
+}
+
+fn set_once(slot: &mut Option<Val>, v: Val, name: &str) -> R<()> {
+    if slot.is_some() {
+        return Err(fault(AlarmCode::AddressTwice, v.at, format!("{name} is programmed twice in this block")));
+    }
+    *slot = Some(v);
+    Ok(())
+}
+
+/// A value that must be a non-negative integer (G, M, T, D numbers).
+fn int_value(v: f64, at: usize, what: &str) -> R<u32> {
+    if v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
+        Ok(v as u32)
+    } else {
+        Err(fault(AlarmCode::BadNumber, at, format!("{what} must be a whole number, not {v}")))
+    }
+}

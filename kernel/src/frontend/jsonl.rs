@@ -1,0 +1,144 @@
+//! `softnc parse` output: one JSON object per interpreted block (docs/parse-format.md).
+//! Written by hand: it is on the path of million-block programs, and the format is small.
+
+use super::block::*;
+use crate::machine_data::Units;
+use std::io::{self, Write};
+
+fn num(out: &mut impl Write, v: f64) -> io::Result<()> {
+    // Shortest round-trip representation; values are finite by construction.
+    let v = if v == 0.0 { 0.0 } else { v };
+    if v.is_finite() {
+        write!(out, "{v}")
+    } else {
+        out.write_all(b"null")
+    }
+}
+
+fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
+    out.write_all(b"[")?;
+    num(out, p[0])?;
+    out.write_all(b",")?;
+    num(out, p[1])?;
+    out.write_all(b",")?;
+    num(out, p[2])?;
+    out.write_all(b"]")
+}
+
+fn string(out: &mut impl Write, s: &str) -> io::Result<()> {
+    out.write_all(b"\"")?;
+    for ch in s.chars() {
+        match ch {
+            '"' => out.write_all(b"\\\"")?,
+            '\\' => out.write_all(b"\\\\")?,
+            c if (c as u32) < 0x20 => write!(out, "\\u{:04x}", c as u32)?,
+            c => write!(out, "{c}")?,
+        }
+    }
+    out.write_all(b"\"")
+}
+
+/// Writes one block as a JSON object and a newline.
+pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
+    write!(out, "{{\"line\":{},\"col\":{},\"block\":", b.line, b.col)?;
+    match b.number {
+        Some(n) => string(out, &n.to_string())?,
+        None => out.write_all(b"null")?,
+    }
+    out.write_all(b",\"motion\":")?;
+    match &b.motion {
+        None => out.write_all(b"null")?,
+        Some(m) => {
+            write!(out, "{{\"type\":\"{}\",\"plane\":\"{}\",\"start\":", m.kind.name(), m.plane.name())?;
+            pos(out, &m.start)?;
+            out.write_all(b",\"end\":")?;
+            pos(out, &m.end)?;
+            if m.kind.is_arc() {
+                out.write_all(b",\"center\":")?;
+                pos(out, &m.center)?;
+            }
+            out.write_all(b"}")?;
+        }
+    }
+    let s = &b.modal;
+    write!(
+        out,
+        ",\"modal\":{{\"motion\":\"{}\",\"plane\":\"{}\",\"distance\":\"{}\",\"units\":\"{}\",\"feed\":",
+        s.motion.name(),
+        s.plane.name(),
+        match s.distance {
+            Distance::Absolute => "absolute",
+            Distance::Incremental => "incremental",
+        },
+        match s.units {
+            Units::Mm => "mm",
+            Units::Inch => "inch",
+        }
+    )?;
+    num(out, s.feed)?;
+    out.write_all(b",\"spindle\":")?;
+    num(out, s.spindle)?;
+    write!(
+        out,
+        ",\"trc\":\"{}\",\"corner\":\"{}\",\"selection\":\"{}\",\"feed_adaption\":\"{}\",\"masking\":{},\"exact_stop\":{},\"work_offset\":{},\"diameter\":{},\"tool\":",
+        s.trc.name(),
+        s.corner.name(),
+        s.selection.name(),
+        match s.feed_adaption {
+            FeedAdaption::Centre => "centre",
+            FeedAdaption::Contour => "contour",
+        },
+        s.masking,
+        s.exact_stop,
+        match s.work_offset {
+            0 => "null",
+            1 => "\"G54\"",
+            2 => "\"G55\"",
+            3 => "\"G56\"",
+            _ => "\"G57\"",
+        },
+        s.diameter
+    )?;
+    match s.tool {
+        Some(t) => write!(out, "{t}")?,
+        None => out.write_all(b"null")?,
+    }
+    write!(out, ",\"d\":{},\"radius\":", s.d)?;
+    num(out, s.radius)?;
+    out.write_all(b",\"length\":")?;
+    num(out, s.length)?;
+    out.write_all(b"},\"words\":[")?;
+    for (i, w) in b.words.iter().enumerate() {
+        if i > 0 {
+            out.write_all(b",")?;
+        }
+        write!(out, "\"{w}\"")?;
+    }
+    out.write_all(b"]")?;
+    if let Some(t) = b.trc {
+        write!(out, ",\"trc_programmed\":\"{}\"", t.name())?;
+    }
+    if let Some(a) = b.approach {
+        write!(out, ",\"approach\":\"{}\"", a.name())?;
+    }
+    if b.exact_stop {
+        out.write_all(b",\"exact_stop\":true")?;
+    }
+    if let Some(dw) = b.dwell {
+        out.write_all(b",\"dwell\":")?;
+        num(out, dw)?;
+    }
+    if let Some(st) = b.stop {
+        write!(out, ",\"stop\":\"{}\"", st.code())?;
+    }
+    if b.offset_changed {
+        out.write_all(b",\"offset_changed\":true")?;
+    }
+    if b.calculation {
+        out.write_all(b",\"calculation\":true")?;
+    }
+    if b.preprocess_stop {
+        out.write_all(b",\"preprocess_stop\":true")?;
+    }
+    out.write_all(b"}\n")
+}

@@ -1,0 +1,117 @@
+//! A cursor over one block's text: blanks, comments and the byte-level helpers the
+//! interpreter's word loop needs. Positions are byte offsets into the whole program; they are
+//! turned into character columns only when an alarm is raised.
+
+#[derive(Clone, Copy, Debug)]
+pub struct Cursor<'a> {
+    pub b: &'a [u8],
+    pub i: usize,
+    /// End of the block's text (exclusive).
+    pub end: usize,
+}
+
+impl<'a> Cursor<'a> {
+    pub fn new(b: &'a [u8], start: usize, end: usize) -> Self {
+        Cursor { b, i: start, end }
+    }
+
+    #[inline]
+    pub fn peek(&self) -> Option<u8> {
+        if self.i < self.end {
+            self.b.get(self.i).copied()
+        } else {
+            None
+        }
+    }
+
+    #[inline]
+    pub fn peek_at(&self, k: usize) -> Option<u8> {
+        let j = self.i + k;
+        if j < self.end {
+            self.b.get(j).copied()
+        } else {
+            None
+        }
+    }
+
+    #[inline]
+    pub fn skip_blanks(&mut self) {
+        while let Some(c) = self.peek() {
+            if c == b' ' || c == b'\t' || c == b'\r' {
+                self.i += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
+    #[inline]
+    pub fn at_end(&self) -> bool {
+        self.i >= self.end
+    }
+
+    /// Upper-cased ASCII letter at the cursor.
+    #[inline]
+    pub fn letter(&self) -> Option<u8> {
+        self.peek()
+            .filter(|c| c.is_ascii_alphabetic())
+            .map(|c| c.to_ascii_uppercase())
+    }
+
+    /// True if the text at the cursor starts with `word` (ASCII, case-insensitive) and the
+    /// character after it is not a letter.
+    pub fn keyword(&self, word: &str) -> bool {
+        let w = word.as_bytes();
+        for (k, &c) in w.iter().enumerate() {
+            match self.peek_at(k) {
+                Some(x) if x.to_ascii_uppercase() == c => {}
+                _ => return false,
+            }
+        }
+        !matches!(self.peek_at(w.len()), Some(c) if c.is_ascii_alphabetic())
+    }
+
+    /// Skips a parenthesised comment starting at the cursor. Nested parentheses are allowed.
+    /// Returns false if it is not closed before the end of the block.
+    pub fn skip_comment(&mut self) -> bool {
+        let mut depth = 0u32;
+        while let Some(c) = self.peek() {
+            self.i += 1;
+            if c == b'(' {
+                depth += 1;
+            } else if c == b')' {
+                depth -= 1;
+                if depth == 0 {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// A dotted name (`V.P.LAUF`, `V.G.WZ_AKT.R`), upper-cased.
+    pub fn name(&mut self) -> String {
+        let start = self.i;
+        while let Some(c) = self.peek() {
+            if c.is_ascii_alphanumeric() || c == b'_' || c == b'.' {
+                self.i += 1;
+            } else {
+                break;
+            }
+        }
+        let mut s = String::from_utf8_lossy(&self.b[start..self.i]).to_ascii_uppercase();
+        while s.ends_with('.') {
+            s.pop();
+            self.i -= 1;
+        }
+        s
+    }
+}
+
+/// 1-based character column of byte offset `at` in the line starting at `line_start`.
+pub fn column(src: &[u8], line_start: usize, at: usize) -> u32 {
+    let at = at.min(src.len());
+    let start = line_start.min(at);
+    let chars = src[start..at].iter().filter(|&&c| (c & 0xC0) != 0x80).count();
+    chars as u32 + 1
+}

@@ -1,0 +1,16 @@
+//! nc-kernel: the softnc NC kernel library.
+//!
+//! Data flows one way: [`frontend`] (part program → interpreted blocks) → block preparation →
+//! interpolation → IPC. Each stage is named after the NC concept it implements; the manual
+//! sections it follows are cited where each rule lives.
+
+pub mod alarm;
+pub mod dialect;
+pub mod frontend;
+pub mod machine_data;
+pub mod tools;
+
+pub use alarm::{Alarm, AlarmCode};
+pub use frontend::{interpret, Block, Interpreter};
+pub use machine_data::MachineData;
+pub use tools::{ToolOffset, ToolTable};

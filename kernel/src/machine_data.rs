@@ -1,0 +1,472 @@
+//! Machine data: everything a machine builder sets once per machine (serde + TOML).
+//!
+//! A machine data file is read over the built-in defaults (an 840C milling machine), so a file
+//! names only what differs; `--md KEY=VALUE` overrides one value afterwards. Unknown keys and
+//! out-of-range values are rejected with the file, the key and the reason. Every key is
+//! documented in docs/machine-data.md.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+
+/// The built-in machine data: a three-axis SINUMERIK 840C milling machine. The shipped
+/// `config/siemens-840c.toml` holds the same values (a test keeps them equal).
+pub const BUILTIN_DEFAULTS: &str = include_str!("../../config/siemens-840c.toml");
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DialectName {
+    #[serde(rename = "siemens-840c")]
+    Siemens840C,
+    Isg,
+    Fanuc,
+    #[serde(rename = "siemens-808d")]
+    Siemens808D,
+}
+
+impl DialectName {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DialectName::Siemens840C => "siemens-840c",
+            DialectName::Isg => "isg",
+            DialectName::Fanuc => "fanuc",
+            DialectName::Siemens808D => "siemens-808d",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MachineKind {
+    Milling,
+    Turning,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Units {
+    Mm,
+    Inch,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlaneName {
+    Xy,
+    Zx,
+    Yz,
+}
+
+/// How a number without a decimal point is read where the dialect leaves it to the machine
+/// (Fanuc): as a count of least input increments (`X100` = 0.1 mm), or as is (`X100` = 100 mm,
+/// "pocket calculator" input).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DecimalInput {
+    Increment,
+    Calculator,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CornerModeSetting {
+    TransitionCircle,
+    Intersection,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ViolationReaction {
+    /// Alarm 3021 and stop before the violating block.
+    Stop,
+    /// Alarm 3021 as a warning; the path continues (and may gouge).
+    Warn,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AuxOutput {
+    BeforeMotion,
+    DuringMotion,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProgramData {
+    pub units: Units,
+    pub initial_plane: PlaneName,
+    /// X programmed as a diameter (lathes; 808D DIAMON as the switch-on state).
+    pub diameter_programming: bool,
+    pub decimal_input: DecimalInput,
+    /// Least input increment in mm (metric programs, decimal_input = increment).
+    pub least_input_increment_mm: f64,
+    /// Least input increment in inch (inch programs, decimal_input = increment).
+    pub least_input_increment_inch: f64,
+    /// Start and end radius of a circle may differ by this much (mm).
+    pub arc_endpoint_tolerance: f64,
+    /// The operator's "skip block" switch: blocks starting with `/` are left out when on.
+    pub block_skip: bool,
+    /// The optional-stop switch (M01 stops only when on).
+    pub optional_stop: bool,
+    /// Iterations one program loop may run before alarm 12650 (endless loops are an error).
+    pub max_loop_iterations: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrcData {
+    /// Corner mode at program start (840C 11.1: G450/G451 initial setting).
+    pub corner_mode: CornerModeSetting,
+    /// Reaction to alarm 3021 (840C 11.12).
+    pub violation_reaction: ViolationReaction,
+    /// Distance |AC| below which intermediate blocks at obtuse circle transitions are
+    /// suppressed (840C 11.14), mm.
+    pub suppression_distance: f64,
+    /// Blocks that may stand outside the compensation plane between two plane blocks
+    /// (840C 11.11: 3; 1 for software 1 and 2).
+    pub max_blocks_outside_plane: u32,
+    /// Auxiliary functions output before or during the axis motion (840C 11.10).
+    pub aux_output: AuxOutput,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZeroOffsets {
+    #[serde(rename = "G54")]
+    pub g54: [f64; 3],
+    #[serde(rename = "G55")]
+    pub g55: [f64; 3],
+    #[serde(rename = "G56")]
+    pub g56: [f64; 3],
+    #[serde(rename = "G57")]
+    pub g57: [f64; 3],
+}
+
+impl ZeroOffsets {
+    /// Offset for G54 (index 1) … G57 (index 4); index 0 is "no offset".
+    pub fn get(&self, index: u8) -> [f64; 3] {
+        match index {
+            1 => self.g54,
+            2 => self.g55,
+            3 => self.g56,
+            4 => self.g57,
+            _ => [0.0; 3],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IpoData {
+    /// Interpolation cycle in microseconds.
+    pub cycle_us: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisData {
+    /// Maximum axis velocity (also the rapid traverse rate), mm/min.
+    pub max_velocity: f64,
+    /// Maximum axis acceleration, mm/s².
+    pub max_acceleration: f64,
+    /// Maximum axis jerk, mm/s³.
+    pub max_jerk: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axes {
+    #[serde(rename = "X", skip_serializing_if = "Option::is_none", default)]
+    pub x: Option<AxisData>,
+    #[serde(rename = "Y", skip_serializing_if = "Option::is_none", default)]
+    pub y: Option<AxisData>,
+    #[serde(rename = "Z", skip_serializing_if = "Option::is_none", default)]
+    pub z: Option<AxisData>,
+}
+
+impl Axes {
+    pub fn get(&self, axis: usize) -> Option<&AxisData> {
+        match axis {
+            0 => self.x.as_ref(),
+            1 => self.y.as_ref(),
+            2 => self.z.as_ref(),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineData {
+    pub dialect: DialectName,
+    pub machine: MachineKind,
+    pub program: ProgramData,
+    pub trc: TrcData,
+    pub zero_offsets: ZeroOffsets,
+    pub ipo: IpoData,
+    pub axes: Axes,
+}
+
+/// A machine data problem: which file, which key, why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MachineDataError {
+    pub file: String,
+    pub key: String,
+    pub reason: String,
+}
+
+impl fmt::Display for MachineDataError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}: {}", self.file, self.reason)
+        } else {
+            write!(f, "{}: key `{}`: {}", self.file, self.key, self.reason)
+        }
+    }
+}
+
+impl std::error::Error for MachineDataError {}
+
+impl Default for MachineData {
+    fn default() -> Self {
+        // The built-in text is checked by a unit test; failing here would be a build defect.
+        Self::from_value(builtin_value(), "<built-in>").expect("built-in machine data is valid")
+    }
+}
+
+fn builtin_value() -> toml::Value {
+    toml::from_str(BUILTIN_DEFAULTS).expect("built-in machine data is valid TOML")
+}
+
+impl MachineData {
+    /// Built-in defaults, then `file` (if any), then each `KEY=VALUE` override.
+    pub fn load(file: Option<&Path>, overrides: &[String]) -> Result<Self, MachineDataError> {
+        let mut value = builtin_value();
+        let mut origin = "<built-in>".to_string();
+        if let Some(path) = file {
+            origin = path.display().to_string();
+            let text = std::fs::read_to_string(path).map_err(|e| MachineDataError {
+                file: origin.clone(),
+                key: String::new(),
+                reason: format!("cannot read: {e}"),
+            })?;
+            let layer: toml::Value = toml::from_str(&text).map_err(|e| MachineDataError {
+                file: origin.clone(),
+                key: String::new(),
+                reason: format!("not valid TOML: {}", e.message()),
+            })?;
+            merge(&mut value, layer);
+        }
+        for ov in overrides {
+            apply_override(&mut value, ov).map_err(|(key, reason)| MachineDataError {
+                file: "--md".into(),
+                key,
+                reason,
+            })?;
+        }
+        let origin = if overrides.is_empty() {
+            origin
+        } else {
+            format!("{origin} with --md")
+        };
+        Self::from_value(value, &origin)
+    }
+
+    /// Parses machine data from TOML text laid over the built-in defaults.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, MachineDataError> {
+        let mut value = builtin_value();
+        let layer: toml::Value = toml::from_str(text).map_err(|e| MachineDataError {
+            file: origin.into(),
+            key: String::new(),
+            reason: format!("not valid TOML: {}", e.message()),
+        })?;
+        merge(&mut value, layer);
+        Self::from_value(value, origin)
+    }
+
+    fn from_value(value: toml::Value, origin: &str) -> Result<Self, MachineDataError> {
+        let md: MachineData =
+            serde_path_to_error::deserialize(value).map_err(|e| MachineDataError {
+                file: origin.into(),
+                key: e.path().to_string(),
+                reason: e.inner().message().to_string(),
+            })?;
+        md.validate().map_err(|(key, reason)| MachineDataError {
+            file: origin.into(),
+            key,
+            reason,
+        })?;
+        Ok(md)
+    }
+
+    fn validate(&self) -> Result<(), (String, String)> {
+        fn range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), (String, String)> {
+            if v.is_finite() && v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err((key.into(), format!("{v} is outside the allowed range {lo} ..= {hi}")))
+            }
+        }
+        let p = &self.program;
+        range("program.least_input_increment_mm", p.least_input_increment_mm, 1e-6, 1.0)?;
+        range("program.least_input_increment_inch", p.least_input_increment_inch, 1e-7, 0.1)?;
+        range("program.arc_endpoint_tolerance", p.arc_endpoint_tolerance, 0.0, 1.0)?;
+        if p.max_loop_iterations == 0 {
+            return Err(("program.max_loop_iterations".into(), "must be at least 1".into()));
+        }
+        let t = &self.trc;
+        range("trc.suppression_distance", t.suppression_distance, 0.0, 1.0)?;
+        if !(1..=8).contains(&t.max_blocks_outside_plane) {
+            return Err((
+                "trc.max_blocks_outside_plane".into(),
+                format!(
+                    "{} is outside the allowed range 1 ..= 8",
+                    t.max_blocks_outside_plane
+                ),
+            ));
+        }
+        for (name, off) in [
+            ("G54", self.zero_offsets.g54),
+            ("G55", self.zero_offsets.g55),
+            ("G56", self.zero_offsets.g56),
+            ("G57", self.zero_offsets.g57),
+        ] {
+            for (i, v) in off.iter().enumerate() {
+                range(&format!("zero_offsets.{name}[{i}]"), *v, -1e6, 1e6)?;
+            }
+        }
+        if !(125..=100_000).contains(&self.ipo.cycle_us) {
+            return Err((
+                "ipo.cycle_us".into(),
+                format!("{} is outside the allowed range 125 ..= 100000", self.ipo.cycle_us),
+            ));
+        }
+        let mut any = false;
+        for (i, name) in ["X", "Y", "Z"].iter().enumerate() {
+            if let Some(a) = self.axes.get(i) {
+                any = true;
+                range(&format!("axes.{name}.max_velocity"), a.max_velocity, 1.0, 1e6)?;
+                range(&format!("axes.{name}.max_acceleration"), a.max_acceleration, 1.0, 1e5)?;
+                range(&format!("axes.{name}.max_jerk"), a.max_jerk, 1.0, 1e8)?;
+            }
+        }
+        if !any {
+            return Err(("axes".into(), "at least one axis must be configured".into()));
+        }
+        let plane_axes = match p.initial_plane {
+            PlaneName::Xy => [0, 1],
+            PlaneName::Zx => [2, 0],
+            PlaneName::Yz => [1, 2],
+        };
+        for a in plane_axes {
+            if self.axes.get(a).is_none() {
+                return Err((
+                    "program.initial_plane".into(),
+                    format!(
+                        "the plane needs axis {}, which is not configured",
+                        ["X", "Y", "Z"][a]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether axis 0..3 (X, Y, Z) exists on this machine.
+    pub fn has_axis(&self, axis: usize) -> bool {
+        self.axes.get(axis).is_some()
+    }
+}
+
+/// Lays `layer` over `base`. Tables merge key by key, except `axes`, which a file replaces
+/// whole (a lathe file lists X and Z and must not inherit the milling machine's Y).
+fn merge(base: &mut toml::Value, layer: toml::Value) {
+    match (base, layer) {
+        (toml::Value::Table(b), toml::Value::Table(l)) => {
+            for (k, v) in l {
+                match b.get_mut(&k) {
+                    Some(existing) if k != "axes" => merge(existing, v),
+                    _ => {
+                        b.insert(k, v);
+                    }
+                }
+            }
+        }
+        (b, l) => *b = l,
+    }
+}
+
+/// `KEY=VALUE` with a dotted key (`trc.max_blocks_outside_plane=1`, `axes.X.max_jerk=1e5`).
+/// The value is read as TOML (number, boolean, array) or else taken as a string.
+fn apply_override(value: &mut toml::Value, text: &str) -> Result<(), (String, String)> {
+    let (key, raw) = text
+        .split_once('=')
+        .ok_or_else(|| (text.to_string(), "expected KEY=VALUE".to_string()))?;
+    let key = key.trim();
+    let raw = raw.trim();
+    if key.is_empty() {
+        return Err((key.into(), "empty key".into()));
+    }
+    let parsed: toml::Value = toml::from_str::<toml::Table>(&format!("v = {raw}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(raw.to_string()));
+    let mut cur = value;
+    let parts: Vec<&str> = key.split('.').collect();
+    for (i, part) in parts.iter().enumerate() {
+        let table = cur
+            .as_table_mut()
+            .ok_or_else(|| (key.to_string(), format!("`{part}` is not inside a table")))?;
+        if i + 1 == parts.len() {
+            table.insert(part.to_string(), parsed);
+            return Ok(());
+        }
+        cur = table
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_defaults_are_valid() {
+        let md = MachineData::default();
+        assert_eq!(md.dialect, DialectName::Siemens840C);
+        assert_eq!(md.trc.max_blocks_outside_plane, 3);
+        assert!(md.trc.suppression_distance <= 0.01);
+    }
+
+    #[test]
+    fn unknown_key_names_file_and_key() {
+        let e = MachineData::from_toml_str("[trc]\nfoo = 1\n", "m.toml").unwrap_err();
+        assert_eq!(e.file, "m.toml");
+        assert!(e.key.starts_with("trc"), "{e}");
+        assert!(e.reason.contains("unknown field"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_value_rejected() {
+        let e = MachineData::from_toml_str("[trc]\nmax_blocks_outside_plane = 0\n", "m.toml")
+            .unwrap_err();
+        assert_eq!(e.key, "trc.max_blocks_outside_plane");
+        let e = MachineData::load(None, &["program.arc_endpoint_tolerance=-1".into()]).unwrap_err();
+        assert_eq!(e.key, "program.arc_endpoint_tolerance");
+    }
+
+    #[test]
+    fn override_sets_value_and_dialect() {
+        let md = MachineData::load(
+            None,
+            &["dialect=isg".into(), "trc.max_blocks_outside_plane=1".into()],
+        )
+        .unwrap();
+        assert_eq!(md.dialect, DialectName::Isg);
+        assert_eq!(md.trc.max_blocks_outside_plane, 1);
+        let e = MachineData::load(None, &["dialect=heidenhain".into()]).unwrap_err();
+        assert_eq!(e.key, "dialect");
+    }
+}

@@ -1,0 +1,239 @@
+//! Tool offsets (`config/tools.toml`): per D number, or per T and D where the dialect has
+//! tools with several cutting edges. Effective radius and length are geometry + wear.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+
+/// One tool offset (one cutting edge).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToolOffset {
+    /// Tool number, for dialects with T/D offsets (808D). Absent: a global D offset.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t: Option<u32>,
+    pub d: u32,
+    /// Geometry radius, mm. Negative radii are legal (840C 11.9): they swap the side.
+    pub radius: f64,
+    #[serde(default)]
+    pub radius_wear: f64,
+    /// Geometry length, mm.
+    #[serde(default)]
+    pub length: f64,
+    #[serde(default)]
+    pub length_wear: f64,
+    /// Cutting edge position 1..=9 of a turning tool (9 = nose centre).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edge: Option<u8>,
+}
+
+impl ToolOffset {
+    pub fn effective_radius(&self) -> f64 {
+        self.radius + self.radius_wear
+    }
+    pub fn effective_length(&self) -> f64 {
+        self.length + self.length_wear
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToolTable {
+    #[serde(default)]
+    pub offset: Vec<ToolOffset>,
+    /// `--set Dn=R` radius overrides (not part of the file).
+    #[serde(skip)]
+    pub radius_overrides: Vec<(u32, f64)>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ToolTableError {
+    pub file: String,
+    pub key: String,
+    pub reason: String,
+}
+
+impl fmt::Display for ToolTableError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}: {}", self.file, self.reason)
+        } else {
+            write!(f, "{}: key `{}`: {}", self.file, self.key, self.reason)
+        }
+    }
+}
+
+impl std::error::Error for ToolTableError {}
+
+/// Largest |radius| or |length| accepted in a tool table, mm.
+pub const MAX_OFFSET_MM: f64 = 10_000.0;
+
+impl ToolTable {
+    pub fn load(path: &Path) -> Result<Self, ToolTableError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ToolTableError {
+            file: origin.clone(),
+            key: String::new(),
+            reason: format!("cannot read: {e}"),
+        })?;
+        Self::from_toml_str(&text, &origin)
+    }
+
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, ToolTableError> {
+        let de = toml::Deserializer::new(text);
+        let table: ToolTable =
+            serde_path_to_error::deserialize(de).map_err(|e| ToolTableError {
+                file: origin.into(),
+                key: e.path().to_string(),
+                reason: e.inner().message().trim().to_string(),
+            })?;
+        table.validate().map_err(|(key, reason)| ToolTableError {
+            file: origin.into(),
+            key,
+            reason,
+        })?;
+        Ok(table)
+    }
+
+    fn validate(&self) -> Result<(), (String, String)> {
+        for (i, o) in self.offset.iter().enumerate() {
+            let key = |k: &str| format!("offset[{i}].{k}");
+            if o.d == 0 {
+                return Err((key("d"), "D0 means \"no offset\" and cannot be defined".into()));
+            }
+            for (name, v) in [
+                ("radius", o.radius),
+                ("radius_wear", o.radius_wear),
+                ("length", o.length),
+                ("length_wear", o.length_wear),
+            ] {
+                if !v.is_finite() || v.abs() > MAX_OFFSET_MM {
+                    return Err((key(name), format!("{v} is not a finite value within ±{MAX_OFFSET_MM} mm")));
+                }
+            }
+            if let Some(e) = o.edge {
+                if !(1..=9).contains(&e) {
+                    return Err((key("edge"), format!("cutting edge position {e} is not in 1..=9")));
+                }
+            }
+            if self.offset[..i].iter().any(|p| p.t == o.t && p.d == o.d) {
+                return Err((key("d"), format!("{} is defined twice", o.label())));
+            }
+        }
+        Ok(())
+    }
+
+    /// The offset for D `d` with tool `t` active. With a T/D entry for that tool it is used;
+    /// otherwise the global D entry (no `t`).
+    pub fn find(&self, t: Option<u32>, d: u32) -> Option<&ToolOffset> {
+        if let Some(t) = t {
+            if let Some(o) = self.offset.iter().find(|o| o.t == Some(t) && o.d == d) {
+                return Some(o);
+            }
+        }
+        self.offset.iter().find(|o| o.t.is_none() && o.d == d)
+    }
+
+    pub fn find_mut(&mut self, t: Option<u32>, d: u32) -> Option<&mut ToolOffset> {
+        let idx = t
+            .and_then(|t| self.offset.iter().position(|o| o.t == Some(t) && o.d == d))
+            .or_else(|| self.offset.iter().position(|o| o.t.is_none() && o.d == d))?;
+        self.offset.get_mut(idx)
+    }
+
+    /// `--set Dn=R`: offset n gets radius R (wear 0) whatever tool is active; an offset that
+    /// is not in the table is created with length 0.
+    pub fn set_radius(&mut self, d: u32, radius: f64) -> Result<(), String> {
+        if d == 0 {
+            return Err("D0 means \"no offset\" and cannot be set".into());
+        }
+        if !radius.is_finite() || radius.abs() > MAX_OFFSET_MM {
+            return Err(format!("radius {radius} is not a finite value within ±{MAX_OFFSET_MM} mm"));
+        }
+        self.radius_overrides.retain(|(k, _)| *k != d);
+        self.radius_overrides.push((d, radius));
+        Ok(())
+    }
+
+    /// Effective (radius, length, cutting edge) of D `d` with tool `t` active, `--set`
+    /// overrides applied.
+    pub fn resolve(&self, t: Option<u32>, d: u32) -> Option<(f64, f64, Option<u8>)> {
+        let over = self.radius_overrides.iter().find(|(k, _)| *k == d).map(|(_, r)| *r);
+        match (self.find(t, d), over) {
+            (Some(o), Some(r)) => Some((r, o.effective_length(), o.edge)),
+            (Some(o), None) => Some((o.effective_radius(), o.effective_length(), o.edge)),
+            (None, Some(r)) => Some((r, 0.0, None)),
+            (None, None) => None,
+        }
+    }
+
+    /// The tool table shipped as `config/tools.toml`, used when no `--tools` file is given.
+    pub fn builtin() -> Self {
+        Self::from_toml_str(BUILTIN_TOOLS, "<built-in tools>").expect("built-in tool table is valid")
+    }
+}
+
+/// The shipped tool table (config/tools.toml).
+pub const BUILTIN_TOOLS: &str = include_str!("../../config/tools.toml");
+
+impl ToolOffset {
+    pub fn label(&self) -> String {
+        match self.t {
+            Some(t) => format!("T{t} D{}", self.d),
+            None => format!("D{}", self.d),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn effective_values_add_wear() {
+        let t = ToolTable::from_toml_str(
+            "[[offset]]\nd = 1\nradius = 10.0\nradius_wear = -0.02\nlength = 50\nlength_wear = 0.5\n",
+            "t.toml",
+        )
+        .unwrap();
+        let o = t.find(None, 1).unwrap();
+        assert_eq!(o.effective_radius(), 10.0 - 0.02);
+        assert_eq!(o.effective_length(), 50.5);
+    }
+
+    #[test]
+    fn negative_radius_is_legal_and_t_d_lookup_falls_back() {
+        let t = ToolTable::from_toml_str(
+            "[[offset]]\nd = 1\nradius = -2.5\n[[offset]]\nt = 3\nd = 1\nradius = 0.4\nedge = 3\n",
+            "t.toml",
+        )
+        .unwrap();
+        assert_eq!(t.find(None, 1).unwrap().radius, -2.5);
+        assert_eq!(t.find(Some(3), 1).unwrap().edge, Some(3));
+        assert_eq!(t.find(Some(4), 1).unwrap().radius, -2.5);
+    }
+
+    #[test]
+    fn set_overrides_radius_of_any_tool() {
+        let mut t = ToolTable::builtin();
+        t.set_radius(1, 12.0).unwrap();
+        assert_eq!(t.resolve(None, 1).unwrap().0, 12.0);
+        assert_eq!(t.resolve(Some(1), 1).unwrap().0, 12.0);
+        assert_eq!(t.resolve(None, 42), None);
+        t.set_radius(42, 3.0).unwrap();
+        assert_eq!(t.resolve(None, 42), Some((3.0, 0.0, None)));
+        assert!(t.set_radius(1, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn bad_values_name_the_key() {
+        let e = ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1\nedge = 12\n", "t.toml")
+            .unwrap_err();
+        assert_eq!(e.key, "offset[0].edge");
+        let e = ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1\ncolour = 2\n", "t.toml")
+            .unwrap_err();
+        assert!(e.reason.contains("unknown field"), "{e}");
+        let e = ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1e9\n", "t.toml").unwrap_err();
+        assert_eq!(e.key, "offset[0].radius");
+    }
+}

@@ -1,0 +1,122 @@
+//! `softnc`: the user-facing command line of the softnc NC kernel.
+
+use clap::{Args, Parser, Subcommand};
+use nc_kernel::alarm::render;
+use nc_kernel::frontend::jsonl;
+use nc_kernel::{Interpreter, MachineData, ToolTable};
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "softnc", version, about = "softnc: a soft NC kernel for part programs in the 840C, ISG, Fanuc and 808D dialects")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Interpret a part program and print its blocks as JSON Lines.
+    Parse {
+        #[command(flatten)]
+        input: ProgramArgs,
+        /// Write to FILE instead of standard output.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+    },
+}
+
+/// What every command that reads a program takes.
+#[derive(Args)]
+struct ProgramArgs {
+    /// The part program.
+    program: PathBuf,
+    /// Machine data file (TOML); built-in 840C milling machine if not given.
+    #[arg(long, value_name = "FILE")]
+    machine: Option<PathBuf>,
+    /// Override one machine data value, e.g. `--md trc.max_blocks_outside_plane=1`.
+    #[arg(long = "md", value_name = "KEY=VALUE")]
+    md: Vec<String>,
+    /// Tool offset file (TOML); the shipped config/tools.toml if not given.
+    #[arg(long, value_name = "FILE")]
+    tools: Option<PathBuf>,
+    /// Override the radius of offset n, e.g. `--set D1=10.0`.
+    #[arg(long = "set", value_name = "Dn=R")]
+    set: Vec<String>,
+}
+
+struct Loaded {
+    name: String,
+    source: String,
+    md: MachineData,
+    tools: ToolTable,
+}
+
+fn fail(msg: impl std::fmt::Display) -> ExitCode {
+    eprintln!("error: {msg}");
+    ExitCode::from(2)
+}
+
+fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
+    let md = MachineData::load(a.machine.as_deref(), &a.md).map_err(fail)?;
+    let mut tools = match &a.tools {
+        Some(p) => ToolTable::load(p).map_err(fail)?,
+        None => ToolTable::builtin(),
+    };
+    for s in &a.set {
+        let parsed = s
+            .split_once('=')
+            .and_then(|(k, v)| {
+                let d = k.trim().strip_prefix(['D', 'd'])?.parse::<u32>().ok()?;
+                Some((d, v.trim().parse::<f64>().ok()?))
+            })
+            .ok_or_else(|| fail(format!("--set {s}: expected Dn=RADIUS, e.g. D1=10.0")))?;
+        tools.set_radius(parsed.0, parsed.1).map_err(|e| fail(format!("--set {s}: {e}")))?;
+    }
+    let name = a.program.display().to_string();
+    let bytes = std::fs::read(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
+    // Part programs are ASCII; anything else is kept and reported where the lexer meets it.
+    let source = String::from_utf8_lossy(&bytes).into_owned();
+    Ok(Loaded { name, source, md, tools })
+}
+
+fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> ExitCode {
+    let l = match load(input) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let sink: Box<dyn Write> = match output {
+        Some(p) => match std::fs::File::create(p) {
+            Ok(f) => Box::new(f),
+            Err(e) => return fail(format!("{}: {e}", p.display())),
+        },
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let mut out = BufWriter::with_capacity(1 << 16, sink);
+    for item in Interpreter::new(&l.name, &l.source, &l.md, &l.tools) {
+        match item {
+            Ok(block) => {
+                if let Err(e) = jsonl::write_block(&mut out, &block) {
+                    return fail(format!("writing output: {e}"));
+                }
+            }
+            Err(alarm) => {
+                let _ = out.flush();
+                eprintln!("{}", render(&alarm, &l.source));
+                return ExitCode::from(1);
+            }
+        }
+    }
+    if let Err(e) = out.flush() {
+        return fail(format!("writing output: {e}"));
+    }
+    ExitCode::SUCCESS
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match &cli.command {
+        Command::Parse { input, output } => parse(input, output.as_ref()),
+    }
+}
