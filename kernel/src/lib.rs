@@ -8,6 +8,7 @@ pub mod alarm;
 pub mod dialect;
 pub mod frontend;
 pub mod machine_data;
+pub mod synthetic;
 pub mod tools;
 
 pub use alarm::{Alarm, AlarmCode};

@@ -190,7 +190,7 @@ impl<'a> Interpreter<'a> {
                 i += 1;
             }
         } else {
-            i = match b[start..].iter().position(|&c| c == b'\n') {
+            i = match memchr::memchr(b'\n', &b[start..]) {
                 Some(k) => start + k,
                 None => b.len(),
             };
@@ -202,6 +202,7 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
+    #[inline]
     pub(super) fn step(&mut self) -> Result<Option<Block>, Alarm> {
         loop {
             if self.finished {
@@ -235,6 +236,7 @@ impl<'a> Interpreter<'a> {
     }
 
     /// One block's text: header, skip, number, control statement or words.
+    #[inline]
     fn segment(&mut self, start: usize, end: usize) -> R<Option<Block>> {
         let mut c = Cursor::new(self.src, start, end);
         c.skip_blanks();
@@ -283,13 +285,13 @@ impl<'a> Interpreter<'a> {
         if self.d.variables && c.peek() == Some(b'$') {
             return self.control(c).map(|()| None);
         }
-        let words = self.words(&mut c)?;
-        self.build(words, block_col)
+        let mut words = Words::default();
+        self.words(&mut c, &mut words)?;
+        self.build(&words, block_col)
     }
 
     /// Collects the words of a block.
-    fn words(&mut self, c: &mut Cursor) -> R<Words> {
-        let mut w = Words::default();
+    fn words(&mut self, c: &mut Cursor, w: &mut Words) -> R<()> {
         let d = self.d;
         loop {
             c.skip_blanks();
@@ -406,11 +408,11 @@ impl<'a> Interpreter<'a> {
                 }
                 b'X' | b'Y' | b'Z' => {
                     let i = (letter - b'X') as usize;
-                    set_once(&mut w.axis[i], v, &name.to_string())?;
+                    set_once(&mut w.axis[i], v, AXIS_NAMES[i].encode_utf8(&mut [0; 4]))?;
                 }
                 b'I' | b'J' | b'K' => {
                     let i = (letter - b'I') as usize;
-                    set_once(&mut w.centre[i], v, &name.to_string())?;
+                    set_once(&mut w.centre[i], v, ["I", "J", "K"][i])?;
                 }
                 b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R")?,
                 b'A' if d.polar_words => set_once(&mut w.angle, v, "A")?,
@@ -445,7 +447,7 @@ impl<'a> Interpreter<'a> {
                 }
             }
         }
-        Ok(w)
+        Ok(())
     }
 
     /// The value after an address: a number, or in the ISG dialect an expression operand.
@@ -493,7 +495,8 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Turns collected words into a block.
-    fn build(&mut self, w: Words, block_col: usize) -> R<Option<Block>> {
+    #[inline]
+    fn build(&mut self, w: &Words, block_col: usize) -> R<Option<Block>> {
         let d = self.d;
         let old = self.state;
         let mut new = self.state;
@@ -716,7 +719,7 @@ impl<'a> Interpreter<'a> {
                 }
             }
         } else {
-            blk.motion = self.motion(&w, &mut new, block_col)?;
+            blk.motion = self.motion(w, &mut new, block_col)?;
         }
 
         // TRC selection/deselection only in linear blocks (840C 11.3/11.5, Fanuc 026).

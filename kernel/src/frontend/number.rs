@@ -1,7 +1,7 @@
 //! Decimal numbers as NC programs write them: `[+|-]digits[.digits]`, no exponent.
 //!
-//! The fast path is exact: with at most 15 significant digits the mantissa is an exact f64
-//! and 10^k (k ≤ 22) is exact too, so one IEEE division gives the correctly rounded value —
+//! The fast path is exact: with at most 15 digits the mantissa is an exact f64 and 10^k
+//! (k ≤ 15) is exact too, so one IEEE division gives the correctly rounded value —
 //! the same bits as `str::parse`. Longer numbers go through `str::parse`.
 
 /// A number read from the program text.
@@ -21,53 +21,47 @@ const POW10: [f64; 23] = [
 /// digit is there. Overlong or overflowing values fall back to the standard parser; an
 /// infinite result is rejected.
 pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
-    let mut i = start;
-    let mut neg = false;
-    match b.get(i) {
-        Some(b'-') => {
-            neg = true;
-            i += 1;
-        }
-        Some(b'+') => i += 1,
-        _ => {}
-    }
-    let digits_start = i;
+    let rest = b.get(start..)?;
+    let (neg, mut k) = match rest.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
+    let digits_start = k;
     let mut mantissa: u64 = 0;
-    let mut sig = 0u32;
-    let mut frac = 0u32;
-    let mut any_digit = false;
-    let mut has_point = false;
-    let mut slow = false;
-    while let Some(&c) = b.get(i) {
-        if c.is_ascii_digit() {
-            any_digit = true;
-            if mantissa == 0 && c == b'0' {
-                // leading zeros are not significant
-            } else {
-                sig += 1;
-                if sig > 15 {
-                    slow = true;
-                } else {
-                    mantissa = mantissa * 10 + (c - b'0') as u64;
-                }
-            }
-            if has_point {
-                frac += 1;
-            }
-        } else if c == b'.' && !has_point {
-            has_point = true;
-        } else {
+    let mut ndigits = 0u32;
+    while let Some(&c) = rest.get(k) {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
             break;
         }
-        i += 1;
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(d as u64);
+        ndigits += 1;
+        k += 1;
     }
-    if !any_digit {
+    let mut frac = 0u32;
+    let has_point = rest.get(k) == Some(&b'.');
+    if has_point {
+        k += 1;
+        while let Some(&c) = rest.get(k) {
+            let d = c.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(d as u64);
+            frac += 1;
+            k += 1;
+        }
+        ndigits += frac;
+    }
+    if ndigits == 0 {
         return None;
     }
-    let value = if !slow && frac <= 22 {
+    let value = if ndigits <= 15 {
+        // Exact: mantissa < 10^15 < 2^53 and 10^frac with frac <= 15 are exact f64s.
         mantissa as f64 / POW10[frac as usize]
     } else {
-        let text = std::str::from_utf8(b.get(digits_start..i)?).ok()?;
+        let text = std::str::from_utf8(rest.get(digits_start..k)?).ok()?;
         let v: f64 = text.parse().ok()?;
         if !v.is_finite() {
             return None;
@@ -75,7 +69,7 @@ pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
         v
     };
     let value = if neg && value != 0.0 { -value } else { value };
-    Some((Number { value, has_point }, i))
+    Some((Number { value, has_point }, start + k))
 }
 
 #[cfg(test)]
