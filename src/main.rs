@@ -9,7 +9,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "softnc", version, about = "softnc: a soft NC kernel for part programs in the 840C, ISG, Fanuc and 808D dialects")]
+#[command(
+    name = "softnc",
+    version,
+    about = "softnc: a soft NC kernel for part programs in the 840C, ISG, Fanuc and 808D dialects"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -72,13 +76,20 @@ fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
                 Some((d, v.trim().parse::<f64>().ok()?))
             })
             .ok_or_else(|| fail(format!("--set {s}: expected Dn=RADIUS, e.g. D1=10.0")))?;
-        tools.set_radius(parsed.0, parsed.1).map_err(|e| fail(format!("--set {s}: {e}")))?;
+        tools
+            .set_radius(parsed.0, parsed.1)
+            .map_err(|e| fail(format!("--set {s}: {e}")))?;
     }
     let name = a.program.display().to_string();
     let bytes = std::fs::read(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
     // Part programs are ASCII; anything else is kept and reported where the lexer meets it.
     let source = String::from_utf8_lossy(&bytes).into_owned();
-    Ok(Loaded { name, source, md, tools })
+    Ok(Loaded {
+        name,
+        source,
+        md,
+        tools,
+    })
 }
 
 fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> ExitCode {

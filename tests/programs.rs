@@ -39,7 +39,12 @@ fn motions(blocks: &[Block]) -> Vec<&Block> {
 
 /// End point of the last motion block.
 fn final_pos(blocks: &[Block]) -> [f64; 3] {
-    motions(blocks).last().expect("no motion").motion.unwrap().end
+    motions(blocks)
+        .last()
+        .expect("no motion")
+        .motion
+        .unwrap()
+        .end
 }
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -56,7 +61,10 @@ fn assert_pos(what: &str, actual: [f64; 3], expected: [f64; 3]) {
 
 #[track_caller]
 fn assert_f(what: &str, actual: f64, expected: f64, tol: f64) {
-    assert!(close(actual, expected, tol), "{what}: got {actual}, expected {expected} (tolerance {tol})");
+    assert!(
+        close(actual, expected, tol),
+        "{what}: got {actual}, expected {expected} (tolerance {tol})"
+    );
 }
 
 /// The (first) block labelled `label` (e.g. "N45").
@@ -77,12 +85,17 @@ fn index_of(blocks: &[Block], label: &str) -> usize {
 
 #[track_caller]
 fn end_of(blocks: &[Block], label: &str) -> [f64; 3] {
-    block(blocks, label).motion.unwrap_or_else(|| panic!("{label} has no motion")).end
+    block(blocks, label)
+        .motion
+        .unwrap_or_else(|| panic!("{label} has no motion"))
+        .end
 }
 
 #[track_caller]
 fn centre_of(blocks: &[Block], label: &str) -> [f64; 3] {
-    let m = block(blocks, label).motion.unwrap_or_else(|| panic!("{label} has no motion"));
+    let m = block(blocks, label)
+        .motion
+        .unwrap_or_else(|| panic!("{label} has no motion"));
     assert!(m.kind.is_arc(), "{label} is not an arc");
     m.center
 }
@@ -108,11 +121,16 @@ fn outside_plane_between(blocks: &[Block], from: &str, to: &str) -> usize {
 
 /// 1-based line of the first line of `src` that starts with `prefix` (from the text).
 fn line_of(src: &str, prefix: &str) -> u32 {
-    src.lines().position(|l| l.trim_start().starts_with(prefix)).expect("line not found") as u32 + 1
+    src.lines()
+        .position(|l| l.trim_start().starts_with(prefix))
+        .expect("line not found") as u32
+        + 1
 }
 
 fn word(b: &Block, address: u8, value: f64) -> bool {
-    b.words.iter().any(|w| w.address == address && w.value == value)
+    b.words
+        .iter()
+        .any(|w| w.address == address && w.value == value)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -291,7 +309,14 @@ fn c840_11_5_2_selection_variant2() {
     assert_pos("N20 start", n20.start, [-20.0, -20.0, 5.0]);
     assert_pos("N20 end", n20.end, [0.0, 0.0, 5.0]);
     assert_eq!(n20.kind, MotionKind::Linear);
-    assert_ends(&b, &[("N25", [0.0, 0.0, -5.0]), ("N45", [0.0, 0.0, -5.0]), ("N50", [-20.0, -20.0, -5.0])]);
+    assert_ends(
+        &b,
+        &[
+            ("N25", [0.0, 0.0, -5.0]),
+            ("N45", [0.0, 0.0, -5.0]),
+            ("N50", [-20.0, -20.0, -5.0]),
+        ],
+    );
     assert_pos("final", final_pos(&b), [-20.0, -20.0, 50.0]);
 }
 
@@ -372,10 +397,18 @@ fn c840_11_6_2_line_by_line_milling() {
             ("N80", [120.0, 20.0, -2.0]),
         ],
     );
-    let sides: Vec<_> = ["N20", "N40", "N60", "N80"].iter().map(|l| block(&b, l).trc).collect();
+    let sides: Vec<_> = ["N20", "N40", "N60", "N80"]
+        .iter()
+        .map(|l| block(&b, l).trc)
+        .collect();
     assert_eq!(
         sides,
-        [Some(TrcSide::Right), Some(TrcSide::Left), Some(TrcSide::Right), Some(TrcSide::Off)]
+        [
+            Some(TrcSide::Right),
+            Some(TrcSide::Left),
+            Some(TrcSide::Right),
+            Some(TrcSide::Off)
+        ]
     );
     assert_eq!(block(&b, "N70").modal.trc, TrcSide::Right);
     assert_pos("final", final_pos(&b), [120.0, 20.0, 50.0]);
@@ -399,7 +432,10 @@ fn c840_11_7_d_change() {
     assert_pos("N45 start", m.start, [25.0, 0.0, -35.0]);
     assert_pos("N45 end", m.end, [30.0, 0.0, -45.0]);
     assert_eq!(block(&b, "N50").modal.trc, TrcSide::Right);
-    assert_ends(&b, &[("N50", [30.0, 0.0, -60.0]), ("N55", [45.0, 0.0, -60.0])]);
+    assert_ends(
+        &b,
+        &[("N50", [30.0, 0.0, -60.0]), ("N55", [45.0, 0.0, -60.0])],
+    );
     // N60 G0 Z10 at X45: (45, 0, 10).
     assert_pos("final", final_pos(&b), [45.0, 0.0, 10.0]);
 }
@@ -421,16 +457,36 @@ fn check_wzkg(b: &[Block], p: u32, q: u32, r: u32) {
     // Contour under G91 from (20,20): X10 -> (30,20); X5 Y-5 -> (35,15); Y-5 -> (35,10);
     // X-5 Y-3 -> (30,7).
     let contour = |n: [u32; 4]| {
-        assert_pos(&format!("N{}", n[0]), end_of(b, &format!("N{}", n[0])), [30.0, 20.0, 0.0]);
-        assert_pos(&format!("N{}", n[1]), end_of(b, &format!("N{}", n[1])), [35.0, 15.0, 0.0]);
-        assert_pos(&format!("N{}", n[2]), end_of(b, &format!("N{}", n[2])), [35.0, 10.0, 0.0]);
-        assert_pos(&format!("N{}", n[3]), end_of(b, &format!("N{}", n[3])), [30.0, 7.0, 0.0]);
+        assert_pos(
+            &format!("N{}", n[0]),
+            end_of(b, &format!("N{}", n[0])),
+            [30.0, 20.0, 0.0],
+        );
+        assert_pos(
+            &format!("N{}", n[1]),
+            end_of(b, &format!("N{}", n[1])),
+            [35.0, 15.0, 0.0],
+        );
+        assert_pos(
+            &format!("N{}", n[2]),
+            end_of(b, &format!("N{}", n[2])),
+            [35.0, 10.0, 0.0],
+        );
+        assert_pos(
+            &format!("N{}", n[3]),
+            end_of(b, &format!("N{}", n[3])),
+            [30.0, 7.0, 0.0],
+        );
     };
     assert_pos("N15", end_of(b, "N15"), [20.0, 20.0, 0.0]);
     contour([25, 30, 35, 40]);
     assert_pos("N45", end_of(b, "N45"), [0.0, 0.0, 0.0]);
     for base in [p, q, r] {
-        assert_pos("x05", end_of(b, &format!("N{}", base + 5)), [20.0, 20.0, 0.0]);
+        assert_pos(
+            "x05",
+            end_of(b, &format!("N{}", base + 5)),
+            [20.0, 20.0, 0.0],
+        );
         contour([base + 15, base + 20, base + 25, base + 30]);
     }
     assert_pos("p40", end_of(b, &format!("N{}", p + 40)), [0.0, 0.0, 0.0]);
@@ -441,12 +497,24 @@ fn check_wzkg(b: &[Block], p: u32, q: u32, r: u32) {
     assert_pos("r40 start", last.start, [30.0, 7.0, 0.0]);
     assert_pos("r40 end", last.end, [50.0, 27.0, 0.0]);
     // Selection methods: G138 direct, G139 indirect (modal), G05 tangential (block).
-    assert_eq!(block(b, &format!("N{p}")).modal.selection, SelectionPolicy::Direct);
+    assert_eq!(
+        block(b, &format!("N{p}")).modal.selection,
+        SelectionPolicy::Direct
+    );
     assert_eq!(block(b, &format!("N{p}")).trc, Some(TrcSide::Left));
     assert_eq!(block(b, &format!("N{}", p + 35)).trc, Some(TrcSide::Off));
-    assert_eq!(block(b, &format!("N{q}")).modal.selection, SelectionPolicy::Indirect);
-    assert_eq!(block(b, &format!("N{r}")).approach, Some(SelectionPolicy::Tangential));
-    assert_eq!(block(b, &format!("N{}", r + 35)).approach, Some(SelectionPolicy::Tangential));
+    assert_eq!(
+        block(b, &format!("N{q}")).modal.selection,
+        SelectionPolicy::Indirect
+    );
+    assert_eq!(
+        block(b, &format!("N{r}")).approach,
+        Some(SelectionPolicy::Tangential)
+    );
+    assert_eq!(
+        block(b, &format!("N{}", r + 35)).approach,
+        Some(SelectionPolicy::Tangential)
+    );
     assert!(block(b, "N999").stop.is_some_and(|s| s.ends_program()));
     assert_pos("final", final_pos(b), [50.0, 27.0, 0.0]);
 }
@@ -455,14 +523,20 @@ fn check_wzkg(b: &[Block], p: u32, q: u32, r: u32) {
 fn isg_wzkg25() {
     let b = run(ISG, "wzkg25.nc", ISG_MD);
     check_wzkg(&b, 100, 200, 300);
-    assert_eq!(block(&b, "N110").modal.corner, CornerPolicy::LinearTransition);
+    assert_eq!(
+        block(&b, "N110").modal.corner,
+        CornerPolicy::LinearTransition
+    );
 }
 
 #[test]
 fn isg_wzkg26() {
     let b = run(ISG, "wzkg26.nc", ISG_MD);
     check_wzkg(&b, 400, 500, 600);
-    assert_eq!(block(&b, "N410").modal.corner, CornerPolicy::TransitionCircle);
+    assert_eq!(
+        block(&b, "N410").modal.corner,
+        CornerPolicy::TransitionCircle
+    );
 }
 
 #[test]
@@ -505,8 +579,13 @@ fn isg_d_change_as_printed_n140_is_not_a_circle() {
     assert!(src.contains(changed));
     let printed = src.replacen(changed, "N140 G02 X10 Y10 I-15", 1);
     let md = machine(ISG_MD);
-    let err = nc_kernel::interpret("d_change_as_printed.nc", &printed, &md, &ToolTable::builtin())
-        .expect_err("the printed N140 has its end point off the circle");
+    let err = nc_kernel::interpret(
+        "d_change_as_printed.nc",
+        &printed,
+        &md,
+        &ToolTable::builtin(),
+    )
+    .expect_err("the printed N140 has its end point off the circle");
     assert_eq!(err.code, AlarmCode::ArcEndPoint);
     assert_eq!(err.block.as_deref(), Some("N140"));
 }
@@ -524,7 +603,12 @@ fn isg_grinding_cycle() {
     assert_eq!(n110.len(), passes);
     // Pass k runs N110 with radius 10 - k*0.010 (D6 = 10, reduced at the end of each pass).
     for (k, blk) in n110.iter().enumerate() {
-        assert_f(&format!("pass {k} radius"), blk.modal.radius, 10.0 - k as f64 * 0.010, 1e-12);
+        assert_f(
+            &format!("pass {k} radius"),
+            blk.modal.radius,
+            10.0 - k as f64 * 0.010,
+            1e-12,
+        );
         assert_pos("N110", blk.motion.unwrap().end, [300.0, 250.0, 0.0]);
     }
     let l140 = line_of(&src, "N140");
@@ -535,7 +619,10 @@ fn isg_grinding_cycle() {
     assert_f("radius after the loop", n200.modal.radius, r_end, 1e-12);
     assert_f("final radius", b.last().unwrap().modal.radius, r_end, 1e-12);
     assert_eq!(n200.trc, Some(TrcSide::Off));
-    assert_eq!(block(&b, "N10").modal.corner, CornerPolicy::TransitionCircle);
+    assert_eq!(
+        block(&b, "N10").modal.corner,
+        CornerPolicy::TransitionCircle
+    );
     assert_f("F5", block(&b, "N00").modal.feed, 5.0, 1e-12);
     assert_ends(&b, &[("N00", [0.0, 0.0, 0.0]), ("N20", [0.0, 250.0, 0.0])]);
     // N200 G40 X300 from (0,250): (300, 250, 0).

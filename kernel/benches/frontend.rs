@@ -20,9 +20,9 @@ fn frontend(c: &mut Criterion) {
             b.iter(|| {
                 let mut n = 0usize;
                 let mut sum = 0.0;
-                for block in Interpreter::new("bench", black_box(&text), &md, &tools) {
-                    let block = block.expect("no alarm");
-                    if let Some(m) = block.motion {
+                let mut interp = Interpreter::new("bench", black_box(&text), &md, &tools);
+                while let Some(block) = interp.next_block().expect("no alarm") {
+                    if let Some(m) = &block.motion {
                         sum += m.end[0];
                     }
                     n += 1;

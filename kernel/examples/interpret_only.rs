@@ -3,18 +3,25 @@
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let path = args.next().expect("usage: interpret_only PROGRAM [DIALECT]");
+    let path = args
+        .next()
+        .expect("usage: interpret_only PROGRAM [DIALECT]");
     let dialect = args.next().unwrap_or_else(|| "siemens-840c".into());
     let text = std::fs::read_to_string(&path).expect("readable program");
-    let md = nc_kernel::MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
+    let md =
+        nc_kernel::MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
     let tools = nc_kernel::ToolTable::default();
     let mut n = 0usize;
-    for b in nc_kernel::Interpreter::new(&path, &text, &md, &tools) {
-        if let Err(a) = b {
-            eprintln!("{a}");
-            std::process::exit(1);
+    let mut interp = nc_kernel::Interpreter::new(&path, &text, &md, &tools);
+    loop {
+        match interp.next_block() {
+            Ok(Some(_)) => n += 1,
+            Ok(None) => break,
+            Err(a) => {
+                eprintln!("{a}");
+                std::process::exit(1);
+            }
         }
-        n += 1;
     }
     println!("{n} blocks");
 }

@@ -304,15 +304,36 @@ impl MachineData {
             if v.is_finite() && v >= lo && v <= hi {
                 Ok(())
             } else {
-                Err((key.into(), format!("{v} is outside the allowed range {lo} ..= {hi}")))
+                Err((
+                    key.into(),
+                    format!("{v} is outside the allowed range {lo} ..= {hi}"),
+                ))
             }
         }
         let p = &self.program;
-        range("program.least_input_increment_mm", p.least_input_increment_mm, 1e-6, 1.0)?;
-        range("program.least_input_increment_inch", p.least_input_increment_inch, 1e-7, 0.1)?;
-        range("program.arc_endpoint_tolerance", p.arc_endpoint_tolerance, 0.0, 1.0)?;
+        range(
+            "program.least_input_increment_mm",
+            p.least_input_increment_mm,
+            1e-6,
+            1.0,
+        )?;
+        range(
+            "program.least_input_increment_inch",
+            p.least_input_increment_inch,
+            1e-7,
+            0.1,
+        )?;
+        range(
+            "program.arc_endpoint_tolerance",
+            p.arc_endpoint_tolerance,
+            0.0,
+            1.0,
+        )?;
         if p.max_loop_iterations == 0 {
-            return Err(("program.max_loop_iterations".into(), "must be at least 1".into()));
+            return Err((
+                "program.max_loop_iterations".into(),
+                "must be at least 1".into(),
+            ));
         }
         let t = &self.trc;
         range("trc.suppression_distance", t.suppression_distance, 0.0, 1.0)?;
@@ -338,15 +359,28 @@ impl MachineData {
         if !(125..=100_000).contains(&self.ipo.cycle_us) {
             return Err((
                 "ipo.cycle_us".into(),
-                format!("{} is outside the allowed range 125 ..= 100000", self.ipo.cycle_us),
+                format!(
+                    "{} is outside the allowed range 125 ..= 100000",
+                    self.ipo.cycle_us
+                ),
             ));
         }
         let mut any = false;
         for (i, name) in ["X", "Y", "Z"].iter().enumerate() {
             if let Some(a) = self.axes.get(i) {
                 any = true;
-                range(&format!("axes.{name}.max_velocity"), a.max_velocity, 1.0, 1e6)?;
-                range(&format!("axes.{name}.max_acceleration"), a.max_acceleration, 1.0, 1e5)?;
+                range(
+                    &format!("axes.{name}.max_velocity"),
+                    a.max_velocity,
+                    1.0,
+                    1e6,
+                )?;
+                range(
+                    &format!("axes.{name}.max_acceleration"),
+                    a.max_acceleration,
+                    1.0,
+                    1e5,
+                )?;
                 range(&format!("axes.{name}.max_jerk"), a.max_jerk, 1.0, 1e8)?;
             }
         }
@@ -461,7 +495,10 @@ mod tests {
     fn override_sets_value_and_dialect() {
         let md = MachineData::load(
             None,
-            &["dialect=isg".into(), "trc.max_blocks_outside_plane=1".into()],
+            &[
+                "dialect=isg".into(),
+                "trc.max_blocks_outside_plane=1".into(),
+            ],
         )
         .unwrap();
         assert_eq!(md.dialect, DialectName::Isg);

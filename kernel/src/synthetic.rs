@@ -9,7 +9,10 @@ struct Lcg(u64);
 
 impl Lcg {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         self.0 >> 33
     }
     /// A value in [lo, lo + span) with 4 decimals, as ten-thousandths.
@@ -36,7 +39,11 @@ pub fn line_arc_program(blocks: usize) -> String {
     let mut last_x: i64 = 0;
     for k in 0..blocks {
         if k % 2 == 0 {
-            let x = if right { rng.tenth_mm(80, 40) } else { rng.tenth_mm(-20, 40) };
+            let x = if right {
+                rng.tenth_mm(80, 40)
+            } else {
+                rng.tenth_mm(-20, 40)
+            };
             out.push_str("G1 X");
             fmt4(&mut out, x);
             out.push_str(" Y");

@@ -99,7 +99,10 @@ impl ToolTable {
         for (i, o) in self.offset.iter().enumerate() {
             let key = |k: &str| format!("offset[{i}].{k}");
             if o.d == 0 {
-                return Err((key("d"), "D0 means \"no offset\" and cannot be defined".into()));
+                return Err((
+                    key("d"),
+                    "D0 means \"no offset\" and cannot be defined".into(),
+                ));
             }
             for (name, v) in [
                 ("radius", o.radius),
@@ -108,12 +111,18 @@ impl ToolTable {
                 ("length_wear", o.length_wear),
             ] {
                 if !v.is_finite() || v.abs() > MAX_OFFSET_MM {
-                    return Err((key(name), format!("{v} is not a finite value within ±{MAX_OFFSET_MM} mm")));
+                    return Err((
+                        key(name),
+                        format!("{v} is not a finite value within ±{MAX_OFFSET_MM} mm"),
+                    ));
                 }
             }
             if let Some(e) = o.edge {
                 if !(1..=9).contains(&e) {
-                    return Err((key("edge"), format!("cutting edge position {e} is not in 1..=9")));
+                    return Err((
+                        key("edge"),
+                        format!("cutting edge position {e} is not in 1..=9"),
+                    ));
                 }
             }
             if self.offset[..i].iter().any(|p| p.t == o.t && p.d == o.d) {
@@ -148,7 +157,9 @@ impl ToolTable {
             return Err("D0 means \"no offset\" and cannot be set".into());
         }
         if !radius.is_finite() || radius.abs() > MAX_OFFSET_MM {
-            return Err(format!("radius {radius} is not a finite value within ±{MAX_OFFSET_MM} mm"));
+            return Err(format!(
+                "radius {radius} is not a finite value within ±{MAX_OFFSET_MM} mm"
+            ));
         }
         self.radius_overrides.retain(|(k, _)| *k != d);
         self.radius_overrides.push((d, radius));
@@ -158,7 +169,11 @@ impl ToolTable {
     /// Effective (radius, length, cutting edge) of D `d` with tool `t` active, `--set`
     /// overrides applied.
     pub fn resolve(&self, t: Option<u32>, d: u32) -> Option<(f64, f64, Option<u8>)> {
-        let over = self.radius_overrides.iter().find(|(k, _)| *k == d).map(|(_, r)| *r);
+        let over = self
+            .radius_overrides
+            .iter()
+            .find(|(k, _)| *k == d)
+            .map(|(_, r)| *r);
         match (self.find(t, d), over) {
             (Some(o), Some(r)) => Some((r, o.effective_length(), o.edge)),
             (Some(o), None) => Some((o.effective_radius(), o.effective_length(), o.edge)),
@@ -169,7 +184,8 @@ impl ToolTable {
 
     /// The tool table shipped as `config/tools.toml`, used when no `--tools` file is given.
     pub fn builtin() -> Self {
-        Self::from_toml_str(BUILTIN_TOOLS, "<built-in tools>").expect("built-in tool table is valid")
+        Self::from_toml_str(BUILTIN_TOOLS, "<built-in tools>")
+            .expect("built-in tool table is valid")
     }
 }
 
@@ -233,7 +249,8 @@ mod tests {
         let e = ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1\ncolour = 2\n", "t.toml")
             .unwrap_err();
         assert!(e.reason.contains("unknown field"), "{e}");
-        let e = ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1e9\n", "t.toml").unwrap_err();
+        let e =
+            ToolTable::from_toml_str("[[offset]]\nd = 1\nradius = 1e9\n", "t.toml").unwrap_err();
         assert_eq!(e.key, "offset[0].radius");
     }
 }

@@ -11,7 +11,10 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     let program = &args[0];
-    let machine = args.windows(2).find(|w| w[0] == "--machine").map(|w| std::path::PathBuf::from(&w[1]));
+    let machine = args
+        .windows(2)
+        .find(|w| w[0] == "--machine")
+        .map(|w| std::path::PathBuf::from(&w[1]));
     let md = match nc_kernel::MachineData::load(machine.as_deref(), &[]) {
         Ok(md) => md,
         Err(e) => {
@@ -28,7 +31,10 @@ fn main() -> ExitCode {
     };
     match nc_kernel::interpret(program, &source, &md, &nc_kernel::ToolTable::default()) {
         Ok(blocks) => {
-            eprintln!("nc-kernel: {} blocks interpreted; the cyclic kernel is not built yet", blocks.len());
+            eprintln!(
+                "nc-kernel: {} blocks interpreted; the cyclic kernel is not built yet",
+                blocks.len()
+            );
             ExitCode::SUCCESS
         }
         Err(a) => {

@@ -39,7 +39,9 @@ pub enum GEffect {
     /// Working zero offset: 0 = off, 1..=4 = G54..G57.
     WorkOffset(u8),
     /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
-    WorkingArea { max: bool },
+    WorkingArea {
+        max: bool,
+    },
     /// 880/840C G110: the current position becomes the pole.
     PoleHere,
     /// A code the dialect defines that softnc recognises but does not implement.
@@ -186,8 +188,12 @@ impl Dialect {
     }
 
     fn index(&self) -> &'static [u16; 1000] {
-        static INDEX: [OnceLock<Box<[u16; 1000]>>; 4] =
-            [OnceLock::new(), OnceLock::new(), OnceLock::new(), OnceLock::new()];
+        static INDEX: [OnceLock<Box<[u16; 1000]>>; 4] = [
+            OnceLock::new(),
+            OnceLock::new(),
+            OnceLock::new(),
+            OnceLock::new(),
+        ];
         let i = match self.name {
             DialectName::Siemens840C => 0,
             DialectName::Isg => 1,

@@ -35,7 +35,12 @@ static GCODES: &[GCodeDef] = &[
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
-    g(451, Corner(CornerPolicy::IntersectionLimited { limit_deg: G451_LIMIT_DEG })),
+    g(
+        451,
+        Corner(CornerPolicy::IntersectionLimited {
+            limit_deg: G451_LIMIT_DEG,
+        }),
+    ),
     g(700, Units(Units::Inch)),
     g(710, Units(Units::Mm)),
 ];

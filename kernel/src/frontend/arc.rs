@@ -12,6 +12,12 @@ pub enum CentreSpec {
     Radius(f64),
 }
 
+/// Length of a plane vector (coordinates are bounded to 1e9 mm, so no overflow guard).
+#[inline]
+fn len(x: f64, y: f64) -> f64 {
+    libm::sqrt(x * x + y * y)
+}
+
 /// Why no circle fits.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ArcError {
@@ -40,13 +46,13 @@ pub fn centre(
     let (sx, sy) = (start[a], start[o]);
     let (ex, ey) = (end[a], end[o]);
     let (dx, dy) = (ex - sx, ey - sy);
-    let chord = libm::hypot(dx, dy);
+    let chord = libm::sqrt(dx * dx + dy * dy);
     let mut c = start;
     match spec {
         CentreSpec::Offsets(off) => {
             let (cx, cy) = (sx + off[a], sy + off[o]);
-            let r0 = libm::hypot(sx - cx, sy - cy);
-            let r1 = libm::hypot(ex - cx, ey - cy);
+            let r0 = len(sx - cx, sy - cy);
+            let r1 = len(ex - cx, ey - cy);
             if r0 <= 1e-9 {
                 return Err(ArcError::ZeroRadius);
             }
@@ -104,27 +110,81 @@ mod tests {
     #[test]
     fn offsets_and_radius_agree() {
         // 840C 11.15 N30: from (40,80) G2 to (65,55) with I0 J-25: centre (40,55).
-        let c = centre([40.0, 80.0, 0.0], [65.0, 55.0, 0.0], Plane::XY, false, CentreSpec::Offsets([0.0, -25.0, 0.0]), 0.01).unwrap();
+        let c = centre(
+            [40.0, 80.0, 0.0],
+            [65.0, 55.0, 0.0],
+            Plane::XY,
+            false,
+            CentreSpec::Offsets([0.0, -25.0, 0.0]),
+            0.01,
+        )
+        .unwrap();
         assert_eq!(c, [40.0, 55.0, 0.0]);
-        let c = centre([40.0, 80.0, 0.0], [65.0, 55.0, 0.0], Plane::XY, false, CentreSpec::Radius(25.0), 0.01).unwrap();
-        assert!((c[0] - 40.0).abs() < 1e-12 && (c[1] - 55.0).abs() < 1e-12, "{c:?}");
+        let c = centre(
+            [40.0, 80.0, 0.0],
+            [65.0, 55.0, 0.0],
+            Plane::XY,
+            false,
+            CentreSpec::Radius(25.0),
+            0.01,
+        )
+        .unwrap();
+        assert!(
+            (c[0] - 40.0).abs() < 1e-12 && (c[1] - 55.0).abs() < 1e-12,
+            "{c:?}"
+        );
         // Negative radius: the other centre (65,80), the 270° arc.
-        let c = centre([40.0, 80.0, 0.0], [65.0, 55.0, 0.0], Plane::XY, false, CentreSpec::Radius(-25.0), 0.01).unwrap();
-        assert!((c[0] - 65.0).abs() < 1e-12 && (c[1] - 80.0).abs() < 1e-12, "{c:?}");
+        let c = centre(
+            [40.0, 80.0, 0.0],
+            [65.0, 55.0, 0.0],
+            Plane::XY,
+            false,
+            CentreSpec::Radius(-25.0),
+            0.01,
+        )
+        .unwrap();
+        assert!(
+            (c[0] - 65.0).abs() < 1e-12 && (c[1] - 80.0).abs() < 1e-12,
+            "{c:?}"
+        );
     }
 
     #[test]
     fn end_point_off_circle() {
-        let e = centre([0.0; 3], [10.0, 0.5, 0.0], Plane::XY, true, CentreSpec::Offsets([5.0, 0.0, 0.0]), 0.01).unwrap_err();
+        let e = centre(
+            [0.0; 3],
+            [10.0, 0.5, 0.0],
+            Plane::XY,
+            true,
+            CentreSpec::Offsets([5.0, 0.0, 0.0]),
+            0.01,
+        )
+        .unwrap_err();
         assert!(matches!(e, ArcError::EndPointOff { .. }));
-        let e = centre([0.0; 3], [10.0, 0.0, 0.0], Plane::XY, true, CentreSpec::Radius(4.0), 0.01).unwrap_err();
+        let e = centre(
+            [0.0; 3],
+            [10.0, 0.0, 0.0],
+            Plane::XY,
+            true,
+            CentreSpec::Radius(4.0),
+            0.01,
+        )
+        .unwrap_err();
         assert!(matches!(e, ArcError::RadiusTooSmall { .. }));
     }
 
     #[test]
     fn zx_plane_orientation() {
         // G18: Z abscissa, X ordinate. CCW quarter from (Z=10,X=0) to (Z=0,X=10) about origin.
-        let c = centre([0.0, 0.0, 10.0], [10.0, 0.0, 0.0], Plane::ZX, true, CentreSpec::Radius(10.0), 0.01).unwrap();
+        let c = centre(
+            [0.0, 0.0, 10.0],
+            [10.0, 0.0, 0.0],
+            Plane::ZX,
+            true,
+            CentreSpec::Radius(10.0),
+            0.01,
+        )
+        .unwrap();
         assert!(c[0].abs() < 1e-12 && c[2].abs() < 1e-12, "{c:?}");
     }
 }

@@ -20,11 +20,23 @@ pub struct Plane {
 
 impl Plane {
     /// G17
-    pub const XY: Plane = Plane { abscissa: 0, ordinate: 1, normal: 2 };
+    pub const XY: Plane = Plane {
+        abscissa: 0,
+        ordinate: 1,
+        normal: 2,
+    };
     /// G18: Z abscissa, X ordinate.
-    pub const ZX: Plane = Plane { abscissa: 2, ordinate: 0, normal: 1 };
+    pub const ZX: Plane = Plane {
+        abscissa: 2,
+        ordinate: 0,
+        normal: 1,
+    };
     /// G19
-    pub const YZ: Plane = Plane { abscissa: 1, ordinate: 2, normal: 0 };
+    pub const YZ: Plane = Plane {
+        abscissa: 1,
+        ordinate: 2,
+        normal: 0,
+    };
 
     pub fn name(self) -> &'static str {
         match (self.abscissa, self.ordinate) {

@@ -10,15 +10,39 @@ use crate::alarm::AlarmCode;
 /// A statement as read. Byte offsets point at the `$`.
 #[derive(Debug)]
 pub enum ControlStmt {
-    For { var: String, var_at: usize, start: f64, end: f64, step: f64, at: usize },
-    EndFor { at: usize },
-    While { cond: f64, cond_range: (usize, usize), at: usize },
-    EndWhile { at: usize },
-    If { cond: f64, at: usize },
+    For {
+        var: String,
+        var_at: usize,
+        start: f64,
+        end: f64,
+        step: f64,
+        at: usize,
+    },
+    EndFor {
+        at: usize,
+    },
+    While {
+        cond: f64,
+        cond_range: (usize, usize),
+        at: usize,
+    },
+    EndWhile {
+        at: usize,
+    },
+    If {
+        cond: f64,
+        at: usize,
+    },
     /// The condition is evaluated only when the branch is reached.
-    ElseIf { at: usize },
-    Else { at: usize },
-    EndIf { at: usize },
+    ElseIf {
+        at: usize,
+    },
+    Else {
+        at: usize,
+    },
+    EndIf {
+        at: usize,
+    },
 }
 
 /// Where to jump back to: (byte offset, line number, line start).
@@ -27,15 +51,31 @@ pub type Mark = (usize, u32, usize);
 /// An open control structure. `origin` is (line, line start, byte offset) of its opening.
 #[derive(Debug)]
 pub enum Frame {
-    For { var: String, end: f64, step: f64, body: Mark, iterations: u32, origin: (u32, usize, usize) },
-    While { cond: (usize, usize), body: Mark, iterations: u32, origin: (u32, usize, usize) },
-    If { origin: (u32, usize, usize) },
+    For {
+        var: String,
+        end: f64,
+        step: f64,
+        body: Mark,
+        iterations: u32,
+        origin: (u32, usize, usize),
+    },
+    While {
+        cond: (usize, usize),
+        body: Mark,
+        iterations: u32,
+        origin: (u32, usize, usize),
+    },
+    If {
+        origin: (u32, usize, usize),
+    },
 }
 
 impl Frame {
     pub fn origin(&self) -> (u32, usize, usize) {
         match self {
-            Frame::For { origin, .. } | Frame::While { origin, .. } | Frame::If { origin } => *origin,
+            Frame::For { origin, .. } | Frame::While { origin, .. } | Frame::If { origin } => {
+                *origin
+            }
         }
     }
     pub fn opener(&self) -> &'static str {
@@ -66,7 +106,11 @@ pub fn for_continues(v: f64, end: f64, step: f64) -> bool {
 }
 
 fn syntax(at: usize, m: impl Into<String>) -> ExprError {
-    ExprError { at, code: AlarmCode::Syntax, message: m.into() }
+    ExprError {
+        at,
+        code: AlarmCode::Syntax,
+        message: m.into(),
+    }
 }
 
 fn keyword(c: &mut Cursor) -> String {
@@ -88,7 +132,12 @@ fn end_of_statement(c: &mut Cursor) -> Result<(), ExprError> {
                     return Ok(()); // ISG: an unclosed `(` comments out the rest
                 }
             }
-            Some(_) => return Err(syntax(c.i, "a control statement must stand alone in its block")),
+            Some(_) => {
+                return Err(syntax(
+                    c.i,
+                    "a control statement must stand alone in its block",
+                ))
+            }
         }
     }
 }
@@ -112,7 +161,10 @@ pub fn parse(c: &mut Cursor, vars: &Variables) -> Result<ControlStmt, ExprError>
         "FOR" => {
             c.skip_blanks();
             if !expr::at_variable(c) {
-                return Err(syntax(c.i, "$FOR needs a V.P., V.L. or V.S. counting variable"));
+                return Err(syntax(
+                    c.i,
+                    "$FOR needs a V.P., V.L. or V.S. counting variable",
+                ));
             }
             let var_at = c.i;
             let var = c.name();
@@ -122,16 +174,30 @@ pub fn parse(c: &mut Cursor, vars: &Variables) -> Result<ControlStmt, ExprError>
             let end = expr::eval(c, vars)?;
             expect(c, b',', "between end value and step")?;
             let step = expr::eval(c, vars)?;
-            ControlStmt::For { var, var_at, start, end, step, at }
+            ControlStmt::For {
+                var,
+                var_at,
+                start,
+                end,
+                step,
+                at,
+            }
         }
         "ENDFOR" => ControlStmt::EndFor { at },
         "WHILE" => {
             let s = c.i;
             let cond = expr::eval(c, vars)?;
-            ControlStmt::While { cond, cond_range: (s, c.i), at }
+            ControlStmt::While {
+                cond,
+                cond_range: (s, c.i),
+                at,
+            }
         }
         "ENDWHILE" => ControlStmt::EndWhile { at },
-        "IF" => ControlStmt::If { cond: expr::eval(c, vars)?, at },
+        "IF" => ControlStmt::If {
+            cond: expr::eval(c, vars)?,
+            at,
+        },
         "ELSEIF" | "ELSIF" => {
             // Condition read later (only if the branch is reached); skip the text now.
             c.i = c.end;
@@ -171,6 +237,36 @@ fn skip_prefix(c: &mut Cursor) {
     }
 }
 
+/// The N number at the start of a block's text, if any.
+pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<super::block::BlockNo> {
+    let mut c = Cursor::new(src, start, end);
+    c.skip_blanks();
+    if c.peek() == Some(b'/') {
+        c.i += 1;
+        if matches!(c.peek(), Some(b'0'..=b'9')) {
+            c.i += 1;
+        }
+        c.skip_blanks();
+    }
+    if c.letter() != Some(b'N') {
+        return None;
+    }
+    c.i += 1;
+    let ds = c.i;
+    let mut v: u64 = 0;
+    while let Some(ch @ b'0'..=b'9') = c.peek() {
+        v = v * 10 + (ch - b'0') as u64;
+        if v > u32::MAX as u64 {
+            return None;
+        }
+        c.i += 1;
+    }
+    (c.i > ds).then(|| super::block::BlockNo {
+        value: v as u32,
+        digits: (c.i - ds).min(10) as u8,
+    })
+}
+
 /// The control keyword of a block's text, if it is a control statement.
 pub fn keyword_of(src: &[u8], start: usize, end: usize) -> Option<String> {
     let mut c = Cursor::new(src, start, end);
@@ -183,7 +279,12 @@ pub fn keyword_of(src: &[u8], start: usize, end: usize) -> Option<String> {
 }
 
 /// Evaluates the condition of a `$ELSEIF` block. Returns the value and the `$` offset.
-pub fn elseif_condition(src: &[u8], start: usize, end: usize, vars: &Variables) -> Result<(f64, usize), ExprError> {
+pub fn elseif_condition(
+    src: &[u8],
+    start: usize,
+    end: usize,
+    vars: &Variables,
+) -> Result<(f64, usize), ExprError> {
     let mut c = Cursor::new(src, start, end);
     skip_prefix(&mut c);
     let at = c.i;

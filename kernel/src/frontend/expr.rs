@@ -69,8 +69,12 @@ impl Variables {
                 self.values.insert(name.to_string(), value);
                 Ok(Written::Program)
             }
-            _ if name.starts_with("V.G.") => Err(format!("system variable {name} is read-only or unknown")),
-            _ => Err(format!("{name} is not a variable name (V.P., V.L., V.S. or V.G.)")),
+            _ if name.starts_with("V.G.") => {
+                Err(format!("system variable {name} is read-only or unknown"))
+            }
+            _ => Err(format!(
+                "{name} is not a variable name (V.P., V.L., V.S. or V.G.)"
+            )),
         }
     }
 }
@@ -179,12 +183,14 @@ impl Parser<'_> {
             c.skip_blanks();
             match c.peek() {
                 Some(b'+') => {
+                    let at = c.i;
                     c.i += 1;
-                    v += self.mul(c)?;
+                    v = finite(v + self.mul(c)?, at, "sum")?;
                 }
                 Some(b'-') => {
+                    let at = c.i;
                     c.i += 1;
-                    v -= self.mul(c)?;
+                    v = finite(v - self.mul(c)?, at, "difference")?;
                 }
                 _ => return Ok(v),
             }
@@ -200,7 +206,7 @@ impl Parser<'_> {
                 (Some(b'*'), Some(b'*')) => return Ok(v),
                 (Some(b'*'), _) => {
                     c.i += 1;
-                    v *= self.unary(c)?;
+                    v = finite(v * self.unary(c)?, at, "product")?;
                 }
                 (Some(b'/'), _) => {
                     c.i += 1;
@@ -208,7 +214,7 @@ impl Parser<'_> {
                     if r == 0.0 {
                         return Err(err(at, AlarmCode::Arithmetic, "division by zero"));
                     }
-                    v /= r;
+                    v = finite(v / r, at, "quotient")?;
                 }
                 _ if c.keyword("MOD") => {
                     c.i += 3;
@@ -305,7 +311,11 @@ impl Parser<'_> {
             Some(ch) if ch.is_ascii_alphabetic() => {
                 let name = c.name();
                 let f = func(&name).ok_or_else(|| {
-                    err(at, AlarmCode::Syntax, format!("unknown function or name `{name}`"))
+                    err(
+                        at,
+                        AlarmCode::Syntax,
+                        format!("unknown function or name `{name}`"),
+                    )
                 })?;
                 c.skip_blanks();
                 match c.peek() {
@@ -372,7 +382,11 @@ fn finite(v: f64, at: usize, what: &str) -> Result<f64, ExprError> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(err(at, AlarmCode::Arithmetic, format!("{what}: result is not a finite number")))
+        Err(err(
+            at,
+            AlarmCode::Arithmetic,
+            format!("{what}: result is not a finite number"),
+        ))
     }
 }
 
@@ -383,13 +397,21 @@ fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
         Func::Cos => libm::cos(rad),
         Func::Tan => libm::tan(rad),
         Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => {
-            return Err(err(at, AlarmCode::Arithmetic, format!("argument {x} outside -1..1")))
+            return Err(err(
+                at,
+                AlarmCode::Arithmetic,
+                format!("argument {x} outside -1..1"),
+            ))
         }
         Func::Asin => libm::asin(x).to_degrees(),
         Func::Acos => libm::acos(x).to_degrees(),
         Func::Atan => libm::atan(x).to_degrees(),
         Func::Sqrt if x < 0.0 => {
-            return Err(err(at, AlarmCode::Arithmetic, format!("square root of {x}")))
+            return Err(err(
+                at,
+                AlarmCode::Arithmetic,
+                format!("square root of {x}"),
+            ))
         }
         Func::Sqrt => libm::sqrt(x),
         Func::Sqr => x * x,

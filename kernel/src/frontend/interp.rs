@@ -17,7 +17,16 @@ use crate::tools::ToolTable;
 #[derive(Clone, Copy, Debug)]
 struct Val {
     n: Number,
-    at: usize,
+    at: u32,
+}
+
+impl Val {
+    fn new(n: Number, at: usize) -> Self {
+        Val { n, at: at as u32 }
+    }
+    fn pos(self) -> usize {
+        self.at as usize
+    }
 }
 
 /// The words of one block, collected before they are interpreted.
@@ -36,7 +45,7 @@ struct Words {
     t: Option<Val>,
     m: heapless::Vec<Val, 8>,
     aux: heapless::Vec<AuxWord, MAX_AUX_WORDS>,
-    at_codes: heapless::Vec<(u16, usize), 4>,
+    at_codes: heapless::Vec<(u32, usize), 4>,
     diameter: Option<bool>,
     radius_written: Option<usize>,
     calculation: bool,
@@ -49,10 +58,25 @@ struct Fault {
     message: String,
 }
 
-fn fault(code: AlarmCode, at: usize, message: impl Into<String>) -> Fault {
+/// Byte offsets come as usize (cursor) or u32 (stored words).
+trait Offset {
+    fn offset(self) -> usize;
+}
+impl Offset for usize {
+    fn offset(self) -> usize {
+        self
+    }
+}
+impl Offset for u32 {
+    fn offset(self) -> usize {
+        self as usize
+    }
+}
+
+fn fault(code: AlarmCode, at: impl Offset, message: impl Into<String>) -> Fault {
     Fault {
         code,
-        at,
+        at: at.offset(),
         message: message.into(),
     }
 }
@@ -81,9 +105,13 @@ pub struct Interpreter<'a> {
     frames: Vec<Frame>,
     work_min: Pos,
     work_max: Pos,
+    /// A G25/G26 limit has been programmed (saves the check on every block otherwise).
+    work_limited: bool,
     finished: bool,
     /// The block text where the last `skip_to` stopped.
     last_skip: (usize, usize),
+    /// The block handed out last (kept here so that it is not moved through every layer).
+    block: Block,
 }
 
 impl<'a> Interpreter<'a> {
@@ -96,7 +124,9 @@ impl<'a> Interpreter<'a> {
             PlaneName::Yz => Plane::YZ,
         };
         let corner = match md.trc.corner_mode {
-            crate::machine_data::CornerModeSetting::TransitionCircle => CornerPolicy::TransitionCircle,
+            crate::machine_data::CornerModeSetting::TransitionCircle => {
+                CornerPolicy::TransitionCircle
+            }
             crate::machine_data::CornerModeSetting::Intersection => d.initial_corner_intersection,
         };
         let state = ModalState {
@@ -138,8 +168,36 @@ impl<'a> Interpreter<'a> {
             frames: Vec::new(),
             work_min: [f64::NEG_INFINITY; 3],
             work_max: [f64::INFINITY; 3],
+            work_limited: false,
             finished: false,
             last_skip: (0, 0),
+            block: Block {
+                line: 0,
+                col: 0,
+                number: None,
+                motion: None,
+                modal: state,
+                words: heapless::Vec::new(),
+                trc: None,
+                approach: None,
+                exact_stop: false,
+                dwell: None,
+                stop: None,
+                offset_changed: false,
+                calculation: false,
+                preprocess_stop: false,
+            },
+        }
+    }
+
+    /// The next interpreted block, borrowed: the fast way to stream a program. `Ok(None)` at
+    /// the end; after an alarm the interpreter stays finished.
+    #[inline]
+    pub fn next_block(&mut self) -> Result<Option<&Block>, Alarm> {
+        if self.step()? {
+            Ok(Some(&self.block))
+        } else {
+            Ok(None)
         }
     }
 
@@ -203,10 +261,10 @@ impl<'a> Interpreter<'a> {
 
     /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
     #[inline]
-    pub(super) fn step(&mut self) -> Result<Option<Block>, Alarm> {
+    fn step(&mut self) -> Result<bool, Alarm> {
         loop {
             if self.finished {
-                return Ok(None);
+                return Ok(false);
             }
             let Some((start, end)) = self.next_segment() else {
                 self.finished = true;
@@ -221,12 +279,12 @@ impl<'a> Interpreter<'a> {
                         message: format!("{} is not closed by {}", f.opener(), f.closer()),
                     });
                 }
-                return Ok(None);
+                return Ok(false);
             };
             self.blk_number = None;
             match self.segment(start, end) {
-                Ok(Some(b)) => return Ok(Some(b)),
-                Ok(None) => continue,
+                Ok(true) => return Ok(true),
+                Ok(false) => continue,
                 Err(f) => {
                     self.finished = true;
                     return Err(self.alarm(f));
@@ -237,28 +295,29 @@ impl<'a> Interpreter<'a> {
 
     /// One block's text: header, skip, number, control statement or words.
     #[inline]
-    fn segment(&mut self, start: usize, end: usize) -> R<Option<Block>> {
+    fn segment(&mut self, start: usize, end: usize) -> R<bool> {
         let mut c = Cursor::new(self.src, start, end);
         c.skip_blanks();
         match c.peek() {
-            None => return Ok(None),
+            None => return Ok(false),
             // Program header: `%name`, `%` alone (Fanuc tape start/end).
-            Some(b'%') => return Ok(None),
+            Some(b'%') => return Ok(false),
             Some(b'/') => {
                 c.i += 1;
                 if matches!(c.peek(), Some(b'0'..=b'9')) {
                     c.i += 1;
                 }
                 if self.md.program.block_skip {
-                    return Ok(None);
+                    return Ok(false);
                 }
                 c.skip_blanks();
             }
             _ => {}
         }
-        if self.d.o_numbers && c.letter() == Some(b'O') && matches!(c.peek_at(1), Some(b'0'..=b'9')) {
+        if self.d.o_numbers && c.letter() == Some(b'O') && matches!(c.peek_at(1), Some(b'0'..=b'9'))
+        {
             // Fanuc program number line.
-            return Ok(None);
+            return Ok(false);
         }
         let block_col = c.i;
         if c.letter() == Some(b'N') {
@@ -274,7 +333,11 @@ impl<'a> Interpreter<'a> {
                 c.i += 1;
             }
             if c.i == ds {
-                return Err(fault(AlarmCode::Syntax, at, "N must be followed by the block number"));
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    at,
+                    "N must be followed by the block number",
+                ));
             }
             self.blk_number = Some(BlockNo {
                 value: v as u32,
@@ -283,7 +346,7 @@ impl<'a> Interpreter<'a> {
             c.skip_blanks();
         }
         if self.d.variables && c.peek() == Some(b'$') {
-            return self.control(c).map(|()| None);
+            return self.control(c).map(|()| false);
         }
         let mut words = Words::default();
         self.words(&mut c, &mut words)?;
@@ -316,16 +379,22 @@ impl<'a> Interpreter<'a> {
                     c.i += 1;
                     let (n, next) = number::parse(c.b, c.i)
                         .filter(|(n, e)| *e <= c.end && !n.has_point)
-                        .ok_or_else(|| fault(AlarmCode::Syntax, at, "@ must be followed by a command number"))?;
+                        .ok_or_else(|| {
+                            fault(
+                                AlarmCode::Syntax,
+                                at,
+                                "@ must be followed by a command number",
+                            )
+                        })?;
                     c.i = next;
                     let code = int_value(n.value, at, "@ command")?;
-                    push(&mut w.at_codes, (code as u16, at), at)?;
+                    push(&mut w.at_codes, (code, at), at)?;
                     continue;
                 }
                 if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
                     if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
                         c.i = next;
-                        w.bare = Some(Val { n, at });
+                        w.bare = Some(Val::new(n, at));
                         continue;
                     }
                 }
@@ -333,10 +402,16 @@ impl<'a> Interpreter<'a> {
                     .ok()
                     .and_then(|s| s.chars().next())
                     .unwrap_or('?');
-                return Err(fault(AlarmCode::Syntax, at, format!("unexpected character '{shown}'")));
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    at,
+                    format!("unexpected character '{shown}'"),
+                ));
             };
             // Multi-letter words first.
-            if d.lf_block_end && letter == b'L' && matches!(c.peek_at(1), Some(b'F' | b'f'))
+            if d.lf_block_end
+                && letter == b'L'
+                && matches!(c.peek_at(1), Some(b'F' | b'f'))
                 && !matches!(c.peek_at(2), Some(x) if x.is_ascii_alphanumeric() || x == b'.' || x == b'-' || x == b'+')
             {
                 // 840C listings: `LF` ends the block; only comments may follow.
@@ -347,17 +422,28 @@ impl<'a> Interpreter<'a> {
                         None | Some(b';') => break,
                         Some(b'(') => {
                             if !c.skip_comment() {
-                                return Err(fault(AlarmCode::Syntax, c.i, "comment not closed with ')'"));
+                                return Err(fault(
+                                    AlarmCode::Syntax,
+                                    c.i,
+                                    "comment not closed with ')'",
+                                ));
                             }
                         }
                         Some(_) => {
-                            return Err(fault(AlarmCode::Syntax, c.i, "nothing but a comment may follow LF (end of block)"))
+                            return Err(fault(
+                                AlarmCode::Syntax,
+                                c.i,
+                                "nothing but a comment may follow LF (end of block)",
+                            ))
                         }
                     }
                 }
                 break;
             }
-            if d.radius_word == RadiusWord::CrEquals && letter == b'C' && matches!(c.peek_at(1), Some(b'R' | b'r')) {
+            if d.radius_word == RadiusWord::CrEquals
+                && letter == b'C'
+                && matches!(c.peek_at(1), Some(b'R' | b'r'))
+            {
                 c.i += 2;
                 c.skip_blanks();
                 if c.peek() != Some(b'=') {
@@ -372,7 +458,11 @@ impl<'a> Interpreter<'a> {
                 let on = c.keyword("DIAMON");
                 c.i += 6;
                 if w.diameter.replace(on).is_some() {
-                    return Err(fault(AlarmCode::AddressTwice, at, "DIAMON/DIAMOF twice in one block"));
+                    return Err(fault(
+                        AlarmCode::AddressTwice,
+                        at,
+                        "DIAMON/DIAMOF twice in one block",
+                    ));
                 }
                 continue;
             }
@@ -380,16 +470,53 @@ impl<'a> Interpreter<'a> {
                 let name = c.name();
                 c.skip_blanks();
                 if c.peek() != Some(b'=') || c.peek_at(1) == Some(b'=') {
-                    return Err(fault(AlarmCode::Syntax, c.i, format!("'=' expected after {name}")));
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        c.i,
+                        format!("'=' expected after {name}"),
+                    ));
                 }
                 c.i += 1;
-                let value = expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
-                let written = self.vars.set(&name, value).map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
+                let value =
+                    expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+                let written = self
+                    .vars
+                    .set(&name, value)
+                    .map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
                 if written == Written::ToolRadius {
                     w.radius_written = Some(at);
                 }
                 w.calculation = true;
                 continue;
+            }
+            let known = matches!(
+                letter,
+                b'G' | b'X'
+                    | b'Y'
+                    | b'Z'
+                    | b'I'
+                    | b'J'
+                    | b'K'
+                    | b'F'
+                    | b'D'
+                    | b'T'
+                    | b'M'
+                    | b'S'
+                    | b'H'
+                    | b'N'
+            ) || (letter == b'R' && d.radius_word == RadiusWord::R)
+                || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
+                || (letter == b'P' && d.dwell.p_millis);
+            if !known {
+                return Err(fault(
+                    AlarmCode::UnknownAddress,
+                    at,
+                    format!(
+                        "address {} is not defined in the {} dialect",
+                        letter as char,
+                        d.name.as_str()
+                    ),
+                ));
             }
             c.i += 1;
             let v = self.value(c, at, "")?;
@@ -420,29 +547,71 @@ impl<'a> Interpreter<'a> {
                 b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P")?,
                 b'F' => {
                     set_once(&mut w.f, v, "F")?;
-                    push(&mut w.aux, AuxWord { address: b'F', value: v.n.value }, at)?;
+                    push(
+                        &mut w.aux,
+                        AuxWord {
+                            address: b'F',
+                            value: v.n.value,
+                        },
+                        at,
+                    )?;
                 }
                 b'D' => {
                     set_once(&mut w.d, v, "D")?;
-                    push(&mut w.aux, AuxWord { address: b'D', value: v.n.value }, at)?;
+                    push(
+                        &mut w.aux,
+                        AuxWord {
+                            address: b'D',
+                            value: v.n.value,
+                        },
+                        at,
+                    )?;
                 }
                 b'T' => {
                     set_once(&mut w.t, v, "T")?;
-                    push(&mut w.aux, AuxWord { address: b'T', value: v.n.value }, at)?;
+                    push(
+                        &mut w.aux,
+                        AuxWord {
+                            address: b'T',
+                            value: v.n.value,
+                        },
+                        at,
+                    )?;
                 }
                 b'M' => {
                     push(&mut w.m, v, at)?;
-                    push(&mut w.aux, AuxWord { address: b'M', value: v.n.value }, at)?;
+                    push(
+                        &mut w.aux,
+                        AuxWord {
+                            address: b'M',
+                            value: v.n.value,
+                        },
+                        at,
+                    )?;
                 }
-                b'S' | b'H' => push(&mut w.aux, AuxWord { address: letter, value: v.n.value }, at)?,
+                b'S' | b'H' => push(
+                    &mut w.aux,
+                    AuxWord {
+                        address: letter,
+                        value: v.n.value,
+                    },
+                    at,
+                )?,
                 b'N' => {
-                    return Err(fault(AlarmCode::Syntax, at, "the block number N must come first in the block"))
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        at,
+                        "the block number N must come first in the block",
+                    ))
                 }
                 _ => {
                     return Err(fault(
                         AlarmCode::UnknownAddress,
                         at,
-                        format!("address {name} is not defined in the {} dialect", d.name.as_str()),
+                        format!(
+                            "address {name} is not defined in the {} dialect",
+                            d.name.as_str()
+                        ),
                     ))
                 }
             }
@@ -451,21 +620,38 @@ impl<'a> Interpreter<'a> {
     }
 
     /// The value after an address: a number, or in the ISG dialect an expression operand.
+    #[inline]
     fn value(&mut self, c: &mut Cursor, at: usize, what: &str) -> R<Val> {
+        if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+            // The common case: the number follows the address directly.
+            c.i = next;
+            return checked(Val::new(n, at));
+        }
         c.skip_blanks();
-        if self.d.variables && matches!(c.peek(), Some(b'[') | Some(b'-') | Some(b'+') | Some(b'a'..=b'z') | Some(b'A'..=b'Z'))
-            && !matches!((c.peek(), c.peek_at(1)), (Some(b'-' | b'+'), Some(b'0'..=b'9' | b'.')))
+        if self.d.variables
+            && matches!(
+                c.peek(),
+                Some(b'[') | Some(b'-') | Some(b'+') | Some(b'a'..=b'z') | Some(b'A'..=b'Z')
+            )
+            && !matches!(
+                (c.peek(), c.peek_at(1)),
+                (Some(b'-' | b'+'), Some(b'0'..=b'9' | b'.'))
+            )
         {
-            let v = expr::eval_operand(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
-            return Ok(Val {
-                n: Number { value: v, has_point: true },
+            let v =
+                expr::eval_operand(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+            return checked(Val::new(
+                Number {
+                    value: v,
+                    has_point: true,
+                },
                 at,
-            });
+            ));
         }
         match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
             Some((n, next)) => {
                 c.i = next;
-                Ok(Val { n, at })
+                checked(Val::new(n, at))
             }
             None => {
                 let shown = if what.is_empty() {
@@ -473,7 +659,11 @@ impl<'a> Interpreter<'a> {
                 } else {
                     what.to_string()
                 };
-                Err(fault(AlarmCode::BadNumber, c.i, format!("{shown} must be followed by a number")))
+                Err(fault(
+                    AlarmCode::BadNumber,
+                    c.i,
+                    format!("{shown} must be followed by a number"),
+                ))
             }
         }
     }
@@ -481,7 +671,10 @@ impl<'a> Interpreter<'a> {
     /// A length value in mm: decimal-input switch, inch conversion.
     fn length(&self, v: Val, units: Units) -> f64 {
         let mut x = v.n.value;
-        if self.d.decimal_switch && !v.n.has_point && self.md.program.decimal_input == DecimalInput::Increment {
+        if self.d.decimal_switch
+            && !v.n.has_point
+            && self.md.program.decimal_input == DecimalInput::Increment
+        {
             x *= match units {
                 Units::Mm => self.md.program.least_input_increment_mm,
                 Units::Inch => self.md.program.least_input_increment_inch,
@@ -496,9 +689,10 @@ impl<'a> Interpreter<'a> {
 
     /// Turns collected words into a block.
     #[inline]
-    fn build(&mut self, w: &Words, block_col: usize) -> R<Option<Block>> {
+    fn build(&mut self, w: &Words, block_col: usize) -> R<bool> {
         let d = self.d;
-        let old = self.state;
+        let (old_trc, old_plane, old_selection) =
+            (self.state.trc, self.state.plane, self.state.selection);
         let mut new = self.state;
         let mut blk = Block {
             line: self.blk_line,
@@ -521,16 +715,32 @@ impl<'a> Interpreter<'a> {
         let mut effects: heapless::Vec<(GEffect, u16, usize), 16> = heapless::Vec::new();
         for &(code, at) in &w.g {
             let def = d.gcode(code).ok_or_else(|| {
-                fault(AlarmCode::UnknownGCode, at, format!("G{code} is not a {} G code", d.name.as_str()))
+                fault(
+                    AlarmCode::UnknownGCode,
+                    at,
+                    format!("G{code} is not a {} G code", d.name.as_str()),
+                )
             })?;
-            if let Some((_, other, _)) = effects.iter().find(|(e, _, _)| Dialect::same_group(*e, def.effect)) {
+            if let Some((_, other, _)) = effects
+                .iter()
+                .find(|(e, _, _)| Dialect::same_group(*e, def.effect))
+            {
                 return Err(fault(
                     AlarmCode::SameGroupTwice,
                     at,
                     format!("G{code} and G{other} belong to the same group"),
                 ));
             }
-            if def.forbidden_with_trc && old.trc != TrcSide::Off {
+            if let (GEffect::Plane(p), true) = (def.effect, old_trc != TrcSide::Off) {
+                if p != old_plane {
+                    return Err(fault(
+                        AlarmCode::PlaneChangeWithTrc,
+                        at,
+                        format!("G{code}: the plane cannot be changed while TRC is active"),
+                    ));
+                }
+            }
+            if def.forbidden_with_trc && old_trc != TrcSide::Off {
                 return Err(fault(
                     AlarmCode::ForbiddenWithTrc,
                     at,
@@ -538,15 +748,23 @@ impl<'a> Interpreter<'a> {
                 ));
             }
             if let GEffect::Unsupported(what) = def.effect {
-                return Err(fault(AlarmCode::NotSupported, at, format!("{what} is not supported by softnc")));
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    format!("{what} is not supported by softnc"),
+                ));
             }
             let _ = effects.push((def.effect, code, at));
         }
         for &(code, at) in &w.at_codes {
             if code != 714 {
-                return Err(fault(AlarmCode::NotSupported, at, format!("@{code} is not supported by softnc")));
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    format!("@{code} is not supported by softnc"),
+                ));
             }
-            if old.trc != TrcSide::Off {
+            if old_trc != TrcSide::Off {
                 return Err(fault(
                     AlarmCode::ForbiddenWithTrc,
                     at,
@@ -566,7 +784,7 @@ impl<'a> Interpreter<'a> {
                 GEffect::ExactStopBlock => blk.exact_stop = true,
                 GEffect::ExactStopModal(on) => new.exact_stop = on,
                 GEffect::Plane(p) => {
-                    if old.trc != TrcSide::Off && p != old.plane {
+                    if old_trc != TrcSide::Off && p != old_plane {
                         return Err(fault(
                             AlarmCode::PlaneChangeWithTrc,
                             at,
@@ -585,7 +803,10 @@ impl<'a> Interpreter<'a> {
                 GEffect::Corner(cp) => new.corner = cp,
                 GEffect::Approach(sp) => blk.approach = Some(sp),
                 GEffect::Selection(sp) => {
-                    if sp == SelectionPolicy::InnerCorner && old.trc != TrcSide::Off && old.selection != sp {
+                    if sp == SelectionPolicy::InnerCorner
+                        && old_trc != TrcSide::Off
+                        && old_selection != sp
+                    {
                         return Err(fault(
                             AlarmCode::ForbiddenWithTrc,
                             at,
@@ -612,7 +833,11 @@ impl<'a> Interpreter<'a> {
         if !dwell {
             if let Some(f) = w.f {
                 if !(f.n.value > 0.0) || !f.n.value.is_finite() {
-                    return Err(fault(AlarmCode::BadNumber, f.at, "the feed F must be positive"));
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        f.at,
+                        "the feed F must be positive",
+                    ));
                 }
                 new.feed = f.n.value * scale;
             }
@@ -620,7 +845,11 @@ impl<'a> Interpreter<'a> {
         for a in &w.aux {
             if a.address == b'S' {
                 if a.value < 0.0 {
-                    return Err(fault(AlarmCode::BadNumber, block_col, "the spindle speed S must not be negative"));
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        block_col,
+                        "the spindle speed S must not be negative",
+                    ));
                 }
                 new.spindle = a.value;
             }
@@ -630,7 +859,7 @@ impl<'a> Interpreter<'a> {
             blk.offset_changed = true;
         }
         let d_word = match w.d {
-            Some(v) => Some((int_value(v.n.value, v.at, "D")?, v.at)),
+            Some(v) => Some((int_value(v.n.value, v.at, "D")?, v.pos())),
             None if d.tool_edges && w.t.is_some() && new.d != 0 => Some((new.d, block_col)),
             None => None,
         };
@@ -639,7 +868,7 @@ impl<'a> Interpreter<'a> {
                 new.d = 0;
                 new.radius = 0.0;
                 new.length = 0.0;
-                if d.d0_deselects && old.trc != TrcSide::Off && blk.trc.is_none() {
+                if d.d0_deselects && old_trc != TrcSide::Off && blk.trc.is_none() {
                     blk.trc = Some(TrcSide::Off);
                     new.trc = TrcSide::Off;
                 }
@@ -650,7 +879,11 @@ impl<'a> Interpreter<'a> {
                         Some(t) => format!("T{t} D{dn}"),
                         None => format!("D{dn}"),
                     };
-                    fault(AlarmCode::UnknownOffset, at, format!("tool offset {what} is not in the tool table"))
+                    fault(
+                        AlarmCode::UnknownOffset,
+                        at,
+                        format!("tool offset {what} is not in the tool table"),
+                    )
                 })?;
                 new.d = dn;
                 new.radius = radius;
@@ -677,7 +910,11 @@ impl<'a> Interpreter<'a> {
             };
             if let Some(s) = stop {
                 if blk.stop.is_some_and(|prev| prev != s) {
-                    return Err(fault(AlarmCode::SameGroupTwice, m.at, "two program-flow M functions in one block"));
+                    return Err(fault(
+                        AlarmCode::SameGroupTwice,
+                        m.at,
+                        "two program-flow M functions in one block",
+                    ));
                 }
                 blk.stop = Some(s);
             }
@@ -690,24 +927,41 @@ impl<'a> Interpreter<'a> {
             } else if let (true, Some(f)) = (d.dwell.f_seconds, w.f) {
                 Some(f)
             } else if let (true, Some(p)) = (d.dwell.p_millis, w.p) {
-                Some(Val { n: Number { value: p.n.value / 1000.0, has_point: true }, at: p.at })
+                Some(Val {
+                    n: Number {
+                        value: p.n.value / 1000.0,
+                        has_point: true,
+                    },
+                    at: p.at,
+                })
             } else {
                 w.bare
             };
-            let secs = secs.ok_or_else(|| fault(AlarmCode::MissingValue, block_col, "G4 needs a dwell time"))?;
+            let secs = secs.ok_or_else(|| {
+                fault(AlarmCode::MissingValue, block_col, "G4 needs a dwell time")
+            })?;
             if !(secs.n.value >= 0.0) || secs.n.value > 1e6 {
-                return Err(fault(AlarmCode::BadNumber, secs.at, "dwell time out of range"));
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    secs.at,
+                    "dwell time out of range",
+                ));
             }
             let axis_used_as_time = d.dwell.x_seconds && w.axis[0].is_some();
             for (i, a) in w.axis.iter().enumerate() {
                 if let Some(a) = a {
                     if !(i == 0 && axis_used_as_time) {
-                        return Err(fault(AlarmCode::Syntax, a.at, "a dwell block (G4) cannot move axes"));
+                        return Err(fault(
+                            AlarmCode::Syntax,
+                            a.at,
+                            "a dwell block (G4) cannot move axes",
+                        ));
                     }
                 }
             }
             blk.dwell = Some(secs.n.value);
         } else if let Some(max) = working_area {
+            self.work_limited = true;
             for (i, a) in w.axis.iter().enumerate() {
                 if let Some(a) = a {
                     let v = self.length(*a, units);
@@ -743,7 +997,8 @@ impl<'a> Interpreter<'a> {
         }
         blk.modal = new;
         self.state = new;
-        Ok(Some(blk))
+        self.block = blk;
+        Ok(true)
     }
 
     /// The block's motion, if it has one.
@@ -805,7 +1060,11 @@ impl<'a> Interpreter<'a> {
                 Some(u) => {
                     let r = self.length(u, units);
                     if r < 0.0 {
-                        return Err(fault(AlarmCode::BadNumber, u.at, "the polar radius U/B is written without sign"));
+                        return Err(fault(
+                            AlarmCode::BadNumber,
+                            u.at,
+                            "the polar radius U/B is written without sign",
+                        ));
                     }
                     r
                 }
@@ -814,13 +1073,19 @@ impl<'a> Interpreter<'a> {
             let arc = mode.is_arc();
             if arc {
                 if r_now <= 1e-9 {
-                    return Err(fault(AlarmCode::ArcEndPoint, block_col, "polar circle: the start point lies on the pole"));
+                    return Err(fault(
+                        AlarmCode::ArcEndPoint,
+                        block_col,
+                        "polar circle: the start point lies on the pole",
+                    ));
                 }
                 if (r - r_now).abs() > self.md.program.arc_endpoint_tolerance {
                     return Err(fault(
                         AlarmCode::ArcEndPoint,
-                        w.polar_radius.map_or(block_col, |u| u.at),
-                        format!("polar circle: radius {r:.4} differs from the start radius {r_now:.4}"),
+                        w.polar_radius.map_or(block_col, Val::pos),
+                        format!(
+                            "polar circle: radius {r:.4} differs from the start radius {r_now:.4}"
+                        ),
                     ));
                 }
             }
@@ -832,7 +1097,11 @@ impl<'a> Interpreter<'a> {
             centre[pa] = new.pole[pa];
             centre[po] = new.pole[po];
             if feed_needed && new.feed <= 0.0 {
-                return Err(fault(AlarmCode::NoFeed, block_col, "no feed programmed (F)"));
+                return Err(fault(
+                    AlarmCode::NoFeed,
+                    block_col,
+                    "no feed programmed (F)",
+                ));
             }
             self.check_area(&end, block_col)?;
             return Ok(Some(Motion {
@@ -861,13 +1130,28 @@ impl<'a> Interpreter<'a> {
         let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
         if programmed == 0 && !(arc && has_centre) {
             if has_centre {
-                let at = w.centre.iter().flatten().map(|v| v.at).chain(w.radius.map(|v| v.at)).next().unwrap_or(block_col);
-                return Err(fault(AlarmCode::Syntax, at, "circle parameters without a circular motion"));
+                let at = w
+                    .centre
+                    .iter()
+                    .flatten()
+                    .map(|v| v.pos())
+                    .chain(w.radius.map(Val::pos))
+                    .next()
+                    .unwrap_or(block_col);
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    at,
+                    "circle parameters without a circular motion",
+                ));
             }
             return Ok(None);
         }
         if feed_needed && new.feed <= 0.0 {
-            return Err(fault(AlarmCode::NoFeed, block_col, "no feed programmed (F)"));
+            return Err(fault(
+                AlarmCode::NoFeed,
+                block_col,
+                "no feed programmed (F)",
+            ));
         }
         let mut centre = end;
         if arc {
@@ -876,7 +1160,11 @@ impl<'a> Interpreter<'a> {
                     return Err(fault(
                         AlarmCode::Syntax,
                         v.at,
-                        format!("{} is not a centre coordinate in the {} plane", ['I', 'J', 'K'][i], plane.name()),
+                        format!(
+                            "{} is not a centre coordinate in the {} plane",
+                            ['I', 'J', 'K'][i],
+                            plane.name()
+                        ),
                     ));
                 }
             }
@@ -892,7 +1180,11 @@ impl<'a> Interpreter<'a> {
                     CentreSpec::Offsets(off)
                 }
                 (Some(r), true) => {
-                    return Err(fault(AlarmCode::Syntax, r.at, "a circle takes either a centre or a radius, not both"))
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        r.at,
+                        "a circle takes either a centre or a radius, not both",
+                    ))
                 }
                 (None, false) => {
                     return Err(fault(
@@ -902,7 +1194,11 @@ impl<'a> Interpreter<'a> {
                     ))
                 }
             };
-            let at = w.radius.map(|r| r.at).or_else(|| w.centre.iter().flatten().next().map(|v| v.at)).unwrap_or(block_col);
+            let at = w
+                .radius
+                .map(Val::pos)
+                .or_else(|| w.centre.iter().flatten().next().map(|v| v.pos()))
+                .unwrap_or(block_col);
             let tol = self.md.program.arc_endpoint_tolerance;
             let ccw = mode == MotionMode::ArcCcw;
             centre = arc::centre(start, end, plane, ccw, spec, tol).map_err(|e| {
@@ -935,6 +1231,9 @@ impl<'a> Interpreter<'a> {
 
     /// 840C G25/G26: end points must stay inside the working area.
     fn check_area(&self, p: &Pos, at: usize) -> R<()> {
+        if !self.work_limited {
+            return Ok(());
+        }
         for i in 0..3 {
             if p[i] < self.work_min[i] || p[i] > self.work_max[i] {
                 return Err(fault(
@@ -952,15 +1251,29 @@ impl<'a> Interpreter<'a> {
 
     /// `$FOR`, `$IF`, `$WHILE` and their closing statements (ISG).
     fn control(&mut self, mut c: Cursor) -> R<()> {
-        let stmt = control::parse(&mut c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+        let stmt =
+            control::parse(&mut c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
         let origin = (self.blk_line, self.blk_line_start, c.i);
         let max = self.md.program.max_loop_iterations;
         match stmt {
-            ControlStmt::For { var, var_at, start, end, step, at } => {
+            ControlStmt::For {
+                var,
+                var_at,
+                start,
+                end,
+                step,
+                at,
+            } => {
                 if step == 0.0 {
-                    return Err(fault(AlarmCode::BadNumber, at, "$FOR with step 0 would never end"));
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        at,
+                        "$FOR with step 0 would never end",
+                    ));
                 }
-                self.vars.set(&var, start).map_err(|m| fault(AlarmCode::UndefinedName, var_at, m))?;
+                self.vars
+                    .set(&var, start)
+                    .map_err(|m| fault(AlarmCode::UndefinedName, var_at, m))?;
                 if control::for_continues(start, end, step) {
                     self.frames.push(Frame::For {
                         var,
@@ -975,7 +1288,14 @@ impl<'a> Interpreter<'a> {
                 }
             }
             ControlStmt::EndFor { at } => match self.frames.pop() {
-                Some(Frame::For { var, end, step, body, iterations, origin }) => {
+                Some(Frame::For {
+                    var,
+                    end,
+                    step,
+                    body,
+                    iterations,
+                    origin,
+                }) => {
                     let v = self.vars.get(&var).unwrap_or(end) + step;
                     let _ = self.vars.set(&var, v);
                     if control::for_continues(v, end, step) {
@@ -983,12 +1303,23 @@ impl<'a> Interpreter<'a> {
                             return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
                         }
                         (self.pos, self.line, self.line_start) = body;
-                        self.frames.push(Frame::For { var, end, step, body, iterations: iterations + 1, origin });
+                        self.frames.push(Frame::For {
+                            var,
+                            end,
+                            step,
+                            body,
+                            iterations: iterations + 1,
+                            origin,
+                        });
                     }
                 }
                 other => return Err(self.mismatch(other, "$ENDFOR", at)),
             },
-            ControlStmt::While { cond, cond_range, at } => {
+            ControlStmt::While {
+                cond,
+                cond_range,
+                at,
+            } => {
                 if expr::truthy(cond) {
                     self.frames.push(Frame::While {
                         cond: cond_range,
@@ -1001,15 +1332,26 @@ impl<'a> Interpreter<'a> {
                 }
             }
             ControlStmt::EndWhile { at } => match self.frames.pop() {
-                Some(Frame::While { cond, body, iterations, origin }) => {
+                Some(Frame::While {
+                    cond,
+                    body,
+                    iterations,
+                    origin,
+                }) => {
                     let mut cc = Cursor::new(self.src, cond.0, cond.1);
-                    let v = expr::eval(&mut cc, &self.vars).map_err(|e| fault(e.code, at, e.message))?;
+                    let v = expr::eval(&mut cc, &self.vars)
+                        .map_err(|e| fault(e.code, at, e.message))?;
                     if expr::truthy(v) {
                         if iterations >= max {
                             return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
                         }
                         (self.pos, self.line, self.line_start) = body;
-                        self.frames.push(Frame::While { cond, body, iterations: iterations + 1, origin });
+                        self.frames.push(Frame::While {
+                            cond,
+                            body,
+                            iterations: iterations + 1,
+                            origin,
+                        });
                     }
                 }
                 other => return Err(self.mismatch(other, "$ENDWHILE", at)),
@@ -1035,7 +1377,9 @@ impl<'a> Interpreter<'a> {
                         }
                     }
                 }
-                self.frames.push(Frame::If { origin: (origin.0, origin.1, at) });
+                self.frames.push(Frame::If {
+                    origin: (origin.0, origin.1, at),
+                });
             }
             ControlStmt::Else { at } | ControlStmt::ElseIf { at } => match self.frames.pop() {
                 Some(Frame::If { .. }) => {
@@ -1057,9 +1401,17 @@ impl<'a> Interpreter<'a> {
             Some(f) => fault(
                 AlarmCode::ControlNesting,
                 at,
-                format!("{close} does not close {} (line {})", f.opener(), f.origin().0),
+                format!(
+                    "{close} does not close {} (line {})",
+                    f.opener(),
+                    f.origin().0
+                ),
             ),
-            None => fault(AlarmCode::ControlNesting, at, format!("{close} without an opening statement")),
+            None => fault(
+                AlarmCode::ControlNesting,
+                at,
+                format!("{close} without an opening statement"),
+            ),
         }
     }
 
@@ -1070,12 +1422,15 @@ impl<'a> Interpreter<'a> {
         let origin = (self.blk_line, self.blk_line_start);
         let mut depth = 0u32;
         while let Some((s, e)) = self.next_segment() {
-            let Some(kw) = control::keyword_of(self.src, s, e) else { continue };
+            let Some(kw) = control::keyword_of(self.src, s, e) else {
+                continue;
+            };
             match kw.as_str() {
                 "FOR" | "WHILE" | "IF" => depth += 1,
                 "ENDFOR" | "ENDWHILE" | "ENDIF" if depth > 0 => depth -= 1,
                 k if depth == 0 && targets.contains(&k) => {
                     self.last_skip = (s, e);
+                    self.blk_number = control::block_number(self.src, s, e);
                     return Ok(kw);
                 }
                 _ => {}
@@ -1086,29 +1441,61 @@ impl<'a> Interpreter<'a> {
         Err(fault(
             AlarmCode::ControlNesting,
             at,
-            format!("missing ${} for this statement", targets.last().copied().unwrap_or("END")),
+            format!(
+                "missing ${} for this statement",
+                targets.last().copied().unwrap_or("END")
+            ),
+        ))
+    }
+}
+
+/// Largest magnitude of any programmed value (mm, mm/min, s, ...): beyond it a value is a
+/// typing error, and keeping values bounded keeps every later computation finite.
+pub const MAX_VALUE: f64 = 1e9;
+
+fn checked(v: Val) -> R<Val> {
+    if v.n.value.is_finite() && v.n.value.abs() <= MAX_VALUE {
+        Ok(v)
+    } else {
+        Err(fault(
+            AlarmCode::BadNumber,
+            v.at,
+            format!("value {} is out of range (±{MAX_VALUE})", v.n.value),
         ))
     }
 }
 
 fn push<T, const N: usize>(v: &mut heapless::Vec<T, N>, x: T, at: usize) -> R<()> {
-    v.push(x)
-        .map_err(|_| fault(AlarmCode::TooManyWords, at, format!("more than {N} words of this kind in one block")))
+    v.push(x).map_err(|_| {
+        fault(
+            AlarmCode::TooManyWords,
+            at,
+            format!("more than {N} words of this kind in one block"),
+        )
+    })
 }
 
 fn set_once(slot: &mut Option<Val>, v: Val, name: &str) -> R<()> {
     if slot.is_some() {
-        return Err(fault(AlarmCode::AddressTwice, v.at, format!("{name} is programmed twice in this block")));
+        return Err(fault(
+            AlarmCode::AddressTwice,
+            v.at,
+            format!("{name} is programmed twice in this block"),
+        ));
     }
     *slot = Some(v);
     Ok(())
 }
 
 /// A value that must be a non-negative integer (G, M, T, D numbers).
-fn int_value(v: f64, at: usize, what: &str) -> R<u32> {
+fn int_value(v: f64, at: impl Offset, what: &str) -> R<u32> {
     if v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
         Ok(v as u32)
     } else {
-        Err(fault(AlarmCode::BadNumber, at, format!("{what} must be a whole number, not {v}")))
+        Err(fault(
+            AlarmCode::BadNumber,
+            at,
+            format!("{what} must be a whole number, not {v}"),
+        ))
     }
 }

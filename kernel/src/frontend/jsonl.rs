@@ -49,7 +49,12 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
     match &b.motion {
         None => out.write_all(b"null")?,
         Some(m) => {
-            write!(out, "{{\"type\":\"{}\",\"plane\":\"{}\",\"start\":", m.kind.name(), m.plane.name())?;
+            write!(
+                out,
+                "{{\"type\":\"{}\",\"plane\":\"{}\",\"start\":",
+                m.kind.name(),
+                m.plane.name()
+            )?;
             pos(out, &m.start)?;
             out.write_all(b",\"end\":")?;
             pos(out, &m.end)?;

@@ -112,6 +112,9 @@ impl<'a> Cursor<'a> {
 pub fn column(src: &[u8], line_start: usize, at: usize) -> u32 {
     let at = at.min(src.len());
     let start = line_start.min(at);
-    let chars = src[start..at].iter().filter(|&&c| (c & 0xC0) != 0x80).count();
+    let chars = src[start..at]
+        .iter()
+        .filter(|&&c| (c & 0xC0) != 0x80)
+        .count();
     chars as u32 + 1
 }

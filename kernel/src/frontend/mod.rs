@@ -18,7 +18,12 @@ use crate::machine_data::MachineData;
 use crate::tools::ToolTable;
 
 /// Interprets a whole program. Stops at the first alarm.
-pub fn interpret(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Result<Vec<Block>, Alarm> {
+pub fn interpret(
+    name: &str,
+    source: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+) -> Result<Vec<Block>, Alarm> {
     Interpreter::new(name, source, md, tools).collect()
 }
 
@@ -26,6 +31,6 @@ impl Iterator for Interpreter<'_> {
     type Item = Result<Block, Alarm>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        self.step().transpose()
+        self.next_block().map(|b| b.cloned()).transpose()
     }
 }

@@ -20,48 +20,32 @@ const POW10: [f64; 23] = [
 /// Parses a number at `b[i..]`. Returns the number and the index after it, or `None` if no
 /// digit is there. Overlong or overflowing values fall back to the standard parser; an
 /// infinite result is rejected.
+#[inline]
 pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
     let rest = b.get(start..)?;
-    let (neg, mut k) = match rest.first() {
+    let (neg, skip) = match rest.first() {
         Some(b'-') => (true, 1),
         Some(b'+') => (false, 1),
         _ => (false, 0),
     };
-    let digits_start = k;
-    let mut mantissa: u64 = 0;
-    let mut ndigits = 0u32;
-    while let Some(&c) = rest.get(k) {
-        let d = c.wrapping_sub(b'0');
-        if d > 9 {
-            break;
-        }
-        mantissa = mantissa.wrapping_mul(10).wrapping_add(d as u64);
-        ndigits += 1;
-        k += 1;
-    }
-    let mut frac = 0u32;
-    let has_point = rest.get(k) == Some(&b'.');
+    let body = &rest[skip..];
+    let (mut mantissa, int_len) = digits(body, 0);
+    let mut len = int_len;
+    let mut frac = 0usize;
+    let has_point = body.get(int_len) == Some(&b'.');
     if has_point {
-        k += 1;
-        while let Some(&c) = rest.get(k) {
-            let d = c.wrapping_sub(b'0');
-            if d > 9 {
-                break;
-            }
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(d as u64);
-            frac += 1;
-            k += 1;
-        }
-        ndigits += frac;
+        (mantissa, frac) = digits(&body[int_len + 1..], mantissa);
+        len = int_len + 1 + frac;
     }
+    let ndigits = int_len + frac;
     if ndigits == 0 {
         return None;
     }
     let value = if ndigits <= 15 {
         // Exact: mantissa < 10^15 < 2^53 and 10^frac with frac <= 15 are exact f64s.
-        mantissa as f64 / POW10[frac as usize]
+        mantissa as f64 / POW10[frac.min(15)]
     } else {
-        let text = std::str::from_utf8(rest.get(digits_start..k)?).ok()?;
+        let text = std::str::from_utf8(&body[..len]).ok()?;
         let v: f64 = text.parse().ok()?;
         if !v.is_finite() {
             return None;
@@ -69,7 +53,22 @@ pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
         v
     };
     let value = if neg && value != 0.0 { -value } else { value };
-    Some((Number { value, has_point }, start + k))
+    Some((Number { value, has_point }, start + skip + len))
+}
+
+/// Reads a run of digits into `m`; returns the new mantissa and the run length.
+#[inline(always)]
+fn digits(s: &[u8], mut m: u64) -> (u64, usize) {
+    let mut k = 0;
+    while k < s.len() {
+        let d = s[k].wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(d as u64);
+        k += 1;
+    }
+    (m, k)
 }
 
 #[cfg(test)]
