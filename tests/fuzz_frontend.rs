@@ -47,8 +47,11 @@ fn tools() -> &'static ToolTable {
 }
 
 /// Inputs being interpreted right now, per test thread, with their start time.
-fn running() -> &'static Mutex<HashMap<ThreadId, (Instant, String, String)>> {
-    static R: OnceLock<Mutex<HashMap<ThreadId, (Instant, String, String)>>> = OnceLock::new();
+/// Per test thread: when the current input started, its dialect and its text.
+type Running = Mutex<HashMap<ThreadId, (Instant, String, String)>>;
+
+fn running() -> &'static Running {
+    static R: OnceLock<Running> = OnceLock::new();
     static WATCHDOG: OnceLock<()> = OnceLock::new();
     let r = R.get_or_init(|| Mutex::new(HashMap::new()));
     WATCHDOG.get_or_init(|| {
@@ -575,9 +578,9 @@ fn edge_cases() {
         &minus,
         &parens,
     ];
-    for which in 0..4 {
+    for (which, dialect) in DIALECTS.iter().enumerate() {
         for src in &cases {
-            check(which, src).unwrap_or_else(|e| panic!("{}: {src:?}: {e}", DIALECTS[which]));
+            check(which, src).unwrap_or_else(|e| panic!("{dialect}: {src:?}: {e}"));
         }
     }
 }

@@ -123,9 +123,7 @@ impl Parser<'_> {
         let mut v = self.and(c)?;
         loop {
             c.skip_blanks();
-            if c.keyword("OR") {
-                c.i += 2;
-            } else if c.peek() == Some(b'|') && c.peek_at(1) == Some(b'|') {
+            if c.keyword("OR") || (c.peek() == Some(b'|') && c.peek_at(1) == Some(b'|')) {
                 c.i += 2;
             } else {
                 return Ok(v);

@@ -51,6 +51,23 @@ struct Words {
     calculation: bool,
 }
 
+impl Words {
+    fn is_empty(&self) -> bool {
+        self.g.is_empty()
+            && self.axis.iter().all(Option::is_none)
+            && self.centre.iter().all(Option::is_none)
+            && self.radius.is_none()
+            && self.angle.is_none()
+            && self.polar_radius.is_none()
+            && self.p.is_none()
+            && self.bare.is_none()
+            && self.aux.is_empty()
+            && self.at_codes.is_empty()
+            && self.diameter.is_none()
+            && !self.calculation
+    }
+}
+
 /// An alarm position before it is turned into line:column.
 struct Fault {
     code: AlarmCode,
@@ -350,6 +367,10 @@ impl<'a> Interpreter<'a> {
         }
         let mut words = Words::default();
         self.words(&mut c, &mut words)?;
+        if self.blk_number.is_none() && words.is_empty() {
+            // A line holding only a comment is no block.
+            return Ok(false);
+        }
         self.build(&words, block_col)
     }
 
@@ -832,7 +853,7 @@ impl<'a> Interpreter<'a> {
         // Technology words.
         if !dwell {
             if let Some(f) = w.f {
-                if !(f.n.value > 0.0) || !f.n.value.is_finite() {
+                if f.n.value <= 0.0 || !f.n.value.is_finite() {
                     return Err(fault(
                         AlarmCode::BadNumber,
                         f.at,
@@ -901,10 +922,10 @@ impl<'a> Interpreter<'a> {
         // Program flow M functions.
         for m in &w.m {
             let stop = match m.n.value {
-                v if v == 0.0 => Some(ProgramStop::Stop),
-                v if v == 1.0 => Some(ProgramStop::OptionalStop),
-                v if v == 2.0 => Some(ProgramStop::End),
-                v if v == 30.0 => Some(ProgramStop::EndRewind),
+                0.0 => Some(ProgramStop::Stop),
+                1.0 => Some(ProgramStop::OptionalStop),
+                2.0 => Some(ProgramStop::End),
+                30.0 => Some(ProgramStop::EndRewind),
                 v if v == 18.0 && d.m18_stops => Some(ProgramStop::StopAtEnd),
                 _ => None,
             };
@@ -922,7 +943,14 @@ impl<'a> Interpreter<'a> {
 
         // Dwell, working area: the axis words carry times or limits, not positions.
         if dwell {
-            let secs = if let (true, Some(x)) = (d.dwell.x_seconds, w.axis[0]) {
+            let secs = if let (true, Some(mut x)) = (d.dwell.x_seconds, w.axis[0]) {
+                // Fanuc increment input: X1000 without a decimal point is 1000 ms.
+                if d.decimal_switch
+                    && !x.n.has_point
+                    && self.md.program.decimal_input == DecimalInput::Increment
+                {
+                    x.n.value *= 0.001;
+                }
                 Some(x)
             } else if let (true, Some(f)) = (d.dwell.f_seconds, w.f) {
                 Some(f)
@@ -940,7 +968,7 @@ impl<'a> Interpreter<'a> {
             let secs = secs.ok_or_else(|| {
                 fault(AlarmCode::MissingValue, block_col, "G4 needs a dwell time")
             })?;
-            if !(secs.n.value >= 0.0) || secs.n.value > 1e6 {
+            if secs.n.value < 0.0 || secs.n.value > 1e6 {
                 return Err(fault(
                     AlarmCode::BadNumber,
                     secs.at,
@@ -1128,6 +1156,21 @@ impl<'a> Interpreter<'a> {
         }
         let arc = mode.is_arc();
         let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
+        if has_centre && !arc {
+            let at = w
+                .centre
+                .iter()
+                .flatten()
+                .map(|v| v.pos())
+                .chain(w.radius.map(Val::pos))
+                .next()
+                .unwrap_or(block_col);
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                "circle parameters without a circular motion",
+            ));
+        }
         if programmed == 0 && !(arc && has_centre) {
             if has_centre {
                 let at = w
