@@ -19,7 +19,7 @@ measure() { # label, command...
   for _ in $(seq "$runs"); do
     local t0 t1
     t0=$(date +%s.%N)
-    "$@" > /dev/null
+    "$@" > /dev/null 2>&1
     t1=$(date +%s.%N)
     times+=("$(echo "$t1 - $t0" | bc -l)")
   done

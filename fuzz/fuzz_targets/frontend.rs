@@ -15,10 +15,16 @@ use nc_kernel::{Interpreter, MachineData, ToolTable};
 use std::sync::OnceLock;
 
 const CONFIGS: [(&str, &str); 4] = [
-    ("siemens-840c", include_str!("../../config/siemens-840c.toml")),
+    (
+        "siemens-840c",
+        include_str!("../../config/siemens-840c.toml"),
+    ),
     ("isg", include_str!("../../config/isg.toml")),
     ("fanuc", include_str!("../../config/fanuc.toml")),
-    ("siemens-808d", include_str!("../../config/siemens-808d.toml")),
+    (
+        "siemens-808d",
+        include_str!("../../config/siemens-808d.toml"),
+    ),
 ];
 
 struct Setup {
@@ -53,16 +59,29 @@ fuzz_target!(|data: &[u8]| {
     for item in Interpreter::new("fuzz.nc", &src, md, &s.tools) {
         match item {
             Ok(block) => {
-                assert!(block.line >= 1 && block.col >= 1, "block at {}:{}", block.line, block.col);
+                assert!(
+                    block.line >= 1 && block.col >= 1,
+                    "block at {}:{}",
+                    block.line,
+                    block.col
+                );
                 if s.strict {
                     if let Some(m) = block.motion {
                         let all = m.start.iter().chain(&m.end).chain(&m.center);
-                        assert!(all.into_iter().all(|v| v.is_finite()), "non-finite motion {m:?}");
+                        assert!(
+                            all.into_iter().all(|v| v.is_finite()),
+                            "non-finite motion {m:?}"
+                        );
                     }
                 }
             }
             Err(a) => {
-                assert!(a.line >= 1 && a.col >= 1, "alarm at {}:{}: {a}", a.line, a.col);
+                assert!(
+                    a.line >= 1 && a.col >= 1,
+                    "alarm at {}:{}: {a}",
+                    a.line,
+                    a.col
+                );
                 assert!(!a.message.trim().is_empty(), "empty message: {a:?}");
                 // The alarm points into the program: an existing line (split at '\n', as the
                 // interpreter counts), at most one column past its last character.
