@@ -218,8 +218,8 @@ pub fn parse(c: &mut Cursor, vars: &Variables) -> Result<ControlStmt, ExprError>
     Ok(stmt)
 }
 
-/// Skips `/`, the block number and blanks at the start of a block.
-fn skip_prefix(c: &mut Cursor) {
+/// Skips blanks and a block-skip mark (`/`, `/1`) at the start of a block.
+fn skip_block_skip(c: &mut Cursor) {
     c.skip_blanks();
     if c.peek() == Some(b'/') {
         c.i += 1;
@@ -228,6 +228,11 @@ fn skip_prefix(c: &mut Cursor) {
         }
         c.skip_blanks();
     }
+}
+
+/// Skips `/`, the block number and blanks at the start of a block.
+fn skip_prefix(c: &mut Cursor) {
+    skip_block_skip(c);
     if c.letter() == Some(b'N') {
         c.i += 1;
         while matches!(c.peek(), Some(b'0'..=b'9')) {
@@ -240,14 +245,7 @@ fn skip_prefix(c: &mut Cursor) {
 /// The N number at the start of a block's text, if any.
 pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<super::block::BlockNo> {
     let mut c = Cursor::new(src, start, end);
-    c.skip_blanks();
-    if c.peek() == Some(b'/') {
-        c.i += 1;
-        if matches!(c.peek(), Some(b'0'..=b'9')) {
-            c.i += 1;
-        }
-        c.skip_blanks();
-    }
+    skip_block_skip(&mut c);
     if c.letter() != Some(b'N') {
         return None;
     }

@@ -1172,21 +1172,6 @@ impl<'a> Interpreter<'a> {
             ));
         }
         if programmed == 0 && !(arc && has_centre) {
-            if has_centre {
-                let at = w
-                    .centre
-                    .iter()
-                    .flatten()
-                    .map(|v| v.pos())
-                    .chain(w.radius.map(Val::pos))
-                    .next()
-                    .unwrap_or(block_col);
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    at,
-                    "circle parameters without a circular motion",
-                ));
-            }
             return Ok(None);
         }
         if feed_needed && new.feed <= 0.0 {
