@@ -79,3 +79,12 @@ fn inch_programs_are_converted_to_mm() {
     assert!(close(b[0].motion.unwrap().end, [25.4, -12.7, 0.0]));
     assert_eq!(b[0].modal.feed, 254.0);
 }
+
+#[test]
+fn nested_loops_share_one_pass_budget() {
+    // Three nested 100-pass loops would run 10^6 blocks; with a budget of 1000 passes over the
+    // whole program the alarm comes long before that.
+    let src = "$FOR V.P.A = 0,99,1\n$FOR V.P.B = 0,99,1\n$FOR V.P.C = 0,99,1\nG0 X1\n$ENDFOR\n$ENDFOR\n$ENDFOR\n";
+    let a = run(&["dialect=isg", "program.max_loop_iterations=1000"], src).unwrap_err();
+    assert_eq!(a.code, AlarmCode::LoopLimit, "{a}");
+}

@@ -124,6 +124,8 @@ pub struct Interpreter<'a> {
     work_max: Pos,
     /// A G25/G26 limit has been programmed (saves the check on every block otherwise).
     work_limited: bool,
+    /// Loop passes of the whole program: bounds nested loops too (their product would not be).
+    loop_passes: u32,
     finished: bool,
     /// The block text where the last `skip_to` stopped.
     last_skip: (usize, usize),
@@ -186,6 +188,7 @@ impl<'a> Interpreter<'a> {
             work_min: [f64::NEG_INFINITY; 3],
             work_max: [f64::INFINITY; 3],
             work_limited: false,
+            loop_passes: 0,
             finished: false,
             last_skip: (0, 0),
             block: Block {
@@ -1327,9 +1330,10 @@ impl<'a> Interpreter<'a> {
                     let v = self.vars.get(&var).unwrap_or(end) + step;
                     let _ = self.vars.set(&var, v);
                     if control::for_continues(v, end, step) {
-                        if iterations >= max {
-                            return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
+                        if iterations >= max || self.loop_passes >= max {
+                            return Err(fault(AlarmCode::LoopLimit, at, format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)")));
                         }
+                        self.loop_passes += 1;
                         (self.pos, self.line, self.line_start) = body;
                         self.frames.push(Frame::For {
                             var,
@@ -1370,9 +1374,10 @@ impl<'a> Interpreter<'a> {
                     let v = expr::eval(&mut cc, &self.vars)
                         .map_err(|e| fault(e.code, at, e.message))?;
                     if expr::truthy(v) {
-                        if iterations >= max {
-                            return Err(fault(AlarmCode::LoopLimit, at, format!("loop ran {max} times (machine data program.max_loop_iterations)")));
+                        if iterations >= max || self.loop_passes >= max {
+                            return Err(fault(AlarmCode::LoopLimit, at, format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)")));
                         }
+                        self.loop_passes += 1;
                         (self.pos, self.line, self.line_start) = body;
                         self.frames.push(Frame::While {
                             cond,
