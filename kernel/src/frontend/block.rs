@@ -378,6 +378,26 @@ pub struct Block {
 }
 
 impl Block {
+    /// A block with nothing programmed yet, at a source position, under a modal state.
+    pub fn new(line: u32, col: u32, number: Option<BlockNo>, modal: ModalState) -> Self {
+        Block {
+            line,
+            col,
+            number,
+            motion: None,
+            modal,
+            words: heapless::Vec::new(),
+            trc: None,
+            approach: None,
+            exact_stop: false,
+            dwell: None,
+            stop: None,
+            offset_changed: false,
+            calculation: false,
+            preprocess_stop: false,
+        }
+    }
+
     /// The N word as written, or `L<line>` for a block without one.
     pub fn label(&self) -> String {
         match self.number {

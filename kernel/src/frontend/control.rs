@@ -3,6 +3,7 @@
 //! the block number and `/` before it. The end value of `$FOR` is inclusive; a condition is
 //! true when its absolute value is at least 0.5.
 
+use super::block::BlockNo;
 use super::expr::{self, ExprError, Variables};
 use super::lexer::Cursor;
 use crate::alarm::AlarmCode;
@@ -56,13 +57,11 @@ pub enum Frame {
         end: f64,
         step: f64,
         body: Mark,
-        iterations: u32,
         origin: (u32, usize, usize),
     },
     While {
         cond: (usize, usize),
         body: Mark,
-        iterations: u32,
         origin: (u32, usize, usize),
     },
     If {
@@ -242,12 +241,10 @@ fn skip_prefix(c: &mut Cursor) {
     }
 }
 
-/// The N number at the start of a block's text, if any.
-pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<super::block::BlockNo> {
-    let mut c = Cursor::new(src, start, end);
-    skip_block_skip(&mut c);
+/// Reads `N<digits>` at the cursor, if there is an N. Errors: (alarm, message).
+pub fn read_block_number(c: &mut Cursor) -> Result<Option<BlockNo>, (AlarmCode, &'static str)> {
     if c.letter() != Some(b'N') {
-        return None;
+        return Ok(None);
     }
     c.i += 1;
     let ds = c.i;
@@ -255,14 +252,24 @@ pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<super::block
     while let Some(ch @ b'0'..=b'9') = c.peek() {
         v = v * 10 + (ch - b'0') as u64;
         if v > u32::MAX as u64 {
-            return None;
+            return Err((AlarmCode::BadNumber, "block number too large"));
         }
         c.i += 1;
     }
-    (c.i > ds).then(|| super::block::BlockNo {
+    if c.i == ds {
+        return Err((AlarmCode::Syntax, "N must be followed by the block number"));
+    }
+    Ok(Some(BlockNo {
         value: v as u32,
         digits: (c.i - ds).min(10) as u8,
-    })
+    }))
+}
+
+/// The N number at the start of a block's text, if any.
+pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<BlockNo> {
+    let mut c = Cursor::new(src, start, end);
+    skip_block_skip(&mut c);
+    read_block_number(&mut c).ok().flatten()
 }
 
 /// The control keyword of a block's text, if it is a control statement.

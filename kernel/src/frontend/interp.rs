@@ -191,22 +191,7 @@ impl<'a> Interpreter<'a> {
             loop_passes: 0,
             finished: false,
             last_skip: (0, 0),
-            block: Block {
-                line: 0,
-                col: 0,
-                number: None,
-                motion: None,
-                modal: state,
-                words: heapless::Vec::new(),
-                trc: None,
-                approach: None,
-                exact_stop: false,
-                dwell: None,
-                stop: None,
-                offset_changed: false,
-                calculation: false,
-                preprocess_stop: false,
-            },
+            block: Block::new(0, 0, None, state),
         }
     }
 
@@ -340,31 +325,10 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         let block_col = c.i;
-        if c.letter() == Some(b'N') {
-            let at = c.i;
-            c.i += 1;
-            let ds = c.i;
-            let mut v: u64 = 0;
-            while let Some(ch @ b'0'..=b'9') = c.peek() {
-                v = v * 10 + (ch - b'0') as u64;
-                if v > u32::MAX as u64 {
-                    return Err(fault(AlarmCode::BadNumber, at, "block number too large"));
-                }
-                c.i += 1;
-            }
-            if c.i == ds {
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    at,
-                    "N must be followed by the block number",
-                ));
-            }
-            self.blk_number = Some(BlockNo {
-                value: v as u32,
-                digits: (c.i - ds).min(10) as u8,
-            });
-            c.skip_blanks();
-        }
+        let at = c.i;
+        self.blk_number =
+            control::read_block_number(&mut c).map_err(|(code, msg)| fault(code, at, msg))?;
+        c.skip_blanks();
         if self.d.variables && c.peek() == Some(b'$') {
             return self.control(c).map(|()| false);
         }
@@ -718,22 +682,14 @@ impl<'a> Interpreter<'a> {
         let (old_trc, old_plane, old_selection) =
             (self.state.trc, self.state.plane, self.state.selection);
         let mut new = self.state;
-        let mut blk = Block {
-            line: self.blk_line,
-            col: column(self.src, self.blk_line_start, block_col),
-            number: self.blk_number,
-            motion: None,
-            modal: new,
-            words: w.aux.clone(),
-            trc: None,
-            approach: None,
-            exact_stop: false,
-            dwell: None,
-            stop: None,
-            offset_changed: false,
-            calculation: w.calculation,
-            preprocess_stop: false,
-        };
+        let mut blk = Block::new(
+            self.blk_line,
+            column(self.src, self.blk_line_start, block_col),
+            self.blk_number,
+            new,
+        );
+        blk.words = w.aux.clone();
+        blk.calculation = w.calculation;
 
         // G codes: look up, check groups and TRC restrictions, then apply.
         let mut effects: heapless::Vec<(GEffect, u16, usize), 16> = heapless::Vec::new();
@@ -1285,7 +1241,6 @@ impl<'a> Interpreter<'a> {
         let stmt =
             control::parse(&mut c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
         let origin = (self.blk_line, self.blk_line_start, c.i);
-        let max = self.md.program.max_loop_iterations;
         match stmt {
             ControlStmt::For {
                 var,
@@ -1306,12 +1261,13 @@ impl<'a> Interpreter<'a> {
                     .set(&var, start)
                     .map_err(|m| fault(AlarmCode::UndefinedName, var_at, m))?;
                 if control::for_continues(start, end, step) {
+                    // The first pass counts against the program's loop budget too.
+                    self.loop_passes = self.loop_passes.saturating_add(1);
                     self.frames.push(Frame::For {
                         var,
                         end,
                         step,
                         body: (self.pos, self.line, self.line_start),
-                        iterations: 1,
                         origin: (origin.0, origin.1, at),
                     });
                 } else {
@@ -1324,23 +1280,18 @@ impl<'a> Interpreter<'a> {
                     end,
                     step,
                     body,
-                    iterations,
                     origin,
                 }) => {
                     let v = self.vars.get(&var).unwrap_or(end) + step;
                     let _ = self.vars.set(&var, v);
                     if control::for_continues(v, end, step) {
-                        if iterations >= max || self.loop_passes >= max {
-                            return Err(fault(AlarmCode::LoopLimit, at, format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)")));
-                        }
-                        self.loop_passes += 1;
+                        self.next_pass(at)?;
                         (self.pos, self.line, self.line_start) = body;
                         self.frames.push(Frame::For {
                             var,
                             end,
                             step,
                             body,
-                            iterations: iterations + 1,
                             origin,
                         });
                     }
@@ -1353,10 +1304,11 @@ impl<'a> Interpreter<'a> {
                 at,
             } => {
                 if expr::truthy(cond) {
+                    // The first pass counts against the program's loop budget too.
+                    self.loop_passes = self.loop_passes.saturating_add(1);
                     self.frames.push(Frame::While {
                         cond: cond_range,
                         body: (self.pos, self.line, self.line_start),
-                        iterations: 1,
                         origin: (origin.0, origin.1, at),
                     });
                 } else {
@@ -1364,27 +1316,14 @@ impl<'a> Interpreter<'a> {
                 }
             }
             ControlStmt::EndWhile { at } => match self.frames.pop() {
-                Some(Frame::While {
-                    cond,
-                    body,
-                    iterations,
-                    origin,
-                }) => {
+                Some(Frame::While { cond, body, origin }) => {
                     let mut cc = Cursor::new(self.src, cond.0, cond.1);
                     let v = expr::eval(&mut cc, &self.vars)
                         .map_err(|e| fault(e.code, at, e.message))?;
                     if expr::truthy(v) {
-                        if iterations >= max || self.loop_passes >= max {
-                            return Err(fault(AlarmCode::LoopLimit, at, format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)")));
-                        }
-                        self.loop_passes += 1;
+                        self.next_pass(at)?;
                         (self.pos, self.line, self.line_start) = body;
-                        self.frames.push(Frame::While {
-                            cond,
-                            body,
-                            iterations: iterations + 1,
-                            origin,
-                        });
+                        self.frames.push(Frame::While { cond, body, origin });
                     }
                 }
                 other => return Err(self.mismatch(other, "$ENDWHILE", at)),
@@ -1426,6 +1365,21 @@ impl<'a> Interpreter<'a> {
                 other => return Err(self.mismatch(other, "$ENDIF", at)),
             },
         }
+        Ok(())
+    }
+
+    /// Counts one more loop pass; the budget covers the whole program, so nested loops are
+    /// bounded by it too.
+    fn next_pass(&mut self, at: usize) -> R<()> {
+        let max = self.md.program.max_loop_iterations;
+        if self.loop_passes >= max {
+            return Err(fault(
+                AlarmCode::LoopLimit,
+                at,
+                format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)"),
+            ));
+        }
+        self.loop_passes += 1;
         Ok(())
     }
 
