@@ -3,7 +3,8 @@
 use clap::{Args, Parser, Subcommand};
 use nc_kernel::alarm::render;
 use nc_kernel::frontend::jsonl;
-use nc_kernel::{Interpreter, MachineData, ToolTable};
+use nc_kernel::prep::jsonl as prep_jsonl;
+use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -29,6 +30,30 @@ enum Command {
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
     },
+    /// Prepare a part program (tool radius and length compensation) and print the tool-centre
+    /// path: JSON Lines, one record per segment (docs/path-format.md).
+    Path {
+        #[command(flatten)]
+        input: ProgramArgs,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Jsonl)]
+        format: Format,
+        /// Write to FILE instead of standard output.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+    },
+    /// Run the same preparation as `path` and print only the alarms and a summary line:
+    /// what to run before taking a program to the machine.
+    Check {
+        #[command(flatten)]
+        input: ProgramArgs,
+    },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Format {
+    /// One JSON object per segment.
+    Jsonl,
 }
 
 /// What every command that reads a program takes.
@@ -125,9 +150,93 @@ fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+fn open_output(output: Option<&PathBuf>) -> Result<BufWriter<Box<dyn Write>>, ExitCode> {
+    let sink: Box<dyn Write> = match output {
+        Some(p) => match std::fs::File::create(p) {
+            Ok(f) => Box::new(f),
+            Err(e) => return Err(fail(format!("{}: {e}", p.display()))),
+        },
+        None => Box::new(std::io::stdout().lock()),
+    };
+    Ok(BufWriter::with_capacity(1 << 16, sink))
+}
+
+fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCode {
+    let l = match load(input) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let mut out = match open_output(output) {
+        Ok(o) => o,
+        Err(code) => return code,
+    };
+    let Format::Jsonl = format;
+    let mut prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
+    let code = loop {
+        match prep.next_segment() {
+            Ok(Some(seg)) => {
+                if let Err(e) = prep_jsonl::write_segment(&mut out, &seg) {
+                    return fail(format!("writing output: {e}"));
+                }
+            }
+            Ok(None) => break ExitCode::SUCCESS,
+            Err(alarm) => {
+                let _ = prep_jsonl::write_alarm(&mut out, &alarm);
+                eprintln!("{}", render(&alarm, &l.source));
+                break ExitCode::from(1);
+            }
+        }
+    };
+    if let Err(e) = out.flush() {
+        return fail(format!("writing output: {e}"));
+    }
+    code
+}
+
+fn check(input: &ProgramArgs) -> ExitCode {
+    let l = match load(input) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let t0 = std::time::Instant::now();
+    let mut prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
+    let mut segments = 0u64;
+    let mut alarms = 0u32;
+    loop {
+        match prep.next_segment() {
+            Ok(Some(_)) => segments += 1,
+            Ok(None) => break,
+            Err(alarm) => {
+                alarms += 1;
+                eprintln!("{}", render(&alarm, &l.source));
+                break;
+            }
+        }
+    }
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    let verdict = if alarms == 0 { "ok" } else { "FAILED" };
+    println!(
+        "{}: {verdict}: {} blocks, {segments} segments, {alarms} alarm{}, {ms:.1} ms",
+        l.name,
+        prep.blocks(),
+        if alarms == 1 { "" } else { "s" }
+    );
+    if alarms == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match &cli.command {
         Command::Parse { input, output } => parse(input, output.as_ref()),
+        Command::Path {
+            input,
+            format,
+            output,
+        } => path(input, *format, output.as_ref()),
+        Command::Check { input } => check(input),
     }
 }

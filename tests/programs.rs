@@ -441,7 +441,7 @@ fn c840_11_7_d_change() {
 }
 
 // ---------------------------------------------------------------------------------------
-// ISG / TwinCAT CNC (seed 002), config/isg.toml, tools: D1 R10, D2 R5, D6 R10, D100 R10.
+// ISG / TwinCAT CNC (seed 002), config/isg.toml, tools: D1 R10, D2 R5, D6 R10, D100 R4.
 // ---------------------------------------------------------------------------------------
 
 const ISG: &str = "isg";
@@ -549,7 +549,7 @@ fn isg_d_change() {
     assert_f("D0 radius", n30.modal.radius, 0.0, 0.0);
     let n40 = block(&b, "N40");
     assert_eq!(n40.modal.d, 100);
-    assert_f("D100 radius", n40.modal.radius, 10.0, 1e-12);
+    assert_f("D100 radius", n40.modal.radius, 4.0, 1e-12);
     assert_eq!(block(&b, "N70").trc, Some(TrcSide::Left));
     // N90 G2 full circle at (10,10) with I-15: centre (10-15, 10) = (-5, 10).
     let n90 = block(&b, "N90").motion.unwrap();

@@ -55,6 +55,10 @@ pub enum AlarmCode {
     UnknownOffset,
     /// A feed motion with no feed programmed.
     NoFeed,
+    /// A circle on the tool side whose radius is not larger than the tool radius.
+    ArcRadiusTooSmall,
+    /// A tool radius change with TRC active in a block that is not linear (840C 11.7, ISG).
+    RadiusChangeNotLinear,
 }
 
 impl AlarmCode {
@@ -82,6 +86,8 @@ impl AlarmCode {
             AlarmCode::TooManyWords => 14750,
             AlarmCode::UnknownOffset => 17180,
             AlarmCode::NoFeed => 10860,
+            AlarmCode::ArcRadiusTooSmall => 10758,
+            AlarmCode::RadiusChangeNotLinear => 10760,
         }
     }
 }

@@ -8,10 +8,15 @@ pub mod alarm;
 pub mod dialect;
 pub mod frontend;
 pub mod machine_data;
+pub mod prep;
+pub mod segment;
 pub mod synthetic;
 pub mod tools;
+pub mod trc;
 
 pub use alarm::{Alarm, AlarmCode};
 pub use frontend::{interpret, Block, Interpreter};
 pub use machine_data::MachineData;
+pub use prep::{prepare, Preparation};
+pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{ToolOffset, ToolTable};

@@ -4,6 +4,7 @@ use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
 
 use GEffect::*;
 
@@ -58,6 +59,15 @@ pub static DIALECT: Dialect = Dialect {
     d0_deselects: false,
     m18_stops: false,
     initial_motion: MotionMode::Linear,
-    initial_corner_intersection: CornerPolicy::TransitionCircle,
+    initial_corner_intersection: CornerPolicy::ExtendedIntersection,
     initial_selection: SelectionPolicy::OffsetVector,
+    trc: TrcRules {
+        repeat: RepeatRule::Restart,
+        side_change: Some(SelectionPolicy::NormalPosition),
+        radius_change: RadiusChange::InBlock,
+        armed_arc: ArmedArc::Alarm(AlarmCode::FanucTrcNotLinear),
+        no_plane_move: NoPlaneMove::OffsetOnly,
+        not_linear: AlarmCode::FanucTrcNotLinear,
+        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+    },
 };

@@ -6,6 +6,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
 
 use GEffect::*;
 
@@ -78,4 +79,13 @@ pub static DIALECT: Dialect = Dialect {
     initial_motion: MotionMode::Rapid,
     initial_corner_intersection: CornerPolicy::LinearTransition,
     initial_selection: SelectionPolicy::Indirect,
+    trc: TrcRules {
+        repeat: RepeatRule::IgnoreWithoutApproach,
+        side_change: None,
+        radius_change: RadiusChange::NextLinear,
+        armed_arc: ArmedArc::Perpendicular,
+        no_plane_move: NoPlaneMove::Wait,
+        not_linear: AlarmCode::TrcSelectionNotLinear,
+        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+    },
 };

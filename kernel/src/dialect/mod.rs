@@ -12,6 +12,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
+use crate::trc::TrcRules;
 use std::sync::OnceLock;
 
 /// What a G code does, independent of its number.
@@ -164,6 +165,8 @@ pub struct Dialect {
     pub initial_motion: MotionMode,
     pub initial_corner_intersection: CornerPolicy,
     pub initial_selection: SelectionPolicy,
+    /// The control's TRC rules in dialect-free terms.
+    pub trc: TrcRules,
 }
 
 impl Dialect {

@@ -4,6 +4,7 @@ use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
 
 use GEffect::*;
 
@@ -73,4 +74,13 @@ pub static DIALECT: Dialect = Dialect {
         limit_deg: G451_LIMIT_DEG,
     },
     initial_selection: SelectionPolicy::NormalPosition,
+    trc: TrcRules {
+        repeat: RepeatRule::Restart,
+        side_change: Some(SelectionPolicy::NormalPosition),
+        radius_change: RadiusChange::InBlock,
+        armed_arc: ArmedArc::Alarm(AlarmCode::TrcSelectionNotLinear),
+        no_plane_move: NoPlaneMove::Wait,
+        not_linear: AlarmCode::TrcSelectionNotLinear,
+        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+    },
 };

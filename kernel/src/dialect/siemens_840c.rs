@@ -4,8 +4,14 @@ use super::{g, g_no_trc, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Sem
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
 
 use GEffect::*;
+
+/// 840C G451: beyond this change of direction the tangent extension is cut off and three
+/// intermediate blocks are inserted. The excerpt gives no number; 150° keeps the two blocks
+/// the 11.10 figure shows at its 135° corner (docs/trc.md).
+pub const INTERSECTION_CAP_DEG: f64 = 150.0;
 
 static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
@@ -78,4 +84,13 @@ pub static DIALECT: Dialect = Dialect {
     initial_motion: MotionMode::Rapid,
     initial_corner_intersection: CornerPolicy::Intersection,
     initial_selection: SelectionPolicy::Compensated,
+    trc: TrcRules {
+        repeat: RepeatRule::IgnoreWithoutApproach,
+        side_change: Some(SelectionPolicy::NormalPosition),
+        radius_change: RadiusChange::InBlockLinear,
+        armed_arc: ArmedArc::Alarm(AlarmCode::TrcSelectionNotLinear),
+        no_plane_move: NoPlaneMove::Wait,
+        not_linear: AlarmCode::TrcSelectionNotLinear,
+        intersection_cap_deg: INTERSECTION_CAP_DEG,
+    },
 };

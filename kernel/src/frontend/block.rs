@@ -188,6 +188,9 @@ pub enum CornerPolicy {
     IntersectionLimited { limit_deg: f64 },
     /// Intersection with linear transition blocks per the TF5200 table (ISG G25).
     LinearTransition,
+    /// Fanuc cutter compensation C: intersection at obtuse corners, extension by the radius
+    /// at acute ones.
+    ExtendedIntersection,
 }
 
 impl CornerPolicy {
@@ -197,6 +200,7 @@ impl CornerPolicy {
             CornerPolicy::Intersection => "intersection",
             CornerPolicy::IntersectionLimited { .. } => "intersection-limited",
             CornerPolicy::LinearTransition => "linear-transition",
+            CornerPolicy::ExtendedIntersection => "extended-intersection",
         }
     }
 }

@@ -1,0 +1,136 @@
+//! Block preparation: interpreted blocks in, the tool path out as [`Segment`]s.
+//!
+//! Per block: tool length compensation along the tool axis (the plane's normal), then tool
+//! radius compensation ([`crate::trc`]). Streams: one block is read at a time, and the
+//! compensation holds back only the element whose end depends on the next corner.
+
+pub mod jsonl;
+
+use crate::alarm::Alarm;
+use crate::dialect::Dialect;
+use crate::frontend::block::{Block, Motion};
+use crate::frontend::Interpreter;
+use crate::machine_data::MachineData;
+use crate::segment::Segment;
+use crate::tools::ToolTable;
+use crate::trc::{Compensator, Out, TrcFault};
+
+/// Streams the tool path of one program.
+pub struct Preparation<'a> {
+    name: &'a str,
+    interp: Interpreter<'a>,
+    trc: Compensator,
+    out: Out,
+    /// Tool length in effect on the tool axis, and the one the active offset asks for: a new
+    /// length is traversed with the next move of the tool axis (002, 840C 11.5.2 "N15 Z..").
+    length: f64,
+    blocks: u64,
+    done: bool,
+}
+
+impl<'a> Preparation<'a> {
+    pub fn new(name: &'a str, source: &'a str, md: &'a MachineData, tools: &'a ToolTable) -> Self {
+        let interp = Interpreter::new(name, source, md, tools);
+        let plane = interp.state().plane;
+        let rules = Dialect::get(md.dialect).trc;
+        let trc = Compensator::new(
+            rules,
+            md.trc.max_blocks_outside_plane,
+            md.trc.suppression_distance,
+            interp.position(),
+            plane,
+        );
+        Preparation {
+            name,
+            interp,
+            trc,
+            out: Out::new(),
+            length: 0.0,
+            blocks: 0,
+            done: false,
+        }
+    }
+
+    /// Interpreted blocks so far.
+    pub fn blocks(&self) -> u64 {
+        self.blocks
+    }
+
+    /// The next segment of the tool path; `Ok(None)` at the end. After an alarm the stream
+    /// ends.
+    pub fn next_segment(&mut self) -> Result<Option<Segment>, Alarm> {
+        loop {
+            if let Some(s) = self.out.pop_front() {
+                return Ok(Some(s));
+            }
+            if self.done {
+                return Ok(None);
+            }
+            let block = match self.interp.next_block() {
+                Ok(Some(b)) => b,
+                Ok(None) => {
+                    self.done = true;
+                    let r = self.trc.finish(&mut self.out);
+                    if let Err(f) = r {
+                        return Err(self.alarm(f));
+                    }
+                    continue;
+                }
+                Err(a) => {
+                    self.done = true;
+                    return Err(a);
+                }
+            };
+            self.blocks += 1;
+            let motion = block
+                .motion
+                .map(|m| with_length(&m, &mut self.length, block));
+            if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
+                self.done = true;
+                return Err(self.alarm(f));
+            }
+        }
+    }
+
+    fn alarm(&self, f: TrcFault) -> Alarm {
+        Alarm {
+            code: f.code,
+            program: self.name.to_string(),
+            line: f.source.line,
+            col: f.source.col,
+            block: f.source.number.map(|n| n.to_string()),
+            message: f.message,
+        }
+    }
+}
+
+/// The motion with the tool length on the tool axis: the old length up to a block that
+/// programs the tool axis, the new one from its end on.
+fn with_length(m: &Motion, length: &mut f64, b: &Block) -> Motion {
+    let n = m.plane.normal as usize;
+    let mut m = *m;
+    m.start[n] += *length;
+    m.center[n] += *length;
+    if m.programmed & (1 << n) != 0 {
+        *length = b.modal.length;
+    }
+    m.end[n] += *length;
+    m
+}
+
+impl Iterator for Preparation<'_> {
+    type Item = Result<Segment, Alarm>;
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_segment().transpose()
+    }
+}
+
+/// The whole tool path of a program, stopping at the first alarm (tests, small programs).
+pub fn prepare(
+    name: &str,
+    source: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+) -> Result<Vec<Segment>, Alarm> {
+    Preparation::new(name, source, md, tools).collect()
+}

@@ -1,0 +1,248 @@
+//! Behaviour at corners (840C 11.1, 11.4, 11.14; 808D G450/G451; ISG G25/G26; Fanuc C).
+//!
+//! Every construction starts from the same points (docs/trc.md has the picture):
+//! `C` the programmed corner, `P1` the normal position at the end of the first element,
+//! `P2` the normal position at the start of the second, `t1`/`t2` the directions of travel
+//! there, and `T` the intersection of the tangents through P1 along t1 and through P2 along t2.
+//! Inner corners always get the intersection of the equidistants (11.1); outer corners get
+//! what the active [`OuterCorner`] construction says.
+
+use super::geom::{self, turn, Elem, ANGLE_EPS, EPS, V2};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// How an outer corner is closed. The compensation core knows these, not G codes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OuterCorner {
+    /// An arc of radius |R| about the corner from P1 to P2 (840C/808D G450, ISG G26).
+    Circle,
+    /// 840C G451: line/line corners up to a 90° change of direction meet at the
+    /// intersection; other corners get the two blocks P1→T→P2, and beyond `cap` (change of
+    /// direction, rad) the tangents are cut off at the extension they have at `cap`, giving
+    /// the three blocks P1→A→B→P2.
+    IntersectionBlocks { cap: f64 },
+    /// 808D/840D G451: the intersection of the equidistants themselves (line or circle), no
+    /// blocks; a transition circle above `limit` (change of direction, rad) or where the
+    /// equidistants do not meet.
+    Intersection { limit: f64 },
+    /// Fanuc cutter compensation C: obtuse outer corners meet at the intersection of the
+    /// equidistants (line or circle; the tangents where circles do not meet); acute ones
+    /// (more than 90° change of direction) get the extension by |R| of [`Self::LinearTransition`].
+    FanucC,
+    /// ISG G25: the tangent construction with linear transition blocks; a piece
+    /// that runs along a straight element is added to that element instead of becoming a
+    /// block. Obtuse: P1→T→P2; acute (more than 90°): P1→A→B→P2 with A, B at |R| along
+    /// the tangents (TF5200 "linear transition", Fanuc C "outer corner, acute").
+    LinearTransition,
+}
+
+/// A resolved corner.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Corner {
+    /// Where the first element's compensated path now ends.
+    pub end1: V2,
+    /// Where the second element's compensated path now starts.
+    pub start2: V2,
+    /// Inserted elements from `end1` to `start2`; they belong to the second block (11.1).
+    pub pieces: heapless::Vec<Elem, 3>,
+    pub kind: CornerKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerKind {
+    /// No change of direction.
+    Tangent,
+    /// Tool on the inside of the turn (material angle ≥ 180°).
+    Inner,
+    /// Tool on the outside (material angle < 180°).
+    Outer,
+}
+
+/// Why a corner has no path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerError {
+    /// The equidistants of an inner corner do not meet: the tool does not fit (11.12).
+    NoIntersection,
+}
+
+/// Classifies the corner between an element ending in direction `t1` and one starting in
+/// direction `t2`, the tool at offset `d` (> 0 left).
+pub fn classify(t1: V2, t2: V2, d: f64) -> (CornerKind, f64) {
+    let a = turn(t1, t2);
+    if a.abs() <= ANGLE_EPS {
+        (CornerKind::Tangent, a)
+    } else if PI - a.abs() <= ANGLE_EPS || a * d < 0.0 {
+        // A reversal is always outer: the tool has to go round the end.
+        (CornerKind::Outer, a)
+    } else {
+        (CornerKind::Inner, a)
+    }
+}
+
+/// Parameters that do not depend on the corner.
+#[derive(Clone, Copy, Debug)]
+pub struct CornerSettings {
+    pub outer: OuterCorner,
+    /// 840C 11.14: normal positions closer than this meet at their intersection with no
+    /// intermediate block; closer than twice this, arc/arc G451 corners take the circle.
+    pub suppression: f64,
+}
+
+/// The corner between the equidistants `o1` (ending at P1) and `o2` (starting at P2) of two
+/// programmed elements meeting at `c`, tool offset `d`.
+pub fn corner(
+    o1: &Elem,
+    o2: &Elem,
+    c: V2,
+    d: f64,
+    s: &CornerSettings,
+) -> Result<Corner, CornerError> {
+    let (p1, p2) = (o1.end(), o2.start());
+    let (t1, t2) = (o1.tangent_end(), o2.tangent_start());
+    let (kind, a) = classify(t1, t2, d);
+    let mut out = Corner {
+        end1: p1,
+        start2: p2,
+        pieces: heapless::Vec::new(),
+        kind,
+    };
+    if d.abs() <= EPS || kind == CornerKind::Tangent {
+        return Ok(out);
+    }
+    if kind == CornerKind::Inner {
+        let x = nearest_intersection(o1, o2, p1, p2).ok_or(CornerError::NoIntersection)?;
+        out.end1 = x;
+        out.start2 = x;
+        return Ok(out);
+    }
+    let gap = p1.dist(p2);
+    let circle_transition = o1.is_arc() || o2.is_arc();
+    if gap < s.suppression {
+        // 11.14: too short for intermediate blocks: approach the intersection.
+        if let Some(x) = nearest_intersection(o1, o2, p1, p2) {
+            out.end1 = x;
+            out.start2 = x;
+        } else {
+            push(&mut out, Elem::Line { a: p1, b: p2 });
+        }
+        return Ok(out);
+    }
+    let circle = |out: &mut Corner| {
+        push(
+            out,
+            Elem::Arc {
+                a: p1,
+                b: p2,
+                c,
+                ccw: d < 0.0,
+            },
+        )
+    };
+    match s.outer {
+        OuterCorner::Circle => circle(&mut out),
+        OuterCorner::IntersectionBlocks { cap } => {
+            if circle_transition && o1.is_arc() && o2.is_arc() && gap < 2.0 * s.suppression {
+                // 11.14: switch from intersection to transition circle at arc/arc.
+                circle(&mut out);
+            } else if !circle_transition && a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+                let x = tangent_point(p1, t1, p2, t2);
+                out.end1 = x;
+                out.start2 = x;
+            } else if a.abs() <= cap {
+                let x = tangent_point(p1, t1, p2, t2);
+                push(&mut out, Elem::Line { a: p1, b: x });
+                push(&mut out, Elem::Line { a: x, b: p2 });
+            } else {
+                let e = d.abs() * libm::tan(cap / 2.0);
+                let (pa, pb) = (p1 + t1 * e, p2 - t2 * e);
+                push(&mut out, Elem::Line { a: p1, b: pa });
+                push(&mut out, Elem::Line { a: pa, b: pb });
+                push(&mut out, Elem::Line { a: pb, b: p2 });
+            }
+        }
+        OuterCorner::Intersection { limit } => {
+            let x = if a.abs() > limit {
+                None
+            } else {
+                outer_intersection(o1, o2, p1, p2)
+            };
+            match x {
+                Some(x) => {
+                    out.end1 = x;
+                    out.start2 = x;
+                }
+                None => circle(&mut out),
+            }
+        }
+        OuterCorner::FanucC if a.abs() <= FRAC_PI_2 + ANGLE_EPS => {
+            if let Some(x) = outer_intersection(o1, o2, p1, p2) {
+                out.end1 = x;
+                out.start2 = x;
+            } else {
+                linear_transition(&mut out, o1, o2, a, d);
+            }
+        }
+        OuterCorner::FanucC | OuterCorner::LinearTransition => {
+            linear_transition(&mut out, o1, o2, a, d)
+        }
+    }
+    Ok(out)
+}
+
+/// The tangent construction of [`OuterCorner::LinearTransition`].
+fn linear_transition(out: &mut Corner, o1: &Elem, o2: &Elem, a: f64, d: f64) {
+    let (p1, p2) = (o1.end(), o2.start());
+    let (t1, t2) = (o1.tangent_end(), o2.tangent_start());
+    let (pa, pb) = if a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+        let x = tangent_point(p1, t1, p2, t2);
+        (x, x)
+    } else {
+        (p1 + t1 * d.abs(), p2 - t2 * d.abs())
+    };
+    if o1.is_arc() {
+        push(out, Elem::Line { a: p1, b: pa });
+    } else {
+        out.end1 = pa;
+    }
+    if pa.dist(pb) > EPS {
+        push(out, Elem::Line { a: pa, b: pb });
+    }
+    if o2.is_arc() {
+        push(out, Elem::Line { a: pb, b: p2 });
+    } else {
+        out.start2 = pb;
+    }
+}
+
+fn push(out: &mut Corner, e: Elem) {
+    // At most three pieces by construction.
+    let _ = out.pieces.push(e);
+}
+
+/// T: where the tangent through P1 along t1 meets the one through P2 along t2 (they are
+/// parallel only at a reversal, which the callers send to the capped construction).
+fn tangent_point(p1: V2, t1: V2, p2: V2, t2: V2) -> V2 {
+    geom::line_line(p1, t1, p2, t2).unwrap_or_else(|| (p1 + p2) * 0.5)
+}
+
+/// The intersection of the carriers nearest to both P1 and P2 (inner corners, 11.14).
+fn nearest_intersection(o1: &Elem, o2: &Elem, p1: V2, p2: V2) -> Option<V2> {
+    geom::intersections(o1, o2).into_iter().min_by(|x, y| {
+        let fx = x.dist(p1) + x.dist(p2);
+        let fy = y.dist(p1) + y.dist(p2);
+        fx.total_cmp(&fy)
+    })
+}
+
+/// At an outer corner the intersection must lie ahead of P1 on the first equidistant and
+/// behind P2 on the second (both are extended); otherwise there is none.
+fn outer_intersection(o1: &Elem, o2: &Elem, p1: V2, p2: V2) -> Option<V2> {
+    let (t1, t2) = (o1.tangent_end(), o2.tangent_start());
+    geom::intersections(o1, o2)
+        .into_iter()
+        .filter(|&x| (x - p1).dot(t1) >= -EPS && (p2 - x).dot(t2) >= -EPS)
+        .min_by(|x, y| {
+            let fx = x.dist(p1) + x.dist(p2);
+            let fy = y.dist(p1) + y.dist(p2);
+            fx.total_cmp(&fy)
+        })
+}

@@ -1,0 +1,395 @@
+//! Plane geometry for the compensation: vectors in the working plane (abscissa, ordinate),
+//! contour elements (lines, arcs), their equidistants and intersections. Transcendentals come
+//! from `libm` so that every machine computes the same bits.
+
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// Lengths below this are zero (mm): far below any encoder resolution, far above rounding.
+pub const EPS: f64 = 1e-9;
+/// Direction changes below this count as tangent (rad).
+pub const ANGLE_EPS: f64 = 1e-9;
+
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct V2 {
+    pub x: f64,
+    pub y: f64,
+}
+
+pub const fn v2(x: f64, y: f64) -> V2 {
+    V2 { x, y }
+}
+
+impl Add for V2 {
+    type Output = V2;
+    fn add(self, o: V2) -> V2 {
+        v2(self.x + o.x, self.y + o.y)
+    }
+}
+impl Sub for V2 {
+    type Output = V2;
+    fn sub(self, o: V2) -> V2 {
+        v2(self.x - o.x, self.y - o.y)
+    }
+}
+impl Mul<f64> for V2 {
+    type Output = V2;
+    fn mul(self, k: f64) -> V2 {
+        v2(self.x * k, self.y * k)
+    }
+}
+impl Neg for V2 {
+    type Output = V2;
+    fn neg(self) -> V2 {
+        v2(-self.x, -self.y)
+    }
+}
+
+impl V2 {
+    pub fn dot(self, o: V2) -> f64 {
+        self.x * o.x + self.y * o.y
+    }
+    /// z component of the cross product: > 0 when `o` lies counter-clockwise of `self`.
+    pub fn cross(self, o: V2) -> f64 {
+        self.x * o.y - self.y * o.x
+    }
+    pub fn len(self) -> f64 {
+        libm::hypot(self.x, self.y)
+    }
+    pub fn dist(self, o: V2) -> f64 {
+        (self - o).len()
+    }
+    /// Unit vector; the zero vector stays zero.
+    pub fn unit(self) -> V2 {
+        let l = self.len();
+        if l > 0.0 {
+            self * (1.0 / l)
+        } else {
+            self
+        }
+    }
+    /// Rotated by +90°: the left normal of a direction.
+    pub fn left(self) -> V2 {
+        v2(-self.y, self.x)
+    }
+    pub fn angle(self) -> f64 {
+        libm::atan2(self.y, self.x)
+    }
+    pub fn from_angle(a: f64) -> V2 {
+        v2(libm::cos(a), libm::sin(a))
+    }
+}
+
+/// Signed angle from direction `a` to direction `b`, in (−π, π]: > 0 is a left turn.
+pub fn turn(a: V2, b: V2) -> f64 {
+    libm::atan2(a.cross(b), a.dot(b))
+}
+
+/// A contour element in the plane. An arc with `a == b` is a full circle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Elem {
+    Line { a: V2, b: V2 },
+    Arc { a: V2, b: V2, c: V2, ccw: bool },
+}
+
+impl Elem {
+    pub fn start(&self) -> V2 {
+        match *self {
+            Elem::Line { a, .. } | Elem::Arc { a, .. } => a,
+        }
+    }
+    pub fn end(&self) -> V2 {
+        match *self {
+            Elem::Line { b, .. } | Elem::Arc { b, .. } => b,
+        }
+    }
+    pub fn is_arc(&self) -> bool {
+        matches!(self, Elem::Arc { .. })
+    }
+    pub fn radius(&self) -> f64 {
+        match *self {
+            Elem::Line { .. } => f64::INFINITY,
+            Elem::Arc { a, c, .. } => a.dist(c),
+        }
+    }
+    /// Unit direction of travel at a point of the element.
+    fn tangent_at(&self, p: V2) -> V2 {
+        match *self {
+            Elem::Line { a, b } => (b - a).unit(),
+            Elem::Arc { c, ccw, .. } => {
+                let r = (p - c).unit().left();
+                if ccw {
+                    r
+                } else {
+                    -r
+                }
+            }
+        }
+    }
+    pub fn tangent_start(&self) -> V2 {
+        self.tangent_at(self.start())
+    }
+    pub fn tangent_end(&self) -> V2 {
+        self.tangent_at(self.end())
+    }
+    /// Length of the element (arc length for arcs).
+    pub fn length(&self) -> f64 {
+        match *self {
+            Elem::Line { a, b } => a.dist(b),
+            Elem::Arc { .. } => self.sweep() * self.radius(),
+        }
+    }
+    /// Swept angle of an arc, in (0, 2π]; 0 for a line.
+    pub fn sweep(&self) -> f64 {
+        match *self {
+            Elem::Line { .. } => 0.0,
+            Elem::Arc { a, b, c, ccw } => sweep(c, a, b, ccw),
+        }
+    }
+    /// The equidistant at `d` (> 0: left of the direction of travel). `None` when an arc
+    /// would shrink to a point or turn inside out: the tool does not fit (alarm, never a path).
+    pub fn offset(&self, d: f64) -> Option<Elem> {
+        match *self {
+            Elem::Line { a, b } => {
+                let n = (b - a).unit().left() * d;
+                Some(Elem::Line { a: a + n, b: b + n })
+            }
+            Elem::Arc { a, b, c, ccw } => {
+                // Left of a counter-clockwise arc is towards its centre.
+                let r = a.dist(c);
+                let r2 = if ccw { r - d } else { r + d };
+                if r2 <= EPS {
+                    return None;
+                }
+                let k = r2 / r;
+                Some(Elem::Arc {
+                    a: c + (a - c) * k,
+                    b: c + (b - c) * k,
+                    c,
+                    ccw,
+                })
+            }
+        }
+    }
+    /// The normal position: the point at `d` left of the element's start (or end).
+    pub fn normal_start(&self, d: f64) -> V2 {
+        self.start() + self.tangent_start().left() * d
+    }
+    pub fn normal_end(&self, d: f64) -> V2 {
+        self.end() + self.tangent_end().left() * d
+    }
+    /// The same element with another start point (which must lie on its line or circle).
+    pub fn with_start(&self, p: V2) -> Elem {
+        match *self {
+            Elem::Line { b, .. } => Elem::Line { a: p, b },
+            Elem::Arc { b, c, ccw, .. } => Elem::Arc { a: p, b, c, ccw },
+        }
+    }
+    pub fn with_end(&self, p: V2) -> Elem {
+        match *self {
+            Elem::Line { a, .. } => Elem::Line { a, b: p },
+            Elem::Arc { a, c, ccw, .. } => Elem::Arc { a, b: p, c, ccw },
+        }
+    }
+    /// The element run backwards.
+    pub fn reversed(&self) -> Elem {
+        match *self {
+            Elem::Line { a, b } => Elem::Line { a: b, b: a },
+            Elem::Arc { a, b, c, ccw } => Elem::Arc {
+                a: b,
+                b: a,
+                c,
+                ccw: !ccw,
+            },
+        }
+    }
+    /// Position of `p` (a point on the element's line or circle) along the element, as a
+    /// length from the start: negative before the start, beyond `length()` after the end.
+    /// For arcs the angle is measured in the direction of travel from the start; points up
+    /// to half a turn behind the start come out negative unless the arc reaches them.
+    pub fn param(&self, p: V2) -> f64 {
+        match *self {
+            Elem::Line { a, b } => (p - a).dot((b - a).unit()),
+            Elem::Arc { a, c, ccw, .. } => {
+                let r = a.dist(c);
+                let mut t = libm::atan2((a - c).cross(p - c), (a - c).dot(p - c));
+                if !ccw {
+                    t = -t;
+                }
+                // t in (−π, π]; points past half a turn from the start are "ahead" when
+                // the arc is long enough to reach them.
+                let s = self.sweep();
+                if t < 0.0 && t + std::f64::consts::TAU <= s + ANGLE_EPS && s > std::f64::consts::PI
+                {
+                    t += std::f64::consts::TAU;
+                }
+                t * r
+            }
+        }
+    }
+}
+
+/// Swept angle from `a` to `b` about `c`, in (0, 2π] (a == b is a full circle).
+pub fn sweep(c: V2, a: V2, b: V2, ccw: bool) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let (u, w) = (a - c, b - c);
+    let mut s = libm::atan2(u.cross(w), u.dot(w));
+    if !ccw {
+        s = -s;
+    }
+    if s <= ANGLE_EPS * u.len().max(1.0).recip() {
+        s += tau;
+    }
+    s
+}
+
+/// Intersection of the lines through `p` along `u` and through `q` along `w`; `None` when
+/// they are parallel.
+pub fn line_line(p: V2, u: V2, q: V2, w: V2) -> Option<V2> {
+    let den = u.cross(w);
+    if den.abs() <= 1e-12 * u.len() * w.len() {
+        return None;
+    }
+    let t = (q - p).cross(w) / den;
+    Some(p + u * t)
+}
+
+/// Intersections of the line through `p` along `u` with the circle about `c` of radius `r`.
+pub fn line_circle(p: V2, u: V2, c: V2, r: f64) -> heapless::Vec<V2, 2> {
+    let mut out = heapless::Vec::new();
+    let u = u.unit();
+    let f = p - c;
+    let b = f.dot(u);
+    let disc = b * b - (f.dot(f) - r * r);
+    let tol = 1e-12 * r.max(1.0) * r.max(1.0);
+    if disc < -tol {
+        return out;
+    }
+    if disc <= tol {
+        let _ = out.push(p + u * (-b));
+        return out;
+    }
+    let s = disc.sqrt();
+    let _ = out.push(p + u * (-b - s));
+    let _ = out.push(p + u * (-b + s));
+    out
+}
+
+/// Intersections of two circles.
+pub fn circle_circle(c1: V2, r1: f64, c2: V2, r2: f64) -> heapless::Vec<V2, 2> {
+    let mut out = heapless::Vec::new();
+    let dv = c2 - c1;
+    let d = dv.len();
+    if d <= EPS {
+        return out;
+    }
+    let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+    let h2 = r1 * r1 - a * a;
+    let tol = 1e-12 * r1.max(1.0) * r1.max(1.0);
+    let m = c1 + dv * (a / d);
+    if h2 < -tol {
+        return out;
+    }
+    if h2 <= tol {
+        let _ = out.push(m);
+        return out;
+    }
+    let h = h2.sqrt();
+    let n = dv.left() * (h / d);
+    let _ = out.push(m + n);
+    let _ = out.push(m - n);
+    out
+}
+
+/// Where the carriers (infinite line, full circle) of two elements meet.
+pub fn intersections(e1: &Elem, e2: &Elem) -> heapless::Vec<V2, 2> {
+    match (*e1, *e2) {
+        (Elem::Line { a, b }, Elem::Line { a: p, b: q }) => {
+            let mut v = heapless::Vec::new();
+            if let Some(x) = line_line(a, b - a, p, q - p) {
+                let _ = v.push(x);
+            }
+            v
+        }
+        (Elem::Line { a, b }, Elem::Arc { a: s, c, .. })
+        | (Elem::Arc { a: s, c, .. }, Elem::Line { a, b }) => line_circle(a, b - a, c, s.dist(c)),
+        (Elem::Arc { a: s1, c: c1, .. }, Elem::Arc { a: s2, c: c2, .. }) => {
+            circle_circle(c1, s1.dist(c1), c2, s2.dist(c2))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: V2, b: V2) -> bool {
+        a.dist(b) < 1e-12
+    }
+
+    #[test]
+    fn left_offset_of_a_line_going_east_moves_north() {
+        let e = Elem::Line {
+            a: v2(0.0, 0.0),
+            b: v2(10.0, 0.0),
+        };
+        let o = e.offset(2.0).unwrap();
+        assert!(close(o.start(), v2(0.0, 2.0)) && close(o.end(), v2(10.0, 2.0)));
+    }
+
+    #[test]
+    fn left_offset_of_a_ccw_arc_shrinks_it() {
+        let e = Elem::Arc {
+            a: v2(10.0, 0.0),
+            b: v2(0.0, 10.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        let o = e.offset(3.0).unwrap();
+        assert!(close(o.start(), v2(7.0, 0.0)) && close(o.end(), v2(0.0, 7.0)));
+        assert!(e.offset(10.0).is_none(), "tool as large as the arc");
+        let cw = e.reversed();
+        assert!((cw.offset(3.0).unwrap().radius() - 13.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sweep_and_full_circle() {
+        let c = v2(0.0, 0.0);
+        assert!(
+            (sweep(c, v2(1.0, 0.0), v2(0.0, 1.0), true) - std::f64::consts::FRAC_PI_2).abs()
+                < 1e-15
+        );
+        assert!(
+            (sweep(c, v2(1.0, 0.0), v2(0.0, 1.0), false) - 1.5 * std::f64::consts::PI).abs()
+                < 1e-15
+        );
+        assert!((sweep(c, v2(1.0, 0.0), v2(1.0, 0.0), true) - std::f64::consts::TAU).abs() < 1e-15);
+    }
+
+    #[test]
+    fn intersections_of_carriers() {
+        let x = line_line(v2(0.0, 1.0), v2(1.0, 0.0), v2(3.0, 0.0), v2(0.0, 1.0)).unwrap();
+        assert!(close(x, v2(3.0, 1.0)));
+        let pts = line_circle(v2(-5.0, 0.0), v2(1.0, 0.0), v2(0.0, 0.0), 2.0);
+        assert_eq!(pts.len(), 2);
+        assert!(close(pts[0], v2(-2.0, 0.0)) && close(pts[1], v2(2.0, 0.0)));
+        let pts = circle_circle(v2(0.0, 0.0), 5.0, v2(8.0, 0.0), 5.0);
+        assert!(close(pts[0], v2(4.0, -3.0)) || close(pts[0], v2(4.0, 3.0)));
+    }
+
+    #[test]
+    fn param_along_elements() {
+        let l = Elem::Line {
+            a: v2(0.0, 0.0),
+            b: v2(10.0, 0.0),
+        };
+        assert_eq!(l.param(v2(-2.0, 0.0)), -2.0);
+        let a = Elem::Arc {
+            a: v2(1.0, 0.0),
+            b: v2(-1.0, 0.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        assert!((a.param(v2(0.0, 1.0)) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!(a.param(v2(0.0, -1.0)) < 0.0, "just before the start");
+    }
+}

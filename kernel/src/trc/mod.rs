@@ -1,0 +1,949 @@
+//! Tool radius compensation (840C chapter 11; ISG, Fanuc C and 808D as their seeds say).
+//!
+//! The [`Compensator`] takes interpreted blocks one at a time and emits the tool-centre path
+//! as [`Segment`]s. It holds one contour element back until the next one is known, because
+//! the end of an equidistant depends on the corner it meets (11.4: "two blocks read in
+//! advance"); blocks outside the compensation plane wait behind it (11.11).
+//!
+//! Nothing here knows a G code or a dialect: the dialect tables map theirs onto
+//! [`TrcRules`], [`CornerPolicy`] and [`SelectionPolicy`]. Where each rule lives:
+//! corners in `corner.rs`, selection in `selection.rs`, deselection in `deselection.rs`,
+//! plane geometry in `geom.rs`.
+
+pub mod corner;
+pub mod deselection;
+pub mod geom;
+pub mod selection;
+
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{
+    Block, CornerPolicy, Motion, MotionKind, Plane, Pos, SelectionPolicy, TrcSide,
+};
+use crate::segment::{Role, Segment, Shape, Source};
+use corner::{CornerError, CornerSettings, OuterCorner};
+use geom::{v2, Elem, EPS, V2};
+
+/// What a repeated G41/G42 (same side, already active) does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RepeatRule {
+    /// Ignored unless a selection method is programmed with it (840C 11.6.1).
+    IgnoreWithoutApproach,
+    /// The last block ends in the normal position; the compensation starts anew (808D,
+    /// Fanuc "vector at right angles to the previous block").
+    Restart,
+}
+
+/// How the radius of an active compensation changes (new D, or a write of the radius).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadiusChange {
+    /// The block with the change starts with the old radius and ends with the new one;
+    /// linear blocks only (840C 11.7).
+    InBlockLinear,
+    /// Spread over the whole block in which it is programmed, circles included (808D).
+    InBlock,
+    /// Spread over the next linear block in the plane (ISG, 002: "possible only together with
+    /// a linear block"; TF5200's default ramp).
+    NextLinear,
+}
+
+/// An armed selection (G41/G42 without a plane move) meets a circle as its first plane move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArmedArc {
+    /// Selection only in G0/G1 blocks (840C 11.3, 808D, Fanuc).
+    Alarm(AlarmCode),
+    /// A block perpendicular to the circle's start, then the compensated circle (ISG, as
+    /// TF5200 G237 does; the seed's own D-change example needs it, docs/trc.md).
+    Perpendicular,
+}
+
+/// A selection block without any axis of the plane programmed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoPlaneMove {
+    /// Takes effect with the next plane move (840C 11.5.2, ISG, 808D).
+    Wait,
+    /// Moves by the offset only, in that block (Fanuc C start-up and cancel).
+    OffsetOnly,
+}
+
+/// The TRC rules of one control, in dialect-free terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrcRules {
+    pub repeat: RepeatRule,
+    /// A side change (G41↔G42) without a programmed method deselects and reselects with
+    /// this method (840C 11.6.2: G456; 808D: normal position); `None` uses the modal method.
+    pub side_change: Option<SelectionPolicy>,
+    pub radius_change: RadiusChange,
+    pub armed_arc: ArmedArc,
+    pub no_plane_move: NoPlaneMove,
+    /// Alarm for selecting or deselecting in a circle.
+    pub not_linear: AlarmCode,
+    /// 840C G451 caps its tangent extension beyond this change of direction (three blocks).
+    pub intersection_cap_deg: f64,
+}
+
+/// An alarm from the compensation, before it gets the program's name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrcFault {
+    pub code: AlarmCode,
+    pub source: Source,
+    pub message: String,
+}
+
+fn fault(code: AlarmCode, source: Source, message: impl Into<String>) -> TrcFault {
+    TrcFault {
+        code,
+        source,
+        message: message.into(),
+    }
+}
+
+/// Where segments go. Preparation drains it after every block; 64 is far above the most one
+/// block can produce (held blocks + element + approach/corner/retract pieces).
+pub type Out = heapless::Deque<Segment, 64>;
+
+fn emit(out: &mut Out, s: Segment) {
+    // Capacity is guaranteed by the caller draining after each block (see `Out`).
+    let _ = out.push_back(s);
+}
+
+/// Feed and source of the block a segment belongs to.
+#[derive(Clone, Copy, Debug)]
+struct Tag {
+    source: Source,
+    feed: f64,
+    rapid: bool,
+}
+
+/// A selection block waiting for the first contour element.
+#[derive(Clone, Copy, Debug)]
+struct Selection {
+    tag: Tag,
+    from: V2,
+    q: V2,
+    dir: Option<V2>,
+    w0: f64,
+    w1: f64,
+    policy: SelectionPolicy,
+}
+
+/// A contour element whose compensated start is known and whose end waits for the next one.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    tag: Tag,
+    prog: Elem,
+    /// Compensated start.
+    start: V2,
+    /// Offset at the end (the start's is built into `start`).
+    d1: f64,
+    w0: f64,
+    w1: f64,
+}
+
+impl Pending {
+    /// The equidistant the end corner is built on: at the radius the element ends with.
+    fn carrier(&self) -> Option<Elem> {
+        self.prog.offset(self.d1)
+    }
+}
+
+/// A block outside the compensation plane, executed at the end of the pending element (11.11).
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    tag: Tag,
+    w0: f64,
+    w1: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    Off,
+    /// Selected but no plane move yet (11.5.2).
+    Armed,
+    On,
+}
+
+/// The compensation state machine.
+pub struct Compensator {
+    rules: TrcRules,
+    corner_settings_base: f64,
+    max_outside: usize,
+    mode: Mode,
+    side: TrcSide,
+    /// Signed offset: > 0 left of the path.
+    d: f64,
+    /// A radius change waiting for its block (ISG: the next linear block).
+    ramp_from: Option<f64>,
+    plane: Plane,
+    corner: CornerPolicy,
+    /// Selection method for the next selection (block-level or modal).
+    method: SelectionPolicy,
+    /// Deselection armed by a G40 without a plane move.
+    exit_armed: Option<SelectionPolicy>,
+    /// Tool position in plane coordinates, and along the normal axis.
+    tool: V2,
+    tool_w: f64,
+    selection: Option<Selection>,
+    pending: Option<Pending>,
+    held: heapless::Vec<Held, 8>,
+    /// Blocks outside the plane since the last plane block (moves, aux, calculations).
+    outside: usize,
+}
+
+fn split(p: &Pos, plane: Plane) -> (V2, f64) {
+    (
+        v2(p[plane.abscissa as usize], p[plane.ordinate as usize]),
+        p[plane.normal as usize],
+    )
+}
+
+fn join(v: V2, w: f64, plane: Plane) -> Pos {
+    let mut p = [0.0; 3];
+    p[plane.abscissa as usize] = v.x;
+    p[plane.ordinate as usize] = v.y;
+    p[plane.normal as usize] = w;
+    p
+}
+
+fn side_sign(side: TrcSide) -> f64 {
+    match side {
+        TrcSide::Left => 1.0,
+        TrcSide::Right => -1.0,
+        TrcSide::Off => 0.0,
+    }
+}
+
+impl Compensator {
+    /// `max_outside`: blocks allowed outside the plane between two plane blocks (11.11);
+    /// `suppression`: the 11.14 distance.
+    pub fn new(
+        rules: TrcRules,
+        max_outside: u32,
+        suppression: f64,
+        start: Pos,
+        plane: Plane,
+    ) -> Self {
+        let (tool, tool_w) = split(&start, plane);
+        Compensator {
+            rules,
+            corner_settings_base: suppression,
+            max_outside: (max_outside as usize).min(8),
+            mode: Mode::Off,
+            side: TrcSide::Off,
+            d: 0.0,
+            ramp_from: None,
+            plane,
+            corner: CornerPolicy::TransitionCircle,
+            method: SelectionPolicy::NormalPosition,
+            exit_armed: None,
+            tool,
+            tool_w,
+            selection: None,
+            pending: None,
+            held: heapless::Vec::new(),
+            outside: 0,
+        }
+    }
+
+    pub fn is_active(&self) -> bool {
+        self.mode != Mode::Off
+    }
+
+    fn settings(&self) -> CornerSettings {
+        let outer = match self.corner {
+            CornerPolicy::TransitionCircle => OuterCorner::Circle,
+            CornerPolicy::Intersection => OuterCorner::IntersectionBlocks {
+                cap: self.rules.intersection_cap_deg.to_radians(),
+            },
+            CornerPolicy::IntersectionLimited { limit_deg } => OuterCorner::Intersection {
+                limit: limit_deg.to_radians(),
+            },
+            CornerPolicy::LinearTransition => OuterCorner::LinearTransition,
+            CornerPolicy::ExtendedIntersection => OuterCorner::FanucC,
+        };
+        CornerSettings {
+            outer,
+            suppression: self.corner_settings_base,
+        }
+    }
+
+    /// One interpreted block; `motion` is the block's motion with the tool length applied.
+    pub fn block(
+        &mut self,
+        b: &Block,
+        motion: Option<&Motion>,
+        out: &mut Out,
+    ) -> Result<(), TrcFault> {
+        let source = Source {
+            number: b.number,
+            line: b.line,
+            col: b.col,
+        };
+        let tag = Tag {
+            source,
+            feed: b.modal.feed,
+            rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
+        };
+        if let Some(m) = motion {
+            if self.mode == Mode::Off {
+                self.plane = m.plane;
+                let (t, w) = split(&m.start, m.plane);
+                self.tool = t;
+                self.tool_w = w;
+            }
+        }
+        self.corner = b.modal.corner;
+        let new_d = side_sign(b.modal.trc) * b.modal.radius;
+
+        // What the block asks of the compensation.
+        let method = b.approach.unwrap_or(b.modal.selection);
+        let mut select: Option<SelectionPolicy> = None;
+        let mut deselect: Option<SelectionPolicy> = None;
+        match (self.mode, b.trc) {
+            (Mode::Off, Some(TrcSide::Left | TrcSide::Right)) if b.modal.trc != TrcSide::Off => {
+                select = Some(method)
+            }
+            (Mode::Armed, Some(TrcSide::Off)) => {
+                // Deselected before it ever took effect.
+                self.mode = Mode::Off;
+            }
+            (Mode::Armed, Some(_)) => select = Some(method),
+            (Mode::On, Some(TrcSide::Off)) => deselect = Some(method),
+            // A repetition (11.6.1): ignored unless a method comes with it, or the control
+            // restarts on every repetition.
+            (Mode::On, Some(side))
+                if side == self.side
+                    && (b.approach.is_some() || self.rules.repeat == RepeatRule::Restart) =>
+            {
+                let m = match self.rules.repeat {
+                    RepeatRule::Restart => b.approach.unwrap_or(SelectionPolicy::NormalPosition),
+                    RepeatRule::IgnoreWithoutApproach => method,
+                };
+                deselect = Some(m);
+                select = Some(m);
+            }
+            (Mode::On, Some(side)) if side == self.side => {}
+            (Mode::On, Some(_)) => {
+                let m = b
+                    .approach
+                    .or(self.rules.side_change)
+                    .unwrap_or(b.modal.selection);
+                deselect = Some(m);
+                select = Some(m);
+            }
+            _ => {}
+        }
+        if deselect.is_none() {
+            if let Some(m) = self.exit_armed {
+                if motion.is_some_and(|m| m.moves_in_plane(EPS)) {
+                    deselect = Some(m);
+                }
+            }
+        }
+
+        // A radius change while active (840C 11.7, 808D, ISG).
+        let mut d0 = self.d;
+        let mut d1 = self.d;
+        if self.mode == Mode::On
+            && deselect.is_none()
+            && select.is_none()
+            && (new_d - self.d).abs() > EPS
+        {
+            match self.rules.radius_change {
+                RadiusChange::InBlockLinear | RadiusChange::InBlock => {
+                    d1 = new_d;
+                }
+                RadiusChange::NextLinear => {
+                    self.ramp_from.get_or_insert(self.d);
+                    self.d = new_d;
+                    d0 = self.d;
+                    d1 = self.d;
+                }
+            }
+        }
+
+        let plane_axes = motion.map_or(0, |m| {
+            m.programmed & ((1 << m.plane.abscissa) | (1 << m.plane.ordinate))
+        });
+        let in_plane = motion.is_some_and(|m| m.moves_in_plane(EPS));
+
+        // Deselection.
+        if let Some(policy) = deselect {
+            if in_plane
+                || plane_axes != 0
+                || self.rules.no_plane_move == NoPlaneMove::OffsetOnly
+                || select.is_some()
+            {
+                let m = motion.copied();
+                self.exit(tag, m.as_ref(), policy, select.is_some(), out)?;
+                if select.is_none() {
+                    self.side = TrcSide::Off;
+                    self.d = 0.0;
+                    self.mode = Mode::Off;
+                    self.exit_armed = None;
+                    if !(in_plane || plane_axes != 0) {
+                        // Fanuc: the G40 block itself moves back by the offset.
+                        if let Some(m) = motion {
+                            self.uncompensated(tag, m, out);
+                        }
+                    }
+                    return self.end_of_block(b, out);
+                }
+            } else {
+                self.exit_armed = Some(policy);
+                if let Some(m) = motion {
+                    self.outside(tag, m, out)?;
+                }
+                return self.end_of_block(b, out);
+            }
+        }
+
+        // Selection.
+        if let Some(policy) = select {
+            self.side = b.modal.trc;
+            self.d = new_d;
+            self.ramp_from = None;
+            self.exit_armed = None;
+            let has_plane = plane_axes != 0 || in_plane;
+            if !has_plane && self.rules.no_plane_move == NoPlaneMove::Wait && deselect.is_none() {
+                self.mode = Mode::Armed;
+                self.method = policy;
+                if let Some(m) = motion {
+                    self.uncompensated(tag, m, out);
+                }
+                return self.end_of_block(b, out);
+            }
+            self.method = policy;
+            return self
+                .start_selection(tag, motion, policy, out)
+                .and_then(|()| self.end_of_block(b, out));
+        }
+        if self.mode == Mode::Armed {
+            match motion {
+                Some(m) if in_plane || plane_axes != 0 => {
+                    let policy = self.method;
+                    self.start_selection(tag, Some(m), policy, out)?;
+                }
+                Some(m) => self.uncompensated(tag, m, out),
+                None => {}
+            }
+            return self.end_of_block(b, out);
+        }
+
+        // Off: the programmed path.
+        if self.mode == Mode::Off {
+            if let Some(m) = motion {
+                self.uncompensated(tag, m, out);
+            }
+            return self.end_of_block(b, out);
+        }
+
+        // Active: a contour element or a block outside the plane.
+        match motion {
+            Some(m) if in_plane => {
+                let (mut e0, mut e1) = (d0, d1);
+                if let Some(old) = self.ramp_from {
+                    if m.kind.is_arc() {
+                        return Err(fault(
+                            AlarmCode::RadiusChangeNotLinear,
+                            tag.source,
+                            "the tool radius can only change with a linear block; program a straight move after the change",
+                        ));
+                    }
+                    e0 = old;
+                    e1 = self.d;
+                    self.ramp_from = None;
+                }
+                if (e1 - e0).abs() > EPS
+                    && m.kind.is_arc()
+                    && self.rules.radius_change == RadiusChange::InBlockLinear
+                {
+                    return Err(fault(
+                        AlarmCode::RadiusChangeNotLinear,
+                        tag.source,
+                        "the offset number can only be changed in linear blocks (840C 11.7)",
+                    ));
+                }
+                self.element(tag, m, e0, e1, out)?;
+                self.d = e1;
+            }
+            Some(m) => self.outside(tag, m, out)?,
+            None => {
+                if !b.words.is_empty() || b.calculation || b.dwell.is_some() {
+                    self.count_outside(tag)?;
+                }
+            }
+        }
+        self.end_of_block(b, out)
+    }
+
+    /// Program end (M02/M30): TRC ends with the last element in its normal position
+    /// (11.5.1, "deselection not active").
+    fn end_of_block(&mut self, b: &Block, out: &mut Out) -> Result<(), TrcFault> {
+        if b.stop.is_some_and(|s| s.ends_program()) {
+            self.finish(out)?;
+        }
+        Ok(())
+    }
+
+    /// Flushes everything held: the pending element ends in its normal position.
+    pub fn finish(&mut self, out: &mut Out) -> Result<(), TrcFault> {
+        if let Some(sel) = self.selection.take() {
+            // A selection block with nothing after it: straight to its programmed point.
+            self.line(
+                sel.tag,
+                Role::Approach,
+                sel.from,
+                sel.q,
+                sel.w0,
+                sel.w1,
+                out,
+            );
+        }
+        if let Some(p) = self.pending.take() {
+            let end = p.prog.normal_end(p.d1);
+            self.emit_pending(&p, end, out)?;
+        }
+        self.flush_held(out);
+        self.mode = Mode::Off;
+        self.side = TrcSide::Off;
+        self.d = 0.0;
+        Ok(())
+    }
+
+    fn uncompensated(&mut self, tag: Tag, m: &Motion, out: &mut Out) {
+        let seg = segment_of(tag, Role::Uncompensated, m);
+        let (t, w) = split(&m.end, m.plane);
+        self.tool = t;
+        self.tool_w = w;
+        emit(out, seg);
+    }
+
+    fn count_outside(&mut self, tag: Tag) -> Result<(), TrcFault> {
+        if self.pending.is_none() && self.selection.is_none() {
+            return Ok(());
+        }
+        self.outside += 1;
+        if self.outside > self.max_outside {
+            return Err(fault(
+                AlarmCode::ContourViolation,
+                tag.source,
+                format!(
+                    "more than {} blocks outside the compensation plane (840C 11.11)",
+                    self.max_outside
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A block that does not move in the plane while TRC is active: it waits behind the
+    /// pending element and runs at its end point (11.11).
+    fn outside(&mut self, tag: Tag, m: &Motion, out: &mut Out) -> Result<(), TrcFault> {
+        let (_, w0) = split(&m.start, self.plane);
+        let (_, w1) = split(&m.end, self.plane);
+        if self.pending.is_some() || self.selection.is_some() {
+            self.count_outside(tag)?;
+            let _ = self.held.push(Held { tag, w0, w1 });
+        } else {
+            let p = self.tool;
+            self.line(tag, Role::Contour, p, p, w0, w1, out);
+        }
+        Ok(())
+    }
+
+    fn flush_held(&mut self, out: &mut Out) {
+        let p = self.tool;
+        for h in std::mem::take(&mut self.held) {
+            self.line(h.tag, Role::Contour, p, p, h.w0, h.w1, out);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn line(&mut self, tag: Tag, role: Role, a: V2, b: V2, w0: f64, w1: f64, out: &mut Out) {
+        emit(
+            out,
+            Segment {
+                source: tag.source,
+                role,
+                shape: Shape::Line,
+                from: join(a, w0, self.plane),
+                to: join(b, w1, self.plane),
+                feed: tag.feed,
+                rapid: tag.rapid,
+            },
+        );
+        self.tool = b;
+        self.tool_w = w1;
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn piece(
+        &mut self,
+        tag: Tag,
+        role: Role,
+        e: &Elem,
+        r0: f64,
+        r1: f64,
+        w0: f64,
+        w1: f64,
+        out: &mut Out,
+    ) {
+        match *e {
+            Elem::Line { a, b } => self.line(tag, role, a, b, w0, w1, out),
+            Elem::Arc { a, b, c, ccw } => {
+                emit(
+                    out,
+                    Segment {
+                        source: tag.source,
+                        role,
+                        shape: Shape::Arc {
+                            center: join(c, w0, self.plane),
+                            ccw,
+                            r0,
+                            r1,
+                            plane: self.plane,
+                        },
+                        from: join(a, w0, self.plane),
+                        to: join(b, w1, self.plane),
+                        feed: tag.feed,
+                        rapid: tag.rapid,
+                    },
+                );
+                self.tool = b;
+                self.tool_w = w1;
+            }
+        }
+    }
+
+    /// Inserted corner pieces: circles are corners, lines intermediate blocks (11.1).
+    fn pieces(&mut self, tag: Tag, pieces: &[Elem], w: f64, out: &mut Out) {
+        let r = self.d.abs();
+        for e in pieces {
+            let (role, r) = match e {
+                Elem::Arc { .. } => (Role::Corner, r),
+                Elem::Line { .. } => (Role::Intermediate, 0.0),
+            };
+            self.piece(tag, role, e, r, r, w, w, out);
+        }
+    }
+
+    fn elem_of(&self, m: &Motion) -> Elem {
+        let (a, _) = split(&m.start, self.plane);
+        let (b, _) = split(&m.end, self.plane);
+        if m.kind.is_arc() {
+            let (c, _) = split(&m.center, self.plane);
+            Elem::Arc {
+                a,
+                b,
+                c,
+                ccw: m.kind == MotionKind::ArcCcw,
+            }
+        } else {
+            Elem::Line { a, b }
+        }
+    }
+
+    fn offset(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, TrcFault> {
+        e.offset(d).ok_or_else(|| {
+            fault(
+                AlarmCode::ArcRadiusTooSmall,
+                tag.source,
+                format!(
+                    "circle radius {:.4} is not larger than the tool radius {:.4} on the tool side",
+                    e.radius(),
+                    d.abs()
+                ),
+            )
+        })
+    }
+
+    fn corner_fault(tag: Tag, e: CornerError) -> TrcFault {
+        match e {
+            CornerError::NoIntersection => fault(
+                AlarmCode::ContourViolation,
+                tag.source,
+                "the equidistants of this corner do not meet: the tool does not fit (840C 11.12)",
+            ),
+        }
+    }
+
+    /// A selection: the block `motion` (may be without plane move) starts the compensation.
+    fn start_selection(
+        &mut self,
+        tag: Tag,
+        motion: Option<&Motion>,
+        policy: SelectionPolicy,
+        out: &mut Out,
+    ) -> Result<(), TrcFault> {
+        self.mode = Mode::On;
+        let (q, w1, w0, dir, arc) = match motion {
+            Some(m) => {
+                let (q, w1) = split(&m.end, self.plane);
+                let (s, w0) = split(&m.start, self.plane);
+                let e = self.elem_of(m);
+                let dir = (q.dist(s) > EPS || m.kind.is_arc()).then(|| e.tangent_end());
+                (q, w1, w0, dir, m.kind.is_arc())
+            }
+            None => (self.tool, self.tool_w, self.tool_w, None, false),
+        };
+        if policy == SelectionPolicy::Perpendicular || arc {
+            if arc && policy != SelectionPolicy::Perpendicular {
+                match self.rules.armed_arc {
+                    ArmedArc::Alarm(code) => return Err(fault(
+                        code,
+                        tag.source,
+                        "tool radius compensation can only be selected in a straight (G0/G1) block",
+                    )),
+                    ArmedArc::Perpendicular => {}
+                }
+            }
+            // The block itself is the first contour element; a perpendicular block leads in.
+            let Some(m) = motion.filter(|m| m.moves_in_plane(EPS)) else {
+                self.mode = Mode::Armed;
+                self.method = SelectionPolicy::Perpendicular;
+                return Ok(());
+            };
+            let e = self.elem_of(m);
+            let o = self.offset(tag, &e, self.d)?;
+            let from = self.tool;
+            let w = self.tool_w;
+            self.line(tag, Role::Approach, from, o.start(), w, w, out);
+            self.pending = Some(Pending {
+                tag,
+                prog: e,
+                start: o.start(),
+                d1: self.d,
+                w0,
+                w1,
+            });
+            return Ok(());
+        }
+        if policy == SelectionPolicy::InnerCorner {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                tag.source,
+                "inner-corner selection (G238) is not supported by softnc yet",
+            ));
+        }
+        self.selection = Some(Selection {
+            tag,
+            from: self.tool,
+            q,
+            dir,
+            w0: if motion.is_some() { w0 } else { self.tool_w },
+            w1,
+            policy,
+        });
+        Ok(())
+    }
+
+    /// A new contour element: resolves the pending one (or the selection) against it.
+    fn element(
+        &mut self,
+        tag: Tag,
+        m: &Motion,
+        d0: f64,
+        d1: f64,
+        out: &mut Out,
+    ) -> Result<(), TrcFault> {
+        self.outside = 0;
+        let e = self.elem_of(m);
+        let (_, w0) = split(&m.start, self.plane);
+        let (_, w1) = split(&m.end, self.plane);
+        // With a radius change the start corner is built with the old radius and the end
+        // corner with the new one; the path joins the two (840C 11.7).
+        let o_start = self.offset(tag, &e, d0)?;
+        self.offset(tag, &e, d1)?;
+        let settings = self.settings();
+        let start;
+        if let Some(sel) = self.selection.take() {
+            let en = selection::entry(
+                sel.from, sel.q, sel.dir, &e, &o_start, d0, sel.policy, &settings,
+            )
+            .map_err(|x| Self::corner_fault(tag, x))?;
+            self.piece(
+                sel.tag,
+                Role::Approach,
+                &en.path,
+                0.0,
+                0.0,
+                sel.w0,
+                sel.w1,
+                out,
+            );
+            self.flush_held(out);
+            let w = self.tool_w;
+            self.pieces(tag, &en.pieces, w, out);
+            start = en.start;
+        } else if let Some(p) = self.pending.take() {
+            let Some(o1) = p.carrier() else {
+                return Err(self.offset(p.tag, &p.prog, p.d1).unwrap_err());
+            };
+            let c = corner::corner(&o1, &o_start, e.start(), d0, &settings)
+                .map_err(|x| Self::corner_fault(tag, x))?;
+            self.emit_pending(&p, c.end1, out)?;
+            self.flush_held(out);
+            let w = self.tool_w;
+            self.pieces(tag, &c.pieces, w, out);
+            start = c.start2;
+        } else {
+            start = o_start.start();
+        }
+        self.pending = Some(Pending {
+            tag,
+            prog: e,
+            start,
+            d1,
+            w0,
+            w1,
+        });
+        Ok(())
+    }
+
+    /// Emits the pending element from its start to `end`, checking that it still runs
+    /// forwards (a trimmed element that reverses is a contour violation, 11.12).
+    fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), TrcFault> {
+        let violation = || {
+            fault(
+                AlarmCode::ContourViolation,
+                p.tag.source,
+                "contour violation: the tool radius is too large for this element (840C 11.12)",
+            )
+        };
+        match p.prog {
+            Elem::Line { a, b } => {
+                let dir = (b - a).unit();
+                if (end - p.start).dot(dir) < -1e-7 {
+                    return Err(violation());
+                }
+                self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
+            }
+            Elem::Arc { a, b, c, ccw } => {
+                // Angles travelled: programmed sweep, less what the start lost, plus what the
+                // end gained; below zero the element reversed.
+                let signed = |from: V2, to: V2| {
+                    let (u, v) = (from - c, to - c);
+                    let t = libm::atan2(u.cross(v), u.dot(v));
+                    if ccw {
+                        t
+                    } else {
+                        -t
+                    }
+                };
+                let s = p.prog.sweep() - signed(a, p.start) + signed(b, end);
+                if s < -1e-9 {
+                    return Err(violation());
+                }
+                let r0 = p.start.dist(c);
+                let r1 = end.dist(c);
+                let e = Elem::Arc {
+                    a: p.start,
+                    b: end,
+                    c,
+                    ccw,
+                };
+                self.piece(p.tag, Role::Contour, &e, r0, r1, p.w0, p.w1, out);
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends the compensation at the deselection block (`m`; `None` or no plane move: by the
+    /// offset only). With `reselect` the block starts a new compensation instead of
+    /// retracting (840C 11.6, 808D).
+    fn exit(
+        &mut self,
+        tag: Tag,
+        m: Option<&Motion>,
+        policy: SelectionPolicy,
+        reselect: bool,
+        out: &mut Out,
+    ) -> Result<(), TrcFault> {
+        if let Some(m) = m {
+            if m.kind.is_arc() && !reselect {
+                return Err(fault(
+                    self.rules.not_linear,
+                    tag.source,
+                    "tool radius compensation can only be deselected in a straight (G0/G1) block",
+                ));
+            }
+        }
+        let settings = self.settings();
+        if let Some(sel) = self.selection.take() {
+            // Deselected right after selecting: the selection block goes to its point.
+            self.line(
+                sel.tag,
+                Role::Approach,
+                sel.from,
+                sel.q,
+                sel.w0,
+                sel.w1,
+                out,
+            );
+            self.flush_held(out);
+        }
+        let Some(p) = self.pending.take() else {
+            self.flush_held(out);
+            return Ok(());
+        };
+        let (f, dir, w1) = match m {
+            Some(m) => {
+                let (f, w1) = split(&m.end, self.plane);
+                let (s, _) = split(&m.start, self.plane);
+                let dir = (f.dist(s) > EPS).then(|| (f - s).unit());
+                (f, dir, w1)
+            }
+            None => (p.prog.end(), None, p.w1),
+        };
+        let Some(on) = p.carrier() else {
+            return Err(self.offset(p.tag, &p.prog, p.d1).unwrap_err());
+        };
+        let x = deselection::exit(&p.prog, &on, f, dir, p.d1, policy, &settings)
+            .map_err(|x| Self::corner_fault(tag, x))?;
+        self.emit_pending(&p, x.end, out)?;
+        self.flush_held(out);
+        let w = self.tool_w;
+        self.pieces(tag, &x.pieces, w, out);
+        if reselect {
+            // The reselecting block starts at the last point; it becomes the selection block.
+            return Ok(());
+        }
+        if m.is_some_and(|m| m.moves_in_plane(EPS)) {
+            let w = self.tool_w;
+            self.piece(tag, Role::Retract, &x.path, 0.0, 0.0, w, w1, out);
+        } else {
+            // No plane move: back to the programmed point by the offset only.
+            let (from, w) = (self.tool, self.tool_w);
+            let to = p.prog.end();
+            self.line(tag, Role::Retract, from, to, w, w1, out);
+        }
+        Ok(())
+    }
+}
+
+/// An uncompensated motion as a segment.
+fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
+    let shape = if m.kind.is_arc() {
+        let (a, _) = split(&m.start, m.plane);
+        let (c, _) = split(&m.center, m.plane);
+        let r = a.dist(c);
+        Shape::Arc {
+            center: m.center,
+            ccw: m.kind == MotionKind::ArcCcw,
+            r0: r,
+            r1: r,
+            plane: m.plane,
+        }
+    } else {
+        Shape::Line
+    };
+    Segment {
+        source: tag.source,
+        role,
+        shape,
+        from: m.start,
+        to: m.end,
+        feed: tag.feed,
+        rapid: tag.rapid,
+    }
+}
