@@ -1,0 +1,334 @@
+//! LinuxCNC 2.9's `rs274` (Debian linuxcnc-uspace) as an independent oracle for the G450
+//! contour interior: everything between the selection and the deselection block.
+//!
+//! rs274 closes convex corners with an arc about the corner and concave ones at the
+//! intersection, like the 840C's G450; it differs at entry and exit (it offsets the entry
+//! move's end perpendicular to the entry move), so the first element's start and the last
+//! element's end are left out. It prints 4 decimals: tolerance 2e-4 mm.
+//!
+//! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
+//! set (CI sets it after installing linuxcnc-uspace), where a missing oracle fails.
+
+use nc_kernel::segment::{Role, Segment, Shape};
+use nc_kernel::{prepare, MachineData, ToolTable};
+use std::process::Command;
+
+const TOL: f64 = 2e-4;
+
+fn rs274_present() -> bool {
+    let ok = Command::new("rs274")
+        .arg("-h")
+        .output()
+        .map(|_| true)
+        .unwrap_or(false);
+    if !ok {
+        if std::env::var_os("SOFTNC_REQUIRE_ORACLES").is_some() {
+            panic!("rs274 not found, and SOFTNC_REQUIRE_ORACLES is set (install linuxcnc-uspace)");
+        }
+        eprintln!("rs274 not found: oracle comparison skipped (install linuxcnc-uspace)");
+    }
+    ok
+}
+
+/// One programmed element of a closed or open chain, in absolute XY.
+#[derive(Clone, Copy, Debug)]
+enum El {
+    Line(f64, f64),
+    /// End point, centre, counter-clockwise.
+    Arc(f64, f64, f64, f64, bool),
+}
+
+/// A move as both controls see it: end point and, for arcs, centre and direction.
+#[derive(Clone, Copy, Debug)]
+struct Mv {
+    end: (f64, f64),
+    arc: Option<((f64, f64), bool)>,
+}
+
+/// The contour as an 840C program and as an rs274 program: start point, G41/G42 selection
+/// line to `first`, the chain, G40 line to `exit`.
+fn programs(
+    start: (f64, f64),
+    first: (f64, f64),
+    chain: &[El],
+    exit: (f64, f64),
+    left: bool,
+    r: f64,
+) -> (String, String) {
+    let mut body = String::new();
+    let mut cur = first;
+    for e in chain {
+        match *e {
+            El::Line(x, y) => {
+                body.push_str(&format!("G1 X{x} Y{y}\n"));
+                cur = (x, y);
+            }
+            El::Arc(x, y, cx, cy, ccw) => {
+                let g = if ccw { 3 } else { 2 };
+                body.push_str(&format!("G{g} X{x} Y{y} I{} J{}\n", cx - cur.0, cy - cur.1));
+                cur = (x, y);
+            }
+        }
+    }
+    let side = if left { 41 } else { 42 };
+    let siemens = format!(
+        "G0 G17 G90 D1 X{} Y{} Z0\nG1 F100 G450\nG{side} X{} Y{}\n{body}G1 G40 X{} Y{}\nM30\n",
+        start.0, start.1, first.0, first.1, exit.0, exit.1
+    );
+    let ngc = format!(
+        "G21 G17 G90 G64\nG0 X{} Y{} Z0\nG{side}.1 D{}\nG1 X{} Y{} F100\n{body}G40 G1 X{} Y{}\nM2\n",
+        start.0,
+        start.1,
+        2.0 * r,
+        first.0,
+        first.1,
+        exit.0,
+        exit.1
+    );
+    (siemens, ngc)
+}
+
+fn numbers(s: &str) -> Vec<f64> {
+    let inner = &s[s.find('(').unwrap() + 1..s.rfind(')').unwrap()];
+    inner
+        .split(',')
+        .map(|t| t.trim().parse().unwrap())
+        .collect()
+}
+
+fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
+    let dir = std::env::temp_dir().join(format!("softnc-oracle-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("p.ngc");
+    std::fs::write(&file, ngc).unwrap();
+    let out = Command::new("rs274")
+        .arg("-g")
+        .arg(&file)
+        .output()
+        .expect("rs274 runs");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut moves = Vec::new();
+    for line in text.lines() {
+        if line.contains("STRAIGHT_FEED(") {
+            let n = numbers(line);
+            moves.push(Mv {
+                end: (n[0], n[1]),
+                arc: None,
+            });
+        } else if line.contains("ARC_FEED(") {
+            let n = numbers(line);
+            moves.push(Mv {
+                end: (n[0], n[1]),
+                arc: Some(((n[2], n[3]), n[4] > 0.0)),
+            });
+        }
+    }
+    assert!(
+        !text.contains("rror") || !moves.is_empty(),
+        "rs274 failed:\n{text}\n{ngc}"
+    );
+    moves
+}
+
+/// softnc's interior: the moves after the first contour segment, up to the last one.
+fn interior(p: &[Segment]) -> (Vec<Mv>, (f64, f64)) {
+    let first = p.iter().position(|s| s.role == Role::Contour).unwrap();
+    let last = p.iter().rposition(|s| s.role == Role::Contour).unwrap();
+    let mv = p[first + 1..last]
+        .iter()
+        .map(|s| Mv {
+            end: (s.to[0], s.to[1]),
+            arc: match s.shape {
+                Shape::Arc { center, ccw, .. } => Some(((center[0], center[1]), ccw)),
+                Shape::Line => None,
+            },
+        })
+        .collect();
+    (mv, (p[first].to[0], p[first].to[1]))
+}
+
+fn near(a: (f64, f64), b: (f64, f64)) -> bool {
+    (a.0 - b.0).abs() <= TOL && (a.1 - b.1).abs() <= TOL
+}
+
+fn compare(
+    name: &str,
+    start: (f64, f64),
+    first: (f64, f64),
+    chain: &[El],
+    exit: (f64, f64),
+    left: bool,
+    r: f64,
+) {
+    let (mpf, ngc) = programs(start, first, chain, exit, left, r);
+    let mut tools = ToolTable::builtin();
+    tools.set_radius(1, r).unwrap();
+    let p = prepare(name, &mpf, &MachineData::default(), &tools)
+        .unwrap_or_else(|a| panic!("{name}: softnc alarm {a}\n{mpf}"));
+    let theirs = run_rs274(&ngc, name);
+    let (ours, anchor) = interior(&p);
+    let k = theirs
+        .iter()
+        .position(|m| near(m.end, anchor))
+        .unwrap_or_else(|| {
+            panic!("{name}: rs274 never reaches {anchor:?}\nrs274: {theirs:?}\n{ngc}")
+        });
+    for (i, m) in ours.iter().enumerate() {
+        let t = theirs
+            .get(k + 1 + i)
+            .unwrap_or_else(|| panic!("{name}: rs274 path ends early"));
+        assert!(
+            near(m.end, t.end),
+            "{name}: move {i}: softnc ends at {:?}, rs274 at {:?}\n{mpf}",
+            m.end,
+            t.end
+        );
+        match (m.arc, t.arc) {
+            (None, None) => {}
+            (Some((c, ccw)), Some((tc, tccw))) => {
+                assert!(
+                    near(c, tc) && ccw == tccw,
+                    "{name}: move {i}: arc {c:?}/{ccw} vs {tc:?}/{tccw}"
+                )
+            }
+            _ => panic!("{name}: move {i}: softnc {m:?}, rs274 {t:?}\n{mpf}"),
+        }
+    }
+}
+
+/// Deterministic pseudo-random numbers for the generated contours.
+struct Lcg(u64);
+impl Lcg {
+    fn unit(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+}
+
+/// A vertex the chain runs to, with the centre of the arc that leads there (if it is one).
+type Vertex = (f64, f64, Option<(f64, f64)>);
+
+/// A convex polygon (counter-clockwise) with some edges bulging outwards as G3 arcs; turns
+/// at the vertices are kept well above rs274's 0.05 rad "tangent" threshold.
+fn convex_chain(rng: &mut Lcg) -> Vec<Vertex> {
+    let n = 4 + (rng.unit() * 5.0) as usize;
+    let mut angles = Vec::new();
+    let step = std::f64::consts::TAU / n as f64;
+    for i in 0..n {
+        angles.push(i as f64 * step + rng.range(0.0, step - 0.5));
+    }
+    let rad = rng.range(40.0, 80.0);
+    let pts: Vec<(f64, f64)> = angles
+        .iter()
+        .map(|a| (rad * a.cos(), rad * a.sin()))
+        .collect();
+    let mut out = Vec::new();
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        let centre = if rng.unit() < 0.4 {
+            // Outward bulge: centre inside on the bisector, half-angle 0.05..0.12 rad.
+            let (mx, my) = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let l = (dx * dx + dy * dy).sqrt();
+            let half = rng.range(0.05, 0.12);
+            let k = (l / 2.0) / half.tan();
+            Some((mx - dy / l * k, my + dx / l * k))
+        } else {
+            None
+        };
+        out.push((b.0, b.1, centre));
+    }
+    out
+}
+
+/// The chain counter-clockwise: bulges are G3 arcs.
+fn to_chain(v: &[Vertex]) -> Vec<El> {
+    v.iter()
+        .map(|&(x, y, c)| match c {
+            Some((cx, cy)) => El::Arc(x, y, cx, cy, true),
+            None => El::Line(x, y),
+        })
+        .collect()
+}
+
+#[test]
+fn g450_interior_matches_rs274_on_the_workpiece_shape() {
+    if !rs274_present() {
+        return;
+    }
+    // The 11.15 workpiece contour (G41, radius 10) as a chain.
+    let chain = [
+        El::Line(40.0, 80.0),
+        El::Arc(65.0, 55.0, 40.0, 55.0, false),
+        El::Line(95.0, 55.0),
+        El::Arc(110.0, 70.0, 110.0, 55.0, false),
+        El::Line(105.0, 55.0),
+        El::Line(110.0, 35.0),
+        El::Line(90.0, 35.0),
+        El::Line(65.0, 15.0),
+        El::Line(40.0, 40.0),
+        El::Line(30.0, 60.0),
+    ];
+    compare(
+        "workpiece",
+        (15.0, 60.0),
+        (30.0, 60.0),
+        &chain,
+        (15.0, 60.0),
+        true,
+        10.0,
+    );
+    compare(
+        "workpiece-r3",
+        (15.0, 60.0),
+        (30.0, 60.0),
+        &chain,
+        (15.0, 60.0),
+        true,
+        3.0,
+    );
+}
+
+#[test]
+fn g450_interior_matches_rs274_on_generated_contours() {
+    if !rs274_present() {
+        return;
+    }
+    let mut rng = Lcg(0x0dd5eed);
+    for case in 0..40 {
+        let v = convex_chain(&mut rng);
+        let n = v.len();
+        let first = (v[n - 1].0, v[n - 1].1);
+        let chain = to_chain(&v);
+        // Outside (G42 on a counter-clockwise contour): every corner convex.
+        let r = rng.range(0.5, 8.0);
+        let start = (first.0 * 2.0, first.1 * 2.0);
+        compare(
+            &format!("outer{case}"),
+            start,
+            first,
+            &chain,
+            start,
+            false,
+            r,
+        );
+        // Inside (G41): every corner concave; a small radius so that the tool fits.
+        let r = rng.range(0.2, 2.0);
+        compare(
+            &format!("inner{case}"),
+            start,
+            first,
+            &chain,
+            start,
+            true,
+            r,
+        );
+    }
+}
