@@ -19,7 +19,7 @@ const POW10: [f64; 16] = [
 /// Parses a number at `b[i..]`. Returns the number and the index after it, or `None` if no
 /// digit is there. Overlong or overflowing values fall back to the standard parser; an
 /// infinite result is rejected.
-#[inline]
+#[inline(always)]
 pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
     let (neg, int_start) = match b.get(start) {
         Some(b'-') => (true, start + 1),
