@@ -6,7 +6,7 @@ use super::arc::{self, ArcError, CentreSpec};
 use super::block::*;
 use super::control::{self, ControlStmt, Frame};
 use super::expr::{self, Variables, Written};
-use super::lexer::{column, Cursor};
+use super::lexer::{column, find_byte, Cursor};
 use super::number::{self, Number};
 use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::{Dialect, GEffect, RadiusWord, Semicolon};
@@ -73,6 +73,14 @@ impl Words {
             && self.diameter.is_none()
             && !self.calculation
     }
+}
+
+/// How the word loop goes on after [`Interpreter::special`].
+enum Next {
+    Continue,
+    Break,
+    /// A one-letter address: read its value.
+    Address(u8),
 }
 
 /// An alarm position before it is turned into line:column.
@@ -246,25 +254,29 @@ impl<'a> Interpreter<'a> {
         let b = self.src;
         let mut i = start;
         if self.d.semicolon == Semicolon::EndOfBlock {
+            // Fanuc: `;` ends the block, except inside a comment.
             let mut depth = 0u32;
-            while let Some(&c) = b.get(i) {
-                match c {
-                    b'\n' => break,
-                    b'(' => depth += 1,
-                    b')' => depth = depth.saturating_sub(1),
-                    b';' if depth == 0 => {
+            loop {
+                i = if depth == 0 {
+                    find_byte(b, i, [b'\n', b'(', b';'])
+                } else {
+                    find_byte(b, i, [b'\n', b'(', b')'])
+                };
+                match b.get(i) {
+                    None | Some(b'\n') => break,
+                    Some(b'(') => depth += 1,
+                    // only looked for inside a comment, so depth > 0
+                    Some(b')') => depth -= 1,
+                    Some(_) => {
+                        // `;` outside a comment
                         self.pos = i + 1;
                         return Some((start, i));
                     }
-                    _ => {}
                 }
                 i += 1;
             }
         } else {
-            i = match memchr::memchr(b'\n', &b[start..]) {
-                Some(k) => start + k,
-                None => b.len(),
-            };
+            i = find_byte(b, start, [b'\n']);
         }
         self.pos = (i + 1).min(b.len().max(i + 1));
         self.line += 1;
@@ -357,167 +369,18 @@ impl<'a> Interpreter<'a> {
             c.skip_blanks();
             let Some(ch) = c.peek() else { break };
             let at = c.i;
-            match ch {
-                b'(' => {
-                    if !c.skip_comment() {
-                        if d.variables {
-                            // ISG: `(` alone comments out the rest of the block.
-                            break;
-                        }
-                        return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
-                    }
-                    continue;
+            let upper = ch.to_ascii_uppercase();
+            // G, X, Y, Z, I, J, K are plain addresses in every dialect and start no longer
+            // word: the bulk of any program, so they skip the checks in `special`.
+            let letter = if matches!(upper, b'G' | b'I'..=b'K' | b'X'..=b'Z') {
+                upper
+            } else {
+                match self.special(c, w, ch, at)? {
+                    Next::Continue => continue,
+                    Next::Break => break,
+                    Next::Address(letter) => letter,
                 }
-                b';' => break, // comment (Siemens, ISG); Fanuc's ';' never gets here
-                _ => {}
-            }
-            let Some(letter) = c.letter() else {
-                if d.at_commands && ch == b'@' {
-                    c.i += 1;
-                    let (n, next) = number::parse(c.b, c.i)
-                        .filter(|(n, e)| *e <= c.end && !n.has_point)
-                        .ok_or_else(|| {
-                            fault(
-                                AlarmCode::Syntax,
-                                at,
-                                "@ must be followed by a command number",
-                            )
-                        })?;
-                    c.i = next;
-                    let code = int_value(n.value, at, "@ command")?;
-                    push(&mut w.at_codes, (code, at as u32), at)?;
-                    continue;
-                }
-                if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
-                    if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
-                        c.i = next;
-                        w.bare = Some(Val::new(n, at));
-                        continue;
-                    }
-                }
-                let shown = std::str::from_utf8(&c.b[at..c.end])
-                    .ok()
-                    .and_then(|s| s.chars().next())
-                    .unwrap_or('?');
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    at,
-                    format!("unexpected character '{shown}'"),
-                ));
             };
-            // Multi-letter words first: they start with L (LF), C (CR=), D (DIAMON/DIAMOF) or
-            // V (V. variables); any other letter is a plain address, the common case.
-            if matches!(letter, b'L' | b'C' | b'D' | b'V') {
-                if d.lf_block_end
-                    && letter == b'L'
-                    && matches!(c.peek_at(1), Some(b'F' | b'f'))
-                    && !matches!(c.peek_at(2), Some(x) if x.is_ascii_alphanumeric() || x == b'.' || x == b'-' || x == b'+')
-                {
-                    // 840C listings: `LF` ends the block; only comments may follow.
-                    c.i += 2;
-                    loop {
-                        c.skip_blanks();
-                        match c.peek() {
-                            None | Some(b';') => break,
-                            Some(b'(') => {
-                                if !c.skip_comment() {
-                                    return Err(fault(
-                                        AlarmCode::Syntax,
-                                        c.i,
-                                        "comment not closed with ')'",
-                                    ));
-                                }
-                            }
-                            Some(_) => {
-                                return Err(fault(
-                                    AlarmCode::Syntax,
-                                    c.i,
-                                    "nothing but a comment may follow LF (end of block)",
-                                ))
-                            }
-                        }
-                    }
-                    break;
-                }
-                if d.radius_word == RadiusWord::CrEquals
-                    && letter == b'C'
-                    && matches!(c.peek_at(1), Some(b'R' | b'r'))
-                {
-                    c.i += 2;
-                    c.skip_blanks();
-                    if c.peek() != Some(b'=') {
-                        return Err(fault(AlarmCode::Syntax, at, "CR must be followed by '='"));
-                    }
-                    c.i += 1;
-                    let v = self.value(c, at, "CR=")?;
-                    set_once(&mut w.radius, v, "CR=")?;
-                    continue;
-                }
-                if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
-                    let on = c.keyword("DIAMON");
-                    c.i += 6;
-                    if w.diameter.replace(on).is_some() {
-                        return Err(fault(
-                            AlarmCode::AddressTwice,
-                            at,
-                            "DIAMON/DIAMOF twice in one block",
-                        ));
-                    }
-                    continue;
-                }
-                if d.variables && expr::at_variable(c) {
-                    let name = c.name();
-                    c.skip_blanks();
-                    if c.peek() != Some(b'=') || c.peek_at(1) == Some(b'=') {
-                        return Err(fault(
-                            AlarmCode::Syntax,
-                            c.i,
-                            format!("'=' expected after {name}"),
-                        ));
-                    }
-                    c.i += 1;
-                    let value =
-                        expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
-                    let written = self
-                        .vars
-                        .set(&name, value)
-                        .map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
-                    if written == Written::ToolRadius {
-                        w.radius_written = Some(at as u32);
-                    }
-                    w.calculation = true;
-                    continue;
-                }
-            }
-            let known = matches!(
-                letter,
-                b'G' | b'X'
-                    | b'Y'
-                    | b'Z'
-                    | b'I'
-                    | b'J'
-                    | b'K'
-                    | b'F'
-                    | b'D'
-                    | b'T'
-                    | b'M'
-                    | b'S'
-                    | b'H'
-                    | b'N'
-            ) || (letter == b'R' && d.radius_word == RadiusWord::R)
-                || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
-                || (letter == b'P' && d.dwell.p_millis);
-            if !known {
-                return Err(fault(
-                    AlarmCode::UnknownAddress,
-                    at,
-                    format!(
-                        "address {} is not defined in the {} dialect",
-                        letter as char,
-                        d.name.as_str()
-                    ),
-                ));
-            }
             c.i += 1;
             let v = self.value(c, at, "")?;
             let name = letter as char;
@@ -617,6 +480,177 @@ impl<'a> Interpreter<'a> {
             }
         }
         Ok(())
+    }
+
+    /// Everything at a word's start but the plain addresses: comments, `@` commands, an ISG
+    /// bare dwell time, multi-letter words and unknown addresses. Says how the word loop goes
+    /// on, or returns the address letter for the loop to read.
+    #[inline(never)]
+    fn special(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
+        let d = self.d;
+        match ch {
+            b'(' => {
+                if !c.skip_comment() {
+                    if d.variables {
+                        // ISG: `(` alone comments out the rest of the block.
+                        return Ok(Next::Break);
+                    }
+                    return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
+                }
+                return Ok(Next::Continue);
+            }
+            // comment (Siemens, ISG); Fanuc's ';' never gets here
+            b';' => return Ok(Next::Break),
+            _ => {}
+        }
+        let Some(letter) = c.letter() else {
+            if d.at_commands && ch == b'@' {
+                c.i += 1;
+                let (n, next) = number::parse(c.b, c.i)
+                    .filter(|(n, e)| *e <= c.end && !n.has_point)
+                    .ok_or_else(|| {
+                        fault(
+                            AlarmCode::Syntax,
+                            at,
+                            "@ must be followed by a command number",
+                        )
+                    })?;
+                c.i = next;
+                let code = int_value(n.value, at, "@ command")?;
+                push(&mut w.at_codes, (code, at as u32), at)?;
+                return Ok(Next::Continue);
+            }
+            if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
+                if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+                    c.i = next;
+                    w.bare = Some(Val::new(n, at));
+                    return Ok(Next::Continue);
+                }
+            }
+            let shown = std::str::from_utf8(&c.b[at..c.end])
+                .ok()
+                .and_then(|s| s.chars().next())
+                .unwrap_or('?');
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                format!("unexpected character '{shown}'"),
+            ));
+        };
+        // Multi-letter words: they start with L (LF), C (CR=), D (DIAMON/DIAMOF) or
+        // V (V. variables).
+        if matches!(letter, b'L' | b'C' | b'D' | b'V') {
+            if d.lf_block_end
+                && letter == b'L'
+                && matches!(c.peek_at(1), Some(b'F' | b'f'))
+                && !matches!(c.peek_at(2), Some(x) if x.is_ascii_alphanumeric() || x == b'.' || x == b'-' || x == b'+')
+            {
+                // 840C listings: `LF` ends the block; only comments may follow.
+                c.i += 2;
+                loop {
+                    c.skip_blanks();
+                    match c.peek() {
+                        None | Some(b';') => break,
+                        Some(b'(') => {
+                            if !c.skip_comment() {
+                                return Err(fault(
+                                    AlarmCode::Syntax,
+                                    c.i,
+                                    "comment not closed with ')'",
+                                ));
+                            }
+                        }
+                        Some(_) => {
+                            return Err(fault(
+                                AlarmCode::Syntax,
+                                c.i,
+                                "nothing but a comment may follow LF (end of block)",
+                            ))
+                        }
+                    }
+                }
+                return Ok(Next::Break);
+            }
+            if d.radius_word == RadiusWord::CrEquals
+                && letter == b'C'
+                && matches!(c.peek_at(1), Some(b'R' | b'r'))
+            {
+                c.i += 2;
+                c.skip_blanks();
+                if c.peek() != Some(b'=') {
+                    return Err(fault(AlarmCode::Syntax, at, "CR must be followed by '='"));
+                }
+                c.i += 1;
+                let v = self.value(c, at, "CR=")?;
+                set_once(&mut w.radius, v, "CR=")?;
+                return Ok(Next::Continue);
+            }
+            if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
+                let on = c.keyword("DIAMON");
+                c.i += 6;
+                if w.diameter.replace(on).is_some() {
+                    return Err(fault(
+                        AlarmCode::AddressTwice,
+                        at,
+                        "DIAMON/DIAMOF twice in one block",
+                    ));
+                }
+                return Ok(Next::Continue);
+            }
+            if d.variables && expr::at_variable(c) {
+                let name = c.name();
+                c.skip_blanks();
+                if c.peek() != Some(b'=') || c.peek_at(1) == Some(b'=') {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        c.i,
+                        format!("'=' expected after {name}"),
+                    ));
+                }
+                c.i += 1;
+                let value =
+                    expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+                let written = self
+                    .vars
+                    .set(&name, value)
+                    .map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
+                if written == Written::ToolRadius {
+                    w.radius_written = Some(at as u32);
+                }
+                w.calculation = true;
+                return Ok(Next::Continue);
+            }
+        }
+        let known = matches!(
+            letter,
+            b'G' | b'X'
+                | b'Y'
+                | b'Z'
+                | b'I'
+                | b'J'
+                | b'K'
+                | b'F'
+                | b'D'
+                | b'T'
+                | b'M'
+                | b'S'
+                | b'H'
+                | b'N'
+        ) || (letter == b'R' && d.radius_word == RadiusWord::R)
+            || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
+            || (letter == b'P' && d.dwell.p_millis);
+        if !known {
+            return Err(fault(
+                AlarmCode::UnknownAddress,
+                at,
+                format!(
+                    "address {} is not defined in the {} dialect",
+                    letter as char,
+                    d.name.as_str()
+                ),
+            ));
+        }
+        Ok(Next::Address(letter))
     }
 
     /// The value after an address: a number, or in the ISG dialect an expression operand.
