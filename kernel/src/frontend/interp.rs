@@ -9,7 +9,7 @@ use super::expr::{self, Variables, Written};
 use super::lexer::{column, find_byte, Cursor};
 use super::number::{self, Number};
 use crate::alarm::{Alarm, AlarmCode};
-use crate::dialect::{Dialect, GEffect, RadiusWord, Semicolon};
+use crate::dialect::{Dialect, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::machine_data::{DecimalInput, MachineData, PlaneName, Units};
 use crate::tools::ToolTable;
 
@@ -398,11 +398,11 @@ impl<'a> Interpreter<'a> {
                 }
                 b'X' | b'Y' | b'Z' => {
                     let i = (letter - b'X') as usize;
-                    set_once(&mut w.axis[i], v, AXIS_NAMES[i].encode_utf8(&mut [0; 4]))?;
+                    set_once(&mut w.axis[i], v, AXIS_WORDS[i])?;
                 }
                 b'I' | b'J' | b'K' => {
                     let i = (letter - b'I') as usize;
-                    set_once(&mut w.centre[i], v, ["I", "J", "K"][i])?;
+                    set_once(&mut w.centre[i], v, CENTRE_WORDS[i])?;
                 }
                 b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R")?,
                 b'A' if d.polar_words => set_once(&mut w.angle, v, "A")?,
@@ -744,7 +744,8 @@ impl<'a> Interpreter<'a> {
         let blk = &mut self.block;
 
         // G codes: look up, check groups and TRC restrictions, then apply.
-        let mut effects: heapless::Vec<(GEffect, u16, u32), 16> = heapless::Vec::new();
+        // Table rows, not copies of them: the common block has one or two G codes.
+        let mut effects: heapless::Vec<(&'static GCodeDef, u32), 16> = heapless::Vec::new();
         for &(code, at) in &w.g {
             let def = d.gcode(code).ok_or_else(|| {
                 fault(
@@ -753,14 +754,14 @@ impl<'a> Interpreter<'a> {
                     format!("G{code} is not a {} G code", d.name.as_str()),
                 )
             })?;
-            if let Some((_, other, _)) = effects
+            if let Some((other, _)) = effects
                 .iter()
-                .find(|(e, _, _)| Dialect::same_group(*e, def.effect))
+                .find(|(e, _)| Dialect::same_group(e.effect, def.effect))
             {
                 return Err(fault(
                     AlarmCode::SameGroupTwice,
                     at,
-                    format!("G{code} and G{other} belong to the same group"),
+                    format!("G{code} and G{} belong to the same group", other.code),
                 ));
             }
             if let (GEffect::Plane(p), true) = (def.effect, old_trc != TrcSide::Off) {
@@ -786,7 +787,7 @@ impl<'a> Interpreter<'a> {
                     format!("{what} is not supported by softnc"),
                 ));
             }
-            let _ = effects.push((def.effect, code, at));
+            let _ = effects.push((def, at));
         }
         for &(code, at) in &w.at_codes {
             if code != 714 {
@@ -809,7 +810,7 @@ impl<'a> Interpreter<'a> {
         let mut dwell = false;
         let mut working_area: Option<bool> = None;
         let mut trc_code_at = None;
-        for &(effect, code, at) in &effects {
+        for &(&GCodeDef { code, effect, .. }, at) in &effects {
             match effect {
                 GEffect::Motion(m) => new.motion = m,
                 GEffect::Dwell => dwell = true,
@@ -1010,8 +1011,7 @@ impl<'a> Interpreter<'a> {
                 }
             }
         } else {
-            let motion = self.motion(w, &mut new, block_col)?;
-            self.block.motion = motion;
+            self.motion(w, &mut new, block_col)?;
         }
 
         let blk = &mut self.block;
@@ -1038,8 +1038,8 @@ impl<'a> Interpreter<'a> {
         Ok(true)
     }
 
-    /// The block's motion, if it has one.
-    fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<Option<Motion>> {
+    /// Sets the block's motion, if it has one (written in place: `Motion` is large).
+    fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let units = new.units;
         let offset = self.md.zero_offsets.get(new.work_offset);
         let plane = new.plane;
@@ -1083,7 +1083,7 @@ impl<'a> Interpreter<'a> {
                 };
             }
             if w.angle.is_none() && w.polar_radius.is_none() && w.axis[normal].is_none() {
-                return Ok(None);
+                return Ok(());
             }
             let (rx, ry) = (start[pa] - new.pole[pa], start[po] - new.pole[po]);
             let r_now = libm::hypot(rx, ry);
@@ -1141,14 +1141,15 @@ impl<'a> Interpreter<'a> {
                 ));
             }
             self.check_area(&end, block_col)?;
-            return Ok(Some(Motion {
+            self.block.motion = Some(Motion {
                 kind: mode.kind(),
                 plane,
                 start,
                 end,
                 center: if arc { centre } else { end },
                 programmed,
-            }));
+            });
+            return Ok(());
         }
 
         for (i, a) in w.axis.iter().enumerate() {
@@ -1181,7 +1182,7 @@ impl<'a> Interpreter<'a> {
             ));
         }
         if programmed == 0 && !(arc && has_centre) {
-            return Ok(None);
+            return Ok(());
         }
         if feed_needed && new.feed <= 0.0 {
             return Err(fault(
@@ -1256,14 +1257,15 @@ impl<'a> Interpreter<'a> {
             })?;
         }
         self.check_area(&end, block_col)?;
-        Ok(Some(Motion {
+        self.block.motion = Some(Motion {
             kind: mode.kind(),
             plane,
             start,
             end,
             center: centre,
             programmed,
-        }))
+        });
+        Ok(())
     }
 
     /// 840C G25/G26: end points must stay inside the working area.
@@ -1512,7 +1514,14 @@ fn push<T, const N: usize>(v: &mut heapless::Vec<T, N>, x: T, at: usize) -> R<()
     })
 }
 
-fn set_once(slot: &mut Option<Val>, v: Val, name: &str) -> R<()> {
+/// Word names for alarms, as statics: an array literal at the call would be built on the
+/// stack for every word.
+static AXIS_WORDS: [&str; 3] = ["X", "Y", "Z"];
+static CENTRE_WORDS: [&str; 3] = ["I", "J", "K"];
+
+/// `name` is `&'static` so that callers pass a constant, not a string built for every word.
+#[inline(always)]
+fn set_once(slot: &mut Option<Val>, v: Val, name: &'static str) -> R<()> {
     if slot.is_some() {
         return Err(fault(
             AlarmCode::AddressTwice,
