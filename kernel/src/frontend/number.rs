@@ -39,7 +39,8 @@ pub fn parse(b: &[u8], start: usize) -> Option<(Number, usize)> {
     }
     let value = match POW10.get(frac) {
         // Exact: mantissa < 10^15 < 2^53 and 10^frac with frac <= 15 are exact f64s.
-        Some(&scale) if ndigits <= 15 => mantissa as f64 / scale,
+        // (As i64: mantissa < 2^63 here, and the signed conversion is one instruction.)
+        Some(&scale) if ndigits <= 15 => mantissa as i64 as f64 / scale,
         _ => {
             let text = std::str::from_utf8(b.get(int_start..end)?).ok()?;
             let v: f64 = text.parse().ok()?;
