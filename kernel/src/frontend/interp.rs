@@ -670,7 +670,7 @@ impl<'a> Interpreter<'a> {
     #[inline(never)]
     fn value_slow(&mut self, c: &mut Cursor, at: usize, what: &str) -> R<Val> {
         if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
-            // The common case: the number follows the address directly.
+            // A number right after the address, out of range if it got here: `checked` says so.
             c.i = next;
             return checked(Val::new(n, at));
         }
