@@ -6,33 +6,41 @@ use super::arc::{self, ArcError, CentreSpec};
 use super::block::*;
 use super::control::{self, ControlStmt, Frame};
 use super::expr::{self, Variables, Written};
-use super::lexer::{column, Cursor};
+use super::lexer::{column, find_byte, Cursor};
 use super::number::{self, Number};
 use crate::alarm::{Alarm, AlarmCode};
-use crate::dialect::{Dialect, GEffect, RadiusWord, Semicolon};
+use crate::dialect::{Dialect, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::machine_data::{DecimalInput, MachineData, PlaneName, Units};
 use crate::tools::ToolTable;
 
-/// A value as written, with the byte offset of its address letter.
+/// A value as written, with the byte offset of its address letter. Flat rather than holding
+/// a [`Number`], so that it packs into 16 bytes and `Option<Val>` stays 16 bytes too.
 #[derive(Clone, Copy, Debug)]
 struct Val {
-    n: Number,
+    value: f64,
     at: u32,
+    /// A decimal point was written.
+    has_point: bool,
 }
 
 impl Val {
     fn new(n: Number, at: usize) -> Self {
-        Val { n, at: at as u32 }
+        Val {
+            value: n.value,
+            at: at as u32,
+            has_point: n.has_point,
+        }
     }
     fn pos(self) -> usize {
         self.at as usize
     }
 }
 
-/// The words of one block, collected before they are interpreted.
+/// The words of one block, collected before they are interpreted (a G code may follow the
+/// axis words it governs). The auxiliary words go straight into the block being built.
 #[derive(Default)]
 struct Words {
-    g: heapless::Vec<(u16, usize), 16>,
+    g: heapless::Vec<(u16, u32), 16>,
     axis: [Option<Val>; 3],
     centre: [Option<Val>; 3],
     radius: Option<Val>,
@@ -44,14 +52,14 @@ struct Words {
     d: Option<Val>,
     t: Option<Val>,
     m: heapless::Vec<Val, 8>,
-    aux: heapless::Vec<AuxWord, MAX_AUX_WORDS>,
-    at_codes: heapless::Vec<(u32, usize), 4>,
+    at_codes: heapless::Vec<(u32, u32), 4>,
     diameter: Option<bool>,
-    radius_written: Option<usize>,
+    radius_written: Option<u32>,
     calculation: bool,
 }
 
 impl Words {
+    /// No word at all besides the auxiliary ones (which the caller checks).
     fn is_empty(&self) -> bool {
         self.g.is_empty()
             && self.axis.iter().all(Option::is_none)
@@ -61,11 +69,18 @@ impl Words {
             && self.polar_radius.is_none()
             && self.p.is_none()
             && self.bare.is_none()
-            && self.aux.is_empty()
             && self.at_codes.is_empty()
             && self.diameter.is_none()
             && !self.calculation
     }
+}
+
+/// How the word loop goes on after [`Interpreter::special`].
+enum Next {
+    Continue,
+    Break,
+    /// A one-letter address: read its value.
+    Address(u8),
 }
 
 /// An alarm position before it is turned into line:column.
@@ -90,15 +105,17 @@ impl Offset for u32 {
     }
 }
 
-fn fault(code: AlarmCode, at: impl Offset, message: impl Into<String>) -> Fault {
-    Fault {
+/// Boxed, so that the `Result`s on the hot path stay small; it is built only on an alarm.
+#[cold]
+fn fault(code: AlarmCode, at: impl Offset, message: impl Into<String>) -> Box<Fault> {
+    Box::new(Fault {
         code,
         at: at.offset(),
         message: message.into(),
-    }
+    })
 }
 
-type R<T> = Result<T, Fault>;
+type R<T> = Result<T, Box<Fault>>;
 
 /// Streams interpreted blocks out of one part program.
 pub struct Interpreter<'a> {
@@ -116,7 +133,6 @@ pub struct Interpreter<'a> {
     blk_line: u32,
     blk_line_start: usize,
     blk_number: Option<BlockNo>,
-    state: ModalState,
     cur: Pos,
     vars: Variables,
     frames: Vec<Frame>,
@@ -129,7 +145,8 @@ pub struct Interpreter<'a> {
     finished: bool,
     /// The block text where the last `skip_to` stopped.
     last_skip: (usize, usize),
-    /// The block handed out last (kept here so that it is not moved through every layer).
+    /// The block handed out last, built in place (it is not moved through every layer). Its
+    /// `modal` is the interpreter's modal state: it changes only when a block is complete.
     block: Block,
 }
 
@@ -181,7 +198,6 @@ impl<'a> Interpreter<'a> {
             blk_line: 1,
             blk_line_start: 0,
             blk_number: None,
-            state,
             cur: [0.0; 3],
             vars: Variables::default(),
             frames: Vec::new(),
@@ -208,7 +224,7 @@ impl<'a> Interpreter<'a> {
 
     /// The modal state after the last block handed out.
     pub fn state(&self) -> &ModalState {
-        &self.state
+        &self.block.modal
     }
 
     /// The position after the last block handed out.
@@ -238,25 +254,29 @@ impl<'a> Interpreter<'a> {
         let b = self.src;
         let mut i = start;
         if self.d.semicolon == Semicolon::EndOfBlock {
+            // Fanuc: `;` ends the block, except inside a comment.
             let mut depth = 0u32;
-            while let Some(&c) = b.get(i) {
-                match c {
-                    b'\n' => break,
-                    b'(' => depth += 1,
-                    b')' => depth = depth.saturating_sub(1),
-                    b';' if depth == 0 => {
+            loop {
+                i = if depth == 0 {
+                    find_byte(b, i, [b'\n', b'(', b';'])
+                } else {
+                    find_byte(b, i, [b'\n', b'(', b')'])
+                };
+                match b.get(i) {
+                    None | Some(b'\n') => break,
+                    Some(b'(') => depth += 1,
+                    // only looked for inside a comment, so depth > 0
+                    Some(b')') => depth -= 1,
+                    Some(_) => {
+                        // `;` outside a comment
                         self.pos = i + 1;
                         return Some((start, i));
                     }
-                    _ => {}
                 }
                 i += 1;
             }
         } else {
-            i = match memchr::memchr(b'\n', &b[start..]) {
-                Some(k) => start + k,
-                None => b.len(),
-            };
+            i = find_byte(b, start, [b'\n']);
         }
         self.pos = (i + 1).min(b.len().max(i + 1));
         self.line += 1;
@@ -292,7 +312,7 @@ impl<'a> Interpreter<'a> {
                 Ok(false) => continue,
                 Err(f) => {
                     self.finished = true;
-                    return Err(self.alarm(f));
+                    return Err(self.alarm(*f));
                 }
             }
         }
@@ -333,8 +353,9 @@ impl<'a> Interpreter<'a> {
             return self.control(c).map(|()| false);
         }
         let mut words = Words::default();
+        self.block.words.clear();
         self.words(&mut c, &mut words)?;
-        if self.blk_number.is_none() && words.is_empty() {
+        if self.blk_number.is_none() && words.is_empty() && self.block.words.is_empty() {
             // A line holding only a comment is no block.
             return Ok(false);
         }
@@ -348,55 +369,177 @@ impl<'a> Interpreter<'a> {
             c.skip_blanks();
             let Some(ch) = c.peek() else { break };
             let at = c.i;
-            match ch {
-                b'(' => {
-                    if !c.skip_comment() {
-                        if d.variables {
-                            // ISG: `(` alone comments out the rest of the block.
-                            break;
-                        }
-                        return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
-                    }
-                    continue;
+            let upper = ch.to_ascii_uppercase();
+            // G, X, Y, Z, I, J, K are plain addresses in every dialect and start no longer
+            // word: the bulk of any program, so they skip the checks in `special`.
+            let letter = if matches!(upper, b'G' | b'I'..=b'K' | b'X'..=b'Z') {
+                upper
+            } else {
+                match self.special(c, w, ch, at)? {
+                    Next::Continue => continue,
+                    Next::Break => break,
+                    Next::Address(letter) => letter,
                 }
-                b';' => break, // comment (Siemens, ISG); Fanuc's ';' never gets here
-                _ => {}
-            }
-            let Some(letter) = c.letter() else {
-                if d.at_commands && ch == b'@' {
-                    c.i += 1;
-                    let (n, next) = number::parse(c.b, c.i)
-                        .filter(|(n, e)| *e <= c.end && !n.has_point)
-                        .ok_or_else(|| {
-                            fault(
-                                AlarmCode::Syntax,
-                                at,
-                                "@ must be followed by a command number",
-                            )
-                        })?;
-                    c.i = next;
-                    let code = int_value(n.value, at, "@ command")?;
-                    push(&mut w.at_codes, (code, at), at)?;
-                    continue;
-                }
-                if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
-                    if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
-                        c.i = next;
-                        w.bare = Some(Val::new(n, at));
-                        continue;
-                    }
-                }
-                let shown = std::str::from_utf8(&c.b[at..c.end])
-                    .ok()
-                    .and_then(|s| s.chars().next())
-                    .unwrap_or('?');
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    at,
-                    format!("unexpected character '{shown}'"),
-                ));
             };
-            // Multi-letter words first.
+            c.i += 1;
+            let v = self.value(c, at, "")?;
+            let name = letter as char;
+            match letter {
+                b'G' => {
+                    let code = int_value(v.value, at, "G code")?;
+                    if code >= 1000 {
+                        return Err(fault(
+                            AlarmCode::UnknownGCode,
+                            at,
+                            format!("G{code} is not a {} G code", d.name.as_str()),
+                        ));
+                    }
+                    push(&mut w.g, (code as u16, at as u32), at)?;
+                }
+                b'X' | b'Y' | b'Z' => {
+                    let i = (letter - b'X') as usize;
+                    set_once(&mut w.axis[i], v, AXIS_WORDS[i])?;
+                }
+                b'I' | b'J' | b'K' => {
+                    let i = (letter - b'I') as usize;
+                    set_once(&mut w.centre[i], v, CENTRE_WORDS[i])?;
+                }
+                b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R")?,
+                b'A' if d.polar_words => set_once(&mut w.angle, v, "A")?,
+                b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B")?,
+                b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P")?,
+                b'F' => {
+                    set_once(&mut w.f, v, "F")?;
+                    push(
+                        &mut self.block.words,
+                        AuxWord {
+                            address: b'F',
+                            value: v.value,
+                        },
+                        at,
+                    )?;
+                }
+                b'D' => {
+                    set_once(&mut w.d, v, "D")?;
+                    push(
+                        &mut self.block.words,
+                        AuxWord {
+                            address: b'D',
+                            value: v.value,
+                        },
+                        at,
+                    )?;
+                }
+                b'T' => {
+                    set_once(&mut w.t, v, "T")?;
+                    push(
+                        &mut self.block.words,
+                        AuxWord {
+                            address: b'T',
+                            value: v.value,
+                        },
+                        at,
+                    )?;
+                }
+                b'M' => {
+                    push(&mut w.m, v, at)?;
+                    push(
+                        &mut self.block.words,
+                        AuxWord {
+                            address: b'M',
+                            value: v.value,
+                        },
+                        at,
+                    )?;
+                }
+                b'S' | b'H' => push(
+                    &mut self.block.words,
+                    AuxWord {
+                        address: letter,
+                        value: v.value,
+                    },
+                    at,
+                )?,
+                b'N' => {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        at,
+                        "the block number N must come first in the block",
+                    ))
+                }
+                _ => {
+                    return Err(fault(
+                        AlarmCode::UnknownAddress,
+                        at,
+                        format!(
+                            "address {name} is not defined in the {} dialect",
+                            d.name.as_str()
+                        ),
+                    ))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Everything at a word's start but the plain addresses: comments, `@` commands, an ISG
+    /// bare dwell time, multi-letter words and unknown addresses. Says how the word loop goes
+    /// on, or returns the address letter for the loop to read.
+    #[inline(never)]
+    fn special(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
+        let d = self.d;
+        match ch {
+            b'(' => {
+                if !c.skip_comment() {
+                    if d.variables {
+                        // ISG: `(` alone comments out the rest of the block.
+                        return Ok(Next::Break);
+                    }
+                    return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
+                }
+                return Ok(Next::Continue);
+            }
+            // comment (Siemens, ISG); Fanuc's ';' never gets here
+            b';' => return Ok(Next::Break),
+            _ => {}
+        }
+        let Some(letter) = c.letter() else {
+            if d.at_commands && ch == b'@' {
+                c.i += 1;
+                let (n, next) = number::parse(c.b, c.i)
+                    .filter(|(n, e)| *e <= c.end && !n.has_point)
+                    .ok_or_else(|| {
+                        fault(
+                            AlarmCode::Syntax,
+                            at,
+                            "@ must be followed by a command number",
+                        )
+                    })?;
+                c.i = next;
+                let code = int_value(n.value, at, "@ command")?;
+                push(&mut w.at_codes, (code, at as u32), at)?;
+                return Ok(Next::Continue);
+            }
+            if d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
+                if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+                    c.i = next;
+                    w.bare = Some(Val::new(n, at));
+                    return Ok(Next::Continue);
+                }
+            }
+            let shown = std::str::from_utf8(&c.b[at..c.end])
+                .ok()
+                .and_then(|s| s.chars().next())
+                .unwrap_or('?');
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                format!("unexpected character '{shown}'"),
+            ));
+        };
+        // Multi-letter words: they start with L (LF), C (CR=), D (DIAMON/DIAMOF) or
+        // V (V. variables).
+        if matches!(letter, b'L' | b'C' | b'D' | b'V') {
             if d.lf_block_end
                 && letter == b'L'
                 && matches!(c.peek_at(1), Some(b'F' | b'f'))
@@ -426,7 +569,7 @@ impl<'a> Interpreter<'a> {
                         }
                     }
                 }
-                break;
+                return Ok(Next::Break);
             }
             if d.radius_word == RadiusWord::CrEquals
                 && letter == b'C'
@@ -440,7 +583,7 @@ impl<'a> Interpreter<'a> {
                 c.i += 1;
                 let v = self.value(c, at, "CR=")?;
                 set_once(&mut w.radius, v, "CR=")?;
-                continue;
+                return Ok(Next::Continue);
             }
             if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
                 let on = c.keyword("DIAMON");
@@ -452,7 +595,7 @@ impl<'a> Interpreter<'a> {
                         "DIAMON/DIAMOF twice in one block",
                     ));
                 }
-                continue;
+                return Ok(Next::Continue);
             }
             if d.variables && expr::at_variable(c) {
                 let name = c.name();
@@ -472,146 +615,62 @@ impl<'a> Interpreter<'a> {
                     .set(&name, value)
                     .map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
                 if written == Written::ToolRadius {
-                    w.radius_written = Some(at);
+                    w.radius_written = Some(at as u32);
                 }
                 w.calculation = true;
-                continue;
-            }
-            let known = matches!(
-                letter,
-                b'G' | b'X'
-                    | b'Y'
-                    | b'Z'
-                    | b'I'
-                    | b'J'
-                    | b'K'
-                    | b'F'
-                    | b'D'
-                    | b'T'
-                    | b'M'
-                    | b'S'
-                    | b'H'
-                    | b'N'
-            ) || (letter == b'R' && d.radius_word == RadiusWord::R)
-                || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
-                || (letter == b'P' && d.dwell.p_millis);
-            if !known {
-                return Err(fault(
-                    AlarmCode::UnknownAddress,
-                    at,
-                    format!(
-                        "address {} is not defined in the {} dialect",
-                        letter as char,
-                        d.name.as_str()
-                    ),
-                ));
-            }
-            c.i += 1;
-            let v = self.value(c, at, "")?;
-            let name = letter as char;
-            match letter {
-                b'G' => {
-                    let code = int_value(v.n.value, at, "G code")?;
-                    if code >= 1000 {
-                        return Err(fault(
-                            AlarmCode::UnknownGCode,
-                            at,
-                            format!("G{code} is not a {} G code", d.name.as_str()),
-                        ));
-                    }
-                    push(&mut w.g, (code as u16, at), at)?;
-                }
-                b'X' | b'Y' | b'Z' => {
-                    let i = (letter - b'X') as usize;
-                    set_once(&mut w.axis[i], v, AXIS_NAMES[i].encode_utf8(&mut [0; 4]))?;
-                }
-                b'I' | b'J' | b'K' => {
-                    let i = (letter - b'I') as usize;
-                    set_once(&mut w.centre[i], v, ["I", "J", "K"][i])?;
-                }
-                b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R")?,
-                b'A' if d.polar_words => set_once(&mut w.angle, v, "A")?,
-                b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B")?,
-                b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P")?,
-                b'F' => {
-                    set_once(&mut w.f, v, "F")?;
-                    push(
-                        &mut w.aux,
-                        AuxWord {
-                            address: b'F',
-                            value: v.n.value,
-                        },
-                        at,
-                    )?;
-                }
-                b'D' => {
-                    set_once(&mut w.d, v, "D")?;
-                    push(
-                        &mut w.aux,
-                        AuxWord {
-                            address: b'D',
-                            value: v.n.value,
-                        },
-                        at,
-                    )?;
-                }
-                b'T' => {
-                    set_once(&mut w.t, v, "T")?;
-                    push(
-                        &mut w.aux,
-                        AuxWord {
-                            address: b'T',
-                            value: v.n.value,
-                        },
-                        at,
-                    )?;
-                }
-                b'M' => {
-                    push(&mut w.m, v, at)?;
-                    push(
-                        &mut w.aux,
-                        AuxWord {
-                            address: b'M',
-                            value: v.n.value,
-                        },
-                        at,
-                    )?;
-                }
-                b'S' | b'H' => push(
-                    &mut w.aux,
-                    AuxWord {
-                        address: letter,
-                        value: v.n.value,
-                    },
-                    at,
-                )?,
-                b'N' => {
-                    return Err(fault(
-                        AlarmCode::Syntax,
-                        at,
-                        "the block number N must come first in the block",
-                    ))
-                }
-                _ => {
-                    return Err(fault(
-                        AlarmCode::UnknownAddress,
-                        at,
-                        format!(
-                            "address {name} is not defined in the {} dialect",
-                            d.name.as_str()
-                        ),
-                    ))
-                }
+                return Ok(Next::Continue);
             }
         }
-        Ok(())
+        let known = matches!(
+            letter,
+            b'G' | b'X'
+                | b'Y'
+                | b'Z'
+                | b'I'
+                | b'J'
+                | b'K'
+                | b'F'
+                | b'D'
+                | b'T'
+                | b'M'
+                | b'S'
+                | b'H'
+                | b'N'
+        ) || (letter == b'R' && d.radius_word == RadiusWord::R)
+            || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
+            || (letter == b'P' && d.dwell.p_millis);
+        if !known {
+            return Err(fault(
+                AlarmCode::UnknownAddress,
+                at,
+                format!(
+                    "address {} is not defined in the {} dialect",
+                    letter as char,
+                    d.name.as_str()
+                ),
+            ));
+        }
+        Ok(Next::Address(letter))
     }
 
     /// The value after an address: a number, or in the ISG dialect an expression operand.
-    #[inline]
+    #[inline(always)]
     fn value(&mut self, c: &mut Cursor, at: usize, what: &str) -> R<Val> {
+        // The common case: an in-range number right after the address.
+        if let Some((n, next)) = number::parse(c.b, c.i) {
+            if next <= c.end && n.value.abs() <= MAX_VALUE {
+                c.i = next;
+                return Ok(Val::new(n, at));
+            }
+        }
+        self.value_slow(c, at, what)
+    }
+
+    /// [`Self::value`] for everything but the common case, alarms included.
+    #[inline(never)]
+    fn value_slow(&mut self, c: &mut Cursor, at: usize, what: &str) -> R<Val> {
         if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
-            // The common case: the number follows the address directly.
+            // A number right after the address, out of range if it got here: `checked` says so.
             c.i = next;
             return checked(Val::new(n, at));
         }
@@ -628,13 +687,11 @@ impl<'a> Interpreter<'a> {
         {
             let v =
                 expr::eval_operand(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
-            return checked(Val::new(
-                Number {
-                    value: v,
-                    has_point: true,
-                },
-                at,
-            ));
+            return checked(Val {
+                value: v,
+                at: at as u32,
+                has_point: true,
+            });
         }
         match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
             Some((n, next)) => {
@@ -658,9 +715,9 @@ impl<'a> Interpreter<'a> {
 
     /// A length value in mm: decimal-input switch, inch conversion.
     fn length(&self, v: Val, units: Units) -> f64 {
-        let mut x = v.n.value;
+        let mut x = v.value;
         if self.d.decimal_switch
-            && !v.n.has_point
+            && !v.has_point
             && self.md.program.decimal_input == DecimalInput::Increment
         {
             x *= match units {
@@ -679,20 +736,16 @@ impl<'a> Interpreter<'a> {
     #[inline]
     fn build(&mut self, w: &Words, block_col: usize) -> R<bool> {
         let d = self.d;
-        let (old_trc, old_plane, old_selection) =
-            (self.state.trc, self.state.plane, self.state.selection);
-        let mut new = self.state;
-        let mut blk = Block::new(
-            self.blk_line,
-            column(self.src, self.blk_line_start, block_col),
-            self.blk_number,
-            new,
-        );
-        blk.words = w.aux.clone();
-        blk.calculation = w.calculation;
+        let mut new = self.block.modal;
+        let (old_trc, old_plane, old_selection) = (new.trc, new.plane, new.selection);
+        let col = column(self.src, self.blk_line_start, block_col);
+        reset(&mut self.block, self.blk_line, col, self.blk_number);
+        self.block.calculation = w.calculation;
+        let blk = &mut self.block;
 
         // G codes: look up, check groups and TRC restrictions, then apply.
-        let mut effects: heapless::Vec<(GEffect, u16, usize), 16> = heapless::Vec::new();
+        // Table rows, not copies of them: the common block has one or two G codes.
+        let mut effects: heapless::Vec<(&'static GCodeDef, u32), 16> = heapless::Vec::new();
         for &(code, at) in &w.g {
             let def = d.gcode(code).ok_or_else(|| {
                 fault(
@@ -701,14 +754,14 @@ impl<'a> Interpreter<'a> {
                     format!("G{code} is not a {} G code", d.name.as_str()),
                 )
             })?;
-            if let Some((_, other, _)) = effects
+            if let Some((other, _)) = effects
                 .iter()
-                .find(|(e, _, _)| Dialect::same_group(*e, def.effect))
+                .find(|(e, _)| Dialect::same_group(e.effect, def.effect))
             {
                 return Err(fault(
                     AlarmCode::SameGroupTwice,
                     at,
-                    format!("G{code} and G{other} belong to the same group"),
+                    format!("G{code} and G{} belong to the same group", other.code),
                 ));
             }
             if let (GEffect::Plane(p), true) = (def.effect, old_trc != TrcSide::Off) {
@@ -734,7 +787,7 @@ impl<'a> Interpreter<'a> {
                     format!("{what} is not supported by softnc"),
                 ));
             }
-            let _ = effects.push((def.effect, code, at));
+            let _ = effects.push((def, at));
         }
         for &(code, at) in &w.at_codes {
             if code != 714 {
@@ -757,7 +810,7 @@ impl<'a> Interpreter<'a> {
         let mut dwell = false;
         let mut working_area: Option<bool> = None;
         let mut trc_code_at = None;
-        for &(effect, code, at) in &effects {
+        for &(&GCodeDef { code, effect, .. }, at) in &effects {
             match effect {
                 GEffect::Motion(m) => new.motion = m,
                 GEffect::Dwell => dwell = true,
@@ -812,17 +865,17 @@ impl<'a> Interpreter<'a> {
         // Technology words.
         if !dwell {
             if let Some(f) = w.f {
-                if f.n.value <= 0.0 || !f.n.value.is_finite() {
+                if f.value <= 0.0 || !f.value.is_finite() {
                     return Err(fault(
                         AlarmCode::BadNumber,
                         f.at,
                         "the feed F must be positive",
                     ));
                 }
-                new.feed = f.n.value * scale;
+                new.feed = f.value * scale;
             }
         }
-        for a in &w.aux {
+        for a in &blk.words {
             if a.address == b'S' {
                 if a.value < 0.0 {
                     return Err(fault(
@@ -835,11 +888,11 @@ impl<'a> Interpreter<'a> {
             }
         }
         if let Some(t) = w.t {
-            new.tool = Some(int_value(t.n.value, t.at, "T")?);
+            new.tool = Some(int_value(t.value, t.at, "T")?);
             blk.offset_changed = true;
         }
         let d_word = match w.d {
-            Some(v) => Some((int_value(v.n.value, v.at, "D")?, v.pos())),
+            Some(v) => Some((int_value(v.value, v.at, "D")?, v.pos())),
             None if d.tool_edges && w.t.is_some() && new.d != 0 => Some((new.d, block_col)),
             None => None,
         };
@@ -880,7 +933,7 @@ impl<'a> Interpreter<'a> {
 
         // Program flow M functions.
         for m in &w.m {
-            let stop = match m.n.value {
+            let stop = match m.value {
                 0.0 => Some(ProgramStop::Stop),
                 1.0 => Some(ProgramStop::OptionalStop),
                 2.0 => Some(ProgramStop::End),
@@ -905,21 +958,19 @@ impl<'a> Interpreter<'a> {
             let secs = if let (true, Some(mut x)) = (d.dwell.x_seconds, w.axis[0]) {
                 // Fanuc increment input: X1000 without a decimal point is 1000 ms.
                 if d.decimal_switch
-                    && !x.n.has_point
+                    && !x.has_point
                     && self.md.program.decimal_input == DecimalInput::Increment
                 {
-                    x.n.value *= 0.001;
+                    x.value *= 0.001;
                 }
                 Some(x)
             } else if let (true, Some(f)) = (d.dwell.f_seconds, w.f) {
                 Some(f)
             } else if let (true, Some(p)) = (d.dwell.p_millis, w.p) {
                 Some(Val {
-                    n: Number {
-                        value: p.n.value / 1000.0,
-                        has_point: true,
-                    },
+                    value: p.value / 1000.0,
                     at: p.at,
+                    has_point: true,
                 })
             } else {
                 w.bare
@@ -927,7 +978,7 @@ impl<'a> Interpreter<'a> {
             let secs = secs.ok_or_else(|| {
                 fault(AlarmCode::MissingValue, block_col, "G4 needs a dwell time")
             })?;
-            if secs.n.value < 0.0 || secs.n.value > 1e6 {
+            if secs.value < 0.0 || secs.value > 1e6 {
                 return Err(fault(
                     AlarmCode::BadNumber,
                     secs.at,
@@ -946,7 +997,7 @@ impl<'a> Interpreter<'a> {
                     }
                 }
             }
-            blk.dwell = Some(secs.n.value);
+            blk.dwell = Some(secs.value);
         } else if let Some(max) = working_area {
             self.work_limited = true;
             for (i, a) in w.axis.iter().enumerate() {
@@ -960,9 +1011,10 @@ impl<'a> Interpreter<'a> {
                 }
             }
         } else {
-            blk.motion = self.motion(w, &mut new, block_col)?;
+            self.motion(w, &mut new, block_col)?;
         }
 
+        let blk = &mut self.block;
         // TRC selection/deselection only in linear blocks (840C 11.3/11.5, Fanuc 026).
         if let (Some(_), Some(at)) = (blk.trc, trc_code_at) {
             let arc = new.motion.is_arc();
@@ -983,13 +1035,11 @@ impl<'a> Interpreter<'a> {
             self.finished = true;
         }
         blk.modal = new;
-        self.state = new;
-        self.block = blk;
         Ok(true)
     }
 
-    /// The block's motion, if it has one.
-    fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<Option<Motion>> {
+    /// Sets the block's motion, if it has one (written in place: `Motion` is large).
+    fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let units = new.units;
         let offset = self.md.zero_offsets.get(new.work_offset);
         let plane = new.plane;
@@ -1033,14 +1083,14 @@ impl<'a> Interpreter<'a> {
                 };
             }
             if w.angle.is_none() && w.polar_radius.is_none() && w.axis[normal].is_none() {
-                return Ok(None);
+                return Ok(());
             }
             let (rx, ry) = (start[pa] - new.pole[pa], start[po] - new.pole[po]);
             let r_now = libm::hypot(rx, ry);
             let ang_now = libm::atan2(ry, rx).to_degrees();
             let ang = match w.angle {
-                Some(a) if new.distance == Distance::Incremental => ang_now + a.n.value,
-                Some(a) => a.n.value,
+                Some(a) if new.distance == Distance::Incremental => ang_now + a.value,
+                Some(a) => a.value,
                 None => ang_now,
             };
             let r = match w.polar_radius {
@@ -1091,14 +1141,15 @@ impl<'a> Interpreter<'a> {
                 ));
             }
             self.check_area(&end, block_col)?;
-            return Ok(Some(Motion {
+            self.block.motion = Some(Motion {
                 kind: mode.kind(),
                 plane,
                 start,
                 end,
                 center: if arc { centre } else { end },
                 programmed,
-            }));
+            });
+            return Ok(());
         }
 
         for (i, a) in w.axis.iter().enumerate() {
@@ -1131,7 +1182,7 @@ impl<'a> Interpreter<'a> {
             ));
         }
         if programmed == 0 && !(arc && has_centre) {
-            return Ok(None);
+            return Ok(());
         }
         if feed_needed && new.feed <= 0.0 {
             return Err(fault(
@@ -1206,14 +1257,15 @@ impl<'a> Interpreter<'a> {
             })?;
         }
         self.check_area(&end, block_col)?;
-        Ok(Some(Motion {
+        self.block.motion = Some(Motion {
             kind: mode.kind(),
             plane,
             start,
             end,
             center: centre,
             programmed,
-        }))
+        });
+        Ok(())
     }
 
     /// 840C G25/G26: end points must stay inside the working area.
@@ -1383,7 +1435,7 @@ impl<'a> Interpreter<'a> {
         Ok(())
     }
 
-    fn mismatch(&self, open: Option<Frame>, close: &str, at: usize) -> Fault {
+    fn mismatch(&self, open: Option<Frame>, close: &str, at: usize) -> Box<Fault> {
         match open {
             Some(f) => fault(
                 AlarmCode::ControlNesting,
@@ -1441,13 +1493,13 @@ impl<'a> Interpreter<'a> {
 pub const MAX_VALUE: f64 = 1e9;
 
 fn checked(v: Val) -> R<Val> {
-    if v.n.value.is_finite() && v.n.value.abs() <= MAX_VALUE {
+    if v.value.is_finite() && v.value.abs() <= MAX_VALUE {
         Ok(v)
     } else {
         Err(fault(
             AlarmCode::BadNumber,
             v.at,
-            format!("value {} is out of range (±{MAX_VALUE})", v.n.value),
+            format!("value {} is out of range (±{MAX_VALUE})", v.value),
         ))
     }
 }
@@ -1462,7 +1514,14 @@ fn push<T, const N: usize>(v: &mut heapless::Vec<T, N>, x: T, at: usize) -> R<()
     })
 }
 
-fn set_once(slot: &mut Option<Val>, v: Val, name: &str) -> R<()> {
+/// Word names for alarms, as statics: an array literal at the call would be built on the
+/// stack for every word.
+static AXIS_WORDS: [&str; 3] = ["X", "Y", "Z"];
+static CENTRE_WORDS: [&str; 3] = ["I", "J", "K"];
+
+/// `name` is `&'static` so that callers pass a constant, not a string built for every word.
+#[inline(always)]
+fn set_once(slot: &mut Option<Val>, v: Val, name: &'static str) -> R<()> {
     if slot.is_some() {
         return Err(fault(
             AlarmCode::AddressTwice,
@@ -1474,9 +1533,43 @@ fn set_once(slot: &mut Option<Val>, v: Val, name: &str) -> R<()> {
     Ok(())
 }
 
+/// Clears everything of `b` but its auxiliary words (collected already) and its modal state
+/// (still the state before the block). Destructures, so that a new field is not forgotten.
+fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>) {
+    let Block {
+        line: b_line,
+        col: b_col,
+        number: b_number,
+        motion,
+        modal: _,
+        words: _,
+        trc,
+        approach,
+        exact_stop,
+        dwell,
+        stop,
+        offset_changed,
+        calculation,
+        preprocess_stop,
+    } = b;
+    *b_line = line;
+    *b_col = col;
+    *b_number = number;
+    *motion = None;
+    *trc = None;
+    *approach = None;
+    *exact_stop = false;
+    *dwell = None;
+    *stop = None;
+    *offset_changed = false;
+    *calculation = false;
+    *preprocess_stop = false;
+}
+
 /// A value that must be a non-negative integer (G, M, T, D numbers).
 fn int_value(v: f64, at: impl Offset, what: &str) -> R<u32> {
-    if v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
+    // `v as u32 as f64 == v` tests for a whole number without a call to `trunc`.
+    if v >= 0.0 && v <= u32::MAX as f64 && v as u32 as f64 == v {
         Ok(v as u32)
     } else {
         Err(fault(

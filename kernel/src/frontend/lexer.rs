@@ -108,6 +108,36 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// Index of the first byte at or after `i` that is one of `set`, or `b.len()`. Reads eight
+/// bytes at a time: program lines are short, and a general `memchr` spends more on setting up
+/// than on searching them.
+#[inline]
+pub fn find_byte<const N: usize>(b: &[u8], mut i: usize, set: [u8; N]) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    while let Some(&chunk) = b.get(i..).and_then(|s| s.first_chunk::<8>()) {
+        let v = u64::from_le_bytes(chunk);
+        let mut hits = 0;
+        for &s in &set {
+            // Zero bytes of x are the matches. The lowest set bit of `(x - ONES) & !x & HIGH`
+            // marks the first zero byte exactly (a borrow can only give false hits above it).
+            let x = v ^ (ONES * s as u64);
+            hits |= x.wrapping_sub(ONES) & !x & HIGH;
+        }
+        if hits != 0 {
+            return i + (hits.trailing_zeros() / 8) as usize;
+        }
+        i += 8;
+    }
+    while let Some(c) = b.get(i) {
+        if set.contains(c) {
+            return i;
+        }
+        i += 1;
+    }
+    b.len()
+}
+
 /// 1-based character column of byte offset `at` in the line starting at `line_start`.
 pub fn column(src: &[u8], line_start: usize, at: usize) -> u32 {
     let at = at.min(src.len());
@@ -117,4 +147,26 @@ pub fn column(src: &[u8], line_start: usize, at: usize) -> u32 {
         .filter(|&&c| (c & 0xC0) != 0x80)
         .count();
     chars as u32 + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn find_byte_finds_the_first(text in proptest::collection::vec(prop_oneof![
+            Just(b'\n'), Just(b'('), Just(b')'), Just(b';'), Just(0x8a), Just(0x0b), Just(0x09),
+            any::<u8>(), Just(b'X')], 0..40), start in 0usize..45) {
+            let naive = |set: &[u8]| {
+                (start.min(text.len())..text.len())
+                    .find(|&k| set.contains(&text[k]))
+                    .unwrap_or(text.len())
+            };
+            prop_assert_eq!(find_byte(&text, start, [b'\n']), naive(b"\n"));
+            prop_assert_eq!(find_byte(&text, start, [b'\n', b'(', b';']), naive(b"\n(;"));
+            prop_assert_eq!(find_byte(&text, start, [b'\n', b'(', b')']), naive(b"\n()"));
+        }
+    }
 }
