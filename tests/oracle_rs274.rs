@@ -96,16 +96,22 @@ fn numbers(s: &str) -> Vec<f64> {
         .collect()
 }
 
+/// rs274 processes started at the same moment by the parallel tests of this file sometimes
+/// die with SIGBUS (seen here, 2.9.0~pre1): one at a time.
+static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
     let dir = std::env::temp_dir().join(format!("softnc-oracle-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("p.ngc");
     std::fs::write(&file, ngc).unwrap();
+    let guard = RS274.lock().unwrap_or_else(|e| e.into_inner());
     let out = Command::new("rs274")
         .arg("-g")
         .arg(&file)
         .output()
         .expect("rs274 runs");
+    drop(guard);
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
     let _ = std::fs::remove_dir_all(&dir);
     let mut moves = Vec::new();
@@ -125,8 +131,10 @@ fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
         }
     }
     assert!(
-        !text.contains("rror") || !moves.is_empty(),
-        "rs274 failed:\n{text}\n{ngc}"
+        !moves.is_empty(),
+        "rs274 gave no moves ({}):\n{text}\n{}\n{ngc}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
     );
     moves
 }
