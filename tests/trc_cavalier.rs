@@ -12,6 +12,9 @@
 
 use cavalier_contours::core::math::Vector2;
 use cavalier_contours::polyline::{seg_midpoint, PlineSource, PlineSourceMut, Polyline};
+mod common;
+
+use common::*;
 use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
 use proptest::prelude::*;
@@ -26,8 +29,6 @@ use std::path::PathBuf;
 /// tests/trc_properties.rs.
 const TOL: f64 = 1e-5;
 
-type P = [f64; 2];
-
 fn machine() -> MachineData {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("config")
@@ -35,56 +36,12 @@ fn machine() -> MachineData {
     MachineData::load(Some(&path), &[]).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn add(a: P, b: P) -> P {
-    [a[0] + b[0], a[1] + b[1]]
-}
-fn mul(a: P, k: f64) -> P {
-    [a[0] * k, a[1] * k]
-}
-fn cross(a: P, b: P) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-fn dot(a: P, b: P) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-fn dist(a: P, b: P) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-fn unit(a: P) -> P {
-    mul(a, 1.0 / a[0].hypot(a[1]))
-}
-fn left(a: P) -> P {
-    [-a[1], a[0]]
-}
 fn rot(a: P, t: f64) -> P {
     let (s, c) = t.sin_cos();
     [c * a[0] - s * a[1], s * a[0] + c * a[1]]
 }
-fn xy(p: [f64; 3]) -> P {
-    [p[0], p[1]]
-}
-
-/// A programmed element.
-#[derive(Clone, Copy, Debug)]
-enum El {
-    Line { a: P, b: P },
-    Arc { a: P, b: P, c: P, ccw: bool },
-}
 
 impl El {
-    fn a(&self) -> P {
-        match *self {
-            El::Line { a, .. } | El::Arc { a, .. } => a,
-        }
-    }
-    fn b(&self) -> P {
-        match *self {
-            El::Line { b, .. } | El::Arc { b, .. } => b,
-        }
-    }
     fn tangent(&self, p: P) -> P {
         match *self {
             El::Line { a, b } => unit(sub(b, a)),

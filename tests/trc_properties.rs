@@ -9,6 +9,9 @@
 //! traversal direction (G42 ccw ↔ G41 cw) and under a rigid motion of the whole program.
 //! Tolerance 1e-9 mm.
 
+mod common;
+
+use common::*;
 use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
 use proptest::prelude::*;
@@ -18,8 +21,6 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 const TOL: f64 = 1e-9;
-
-type P = [f64; 2];
 
 fn machine() -> &'static MachineData {
     static MD: OnceLock<MachineData> = OnceLock::new();
@@ -38,65 +39,13 @@ fn run(src: &str, r: f64) -> Result<Vec<Segment>, TestCaseError> {
         .map_err(|a| TestCaseError::fail(format!("alarm {a}\nR = {r}\n{src}")))
 }
 
-// ---------------------------------------------------------------------------------------
-// Plane vector helpers.
-
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn add(a: P, b: P) -> P {
-    [a[0] + b[0], a[1] + b[1]]
-}
-fn mul(a: P, k: f64) -> P {
-    [a[0] * k, a[1] * k]
-}
-fn cross(a: P, b: P) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-fn dot(a: P, b: P) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-fn len(a: P) -> f64 {
-    a[0].hypot(a[1])
-}
-fn dist(a: P, b: P) -> f64 {
-    len(sub(a, b))
-}
-fn unit(a: P) -> P {
-    mul(a, 1.0 / len(a))
-}
-fn left(a: P) -> P {
-    [-a[1], a[0]]
-}
-fn xy(p: [f64; 3]) -> P {
-    [p[0], p[1]]
-}
+/// The N number of the segment's block (0 without one).
 fn block(s: &Segment) -> u32 {
     s.source.number.map(|b| b.value).unwrap_or(0)
 }
 
 // ---------------------------------------------------------------------------------------
 // Contours.
-
-/// A programmed element as traversed.
-#[derive(Clone, Copy, Debug)]
-enum El {
-    Line { a: P, b: P },
-    Arc { a: P, b: P, c: P, ccw: bool },
-}
-
-impl El {
-    fn a(&self) -> P {
-        match *self {
-            El::Line { a, .. } | El::Arc { a, .. } => a,
-        }
-    }
-    fn b(&self) -> P {
-        match *self {
-            El::Line { b, .. } | El::Arc { b, .. } => b,
-        }
-    }
-}
 
 /// A convex contour, counter-clockwise: vertices `v`, and for edge i (v_i → v_{i+1}) the
 /// centre of its arc (a ccw arc bulging outwards: centre on the inner side) or `None`.

@@ -7,6 +7,7 @@
 pub mod alarm;
 pub mod dialect;
 pub mod frontend;
+pub(crate) mod json;
 pub mod machine_data;
 pub mod prep;
 pub mod segment;

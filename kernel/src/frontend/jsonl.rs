@@ -2,40 +2,12 @@
 //! Written by hand: it is on the path of million-block programs, and the format is small.
 
 use super::block::*;
+use crate::json::{num, string};
 use crate::machine_data::Units;
 use std::io::{self, Write};
 
-fn num(out: &mut impl Write, v: f64) -> io::Result<()> {
-    // Shortest round-trip representation; values are finite by construction.
-    let v = if v == 0.0 { 0.0 } else { v };
-    if v.is_finite() {
-        write!(out, "{v}")
-    } else {
-        out.write_all(b"null")
-    }
-}
-
 fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
-    out.write_all(b"[")?;
-    num(out, p[0])?;
-    out.write_all(b",")?;
-    num(out, p[1])?;
-    out.write_all(b",")?;
-    num(out, p[2])?;
-    out.write_all(b"]")
-}
-
-fn string(out: &mut impl Write, s: &str) -> io::Result<()> {
-    out.write_all(b"\"")?;
-    for ch in s.chars() {
-        match ch {
-            '"' => out.write_all(b"\\\"")?,
-            '\\' => out.write_all(b"\\\\")?,
-            c if (c as u32) < 0x20 => write!(out, "\\u{:04x}", c as u32)?,
-            c => write!(out, "{c}")?,
-        }
-    }
-    out.write_all(b"\"")
+    crate::json::pos(out, p, num)
 }
 
 /// Writes one block as a JSON object and a newline.

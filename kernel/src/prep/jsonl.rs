@@ -3,41 +3,12 @@
 
 use crate::alarm::Alarm;
 use crate::frontend::block::Pos;
+use crate::json::{num_point as num, string};
 use crate::segment::{Segment, Shape};
 use std::io::{self, Write};
 
-fn num(out: &mut impl Write, v: f64) -> io::Result<()> {
-    // Shortest round-trip form with a decimal point (`1000.0`); values are finite.
-    let v = if v == 0.0 { 0.0 } else { v };
-    if v.is_finite() {
-        write!(out, "{v:?}")
-    } else {
-        out.write_all(b"null")
-    }
-}
-
 fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
-    out.write_all(b"[")?;
-    num(out, p[0])?;
-    out.write_all(b",")?;
-    num(out, p[1])?;
-    out.write_all(b",")?;
-    num(out, p[2])?;
-    out.write_all(b"]")
-}
-
-/// A JSON string; block numbers and messages are ASCII or UTF-8 text.
-pub fn string(out: &mut impl Write, s: &str) -> io::Result<()> {
-    out.write_all(b"\"")?;
-    for ch in s.chars() {
-        match ch {
-            '"' => out.write_all(b"\\\"")?,
-            '\\' => out.write_all(b"\\\\")?,
-            c if (c as u32) < 0x20 => write!(out, "\\u{:04x}", c as u32)?,
-            c => write!(out, "{c}")?,
-        }
-    }
-    out.write_all(b"\"")
+    crate::json::pos(out, p, num)
 }
 
 /// One segment as a JSON object and a newline.

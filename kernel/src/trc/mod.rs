@@ -165,7 +165,7 @@ enum Mode {
 /// The compensation state machine.
 pub struct Compensator {
     rules: TrcRules,
-    corner_settings_base: f64,
+    suppression: f64,
     max_outside: usize,
     mode: Mode,
     side: TrcSide,
@@ -225,7 +225,7 @@ impl Compensator {
         let (tool, tool_w) = split(&start, plane);
         Compensator {
             rules,
-            corner_settings_base: suppression,
+            suppression,
             max_outside: (max_outside as usize).min(8),
             mode: Mode::Off,
             side: TrcSide::Off,
@@ -262,7 +262,7 @@ impl Compensator {
         };
         CornerSettings {
             outer,
-            suppression: self.corner_settings_base,
+            suppression: self.suppression,
         }
     }
 
@@ -340,8 +340,8 @@ impl Compensator {
             }
         }
 
-        // A radius change while active (840C 11.7, 808D, ISG).
-        let mut d0 = self.d;
+        // A radius change while active (840C 11.7, 808D, ISG). `d1` is the radius the next
+        // element ends with; it starts with `self.d`.
         let mut d1 = self.d;
         if self.mode == Mode::On
             && deselect.is_none()
@@ -355,8 +355,7 @@ impl Compensator {
                 RadiusChange::NextLinear => {
                     self.ramp_from.get_or_insert(self.d);
                     self.d = new_d;
-                    d0 = self.d;
-                    d1 = self.d;
+                    d1 = new_d;
                 }
             }
         }
@@ -365,22 +364,20 @@ impl Compensator {
             m.programmed & ((1 << m.plane.abscissa) | (1 << m.plane.ordinate))
         });
         let in_plane = motion.is_some_and(|m| m.moves_in_plane(EPS));
+        // An axis of the plane programmed, even without a path (840C 11.3, 11.6.2).
+        let has_plane = in_plane || plane_axes != 0;
 
         // Deselection.
         if let Some(policy) = deselect {
-            if in_plane
-                || plane_axes != 0
-                || self.rules.no_plane_move == NoPlaneMove::OffsetOnly
-                || select.is_some()
+            if has_plane || self.rules.no_plane_move == NoPlaneMove::OffsetOnly || select.is_some()
             {
-                let m = motion.copied();
-                self.exit(tag, m.as_ref(), policy, select.is_some(), out)?;
+                self.exit(tag, motion, policy, select.is_some(), out)?;
                 if select.is_none() {
                     self.side = TrcSide::Off;
                     self.d = 0.0;
                     self.mode = Mode::Off;
                     self.exit_armed = None;
-                    if !(in_plane || plane_axes != 0) {
+                    if !has_plane {
                         // Fanuc: the G40 block itself moves back by the offset.
                         if let Some(m) = motion {
                             self.uncompensated(tag, m, out);
@@ -403,23 +400,21 @@ impl Compensator {
             self.d = new_d;
             self.ramp_from = None;
             self.exit_armed = None;
-            let has_plane = plane_axes != 0 || in_plane;
+            self.method = policy;
             if !has_plane && self.rules.no_plane_move == NoPlaneMove::Wait && deselect.is_none() {
                 self.mode = Mode::Armed;
-                self.method = policy;
                 if let Some(m) = motion {
                     self.uncompensated(tag, m, out);
                 }
                 return self.end_of_block(b, out);
             }
-            self.method = policy;
             return self
                 .start_selection(tag, motion, policy, out)
                 .and_then(|()| self.end_of_block(b, out));
         }
         if self.mode == Mode::Armed {
             match motion {
-                Some(m) if in_plane || plane_axes != 0 => {
+                Some(m) if has_plane => {
                     let policy = self.method;
                     self.start_selection(tag, Some(m), policy, out)?;
                 }
@@ -440,7 +435,7 @@ impl Compensator {
         // Active: a contour element or a block outside the plane.
         match motion {
             Some(m) if in_plane => {
-                let (mut e0, mut e1) = (d0, d1);
+                let (mut e0, mut e1) = (self.d, d1);
                 if let Some(old) = self.ramp_from {
                     if m.kind.is_arc() {
                         return Err(fault(
@@ -487,18 +482,8 @@ impl Compensator {
 
     /// Flushes everything held: the pending element ends in its normal position.
     pub fn finish(&mut self, out: &mut Out) -> Result<(), TrcFault> {
-        if let Some(sel) = self.selection.take() {
-            // A selection block with nothing after it: straight to its programmed point.
-            self.line(
-                sel.tag,
-                Role::Approach,
-                sel.from,
-                sel.q,
-                sel.w0,
-                sel.w1,
-                out,
-            );
-        }
+        // A selection block with nothing after it: straight to its programmed point.
+        self.flush_selection(out);
         if let Some(p) = self.pending.take() {
             let end = p.prog.normal_end(p.d1);
             self.emit_pending(&p, end, out)?;
@@ -508,6 +493,24 @@ impl Compensator {
         self.side = TrcSide::Off;
         self.d = 0.0;
         Ok(())
+    }
+
+    /// A selection block that never met a contour element runs to its programmed point;
+    /// true if there was one.
+    fn flush_selection(&mut self, out: &mut Out) -> bool {
+        let Some(sel) = self.selection.take() else {
+            return false;
+        };
+        self.line(
+            sel.tag,
+            Role::Approach,
+            sel.from,
+            sel.q,
+            sel.w0,
+            sel.w1,
+            out,
+        );
+        true
     }
 
     fn uncompensated(&mut self, tag: Tag, m: &Motion, out: &mut Out) {
@@ -730,7 +733,7 @@ impl Compensator {
             from: self.tool,
             q,
             dir,
-            w0: if motion.is_some() { w0 } else { self.tool_w },
+            w0,
             w1,
             policy,
         });
@@ -869,17 +872,8 @@ impl Compensator {
             }
         }
         let settings = self.settings();
-        if let Some(sel) = self.selection.take() {
-            // Deselected right after selecting: the selection block goes to its point.
-            self.line(
-                sel.tag,
-                Role::Approach,
-                sel.from,
-                sel.q,
-                sel.w0,
-                sel.w1,
-                out,
-            );
+        // Deselected right after selecting: the selection block goes to its point.
+        if self.flush_selection(out) {
             self.flush_held(out);
         }
         let Some(p) = self.pending.take() else {
