@@ -9,6 +9,8 @@ use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod picture;
+
 #[derive(Parser)]
 #[command(
     name = "softnc",
@@ -54,6 +56,8 @@ enum Command {
 enum Format {
     /// One JSON object per segment.
     Jsonl,
+    /// A picture: programmed contour, tool-centre path, tool circles, labels, alarms.
+    Svg,
 }
 
 /// What every command that reads a program takes.
@@ -170,7 +174,9 @@ fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCo
         Ok(o) => o,
         Err(code) => return code,
     };
-    let Format::Jsonl = format;
+    if format == Format::Svg {
+        return path_svg(&l, out);
+    }
     let mut prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
     let code = loop {
         match prep.next_segment() {
@@ -191,6 +197,36 @@ fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCo
         return fail(format!("writing output: {e}"));
     }
     code
+}
+
+fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> ExitCode {
+    let mut segments = Vec::new();
+    let mut alarm = None;
+    for item in Preparation::new(&l.name, &l.source, &l.md, &l.tools) {
+        match item {
+            Ok(s) => segments.push(s),
+            Err(a) => {
+                eprintln!("{}", render(&a, &l.source));
+                alarm = Some(a);
+            }
+        }
+    }
+    let pic = picture::Picture::new(
+        &l.name,
+        &l.source,
+        &l.md,
+        &l.tools,
+        &segments,
+        alarm.as_ref(),
+    );
+    if let Err(e) = svg::write(&mut out, &pic.render()).and_then(|()| out.flush()) {
+        return fail(format!("writing output: {e}"));
+    }
+    if alarm.is_some() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 fn check(input: &ProgramArgs) -> ExitCode {
