@@ -67,6 +67,11 @@ pub enum CornerError {
 /// Classifies the corner between an element ending in direction `t1` and one starting in
 /// direction `t2`, the tool at offset `d` (> 0 left).
 pub fn classify(t1: V2, t2: V2, d: f64) -> (CornerKind, f64) {
+    // Most contour transitions are tangent: no atan2 for them (atan z ≤ z for z ≥ 0).
+    let (y, x) = (t1.cross(t2), t1.dot(t2));
+    if x > 0.0 && y.abs() <= ANGLE_EPS * x {
+        return (CornerKind::Tangent, y / x);
+    }
     let a = turn(t1, t2);
     if a.abs() <= ANGLE_EPS {
         (CornerKind::Tangent, a)
@@ -97,7 +102,17 @@ pub fn corner(
     s: &CornerSettings,
 ) -> Result<Corner, CornerError> {
     let (p1, p2) = (o1.end(), o2.start());
-    let (t1, t2) = (o1.tangent_end(), o2.tangent_start());
+    // Most transitions are tangent: tell them before normalising anything.
+    let (h1, h2) = (o1.heading_at(p1), o2.heading_at(p2));
+    if h1.dot(h2) > 0.0 && h1.cross(h2).abs() <= ANGLE_EPS * h1.dot(h2) {
+        return Ok(Corner {
+            end1: p1,
+            start2: p2,
+            pieces: heapless::Vec::new(),
+            kind: CornerKind::Tangent,
+        });
+    }
+    let (t1, t2) = (h1.unit(), h2.unit());
     let (kind, a) = classify(t1, t2, d);
     let mut out = Corner {
         end1: p1,

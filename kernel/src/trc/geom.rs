@@ -53,7 +53,7 @@ impl V2 {
         self.x * o.y - self.y * o.x
     }
     pub fn len(self) -> f64 {
-        libm::hypot(self.x, self.y)
+        (self.x * self.x + self.y * self.y).sqrt()
     }
     pub fn dist(self, o: V2) -> f64 {
         (self - o).len()
@@ -113,10 +113,15 @@ impl Elem {
     }
     /// Unit direction of travel at a point of the element.
     fn tangent_at(&self, p: V2) -> V2 {
+        self.heading_at(p).unit()
+    }
+    /// Direction of travel at a point, not normalised (the element's length or radius):
+    /// enough to tell a tangent transition, without a square root.
+    pub fn heading_at(&self, p: V2) -> V2 {
         match *self {
-            Elem::Line { a, b } => (b - a).unit(),
+            Elem::Line { a, b } => b - a,
             Elem::Arc { c, ccw, .. } => {
-                let r = (p - c).unit().left();
+                let r = (p - c).left();
                 if ccw {
                     r
                 } else {

@@ -135,15 +135,10 @@ struct Pending {
     start: V2,
     /// Offset at the end (the start's is built into `start`).
     d1: f64,
+    /// The equidistant at `d1` the end corner is built on (checked when the element came).
+    carrier: Elem,
     w0: f64,
     w1: f64,
-}
-
-impl Pending {
-    /// The equidistant the end corner is built on: at the radius the element ends with.
-    fn carrier(&self) -> Option<Elem> {
-        self.prog.offset(self.d1)
-    }
 }
 
 /// A block outside the compensation plane, executed at the end of the pending element (11.11).
@@ -555,6 +550,10 @@ impl Compensator {
     }
 
     fn flush_held(&mut self, out: &mut Out) {
+        // Nearly always empty: taking the buffer would copy all of its capacity.
+        if self.held.is_empty() {
+            return;
+        }
         let p = self.tool;
         for h in std::mem::take(&mut self.held) {
             self.line(h.tag, Role::Contour, p, p, h.w0, h.w1, out);
@@ -716,6 +715,7 @@ impl Compensator {
                 prog: e,
                 start: o.start(),
                 d1: self.d,
+                carrier: o,
                 w0,
                 w1,
             });
@@ -756,7 +756,11 @@ impl Compensator {
         // With a radius change the start corner is built with the old radius and the end
         // corner with the new one; the path joins the two (840C 11.7).
         let o_start = self.offset(tag, &e, d0)?;
-        self.offset(tag, &e, d1)?;
+        let o_end = if d1 == d0 {
+            o_start
+        } else {
+            self.offset(tag, &e, d1)?
+        };
         let settings = self.settings();
         let start;
         if let Some(sel) = self.selection.take() {
@@ -779,10 +783,7 @@ impl Compensator {
             self.pieces(tag, &en.pieces, w, out);
             start = en.start;
         } else if let Some(p) = self.pending.take() {
-            let Some(o1) = p.carrier() else {
-                return Err(self.offset(p.tag, &p.prog, p.d1).unwrap_err());
-            };
-            let c = corner::corner(&o1, &o_start, e.start(), d0, &settings)
+            let c = corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
                 .map_err(|x| Self::corner_fault(tag, x))?;
             self.emit_pending(&p, c.end1, out)?;
             self.flush_held(out);
@@ -797,6 +798,7 @@ impl Compensator {
             prog: e,
             start,
             d1,
+            carrier: o_end,
             w0,
             w1,
         });
@@ -815,8 +817,9 @@ impl Compensator {
         };
         match p.prog {
             Elem::Line { a, b } => {
-                let dir = (b - a).unit();
-                if (end - p.start).dot(dir) < -1e-7 {
+                // Runs backwards by more than 1e-7 mm: (end − start)·(b − a) < −1e-7 |b − a|.
+                let back = (end - p.start).dot(b - a);
+                if back < 0.0 && back * back > 1e-14 * (b - a).dot(b - a) {
                     return Err(violation());
                 }
                 self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
@@ -824,18 +827,28 @@ impl Compensator {
             Elem::Arc { a, b, c, ccw } => {
                 // Angles travelled: programmed sweep, less what the start lost, plus what the
                 // end gained; below zero the element reversed.
-                let signed = |from: V2, to: V2| {
+                // The angle an end moved along the arc, as (sin, cos)·r²; untrimmed ends lie
+                // on their radius (sin ≈ 0, cos > 0).
+                let moved = |from: V2, to: V2| {
                     let (u, v) = (from - c, to - c);
-                    let t = libm::atan2(u.cross(v), u.dot(v));
-                    if ccw {
-                        t
-                    } else {
-                        -t
-                    }
+                    let y = u.cross(v);
+                    (if ccw { y } else { -y }, u.dot(v))
                 };
-                let s = p.prog.sweep() - signed(a, p.start) + signed(b, end);
-                if s < -1e-9 {
-                    return Err(violation());
+                let (y0, x0) = moved(a, p.start);
+                let (y1, x1) = moved(b, end);
+                // The sweep is > 0: only an end that lost angle can make the element reverse.
+                // Both ends near their radius: gained = y1/x1 − y0/x0, its sign without dividing.
+                let small = |y: f64, x: f64| x > 0.0 && y.abs() <= 1e-12 * x;
+                let lost = if small(y0, x0) && small(y1, x1) {
+                    y1 * x0 - y0 * x1 < 0.0
+                } else {
+                    true
+                };
+                if lost {
+                    let gained = libm::atan2(y1, x1) - libm::atan2(y0, x0);
+                    if p.prog.sweep() + gained < -1e-9 {
+                        return Err(violation());
+                    }
                 }
                 let r0 = p.start.dist(c);
                 let r1 = end.dist(c);
@@ -889,10 +902,7 @@ impl Compensator {
             }
             None => (p.prog.end(), None, p.w1),
         };
-        let Some(on) = p.carrier() else {
-            return Err(self.offset(p.tag, &p.prog, p.d1).unwrap_err());
-        };
-        let x = deselection::exit(&p.prog, &on, f, dir, p.d1, policy, &settings)
+        let x = deselection::exit(&p.prog, &p.carrier, f, dir, p.d1, policy, &settings)
             .map_err(|x| Self::corner_fault(tag, x))?;
         self.emit_pending(&p, x.end, out)?;
         self.flush_held(out);

@@ -1,0 +1,41 @@
+//! Parse + interpretation + tool length and radius compensation throughput on a generated
+//! 1 M-block G41 line/arc serpentine (docs/benchmarks.md).
+//! Run: `cargo bench -p nc-kernel --bench prep`.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use nc_kernel::synthetic::{compensated_program, Header};
+use nc_kernel::{MachineData, Preparation, Shape, ToolTable};
+use std::hint::black_box;
+
+const BLOCKS: usize = 1_000_000;
+
+fn prep(c: &mut Criterion) {
+    let text = compensated_program(BLOCKS, Header::Softnc);
+    let tools = ToolTable::builtin();
+    let mut group = c.benchmark_group("prep");
+    group.throughput(Throughput::Elements(BLOCKS as u64));
+    group.sample_size(10);
+    group.measurement_time(std::time::Duration::from_secs(20));
+    for dialect in ["siemens-840c", "isg", "fanuc"] {
+        let md = MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
+        group.bench_function(format!("compensate_1M_{dialect}"), |b| {
+            b.iter(|| {
+                let mut n = 0usize;
+                let mut sum = 0.0;
+                let mut prep = Preparation::new("bench", black_box(&text), &md, &tools);
+                while let Some(s) = prep.next_segment().expect("no alarm") {
+                    sum += s.to[0];
+                    if let Shape::Arc { r1, .. } = s.shape {
+                        sum += r1;
+                    }
+                    n += 1;
+                }
+                black_box((n, sum))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, prep);
+criterion_main!(benches);
