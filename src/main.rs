@@ -112,7 +112,9 @@ fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
     let name = a.program.display().to_string();
     let bytes = std::fs::read(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
     // Part programs are ASCII; anything else is kept and reported where the lexer meets it.
-    let source = String::from_utf8_lossy(&bytes).into_owned();
+    // A valid file is taken as it is (no copy of a multi-megabyte program).
+    let source = String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
     Ok(Loaded {
         name,
         source,

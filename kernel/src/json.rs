@@ -4,25 +4,26 @@
 use crate::frontend::block::Pos;
 use std::io::{self, Write};
 
-/// A number in its shortest round-trip form (`1000`); non-finite values as `null`.
+/// A number in its shortest round-trip form (`1000`, `0.5`, `1e-7`); non-finite values as
+/// `null`. Formatting floats is most of the cost of a million-line output: ryu, not `fmt`.
 pub fn num<W: Write>(out: &mut W, v: f64) -> io::Result<()> {
-    // -0.0 prints as 0.
-    let v = if v == 0.0 { 0.0 } else { v };
-    if v.is_finite() {
-        write!(out, "{v}")
-    } else {
-        out.write_all(b"null")
+    if !v.is_finite() {
+        return out.write_all(b"null");
     }
+    let mut buf = ryu::Buffer::new();
+    // -0.0 prints as 0; an integral value without the ".0".
+    let s = buf.format_finite(if v == 0.0 { 0.0 } else { v });
+    out.write_all(s.strip_suffix(".0").unwrap_or(s).as_bytes())
 }
 
-/// As [`num`], but always with a decimal point (`1000.0`), as the path format shows floats.
+/// As [`num`], but integral values keep a decimal point (`1000.0`), as the path format shows
+/// floats.
 pub fn num_point<W: Write>(out: &mut W, v: f64) -> io::Result<()> {
-    let v = if v == 0.0 { 0.0 } else { v };
-    if v.is_finite() {
-        write!(out, "{v:?}")
-    } else {
-        out.write_all(b"null")
+    if !v.is_finite() {
+        return out.write_all(b"null");
     }
+    let mut buf = ryu::Buffer::new();
+    out.write_all(buf.format_finite(if v == 0.0 { 0.0 } else { v }).as_bytes())
 }
 
 /// `[x,y,z]` with each coordinate written by `num`.
@@ -52,4 +53,34 @@ pub fn string(out: &mut impl Write, s: &str) -> io::Result<()> {
         }
     }
     out.write_all(b"\"")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(f: fn(&mut Vec<u8>, f64) -> io::Result<()>, v: f64) -> String {
+        let mut out = Vec::new();
+        f(&mut out, v).unwrap();
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn numbers_are_shortest_round_trip() {
+        assert_eq!(s(num, 1000.0), "1000");
+        assert_eq!(s(num_point, 1000.0), "1000.0");
+        assert_eq!(s(num, -0.0), "0");
+        assert_eq!(s(num_point, -0.0), "0.0");
+        assert_eq!(s(num, 0.1 + 0.2), "0.30000000000000004");
+        assert_eq!(s(num, -12.5), "-12.5");
+        assert_eq!(s(num, f64::NAN), "null");
+        assert_eq!(s(num_point, f64::INFINITY), "null");
+        for v in [1e-7, 31.055728090000844, -1e300, 5e-324, 123456789.0] {
+            for f in [num, num_point] {
+                let t = s(f, v);
+                assert_eq!(t.parse::<f64>().unwrap(), v, "{t}");
+                assert!(serde_json::from_str::<f64>(&t).is_ok(), "{t} is JSON");
+            }
+        }
+    }
 }

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Whole-process comparison for docs/benchmarks.md (issue 3): `softnc check` and
+# `softnc path -o /dev/null` beside LinuxCNC's `rs274 -g`, on the same generated G41
+# serpentine (nc_kernel::synthetic::compensated_program), same machine, same run.
+# The two files differ only in the header: softnc selects with `G41` and D1 (radius 10),
+# rs274 with `G41.1 D20` (a diameter there).
+# Needs Debian's linuxcnc-uspace (rs274). Usage: scripts/bench-prep.sh [BLOCKS] [RUNS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+blocks=${1:-200000}
+runs=${2:-7}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cargo build --release -q --bin softnc -p softnc
+cargo build --release -q -p nc-kernel --example gen_program
+./target/release/examples/gen_program "$blocks" --g41 > "$work/prog.mpf"
+./target/release/examples/gen_program "$blocks" --g41 --rs274 > "$work/prog.ngc"
+command -v rs274 >/dev/null || { echo "rs274 not found: apt-get install linuxcnc-uspace" >&2; exit 1; }
+
+# Each must succeed on the whole program: a run that stops early would be fast for nothing.
+./target/release/softnc check "$work/prog.mpf"
+rs274 -g "$work/prog.ngc" > "$work/rs274.out" 2>&1
+grep -q "G41.1\|ENABLE_CUTTER\|STRAIGHT_FEED" "$work/rs274.out" || { echo "rs274 failed:"; tail "$work/rs274.out"; exit 1; }
+echo "rs274: $(grep -c -E 'STRAIGHT_FEED|ARC_FEED' "$work/rs274.out") moves; softnc: $(./target/release/softnc path "$work/prog.mpf" | wc -l) segments"
+
+median() { sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+labels=("softnc check" "softnc path -o /dev/null" "rs274 -g")
+cmds=("./target/release/softnc check $work/prog.mpf"
+      "./target/release/softnc path $work/prog.mpf -o /dev/null"
+      "rs274 -g $work/prog.ngc")
+declare -A times
+echo "program: $blocks contour blocks, $(wc -c < "$work/prog.mpf") bytes; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
+# Interleaved rounds, so that a noisy neighbour hits all three alike.
+for _ in $(seq "$runs"); do
+  for i in "${!cmds[@]}"; do
+    t0=$(date +%s.%N)
+    ${cmds[$i]} > /dev/null 2>&1
+    t1=$(date +%s.%N)
+    times[$i]+="$(echo "$t1 - $t0" | bc -l) "
+  done
+done
+declare -A med
+for i in "${!cmds[@]}"; do
+  med[$i]=$(printf '%s\n' ${times[$i]} | median)
+  printf '%-26s median %.3f s over %d runs (%s)  %.2f M blocks/s\n' "${labels[$i]}" "${med[$i]}" "$runs" \
+    "$(printf '%.3f ' ${times[$i]} | sed 's/ $//')" "$(echo "$blocks / ${med[$i]} / 1000000" | bc -l)"
+done
+printf 'ratios: check %.1fx, path %.1fx faster than rs274 -g\n' \
+  "$(echo "${med[2]} / ${med[0]}" | bc -l)" "$(echo "${med[2]} / ${med[1]}" | bc -l)"
