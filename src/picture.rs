@@ -204,7 +204,9 @@ impl<'a> Picture<'a> {
             bb.add((0.0, 0.0));
         }
         let (w, h) = bb.size();
-        let pad = 0.04 * w.max(h).max(1.0);
+        // Room for the labels at the edges: 4 % of the size, at least ~48 px.
+        let scale0 = (PLOT_W / w.max(1e-9)).min(PLOT_H_MAX / h.max(1e-9));
+        let pad = (0.04 * w.max(h).max(1.0)).max(48.0 / scale0);
         let (min_u, min_v) = (bb.min.0 - pad, bb.min.1 - pad);
         let (w, h) = (w + 2.0 * pad, h + 2.0 * pad);
         let scale = (PLOT_W / w).min(PLOT_H_MAX / h);

@@ -521,3 +521,76 @@ fn fanuc_start_up_and_alarm_026() {
     let e = prepare("t", bad, &machine("fanuc.toml", &[]), &ToolTable::builtin()).unwrap_err();
     assert_eq!(e.number(), 26);
 }
+
+/// ISG G238 (TF5200 "Selecting inside corner of TRC"), the manual's star: the approach block
+/// ends in the inner corner of the tip P2 = (0, 100), where the equidistants of the last block
+/// N380 (20,20)→(0,100) and the first N310 (0,100)→(-20,20) meet. Both have slope ±4: the
+/// parallels at distance 10 cross x = 0 at 10·√(1 + 4²) = 10√17 below the tip.
+#[test]
+fn isg_g238_selects_and_deselects_in_the_inner_corner() {
+    let p = path("isg.toml", &[], &[], &program("isg", "g238_star.nc"));
+    continuous(&p);
+    let q = 100.0 - 10.0 * 17f64.sqrt();
+    let approach = of_block(&p, 240);
+    assert_eq!(roles(&approach), [Role::Approach]);
+    at("approach start", approach[0].from, 0.0, 0.0);
+    at("approach end: the inner corner", approach[0].to, 0.0, q);
+    at(
+        "first contour block starts there",
+        of_block(&p, 310)[0].from,
+        0.0,
+        q,
+    );
+    let last = of_block(&p, 380);
+    at(
+        "the contour ends there too",
+        last.last().unwrap().to,
+        0.0,
+        q,
+    );
+    // N390 G40 has no plane move: N400 G0 X0 Y0 leaves straight from the corner.
+    let retract = of_block(&p, 400);
+    assert_eq!(roles(&retract), [Role::Retract]);
+    at("retract start", retract[0].from, 0.0, q);
+    at("retract end", retract[0].to, 0.0, 0.0);
+}
+
+#[test]
+fn isg_g238_refuses_what_the_manual_restricts() {
+    let star = program("isg", "g238_star.nc");
+    // Not closed: the last block ends 1 mm beside the tip (alarm at N380, line 18).
+    let open = star.replace("N380 G01 X0 Y100", "N380 G01 X1 Y100");
+    assert_eq!(
+        alarm("isg.toml", &[], &open),
+        (AlarmCode::InnerCornerSelection, 18)
+    );
+    // No G40 after the contour.
+    let endless = star.replace("N390 G40 (Deselect TRC)", "N390");
+    assert_eq!(
+        alarm("isg.toml", &[], &endless).0,
+        AlarmCode::InnerCornerSelection
+    );
+    // The first contour block is an arc.
+    let arc = star.replace("N310 X-20 Y20", "N310 G2 X-20 Y20 R80\nN315 G1 X-20 Y20");
+    assert_eq!(
+        alarm("isg.toml", &[], &arc).0,
+        AlarmCode::InnerCornerSelection
+    );
+    // With the tool outside (G42) the tip is an outer corner.
+    let outside = star.replace("N230 G41", "N230 G42");
+    assert_eq!(
+        alarm("isg.toml", &[], &outside).0,
+        AlarmCode::InnerCornerSelection
+    );
+    // The radius may not change while active.
+    let d_change = star.replace("N330 X-20 Y-20", "N330 X-20 Y-20 D2");
+    assert_eq!(
+        alarm("isg.toml", &[], &d_change),
+        (AlarmCode::InnerCornerSelection, 13)
+    );
+    // And G238 cannot be switched on while TRC is active (the front end refuses it).
+    let late = star
+        .replace("N210 G238", "N210 G139")
+        .replace("N320 X-100 Y0", "N320 X-100 Y0 G238");
+    assert_eq!(alarm("isg.toml", &[], &late).0, AlarmCode::ForbiddenWithTrc);
+}

@@ -59,6 +59,9 @@ pub enum AlarmCode {
     ArcRadiusTooSmall,
     /// A tool radius change with TRC active in a block that is not linear (840C 11.7, ISG).
     RadiusChangeNotLinear,
+    /// ISG inner-corner selection (G238) impossible: contour not closed, first block not
+    /// linear, no inner corner at the selection point, or a radius/side change while active.
+    InnerCornerSelection,
 }
 
 impl AlarmCode {
@@ -88,6 +91,7 @@ impl AlarmCode {
             AlarmCode::NoFeed => 10860,
             AlarmCode::ArcRadiusTooSmall => 10758,
             AlarmCode::RadiusChangeNotLinear => 10760,
+            AlarmCode::InnerCornerSelection => 10762,
         }
     }
 }

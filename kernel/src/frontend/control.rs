@@ -50,7 +50,7 @@ pub enum ControlStmt {
 pub type Mark = (usize, u32, usize);
 
 /// An open control structure. `origin` is (line, line start, byte offset) of its opening.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub enum Frame {
     For {
         var: String,

@@ -118,6 +118,7 @@ fn fault(code: AlarmCode, at: impl Offset, message: impl Into<String>) -> Box<Fa
 type R<T> = Result<T, Box<Fault>>;
 
 /// Streams interpreted blocks out of one part program.
+#[derive(Clone)]
 pub struct Interpreter<'a> {
     name: &'a str,
     src: &'a [u8],
@@ -220,6 +221,11 @@ impl<'a> Interpreter<'a> {
         } else {
             Ok(None)
         }
+    }
+
+    /// The last block handed out (what `next_block` returned).
+    pub fn current(&self) -> &Block {
+        &self.block
     }
 
     /// The modal state after the last block handed out.

@@ -8,10 +8,10 @@ pub mod jsonl;
 
 use crate::alarm::Alarm;
 use crate::dialect::Dialect;
-use crate::frontend::block::{Block, Motion};
+use crate::frontend::block::{Block, Motion, SelectionPolicy, TrcSide};
 use crate::frontend::Interpreter;
 use crate::machine_data::MachineData;
-use crate::segment::Segment;
+use crate::segment::{Segment, Source};
 use crate::tools::ToolTable;
 use crate::trc::{Compensator, Out, TrcFault};
 
@@ -66,8 +66,8 @@ impl<'a> Preparation<'a> {
             if self.done {
                 return Ok(None);
             }
-            let block = match self.interp.next_block() {
-                Ok(Some(b)) => b,
+            let inner_corner = match self.interp.next_block() {
+                Ok(Some(b)) => selects_at_inner_corner(b),
                 Ok(None) => {
                     self.done = true;
                     let r = self.trc.finish(&mut self.out);
@@ -82,6 +82,11 @@ impl<'a> Preparation<'a> {
                 }
             };
             self.blocks += 1;
+            if inner_corner {
+                let closing = closing_element(&self.interp);
+                self.trc.close_contour(closing);
+            }
+            let block = self.interp.current();
             let motion = block
                 .motion
                 .map(|m| with_length(&m, &mut self.length, block));
@@ -102,6 +107,37 @@ impl<'a> Preparation<'a> {
             message: f.message,
         }
     }
+}
+
+/// A G41/G42 block under ISG's inner-corner selection (G238).
+fn selects_at_inner_corner(b: &Block) -> bool {
+    b.trc.is_some_and(|s| s != TrcSide::Off)
+        && b.approach.is_none()
+        && b.modal.selection == SelectionPolicy::InnerCorner
+}
+
+/// G238 needs the contour's last element before it starts: the last block moving in the plane
+/// before the next G40, read ahead by a copy of the interpreter (once per selection; `None`
+/// when the program ends or stops with an alarm first, which the main stream then reports).
+fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
+    let mut ahead = interp.clone();
+    let mut last = None;
+    while let Ok(Some(b)) = ahead.next_block() {
+        if b.trc == Some(TrcSide::Off) {
+            return last;
+        }
+        if let Some(m) = b.motion.filter(|m| m.moves_in_plane(1e-9)) {
+            last = Some((
+                m,
+                Source {
+                    number: b.number,
+                    line: b.line,
+                    col: b.col,
+                },
+            ));
+        }
+    }
+    None
 }
 
 /// The motion with the tool length on the tool axis: the old length up to a block that

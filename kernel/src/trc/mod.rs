@@ -22,6 +22,7 @@ use crate::frontend::block::{
 use crate::segment::{Role, Segment, Shape, Source};
 use corner::{CornerError, CornerSettings, OuterCorner};
 use geom::{v2, Elem, EPS, V2};
+use selection::InnerCornerError;
 
 /// What a repeated G41/G42 (same side, already active) does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -182,6 +183,10 @@ pub struct Compensator {
     held: heapless::Vec<Held, 8>,
     /// Blocks outside the plane since the last plane block (moves, aux, calculations).
     outside: usize,
+    /// ISG G238: the closed contour's last element, read ahead by the preparation.
+    closing: Option<(Motion, Source)>,
+    /// ISG G238 active: the inner corner where the contour started and will end.
+    inner_exit: Option<V2>,
 }
 
 fn split(p: &Pos, plane: Plane) -> (V2, f64) {
@@ -197,6 +202,12 @@ fn join(v: V2, w: f64, plane: Plane) -> Pos {
     p[plane.ordinate as usize] = v.y;
     p[plane.normal as usize] = w;
     p
+}
+
+/// A coordinate for a message: up to 4 decimals, no trailing zeros.
+fn num4(v: f64) -> String {
+    let s = format!("{:.4}", v + 0.0);
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 fn side_sign(side: TrcSide) -> f64 {
@@ -236,7 +247,15 @@ impl Compensator {
             pending: None,
             held: heapless::Vec::new(),
             outside: 0,
+            closing: None,
+            inner_exit: None,
         }
+    }
+
+    /// ISG G238: the last element of the contour the coming selection starts (the last
+    /// plane move before its G40), or `None` if no G40 follows.
+    pub fn close_contour(&mut self, last: Option<(Motion, Source)>) {
+        self.closing = last;
     }
 
     pub fn is_active(&self) -> bool {
@@ -317,6 +336,13 @@ impl Compensator {
                 select = Some(m);
             }
             (Mode::On, Some(side)) if side == self.side => {}
+            (Mode::On, Some(_)) if self.inner_exit.is_some() => {
+                return Err(fault(
+                    AlarmCode::InnerCornerSelection,
+                    source,
+                    "G238: the compensation side cannot change while selection at an inner corner is active",
+                ));
+            }
             (Mode::On, Some(_)) => {
                 let m = b
                     .approach
@@ -343,6 +369,13 @@ impl Compensator {
             && select.is_none()
             && (new_d - self.d).abs() > EPS
         {
+            if self.inner_exit.is_some() {
+                return Err(fault(
+                    AlarmCode::InnerCornerSelection,
+                    source,
+                    "G238: the tool radius cannot change while selection at an inner corner is active",
+                ));
+            }
             match self.rules.radius_change {
                 RadiusChange::InBlockLinear | RadiusChange::InBlock => {
                     d1 = new_d;
@@ -487,6 +520,7 @@ impl Compensator {
         self.mode = Mode::Off;
         self.side = TrcSide::Off;
         self.d = 0.0;
+        self.inner_exit = None;
         Ok(())
     }
 
@@ -721,13 +755,6 @@ impl Compensator {
             });
             return Ok(());
         }
-        if policy == SelectionPolicy::InnerCorner {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                tag.source,
-                "inner-corner selection (G238) is not supported by softnc yet",
-            ));
-        }
         self.selection = Some(Selection {
             tag,
             from: self.tool,
@@ -764,10 +791,16 @@ impl Compensator {
         let settings = self.settings();
         let start;
         if let Some(sel) = self.selection.take() {
-            let en = selection::entry(
-                sel.from, sel.q, sel.dir, &e, &o_start, d0, sel.policy, &settings,
-            )
-            .map_err(|x| Self::corner_fault(tag, x))?;
+            let en = if sel.policy == SelectionPolicy::InnerCorner {
+                let en = self.inner_corner_entry(&sel, &e, &o_start, d0, &settings)?;
+                self.inner_exit = Some(en.start);
+                en
+            } else {
+                selection::entry(
+                    sel.from, sel.q, sel.dir, &e, &o_start, d0, sel.policy, &settings,
+                )
+                .map_err(|x| Self::corner_fault(tag, x))?
+            };
             self.piece(
                 sel.tag,
                 Role::Approach,
@@ -803,6 +836,49 @@ impl Compensator {
             w1,
         });
         Ok(())
+    }
+
+    /// ISG G238: the entry at the closed contour's inner corner (TF5200; docs/trc.md).
+    fn inner_corner_entry(
+        &mut self,
+        sel: &Selection,
+        e1: &Elem,
+        o1: &Elem,
+        d: f64,
+        settings: &CornerSettings,
+    ) -> Result<selection::Entry, TrcFault> {
+        let Some((m, last)) = self.closing.take() else {
+            return Err(fault(
+                AlarmCode::InnerCornerSelection,
+                sel.tag.source,
+                "G238: no G40 follows: selection at an inner corner needs a closed contour ended by G40",
+            ));
+        };
+        let en = self.elem_of(&m);
+        selection::inner_corner(sel.from, sel.q, e1, o1, &en, d, settings).map_err(|x| {
+            let (source, msg) = match x {
+                InnerCornerError::NotClosed => (
+                    last,
+                    format!(
+                        "G238: the contour is not closed: its last block before G40 ends at ({}, {}), not at the approach block's end point ({}, {})",
+                        num4(en.end().x), num4(en.end().y), num4(sel.q.x), num4(sel.q.y)
+                    ),
+                ),
+                InnerCornerError::FirstNotLinear => (
+                    sel.tag.source,
+                    "G238: the first contour block after the approach block must be a straight line".to_string(),
+                ),
+                InnerCornerError::NotInner => (
+                    sel.tag.source,
+                    "G238: the corner from the contour's last to its first block is not an inner corner on the tool side".to_string(),
+                ),
+                InnerCornerError::NoIntersection => (
+                    sel.tag.source,
+                    "G238: the tool does not fit into the inner corner at the approach block's end point".to_string(),
+                ),
+            };
+            fault(AlarmCode::InnerCornerSelection, source, msg)
+        })
     }
 
     /// Emits the pending element from its start to `end`, checking that it still runs
@@ -893,6 +969,22 @@ impl Compensator {
             self.flush_held(out);
             return Ok(());
         };
+        if let (SelectionPolicy::InnerCorner, Some(x)) = (policy, self.inner_exit.take()) {
+            // G238: the contour ends where it began, in the inner corner, and the
+            // deselection block leaves from there straight to its programmed point.
+            self.emit_pending(&p, x, out)?;
+            self.flush_held(out);
+            let (f, w1) = match m.filter(|m| m.moves_in_plane(EPS)) {
+                Some(m) => split(&m.end, self.plane),
+                None => (
+                    p.prog.end(),
+                    m.map_or(p.w1, |m| split(&m.end, self.plane).1),
+                ),
+            };
+            let (from, w) = (self.tool, self.tool_w);
+            self.line(tag, Role::Retract, from, f, w, w1, out);
+            return Ok(());
+        }
         let (f, dir, w1) = match m {
             Some(m) => {
                 let (f, w1) = split(&m.end, self.plane);

@@ -77,6 +77,57 @@ pub fn entry(
     }
 }
 
+/// Why an inner-corner selection (ISG G238) has no path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InnerCornerError {
+    /// The contour's last element does not end where the approach block ends.
+    NotClosed,
+    /// The first contour element is not a straight line.
+    FirstNotLinear,
+    /// The corner from the last to the first element is not an inner corner on the tool side.
+    NotInner,
+    /// The equidistants do not meet there: the tool does not fit into the corner.
+    NoIntersection,
+}
+
+/// ISG G238 (TF5200 "Selecting inside corner of TRC"): on a closed contour the approach block
+/// runs straight from the tool (`from`) to the intersection of the equidistants of the
+/// contour's last element `en` and its first `e1` (equidistant `o1`), the inner corner at
+/// the approach block's end `q`. The contour later ends at the same point (see
+/// [`super::Compensator`]'s deselection), so the tool enters and leaves the contour where no
+/// mark is left: in the inner corner.
+pub fn inner_corner(
+    from: V2,
+    q: V2,
+    e1: &Elem,
+    o1: &Elem,
+    en: &Elem,
+    d: f64,
+    s: &CornerSettings,
+) -> Result<Entry, InnerCornerError> {
+    if e1.is_arc() {
+        return Err(InnerCornerError::FirstNotLinear);
+    }
+    // Programs give their points to 3–4 decimals: a closed contour closes exactly.
+    if en.end().dist(q) > 1e-6 {
+        return Err(InnerCornerError::NotClosed);
+    }
+    let (kind, _) = classify(en.tangent_end(), e1.tangent_start(), d);
+    if kind != CornerKind::Inner {
+        return Err(InnerCornerError::NotInner);
+    }
+    let on = en.offset(d).ok_or(InnerCornerError::NoIntersection)?;
+    let c = corner(&on, o1, q, d, s).map_err(|_| InnerCornerError::NoIntersection)?;
+    Ok(Entry {
+        path: Elem::Line {
+            a: from,
+            b: c.start2,
+        },
+        pieces: heapless::Vec::new(),
+        start: c.start2,
+    })
+}
+
 /// An arc between `a` and `b` that is tangent to direction `t` at `b` (entry, `at_end`) or
 /// at `a` (exit). A straight line where no such arc exists (the points on the normal).
 pub fn tangent_arc(a: V2, b: V2, t: V2, at_end: bool) -> Elem {
