@@ -594,3 +594,62 @@ fn isg_g238_refuses_what_the_manual_restricts() {
         .replace("N320 X-100 Y0", "N320 X-100 Y0 G238");
     assert_eq!(alarm("isg.toml", &[], &late).0, AlarmCode::ForbiddenWithTrc);
 }
+
+/// Fanuc C, change in the offset direction in the offset mode: no deselection; the old side's
+/// equidistant of block A meets the new side's of block B, or without an intersection A runs
+/// to B's normal position at its start. D1 = R10; the start-up ends at (0, 10).
+#[test]
+fn fanuc_side_change_in_offset_mode() {
+    let run = |a: &str, b: &str, c: &str| {
+        let src = format!(
+            "N1 G17 G90 G0 X0 Y-20 D1;\nN2 G1 G41 X0 Y0 F100;\nN3 {a};\nN4 G42 {b};\nN5 {c};\nN6 G40 X200 Y-50;\nN7 M30;\n"
+        );
+        let p = path(
+            "fanuc.toml",
+            &["program.decimal_input=calculator"],
+            &[],
+            &src,
+        );
+        continuous(&p);
+        p
+    };
+    // Line → line at 90°: A (0,0)→(50,0) on the left is y = 10; B (50,0)→(50,50) on the
+    // right is x = 60. They meet at (60, 10).
+    let p = run("X50", "X50 Y50", "X100");
+    assert!(p
+        .iter()
+        .all(|s| s.role != Role::Retract || s.source.line == 6));
+    at(
+        "A ends at the intersection",
+        of_block(&p, 3)[0].to,
+        60.0,
+        10.0,
+    );
+    at("B starts there", of_block(&p, 4)[0].from, 60.0, 10.0);
+    // B's end: the inner corner (for the right side) with C (50,50)→(100,50), y = 40.
+    at("B ends", of_block(&p, 4).last().unwrap().to, 60.0, 40.0);
+    // Collinear: y = 10 and y = -10 never meet: A slants to B's normal position (50, -10).
+    let p = run("X50", "X100 Y0", "X150");
+    let a = of_block(&p, 3);
+    assert_eq!(roles(&a), [Role::Contour]);
+    at("A from", a[0].from, 0.0, 10.0);
+    at("A slants to B's normal position", a[0].to, 50.0, -10.0);
+    at("B", of_block(&p, 4)[0].to, 100.0, -10.0);
+    // Line → arc: B is G2 (50,0)→(100,0) about (75,0), r 25; on the right of a clockwise arc
+    // the tool is inside, r 15. y = 10 meets that circle at x = 75 ± √(15² − 10²); the point
+    // nearer the corner is 75 − √125.
+    let p = run("X50", "G2 X100 Y0 I25 J0", "G1 X150");
+    let x = 75.0 - 125f64.sqrt();
+    at("A ends on B's circle", of_block(&p, 3)[0].to, x, 10.0);
+    let b = of_block(&p, 4);
+    at("B starts there", b[0].from, x, 10.0);
+    match b[0].shape {
+        Shape::Arc { r0, r1, .. } => {
+            assert!(
+                (r0 - 15.0).abs() < TOL && (r1 - 15.0).abs() < TOL,
+                "{r0} {r1}"
+            )
+        }
+        Shape::Line => panic!("B is an arc"),
+    }
+}

@@ -6,7 +6,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
-use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
 
@@ -81,7 +81,7 @@ pub static DIALECT: Dialect = Dialect {
     initial_selection: SelectionPolicy::Indirect,
     trc: TrcRules {
         repeat: RepeatRule::IgnoreWithoutApproach,
-        side_change: None,
+        side_change: SideChange::Reselect(None),
         radius_change: RadiusChange::NextLinear,
         armed_arc: ArmedArc::Perpendicular,
         no_plane_move: NoPlaneMove::Wait,

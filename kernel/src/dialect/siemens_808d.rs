@@ -4,7 +4,7 @@ use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
-use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
 
@@ -76,7 +76,7 @@ pub static DIALECT: Dialect = Dialect {
     initial_selection: SelectionPolicy::NormalPosition,
     trc: TrcRules {
         repeat: RepeatRule::Restart,
-        side_change: Some(SelectionPolicy::NormalPosition),
+        side_change: SideChange::Reselect(Some(SelectionPolicy::NormalPosition)),
         radius_change: RadiusChange::InBlock,
         armed_arc: ArmedArc::Alarm(AlarmCode::TrcSelectionNotLinear),
         no_plane_move: NoPlaneMove::Wait,

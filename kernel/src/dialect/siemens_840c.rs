@@ -4,7 +4,7 @@ use super::{g, g_no_trc, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Sem
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
-use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, TrcRules};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
 
@@ -86,7 +86,7 @@ pub static DIALECT: Dialect = Dialect {
     initial_selection: SelectionPolicy::Compensated,
     trc: TrcRules {
         repeat: RepeatRule::IgnoreWithoutApproach,
-        side_change: Some(SelectionPolicy::NormalPosition),
+        side_change: SideChange::Reselect(Some(SelectionPolicy::NormalPosition)),
         radius_change: RadiusChange::InBlockLinear,
         armed_arc: ArmedArc::Alarm(AlarmCode::TrcSelectionNotLinear),
         no_plane_move: NoPlaneMove::Wait,

@@ -12,6 +12,7 @@ use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::{Dialect, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::machine_data::{DecimalInput, MachineData, PlaneName, Units};
 use crate::tools::ToolTable;
+use crate::trc::SideChange;
 
 /// A value as written, with the byte offset of its address letter. Flat rather than holding
 /// a [`Number`], so that it packs into 16 bytes and `Option<Val>` stays 16 bytes too.
@@ -1022,9 +1023,17 @@ impl<'a> Interpreter<'a> {
 
         let blk = &mut self.block;
         // TRC selection/deselection only in linear blocks (840C 11.3/11.5, Fanuc 026).
+        // Fanuc changes sides in offset mode in any block, circles included (no new start-up).
+        let fanuc_side_change = d.trc.side_change == SideChange::Intersection
+            && old_trc != TrcSide::Off
+            && new.trc != TrcSide::Off
+            && new.trc != old_trc;
         if let (Some(_), Some(at)) = (blk.trc, trc_code_at) {
             let arc = new.motion.is_arc();
-            if arc && (blk.motion.is_some() || d.trc_not_linear == AlarmCode::FanucTrcNotLinear) {
+            if arc
+                && !fanuc_side_change
+                && (blk.motion.is_some() || d.trc_not_linear == AlarmCode::FanucTrcNotLinear)
+            {
                 return Err(fault(
                     d.trc_not_linear,
                     at,

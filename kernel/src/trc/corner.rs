@@ -203,6 +203,22 @@ pub fn corner(
     Ok(out)
 }
 
+/// Fanuc C, "change in the offset direction in the offset mode" (003; Fanuc operator's
+/// manuals): `o1` is the previous element's equidistant on the old side, `o2` the next one's
+/// on the new side. Neither inner nor outer: the path switches at their intersection nearest
+/// the corner; where they do not meet, the previous element runs to the normal position at
+/// the next one's start (a line becomes slanted, an arc changes its radius over its sweep).
+pub fn side_change(o1: &Elem, o2: &Elem) -> Corner {
+    let (p1, p2) = (o1.end(), o2.start());
+    let x = nearest_intersection(o1, o2, p1, p2).unwrap_or(p2);
+    Corner {
+        end1: x,
+        start2: x,
+        pieces: heapless::Vec::new(),
+        kind: CornerKind::Tangent,
+    }
+}
+
 /// The tangent construction of [`OuterCorner::LinearTransition`].
 fn linear_transition(out: &mut Corner, o1: &Elem, o2: &Elem, a: f64, d: f64) {
     let (p1, p2) = (o1.end(), o2.start());

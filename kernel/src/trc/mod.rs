@@ -70,9 +70,7 @@ pub enum NoPlaneMove {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrcRules {
     pub repeat: RepeatRule,
-    /// A side change (G41↔G42) without a programmed method deselects and reselects with
-    /// this method (840C 11.6.2: G456; 808D: normal position); `None` uses the modal method.
-    pub side_change: Option<SelectionPolicy>,
+    pub side_change: SideChange,
     pub radius_change: RadiusChange,
     pub armed_arc: ArmedArc,
     pub no_plane_move: NoPlaneMove,
@@ -80,6 +78,18 @@ pub struct TrcRules {
     pub not_linear: AlarmCode,
     /// 840C G451 caps its tangent extension beyond this change of direction (three blocks).
     pub intersection_cap_deg: f64,
+}
+
+/// A side change (G41↔G42) while TRC is active, without a programmed method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideChange {
+    /// Deselect at the last point and reselect with this method (840C 11.6.2: G456; 808D:
+    /// normal position); `None` uses the modal method (ISG).
+    Reselect(Option<SelectionPolicy>),
+    /// Fanuc C, "change in the offset direction in the offset mode": no deselection; the
+    /// path switches sides where the old side's equidistant of the previous element meets the
+    /// new side's of the next, else on the next element's normal at its start.
+    Intersection,
 }
 
 /// An alarm from the compensation, before it gets the program's name.
@@ -187,6 +197,8 @@ pub struct Compensator {
     closing: Option<(Motion, Source)>,
     /// ISG G238 active: the inner corner where the contour started and will end.
     inner_exit: Option<V2>,
+    /// Fanuc side change in offset mode: the next element switches sides (SideChange).
+    switching: bool,
 }
 
 fn split(p: &Pos, plane: Plane) -> (V2, f64) {
@@ -249,6 +261,7 @@ impl Compensator {
             outside: 0,
             closing: None,
             inner_exit: None,
+            switching: false,
         }
     }
 
@@ -343,11 +356,20 @@ impl Compensator {
                     "G238: the compensation side cannot change while selection at an inner corner is active",
                 ));
             }
+            (Mode::On, Some(side))
+                if self.rules.side_change == SideChange::Intersection && b.approach.is_none() =>
+            {
+                // The new side takes effect with the next element, without deselecting.
+                self.side = side;
+                self.d = new_d;
+                self.switching = true;
+            }
             (Mode::On, Some(_)) => {
-                let m = b
-                    .approach
-                    .or(self.rules.side_change)
-                    .unwrap_or(b.modal.selection);
+                let fixed = match self.rules.side_change {
+                    SideChange::Reselect(m) => m,
+                    SideChange::Intersection => None,
+                };
+                let m = b.approach.or(fixed).unwrap_or(b.modal.selection);
                 deselect = Some(m);
                 select = Some(m);
             }
@@ -521,6 +543,7 @@ impl Compensator {
         self.side = TrcSide::Off;
         self.d = 0.0;
         self.inner_exit = None;
+        self.switching = false;
         Ok(())
     }
 
@@ -791,6 +814,8 @@ impl Compensator {
         let settings = self.settings();
         let start;
         if let Some(sel) = self.selection.take() {
+            // A side change before the first element: the selection goes to the new side.
+            self.switching = false;
             let en = if sel.policy == SelectionPolicy::InnerCorner {
                 let en = self.inner_corner_entry(&sel, &e, &o_start, d0, &settings)?;
                 self.inner_exit = Some(en.start);
@@ -816,8 +841,12 @@ impl Compensator {
             self.pieces(tag, &en.pieces, w, out);
             start = en.start;
         } else if let Some(p) = self.pending.take() {
-            let c = corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
-                .map_err(|x| Self::corner_fault(tag, x))?;
+            let c = if std::mem::take(&mut self.switching) {
+                corner::side_change(&p.carrier, &o_start)
+            } else {
+                corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
+                    .map_err(|x| Self::corner_fault(tag, x))?
+            };
             self.emit_pending(&p, c.end1, out)?;
             self.flush_held(out);
             let w = self.tool_w;
@@ -961,6 +990,7 @@ impl Compensator {
             }
         }
         let settings = self.settings();
+        self.switching = false;
         // Deselected right after selecting: the selection block goes to its point.
         if self.flush_selection(out) {
             self.flush_held(out);
