@@ -181,9 +181,9 @@ fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCo
     }
     let mut prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
     let code = loop {
-        match prep.next_segment() {
-            Ok(Some(seg)) => {
-                if let Err(e) = prep_jsonl::write_segment(&mut out, &seg) {
+        match prep.next_item() {
+            Ok(Some(item)) => {
+                if let Err(e) = prep_jsonl::write_prepared(&mut out, &item) {
                     return fail(format!("writing output: {e}"));
                 }
             }

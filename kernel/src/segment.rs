@@ -10,6 +10,9 @@ pub struct Source {
     /// 1-based line and column of the block's first character.
     pub line: u32,
     pub col: u32,
+    /// The block's place in execution order (1, 2, …; a loop's blocks get a new one on every
+    /// pass; wraps after 2³² blocks, so compare with `wrapping_sub`).
+    pub seq: u32,
 }
 
 /// Why a segment is in the path.
@@ -69,6 +72,9 @@ pub struct Segment {
     /// Path feed, mm/min.
     pub feed: f64,
     pub rapid: bool,
+    /// Exact stop at the end (G09 of the block, or the modal G60/G61; inserted blocks take
+    /// the next block's, 840C 11.10).
+    pub exact_stop: bool,
 }
 
 impl Segment {

@@ -4,7 +4,9 @@
 use crate::alarm::Alarm;
 use crate::frontend::block::Pos;
 use crate::json::{num_point as num, string};
-use crate::segment::{Segment, Shape};
+use crate::machine_data::AuxOutput;
+use crate::prep::s_points::{AuxFunction, Prepared, Stop};
+use crate::segment::{Segment, Shape, Source};
 use std::io::{self, Write};
 
 fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
@@ -15,10 +17,7 @@ fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
 pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     let kind = if s.is_arc() { "arc" } else { "line" };
     write!(out, "{{\"type\":\"{kind}\",\"block\":")?;
-    match s.source.number {
-        Some(n) => write!(out, "\"{n}\"")?,
-        None => out.write_all(b"null")?,
-    }
+    block(out, &s.source)?;
     write!(
         out,
         ",\"line\":{},\"role\":\"{}\",\"from\":",
@@ -49,7 +48,68 @@ pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     }
     out.write_all(b",\"feed\":")?;
     num(out, s.feed)?;
-    writeln!(out, ",\"rapid\":{}}}", s.rapid)
+    if s.exact_stop {
+        writeln!(out, ",\"rapid\":{},\"exact_stop\":true}}", s.rapid)
+    } else {
+        writeln!(out, ",\"rapid\":{}}}", s.rapid)
+    }
+}
+
+fn block(out: &mut impl Write, s: &Source) -> io::Result<()> {
+    match s.number {
+        Some(n) => write!(out, "\"{n}\""),
+        None => out.write_all(b"null"),
+    }
+}
+
+/// Any prepared record: segment, auxiliary functions, stop or program end.
+pub fn write_prepared(out: &mut impl Write, p: &Prepared) -> io::Result<()> {
+    match p {
+        Prepared::Segment(s) => write_segment(out, s),
+        Prepared::Aux(a) => write_aux(out, a),
+        Prepared::Stop(s) => write_stop(out, "stop", s),
+        Prepared::End(s) => write_stop(out, "end", s),
+    }
+}
+
+/// `{"type":"aux","block":"N25","line":14,"at":"S1","words":["M3","S2000","H2"],"pos":[..],"timing":"before"}`
+pub fn write_aux(out: &mut impl Write, a: &AuxFunction) -> io::Result<()> {
+    out.write_all(b"{\"type\":\"aux\",\"block\":")?;
+    block(out, &a.source)?;
+    write!(
+        out,
+        ",\"line\":{},\"at\":\"S{}\",\"words\":[",
+        a.source.line, a.at
+    )?;
+    for (i, w) in a.words.iter().enumerate() {
+        if i > 0 {
+            out.write_all(b",")?;
+        }
+        write!(out, "\"{w}\"")?;
+    }
+    out.write_all(b"],\"pos\":")?;
+    pos(out, &a.pos)?;
+    let timing = match a.timing {
+        AuxOutput::BeforeMotion => "before",
+        AuxOutput::DuringMotion => "during",
+    };
+    writeln!(out, ",\"timing\":\"{timing}\"}}")
+}
+
+/// `{"type":"stop","block":"N40","line":9,"code":"M0","at":"S5","pos":[..]}`, and the same
+/// with `"type":"end"` for M02/M30.
+pub fn write_stop(out: &mut impl Write, kind: &str, s: &Stop) -> io::Result<()> {
+    write!(out, "{{\"type\":\"{kind}\",\"block\":")?;
+    block(out, &s.source)?;
+    write!(
+        out,
+        ",\"line\":{},\"code\":\"{}\",\"at\":\"S{}\",\"pos\":",
+        s.source.line,
+        s.code.code(),
+        s.at
+    )?;
+    pos(out, &s.pos)?;
+    out.write_all(b"}\n")
 }
 
 /// An alarm as a record.

@@ -5,8 +5,11 @@
 //! compensation holds back only the element whose end depends on the next corner.
 
 pub mod jsonl;
+pub mod s_points;
 
-use crate::alarm::Alarm;
+pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
+
+use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::Dialect;
 use crate::frontend::block::{Block, Motion, SelectionPolicy, TrcSide};
 use crate::frontend::Interpreter;
@@ -26,6 +29,11 @@ pub struct Preparation<'a> {
     length: f64,
     blocks: u64,
     done: bool,
+    /// The end record is out (or an alarm ended the stream).
+    ended: bool,
+    s_points: SPoints,
+    /// Records ready to hand out, in order (a segment and what waited for its start).
+    ready: heapless::Deque<Prepared, 32>,
 }
 
 impl<'a> Preparation<'a> {
@@ -33,11 +41,12 @@ impl<'a> Preparation<'a> {
         let interp = Interpreter::new(name, source, md, tools);
         let plane = interp.state().plane;
         let rules = Dialect::get(md.dialect).trc;
+        let start = interp.position();
         let trc = Compensator::new(
             rules,
             md.trc.max_blocks_outside_plane,
             md.trc.suppression_distance,
-            interp.position(),
+            start,
             plane,
         );
         Preparation {
@@ -48,6 +57,9 @@ impl<'a> Preparation<'a> {
             length: 0.0,
             blocks: 0,
             done: false,
+            ended: false,
+            s_points: SPoints::new(start, md.trc.aux_output, md.program.optional_stop),
+            ready: heapless::Deque::new(),
         }
     }
 
@@ -56,15 +68,64 @@ impl<'a> Preparation<'a> {
         self.blocks
     }
 
-    /// The next segment of the tool path; `Ok(None)` at the end. After an alarm the stream
-    /// ends.
+    /// The next segment of the tool path, skipping auxiliary functions and stops;
+    /// `Ok(None)` at the end. After an alarm the stream ends.
     pub fn next_segment(&mut self) -> Result<Option<Segment>, Alarm> {
         loop {
-            if let Some(s) = self.out.pop_front() {
-                return Ok(Some(s));
+            // Checked first: popping moves a whole (large) record even when there is none.
+            while !self.ready.is_empty() {
+                if let Some(Prepared::Segment(s)) = self.ready.pop_front() {
+                    return Ok(Some(s));
+                }
+            }
+            match self.pull()? {
+                Pull::Segment(s) => return Ok(Some(s)),
+                Pull::Queued => {}
+                Pull::End => return Ok(None),
+            }
+        }
+    }
+
+    /// The next record in execution order: segments, auxiliary functions at their S points,
+    /// stops and the program end; `Ok(None)` at the end. After an alarm the stream ends.
+    pub fn next_item(&mut self) -> Result<Option<Prepared>, Alarm> {
+        loop {
+            if let Some(x) = self.ready.pop_front() {
+                return Ok(Some(x));
+            }
+            match self.pull()? {
+                Pull::Segment(s) => return Ok(Some(Prepared::Segment(s))),
+                Pull::Queued => {}
+                Pull::End => return Ok(None),
+            }
+        }
+    }
+
+    /// Works until a segment passes straight through (nothing waits for an S point: the
+    /// common case, no queueing), something is queued in `ready`, or the program is over.
+    #[inline(never)]
+    fn pull(&mut self) -> Result<Pull, Alarm> {
+        loop {
+            if let Some(seg) = self.out.pop_front() {
+                if self.s_points.idle() {
+                    self.s_points.pass(&seg);
+                    return Ok(Pull::Segment(seg));
+                }
+                self.s_points.segment(seg, &mut self.ready);
+                return Ok(Pull::Queued);
+            }
+            if !self.s_points.idle() && !self.trc.holds_back() {
+                // The path is out up to here: what waits is due at the current position.
+                self.s_points.flush(&mut self.ready);
+                return Ok(Pull::Queued);
             }
             if self.done {
-                return Ok(None);
+                if !self.ended {
+                    self.ended = true;
+                    self.s_points.finish(&mut self.ready);
+                    return Ok(Pull::Queued);
+                }
+                return Ok(Pull::End);
             }
             let inner_corner = match self.interp.next_block() {
                 Ok(Some(b)) => selects_at_inner_corner(b),
@@ -78,6 +139,7 @@ impl<'a> Preparation<'a> {
                 }
                 Err(a) => {
                     self.done = true;
+                    self.ended = true;
                     return Err(a);
                 }
             };
@@ -87,11 +149,26 @@ impl<'a> Preparation<'a> {
                 self.trc.close_contour(closing);
             }
             let block = self.interp.current();
+            self.s_points.set_plane(block.modal.plane);
+            if !self.s_points.block(block, self.blocks as u32) {
+                self.done = true;
+                self.ended = true;
+                return Err(Alarm {
+                    code: AlarmCode::TooManyWords,
+                    program: self.name.to_string(),
+                    line: block.line,
+                    col: block.col,
+                    block: block.number.map(|n| n.to_string()),
+                    message: "too many blocks with auxiliary functions wait for their S point"
+                        .into(),
+                });
+            }
             let motion = block
                 .motion
                 .map(|m| with_length(&m, &mut self.length, block));
             if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
                 self.done = true;
+                self.ended = true;
                 return Err(self.alarm(f));
             }
         }
@@ -107,6 +184,13 @@ impl<'a> Preparation<'a> {
             message: f.message,
         }
     }
+}
+
+/// One round of [`Preparation::pull`].
+enum Pull {
+    Segment(Segment),
+    Queued,
+    End,
 }
 
 /// A G41/G42 block under ISG's inner-corner selection (G238).
@@ -133,6 +217,7 @@ fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
                     number: b.number,
                     line: b.line,
                     col: b.col,
+                    seq: 0,
                 },
             ));
         }

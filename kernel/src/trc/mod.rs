@@ -123,6 +123,7 @@ struct Tag {
     source: Source,
     feed: f64,
     rapid: bool,
+    exact_stop: bool,
 }
 
 /// A selection block waiting for the first contour element.
@@ -199,6 +200,8 @@ pub struct Compensator {
     inner_exit: Option<V2>,
     /// Fanuc side change in offset mode: the next element switches sides (SideChange).
     switching: bool,
+    /// Blocks seen, for `Source::seq`.
+    seq: u32,
 }
 
 fn split(p: &Pos, plane: Plane) -> (V2, f64) {
@@ -262,6 +265,7 @@ impl Compensator {
             closing: None,
             inner_exit: None,
             switching: false,
+            seq: 0,
         }
     }
 
@@ -273,6 +277,11 @@ impl Compensator {
 
     pub fn is_active(&self) -> bool {
         self.mode != Mode::Off
+    }
+
+    /// True while blocks wait for the next element (their segments are not out yet).
+    pub fn holds_back(&self) -> bool {
+        self.pending.is_some() || self.selection.is_some() || !self.held.is_empty()
     }
 
     fn settings(&self) -> CornerSettings {
@@ -300,15 +309,18 @@ impl Compensator {
         motion: Option<&Motion>,
         out: &mut Out,
     ) -> Result<(), TrcFault> {
+        self.seq = self.seq.wrapping_add(1);
         let source = Source {
             number: b.number,
             line: b.line,
             col: b.col,
+            seq: self.seq,
         };
         let tag = Tag {
             source,
             feed: b.modal.feed,
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
+            exact_stop: b.exact_stop || b.modal.exact_stop,
         };
         if let Some(m) = motion {
             if self.mode == Mode::Off {
@@ -629,6 +641,7 @@ impl Compensator {
                 to: join(b, w1, self.plane),
                 feed: tag.feed,
                 rapid: tag.rapid,
+                exact_stop: tag.exact_stop,
             },
         );
         self.tool = b;
@@ -666,6 +679,7 @@ impl Compensator {
                         to: join(b, w1, self.plane),
                         feed: tag.feed,
                         rapid: tag.rapid,
+                        exact_stop: tag.exact_stop,
                     },
                 );
                 self.tool = b;
@@ -1071,5 +1085,6 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         to: m.end,
         feed: tag.feed,
         rapid: tag.rapid,
+        exact_stop: tag.exact_stop,
     }
 }
