@@ -338,16 +338,22 @@ impl ProgramStop {
 /// Capacity for non-motion words in one block (alarm 14750 beyond it).
 pub const MAX_AUX_WORDS: usize = 12;
 
-/// The block number as written: value and digit count (keeps `N05` as `N05`).
+/// The block number as written: value and digit count (keeps `N05` as `N05`). The count is
+/// never 0, which lets `Option<BlockNo>` stay 8 bytes (a `Segment` fits in 128).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BlockNo {
     pub value: u32,
-    pub digits: u8,
+    pub digits: std::num::NonZeroU8,
 }
 
 impl std::fmt::Display for BlockNo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "N{:0width$}", self.value, width = self.digits as usize)
+        write!(
+            f,
+            "N{:0width$}",
+            self.value,
+            width = self.digits.get() as usize
+        )
     }
 }
 

@@ -259,9 +259,12 @@ pub fn read_block_number(c: &mut Cursor) -> Result<Option<BlockNo>, (AlarmCode, 
     if c.i == ds {
         return Err((AlarmCode::Syntax, "N must be followed by the block number"));
     }
+    // At least one digit was read (checked above).
+    let digits =
+        std::num::NonZeroU8::new((c.i - ds).min(10) as u8).unwrap_or(std::num::NonZeroU8::MIN);
     Ok(Some(BlockNo {
         value: v as u32,
-        digits: (c.i - ds).min(10) as u8,
+        digits,
     }))
 }
 

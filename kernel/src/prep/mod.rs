@@ -73,15 +73,23 @@ impl<'a> Preparation<'a> {
     pub fn next_segment(&mut self) -> Result<Option<Segment>, Alarm> {
         loop {
             // Checked first: popping moves a whole (large) record even when there is none.
-            while !self.ready.is_empty() {
+            if !self.ready.is_empty() {
                 if let Some(Prepared::Segment(s)) = self.ready.pop_front() {
                     return Ok(Some(s));
                 }
+                continue;
             }
-            match self.pull()? {
-                Pull::Segment(s) => return Ok(Some(s)),
-                Pull::Queued => {}
-                Pull::End => return Ok(None),
+            if let Some(seg) = self.out.pop_front() {
+                if self.s_points.idle() {
+                    // Nothing waits for an S point (the common case): no queueing.
+                    self.s_points.pass(&seg);
+                    return Ok(Some(seg));
+                }
+                self.s_points.segment(seg, &mut self.ready);
+                continue;
+            }
+            if !self.refill()? {
+                return Ok(None);
             }
         }
     }
@@ -93,39 +101,41 @@ impl<'a> Preparation<'a> {
             if let Some(x) = self.ready.pop_front() {
                 return Ok(Some(x));
             }
-            match self.pull()? {
-                Pull::Segment(s) => return Ok(Some(Prepared::Segment(s))),
-                Pull::Queued => {}
-                Pull::End => return Ok(None),
+            if let Some(seg) = self.out.pop_front() {
+                if self.s_points.idle() {
+                    self.s_points.pass(&seg);
+                    return Ok(Some(Prepared::Segment(seg)));
+                }
+                self.s_points.segment(seg, &mut self.ready);
+                continue;
+            }
+            if !self.refill()? {
+                return Ok(None);
             }
         }
     }
 
-    /// Works until a segment passes straight through (nothing waits for an S point: the
-    /// common case, no queueing), something is queued in `ready`, or the program is over.
+    /// With both queues empty: releases what waits for the current point, or reads and
+    /// prepares blocks until the compensation puts something out. False at the very end.
+    /// Kept out of line: the per-segment paths above stay small.
     #[inline(never)]
-    fn pull(&mut self) -> Result<Pull, Alarm> {
+    fn refill(&mut self) -> Result<bool, Alarm> {
         loop {
-            if let Some(seg) = self.out.pop_front() {
-                if self.s_points.idle() {
-                    self.s_points.pass(&seg);
-                    return Ok(Pull::Segment(seg));
-                }
-                self.s_points.segment(seg, &mut self.ready);
-                return Ok(Pull::Queued);
+            if !self.out.is_empty() {
+                return Ok(true);
             }
             if !self.s_points.idle() && !self.trc.holds_back() {
                 // The path is out up to here: what waits is due at the current position.
                 self.s_points.flush(&mut self.ready);
-                return Ok(Pull::Queued);
+                return Ok(true);
             }
             if self.done {
                 if !self.ended {
                     self.ended = true;
                     self.s_points.finish(&mut self.ready);
-                    return Ok(Pull::Queued);
+                    return Ok(true);
                 }
-                return Ok(Pull::End);
+                return Ok(false);
             }
             let inner_corner = match self.interp.next_block() {
                 Ok(Some(b)) => selects_at_inner_corner(b),
@@ -184,13 +194,6 @@ impl<'a> Preparation<'a> {
             message: f.message,
         }
     }
-}
-
-/// One round of [`Preparation::pull`].
-enum Pull {
-    Segment(Segment),
-    Queued,
-    End,
 }
 
 /// A G41/G42 block under ISG's inner-corner selection (G238).
