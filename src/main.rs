@@ -4,6 +4,7 @@ use clap::{Args, Parser, Subcommand};
 use nc_kernel::alarm::render;
 use nc_kernel::frontend::jsonl;
 use nc_kernel::prep::jsonl as prep_jsonl;
+use nc_kernel::prep::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -183,6 +184,9 @@ fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCo
     let code = loop {
         match prep.next_item() {
             Ok(Some(item)) => {
+                if let Prepared::Warning(w) = &item {
+                    eprintln!("{}", render_warning(w, &l.source));
+                }
                 if let Err(e) = prep_jsonl::write_prepared(&mut out, &item) {
                     return fail(format!("writing output: {e}"));
                 }
@@ -240,9 +244,15 @@ fn check(input: &ProgramArgs) -> ExitCode {
     let mut prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
     let mut segments = 0u64;
     let mut alarms = 0u32;
+    let mut warnings = 0u32;
     loop {
-        match prep.next_segment() {
-            Ok(Some(_)) => segments += 1,
+        match prep.next_item() {
+            Ok(Some(Prepared::Segment(_))) => segments += 1,
+            Ok(Some(Prepared::Warning(w))) => {
+                warnings += 1;
+                eprintln!("{}", render_warning(&w, &l.source));
+            }
+            Ok(Some(_)) => {}
             Ok(None) => break,
             Err(alarm) => {
                 alarms += 1;
@@ -253,8 +263,16 @@ fn check(input: &ProgramArgs) -> ExitCode {
     }
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let verdict = if alarms == 0 { "ok" } else { "FAILED" };
+    let warned = if warnings > 0 {
+        format!(
+            ", {warnings} warning{}",
+            if warnings == 1 { "" } else { "s" }
+        )
+    } else {
+        String::new()
+    };
     println!(
-        "{}: {verdict}: {} blocks, {segments} segments, {alarms} alarm{}, {ms:.1} ms",
+        "{}: {verdict}: {} blocks, {segments} segments, {alarms} alarm{}{warned}, {ms:.1} ms",
         l.name,
         prep.blocks(),
         if alarms == 1 { "" } else { "s" }
@@ -264,6 +282,11 @@ fn check(input: &ProgramArgs) -> ExitCode {
     } else {
         ExitCode::from(1)
     }
+}
+
+/// A warning (an alarm the machine data lets pass) as a diagnostic.
+fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
+    render(w, source).replacen(": alarm ", ": warning ", 1)
 }
 
 fn main() -> ExitCode {

@@ -69,6 +69,7 @@ pub fn write_prepared(out: &mut impl Write, p: &Prepared) -> io::Result<()> {
         Prepared::Aux(a) => write_aux(out, a),
         Prepared::Stop(s) => write_stop(out, "stop", s),
         Prepared::End(s) => write_stop(out, "end", s),
+        Prepared::Warning(a) => write_record(out, "warning", a),
     }
 }
 
@@ -114,9 +115,14 @@ pub fn write_stop(out: &mut impl Write, kind: &str, s: &Stop) -> io::Result<()> 
 
 /// An alarm as a record.
 pub fn write_alarm(out: &mut impl Write, a: &Alarm) -> io::Result<()> {
+    write_record(out, "alarm", a)
+}
+
+/// An alarm or a warning as a record of that type.
+fn write_record(out: &mut impl Write, kind: &str, a: &Alarm) -> io::Result<()> {
     write!(
         out,
-        "{{\"type\":\"alarm\",\"code\":{},\"block\":",
+        "{{\"type\":\"{kind}\",\"code\":{},\"block\":",
         a.number()
     )?;
     match &a.block {

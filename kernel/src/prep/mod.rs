@@ -13,7 +13,7 @@ use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::Dialect;
 use crate::frontend::block::{Block, Motion, SelectionPolicy, TrcSide};
 use crate::frontend::Interpreter;
-use crate::machine_data::MachineData;
+use crate::machine_data::{MachineData, ViolationReaction};
 use crate::segment::{Segment, Source};
 use crate::tools::ToolTable;
 use crate::trc::{Compensator, Out, TrcFault};
@@ -42,13 +42,14 @@ impl<'a> Preparation<'a> {
         let plane = interp.state().plane;
         let rules = Dialect::get(md.dialect).trc;
         let start = interp.position();
-        let trc = Compensator::new(
+        let mut trc = Compensator::new(
             rules,
             md.trc.max_blocks_outside_plane,
             md.trc.suppression_distance,
             start,
             plane,
         );
+        trc.warn_on_violation(md.trc.violation_reaction == ViolationReaction::Warn);
         Preparation {
             name,
             interp,
@@ -180,6 +181,11 @@ impl<'a> Preparation<'a> {
                 self.done = true;
                 self.ended = true;
                 return Err(self.alarm(f));
+            }
+            while let Some(w) = self.trc.take_warning() {
+                // Ahead of the segments of this block (`ready` is served first).
+                let w = self.alarm(w);
+                let _ = self.ready.push_back(Prepared::Warning(w));
             }
         }
     }

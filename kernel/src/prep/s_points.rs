@@ -45,6 +45,8 @@ pub enum Prepared {
     Stop(Stop),
     /// Program end (M02, M30): the last record.
     End(Stop),
+    /// An alarm that only warns (3021 with `trc.violation_reaction = warn`): the path goes on.
+    Warning(crate::alarm::Alarm),
 }
 
 /// Auxiliary words and stops waiting for their S point.

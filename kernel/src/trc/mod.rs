@@ -14,6 +14,7 @@ pub mod corner;
 pub mod deselection;
 pub mod geom;
 pub mod selection;
+pub mod violation;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -202,6 +203,9 @@ pub struct Compensator {
     switching: bool,
     /// Blocks seen, for `Source::seq`.
     seq: u32,
+    /// Alarm 3021 only warns (machine data `trc.violation_reaction = warn`).
+    warn_violations: bool,
+    warnings: heapless::Deque<TrcFault, 4>,
 }
 
 fn split(p: &Pos, plane: Plane) -> (V2, f64) {
@@ -266,7 +270,14 @@ impl Compensator {
             inner_exit: None,
             switching: false,
             seq: 0,
+            warn_violations: false,
+            warnings: heapless::Deque::new(),
         }
+    }
+
+    /// Alarm 3021 as a warning, the path going on (`trc.violation_reaction = warn`).
+    pub fn warn_on_violation(&mut self, warn: bool) {
+        self.warn_violations = warn;
     }
 
     /// ISG G238: the last element of the contour the coming selection starts (the last
@@ -585,20 +596,44 @@ impl Compensator {
         emit(out, seg);
     }
 
+    /// Alarm 3021: an error that stops preparation before the violating block, or with
+    /// `violation_reaction = warn` a warning, and the path goes on (840C 11.12: "the effect of
+    /// alarm 3021 can be influenced via machine data").
+    fn violation(&mut self, f: TrcFault) -> Result<(), TrcFault> {
+        if !self.warn_violations {
+            return Err(f);
+        }
+        if self.warnings.is_full() {
+            self.warnings.pop_front();
+        }
+        let _ = self.warnings.push_back(f);
+        Ok(())
+    }
+
+    /// Warnings since the last call (violations under `violation_reaction = warn`).
+    pub fn take_warning(&mut self) -> Option<TrcFault> {
+        self.warnings.pop_front()
+    }
+
     fn count_outside(&mut self, tag: Tag) -> Result<(), TrcFault> {
         if self.pending.is_none() && self.selection.is_none() {
             return Ok(());
         }
         self.outside += 1;
         if self.outside > self.max_outside {
-            return Err(fault(
+            let f = fault(
                 AlarmCode::ContourViolation,
                 tag.source,
                 format!(
                     "more than {} blocks outside the compensation plane (840C 11.11)",
                     self.max_outside
                 ),
-            ));
+            );
+            // The held-block buffer has room for 8 whatever the reaction.
+            if self.outside > 8 {
+                return Err(f);
+            }
+            self.violation(f)?;
         }
         Ok(())
     }
@@ -936,38 +971,46 @@ impl Compensator {
         };
         match p.prog {
             Elem::Line { a, b } => {
-                // Runs backwards by more than 1e-7 mm: (end − start)·(b − a) < −1e-7 |b − a|.
-                let back = (end - p.start).dot(b - a);
-                if back < 0.0 && back * back > 1e-14 * (b - a).dot(b - a) {
-                    return Err(violation());
+                if violation::line_reverses(a, b, p.start, end) {
+                    self.violation(violation())?;
                 }
                 self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
             }
-            Elem::Arc { a, b, c, ccw } => {
-                // Angles travelled: programmed sweep, less what the start lost, plus what the
-                // end gained; below zero the element reversed.
-                // The angle an end moved along the arc, as (sin, cos)·r²; untrimmed ends lie
-                // on their radius (sin ≈ 0, cos > 0).
-                let moved = |from: V2, to: V2| {
-                    let (u, v) = (from - c, to - c);
-                    let y = u.cross(v);
-                    (if ccw { y } else { -y }, u.dot(v))
-                };
-                let (y0, x0) = moved(a, p.start);
-                let (y1, x1) = moved(b, end);
-                // The sweep is > 0: only an end that lost angle can make the element reverse.
-                // Both ends near their radius: gained = y1/x1 − y0/x0, its sign without dividing.
-                let small = |y: f64, x: f64| x > 0.0 && y.abs() <= 1e-12 * x;
-                let lost = if small(y0, x0) && small(y1, x1) {
-                    y1 * x0 - y0 * x1 < 0.0
-                } else {
-                    true
-                };
-                if lost {
-                    let gained = libm::atan2(y1, x1) - libm::atan2(y0, x0);
-                    if p.prog.sweep() + gained < -1e-9 {
-                        return Err(violation());
+            Elem::Arc { c, ccw, .. } => {
+                let total = match violation::arc_travel(&p.prog, p.start, end) {
+                    violation::ArcTravel::Programmed => None,
+                    violation::ArcTravel::Changed(s) => Some(s),
+                    violation::ArcTravel::Reversed => {
+                        self.violation(violation())?;
+                        None
                     }
+                };
+                if let Some(s) = total.filter(|s| *s >= std::f64::consts::TAU - 1e-9) {
+                    // Lengthened past a full turn (11.14): traversed in full, as two arcs, each
+                    // under a turn (an arc from its end points alone would turn only the rest).
+                    let r0 = p.start.dist(c);
+                    let r1 = end.dist(c);
+                    let u = p.start - c;
+                    let half = if ccw { s / 2.0 } else { -s / 2.0 };
+                    let (sn, cs) = (libm::sin(half), libm::cos(half));
+                    let rm = 0.5 * (r0 + r1);
+                    let mid = c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs) * (rm / r0.max(EPS));
+                    let first = Elem::Arc {
+                        a: p.start,
+                        b: mid,
+                        c,
+                        ccw,
+                    };
+                    let second = Elem::Arc {
+                        a: mid,
+                        b: end,
+                        c,
+                        ccw,
+                    };
+                    let wm = 0.5 * (p.w0 + p.w1);
+                    self.piece(p.tag, Role::Contour, &first, r0, rm, p.w0, wm, out);
+                    self.piece(p.tag, Role::Contour, &second, rm, r1, wm, p.w1, out);
+                    return Ok(());
                 }
                 let r0 = p.start.dist(c);
                 let r1 = end.dist(c);

@@ -1,0 +1,146 @@
+//! Contour violation (840C 11.12) with both machine-data reactions, and an arc lengthened
+//! past a full turn at an obtuse circle transition (11.14). Expected positions by hand.
+
+use nc_kernel::prep::Prepared;
+use nc_kernel::segment::{Role, Segment, Shape};
+use nc_kernel::{AlarmCode, MachineData, Preparation, ToolTable};
+
+fn run(src: &str, md: &[&str]) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
+    let over: Vec<String> = md.iter().map(|s| s.to_string()).collect();
+    let md = MachineData::load(None, &over).unwrap();
+    let tools = ToolTable::builtin();
+    let mut p = Preparation::new("t", src, &md, &tools);
+    let mut v = Vec::new();
+    loop {
+        match p.next_item() {
+            Ok(Some(x)) => v.push(x),
+            Ok(None) => return (v, None),
+            Err(a) => return (v, Some(a)),
+        }
+    }
+}
+
+fn segments(items: &[Prepared]) -> Vec<&Segment> {
+    items
+        .iter()
+        .filter_map(|x| match x {
+            Prepared::Segment(s) => Some(s),
+            _ => None,
+        })
+        .collect()
+}
+
+#[track_caller]
+fn at(p: [f64; 3], x: f64, y: f64) {
+    assert!(
+        (p[0] - x).abs() < 1e-9 && (p[1] - y).abs() < 1e-9,
+        "({}, {}) vs ({x}, {y})",
+        p[0],
+        p[1]
+    );
+}
+
+/// A step of 5 mm with R = 10 (D1), G41, tool above: "intermediate block < compensation
+/// value". N30 (0,0)→(40,0) and N40 up to (40,5) meet at an inner corner: y = 10 and x = 30
+/// give (30,10). N40's equidistant would then run from (30,10) down to its normal end (30,5):
+/// backwards, so the tool cannot cut N40 without cutting into N30.
+const NOTCH: &str = "N10 G0 G17 G90 X-30 Y20 D1\nN20 G1 G41 X0 Y0 F500\nN30 X40\nN40 Y5\nN50 X80\nN60 Y40\nN70 G40 X100 Y60\nN80 M30\n";
+
+#[test]
+fn violation_stops_before_the_violating_block_by_default() {
+    let (items, alarm) = run(NOTCH, &[]);
+    let a = alarm.expect("alarm 3021");
+    assert_eq!(a.code, AlarmCode::ContourViolation);
+    assert_eq!((a.line, a.col, a.block.as_deref()), (4, 1, Some("N40")));
+    let segs = segments(&items);
+    let last = segs.last().unwrap();
+    assert_eq!(last.source.number.unwrap().value, 30);
+    at(last.to, 30.0, 10.0);
+}
+
+#[test]
+fn violation_warns_and_goes_on_with_the_machine_data_switch() {
+    let (items, alarm) = run(NOTCH, &["trc.violation_reaction=warn"]);
+    assert!(alarm.is_none());
+    let w = items
+        .iter()
+        .position(|x| matches!(x, Prepared::Warning(a) if a.code == AlarmCode::ContourViolation && a.line == 4))
+        .expect("a warning for N40");
+    // The warning comes right before N40's (reversed) path, which is output as it is.
+    match &items[w + 1] {
+        Prepared::Segment(s) => {
+            assert_eq!(s.source.number.unwrap().value, 40);
+            at(s.from, 30.0, 10.0);
+            at(s.to, 30.0, 5.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(items.last(), Some(Prepared::End(_))));
+}
+
+/// Arc sweep from `a` to `b` about `c`, counter-clockwise, in (0, 2π].
+fn ccw_sweep(c: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let (u, v) = ([a[0] - c[0], a[1] - c[1]], [b[0] - c[0], b[1] - c[1]]);
+    let s = (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1]);
+    if s <= 0.0 {
+        s + std::f64::consts::TAU
+    } else {
+        s
+    }
+}
+
+/// 11.14: a circle of radius 20 (G3, almost a full turn: from angle a0 round to angle 0) and a
+/// line leaving it with an outer kink of δ. With G42 the tool is outside (r 30), the normal
+/// points A and C are ~10δ apart, below the 0.01 mm suppression distance: the intersection is
+/// approached, which lengthens the arc by φ past its end — and past a full turn. softnc turns
+/// the whole 2π − a0 + φ (the 840C turns only the part above 360°).
+#[test]
+fn arc_lengthened_past_a_full_turn_is_traversed_in_full() {
+    let (a0, d) = (0.00005f64, 0.0006f64);
+    let (sx, sy) = (20.0 * a0.cos(), 20.0 * a0.sin());
+    let (ex, ey) = (20.0 - 30.0 * d.sin(), 30.0 * d.cos());
+    let src = format!(
+        "N10 G0 G17 G90 X50 Y-30 D1\nN20 G1 G42 X{sx:.12} Y{sy:.12} F500\nN30 G3 X20 Y0 I{:.12} J{:.12}\nN40 G1 X{ex:.12} Y{ey:.12}\nN50 G40 X60 Y60\nN60 M30\n",
+        -sx, -sy
+    );
+    let (items, alarm) = run(&src, &[]);
+    assert!(alarm.is_none(), "{alarm:?}");
+    // The start angle as the program writes it.
+    let start = (format!("{sy:.12}").parse::<f64>().unwrap())
+        .atan2(format!("{sx:.12}").parse::<f64>().unwrap());
+    // φ: the line's equidistant (right of direction (−sin δ, cos δ): + 10·(cos δ, sin δ))
+    // meets the circle r = 30 at the root nearest the corner.
+    let (dx, dy) = (-d.sin(), d.cos());
+    let (px, py) = (20.0 + 10.0 * d.cos(), 10.0 * d.sin());
+    let b = px * dx + py * dy;
+    let disc = (b * b - (px * px + py * py) + 900.0).sqrt();
+    let s = [-b + disc, -b - disc]
+        .into_iter()
+        .min_by(|x, y| x.abs().total_cmp(&y.abs()))
+        .unwrap();
+    let phi = (py + s * dy).atan2(px + s * dx);
+    assert!(
+        phi > start,
+        "the test's geometry lengthens the arc past its start"
+    );
+    let arcs: Vec<_> = segments(&items)
+        .into_iter()
+        .filter(|s| s.source.number.unwrap().value == 30 && s.role == Role::Contour)
+        .collect();
+    let total: f64 = arcs
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Arc {
+                center, ccw: true, ..
+            } => ccw_sweep(center, s.from, s.to),
+            _ => panic!("N30 is a counter-clockwise arc: {s:?}"),
+        })
+        .sum();
+    let expected = std::f64::consts::TAU - start + phi;
+    assert!(expected > std::f64::consts::TAU);
+    assert!(
+        (total - expected).abs() < 1e-9,
+        "turned {total}, expected {expected}"
+    );
+    at(arcs.last().unwrap().to, 30.0 * phi.cos(), 30.0 * phi.sin());
+}
