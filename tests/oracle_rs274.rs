@@ -172,7 +172,12 @@ fn compare(
     let (mpf, ngc) = programs(start, first, chain, exit, left, r);
     let mut tools = ToolTable::builtin();
     tools.set_radius(1, r).unwrap();
-    let p = prepare(name, &mpf, &MachineData::default(), &tools)
+    // The generated chains are closed: entering at the normal position of the first element
+    // puts the tool circle into the last one when that corner is concave. That is a real
+    // gouge (softnc's bottleneck check reports it; rs274 does not check), and not what this
+    // test compares: the interior geometry. So the window is off here.
+    let md = MachineData::load(None, &["trc.bottleneck_window=0".to_string()]).unwrap();
+    let p = prepare(name, &mpf, &md, &tools)
         .unwrap_or_else(|a| panic!("{name}: softnc alarm {a}\n{mpf}"));
     let theirs = run_rs274(&ngc, name);
     let (ours, anchor) = interior(&p);

@@ -28,7 +28,11 @@ fn machine() -> &'static MachineData {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("config")
             .join("siemens-840c.toml");
-        MachineData::load(Some(&path), &[]).unwrap_or_else(|e| panic!("{e}"))
+        // The closed contours here enter at the normal position of their first element; at a
+        // concave closing corner that cuts into the last element, which the bottleneck check
+        // rightly reports. These properties are about the equidistants, so it is off.
+        MachineData::load(Some(&path), &["trc.bottleneck_window=0".to_string()])
+            .unwrap_or_else(|e| panic!("{e}"))
     })
 }
 

@@ -66,15 +66,17 @@ fn violation_warns_and_goes_on_with_the_machine_data_switch() {
         .iter()
         .position(|x| matches!(x, Prepared::Warning(a) if a.code == AlarmCode::ContourViolation && a.line == 4))
         .expect("a warning for N40");
-    // The warning comes right before N40's (reversed) path, which is output as it is.
-    match &items[w + 1] {
-        Prepared::Segment(s) => {
-            assert_eq!(s.source.number.unwrap().value, 40);
-            at(s.from, 30.0, 10.0);
-            at(s.to, 30.0, 5.0);
-        }
-        other => panic!("{other:?}"),
-    }
+    // The warning comes before N40's (reversed) path, which is output as it is.
+    let n40 = items
+        .iter()
+        .position(|x| matches!(x, Prepared::Segment(s) if s.source.number.unwrap().value == 40))
+        .expect("N40's path");
+    assert!(w < n40);
+    let Prepared::Segment(s) = &items[n40] else {
+        unreachable!()
+    };
+    at(s.from, 30.0, 10.0);
+    at(s.to, 30.0, 5.0);
     assert!(matches!(items.last(), Some(Prepared::End(_))));
 }
 

@@ -125,6 +125,9 @@ pub struct TrcData {
     /// Blocks that may stand outside the compensation plane between two plane blocks
     /// (840C 11.11: 3; 1 for software 1 and 2).
     pub max_blocks_outside_plane: u32,
+    /// Blocks over which the tool-centre path is checked for crossing itself (bottleneck
+    /// detection beyond 11.12; 840D CDON, TNC M120); 0 = off (ISG: P-CHAN-00219 default).
+    pub bottleneck_window: u32,
     /// Auxiliary functions output before or during the axis motion (840C 11.10).
     pub aux_output: AuxOutput,
 }
@@ -343,6 +346,15 @@ impl MachineData {
                 format!(
                     "{} is outside the allowed range 1 ..= 8",
                     t.max_blocks_outside_plane
+                ),
+            ));
+        }
+        if t.bottleneck_window > 64 {
+            return Err((
+                "trc.bottleneck_window".into(),
+                format!(
+                    "{} is outside the allowed range 0 ..= 64",
+                    t.bottleneck_window
                 ),
             ));
         }

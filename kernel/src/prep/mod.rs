@@ -4,9 +4,11 @@
 //! radius compensation ([`crate::trc`]). Streams: one block is read at a time, and the
 //! compensation holds back only the element whose end depends on the next corner.
 
+pub mod bottleneck;
 pub mod jsonl;
 pub mod s_points;
 
+pub use bottleneck::{Bottleneck, Gouge, Reaction};
 pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
 
 use crate::alarm::{Alarm, AlarmCode};
@@ -32,6 +34,17 @@ pub struct Preparation<'a> {
     /// The end record is out (or an alarm ended the stream).
     ended: bool,
     s_points: SPoints,
+    bottleneck: Bottleneck,
+    /// Segments the bottleneck window let go, in order.
+    released: heapless::Deque<Segment, 64>,
+    /// ISG contour masking (G141) in the last block.
+    masking: bool,
+    /// An alarm waiting until the path before it is out.
+    deferred: Option<Alarm>,
+    warn: bool,
+    /// Tool radius of the last two contour elements: segments coming out now belong to one of
+    /// them, so the smaller is used for the gouge check.
+    radius: (f64, f64),
     /// Records ready to hand out, in order (a segment and what waited for its start).
     ready: heapless::Deque<Prepared, 32>,
 }
@@ -61,6 +74,12 @@ impl<'a> Preparation<'a> {
             ended: false,
             s_points: SPoints::new(start, md.trc.aux_output, md.program.optional_stop),
             ready: heapless::Deque::new(),
+            bottleneck: Bottleneck::new(md.trc.bottleneck_window as usize),
+            released: heapless::Deque::new(),
+            masking: false,
+            deferred: None,
+            warn: md.trc.violation_reaction == ViolationReaction::Warn,
+            radius: (0.0, 0.0),
         }
     }
 
@@ -80,7 +99,7 @@ impl<'a> Preparation<'a> {
                 }
                 continue;
             }
-            if let Some(seg) = self.out.pop_front() {
+            if let Some(seg) = self.pop_path()? {
                 if self.s_points.idle() {
                     // Nothing waits for an S point (the common case): no queueing.
                     self.s_points.pass(&seg);
@@ -102,7 +121,7 @@ impl<'a> Preparation<'a> {
             if let Some(x) = self.ready.pop_front() {
                 return Ok(Some(x));
             }
-            if let Some(seg) = self.out.pop_front() {
+            if let Some(seg) = self.pop_path()? {
                 if self.s_points.idle() {
                     self.s_points.pass(&seg);
                     return Ok(Some(Prepared::Segment(seg)));
@@ -116,21 +135,96 @@ impl<'a> Preparation<'a> {
         }
     }
 
+    /// The next path segment through the bottleneck window (held back there until the
+    /// window has passed it).
+    #[inline]
+    fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
+        loop {
+            if let Some(s) = self.released.pop_front() {
+                return Ok(Some(s));
+            }
+            let Some(seg) = self.out.pop_front() else {
+                return Ok(None);
+            };
+            let r = self.radius.0.min(self.radius.1);
+            let reaction = self.reaction();
+            match self.bottleneck.push(seg, r, reaction, &mut self.released) {
+                Ok(None) => {}
+                Ok(Some(g)) => {
+                    let w = self.gouge_alarm(&g);
+                    let _ = self.ready.push_back(Prepared::Warning(w));
+                }
+                Err(g) => {
+                    // What comes before the gouging segment is clear: it goes out first.
+                    self.stop_with(self.gouge_alarm(&g));
+                    self.bottleneck
+                        .release_before(g.path.source.seq, &mut self.released);
+                }
+            }
+        }
+    }
+
+    /// Preparation ends with `alarm`, once the path before it is out.
+    fn stop_with(&mut self, alarm: Alarm) {
+        self.done = true;
+        self.ended = true;
+        self.out.clear();
+        self.deferred = Some(alarm);
+    }
+
+    fn reaction(&self) -> Reaction {
+        if self.masking {
+            Reaction::Mask
+        } else if self.warn {
+            Reaction::Warn
+        } else {
+            Reaction::Alarm
+        }
+    }
+
+    fn gouge_alarm(&self, g: &Gouge) -> Alarm {
+        let name = |s: &Source| {
+            s.number
+                .map_or_else(|| format!("line {}", s.line), |n| n.to_string())
+        };
+        Alarm {
+            code: AlarmCode::ContourViolation,
+            program: self.name.to_string(),
+            line: g.path.source.line,
+            col: g.path.source.col,
+            block: g.path.source.number.map(|n| n.to_string()),
+            message: format!(
+                "contour violation: the tool path of {} comes within {:.4} mm of the contour of {} (tool radius {:.4}): a bottleneck narrower than the tool (840C 11.12)",
+                name(&g.path.source),
+                g.distance,
+                name(&g.element),
+                g.radius
+            ),
+        }
+    }
+
     /// With both queues empty: releases what waits for the current point, or reads and
     /// prepares blocks until the compensation puts something out. False at the very end.
     /// Kept out of line: the per-segment paths above stay small.
     #[inline(never)]
     fn refill(&mut self) -> Result<bool, Alarm> {
         loop {
-            if !self.out.is_empty() {
+            if !self.out.is_empty() || !self.released.is_empty() {
                 return Ok(true);
             }
-            if !self.s_points.idle() && !self.trc.holds_back() {
+            if let Some(a) = self.deferred.take() {
+                return Err(a);
+            }
+            if !self.s_points.idle() && !self.trc.holds_back() && self.bottleneck.is_empty() {
                 // The path is out up to here: what waits is due at the current position.
                 self.s_points.flush(&mut self.ready);
                 return Ok(true);
             }
             if self.done {
+                if !self.bottleneck.is_empty() {
+                    self.bottleneck.flush(&mut self.released);
+                    return Ok(true);
+                }
                 if !self.ended {
                     self.ended = true;
                     self.s_points.finish(&mut self.ready);
@@ -178,9 +272,35 @@ impl<'a> Preparation<'a> {
                 .motion
                 .map(|m| with_length(&m, &mut self.length, block));
             if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
-                self.done = true;
-                self.ended = true;
-                return Err(self.alarm(f));
+                // The path up to the violating block is clear: the window lets it go first.
+                let a = self.alarm(f);
+                self.stop_with(a);
+                self.bottleneck.flush(&mut self.released);
+                continue;
+            }
+            self.masking = block.modal.masking;
+            self.bottleneck.set_plane(block.modal.plane);
+            if let Some((e, r)) = self.trc.take_element() {
+                self.radius = (self.radius.1, r);
+                let source = Source {
+                    number: block.number,
+                    line: block.line,
+                    col: block.col,
+                    seq: self.blocks as u32,
+                };
+                match self.bottleneck.element(source, e, self.reaction()) {
+                    Ok(None) => {}
+                    Ok(Some(g)) => {
+                        let w = self.gouge_alarm(&g);
+                        let _ = self.ready.push_back(Prepared::Warning(w));
+                    }
+                    Err(g) => {
+                        self.stop_with(self.gouge_alarm(&g));
+                        self.bottleneck
+                            .release_before(g.path.source.seq, &mut self.released);
+                        continue;
+                    }
+                }
             }
             while let Some(w) = self.trc.take_warning() {
                 // Ahead of the segments of this block (`ready` is served first).

@@ -398,3 +398,107 @@ mod tests {
         assert!(a.param(v2(0.0, -1.0)) < 0.0, "just before the start");
     }
 }
+
+/// Distance from `p` to the element (a segment of a line or of a circle).
+pub fn dist_point(e: &Elem, p: V2) -> f64 {
+    match *e {
+        Elem::Line { a, b } => {
+            let d = b - a;
+            let l2 = d.dot(d);
+            let t = if l2 > 0.0 {
+                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.dist(a + d * t)
+        }
+        Elem::Arc { a, b, c, .. } => {
+            if on_arc(e, p, c) {
+                (p.dist(c) - a.dist(c)).abs()
+            } else {
+                p.dist(a).min(p.dist(b))
+            }
+        }
+    }
+}
+
+/// Whether the ray from the arc's centre through `p` meets the arc (p at the centre: no).
+fn on_arc(e: &Elem, p: V2, c: V2) -> bool {
+    let Elem::Arc { a, b, ccw, .. } = *e else {
+        return false;
+    };
+    if p.dist(c) <= EPS {
+        return false;
+    }
+    let r = a.dist(c);
+    let q = c + (p - c).unit() * r;
+    if q.dist(a) <= 1e-12 * r.max(1.0) || q.dist(b) <= 1e-12 * r.max(1.0) {
+        return true;
+    }
+    sweep(c, a, q, ccw) <= sweep(c, a, b, ccw)
+}
+
+/// Whether a point of the element's line or circle lies on the element itself.
+pub fn contains(e: &Elem, p: V2) -> bool {
+    const TOL: f64 = 1e-9;
+    match *e {
+        Elem::Line { a, b } => {
+            let d = b - a;
+            let l2 = d.dot(d);
+            if l2 == 0.0 {
+                return p.dist(a) <= TOL;
+            }
+            let t = (p - a).dot(d) / l2;
+            (-TOL..=1.0 + TOL).contains(&t)
+        }
+        Elem::Arc { c, .. } => on_arc(e, p, c),
+    }
+}
+
+/// Smallest distance between two elements (0 where they cross).
+pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
+    if intersections(e1, e2)
+        .into_iter()
+        .any(|x| contains(e1, x) && contains(e2, x))
+    {
+        return 0.0;
+    }
+    // Otherwise the closest pair has an end point of one element, or lies on the line
+    // through an arc's centre (perpendicular to a line, or joining two centres).
+    let mut d = dist_point(e2, e1.start())
+        .min(dist_point(e2, e1.end()))
+        .min(dist_point(e1, e2.start()))
+        .min(dist_point(e1, e2.end()));
+    for (x, y) in [(e1, e2), (e2, e1)] {
+        if let Elem::Arc { a, c, .. } = *x {
+            let r = a.dist(c);
+            let dirs: heapless::Vec<V2, 2> = match *y {
+                Elem::Line { a: p, b: q } => {
+                    // The foot of the centre on the line, and the arc point towards it.
+                    let u = (q - p).unit();
+                    let foot = p + u * (c - p).dot(u);
+                    let mut v = heapless::Vec::new();
+                    if contains(y, foot) && foot.dist(c) > EPS {
+                        let _ = v.push((foot - c).unit());
+                    }
+                    v
+                }
+                Elem::Arc { c: c2, .. } => {
+                    let mut v = heapless::Vec::new();
+                    if c2.dist(c) > EPS {
+                        let _ = v.push((c2 - c).unit());
+                        let _ = v.push((c - c2).unit());
+                    }
+                    v
+                }
+            };
+            for u in dirs {
+                let q = c + u * r;
+                if contains(x, q) {
+                    d = d.min(dist_point(y, q));
+                }
+            }
+        }
+    }
+    d
+}

@@ -205,6 +205,9 @@ pub struct Compensator {
     seq: u32,
     /// Alarm 3021 only warns (machine data `trc.violation_reaction = warn`).
     warn_violations: bool,
+    /// The last contour element (programmed, in the plane) and the smaller tool radius it is
+    /// cut with, for the bottleneck check.
+    last_element: Option<(Elem, f64)>,
     warnings: heapless::Deque<TrcFault, 4>,
 }
 
@@ -271,6 +274,7 @@ impl Compensator {
             switching: false,
             seq: 0,
             warn_violations: false,
+            last_element: None,
             warnings: heapless::Deque::new(),
         }
     }
@@ -610,6 +614,12 @@ impl Compensator {
         Ok(())
     }
 
+    /// The contour element the last block added (programmed, in the plane) and its tool
+    /// radius; `None` for blocks that were not contour elements.
+    pub fn take_element(&mut self) -> Option<(Elem, f64)> {
+        self.last_element.take()
+    }
+
     /// Warnings since the last call (violations under `violation_reaction = warn`).
     pub fn take_warning(&mut self) -> Option<TrcFault> {
         self.warnings.pop_front()
@@ -850,6 +860,7 @@ impl Compensator {
     ) -> Result<(), TrcFault> {
         self.outside = 0;
         let e = self.elem_of(m);
+        self.last_element = Some((e, d0.abs().min(d1.abs())));
         let (_, w0) = split(&m.start, self.plane);
         let (_, w1) = split(&m.end, self.plane);
         // With a radius change the start corner is built with the old radius and the end
