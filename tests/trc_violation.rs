@@ -146,3 +146,77 @@ fn arc_lengthened_past_a_full_turn_is_traversed_in_full() {
     );
     at(arcs.last().unwrap().to, 30.0 * phi.cos(), 30.0 * phi.sin());
 }
+
+/// A contour that comes back close to itself (R = 10, G41, tool above N30): N30 runs along
+/// y = 0, the contour goes up, left, and N60 comes back down at x = 50 to y = `bottom`. With
+/// `bottom` = 8, N60 crosses N30's tool path (y = 10): distance 0. With `bottom` = 15 and
+/// N70 running right at y = 15, nothing crosses, but N30's tool path (y = 10) passes 5 mm from
+/// N70: the tool circle would cut it. Neither shows in three neighbouring elements.
+fn comes_back(bottom: &str) -> String {
+    format!(
+        "N10 G0 G17 G90 X-20 Y-20 D1\nN20 G1 G41 X0 Y0 F500\nN30 X100\nN40 Y50\nN50 X50\nN60 Y{bottom}\nN70 X90\nN80 G40 X90 Y-30\nN90 M30\n"
+    )
+}
+
+#[test]
+fn bottleneck_found_before_the_tool_gets_there() {
+    let (items, alarm) = run(&comes_back("8"), &[]);
+    let a = alarm.expect("alarm 3021");
+    assert_eq!(a.code, AlarmCode::ContourViolation);
+    assert_eq!((a.line, a.block.as_deref()), (3, Some("N30")));
+    assert!(
+        a.message.contains("within 0.0000 mm of the contour of N60"),
+        "{}",
+        a.message
+    );
+    // Nothing of N30 went out: the path stops after the approach.
+    let segs = segments(&items);
+    assert_eq!(segs.last().unwrap().role, Role::Approach);
+
+    // No crossing: N60 now stops at y = 15, 5 mm above N30's tool path; so does N70.
+    let (_, alarm) = run(&comes_back("15"), &[]);
+    let a = alarm.expect("alarm 3021 without a crossing");
+    assert_eq!(a.line, 3);
+    assert!(
+        a.message.contains("within 5.0000 mm of the contour of N60"),
+        "{}",
+        a.message
+    );
+}
+
+#[test]
+fn bottleneck_window_is_machine_data() {
+    // Off: no alarm (and the tool would gouge).
+    let (_, alarm) = run(&comes_back("8"), &["trc.bottleneck_window=0"]);
+    assert!(alarm.is_none(), "{alarm:?}");
+    // One block: N30's path has gone on before N60 comes; what is found is later (the
+    // deselection corner at (100, 8) touches N40 — this contour gouges in more than one way).
+    let (_, alarm) = run(&comes_back("8"), &["trc.bottleneck_window=1"]);
+    assert_ne!(alarm.map(|a| a.line), Some(3));
+    let (_, alarm) = run(&comes_back("8"), &["trc.bottleneck_window=64"]);
+    assert_eq!(alarm.map(|a| a.line), Some(3));
+    // Warn: a warning, and the whole path.
+    let (items, alarm) = run(&comes_back("8"), &["trc.violation_reaction=warn"]);
+    assert!(alarm.is_none());
+    assert!(items
+        .iter()
+        .any(|x| matches!(x, Prepared::Warning(a) if a.line == 3)));
+    assert!(matches!(items.last(), Some(Prepared::End(_))));
+}
+
+#[test]
+fn gouge_free_contours_pass_every_window() {
+    let serpentine =
+        nc_kernel::synthetic::compensated_program(2000, nc_kernel::synthetic::Header::Softnc);
+    let workpiece = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("programs/siemens-840c/11_15_workpiece.mpf"),
+    )
+    .unwrap();
+    for w in ["1", "3", "64"] {
+        for (name, src) in [("serpentine", &serpentine), ("workpiece", &workpiece)] {
+            let (_, alarm) = run(src, &[&format!("trc.bottleneck_window={w}")]);
+            assert!(alarm.is_none(), "{name}, window {w}: {alarm:?}");
+        }
+    }
+}

@@ -1,6 +1,9 @@
-//! Parse + interpretation + tool length and radius compensation throughput on a generated
-//! 1 M-block G41 line/arc serpentine (docs/benchmarks.md).
-//! Run: `cargo bench -p nc-kernel --bench prep`.
+//! Block preparation throughput on a generated 1 M-block G41 line/arc serpentine
+//! (docs/benchmarks.md). Run: `cargo bench -p nc-kernel --bench prep`.
+//!
+//! - `compensate_1M_<dialect>`: parse + interpretation + tool length and radius
+//!   compensation, bottleneck window off (issue 3).
+//! - `bottleneck_1M_window_<n>`: the same with the bottleneck check over n blocks (issue 4).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nc_kernel::synthetic::{compensated_program, Header};
@@ -8,6 +11,20 @@ use nc_kernel::{MachineData, Preparation, Shape, ToolTable};
 use std::hint::black_box;
 
 const BLOCKS: usize = 1_000_000;
+
+fn run(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
+    let mut n = 0usize;
+    let mut sum = 0.0;
+    let mut prep = Preparation::new("bench", black_box(text), md, tools);
+    while let Some(s) = prep.next_segment().expect("no alarm") {
+        sum += s.to[0];
+        if let Shape::Arc { r1, .. } = s.shape {
+            sum += r1;
+        }
+        n += 1;
+    }
+    (n, sum)
+}
 
 fn prep(c: &mut Criterion) {
     let text = compensated_program(BLOCKS, Header::Softnc);
@@ -17,21 +34,23 @@ fn prep(c: &mut Criterion) {
     group.sample_size(10);
     group.measurement_time(std::time::Duration::from_secs(20));
     for dialect in ["siemens-840c", "isg", "fanuc"] {
-        let md = MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
+        let md = MachineData::load(
+            None,
+            &[
+                format!("dialect={dialect}"),
+                "trc.bottleneck_window=0".into(),
+            ],
+        )
+        .expect("machine data");
         group.bench_function(format!("compensate_1M_{dialect}"), |b| {
-            b.iter(|| {
-                let mut n = 0usize;
-                let mut sum = 0.0;
-                let mut prep = Preparation::new("bench", black_box(&text), &md, &tools);
-                while let Some(s) = prep.next_segment().expect("no alarm") {
-                    sum += s.to[0];
-                    if let Shape::Arc { r1, .. } = s.shape {
-                        sum += r1;
-                    }
-                    n += 1;
-                }
-                black_box((n, sum))
-            })
+            b.iter(|| black_box(run(&text, &md, &tools)))
+        });
+    }
+    for window in [3, 64] {
+        let md = MachineData::load(None, &[format!("trc.bottleneck_window={window}")])
+            .expect("machine data");
+        group.bench_function(format!("bottleneck_1M_window_{window}"), |b| {
+            b.iter(|| black_box(run(&text, &md, &tools)))
         });
     }
     group.finish();

@@ -26,7 +26,7 @@ const HELD: usize = 4 * MAX_WINDOW + 8;
 /// close to.
 #[derive(Clone, Copy, Debug)]
 pub struct Gouge {
-    pub path: Segment,
+    pub path: crate::segment::Source,
     pub element: crate::segment::Source,
     pub distance: f64,
     pub radius: f64,
@@ -110,7 +110,8 @@ impl Bottleneck {
         }
         let bb = bbox(&elem, 0.0);
         let mut found = None;
-        for h in self.held.iter() {
+        let (x, y) = self.held.as_slices();
+        for h in x.iter().chain(y) {
             let Some(he) = h.elem else {
                 continue;
             };
@@ -120,7 +121,7 @@ impl Bottleneck {
             let d = dist_elems(&he, &elem);
             if d < h.r - GOUGE_TOL {
                 found = Some(Gouge {
-                    path: h.seg,
+                    path: h.seg.source,
                     element: source,
                     distance: d,
                     radius: h.r,
@@ -128,7 +129,8 @@ impl Bottleneck {
                 break;
             }
         }
-        if self.programmed.is_full() {
+        // A path segment meets elements up to `depth` blocks before and after its own.
+        while self.programmed.len() >= (2 * self.depth(reaction) + 2).min(PROGRAMMED) {
             self.programmed.pop_front();
         }
         let _ = self.programmed.push_back(Programmed { source, elem, bb });
@@ -172,32 +174,33 @@ impl Bottleneck {
         }
         let mut seg = seg;
         let mut warned = None;
-        if let Some(e) = self.elem(&seg) {
-            if reaction == Reaction::Mask {
-                if let Some(x) = self.crossing_with_held(&e) {
-                    self.cut_loop(x.0, x.1, &mut seg);
-                }
+        let mut elem = self.elem(&seg);
+        if let (Some(e), Reaction::Mask) = (elem, reaction) {
+            if let Some(x) = self.crossing_with_held(&e) {
+                self.cut_loop(x.0, x.1, &mut seg);
+                elem = self.elem(&seg);
             }
-            if let Some(e) = self.elem(&seg) {
-                let bb = bbox(&e, r);
-                for p in self.programmed.iter() {
-                    if near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
-                        continue;
+        }
+        let bb = elem.map_or([0.0; 4], |e| bbox(&e, r));
+        if let Some(e) = elem {
+            let (a, b) = self.programmed.as_slices();
+            for p in a.iter().chain(b) {
+                if near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
+                    continue;
+                }
+                let d = dist_elems(&e, &p.elem);
+                if d < r - GOUGE_TOL {
+                    let g = Gouge {
+                        path: seg.source,
+                        element: p.source,
+                        distance: d,
+                        radius: r,
+                    };
+                    if reaction != Reaction::Warn {
+                        return Err(g);
                     }
-                    let d = dist_elems(&e, &p.elem);
-                    if d < r - GOUGE_TOL {
-                        let g = Gouge {
-                            path: seg,
-                            element: p.source,
-                            distance: d,
-                            radius: r,
-                        };
-                        if reaction != Reaction::Warn {
-                            return Err(g);
-                        }
-                        warned = Some(g);
-                        break;
-                    }
+                    warned = Some(g);
+                    break;
                 }
             }
         }
@@ -206,8 +209,6 @@ impl Bottleneck {
             self.blocks += 1;
             self.last_seq = Some(seg.source.seq);
         }
-        let elem = self.elem(&seg);
-        let bb = elem.map_or([0.0; 4], |e| bbox(&e, r));
         if self.held.is_full() {
             self.release_block(out);
         }

@@ -158,7 +158,7 @@ impl<'a> Preparation<'a> {
                     // What comes before the gouging segment is clear: it goes out first.
                     self.stop_with(self.gouge_alarm(&g));
                     self.bottleneck
-                        .release_before(g.path.source.seq, &mut self.released);
+                        .release_before(g.path.seq, &mut self.released);
                 }
             }
         }
@@ -190,12 +190,12 @@ impl<'a> Preparation<'a> {
         Alarm {
             code: AlarmCode::ContourViolation,
             program: self.name.to_string(),
-            line: g.path.source.line,
-            col: g.path.source.col,
-            block: g.path.source.number.map(|n| n.to_string()),
+            line: g.path.line,
+            col: g.path.col,
+            block: g.path.number.map(|n| n.to_string()),
             message: format!(
                 "contour violation: the tool path of {} comes within {:.4} mm of the contour of {} (tool radius {:.4}): a bottleneck narrower than the tool (840C 11.12)",
-                name(&g.path.source),
+                name(&g.path),
                 g.distance,
                 name(&g.element),
                 g.radius
@@ -297,7 +297,7 @@ impl<'a> Preparation<'a> {
                     Err(g) => {
                         self.stop_with(self.gouge_alarm(&g));
                         self.bottleneck
-                            .release_before(g.path.source.seq, &mut self.released);
+                            .release_before(g.path.seq, &mut self.released);
                         continue;
                     }
                 }
