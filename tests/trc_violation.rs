@@ -52,6 +52,11 @@ fn violation_stops_before_the_violating_block_by_default() {
     let a = alarm.expect("alarm 3021");
     assert_eq!(a.code, AlarmCode::ContourViolation);
     assert_eq!((a.line, a.col, a.block.as_deref()), (4, 1, Some("N40")));
+    // The bottleneck window (3 blocks) still held N30's path, not yet checked against the
+    // contour after it: it is not put out. Without the window N30 runs to (30, 10).
+    let segs = segments(&items);
+    assert_eq!(segs.last().unwrap().role, Role::Approach);
+    let (items, _) = run(NOTCH, &["trc.bottleneck_window=0"]);
     let segs = segments(&items);
     let last = segs.last().unwrap();
     assert_eq!(last.source.number.unwrap().value, 30);
@@ -105,7 +110,11 @@ fn arc_lengthened_past_a_full_turn_is_traversed_in_full() {
         "N10 G0 G17 G90 X50 Y-30 D1\nN20 G1 G42 X{sx:.12} Y{sy:.12} F500\nN30 G3 X20 Y0 I{:.12} J{:.12}\nN40 G1 X{ex:.12} Y{ey:.12}\nN50 G40 X60 Y60\nN60 M30\n",
         -sx, -sy
     );
-    let (items, alarm) = run(&src, &[]);
+    // The full turn at r 30 passes over N40 (x ≈ 20, y 0..30): a real gouge, which the
+    // bottleneck check reports. What is tested here is the path, so the window is off.
+    let (_, alarm) = run(&src, &[]);
+    assert!(alarm.is_some());
+    let (items, alarm) = run(&src, &["trc.bottleneck_window=0"]);
     assert!(alarm.is_none(), "{alarm:?}");
     // The start angle as the program writes it.
     let start = (format!("{sy:.12}").parse::<f64>().unwrap())

@@ -46,8 +46,9 @@ pub enum Reaction {
 struct Held {
     seg: Segment,
     elem: Option<Elem>,
-    /// Tool radius the segment was made with.
+    /// Tool radius and side the segment was made with.
     r: f64,
+    side: i8,
     /// Bounding box in the plane, grown by the radius: min u, min v, max u, max v.
     bb: [f64; 4],
 }
@@ -57,6 +58,12 @@ struct Programmed {
     source: crate::segment::Source,
     elem: Elem,
     bb: [f64; 4],
+    /// Tool radius the element is cut with.
+    r: f64,
+    /// Compensation side (+1 left, −1 right). Across a side change (Fanuc in offset mode)
+    /// the tool crosses the contour on purpose: paths and elements of different sides are
+    /// not compared.
+    side: i8,
 }
 
 /// Programmed elements kept: a path segment meets elements up to `window` blocks before
@@ -103,6 +110,8 @@ impl Bottleneck {
         &mut self,
         source: crate::segment::Source,
         elem: Elem,
+        r: f64,
+        side: i8,
         reaction: Reaction,
     ) -> Result<Option<Gouge>, Gouge> {
         if self.depth(reaction) == 0 {
@@ -115,7 +124,7 @@ impl Bottleneck {
             let Some(he) = h.elem else {
                 continue;
             };
-            if near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
+            if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
             let d = dist_elems(&he, &elem);
@@ -133,7 +142,13 @@ impl Bottleneck {
         while self.programmed.len() >= (2 * self.depth(reaction) + 2).min(PROGRAMMED) {
             self.programmed.pop_front();
         }
-        let _ = self.programmed.push_back(Programmed { source, elem, bb });
+        let _ = self.programmed.push_back(Programmed {
+            source,
+            elem,
+            bb,
+            r,
+            side,
+        });
         match (found, reaction) {
             (Some(g), Reaction::Warn) => Ok(Some(g)),
             (Some(g), _) => Err(g),
@@ -152,8 +167,8 @@ impl Bottleneck {
         self.window == 0
     }
 
-    /// Takes the next segment of the path (made with tool radius `r`); what may go on goes to
-    /// `out`.
+    /// Takes the next segment of the path; what may go on goes to `out`. Its tool radius is
+    /// its block's element's (a segment comes out after its element went in), else `r`.
     pub fn push<const N: usize>(
         &mut self,
         seg: Segment,
@@ -167,13 +182,28 @@ impl Bottleneck {
             // Compensation starts or ends here (or nothing is checked): the window starts anew.
             self.flush(out);
             if !checked {
-                self.programmed.clear();
+                // Elements before this segment's block belong to an earlier compensation; the
+                // first element of this one (added before its approach came out) stays.
+                while self
+                    .programmed
+                    .front()
+                    .is_some_and(|p| (p.source.seq.wrapping_sub(seg.source.seq) as i32) < 0)
+                {
+                    self.programmed.pop_front();
+                }
             }
             let _ = out.push_back(seg);
             return Ok(None);
         }
         let mut seg = seg;
         let mut warned = None;
+        let own = self
+            .programmed
+            .iter()
+            .rev()
+            .find(|p| p.source.seq == seg.source.seq)
+            .map(|p| (p.r, p.side));
+        let (r, side) = own.unwrap_or((r, self.programmed.back().map_or(0, |p| p.side)));
         let mut elem = self.elem(&seg);
         if let (Some(e), Reaction::Mask) = (elem, reaction) {
             if let Some(x) = self.crossing_with_held(&e) {
@@ -185,7 +215,7 @@ impl Bottleneck {
         if let Some(e) = elem {
             let (a, b) = self.programmed.as_slices();
             for p in a.iter().chain(b) {
-                if near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
+                if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
                     continue;
                 }
                 let d = dist_elems(&e, &p.elem);
@@ -212,7 +242,13 @@ impl Bottleneck {
         if self.held.is_full() {
             self.release_block(out);
         }
-        let _ = self.held.push_back(Held { seg, elem, r, bb });
+        let _ = self.held.push_back(Held {
+            seg,
+            elem,
+            r,
+            side,
+            bb,
+        });
         while self.blocks > depth {
             self.release_block(out);
         }
@@ -259,19 +295,12 @@ impl Bottleneck {
         self.recount();
     }
 
-    /// The held segments of blocks before `seq` go on (they are clear of a gouge found later).
-    pub fn release_before<const N: usize>(
-        &mut self,
-        seq: u32,
-        out: &mut heapless::Deque<Segment, N>,
-    ) {
-        while let Some(h) = self.held.front() {
-            if (h.seg.source.seq.wrapping_sub(seq) as i32) >= 0 {
-                break;
-            }
-            self.release_block(out);
-        }
+    /// Preparation stops: what is held is dropped. It has not been checked against the
+    /// contour that follows (which stays on the workpiece even though it is not cut), so it
+    /// is not known to be clear.
+    pub fn discard(&mut self) {
         self.held.clear();
+        self.programmed.clear();
         self.blocks = 0;
         self.last_seq = None;
     }
@@ -321,11 +350,11 @@ impl Bottleneck {
     }
 }
 
-/// A path segment and its own or a neighbouring element: their distance is the corner
-/// construction's business (R exactly, or the 11.12 check in `trc/violation.rs`).
+/// A path segment and its own element: R apart by construction (an equidistant). Neighbours
+/// are checked: an arc that curls back over the element before it is not caught by the
+/// corner construction.
 fn near(a: u32, b: u32) -> bool {
-    let d = a.wrapping_sub(b) as i32;
-    (-1..=1).contains(&d)
+    a == b
 }
 
 /// `p` with its plane coordinates replaced by `x`.

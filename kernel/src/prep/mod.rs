@@ -155,10 +155,8 @@ impl<'a> Preparation<'a> {
                     let _ = self.ready.push_back(Prepared::Warning(w));
                 }
                 Err(g) => {
-                    // What comes before the gouging segment is clear: it goes out first.
                     self.stop_with(self.gouge_alarm(&g));
-                    self.bottleneck
-                        .release_before(g.path.seq, &mut self.released);
+                    self.bottleneck.discard();
                 }
             }
         }
@@ -272,10 +270,11 @@ impl<'a> Preparation<'a> {
                 .motion
                 .map(|m| with_length(&m, &mut self.length, block));
             if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
-                // The path up to the violating block is clear: the window lets it go first.
+                // The path still in the bottleneck window has not been checked against the
+                // contour after it: it does not go out (docs/trc.md).
                 let a = self.alarm(f);
                 self.stop_with(a);
-                self.bottleneck.flush(&mut self.released);
+                self.bottleneck.discard();
                 continue;
             }
             self.masking = block.modal.masking;
@@ -288,7 +287,12 @@ impl<'a> Preparation<'a> {
                     col: block.col,
                     seq: self.blocks as u32,
                 };
-                match self.bottleneck.element(source, e, self.reaction()) {
+                let side = match block.modal.trc {
+                    TrcSide::Left => 1,
+                    TrcSide::Right => -1,
+                    TrcSide::Off => 0,
+                };
+                match self.bottleneck.element(source, e, r, side, self.reaction()) {
                     Ok(None) => {}
                     Ok(Some(g)) => {
                         let w = self.gouge_alarm(&g);
@@ -296,8 +300,7 @@ impl<'a> Preparation<'a> {
                     }
                     Err(g) => {
                         self.stop_with(self.gouge_alarm(&g));
-                        self.bottleneck
-                            .release_before(g.path.seq, &mut self.released);
+                        self.bottleneck.discard();
                         continue;
                     }
                 }

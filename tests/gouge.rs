@@ -1,0 +1,539 @@
+//! Gouge test, independent of the production geometry (issue 4): random contours of lines and
+//! arcs, both sides, random tool radii, notches narrower than the tool and tiny segments.
+//!
+//! (A) Whatever softnc puts out — up to an alarm, or all of it — every tool-centre segment
+//!     other than approach and retract keeps the tool circle outside the programmed contour:
+//!     its exact distance to every contour element is at least R − 1e-9 mm.
+//! (B) No false alarms: for polylines, the test builds the full offset itself (equidistants
+//!     trimmed at inner corners, transition circles at outer ones) and measures it; when it
+//!     clears the contour by 1e-6 mm, softnc must prepare the program without an alarm.
+//!
+//! The bottleneck window is 64 blocks, longer than any contour here, so softnc sees all of
+//! it. The distance functions below are this file's own.
+
+use nc_kernel::segment::{Role, Shape};
+use nc_kernel::{MachineData, ToolTable};
+
+type P = [f64; 2];
+
+fn sub(a: P, b: P) -> P {
+    [a[0] - b[0], a[1] - b[1]]
+}
+fn add(a: P, b: P) -> P {
+    [a[0] + b[0], a[1] + b[1]]
+}
+fn mul(a: P, k: f64) -> P {
+    [a[0] * k, a[1] * k]
+}
+fn dot(a: P, b: P) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+fn cross(a: P, b: P) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+fn norm(a: P) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// A piece of the plane: a segment, or an arc given by centre, radius, start angle and
+/// signed sweep (ccw > 0).
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Seg(P, P),
+    Arc { c: P, r: f64, a0: f64, sw: f64 },
+}
+
+impl Piece {
+    fn at(&self, t: f64) -> P {
+        match *self {
+            Piece::Seg(a, b) => add(a, mul(sub(b, a), t)),
+            Piece::Arc { c, r, a0, sw } => {
+                let a = a0 + sw * t;
+                [c[0] + r * a.cos(), c[1] + r * a.sin()]
+            }
+        }
+    }
+}
+
+/// Exact distance from a point to a piece.
+fn point_dist(p: P, q: &Piece) -> f64 {
+    match *q {
+        Piece::Seg(a, b) => {
+            let d = sub(b, a);
+            let l = dot(d, d);
+            let t = if l == 0.0 {
+                0.0
+            } else {
+                (dot(sub(p, a), d) / l).clamp(0.0, 1.0)
+            };
+            norm(sub(p, add(a, mul(d, t))))
+        }
+        Piece::Arc { c, r, a0, sw } => {
+            // Angle of p seen from the centre, relative to the start, in the sweep's sense.
+            let v = sub(p, c);
+            let ends = norm(sub(p, q.at(0.0))).min(norm(sub(p, q.at(1.0))));
+            if norm(v) == 0.0 {
+                return r;
+            }
+            let mut rel = (v[1].atan2(v[0]) - a0) * sw.signum();
+            rel = rel.rem_euclid(std::f64::consts::TAU);
+            if rel <= sw.abs() {
+                (norm(v) - r).abs().min(ends)
+            } else {
+                ends
+            }
+        }
+    }
+}
+
+/// Exact distance between two pieces: 0 if they cross, else the smallest of the candidates
+/// where a closest pair can be (end points, and for arcs the points on the line through the
+/// centre perpendicular to the other piece or towards the other centre).
+fn piece_dist(x: &Piece, y: &Piece) -> f64 {
+    if crosses(x, y) {
+        return 0.0;
+    }
+    let mut d = f64::INFINITY;
+    for (p, q) in [(x, y), (y, x)] {
+        for t in [0.0, 1.0] {
+            d = d.min(point_dist(p.at(t), q));
+        }
+        if let Piece::Arc { c, r, .. } = *p {
+            let dirs: Vec<P> = match *q {
+                Piece::Seg(a, b) => {
+                    let n = [-(b[1] - a[1]), b[0] - a[0]];
+                    vec![n, mul(n, -1.0)]
+                }
+                Piece::Arc { c: c2, .. } => {
+                    let u = sub(c2, c);
+                    vec![u, mul(u, -1.0)]
+                }
+            };
+            for u in dirs {
+                let l = norm(u);
+                if l == 0.0 {
+                    continue;
+                }
+                let pt = add(c, mul(u, r / l));
+                if point_dist(pt, p) < 1e-12 {
+                    d = d.min(point_dist(pt, q));
+                }
+            }
+        }
+    }
+    d
+}
+
+/// Whether two pieces cross or touch (by sampling the sign of the distance to the other's
+/// line/circle between their intersections would be overkill: solve directly).
+fn crosses(x: &Piece, y: &Piece) -> bool {
+    let on = |p: P, q: &Piece| point_dist(p, q) < 1e-12;
+    let pts: Vec<P> = match (*x, *y) {
+        (Piece::Seg(a, b), Piece::Seg(c, d)) => {
+            let den = cross(sub(b, a), sub(d, c));
+            if den == 0.0 {
+                return false;
+            }
+            let t = cross(sub(c, a), sub(d, c)) / den;
+            vec![add(a, mul(sub(b, a), t))]
+        }
+        (Piece::Seg(a, b), Piece::Arc { c, r, .. })
+        | (Piece::Arc { c, r, .. }, Piece::Seg(a, b)) => {
+            let d = sub(b, a);
+            let f = sub(a, c);
+            let (qa, qb, qc) = (dot(d, d), 2.0 * dot(f, d), dot(f, f) - r * r);
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc < 0.0 || qa == 0.0 {
+                return false;
+            }
+            let s = disc.sqrt();
+            vec![
+                add(a, mul(d, (-qb - s) / (2.0 * qa))),
+                add(a, mul(d, (-qb + s) / (2.0 * qa))),
+            ]
+        }
+        (Piece::Arc { c: c1, r: r1, .. }, Piece::Arc { c: c2, r: r2, .. }) => {
+            let v = sub(c2, c1);
+            let l = norm(v);
+            if l == 0.0 || l > r1 + r2 || l < (r1 - r2).abs() {
+                return false;
+            }
+            let a = (r1 * r1 - r2 * r2 + l * l) / (2.0 * l);
+            let h = (r1 * r1 - a * a).max(0.0).sqrt();
+            let m = add(c1, mul(v, a / l));
+            let n = [-v[1] / l, v[0] / l];
+            vec![add(m, mul(n, h)), add(m, mul(n, -h))]
+        }
+    };
+    pts.into_iter().any(|p| on(p, x) && on(p, y))
+}
+
+/// Deterministic random numbers (64-bit LCG).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// A random open contour: its pieces, the program text and the tool radius.
+struct Case {
+    pieces: Vec<Piece>,
+    program: String,
+    r: f64,
+    left: bool,
+}
+
+/// 15 decimals: the program text reads back as exactly the same doubles, so an arc's end
+/// point is on its circle to ~1e-14 mm and the 1e-9 tolerance means something.
+fn fmt(v: f64) -> String {
+    format!("{:.15}", v + 0.0)
+}
+
+/// Coordinates are rounded to 15 decimals as the program writes them (a no-op for doubles of
+/// this size, kept so that both sides provably see the same contour).
+fn make_case(rng: &mut Rng, lines_only: bool) -> Case {
+    let r = if rng.next() < 0.5 {
+        rng.range(0.5, 3.0)
+    } else {
+        rng.range(3.0, 12.0)
+    };
+    let left = rng.next() < 0.5;
+    let n = 2 + (rng.next() * 8.0) as usize;
+    let round = |v: f64| fmt(v).parse::<f64>().unwrap();
+    let mut p: P = [0.0, 0.0];
+    let mut heading: f64 = rng.range(0.0, std::f64::consts::TAU);
+    let mut pieces = Vec::new();
+    let mut body = String::new();
+    for _ in 0..n {
+        // Sharp and gentle turns, notches (turn back), tiny and long elements.
+        let turn = match rng.next() {
+            x if x < 0.15 => rng.range(-3.0, 3.0),
+            x if x < 0.3 => 0.0,
+            _ => rng.range(-1.6, 1.6),
+        };
+        heading += turn;
+        let len = if rng.next() < 0.15 {
+            rng.range(0.01, 1.0)
+        } else {
+            rng.range(2.0, 40.0)
+        };
+        if lines_only || rng.next() < 0.6 {
+            let q = [
+                round(p[0] + len * heading.cos()),
+                round(p[1] + len * heading.sin()),
+            ];
+            if norm(sub(q, p)) < 1e-3 {
+                continue;
+            }
+            body.push_str(&format!("G1 X{} Y{}\n", fmt(q[0]), fmt(q[1])));
+            pieces.push(Piece::Seg(p, q));
+            heading = (q[1] - p[1]).atan2(q[0] - p[0]);
+            p = q;
+        } else {
+            // A tangent arc: centre on the normal, radius random (some below R).
+            let ccw = rng.next() < 0.5;
+            let rad = if rng.next() < 0.2 {
+                rng.range(0.2, 2.0)
+            } else {
+                rng.range(2.0, 30.0)
+            };
+            let sweep = rng.range(0.2, 3.0);
+            let nrm = if ccw {
+                [-heading.sin(), heading.cos()]
+            } else {
+                [heading.sin(), -heading.cos()]
+            };
+            let c = [round(p[0] + rad * nrm[0]), round(p[1] + rad * nrm[1])];
+            let rr = norm(sub(p, c));
+            let a0 = (p[1] - c[1]).atan2(p[0] - c[0]);
+            let sw = if ccw { sweep } else { -sweep };
+            let end = [
+                round(c[0] + rr * (a0 + sw).cos()),
+                round(c[1] + rr * (a0 + sw).sin()),
+            ];
+            // The end as written: project it back onto the circle for the test's piece.
+            let ea = (end[1] - c[1]).atan2(end[0] - c[0]);
+            let mut swr = ea - a0;
+            if ccw {
+                swr = swr.rem_euclid(std::f64::consts::TAU);
+            } else {
+                swr = -(-swr).rem_euclid(std::f64::consts::TAU);
+            }
+            if swr.abs() < 1e-3 {
+                continue;
+            }
+            body.push_str(&format!(
+                "G{} X{} Y{} I{} J{}\n",
+                if ccw { 3 } else { 2 },
+                fmt(end[0]),
+                fmt(end[1]),
+                fmt(c[0] - p[0]),
+                fmt(c[1] - p[1])
+            ));
+            pieces.push(Piece::Arc {
+                c,
+                r: rr,
+                a0,
+                sw: swr,
+            });
+            heading = ea
+                + if ccw {
+                    std::f64::consts::FRAC_PI_2
+                } else {
+                    -std::f64::consts::FRAC_PI_2
+                };
+            p = end;
+        }
+    }
+    // Approach and departure along the first and last directions (tangent: α = 180°, so
+    // the contour starts and ends in the normal positions whatever the selection rule).
+    let first_dir = match pieces.first() {
+        Some(Piece::Seg(a, b)) => mul(sub(*b, *a), 1.0 / norm(sub(*b, *a))),
+        Some(Piece::Arc { a0, sw, .. }) => {
+            let t = a0 + sw.signum() * std::f64::consts::FRAC_PI_2;
+            [t.cos(), t.sin()]
+        }
+        None => [1.0, 0.0],
+    };
+    let s = [round(-30.0 * first_dir[0]), round(-30.0 * first_dir[1])];
+    let e = [
+        round(p[0] + 30.0 * heading.cos()),
+        round(p[1] + 30.0 * heading.sin()),
+    ];
+    let program = format!(
+        "G0 G17 G90 D1 X{} Y{} Z0\nG1 F100 G450\nG{} X0 Y0\n{body}G1 G40 X{} Y{}\nM30\n",
+        fmt(s[0]),
+        fmt(s[1]),
+        if left { 41 } else { 42 },
+        fmt(e[0]),
+        fmt(e[1])
+    );
+    Case {
+        pieces,
+        program,
+        r,
+        left,
+    }
+}
+
+fn machine() -> MachineData {
+    MachineData::load(None, &["trc.bottleneck_window=64".to_string()]).unwrap()
+}
+
+/// softnc's path as pieces, approach and retract left out.
+fn softnc_pieces(case: &Case, md: &MachineData) -> (Vec<Piece>, bool) {
+    let mut tools = ToolTable::builtin();
+    tools.set_radius(1, case.r).unwrap();
+    let mut out = Vec::new();
+    let mut prep = nc_kernel::Preparation::new("gouge", &case.program, md, &tools);
+    let mut alarm = false;
+    loop {
+        match prep.next_segment() {
+            Ok(Some(s)) => {
+                if !matches!(s.role, Role::Contour | Role::Corner | Role::Intermediate) {
+                    continue;
+                }
+                let (a, b) = ([s.from[0], s.from[1]], [s.to[0], s.to[1]]);
+                match s.shape {
+                    Shape::Line => {
+                        if norm(sub(b, a)) > 0.0 {
+                            out.push(Piece::Seg(a, b));
+                        }
+                    }
+                    Shape::Arc {
+                        center,
+                        ccw,
+                        r0,
+                        r1,
+                        ..
+                    } => {
+                        let c = [center[0], center[1]];
+                        if (r0 - r1).abs() > 1e-9 {
+                            // Radius changes over the arc: not made by these programs.
+                            panic!("unexpected spiral in {}", case.program);
+                        }
+                        let a0 = (a[1] - c[1]).atan2(a[0] - c[0]);
+                        let a1 = (b[1] - c[1]).atan2(b[0] - c[0]);
+                        let mut sw = if ccw {
+                            (a1 - a0).rem_euclid(std::f64::consts::TAU)
+                        } else {
+                            -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+                        };
+                        if sw == 0.0 {
+                            sw = if ccw {
+                                std::f64::consts::TAU
+                            } else {
+                                -std::f64::consts::TAU
+                            };
+                        }
+                        out.push(Piece::Arc { c, r: r0, a0, sw });
+                    }
+                }
+            }
+            Ok(None) => break,
+            Err(_) => {
+                alarm = true;
+                break;
+            }
+        }
+    }
+    (out, alarm)
+}
+
+fn min_dist(path: &[Piece], contour: &[Piece]) -> f64 {
+    let mut d = f64::INFINITY;
+    for p in path {
+        for q in contour {
+            d = d.min(piece_dist(p, q));
+        }
+    }
+    d
+}
+
+/// The test's own full offset of a polyline: equidistants trimmed at inner corners, circles
+/// about the vertex at outer ones, each with the elements it is built on (its own and its
+/// neighbours: at exactly R from them by construction). `None` if an element's equidistant
+/// runs backwards.
+fn offset_polyline(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
+    let side = if case.left { 1.0 } else { -1.0 };
+    let segs: Vec<(P, P)> = case
+        .pieces
+        .iter()
+        .map(|p| match *p {
+            Piece::Seg(a, b) => (a, b),
+            Piece::Arc { .. } => unreachable!("polylines only"),
+        })
+        .collect();
+    let normal = |a: P, b: P| {
+        let d = sub(b, a);
+        let l = norm(d);
+        mul([-d[1] / l, d[0] / l], side * case.r)
+    };
+    let mut starts: Vec<P> = segs.iter().map(|&(a, b)| add(a, normal(a, b))).collect();
+    let mut ends: Vec<P> = segs.iter().map(|&(a, b)| add(b, normal(a, b))).collect();
+    let mut corners = Vec::new();
+    for i in 0..segs.len().saturating_sub(1) {
+        let (a1, b1) = segs[i];
+        let (a2, b2) = segs[i + 1];
+        let (d1, d2) = (sub(b1, a1), sub(b2, a2));
+        let turn = cross(d1, d2) / (norm(d1) * norm(d2));
+        let along = dot(d1, d2);
+        if turn.abs() < 1e-12 && along > 0.0 {
+            continue;
+        }
+        if turn * side > 0.0 && along > -norm(d1) * norm(d2) * (1.0 - 1e-12) {
+            // Inner: both equidistants end at their intersection.
+            let (p, u) = (starts[i], d1);
+            let (q, w) = (starts[i + 1], d2);
+            let t = cross(sub(q, p), w) / cross(u, w);
+            let x = add(p, mul(u, t));
+            ends[i] = x;
+            starts[i + 1] = x;
+        } else {
+            // Outer (or a reversal): the circle about the vertex.
+            let c = b1;
+            let a0 = (ends[i][1] - c[1]).atan2(ends[i][0] - c[0]);
+            let a1 = (starts[i + 1][1] - c[1]).atan2(starts[i + 1][0] - c[0]);
+            let sw = if side < 0.0 {
+                (a1 - a0).rem_euclid(std::f64::consts::TAU)
+            } else {
+                -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+            };
+            corners.push((
+                Piece::Arc {
+                    c,
+                    r: case.r,
+                    a0,
+                    sw,
+                },
+                i,
+                i + 1,
+            ));
+        }
+    }
+    let mut out = corners;
+    for i in 0..segs.len() {
+        let d = sub(segs[i].1, segs[i].0);
+        if dot(sub(ends[i], starts[i]), d) < -1e-9 * norm(d) {
+            return None;
+        }
+        if norm(sub(ends[i], starts[i])) > 0.0 {
+            out.push((Piece::Seg(starts[i], ends[i]), i.saturating_sub(1), i + 1));
+        }
+    }
+    Some(out)
+}
+
+const CASES: usize = 100_000;
+
+#[test]
+fn softnc_never_puts_out_a_gouge() {
+    let md = machine();
+    let mut rng = Rng(0x9e3779b97f4a7c15);
+    let mut alarms = 0;
+    for k in 0..CASES {
+        let case = make_case(&mut rng, k % 2 == 0);
+        if case.pieces.is_empty() {
+            continue;
+        }
+        let (path, alarm) = softnc_pieces(&case, &md);
+        alarms += usize::from(alarm);
+        let d = min_dist(&path, &case.pieces);
+        assert!(
+            d >= case.r - 1e-9,
+            "case {k}: tool path within {d} of the contour, R = {}\n{}",
+            case.r,
+            case.program
+        );
+    }
+    // The generator makes plenty of both kinds.
+    assert!(
+        alarms > CASES / 20 && alarms < CASES - CASES / 20,
+        "{alarms} alarms"
+    );
+}
+
+#[test]
+fn gouge_free_polylines_pass_without_an_alarm() {
+    let md = machine();
+    let mut rng = Rng(0x243f6a8885a308d3);
+    let (mut clear, mut checked) = (0, 0);
+    for k in 0..CASES / 4 {
+        let case = make_case(&mut rng, true);
+        if case.pieces.is_empty() {
+            continue;
+        }
+        let Some(offset) = offset_polyline(&case) else {
+            continue;
+        };
+        checked += 1;
+        // Clear of every element it is not built on, with a margin either way.
+        let mut far = f64::INFINITY;
+        for (p, lo, hi) in &offset {
+            for (j, q) in case.pieces.iter().enumerate() {
+                if j < *lo || j > *hi {
+                    far = far.min(piece_dist(p, q));
+                }
+            }
+        }
+        if far < case.r + 1e-6 {
+            continue;
+        }
+        clear += 1;
+        let (_, alarm) = softnc_pieces(&case, &md);
+        assert!(
+            !alarm,
+            "case {k}: the full offset clears the contour, softnc raised an alarm (R = {})\n{}",
+            case.r, case.program
+        );
+    }
+    assert!(clear > checked / 10, "{clear} of {checked} gouge-free");
+}
