@@ -222,10 +222,13 @@ fn gouge_free_contours_pass_every_window() {
             .join("programs/siemens-840c/11_15_workpiece.mpf"),
     )
     .unwrap();
-    for w in ["1", "3", "64"] {
-        for (name, src) in [("serpentine", &serpentine), ("workpiece", &workpiece)] {
-            let (_, alarm) = run(src, &[&format!("trc.bottleneck_window={w}")]);
+    for (name, src) in [("serpentine", &serpentine), ("workpiece", &workpiece)] {
+        let (plain, _) = run(src, &["trc.bottleneck_window=0"]);
+        for w in ["1", "3", "64"] {
+            let (items, alarm) = run(src, &[&format!("trc.bottleneck_window={w}")]);
             assert!(alarm.is_none(), "{name}, window {w}: {alarm:?}");
+            // The window holds the path back but puts out all of it, unchanged.
+            assert_eq!(segments(&items), segments(&plain), "{name}, window {w}");
         }
     }
 }

@@ -20,7 +20,8 @@ use crate::trc::geom::{contains, dist_elems, intersections, v2, Elem, V2};
 /// Largest window, in blocks.
 pub const MAX_WINDOW: usize = 64;
 /// Segments held: a block puts out at most its contour segment and three inserted pieces.
-const HELD: usize = 4 * MAX_WINDOW + 8;
+/// The queue the window releases into must take this many at once (a flush).
+pub const HELD: usize = 4 * MAX_WINDOW + 8;
 
 /// A gouge found: the path segment and the block of the programmed element it comes too
 /// close to.
@@ -70,8 +71,18 @@ struct Programmed {
 /// and after its own.
 const PROGRAMMED: usize = 2 * MAX_WINDOW + 4;
 
-/// Distances below R by more than this are gouges (constructions are exact to ~1e-12).
-const GOUGE_TOL: f64 = 1e-9;
+/// Distances below R by more than this are gouges (constructions are exact to ~1e-12 at
+/// part sizes; far from the origin the rounding of the coordinates themselves counts).
+fn gouge_tol(e: &Elem) -> f64 {
+    let m = e
+        .start()
+        .x
+        .abs()
+        .max(e.start().y.abs())
+        .max(e.end().x.abs())
+        .max(e.end().y.abs());
+    1e-9_f64.max(1e-12 * m)
+}
 
 pub struct Bottleneck {
     window: usize,
@@ -128,7 +139,7 @@ impl Bottleneck {
                 continue;
             }
             let d = dist_elems(&he, &elem);
-            if d < h.r - GOUGE_TOL {
+            if d < h.r - gouge_tol(&elem) {
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
@@ -161,10 +172,10 @@ impl Bottleneck {
         self.plane = plane;
     }
 
-    /// Nothing held: a segment may pass straight on.
+    /// Off and nothing held: a segment may pass straight on.
     #[inline]
-    pub fn is_off(&self) -> bool {
-        self.window == 0
+    pub fn bypass(&self, reaction: Reaction) -> bool {
+        self.depth(reaction) == 0 && self.held.is_empty()
     }
 
     /// Takes the next segment of the path; what may go on goes to `out`. Its tool radius is
@@ -219,7 +230,7 @@ impl Bottleneck {
                     continue;
                 }
                 let d = dist_elems(&e, &p.elem);
-                if d < r - GOUGE_TOL {
+                if d < r - gouge_tol(&e) {
                     let g = Gouge {
                         path: seg.source,
                         element: p.source,

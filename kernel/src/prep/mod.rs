@@ -35,8 +35,8 @@ pub struct Preparation<'a> {
     ended: bool,
     s_points: SPoints,
     bottleneck: Bottleneck,
-    /// Segments the bottleneck window let go, in order.
-    released: heapless::Deque<Segment, 64>,
+    /// Segments the bottleneck window let go, in order (room for all it can hold).
+    released: heapless::Deque<Segment, { bottleneck::HELD + 8 }>,
     /// ISG contour masking (G141) in the last block.
     masking: bool,
     /// An alarm waiting until the path before it is out.
@@ -146,8 +146,11 @@ impl<'a> Preparation<'a> {
             let Some(seg) = self.out.pop_front() else {
                 return Ok(None);
             };
-            let r = self.radius.0.min(self.radius.1);
             let reaction = self.reaction();
+            if self.bottleneck.bypass(reaction) {
+                return Ok(Some(seg));
+            }
+            let r = self.radius.0.min(self.radius.1);
             match self.bottleneck.push(seg, r, reaction, &mut self.released) {
                 Ok(None) => {}
                 Ok(Some(g)) => {
