@@ -239,7 +239,7 @@ impl<'a> Preparation<'a> {
                     self.done = true;
                     let r = self.trc.finish(&mut self.out);
                     if let Err(f) = r {
-                        return Err(self.alarm(f));
+                        return Err(self.alarm(*f));
                     }
                     continue;
                 }
@@ -275,14 +275,15 @@ impl<'a> Preparation<'a> {
             if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
                 // The path still in the bottleneck window has not been checked against the
                 // contour after it: it does not go out (docs/trc.md).
-                let a = self.alarm(f);
+                let a = self.alarm(*f);
                 self.stop_with(a);
                 self.bottleneck.discard();
                 continue;
             }
             self.masking = block.modal.masking;
             self.bottleneck.set_plane(block.modal.plane);
-            if let Some((e, r)) = self.trc.take_element() {
+            let element = self.trc.take_element();
+            if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
                 self.radius = (self.radius.1, r);
                 let source = Source {
                     number: block.number,

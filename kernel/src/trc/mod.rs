@@ -101,12 +101,16 @@ pub struct TrcFault {
     pub message: String,
 }
 
-fn fault(code: AlarmCode, source: Source, message: impl Into<String>) -> TrcFault {
-    TrcFault {
+/// Faults are boxed: the `Result`s on the per-block path stay a pointer wide.
+pub type Fault = Box<TrcFault>;
+
+#[cold]
+fn fault(code: AlarmCode, source: Source, message: impl Into<String>) -> Fault {
+    Box::new(TrcFault {
         code,
         source,
         message: message.into(),
-    }
+    })
 }
 
 /// Where segments go. Preparation drains it after every block; 64 is far above the most one
@@ -323,7 +327,7 @@ impl Compensator {
         b: &Block,
         motion: Option<&Motion>,
         out: &mut Out,
-    ) -> Result<(), TrcFault> {
+    ) -> Result<(), Fault> {
         self.seq = self.seq.wrapping_add(1);
         let source = Source {
             number: b.number,
@@ -550,7 +554,7 @@ impl Compensator {
 
     /// Program end (M02/M30): TRC ends with the last element in its normal position
     /// (11.5.1, "deselection not active").
-    fn end_of_block(&mut self, b: &Block, out: &mut Out) -> Result<(), TrcFault> {
+    fn end_of_block(&mut self, b: &Block, out: &mut Out) -> Result<(), Fault> {
         if b.stop.is_some_and(|s| s.ends_program()) {
             self.finish(out)?;
         }
@@ -558,7 +562,7 @@ impl Compensator {
     }
 
     /// Flushes everything held: the pending element ends in its normal position.
-    pub fn finish(&mut self, out: &mut Out) -> Result<(), TrcFault> {
+    pub fn finish(&mut self, out: &mut Out) -> Result<(), Fault> {
         // A selection block with nothing after it: straight to its programmed point.
         self.flush_selection(out);
         if let Some(p) = self.pending.take() {
@@ -603,14 +607,14 @@ impl Compensator {
     /// Alarm 3021: an error that stops preparation before the violating block, or with
     /// `violation_reaction = warn` a warning, and the path goes on (840C 11.12: "the effect of
     /// alarm 3021 can be influenced via machine data").
-    fn violation(&mut self, f: TrcFault) -> Result<(), TrcFault> {
+    fn violation(&mut self, f: Fault) -> Result<(), Fault> {
         if !self.warn_violations {
             return Err(f);
         }
         if self.warnings.is_full() {
             self.warnings.pop_front();
         }
-        let _ = self.warnings.push_back(f);
+        let _ = self.warnings.push_back(*f);
         Ok(())
     }
 
@@ -625,7 +629,7 @@ impl Compensator {
         self.warnings.pop_front()
     }
 
-    fn count_outside(&mut self, tag: Tag) -> Result<(), TrcFault> {
+    fn count_outside(&mut self, tag: Tag) -> Result<(), Fault> {
         if self.pending.is_none() && self.selection.is_none() {
             return Ok(());
         }
@@ -650,7 +654,7 @@ impl Compensator {
 
     /// A block that does not move in the plane while TRC is active: it waits behind the
     /// pending element and runs at its end point (11.11).
-    fn outside(&mut self, tag: Tag, m: &Motion, out: &mut Out) -> Result<(), TrcFault> {
+    fn outside(&mut self, tag: Tag, m: &Motion, out: &mut Out) -> Result<(), Fault> {
         let (_, w0) = split(&m.start, self.plane);
         let (_, w1) = split(&m.end, self.plane);
         if self.pending.is_some() || self.selection.is_some() {
@@ -761,7 +765,7 @@ impl Compensator {
         }
     }
 
-    fn offset(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, TrcFault> {
+    fn offset(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, Fault> {
         e.offset(d).ok_or_else(|| {
             fault(
                 AlarmCode::ArcRadiusTooSmall,
@@ -775,7 +779,7 @@ impl Compensator {
         })
     }
 
-    fn corner_fault(tag: Tag, e: CornerError) -> TrcFault {
+    fn corner_fault(tag: Tag, e: CornerError) -> Fault {
         match e {
             CornerError::NoIntersection => fault(
                 AlarmCode::ContourViolation,
@@ -792,7 +796,7 @@ impl Compensator {
         motion: Option<&Motion>,
         policy: SelectionPolicy,
         out: &mut Out,
-    ) -> Result<(), TrcFault> {
+    ) -> Result<(), Fault> {
         self.mode = Mode::On;
         let (q, w1, w0, dir, arc) = match motion {
             Some(m) => {
@@ -857,7 +861,7 @@ impl Compensator {
         d0: f64,
         d1: f64,
         out: &mut Out,
-    ) -> Result<(), TrcFault> {
+    ) -> Result<(), Fault> {
         self.outside = 0;
         let e = self.elem_of(m);
         self.last_element = Some((e, d0.abs().min(d1.abs())));
@@ -935,7 +939,7 @@ impl Compensator {
         o1: &Elem,
         d: f64,
         settings: &CornerSettings,
-    ) -> Result<selection::Entry, TrcFault> {
+    ) -> Result<selection::Entry, Fault> {
         let Some((m, last)) = self.closing.take() else {
             return Err(fault(
                 AlarmCode::InnerCornerSelection,
@@ -972,7 +976,7 @@ impl Compensator {
 
     /// Emits the pending element from its start to `end`, checking that it still runs
     /// forwards (a trimmed element that reverses is a contour violation, 11.12).
-    fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), TrcFault> {
+    fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
         let violation = || {
             fault(
                 AlarmCode::ContourViolation,
@@ -1047,7 +1051,7 @@ impl Compensator {
         policy: SelectionPolicy,
         reselect: bool,
         out: &mut Out,
-    ) -> Result<(), TrcFault> {
+    ) -> Result<(), Fault> {
         if let Some(m) = m {
             if m.kind.is_arc() && !reselect {
                 return Err(fault(
