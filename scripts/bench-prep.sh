@@ -24,9 +24,13 @@ grep -q "G41.1\|ENABLE_CUTTER\|STRAIGHT_FEED" "$work/rs274.out" || { echo "rs274
 echo "rs274: $(grep -c -E 'STRAIGHT_FEED|ARC_FEED' "$work/rs274.out") moves; softnc: $(./target/release/softnc path "$work/prog.mpf" | wc -l) segments"
 
 median() { sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-labels=("softnc check" "softnc path -o /dev/null" "rs274 -g")
+# softnc with the shipped machine data (bottleneck window 3) and with the window off.
+off="--md trc.bottleneck_window=0"
+labels=("softnc check" "softnc path -o /dev/null" "softnc check, window off" "softnc path, window off" "rs274 -g")
 cmds=("./target/release/softnc check $work/prog.mpf"
       "./target/release/softnc path $work/prog.mpf -o /dev/null"
+      "./target/release/softnc check $work/prog.mpf $off"
+      "./target/release/softnc path $work/prog.mpf -o /dev/null $off"
       "rs274 -g $work/prog.ngc")
 declare -A times
 echo "program: $blocks contour blocks, $(wc -c < "$work/prog.mpf") bytes; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -42,8 +46,9 @@ done
 declare -A med
 for i in "${!cmds[@]}"; do
   med[$i]=$(printf '%s\n' ${times[$i]} | median)
-  printf '%-26s median %.3f s over %d runs (%s)  %.2f M blocks/s\n' "${labels[$i]}" "${med[$i]}" "$runs" \
+  printf '%-28s median %.3f s over %d runs (%s)  %.2f M blocks/s\n' "${labels[$i]}" "${med[$i]}" "$runs" \
     "$(printf '%.3f ' ${times[$i]} | sed 's/ $//')" "$(echo "$blocks / ${med[$i]} / 1000000" | bc -l)"
 done
-printf 'ratios: check %.1fx, path %.1fx faster than rs274 -g\n' \
-  "$(echo "${med[2]} / ${med[0]}" | bc -l)" "$(echo "${med[2]} / ${med[1]}" | bc -l)"
+for i in 0 1 2 3; do
+  printf 'ratio: %-26s %.1fx faster than rs274 -g\n' "${labels[$i]}" "$(echo "${med[4]} / ${med[$i]}" | bc -l)"
+done
