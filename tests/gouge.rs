@@ -328,6 +328,23 @@ fn machine() -> MachineData {
     MachineData::load(None, &["trc.bottleneck_window=64".to_string()]).unwrap()
 }
 
+/// The ISG kernel with contour masking (G141) over a 64-block window.
+fn isg_masking() -> MachineData {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
+    MachineData::load(Some(&path), &["trc.bottleneck_window=64".to_string()]).unwrap()
+}
+
+/// The same contour as an ISG program with G141: transition circles (G26) for the 840C's
+/// G450, masking on.
+fn with_masking(case: &Case) -> Case {
+    Case {
+        pieces: case.pieces.clone(),
+        program: case.program.replace("G1 F100 G450", "G1 F100 G26 G141"),
+        r: case.r,
+        left: case.left,
+    }
+}
+
 /// softnc's path as pieces, approach and retract left out.
 fn softnc_pieces(case: &Case, md: &MachineData) -> (Vec<Piece>, bool) {
     let mut tools = ToolTable::builtin();
@@ -499,6 +516,33 @@ fn softnc_never_puts_out_a_gouge() {
         alarms > CASES / 20 && alarms < CASES - CASES / 20,
         "{alarms} alarms"
     );
+}
+
+/// (A) with ISG contour masking: loops are cut out instead of stopping, and what is put out
+/// still never gouges.
+#[test]
+fn masking_never_puts_out_a_gouge() {
+    let md = isg_masking();
+    let mut rng = Rng(0x13198a2e03707344);
+    let (mut alarms, mut n) = (0, 0);
+    for k in 0..CASES / 4 {
+        let case = make_case(&mut rng, k % 2 == 0);
+        if case.pieces.is_empty() {
+            continue;
+        }
+        let case = with_masking(&case);
+        let (path, alarm) = softnc_pieces(&case, &md);
+        n += 1;
+        alarms += usize::from(alarm);
+        let d = min_dist(&path, &case.pieces);
+        assert!(
+            d >= case.r - 1e-9,
+            "case {k}: tool path within {d} of the contour, R = {}\n{}",
+            case.r,
+            case.program
+        );
+    }
+    assert!(alarms < n, "{alarms} alarms in {n} cases");
 }
 
 #[test]

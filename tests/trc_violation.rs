@@ -232,3 +232,69 @@ fn gouge_free_contours_pass_every_window() {
         }
     }
 }
+
+/// ISG contour masking (G141): a notch 8 mm wide under a tool of R = 10 (D1), the tool above
+/// N25. Inside the notch the equidistants are x = 10 (N30 down), y = −20 (N40) and
+/// x = 8 − 10 = −2 (N50 up): N40's runs backwards. With G141 the blocks that would violate
+/// the contour are left out: N25's equidistant y = 10 meets N50's x = −2 at (−2, 10), and the
+/// path joins there. N30's M8 is output at that point, in program order.
+const NOTCH_ISG: &str = "N10 G17 G90 G00 X-60 Y20 D1\nN15 G141\nN20 G41 G01 X-40 Y0 F1000\nN25 X0 Y0\nN30 X0 Y-30 M8\nN40 X8 Y-30\nN50 X8 Y2\nN60 X50 Y2\nN70 G40 X60 Y30\nN80 M30\n";
+
+fn run_isg(src: &str) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
+    let md = MachineData::load(Some(&path), &[]).unwrap();
+    let tools = ToolTable::builtin();
+    let mut p = Preparation::new("t", src, &md, &tools);
+    let mut v = Vec::new();
+    loop {
+        match p.next_item() {
+            Ok(Some(x)) => v.push(x),
+            Ok(None) => return (v, None),
+            Err(a) => return (v, Some(a)),
+        }
+    }
+}
+
+#[test]
+fn isg_masking_leaves_out_what_would_violate_and_joins_at_the_intersection() {
+    let (items, alarm) = run_isg(NOTCH_ISG);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    assert!(
+        segs.iter().all(|s| block(s) != 30 && block(s) != 40),
+        "N30, N40 left out"
+    );
+    let n25 = segs.iter().rfind(|s| block(s) == 25).unwrap();
+    at(n25.to, -2.0, 10.0);
+    let n50 = segs.iter().find(|s| block(s) == 50).unwrap();
+    at(n50.from, -2.0, 10.0);
+    at(n50.to, -2.0, 12.0);
+    // M8 of the left-out N30 comes out where the path joins, before N50 moves.
+    let m8 = items
+        .iter()
+        .position(|x| matches!(x, Prepared::Aux(a) if a.source.number.unwrap().value == 30))
+        .expect("N30's M8");
+    let Prepared::Aux(a) = &items[m8] else {
+        unreachable!()
+    };
+    at(a.pos, -2.0, 10.0);
+    let first_n50 = items
+        .iter()
+        .position(|x| matches!(x, Prepared::Segment(s) if s.source.number.unwrap().value == 50))
+        .unwrap();
+    assert!(m8 < first_n50);
+    // G140: the notch is a contour violation (11.12 at N40).
+    let (_, alarm) = run_isg(&NOTCH_ISG.replace("N15 G141", "N15 G140"));
+    let a = alarm.expect("alarm 3021");
+    assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 6));
+}
+
+#[test]
+fn isg_masking_without_a_way_round_is_an_alarm() {
+    // The contour that comes back close to itself without crossing (see `comes_back`): no loop
+    // to cut out, so no gouge-free path inside the window.
+    let src = comes_back("15").replace("N20 G1 G41", "N15 G141\nN20 G1 G41");
+    let (_, alarm) = run_isg(&src);
+    assert_eq!(alarm.map(|a| a.code), Some(AlarmCode::ContourViolation));
+}

@@ -131,7 +131,14 @@ impl Bottleneck {
         let bb = bbox(&elem, 0.0);
         let mut found = None;
         let (x, y) = self.held.as_slices();
-        for h in x.iter().chain(y) {
+        // Masking checks a segment when it leaves the window: a loop cut out later may drop
+        // what comes too close now.
+        let checked = if reaction == Reaction::Mask {
+            0
+        } else {
+            x.len() + y.len()
+        };
+        for h in x.iter().chain(y).take(checked) {
             let Some(he) = h.elem else {
                 continue;
             };
@@ -191,7 +198,7 @@ impl Bottleneck {
         let depth = self.depth(reaction);
         if !checked || depth == 0 {
             // Compensation starts or ends here (or nothing is checked): the window starts anew.
-            self.flush(out);
+            self.flush(out, reaction == Reaction::Mask)?;
             if !checked {
                 // Elements before this segment's block belong to an earlier compensation; the
                 // first element of this one (added before its approach came out) stays.
@@ -223,7 +230,7 @@ impl Bottleneck {
             }
         }
         let bb = elem.map_or([0.0; 4], |e| bbox(&e, r));
-        if let Some(e) = elem {
+        if let (Some(e), false) = (elem, reaction == Reaction::Mask) {
             let (a, b) = self.programmed.as_slices();
             for p in a.iter().chain(b) {
                 if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
@@ -250,8 +257,9 @@ impl Bottleneck {
             self.blocks += 1;
             self.last_seq = Some(seg.source.seq);
         }
+        let mask = reaction == Reaction::Mask;
         if self.held.is_full() {
-            self.release_block(out);
+            self.release_block(out, mask)?;
         }
         let _ = self.held.push_back(Held {
             seg,
@@ -261,7 +269,7 @@ impl Bottleneck {
             bb,
         });
         while self.blocks > depth {
-            self.release_block(out);
+            self.release_block(out, mask)?;
         }
         Ok(warned)
     }
@@ -316,26 +324,63 @@ impl Bottleneck {
         self.last_seq = None;
     }
 
-    /// Everything held goes on (end of compensation or of the program).
-    pub fn flush<const N: usize>(&mut self, out: &mut heapless::Deque<Segment, N>) {
-        while let Some(h) = self.held.pop_front() {
-            let _ = out.push_back(h.seg);
+    /// Everything held goes on (end of compensation or of the program); under masking each
+    /// segment is checked on its way out.
+    pub fn flush<const N: usize>(
+        &mut self,
+        out: &mut heapless::Deque<Segment, N>,
+        mask: bool,
+    ) -> Result<(), Gouge> {
+        while !self.held.is_empty() {
+            self.release_block(out, mask)?;
         }
         self.blocks = 0;
         self.last_seq = None;
+        Ok(())
     }
 
-    /// The oldest block's segments go on.
-    fn release_block<const N: usize>(&mut self, out: &mut heapless::Deque<Segment, N>) {
+    /// The oldest block's segments go on; under masking, after the distance check.
+    fn release_block<const N: usize>(
+        &mut self,
+        out: &mut heapless::Deque<Segment, N>,
+        mask: bool,
+    ) -> Result<(), Gouge> {
         let Some(seq) = self.held.front().map(|h| h.seg.source.seq) else {
-            return;
+            return Ok(());
         };
         while self.held.front().is_some_and(|h| h.seg.source.seq == seq) {
             if let Some(h) = self.held.pop_front() {
+                if mask {
+                    self.check(&h)?;
+                }
                 let _ = out.push_back(h.seg);
             }
         }
         self.blocks = self.blocks.saturating_sub(1);
+        Ok(())
+    }
+
+    /// A held segment against the programmed elements in the window.
+    fn check(&self, h: &Held) -> Result<(), Gouge> {
+        let Some(e) = h.elem else {
+            return Ok(());
+        };
+        let (a, b) = self.programmed.as_slices();
+        for p in a.iter().chain(b) {
+            if p.side != h.side || near(p.source.seq, h.seg.source.seq) || !overlap(&p.bb, &h.bb) {
+                continue;
+            }
+            let d = dist_elems(&e, &p.elem);
+            if d < h.r - gouge_tol(&e) {
+                return Err(Gouge {
+                    path: h.seg.source,
+                    element: p.source,
+                    distance: d,
+                    radius: h.r,
+                });
+            }
+        }
+        Ok(())
     }
 
     fn recount(&mut self) {
@@ -377,7 +422,8 @@ fn at(plane: Plane, p: &Pos, x: V2) -> Pos {
 }
 
 /// A segment as a plane element; `None` for what cannot cross (no move in the plane) or is
-/// not a circle (an arc whose radius changes is left out of the check).
+/// not a circle (an arc whose radius changes on purpose — a radius change spread over the
+/// block — is left out of the check; radii equal but for rounding are one circle).
 fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
     let uv = |p: &Pos| v2(p[plane.abscissa as usize], p[plane.ordinate as usize]);
     let (a, b) = (uv(&s.from), uv(&s.to));
@@ -389,7 +435,9 @@ fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
             r0,
             r1,
             plane: p,
-        } => (p == plane && (r0 - r1).abs() <= 1e-12 * r0.max(1.0)).then(|| Elem::Arc {
+        } => (p == plane
+            && (r0 - r1).abs() <= 1e-9 * center[0].abs().max(center[1].abs()).max(r0).max(1.0))
+        .then(|| Elem::Arc {
             a,
             b,
             c: uv(&center),

@@ -223,7 +223,12 @@ impl<'a> Preparation<'a> {
             }
             if self.done {
                 if !self.bottleneck.is_empty() {
-                    self.bottleneck.flush(&mut self.released);
+                    let mask = self.masking;
+                    if let Err(g) = self.bottleneck.flush(&mut self.released, mask) {
+                        self.released.clear();
+                        self.bottleneck.discard();
+                        return Err(self.gouge_alarm(&g));
+                    }
                     return Ok(true);
                 }
                 if !self.ended {

@@ -207,6 +207,8 @@ pub struct Compensator {
     switching: bool,
     /// Blocks seen, for `Source::seq`.
     seq: u32,
+    /// ISG contour masking (G141) in the current block.
+    masking: bool,
     /// Alarm 3021 only warns (machine data `trc.violation_reaction = warn`).
     warn_violations: bool,
     /// The last contour element (programmed, in the plane) and the smaller tool radius it is
@@ -277,6 +279,7 @@ impl Compensator {
             inner_exit: None,
             switching: false,
             seq: 0,
+            masking: false,
             warn_violations: false,
             last_element: None,
             warnings: heapless::Deque::new(),
@@ -350,6 +353,7 @@ impl Compensator {
             }
         }
         self.corner = b.modal.corner;
+        self.masking = b.modal.masking;
         let new_d = side_sign(b.modal.trc) * b.modal.radius;
 
         // What the block asks of the compensation.
@@ -608,6 +612,10 @@ impl Compensator {
     /// `violation_reaction = warn` a warning, and the path goes on (840C 11.12: "the effect of
     /// alarm 3021 can be influenced via machine data").
     fn violation(&mut self, f: Fault) -> Result<(), Fault> {
+        if self.masking {
+            // ISG G141: the path goes on to the bottleneck stage, which cuts the loop out.
+            return Ok(());
+        }
         if !self.warn_violations {
             return Err(f);
         }
@@ -643,8 +651,8 @@ impl Compensator {
                     self.max_outside
                 ),
             );
-            // The held-block buffer has room for 8 whatever the reaction.
-            if self.outside > 8 {
+            // The held-block buffer has room for 8 whatever the reaction; masking cannot help.
+            if self.outside > 8 || (self.masking && !self.warn_violations) {
                 return Err(f);
             }
             self.violation(f)?;
