@@ -653,3 +653,45 @@ fn fanuc_side_change_in_offset_mode() {
         Shape::Line => panic!("B is an arc"),
     }
 }
+
+/// ISG G11 (TF5200 "Adapting feed of TRC"): the programmed F600 acts at the contour. R = 5
+/// (D2). N50 is a circle of radius 10 with the tool inside: the centre runs on radius 5 at
+/// 600·5/10 = 300. N70, radius 10 with the tool outside: 600·15/10 = 900. The transition
+/// circles at the outer corners N40/N50 and N80/N90 go round a contour radius of 0, taken as
+/// the minimum radius (machine data, 1 mm): 600·(1 + 5)/1 = 3600. Lines keep 600. With G10
+/// everything runs at 600.
+#[test]
+fn isg_g11_feed_acts_at_the_contour() {
+    let src = program("isg", "g11_feed_adaption.nc");
+    let feeds = |src: &str| -> Vec<(u32, Role, f64)> {
+        path("isg.toml", &[], &[], src)
+            .iter()
+            .filter(|s| s.role != Role::Uncompensated)
+            .map(|s| (s.source.number.unwrap().value, s.role, s.feed))
+            .collect()
+    };
+    assert_eq!(
+        feeds(&src),
+        [
+            (30, Role::Approach, 600.0),
+            (40, Role::Contour, 600.0),
+            (50, Role::Corner, 3600.0),
+            (50, Role::Contour, 300.0),
+            (60, Role::Contour, 600.0),
+            (70, Role::Contour, 900.0),
+            (80, Role::Contour, 600.0),
+            (90, Role::Corner, 3600.0),
+            (90, Role::Contour, 600.0),
+            (100, Role::Retract, 600.0),
+        ]
+    );
+    let g10 = feeds(&src.replace("G26 G11", "G26 G10"));
+    assert!(g10.iter().all(|&(_, _, f)| f == 600.0), "{g10:?}");
+    // Below the minimum radius an arc keeps the programmed feed (#TANGFEED RMIN).
+    let p = path("isg.toml", &["trc.feed_adaption_rmin=12"], &[], &src);
+    let n50 = p
+        .iter()
+        .find(|s| s.source.number.unwrap().value == 50 && s.role == Role::Contour)
+        .unwrap();
+    assert_eq!(n50.feed, 600.0);
+}

@@ -112,6 +112,10 @@ pub struct ProgramData {
     pub max_loop_iterations: u32,
 }
 
+fn default_feed_rmin() -> f64 {
+    1.0
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrcData {
@@ -128,6 +132,10 @@ pub struct TrcData {
     /// Blocks over which the tool-centre path is checked for crossing itself (bottleneck
     /// detection beyond 11.12; 840D CDON, TNC M120); 0 = off (ISG: P-CHAN-00219 default).
     pub bottleneck_window: u32,
+    /// ISG G11 feed adaption: arcs below this contour radius keep the programmed feed, and
+    /// transition blocks at corners take it as their contour radius (TF5200 #TANGFEED RMIN).
+    #[serde(default = "default_feed_rmin")]
+    pub feed_adaption_rmin: f64,
     /// Auxiliary functions output before or during the axis motion (840C 11.10).
     pub aux_output: AuxOutput,
 }
@@ -349,6 +357,7 @@ impl MachineData {
                 ),
             ));
         }
+        range("trc.feed_adaption_rmin", t.feed_adaption_rmin, 0.0, 1000.0)?;
         if t.bottleneck_window > 64 {
             return Err((
                 "trc.bottleneck_window".into(),

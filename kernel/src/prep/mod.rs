@@ -63,6 +63,7 @@ impl<'a> Preparation<'a> {
             plane,
         );
         trc.warn_on_violation(md.trc.violation_reaction == ViolationReaction::Warn);
+        trc.set_feed_adaption_rmin(md.trc.feed_adaption_rmin);
         Preparation {
             name,
             interp,

@@ -18,7 +18,7 @@ pub mod violation;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    Block, CornerPolicy, Motion, MotionKind, Plane, Pos, SelectionPolicy, TrcSide,
+    Block, CornerPolicy, FeedAdaption, Motion, MotionKind, Plane, Pos, SelectionPolicy, TrcSide,
 };
 use crate::segment::{Role, Segment, Shape, Source};
 use corner::{CornerError, CornerSettings, OuterCorner};
@@ -129,6 +129,8 @@ struct Tag {
     feed: f64,
     rapid: bool,
     exact_stop: bool,
+    /// ISG G11: the feed acts at the contour (adapted at arcs and transition blocks).
+    adapt: bool,
 }
 
 /// A selection block waiting for the first contour element.
@@ -209,6 +211,8 @@ pub struct Compensator {
     seq: u32,
     /// ISG contour masking (G141) in the current block.
     masking: bool,
+    /// Minimum contour radius for feed adaption (G11), mm.
+    feed_rmin: f64,
     /// Alarm 3021 only warns (machine data `trc.violation_reaction = warn`).
     warn_violations: bool,
     /// The last contour element (programmed, in the plane) and the smaller tool radius it is
@@ -280,10 +284,16 @@ impl Compensator {
             switching: false,
             seq: 0,
             masking: false,
+            feed_rmin: 0.0,
             warn_violations: false,
             last_element: None,
             warnings: heapless::Deque::new(),
         }
+    }
+
+    /// Minimum contour radius for feed adaption (ISG G11; TF5200 #TANGFEED RMIN).
+    pub fn set_feed_adaption_rmin(&mut self, rmin: f64) {
+        self.feed_rmin = rmin.max(0.0);
     }
 
     /// Alarm 3021 as a warning, the path going on (`trc.violation_reaction = warn`).
@@ -343,6 +353,7 @@ impl Compensator {
             feed: b.modal.feed,
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
             exact_stop: b.exact_stop || b.modal.exact_stop,
+            adapt: b.modal.feed_adaption == FeedAdaption::Contour,
         };
         if let Some(m) = motion {
             if self.mode == Mode::Off {
@@ -748,6 +759,12 @@ impl Compensator {
     /// Inserted corner pieces: circles are corners, lines intermediate blocks (11.1).
     fn pieces(&mut self, tag: Tag, pieces: &[Elem], w: f64, out: &mut Out) {
         let r = self.d.abs();
+        // ISG G11: transition blocks go round a corner of contour radius 0; the engagement
+        // point is taken to move on the minimum radius (TF5200 #TANGFEED RMIN).
+        let mut tag = tag;
+        if tag.adapt && self.feed_rmin > 0.0 {
+            tag.feed *= (self.feed_rmin + r) / self.feed_rmin;
+        }
         for e in pieces {
             let (role, r) = match e {
                 Elem::Arc { .. } => (Role::Corner, r),
@@ -1043,7 +1060,17 @@ impl Compensator {
                     c,
                     ccw,
                 };
-                self.piece(p.tag, Role::Contour, &e, r0, r1, p.w0, p.w1, out);
+                // ISG G11: the programmed feed acts at the contour: the centre moves faster
+                // outside an arc and slower inside (TF5200 G10/G11); arcs below the minimum
+                // radius keep the programmed feed (#TANGFEED RMIN).
+                let mut tag = p.tag;
+                if tag.adapt {
+                    let rp = p.prog.radius();
+                    if rp >= self.feed_rmin && rp > EPS {
+                        tag.feed *= 0.5 * (r0 + r1) / rp;
+                    }
+                }
+                self.piece(tag, Role::Contour, &e, r0, r1, p.w0, p.w1, out);
             }
         }
         Ok(())
