@@ -695,3 +695,39 @@ fn isg_g11_feed_acts_at_the_contour() {
         .unwrap();
     assert_eq!(n50.feed, 600.0);
 }
+
+/// 840C 11.5.1: deselection with program end. The contour N20..N40 with G41, R = 10: N40 runs
+/// up X60 from Y0 to Y40, its equidistant is x = 50 and its normal end position (50, 40).
+/// - G40 with a plane axis in the last-but-one block: the deselection move runs.
+/// - M30 while TRC is on, or G40 without a plane axis before M30: N40 ends in its normal
+///   position and no deselection move follows.
+#[test]
+fn program_end_with_trc_active_11_5_1() {
+    let head = "N10 G0 G17 G90 X0 Y-20 D1\nN20 G41 G1 X20 Y0 F100\nN30 X60 Y0\nN40 X60 Y40";
+    let cases = [
+        ("\nN50 G40 X80 Y40\nN60 M30\n", true),
+        (" M30\n", false),
+        ("\nN50 M30\n", false),
+        ("\nN50 G40\nN60 M30\n", false),
+    ];
+    for (tail, deselects) in cases {
+        let src = format!("{head}{tail}");
+        let p = path("siemens-840c.toml", &[], &[], &src);
+        continuous(&p);
+        let n40 = of_block(&p, 40);
+        let retract: Vec<_> = p.iter().filter(|s| s.role == Role::Retract).collect();
+        if deselects {
+            // The deselection block runs to its programmed point.
+            at("retract end", retract.last().unwrap().to, 80.0, 40.0);
+        } else {
+            at(
+                "N40 ends in its normal position",
+                n40.last().unwrap().to,
+                50.0,
+                40.0,
+            );
+            assert!(retract.is_empty(), "{tail:?}: no deselection move");
+            at("and stays there", p.last().unwrap().to, 50.0, 40.0);
+        }
+    }
+}
