@@ -731,3 +731,84 @@ fn program_end_with_trc_active_11_5_1() {
         }
     }
 }
+
+/// 840C 11.8: D1 changed from R 10 to R 8 in NC stop, halfway along N40 of the 11.15
+/// workpiece (N40 runs X65 → X95 at Y55, tool above). Old path: y = 65 from the inner corner
+/// with N30 (circle r 25 + 10 about (40,55): x = 40 + √(35² − 10²)) to the one with N50
+/// (circle r 15 + 10 about (110,55): x = 110 − √(25² − 10²)). New path: y = 63, from
+/// x = 40 + √(33² − 8²) to x = 110 − √(23² − 8²). The axes stand at the old midpoint; the
+/// reposition move goes to the new midpoint, and N40 goes on from there.
+#[test]
+fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
+    use nc_kernel::prep::{Interruption, Prepared};
+    use nc_kernel::Preparation;
+    let src = program("siemens-840c", "11_15_workpiece.mpf");
+    let md = machine("siemens-840c.toml", &[]);
+    let old = tools(&[]);
+    // N40's execution number: the block's place in the run.
+    let seq = prepare("t", &src, &md, &old)
+        .unwrap()
+        .iter()
+        .find(|s| s.source.number.map(|n| n.value) == Some(40))
+        .unwrap()
+        .source
+        .seq;
+    let mid_old =
+        0.5 * ((40.0 + (35f64.powi(2) - 100.0).sqrt()) + (110.0 - (25f64.powi(2) - 100.0).sqrt()));
+    let (x0, x1) = (
+        40.0 + (33f64.powi(2) - 64.0).sqrt(),
+        110.0 - (23f64.powi(2) - 64.0).sqrt(),
+    );
+    let new = tools(&[(1, 8.0)]);
+    let r = Preparation::resume(
+        "t",
+        &src,
+        &md,
+        &new,
+        Interruption { seq, along: 0.5 },
+        [mid_old, 65.0, -5.0 + 100.0],
+    )
+    .unwrap_or_else(|a| panic!("{a}"));
+    let [reposition, remainder] = r.first;
+    assert_eq!(reposition.role, Role::Approach);
+    at("reposition from the axes", reposition.from, mid_old, 65.0);
+    at(
+        "to the new equidistant",
+        reposition.to,
+        0.5 * (x0 + x1),
+        63.0,
+    );
+    at("N40 goes on", remainder.from, 0.5 * (x0 + x1), 63.0);
+    at("to its new end", remainder.to, x1, 63.0);
+    // Then N50 follows, on the new radius: a circle of 15 + 8 about (110,55).
+    let mut rest = r.rest;
+    let next = loop {
+        match rest.next_item().unwrap() {
+            Some(Prepared::Segment(s)) => break s,
+            Some(_) => {}
+            None => panic!("the program goes on"),
+        }
+    };
+    assert_eq!(next.source.number.unwrap().value, 50);
+    match next.shape {
+        Shape::Arc { r0, .. } => assert!((r0 - 23.0).abs() < TOL),
+        Shape::Line => panic!("N50 is an arc"),
+    }
+    // A radius that now violates the contour is an alarm before anything moves: with R 30
+    // N40 (30 mm between two inner corners) runs backwards, 11.12.
+    let huge = tools(&[(1, 30.0)]);
+    let e = Preparation::resume(
+        "t",
+        &src,
+        &md,
+        &huge,
+        Interruption { seq, along: 0.5 },
+        [mid_old, 65.0, 95.0],
+    )
+    .err()
+    .expect("alarm 3021");
+    assert_eq!(
+        (e.code, e.block.as_deref()),
+        (AlarmCode::ContourViolation, Some("N40"))
+    );
+}

@@ -6,9 +6,11 @@
 
 pub mod bottleneck;
 pub mod jsonl;
+pub mod resume;
 pub mod s_points;
 
 pub use bottleneck::{Bottleneck, Gouge, Reaction};
+pub use resume::{Interruption, Resumed};
 pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
 
 use crate::alarm::{Alarm, AlarmCode};
