@@ -430,12 +430,27 @@ fn on_arc(e: &Elem, p: V2, c: V2) -> bool {
     if p.dist(c) <= EPS {
         return false;
     }
-    let r = a.dist(c);
-    let q = c + (p - c).unit() * r;
-    if q.dist(a) <= 1e-12 * r.max(1.0) || q.dist(b) <= 1e-12 * r.max(1.0) {
+    // Counter-clockwise from s to t: the arc as seen from its centre, without angles.
+    let (s, t) = if ccw { (a - c, b - c) } else { (b - c, a - c) };
+    let v = p - c;
+    let r = s.len();
+    // On a ray through an end point (within rounding): on the arc.
+    let near_ray = |w: V2| w.cross(v).abs() <= 1e-12 * r * v.len() && w.dot(v) > 0.0;
+    if near_ray(s) || near_ray(t) {
         return true;
     }
-    sweep(c, a, q, ccw) <= sweep(c, a, b, ccw)
+    let st = s.cross(t);
+    let full = (a - b).len() <= 1e-12 * r.max(1.0);
+    if full {
+        return true;
+    }
+    if st > 0.0 || (st == 0.0 && s.dot(t) < 0.0) {
+        // At most half a turn: between the two rays.
+        s.cross(v) >= 0.0 && v.cross(t) >= 0.0
+    } else {
+        // More than half a turn: anywhere but strictly inside the complement.
+        !(t.cross(v) > 0.0 && v.cross(s) > 0.0)
+    }
 }
 
 /// Whether a point of the element's line or circle lies on the element itself.
