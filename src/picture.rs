@@ -138,17 +138,7 @@ impl<'a> Picture<'a> {
                 r1,
                 plane,
             } if plane == self.plane => {
-                let c = self.uv(center);
-                let (a0, sweep) = arc_sweep(c, self.uv(s.from), self.uv(s.to), ccw);
-                let n = ((sweep.abs() / TAU * 144.0).ceil() as usize).max(2);
-                (0..=n)
-                    .map(|k| {
-                        let t = k as f64 / n as f64;
-                        let r = r0 + (r1 - r0) * t;
-                        let a = a0 + sweep * t;
-                        (c.0 + r * a.cos(), c.1 + r * a.sin())
-                    })
-                    .collect()
+                arc_points(self.uv(center), self.uv(s.from), self.uv(s.to), ccw, r0, r1)
             }
             _ => vec![self.uv(s.from), self.uv(s.to)],
         }
@@ -594,15 +584,8 @@ impl ProgElem {
     fn sample(&self) -> Vec<(f64, f64)> {
         match self.arc {
             Some((c, ccw)) => {
-                let (a0, sweep) = arc_sweep(c, self.from, self.to, ccw);
                 let r = (self.from.0 - c.0).hypot(self.from.1 - c.1);
-                let n = ((sweep.abs() / TAU * 144.0).ceil() as usize).max(2);
-                (0..=n)
-                    .map(|k| {
-                        let a = a0 + sweep * k as f64 / n as f64;
-                        (c.0 + r * a.cos(), c.1 + r * a.sin())
-                    })
-                    .collect()
+                arc_points(c, self.from, self.to, ccw, r, r)
             }
             None => vec![self.from, self.to],
         }
@@ -767,6 +750,27 @@ impl Bbox {
     fn size(&self) -> (f64, f64) {
         (self.max.0 - self.min.0, self.max.1 - self.min.1)
     }
+}
+
+/// Points along an arc about `c` every 2.5°, its radius going from `r0` to `r1`.
+fn arc_points(
+    c: (f64, f64),
+    from: (f64, f64),
+    to: (f64, f64),
+    ccw: bool,
+    r0: f64,
+    r1: f64,
+) -> Vec<(f64, f64)> {
+    let (a0, sweep) = arc_sweep(c, from, to, ccw);
+    let n = ((sweep.abs() / TAU * 144.0).ceil() as usize).max(2);
+    (0..=n)
+        .map(|k| {
+            let t = k as f64 / n as f64;
+            let r = r0 + (r1 - r0) * t;
+            let a = a0 + sweep * t;
+            (c.0 + r * a.cos(), c.1 + r * a.sin())
+        })
+        .collect()
 }
 
 /// Start angle and signed sweep (ccw positive) of an arc; equal end points are a full circle.

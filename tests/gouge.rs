@@ -561,6 +561,20 @@ fn offset_outer(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     Some(out)
 }
 
+/// Smallest distance from the offset pieces to the contour elements they are built on
+/// (`built_on`), or to all the others.
+fn clearance(offset: &[(Piece, usize, usize)], contour: &[Piece], built_on: bool) -> f64 {
+    let mut d = f64::INFINITY;
+    for (p, lo, hi) in offset {
+        for (j, q) in contour.iter().enumerate() {
+            if (*lo..=*hi).contains(&j) == built_on {
+                d = d.min(piece_dist(p, q));
+            }
+        }
+    }
+    d
+}
+
 const CASES: usize = 100_000;
 
 #[test]
@@ -632,23 +646,9 @@ fn gouge_free_outer_contours_with_arcs_pass_without_an_alarm() {
             continue;
         };
         checked += 1;
-        let mut far = f64::INFINITY;
-        for (p, lo, hi) in &offset {
-            for (j, q) in case.pieces.iter().enumerate() {
-                if j < *lo || j > *hi {
-                    far = far.min(piece_dist(p, q));
-                }
-            }
-        }
+        let far = clearance(&offset, &case.pieces, false);
         // Neighbours too: an arc can curl back over the element before it.
-        let mut near = f64::INFINITY;
-        for (p, lo, hi) in &offset {
-            for (j, q) in case.pieces.iter().enumerate() {
-                if j >= *lo && j <= *hi {
-                    near = near.min(piece_dist(p, q));
-                }
-            }
-        }
+        let near = clearance(&offset, &case.pieces, true);
         if far < case.r + 1e-6 || near < case.r - 1e-7 {
             continue;
         }
@@ -678,14 +678,7 @@ fn gouge_free_polylines_pass_without_an_alarm() {
         };
         checked += 1;
         // Clear of every element it is not built on, with a margin either way.
-        let mut far = f64::INFINITY;
-        for (p, lo, hi) in &offset {
-            for (j, q) in case.pieces.iter().enumerate() {
-                if j < *lo || j > *hi {
-                    far = far.min(piece_dist(p, q));
-                }
-            }
-        }
+        let far = clearance(&offset, &case.pieces, false);
         if far < case.r + 1e-6 {
             continue;
         }

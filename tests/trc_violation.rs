@@ -7,9 +7,13 @@ use nc_kernel::{AlarmCode, MachineData, Preparation, ToolTable};
 
 fn run(src: &str, md: &[&str]) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
     let over: Vec<String> = md.iter().map(|s| s.to_string()).collect();
-    let md = MachineData::load(None, &over).unwrap();
+    run_with(src, &MachineData::load(None, &over).unwrap())
+}
+
+/// Every record up to the end or the alarm.
+fn run_with(src: &str, md: &MachineData) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
     let tools = ToolTable::builtin();
-    let mut p = Preparation::new("t", src, &md, &tools);
+    let mut p = Preparation::new("t", src, md, &tools);
     let mut v = Vec::new();
     loop {
         match p.next_item() {
@@ -242,17 +246,7 @@ const NOTCH_ISG: &str = "N10 G17 G90 G00 X-60 Y20 D1\nN15 G141\nN20 G41 G01 X-40
 
 fn run_isg(src: &str) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
-    let md = MachineData::load(Some(&path), &[]).unwrap();
-    let tools = ToolTable::builtin();
-    let mut p = Preparation::new("t", src, &md, &tools);
-    let mut v = Vec::new();
-    loop {
-        match p.next_item() {
-            Ok(Some(x)) => v.push(x),
-            Ok(None) => return (v, None),
-            Err(a) => return (v, Some(a)),
-        }
-    }
+    run_with(src, &MachineData::load(Some(&path), &[]).unwrap())
 }
 
 #[test]

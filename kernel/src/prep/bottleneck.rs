@@ -185,12 +185,12 @@ impl Bottleneck {
         self.depth(reaction) == 0 && self.held.is_empty()
     }
 
-    /// Takes the next segment of the path; what may go on goes to `out`. Its tool radius is
-    /// its block's element's (a segment comes out after its element went in), else `r`.
+    /// Takes the next segment of the path; what may go on goes to `out`. Its tool radius and
+    /// side are its block's element's (a segment comes out after its element went in), else
+    /// the last element's.
     pub fn push<const N: usize>(
         &mut self,
         seg: Segment,
-        r: f64,
         reaction: Reaction,
         out: &mut heapless::Deque<Segment, N>,
     ) -> Result<Option<Gouge>, Gouge> {
@@ -215,13 +215,13 @@ impl Bottleneck {
         }
         let mut seg = seg;
         let mut warned = None;
-        let own = self
+        let (r, side) = self
             .programmed
             .iter()
             .rev()
             .find(|p| p.source.seq == seg.source.seq)
-            .map(|p| (p.r, p.side));
-        let (r, side) = own.unwrap_or((r, self.programmed.back().map_or(0, |p| p.side)));
+            .or(self.programmed.back())
+            .map_or((0.0, 0), |p| (p.r, p.side));
         let mut elem = self.elem(&seg);
         if let (Some(e), Reaction::Mask) = (elem, reaction) {
             if let Some(x) = self.crossing_with_held(&e) {

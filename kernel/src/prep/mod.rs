@@ -44,9 +44,6 @@ pub struct Preparation<'a> {
     /// An alarm waiting until the path before it is out.
     deferred: Option<Alarm>,
     warn: bool,
-    /// Tool radius of the last two contour elements: segments coming out now belong to one of
-    /// them, so the smaller is used for the gouge check.
-    radius: (f64, f64),
     /// Records ready to hand out, in order (a segment and what waited for its start).
     ready: heapless::Deque<Prepared, 32>,
 }
@@ -82,7 +79,6 @@ impl<'a> Preparation<'a> {
             masking: false,
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
-            radius: (0.0, 0.0),
         }
     }
 
@@ -153,17 +149,25 @@ impl<'a> Preparation<'a> {
             if self.bottleneck.bypass(reaction) {
                 return Ok(Some(seg));
             }
-            let r = self.radius.0.min(self.radius.1);
-            match self.bottleneck.push(seg, r, reaction, &mut self.released) {
-                Ok(None) => {}
-                Ok(Some(g)) => {
-                    let w = self.gouge_alarm(&g);
-                    let _ = self.ready.push_back(Prepared::Warning(w));
-                }
-                Err(g) => {
-                    self.stop_with(self.gouge_alarm(&g));
-                    self.bottleneck.discard();
-                }
+            let found = self.bottleneck.push(seg, reaction, &mut self.released);
+            self.on_gouge(found);
+        }
+    }
+
+    /// A gouge the window found: a warning, or the end of preparation (true) with the path
+    /// still held dropped (docs/trc.md).
+    fn on_gouge(&mut self, found: Result<Option<Gouge>, Gouge>) -> bool {
+        match found {
+            Ok(None) => false,
+            Ok(Some(g)) => {
+                let w = self.gouge_alarm(&g);
+                let _ = self.ready.push_back(Prepared::Warning(w));
+                false
+            }
+            Err(g) => {
+                self.stop_with(self.gouge_alarm(&g));
+                self.bottleneck.discard();
+                true
             }
         }
     }
@@ -292,7 +296,6 @@ impl<'a> Preparation<'a> {
             self.bottleneck.set_plane(block.modal.plane);
             let element = self.trc.take_element();
             if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
-                self.radius = (self.radius.1, r);
                 let source = Source {
                     number: block.number,
                     line: block.line,
@@ -304,17 +307,9 @@ impl<'a> Preparation<'a> {
                     TrcSide::Right => -1,
                     TrcSide::Off => 0,
                 };
-                match self.bottleneck.element(source, e, r, side, self.reaction()) {
-                    Ok(None) => {}
-                    Ok(Some(g)) => {
-                        let w = self.gouge_alarm(&g);
-                        let _ = self.ready.push_back(Prepared::Warning(w));
-                    }
-                    Err(g) => {
-                        self.stop_with(self.gouge_alarm(&g));
-                        self.bottleneck.discard();
-                        continue;
-                    }
+                let found = self.bottleneck.element(source, e, r, side, self.reaction());
+                if self.on_gouge(found) {
+                    continue;
                 }
             }
             while let Some(w) = self.trc.take_warning() {

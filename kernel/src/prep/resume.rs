@@ -13,6 +13,7 @@ use crate::frontend::block::Pos;
 use crate::machine_data::MachineData;
 use crate::segment::{Role, Segment, Shape};
 use crate::tools::ToolTable;
+use crate::trc::geom::{self, v2};
 
 /// Where the path stopped: the block (its execution number, [`crate::segment::Source::seq`])
 /// and how far along its contour segment, 0 at the start to 1 at the end.
@@ -113,14 +114,9 @@ fn point_at(s: &Segment, t: f64) -> Pos {
                 plane.ordinate as usize,
                 plane.normal as usize,
             );
+            let uv = |p: &Pos| v2(p[a], p[o]);
             let a0 = libm::atan2(s.from[o] - center[o], s.from[a] - center[a]);
-            let a1 = libm::atan2(s.to[o] - center[o], s.to[a] - center[a]);
-            let tau = std::f64::consts::TAU;
-            let full = (s.from[a] - s.to[a]).abs() < 1e-12 && (s.from[o] - s.to[o]).abs() < 1e-12;
-            let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(tau);
-            if full || sweep == 0.0 {
-                sweep = tau;
-            }
+            let sweep = geom::sweep(uv(&center), uv(&s.from), uv(&s.to), ccw);
             let ang = a0 + if ccw { sweep } else { -sweep } * t;
             let r = lerp(r0, r1);
             let mut p = [0.0; 3];

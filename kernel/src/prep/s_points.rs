@@ -149,10 +149,16 @@ impl SPoints {
     /// `seg` is handed out and nothing waits ([`Self::idle`]): only the count moves on.
     #[inline]
     pub fn pass(&mut self, seg: &Segment) {
+        self.restart(seg);
+        self.count(seg);
+    }
+
+    /// A new compensation: its selection block starts at S0 (11.10 figure).
+    #[inline]
+    fn restart(&mut self, seg: &Segment) {
         if seg.role == Role::Approach && self.last_role != Some(Role::Approach) {
             self.s = 0;
         }
-        self.count(seg);
     }
 
     /// `seg` is about to be handed out: what waits for a point before it goes to `out`
@@ -162,10 +168,7 @@ impl SPoints {
         seg: Segment,
         out: &mut heapless::Deque<Prepared, N>,
     ) {
-        if seg.role == Role::Approach && self.last_role != Some(Role::Approach) {
-            // A new compensation: its selection block starts at S0 (11.10 figure).
-            self.s = 0;
-        }
+        self.restart(&seg);
         let seq = seg.source.seq;
         // Inserted blocks belong to the next block but output none of its functions: they
         // release only what earlier blocks left.

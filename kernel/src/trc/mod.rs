@@ -699,21 +699,7 @@ impl Compensator {
 
     #[allow(clippy::too_many_arguments)]
     fn line(&mut self, tag: Tag, role: Role, a: V2, b: V2, w0: f64, w1: f64, out: &mut Out) {
-        emit(
-            out,
-            Segment {
-                source: tag.source,
-                role,
-                shape: Shape::Line,
-                from: join(a, w0, self.plane),
-                to: join(b, w1, self.plane),
-                feed: tag.feed,
-                rapid: tag.rapid,
-                exact_stop: tag.exact_stop,
-            },
-        );
-        self.tool = b;
-        self.tool_w = w1;
+        self.put(tag, role, Shape::Line, a, b, w0, w1, out);
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -731,29 +717,48 @@ impl Compensator {
         match *e {
             Elem::Line { a, b } => self.line(tag, role, a, b, w0, w1, out),
             Elem::Arc { a, b, c, ccw } => {
-                emit(
-                    out,
-                    Segment {
-                        source: tag.source,
-                        role,
-                        shape: Shape::Arc {
-                            center: join(c, w0, self.plane),
-                            ccw,
-                            r0,
-                            r1,
-                            plane: self.plane,
-                        },
-                        from: join(a, w0, self.plane),
-                        to: join(b, w1, self.plane),
-                        feed: tag.feed,
-                        rapid: tag.rapid,
-                        exact_stop: tag.exact_stop,
-                    },
-                );
-                self.tool = b;
-                self.tool_w = w1;
+                let shape = Shape::Arc {
+                    center: join(c, w0, self.plane),
+                    ccw,
+                    r0,
+                    r1,
+                    plane: self.plane,
+                };
+                self.put(tag, role, shape, a, b, w0, w1, out);
             }
         }
+    }
+
+    /// Emits one segment from `a` to `b` (plane points, tool-axis values `w0`, `w1`) and moves
+    /// the tool there.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn put(
+        &mut self,
+        tag: Tag,
+        role: Role,
+        shape: Shape,
+        a: V2,
+        b: V2,
+        w0: f64,
+        w1: f64,
+        out: &mut Out,
+    ) {
+        emit(
+            out,
+            Segment {
+                source: tag.source,
+                role,
+                shape,
+                from: join(a, w0, self.plane),
+                to: join(b, w1, self.plane),
+                feed: tag.feed,
+                rapid: tag.rapid,
+                exact_stop: tag.exact_stop,
+            },
+        );
+        self.tool = b;
+        self.tool_w = w1;
     }
 
     /// Inserted corner pieces: circles are corners, lines intermediate blocks (11.1).
