@@ -15,7 +15,7 @@
 
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
-use crate::trc::geom::{contains, dist_elems, intersections, v2, Elem, V2};
+use crate::trc::geom::{clear_by_ends, contains, dist_elems, intersections, v2, Elem, V2};
 
 /// Largest window, in blocks.
 pub const MAX_WINDOW: usize = 64;
@@ -145,8 +145,7 @@ impl Bottleneck {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            let d = dist_elems(&he, &elem);
-            if d < h.r - gouge_tol(&elem) {
+            if let Some(d) = too_close(&he, &elem, h.r) {
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
@@ -236,8 +235,7 @@ impl Bottleneck {
                 if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
                     continue;
                 }
-                let d = dist_elems(&e, &p.elem);
-                if d < r - gouge_tol(&e) {
+                if let Some(d) = too_close(&e, &p.elem, r) {
                     let g = Gouge {
                         path: seg.source,
                         element: p.source,
@@ -370,8 +368,7 @@ impl Bottleneck {
             if p.side != h.side || near(p.source.seq, h.seg.source.seq) || !overlap(&p.bb, &h.bb) {
                 continue;
             }
-            let d = dist_elems(&e, &p.elem);
-            if d < h.r - gouge_tol(&e) {
+            if let Some(d) = too_close(&e, &p.elem, h.r) {
                 return Err(Gouge {
                     path: h.seg.source,
                     element: p.source,
@@ -404,6 +401,18 @@ impl Bottleneck {
     pub fn is_empty(&self) -> bool {
         self.held.is_empty()
     }
+}
+
+/// The distance from a path element to a programmed one when it is below the tool radius
+/// (beyond rounding). The cheap test by the element's ends settles most pairs that share a
+/// corner; the rest get the exact distance.
+fn too_close(path: &Elem, elem: &Elem, r: f64) -> Option<f64> {
+    let limit = r - gouge_tol(path);
+    if clear_by_ends(path, elem, limit) {
+        return None;
+    }
+    let d = dist_elems(path, elem);
+    (d < limit).then_some(d)
 }
 
 /// A path segment and its own element: R apart by construction (an equidistant). Neighbours

@@ -517,3 +517,231 @@ pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
     }
     d
 }
+
+/// Smallest and largest value of `X·w` over the points X of the element (conservative: an
+/// arc's extreme counts when its ray is on the arc within rounding).
+fn extent(e: &Elem, w: V2) -> (f64, f64) {
+    let (s, t) = (e.start().dot(w), e.end().dot(w));
+    let (mut lo, mut hi) = (s.min(t), s.max(t));
+    if let Elem::Arc { a, c, .. } = *e {
+        let k = a.dist(c) * w.len();
+        let cw = c.dot(w);
+        let u = w.unit() * k.max(1.0);
+        if on_arc(e, c + u, c) {
+            hi = hi.max(cw + k);
+        }
+        if on_arc(e, c - u, c) {
+            lo = lo.min(cw - k);
+        }
+    }
+    (lo, hi)
+}
+
+/// Whether every point of `path` is at least `limit` from `other`, shown by a cheap test
+/// that works where the closest points of `other` are its ends: the common case of a path
+/// segment and the programmed element it shares a corner with. `false` means "not shown",
+/// and the caller computes the exact distance ([`dist_elems`]).
+///
+/// The test: every point of `path` lies where the nearest point of `other` is one of its
+/// ends (for a line: the projection falls outside the line; for an arc of at most half a
+/// turn: the ray from the centre misses the arc), and both ends are at least `limit` from
+/// `path`. Rounding is covered by a margin of a few 1e-14 of the coordinates (far below the
+/// gouge tolerance, so that a tangent neighbour at exactly R still passes).
+pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
+    let (a, b) = (other.start(), other.end());
+    let m =
+        a.x.abs()
+            .max(a.y.abs())
+            .max(b.x.abs())
+            .max(b.y.abs())
+            .max(1.0);
+    let eta = 1e-14 * m;
+    let far = |p: V2| dist_point(path, p) >= limit + 4.0 * eta;
+    match *other {
+        Elem::Line { .. } => {
+            let d = b - a;
+            let l = d.len();
+            if l <= EPS {
+                return false;
+            }
+            let (lo, hi) = extent(path, d);
+            if hi - a.dot(d) <= eta * l {
+                far(a)
+            } else if lo - b.dot(d) >= -eta * l {
+                far(b)
+            } else {
+                false
+            }
+        }
+        Elem::Arc { c, ccw, .. } => {
+            let (u, w) = (a - c, b - c);
+            let r = u.len();
+            // At most half a turn (within rounding), and not a full circle.
+            let turn = if ccw { u.cross(w) } else { w.cross(u) };
+            if r <= EPS || a == b || turn < -1e-12 * r * r {
+                return false;
+            }
+            // Directions of travel at the ends: the arc lies behind the end's and ahead
+            // of the start's, so a ray beyond either misses it.
+            let (ts, te) = if ccw {
+                (u.left(), w.left())
+            } else {
+                (-u.left(), -w.left())
+            };
+            let beyond_end = extent(path, te).0 - c.dot(te) >= -eta * r;
+            let before_start = || extent(path, ts).1 - c.dot(ts) <= eta * r;
+            (beyond_end || before_start()) && dist_point(path, c) >= 1e-3 * r && far(a) && far(b)
+        }
+    }
+}
+
+#[cfg(test)]
+mod clear_tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
+        Elem::Line {
+            a: v2(a.0, a.1),
+            b: v2(b.0, b.1),
+        }
+    }
+
+    #[test]
+    fn tangent_serpentine_neighbours_are_shown_clear() {
+        // Row along +X from (0,0) to (50,0), then a G2 half circle r = 12 about (50,-12),
+        // tool left (G41) at R = 10: the arc's path (r 22) and the row's path (Y = 10).
+        let row = line((0.0, 0.0), (50.0, 0.0));
+        let arc = Elem::Arc {
+            a: v2(50.0, 0.0),
+            b: v2(50.0, -24.0),
+            c: v2(50.0, -12.0),
+            ccw: false,
+        };
+        let row_path = row.offset(10.0).unwrap();
+        let arc_path = arc.offset(10.0).unwrap();
+        assert!(clear_by_ends(&arc_path, &row, 10.0 - 1e-9));
+        assert!(clear_by_ends(&row_path, &arc, 10.0 - 1e-9));
+        // The next row goes back along Y = -24 with the tool inside the next bend: its path
+        // at Y = -14 against the half circle it leaves.
+        let back = line((50.0, -24.0), (0.0, -24.0));
+        assert!(clear_by_ends(
+            &back.offset(10.0).unwrap(),
+            &arc,
+            10.0 - 1e-9
+        ));
+    }
+
+    #[test]
+    fn a_path_too_close_is_never_shown_clear() {
+        let row = line((0.0, 0.0), (50.0, 0.0));
+        // A path 9 mm from the row's end, beyond it.
+        let p = line((50.0, 9.0), (60.0, 9.0));
+        assert!(!clear_by_ends(&p, &row, 10.0 - 1e-9));
+        assert!(clear_by_ends(&p, &row, 9.0 - 1e-9));
+        // Over the middle of the row: the nearest point is not an end, not shown.
+        let q = line((20.0, 12.0), (30.0, 12.0));
+        assert!(!clear_by_ends(&q, &row, 10.0));
+        assert!(dist_elems(&q, &row) >= 10.0);
+    }
+
+    fn elem() -> impl Strategy<Value = Elem> {
+        let p = || (-20.0..20.0f64, -20.0..20.0f64).prop_map(|(x, y)| v2(x, y));
+        prop_oneof![
+            (p(), p()).prop_map(|(a, b)| Elem::Line { a, b }),
+            (p(), 0.5..15.0f64, -3.2..3.2f64, 0.05..6.2f64, any::<bool>()).prop_map(
+                |(c, r, t0, s, ccw)| {
+                    let t1 = if ccw { t0 + s } else { t0 - s };
+                    Elem::Arc {
+                        a: c + V2::from_angle(t0) * r,
+                        b: c + V2::from_angle(t1) * r,
+                        c,
+                        ccw,
+                    }
+                }
+            ),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        /// Never "clear" when the exact distance says otherwise.
+        #[test]
+        fn shown_clear_means_clear(p in elem(), o in elem(), limit in 0.0..12.0f64) {
+            if clear_by_ends(&p, &o, limit) {
+                prop_assert!(dist_elems(&p, &o) >= limit - 1e-9,
+                    "{p:?} {o:?} limit {limit} dist {}", dist_elems(&p, &o));
+            }
+        }
+
+    }
+
+    /// Paths sharing an end with the element, tangent or at a corner, both sides, lines and
+    /// arcs: never wrong, and shown clear often (where it saves the exact distance).
+    #[test]
+    fn shown_clear_at_shared_corners() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = move |lo: f64, hi: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut tried, mut shown) = (0, 0);
+        for i in 0..40_000 {
+            let c = v2(rnd(-20.0, 20.0), rnd(-20.0, 20.0));
+            let o = if i % 2 == 0 {
+                Elem::Line {
+                    a: c,
+                    b: v2(rnd(-20.0, 20.0), rnd(-20.0, 20.0)),
+                }
+            } else {
+                let (r, t0, s) = (rnd(0.5, 15.0), rnd(-3.2, 3.2), rnd(0.05, 3.1));
+                let ccw = i % 4 == 1;
+                let t1 = if ccw { t0 + s } else { t0 - s };
+                Elem::Arc {
+                    a: c + V2::from_angle(t0) * r,
+                    b: c + V2::from_angle(t1) * r,
+                    c,
+                    ccw,
+                }
+            };
+            let v = o.end();
+            // Tangent in a quarter of the cases.
+            let turn = if i % 8 < 2 { 0.0 } else { rnd(-3.0, 3.0) };
+            let dir = V2::from_angle(o.tangent_end().angle() + turn);
+            let next = if (i / 2) % 2 == 0 {
+                let (rr, sweep, ccw) = (rnd(0.5, 15.0), rnd(0.05, 3.1), i % 3 == 0);
+                let n = if ccw { dir.left() } else { -dir.left() };
+                let cc = v + n * rr;
+                let t0 = (v - cc).angle();
+                let t1 = if ccw { t0 + sweep } else { t0 - sweep };
+                Elem::Arc {
+                    a: v,
+                    b: cc + V2::from_angle(t1) * rr,
+                    c: cc,
+                    ccw,
+                }
+            } else {
+                Elem::Line {
+                    a: v,
+                    b: v + dir * rnd(0.1, 30.0),
+                }
+            };
+            let r = rnd(0.1, 12.0);
+            let Some(path) = next.offset(if i % 5 < 2 { r } else { -r }) else {
+                continue;
+            };
+            tried += 1;
+            if clear_by_ends(&path, &o, r - 1e-9) {
+                shown += 1;
+                let d = dist_elems(&path, &o);
+                assert!(d >= r - 2e-9, "{path:?} {o:?} r {r} dist {d}");
+            }
+        }
+        assert!(
+            tried > 30_000 && shown * 4 > tried,
+            "shown clear {shown} of {tried}"
+        );
+    }
+}
