@@ -199,3 +199,68 @@ fn check_alarm(a: &nc_kernel::Alarm, src: &str) {
         "alarm outside the program: {a:?}\n{src}"
     );
 }
+
+/// Everything preparation puts out, as text (records and the final alarm).
+fn records(mut next: impl FnMut() -> Result<Option<Prepared>, nc_kernel::Alarm>) -> Vec<String> {
+    let mut out = Vec::new();
+    loop {
+        match next() {
+            Ok(Some(x)) => out.push(format!("{x:?}")),
+            Ok(None) => return out,
+            Err(a) => {
+                out.push(format!("alarm {a:?}"));
+                return out;
+            }
+        }
+    }
+}
+
+/// The interpreter in its own thread (`Preparation::threaded`) gives the same records, bit
+/// for bit, as in preparation's thread: on the soup, on a program long enough for many
+/// batches, and on one whose alarm comes after several batches.
+#[test]
+fn threaded_decoding_gives_the_same_records() {
+    let mut rng = Rng(0x7e5d_2026);
+    let mut programs: Vec<(String, String)> = Vec::new();
+    for dialect in ["siemens-840c", "isg", "fanuc", "siemens-808d"] {
+        for _ in 0..150 {
+            programs.push((dialect.to_string(), program(&mut rng, dialect)));
+        }
+    }
+    let long =
+        nc_kernel::synthetic::compensated_program(3000, nc_kernel::synthetic::Header::Softnc);
+    programs.push(("siemens-840c".into(), long.clone()));
+    programs.push(("siemens-840c".into(), long.replace("G40", "X1 Y1 Q=)\nG40")));
+    programs.push((
+        "isg".into(),
+        include_str!("../programs/isg/g238_star.nc").into(),
+    ));
+    let tools = ToolTable::builtin();
+    let mut compared = 0;
+    for (dialect, src) in &programs {
+        let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("config")
+            .join(format!("{dialect}.toml"));
+        let md = MachineData::load(Some(&config), &["trc.bottleneck_window=3".into()]).unwrap();
+        let direct = {
+            let mut p = Preparation::new("t", src, &md, &tools);
+            records(|| p.next_item())
+        };
+        let threaded = std::thread::scope(|s| {
+            let mut p = Preparation::threaded(s, "t", src, &md, &tools);
+            records(|| p.next_item())
+        });
+        assert_eq!(direct, threaded, "{dialect}:\n{src}");
+        compared += direct.len();
+        if src.contains("Q=)") {
+            // The alarm comes after more than 20 batches of blocks.
+            let last = direct.last().map_or("", |r| r.as_str());
+            assert!(
+                direct.len() > 2900 && last.starts_with("alarm"),
+                "{} {last}",
+                direct.len()
+            );
+        }
+    }
+    assert!(compared > 8000, "{compared} records compared");
+}

@@ -4,6 +4,8 @@
 //! - `compensate_1M_<dialect>`: parse + interpretation + tool length and radius
 //!   compensation, bottleneck window off (issue 3).
 //! - `bottleneck_1M_window_<n>`: the same with the bottleneck check over n blocks (issue 4).
+//! - `..._threaded`: the same with the interpreter in a thread of its own
+//!   (`Preparation::threaded`): two cores busy.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nc_kernel::synthetic::{compensated_program, Header};
@@ -13,9 +15,24 @@ use std::hint::black_box;
 const BLOCKS: usize = 1_000_000;
 
 fn run(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
+    drain(Preparation::new("bench", black_box(text), md, tools))
+}
+
+fn run_threaded(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
+    std::thread::scope(|s| {
+        drain(Preparation::threaded(
+            s,
+            "bench",
+            black_box(text),
+            md,
+            tools,
+        ))
+    })
+}
+
+fn drain(mut prep: Preparation) -> (usize, f64) {
     let mut n = 0usize;
     let mut sum = 0.0;
-    let mut prep = Preparation::new("bench", black_box(text), md, tools);
     while let Some(s) = prep.next_segment().expect("no alarm") {
         sum += s.to[0];
         if let Shape::Arc { r1, .. } = s.shape {
@@ -46,11 +63,14 @@ fn prep(c: &mut Criterion) {
             b.iter(|| black_box(run(&text, &md, &tools)))
         });
     }
-    for window in [3, 64] {
+    for window in [0, 3, 64] {
         let md = MachineData::load(None, &[format!("trc.bottleneck_window={window}")])
             .expect("machine data");
         group.bench_function(format!("bottleneck_1M_window_{window}"), |b| {
             b.iter(|| black_box(run(&text, &md, &tools)))
+        });
+        group.bench_function(format!("bottleneck_1M_window_{window}_threaded"), |b| {
+            b.iter(|| black_box(run_threaded(&text, &md, &tools)))
         });
     }
     group.finish();

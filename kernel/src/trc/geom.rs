@@ -518,23 +518,76 @@ pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
     d
 }
 
-/// Smallest and largest value of `X·w` over the points X of the element (conservative: an
-/// arc's extreme counts when its ray is on the arc within rounding).
+/// Whether direction `w` from an arc's centre lies within the arc's sweep, for the cheap
+/// tests below: cross products only, no tolerance (a direction within rounding of an end
+/// changes their values by a second-order amount).
+#[inline]
+fn in_sweep(e: &Elem, w: V2) -> bool {
+    let Elem::Arc { a, b, c, ccw } = *e else {
+        return false;
+    };
+    // Counter-clockwise from s to t.
+    let (s, t) = if ccw { (a - c, b - c) } else { (b - c, a - c) };
+    if s.cross(t) >= 0.0 {
+        s.cross(w) >= 0.0 && w.cross(t) >= 0.0
+    } else {
+        !(t.cross(w) > 0.0 && w.cross(s) > 0.0)
+    }
+}
+
+/// Smallest and largest value of `X·w` over the points X of the element.
+#[inline]
 fn extent(e: &Elem, w: V2) -> (f64, f64) {
     let (s, t) = (e.start().dot(w), e.end().dot(w));
     let (mut lo, mut hi) = (s.min(t), s.max(t));
-    if let Elem::Arc { a, c, .. } = *e {
+    if let Elem::Arc { a, b, c, .. } = *e {
+        if a == b {
+            // A full circle.
+            return (f64::NEG_INFINITY, f64::INFINITY);
+        }
         let k = a.dist(c) * w.len();
         let cw = c.dot(w);
-        let u = w.unit() * k.max(1.0);
-        if on_arc(e, c + u, c) {
+        if in_sweep(e, w) {
             hi = hi.max(cw + k);
         }
-        if on_arc(e, c - u, c) {
+        if in_sweep(e, -w) {
             lo = lo.min(cw - k);
         }
     }
     (lo, hi)
+}
+
+/// Whether point `p` is at least `limit` (≥ 0) from the element: squared distances, no root
+/// for a line.
+#[inline]
+fn at_least(e: &Elem, p: V2, limit: f64) -> bool {
+    let l2 = limit * limit;
+    match *e {
+        Elem::Line { a, b } => {
+            let d = b - a;
+            let (ap, dd) = (p - a, d.dot(d));
+            let t = ap.dot(d);
+            let q2 = if t <= 0.0 || dd <= 0.0 {
+                ap.dot(ap)
+            } else if t >= dd {
+                (p - b).dot(p - b)
+            } else {
+                // Squared distance to the line: cross² / |d|².
+                let x = ap.cross(d);
+                x * x / dd
+            };
+            q2 >= l2
+        }
+        Elem::Arc { a, b, c, .. } => {
+            let v = p - c;
+            if a != b && !in_sweep(e, v) {
+                return (p - a).dot(p - a) >= l2 && (p - b).dot(p - b) >= l2;
+            }
+            let (r, v2) = (a.dist(c), v.dot(v));
+            let out = r + limit;
+            v2 >= out * out || (r > limit && v2 <= (r - limit) * (r - limit))
+        }
+    }
 }
 
 /// Whether every point of `path` is at least `limit` from `other`, shown by a cheap test
@@ -556,41 +609,47 @@ pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
             .max(b.y.abs())
             .max(1.0);
     let eta = 1e-14 * m;
-    let far = |p: V2| dist_point(path, p) >= limit + 4.0 * eta;
+    let limit = limit.max(0.0) + 4.0 * eta;
     match *other {
         Elem::Line { .. } => {
             let d = b - a;
-            let l = d.len();
-            if l <= EPS {
+            let dd = d.dot(d);
+            if dd <= EPS * EPS {
                 return false;
             }
+            // Margins in units of |d|: eta·|d| ≤ eta·(|dx| + |dy|).
+            let tol = eta * (d.x.abs() + d.y.abs());
             let (lo, hi) = extent(path, d);
-            if hi - a.dot(d) <= eta * l {
-                far(a)
-            } else if lo - b.dot(d) >= -eta * l {
-                far(b)
+            if hi - a.dot(d) <= tol {
+                at_least(path, a, limit)
+            } else if lo - b.dot(d) >= -tol {
+                at_least(path, b, limit)
             } else {
                 false
             }
         }
         Elem::Arc { c, ccw, .. } => {
             let (u, w) = (a - c, b - c);
-            let r = u.len();
+            let r2 = u.dot(u);
             // At most half a turn (within rounding), and not a full circle.
             let turn = if ccw { u.cross(w) } else { w.cross(u) };
-            if r <= EPS || a == b || turn < -1e-12 * r * r {
+            if r2 <= EPS * EPS || a == b || turn < -1e-12 * r2 {
                 return false;
             }
             // Directions of travel at the ends: the arc lies behind the end's and ahead
-            // of the start's, so a ray beyond either misses it.
+            // of the start's, so a ray beyond either misses it. |ts| = |te| = r ≤ |ux|+|uy|.
             let (ts, te) = if ccw {
                 (u.left(), w.left())
             } else {
                 (-u.left(), -w.left())
             };
-            let beyond_end = extent(path, te).0 - c.dot(te) >= -eta * r;
-            let before_start = || extent(path, ts).1 - c.dot(ts) <= eta * r;
-            (beyond_end || before_start()) && dist_point(path, c) >= 1e-3 * r && far(a) && far(b)
+            let tol = eta * (u.x.abs() + u.y.abs());
+            let beyond_end = extent(path, te).0 - c.dot(te) >= -tol;
+            let before_start = || extent(path, ts).1 - c.dot(ts) <= tol;
+            (beyond_end || before_start())
+                && at_least(path, c, 1e-3 * r2.sqrt())
+                && at_least(path, a, limit)
+                && at_least(path, b, limit)
         }
     }
 }
