@@ -4,7 +4,10 @@
 
 use nc_kernel::alarm::Alarm;
 use nc_kernel::frontend::block::{Block, MotionKind, Plane, Pos, TrcSide};
+use nc_kernel::machine_data::{MachineKind, ToolPost};
 use nc_kernel::segment::{Role, Segment, Shape};
+use nc_kernel::trc::cutting_edge::tip_vector;
+use nc_kernel::trc::geom::v2;
 use nc_kernel::{Interpreter, MachineData, ToolTable};
 use std::f64::consts::TAU;
 use svg::node::element::path::Data;
@@ -100,22 +103,33 @@ impl<'a> Picture<'a> {
             if !block_ends || s.role == Role::Uncompensated {
                 continue;
             }
-            let r = self
+            let block = self
                 .blocks
                 .iter()
-                .find(|b| b.line == s.source.line && b.col == s.source.col)
-                .map_or(0.0, |b| b.modal.radius.abs());
+                .find(|b| b.line == s.source.line && b.col == s.source.col);
+            let r = block.map_or(0.0, |b| b.modal.radius.abs());
             // A D0 deselection block ends with no radius: the tool still has the last one.
             let r = if r > 0.0 { r } else { last_r };
             last_r = r;
             if r > 0.0 {
                 let names = ["X", "Y", "Z"];
-                let c = self.uv(s.to);
+                // A turning tool's path is its tip P: the nose centre is P minus the cutting
+                // edge position's vector.
+                let v = block.map_or(v2(0.0, 0.0), |b| {
+                    tip_vector(b.modal.edge, b.modal.radius, self.plane)
+                });
+                let p = self.uv(s.to);
+                let c = (p.0 - v.x, p.1 - v.y);
                 let tip = format!(
-                    "{}: tool centre {}{} {}{}, R{}",
+                    "{}: {} {}{} {}{}, R{}",
                     s.source
                         .number
                         .map_or_else(|| format!("line {}", s.source.line), |n| n.to_string()),
+                    if self.turning_tips() {
+                        "nose centre"
+                    } else {
+                        "tool centre"
+                    },
                     names[self.plane.abscissa as usize],
                     num(c.0),
                     names[self.plane.ordinate as usize],
@@ -133,13 +147,19 @@ impl<'a> Picture<'a> {
         match s.shape {
             Shape::Arc {
                 center,
+                center_end,
                 ccw,
                 r0,
                 r1,
                 plane,
-            } if plane == self.plane => {
-                arc_points(self.uv(center), self.uv(s.from), self.uv(s.to), ccw, r0, r1)
-            }
+            } if plane == self.plane => arc_points(
+                (self.uv(center), self.uv(center_end)),
+                self.uv(s.from),
+                self.uv(s.to),
+                ccw,
+                r0,
+                r1,
+            ),
             _ => vec![self.uv(s.from), self.uv(s.to)],
         }
     }
@@ -201,11 +221,16 @@ impl<'a> Picture<'a> {
         let (w, h) = (w + 2.0 * pad, h + 2.0 * pad);
         let scale = (PLOT_W / w).min(PLOT_H_MAX / h);
         let plot_h = h * scale;
+        // A lathe tool in front of the centre of rotation: X drawn downwards (840C ch. 11).
+        let mirrored = self.md.machine == MachineKind::Turning
+            && self.md.tool_post == ToolPost::InFront
+            && self.plane == Plane::ZX;
         let view = View {
             min_u,
             min_v,
             scale,
             plot_h,
+            mirrored,
         };
 
         let legend_y = TOP + plot_h + 40.0;
@@ -326,13 +351,14 @@ impl<'a> Picture<'a> {
             match s.shape {
                 Shape::Arc {
                     center,
+                    center_end,
                     ccw,
                     r0,
                     r1,
                     plane,
                 } if plane == self.plane => {
                     zero = false;
-                    if (r0 - r1).abs() > 1e-12 {
+                    if (r0 - r1).abs() > 1e-12 || center != center_end {
                         for p in self.sample(s).into_iter().skip(1) {
                             let (x, y) = v.px(p);
                             d = d.line_to((x as f32, y as f32));
@@ -474,10 +500,26 @@ impl<'a> Picture<'a> {
             )
     }
 
+    /// A turning tool with a cutting edge position: the path drawn is its tip P.
+    fn turning_tips(&self) -> bool {
+        self.blocks
+            .iter()
+            .any(|b| tip_vector(b.modal.edge, b.modal.radius, self.plane) != v2(0.0, 0.0))
+    }
+
     fn legend(&self, y: f64) -> Group {
         let items: [(&str, &str, f64, Option<&str>); 6] = [
             ("programmed contour", PROGRAMMED, 1.4, None),
-            ("tool centre: contour", CONTOUR, 2.2, None),
+            (
+                if self.turning_tips() {
+                    "tool tip P: contour"
+                } else {
+                    "tool centre: contour"
+                },
+                CONTOUR,
+                2.2,
+                None,
+            ),
             ("approach / retract", APPROACH, 2.2, None),
             ("corner / inserted block", CORNER, 2.2, None),
             ("without compensation", UNCOMP, 1.4, None),
@@ -585,7 +627,7 @@ impl ProgElem {
         match self.arc {
             Some((c, ccw)) => {
                 let r = (self.from.0 - c.0).hypot(self.from.1 - c.1);
-                arc_points(c, self.from, self.to, ccw, r, r)
+                arc_points((c, c), self.from, self.to, ccw, r, r)
             }
             None => vec![self.from, self.to],
         }
@@ -712,13 +754,20 @@ struct View {
     min_v: f64,
     scale: f64,
     plot_h: f64,
+    /// The ordinate grows downwards (a lathe seen in front of the centre).
+    mirrored: bool,
 }
 
 impl View {
     fn px(&self, p: (f64, f64)) -> (f64, f64) {
+        let v = (p.1 - self.min_v) * self.scale;
         (
             LEFT + (p.0 - self.min_u) * self.scale,
-            TOP + self.plot_h - (p.1 - self.min_v) * self.scale,
+            if self.mirrored {
+                TOP + v
+            } else {
+                TOP + self.plot_h - v
+            },
         )
     }
 }
@@ -753,22 +802,25 @@ impl Bbox {
 }
 
 /// Points along an arc about `c` every 2.5°, its radius going from `r0` to `r1`.
+/// Points along an arc whose radius goes from r0 to r1 and whose centre moves from `c` to
+/// `c1` (a turning tool's cutting edge changing over the block).
 fn arc_points(
-    c: (f64, f64),
+    (c, c1): ((f64, f64), (f64, f64)),
     from: (f64, f64),
     to: (f64, f64),
     ccw: bool,
     r0: f64,
     r1: f64,
 ) -> Vec<(f64, f64)> {
-    let (a0, sweep) = arc_sweep(c, from, to, ccw);
+    let d = (c1.0 - c.0, c1.1 - c.1);
+    let (a0, sweep) = arc_sweep(c, from, (to.0 - d.0, to.1 - d.1), ccw);
     let n = ((sweep.abs() / TAU * 144.0).ceil() as usize).max(2);
     (0..=n)
         .map(|k| {
             let t = k as f64 / n as f64;
             let r = r0 + (r1 - r0) * t;
             let a = a0 + sweep * t;
-            (c.0 + r * a.cos(), c.1 + r * a.sin())
+            (c.0 + d.0 * t + r * a.cos(), c.1 + d.1 * t + r * a.sin())
         })
         .collect()
 }
@@ -790,8 +842,9 @@ fn arc_data(d: Data, v: &View, c: (f64, f64), from: (f64, f64), to: (f64, f64), 
     let (a0, sweep) = arc_sweep(c, from, to, ccw);
     let r = (from.0 - c.0).hypot(from.1 - c.1);
     let rp = (r * v.scale) as f32;
-    // The screen's y axis points down: a counter-clockwise arc in the plane has SVG sweep 0.
-    let flag = if ccw { 0.0 } else { 1.0 };
+    // The screen's y axis points down: a counter-clockwise arc in the plane has SVG sweep 0
+    // (1 where the view is mirrored).
+    let flag = if ccw != v.mirrored { 0.0 } else { 1.0 };
     let mut d = d;
     let pieces = if sweep.abs() > 0.999 * TAU { 2 } else { 1 };
     for k in 1..=pieces {

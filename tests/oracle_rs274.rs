@@ -100,7 +100,8 @@ fn numbers(s: &str) -> Vec<f64> {
 /// die with SIGBUS (seen here, 2.9.0~pre1): one at a time.
 static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
+/// rs274's canonical calls for a program, and its exit status and stderr for messages.
+fn rs274_output(ngc: &str, tag: &str) -> (String, String) {
     let dir = std::env::temp_dir().join(format!("softnc-oracle-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("p.ngc");
@@ -112,8 +113,15 @@ fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
         .output()
         .expect("rs274 runs");
     drop(guard);
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
     let _ = std::fs::remove_dir_all(&dir);
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        format!("{}\n{}", out.status, String::from_utf8_lossy(&out.stderr)),
+    )
+}
+
+fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
+    let (text, status) = rs274_output(ngc, tag);
     let mut moves = Vec::new();
     for line in text.lines() {
         if line.contains("STRAIGHT_FEED(") {
@@ -132,9 +140,7 @@ fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
     }
     assert!(
         !moves.is_empty(),
-        "rs274 gave no moves ({}):\n{text}\n{}\n{ngc}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
+        "rs274 gave no moves ({status}):\n{text}\n{ngc}"
     );
     moves
 }
@@ -343,5 +349,116 @@ fn g450_interior_matches_rs274_on_generated_contours() {
             true,
             r,
         );
+    }
+}
+
+/// rs274's moves in G18 as (Z, X): STRAIGHT_FEED(x, y, z, …); ARC_FEED(end Z, end X,
+/// centre Z, centre X, rotation, …).
+fn run_rs274_zx(ngc: &str, tag: &str) -> Vec<Mv> {
+    let (text, status) = rs274_output(ngc, tag);
+    let moves: Vec<Mv> = text
+        .lines()
+        .filter_map(|line| {
+            if line.contains("STRAIGHT_FEED(") {
+                let n = numbers(line);
+                Some(Mv {
+                    end: (n[2], n[0]),
+                    arc: None,
+                })
+            } else if line.contains("ARC_FEED(") {
+                let n = numbers(line);
+                Some(Mv {
+                    end: (n[0], n[1]),
+                    arc: Some(((n[2], n[3]), n[4] > 0.0)),
+                })
+            } else {
+                None
+            }
+        })
+        .collect();
+    assert!(
+        !moves.is_empty(),
+        "rs274 gave no moves ({status}):\n{text}\n{ngc}"
+    );
+    moves
+}
+
+/// Turning (issue 8): a turned profile — OD, taper, convex and concave radii, a face with a
+/// convex corner — in diameter programming (808D DIAMON; rs274 G7), G42, nose radius 0.8,
+/// for every cutting edge position: the tip path agrees with rs274 (`G42.1 D1.6 L<k>`, L =
+/// the position with X mirrored, `cutting_edge::linuxcnc_orientation`) in the contour
+/// interior to 2e-4 mm, as (Z, X-radius).
+#[test]
+fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
+    if !rs274_present() {
+        return;
+    }
+    let body = "Z-5\nX16 Z-15\nG3 X24 Z-19 {R}4\nG1 Z-25\nG2 X34 Z-30 {R}5\nG1 X40\nZ-40\n";
+    let md = MachineData::load(
+        Some(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/config/siemens-808d.toml"
+        ))),
+        &[],
+    )
+    .unwrap();
+    for edge in 1..=9u8 {
+        let l = nc_kernel::trc::cutting_edge::linuxcnc_orientation(edge);
+        let mpf = format!(
+            "N10 G18 G90 DIAMON T1 D1 G0 X30 Z5\nN20 G1 F100 G450\nN30 G42 X10 Z2\n{}G40 X50\nM30\n",
+            body.replace("{R}", "CR=")
+        );
+        let ngc = format!(
+            "G18 G7 G21 G90 G64\nG0 X30 Z5\nG42.1 D1.6 L{l}\nG1 X10 Z2 F100\n{}G40 G1 X50\nM2\n",
+            body.replace("{R}", "R")
+        );
+        let tools = ToolTable::from_toml_str(
+            &format!("[[offset]]\nt = 1\nd = 1\nradius = 0.8\nedge = {edge}\n"),
+            "test",
+        )
+        .unwrap();
+        let p = prepare("turn", &mpf, &md, &tools).unwrap_or_else(|a| panic!("{a}\n{mpf}"));
+        let first = p.iter().position(|s| s.role == Role::Contour).unwrap();
+        let last = p.iter().rposition(|s| s.role == Role::Contour).unwrap();
+        let anchor = (p[first].to[2], p[first].to[0]);
+        let ours: Vec<Mv> = p[first + 1..last]
+            .iter()
+            .map(|s| Mv {
+                end: (s.to[2], s.to[0]),
+                arc: match s.shape {
+                    Shape::Arc { center, ccw, .. } => Some(((center[2], center[0]), ccw)),
+                    Shape::Line => None,
+                },
+            })
+            .collect();
+        assert!(
+            ours.len() >= 6,
+            "edge {edge}: {} interior moves",
+            ours.len()
+        );
+        let theirs = run_rs274_zx(&ngc, &format!("turn{edge}"));
+        let k = theirs
+            .iter()
+            .position(|m| near(m.end, anchor))
+            .unwrap_or_else(|| panic!("edge {edge}: rs274 never reaches {anchor:?}: {theirs:?}"));
+        for (i, m) in ours.iter().enumerate() {
+            let t = theirs
+                .get(k + 1 + i)
+                .unwrap_or_else(|| panic!("edge {edge}: rs274 path ends early"));
+            assert!(
+                near(m.end, t.end),
+                "edge {edge} (L{l}): move {i}: softnc {:?}, rs274 {:?}",
+                m.end,
+                t.end
+            );
+            match (m.arc, t.arc) {
+                (None, None) => {}
+                (Some((c, ccw)), Some((tc, tccw))) => assert!(
+                    near(c, tc) && ccw == tccw,
+                    "edge {edge}: move {i}: arc {c:?}/{ccw} vs {tc:?}/{tccw}"
+                ),
+                _ => panic!("edge {edge}: move {i}: softnc {m:?}, rs274 {t:?}"),
+            }
+        }
     }
 }

@@ -42,6 +42,17 @@ pub enum MachineKind {
     Turning,
 }
 
+/// Where a lathe's tool works: behind the centre of rotation (X up in the operator's view,
+/// the 840C's "clockwise coordinate system") or in front of it (X mirrored about Z). The
+/// program, the offsets and the setpoints are the same either way (rotation symmetry, 840C
+/// ch. 11); the view, and with it how G41/G42 look to the operator, is mirrored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ToolPost {
+    Behind,
+    InFront,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Units {
@@ -211,6 +222,7 @@ impl Axes {
 pub struct MachineData {
     pub dialect: DialectName,
     pub machine: MachineKind,
+    pub tool_post: ToolPost,
     pub program: ProgramData,
     pub trc: TrcData,
     pub zero_offsets: ZeroOffsets,

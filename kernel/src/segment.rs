@@ -50,9 +50,12 @@ pub enum Shape {
     Line,
     /// An arc about `center` in `plane`; the radius goes linearly from `r0` at the start to
     /// `r1` at the end over the sweep (they differ only while a radius change is spread over
-    /// the block). `from == to` in the plane with `r0 == r1` is a full circle.
+    /// the block). `from == to` in the plane with `r0 == r1` is a full circle. The centre
+    /// moves linearly with the sweep from `center` to `center_end` where a turning tool's
+    /// cutting edge changes over the block (prep/tool_tip.rs); otherwise they are equal.
     Arc {
         center: Pos,
+        center_end: Pos,
         ccw: bool,
         r0: f64,
         r1: f64,

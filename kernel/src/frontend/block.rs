@@ -284,6 +284,8 @@ pub struct ModalState {
     pub radius: f64,
     /// Effective tool length of the active offset.
     pub length: f64,
+    /// Cutting edge position 1..=9 of the active offset (turning tools; 0: none).
+    pub edge: u8,
     /// Pole for polar coordinates (840C/880).
     pub pole: Pos,
 }

@@ -186,6 +186,7 @@ impl<'a> Interpreter<'a> {
             d: 0,
             radius: 0.0,
             length: 0.0,
+            edge: 0,
             pole: [0.0; 3],
         };
         Interpreter {
@@ -908,13 +909,14 @@ impl<'a> Interpreter<'a> {
                 new.d = 0;
                 new.radius = 0.0;
                 new.length = 0.0;
+                new.edge = 0;
                 if d.d0_deselects && old_trc != TrcSide::Off && blk.trc.is_none() {
                     blk.trc = Some(TrcSide::Off);
                     new.trc = TrcSide::Off;
                 }
             } else {
                 let tool = if d.tool_edges { new.tool } else { None };
-                let (radius, length, _edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
+                let (radius, length, edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
                     let what = match tool {
                         Some(t) => format!("T{t} D{dn}"),
                         None => format!("D{dn}"),
@@ -928,6 +930,7 @@ impl<'a> Interpreter<'a> {
                 new.d = dn;
                 new.radius = radius;
                 new.length = length;
+                new.edge = edge.unwrap_or(0);
             }
             blk.offset_changed = true;
         }

@@ -440,11 +440,13 @@ fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
         Shape::Line => (a.dist(b) > 1e-9).then_some(Elem::Line { a, b }),
         Shape::Arc {
             center,
+            center_end,
             ccw,
             r0,
             r1,
             plane: p,
         } => (p == plane
+            && center == center_end
             && (r0 - r1).abs() <= 1e-9 * center[0].abs().max(center[1].abs()).max(r0).max(1.0))
         .then(|| Elem::Arc {
             a,

@@ -29,6 +29,7 @@ pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     pos(out, &s.to)?;
     if let Shape::Arc {
         center,
+        center_end,
         ccw,
         r0,
         r1,
@@ -37,6 +38,10 @@ pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     {
         out.write_all(b",\"center\":")?;
         pos(out, &center)?;
+        if center_end != center {
+            out.write_all(b",\"center_end\":")?;
+            pos(out, &center_end)?;
+        }
         write!(
             out,
             ",\"dir\":\"{}\",\"r0\":",

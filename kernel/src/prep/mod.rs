@@ -9,6 +9,7 @@ pub mod decoder;
 pub mod jsonl;
 pub mod resume;
 pub mod s_points;
+pub mod tool_tip;
 
 pub use bottleneck::{Bottleneck, Gouge, Reaction};
 pub use decoder::Decoder;
@@ -48,6 +49,8 @@ pub struct Preparation<'a> {
     warn: bool,
     /// Records ready to hand out, in order (a segment and what waited for its start).
     ready: heapless::Deque<Prepared, 32>,
+    /// Turning tools: nose centre to tool tip.
+    tip: tool_tip::ToolTip,
 }
 
 impl<'a> Preparation<'a> {
@@ -104,6 +107,7 @@ impl<'a> Preparation<'a> {
             masking: false,
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
+            tip: tool_tip::ToolTip::new(),
         }
     }
 
@@ -163,6 +167,19 @@ impl<'a> Preparation<'a> {
     /// window has passed it).
     #[inline]
     fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
+        let seg = self.pop_centre_path()?;
+        match seg {
+            Some(mut s) if !self.tip.idle() => {
+                self.tip.shift(&mut s);
+                Ok(Some(s))
+            }
+            s => Ok(s),
+        }
+    }
+
+    /// The path of the nose centre (the tool centre) through the bottleneck window.
+    #[inline]
+    fn pop_centre_path(&mut self) -> Result<Option<Segment>, Alarm> {
         loop {
             if let Some(s) = self.released.pop_front() {
                 return Ok(Some(s));
@@ -292,6 +309,7 @@ impl<'a> Preparation<'a> {
                 self.trc.close_contour(closing);
             }
             let block = self.decoder.current();
+            self.tip.block(block, self.blocks as u32);
             self.s_points.set_plane(block.modal.plane);
             if !self.s_points.block(block, self.blocks as u32) {
                 self.done = true;

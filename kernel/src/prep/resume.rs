@@ -104,6 +104,7 @@ fn point_at(s: &Segment, t: f64) -> Pos {
         ],
         Shape::Arc {
             center,
+            center_end,
             ccw,
             r0,
             r1,
@@ -115,13 +116,15 @@ fn point_at(s: &Segment, t: f64) -> Pos {
                 plane.normal as usize,
             );
             let uv = |p: &Pos| v2(p[a], p[o]);
+            // The end as seen from the start centre (the centre may move, tool_tip.rs).
+            let end = uv(&s.to) - (uv(&center_end) - uv(&center));
             let a0 = libm::atan2(s.from[o] - center[o], s.from[a] - center[a]);
-            let sweep = geom::sweep(uv(&center), uv(&s.from), uv(&s.to), ccw);
+            let sweep = geom::sweep(uv(&center), uv(&s.from), end, ccw);
             let ang = a0 + if ccw { sweep } else { -sweep } * t;
             let r = lerp(r0, r1);
             let mut p = [0.0; 3];
-            p[a] = center[a] + r * libm::cos(ang);
-            p[o] = center[o] + r * libm::sin(ang);
+            p[a] = lerp(center[a], center_end[a]) + r * libm::cos(ang);
+            p[o] = lerp(center[o], center_end[o]) + r * libm::sin(ang);
             p[n] = lerp(s.from[n], s.to[n]);
             p
         }

@@ -11,6 +11,7 @@
 //! plane geometry in `geom.rs`.
 
 pub mod corner;
+pub mod cutting_edge;
 pub mod deselection;
 pub mod geom;
 pub mod selection;
@@ -717,8 +718,10 @@ impl Compensator {
         match *e {
             Elem::Line { a, b } => self.line(tag, role, a, b, w0, w1, out),
             Elem::Arc { a, b, c, ccw } => {
+                let center = join(c, w0, self.plane);
                 let shape = Shape::Arc {
-                    center: join(c, w0, self.plane),
+                    center,
+                    center_end: center,
                     ccw,
                     r0,
                     r1,
@@ -1167,6 +1170,7 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         let r = a.dist(c);
         Shape::Arc {
             center: m.center,
+            center_end: m.center,
             ccw: m.kind == MotionKind::ArcCcw,
             r0: r,
             r1: r,

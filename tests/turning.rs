@@ -1,0 +1,215 @@
+//! Turning (issue 8): tool nose radius compensation with cutting edge positions, hand-computed.
+//!
+//! Lathe plane G18: Z abscissa, X ordinate; the tests program X as a radius (DIAMOF) unless
+//! they say otherwise. A turning tool is measured at its theoretical tip P; the setpoints
+//! address P. With TRC the nose centre S runs on the equidistant and P = S + v, where v for
+//! cutting edge position k (840C, behind the centre of rotation, in (Z, X)) is
+//! 1 (+R,+R) 2 (−R,+R) 3 (−R,−R) 4 (+R,−R) 5 (+R,0) 6 (0,+R) 7 (−R,0) 8 (0,−R) 9 (0,0).
+
+use nc_kernel::segment::{Role, Segment, Shape};
+use nc_kernel::{prepare, MachineData, ToolTable};
+
+const R: f64 = 0.8;
+
+/// (Z, X) of a position.
+fn zx(p: [f64; 3]) -> [f64; 2] {
+    [p[2], p[0]]
+}
+
+fn v(edge: u8) -> [f64; 2] {
+    match edge {
+        1 => [R, R],
+        2 => [-R, R],
+        3 => [-R, -R],
+        4 => [R, -R],
+        5 => [R, 0.0],
+        6 => [0.0, R],
+        7 => [-R, 0.0],
+        8 => [0.0, -R],
+        _ => [0.0, 0.0],
+    }
+}
+
+fn run(program: &str, edge: u8) -> Vec<Segment> {
+    let md = MachineData::load(
+        Some(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/config/siemens-808d.toml"
+        ))),
+        &[],
+    )
+    .unwrap();
+    let tools = ToolTable::from_toml_str(
+        &format!("[[offset]]\nt = 1\nd = 1\nradius = {R}\nedge = {edge}\n"),
+        "test",
+    )
+    .unwrap();
+    prepare("turn", program, &md, &tools).unwrap_or_else(|a| panic!("{a}"))
+}
+
+fn close(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
+    (a[0] - b[0]).abs() <= tol && (a[1] - b[1]).abs() <= tol
+}
+
+/// Outside diameter along −Z at X20 (radius), then a face up at Z−20 to X40, G42: the nose
+/// centre runs at X 20.8 and Z −19.2, the inner corner at (−19.2, 20.8).
+const OD_AND_FACE: &str = "N10 G18 G90 DIAMOF T1 D1 G0 X30 Z10\nN20 G42 G1 X20 Z5 F100\nN30 Z-20\nN40 X40\nN50 G40 G0 X50 Z10\nN60 M30\n";
+
+#[test]
+fn the_tip_is_the_nose_centre_plus_the_position_vector() {
+    for edge in 1..=9u8 {
+        let segs = run(OD_AND_FACE, edge);
+        let contour: Vec<&Segment> = segs.iter().filter(|s| s.role == Role::Contour).collect();
+        let w = v(edge);
+        let corner = [-19.2 + w[0], 20.8 + w[1]];
+        let (od, face) = (contour[0], contour[1]);
+        assert!(close(zx(od.to), corner, 1e-12), "edge {edge}: {:?}", od.to);
+        assert!(close(zx(face.from), corner, 1e-12), "edge {edge}");
+        assert!(close(zx(face.to), [-19.2 + w[0], 40.0 + w[1]], 1e-12));
+        // The OD runs at X = 20.8 + vx: on the contour (X 20) exactly when the tip is the
+        // lowest point of the nose (positions 3, 4, 8); the face at Z = −19.2 + vz: on the
+        // contour (Z −20) for the leftmost (2, 3, 7).
+        let on_od = (zx(od.from)[1] - 20.0).abs() < 1e-12 && (zx(od.to)[1] - 20.0).abs() < 1e-12;
+        assert_eq!(on_od, matches!(edge, 3 | 4 | 8), "edge {edge}");
+        let on_face = (zx(face.from)[0] + 20.0).abs() < 1e-12;
+        assert_eq!(on_face, matches!(edge, 2 | 3 | 7), "edge {edge}");
+        // With TRC off (before the approach, after the retract) P is the programmed point.
+        let first = segs.first().unwrap();
+        assert!(close(zx(first.to), [10.0, 30.0], 0.0));
+        let retract = segs.iter().find(|s| s.role == Role::Retract).unwrap();
+        assert!(close(zx(retract.from), [-19.2 + w[0], 40.0 + w[1]], 1e-12));
+        assert!(close(zx(retract.to), [10.0, 50.0], 0.0));
+    }
+}
+
+/// A finishing profile with a taper, a convex and a concave radius (G42, position 3):
+/// P − v = S keeps exactly R from every programmed element (the nose circle touches it).
+#[test]
+fn the_nose_circle_touches_tapers_and_radii() {
+    // Radius programming. Contour (Z, X): (2,10) → (−10,10), taper to (−20,15), G3 R5 to
+    // (−25,20) about (−25,15), line to (−30,20), G2 R5 to (−35,25) about (−30,25), face to
+    // X30. Every element is checked on its own (the corners are whatever they are).
+    let prog = "N10 G18 G90 DIAMOF T1 D1 G0 X12 Z5\nN20 G42 G1 X10 Z2 F100\nN30 Z-10\nN40 X15 Z-20\nN50 G3 X20 Z-25 CR=5\nN60 G1 Z-30\nN70 G2 X25 Z-35 CR=5\nN80 G1 X30\nN90 G40 G0 X40 Z5\nN100 M30\n";
+    let segs = run(prog, 3);
+    let w = v(3);
+    let s = |p: [f64; 3]| [zx(p)[0] - w[0], zx(p)[1] - w[1]];
+    // The programmed elements, by block line.
+    let line_dist = |a: [f64; 2], b: [f64; 2], p: [f64; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / d[0].hypot(d[1])
+    };
+    let mut checked = 0;
+    for seg in segs.iter().filter(|x| x.role == Role::Contour) {
+        let (p0, p1) = (s(seg.from), s(seg.to));
+        let d = |p: [f64; 2]| -> f64 {
+            match seg.source.line {
+                3 => line_dist([2.0, 10.0], [-10.0, 10.0], p),
+                4 => line_dist([-10.0, 10.0], [-20.0, 15.0], p),
+                // N50 G3 from (−20,15) to (−25,20), R5: centre (−25,15) (ccw in Z/X).
+                5 => ((p[0] + 25.0).hypot(p[1] - 15.0) - 5.0).abs(),
+                6 => line_dist([-25.0, 20.0], [-30.0, 20.0], p),
+                // N70 G2 from (−30,20) to (−35,25), R5: centre (−30,25).
+                7 => ((p[0] + 30.0).hypot(p[1] - 25.0) - 5.0).abs(),
+                8 => line_dist([-35.0, 25.0], [-35.0, 30.0], p),
+                l => panic!("contour segment of line {l}"),
+            }
+        };
+        for p in [p0, p1] {
+            assert!(
+                (d(p) - R).abs() < 1e-9,
+                "line {}: {p:?} at {}",
+                seg.source.line,
+                d(p)
+            );
+        }
+        if let Shape::Arc { center, .. } = seg.shape {
+            let c = s(center);
+            let want = if seg.source.line == 5 {
+                [-25.0, 15.0]
+            } else {
+                [-30.0, 25.0]
+            };
+            assert!(close(c, want, 1e-12), "arc centre {c:?}");
+        }
+        checked += 1;
+    }
+    assert!(checked >= 6);
+}
+
+/// 840C 11.13: without TRC, P runs on the programmed taper and the nose leaves material:
+/// normal to a taper at angle α to the Z axis the error is R(sin α + cos α − 1) for a tool in
+/// position 3 cutting its outside.
+#[test]
+fn without_compensation_a_taper_is_off_by_the_closed_form() {
+    // Taper (Z, X): (0, 10) → (−20, 20), tan α = 10/20.
+    let prog = "N10 G18 G90 DIAMOF T1 D1 G0 X10 Z2\nN20 G1 Z0 F100\nN30 X20 Z-20\nN40 M30\n";
+    let segs = run(prog, 3);
+    let taper = segs.iter().find(|s| s.source.line == 3).unwrap();
+    assert!(close(zx(taper.from), [0.0, 10.0], 0.0) && close(zx(taper.to), [-20.0, 20.0], 0.0));
+    let alpha = (10.0f64 / 20.0).atan();
+    let expected = R * (alpha.sin() + alpha.cos() - 1.0);
+    // The nose centre S = P − v and its distance from the taper line, minus R.
+    let w = v(3);
+    for p in [taper.from, taper.to] {
+        let s = [zx(p)[0] - w[0], zx(p)[1] - w[1]];
+        let d = ((s[0] - 0.0) * 10.0 - (s[1] - 10.0) * -20.0).abs() / 500f64.sqrt();
+        assert!(
+            (d - R - expected).abs() < 1e-12,
+            "error {} vs {expected}",
+            d - R
+        );
+    }
+    // 0.8 mm nose, 26.57°: 0.2733 mm normal to the taper.
+    assert!((expected - 0.273_312_629).abs() < 1e-9);
+}
+
+/// 808D (seed 004, programs/siemens-808d/d_change.mpf): D1 (R 0.8, position 3) → D2
+/// (R 0.4, position 4) over the taper N50, and back over the arc N70: the radius and the tip
+/// vector both change along the block, so the centre of N70 moves from S's centre + v(D2) to
+/// + v(D1).
+#[test]
+fn an_offset_change_over_an_arc_moves_its_centre_with_the_tip() {
+    let md = MachineData::load(
+        Some(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/config/siemens-808d.toml"
+        ))),
+        &[],
+    )
+    .unwrap();
+    let src = include_str!("../programs/siemens-808d/d_change.mpf");
+    let segs = prepare("d_change", src, &md, &ToolTable::builtin()).unwrap();
+    // N40: D16 (radius 8) with D1: S at X 8.8, P = S + (−0.8, −0.8) at X 8.
+    let n40 = segs.iter().find(|s| s.source.line == 15).unwrap();
+    assert!((n40.from[0] - 8.0).abs() < 1e-12 && (n40.to[0] - 8.0).abs() < 1e-12);
+    // N70: the concave fillet R5 from D24 to D34 (radius 12 → 17) at Z −30 → −35, G2:
+    // centre (Z −30, X 17), on the tool's side, so the nose centre runs at 5 − R. The nose
+    // radius goes 0.4 → 0.8 and the tip vector from
+    // (+0.4, −0.4) (position 4) to (−0.8, −0.8) (position 3): the centre moves with it.
+    let n70 = segs
+        .iter()
+        .find(|s| s.source.line == 18 && s.role == Role::Contour)
+        .unwrap();
+    let Shape::Arc {
+        center,
+        center_end,
+        r0,
+        r1,
+        ..
+    } = n70.shape
+    else {
+        panic!("N70 is an arc")
+    };
+    assert!(
+        close(zx(center), [-30.0 + 0.4, 17.0 - 0.4], 1e-12),
+        "{center:?}"
+    );
+    assert!(
+        close(zx(center_end), [-30.0 - 0.8, 17.0 - 0.8], 1e-12),
+        "{center_end:?}"
+    );
+    assert!(
+        (r0 - 4.6).abs() < 1e-12 && (r1 - 4.2).abs() < 1e-12,
+        "{r0} {r1}"
+    );
+}
