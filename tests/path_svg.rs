@@ -47,16 +47,10 @@ fn axis(labels: &[(f64, f64)]) -> impl Fn(f64) -> f64 {
     move |p| w0 + (p - p0) * k
 }
 
-#[test]
-fn workpiece_picture_shows_the_tool_at_each_block_end() {
-    let r = run(&["programs/siemens-840c/11_15_workpiece.mpf"]);
-    assert_eq!(r.code, 0);
-    let doc = roxmltree::Document::parse(&r.svg).expect("well-formed SVG");
-    assert_eq!(doc.root_element().tag_name().name(), "svg");
-
-    // Grid labels: abscissa values centred under vertical lines, ordinate values right-aligned
-    // (baseline 3.5 px below the line).
-    let grid = group(&doc, "grid").expect("grid");
+/// Pixel → world maps (abscissa, ordinate) from the grid labels: abscissa values centred
+/// under vertical lines, ordinate values right-aligned (baseline 3.5 px below the line).
+fn maps(doc: &roxmltree::Document) -> (impl Fn(f64) -> f64, impl Fn(f64) -> f64) {
+    let grid = group(doc, "grid").expect("grid");
     let mut us = Vec::new();
     let mut vs = Vec::new();
     for t in grid.children().filter(|n| n.has_tag_name("text")) {
@@ -69,7 +63,17 @@ fn workpiece_picture_shows_the_tool_at_each_block_end() {
             _ => {}
         }
     }
-    let (to_u, to_v) = (axis(&us), axis(&vs));
+    (axis(&us), axis(&vs))
+}
+
+#[test]
+fn workpiece_picture_shows_the_tool_at_each_block_end() {
+    let r = run(&["programs/siemens-840c/11_15_workpiece.mpf"]);
+    assert_eq!(r.code, 0);
+    let doc = roxmltree::Document::parse(&r.svg).expect("well-formed SVG");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+
+    let (to_u, to_v) = maps(&doc);
 
     // One tool circle per compensated block: N10 (selection) … N110, and N120 (deselection).
     let circles: Vec<_> = group(&doc, "tool-circles")
@@ -197,4 +201,59 @@ fn long_programs_leave_out_labels_and_tool_circles() {
             .count(),
         600
     );
+}
+
+/// A lathe (808D, d_change.mpf: T1 D1 R0.8 in position 3): the path drawn is the tool tip, the
+/// circle at a block end is the nose, centred on S = P − v. In front of the centre of rotation
+/// (`tool_post = "in-front"`) X is drawn downwards and nothing else changes: the same path
+/// output byte for byte, the nose circle at the same world position.
+#[test]
+fn lathe_nose_circles_and_the_view_from_in_front() {
+    let prog = "programs/siemens-808d/d_change.mpf";
+    let path_out = |post: &str| {
+        Command::new(env!("CARGO_BIN_EXE_softnc"))
+            .args([
+                "path",
+                prog,
+                "--machine",
+                "config/siemens-808d.toml",
+                "--md",
+            ])
+            .arg(format!("tool_post={post}"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("softnc runs")
+            .stdout
+    };
+    assert_eq!(path_out("behind"), path_out("in-front"));
+    let mut slopes = Vec::new();
+    for post in ["behind", "in-front"] {
+        let md = format!("tool_post={post}");
+        let r = run(&[prog, "--machine", "config/siemens-808d.toml", "--md", &md]);
+        assert_eq!(r.code, 0);
+        let doc = roxmltree::Document::parse(&r.svg).expect("well-formed SVG");
+        let (to_u, to_v) = maps(&doc);
+        // World X (ordinate) per pixel downwards: negative when X is drawn up.
+        slopes.push(to_v(100.0) - to_v(0.0));
+        // N40 ends at the concave corner with N50: nose centre at r 8.8 on the taper's
+        // equidistant (docs/turning.md; tests/turning.rs works it out): Z −9.8459.
+        let circle = group(&doc, "tool-circles")
+            .expect("tool circles")
+            .children()
+            .filter(|n| n.has_tag_name("circle"))
+            .find(|c| {
+                c.children()
+                    .find(|n| n.has_tag_name("title"))
+                    .is_some_and(|t| text(t).starts_with("N40:"))
+            })
+            .expect("a nose circle for N40");
+        let (z, x) = (to_u(attr(circle, "cx")), to_v(attr(circle, "cy")));
+        assert!(
+            (z + 9.8459).abs() < 0.01 && (x - 8.8).abs() < 0.01,
+            "{post}: N40 nose drawn at Z{z} X{x}"
+        );
+        let title = circle.children().find(|n| n.has_tag_name("title")).unwrap();
+        assert!(text(title).contains("nose centre"), "{}", text(title));
+    }
+    assert!(slopes[0] < 0.0 && slopes[1] > 0.0, "{slopes:?}");
 }

@@ -213,3 +213,196 @@ fn an_offset_change_over_an_arc_moves_its_centre_with_the_tip() {
         "{r0} {r1}"
     );
 }
+
+/// A shipped 808D program through preparation with the shipped tools (T1 D1: R 0.8 in
+/// position 3, v = (−0.8, −0.8); T1 D2: R 0.4 in position 4, v = (+0.4, −0.4)).
+fn shipped(file: &str) -> Vec<Segment> {
+    let md = MachineData::load(
+        Some(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/config/siemens-808d.toml"
+        ))),
+        &[],
+    )
+    .unwrap();
+    let path = format!(
+        "{}/programs/siemens-808d/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let src = std::fs::read_to_string(&path).unwrap();
+    prepare(file, &src, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"))
+}
+
+/// The segment of block `n` in `role` (the first, or the only one).
+fn seg<'a>(segs: &'a [Segment], n: &str, role: Role) -> &'a Segment {
+    segs.iter()
+        .find(|s| s.role == role && s.source.number.is_some_and(|b| b.to_string() == n))
+        .unwrap_or_else(|| panic!("no {role:?} segment in {n}"))
+}
+
+fn assert_line(s: &Segment, from: [f64; 2], to: [f64; 2]) {
+    let n = s.source.number.map(|b| b.to_string()).unwrap_or_default();
+    assert!(
+        close(zx(s.from), from, 1e-6),
+        "{n} from {:?}, want {from:?}",
+        zx(s.from)
+    );
+    assert!(
+        close(zx(s.to), to, 1e-6),
+        "{n} to {:?}, want {to:?}",
+        zx(s.to)
+    );
+}
+
+/// 808D "G40": the last contour block ends in the normal end position, the deselection block
+/// then goes to the programmed point. N90 G2 CR=5 from (Z−35, r15) to (Z−40, r20) about
+/// (Z−35, r20); G42 puts the nose on the centre's side: radius 5 − 0.8 = 4.2, normal end
+/// S = (−35 − 4.2, 20) = (−39.2, 20), P = S + v = (−40, 19.2). N100 G40 X50 Z−40: P to
+/// (Z−40, r25), the programmed point.
+#[test]
+fn s808d_g40_normal_end_position_then_the_programmed_point() {
+    let segs = shipped("g40_deselection.mpf");
+    let n90 = seg(&segs, "N90", Role::Contour);
+    assert!(close(zx(n90.to), [-40.0, 19.2], 1e-9), "{:?}", zx(n90.to));
+    let Shape::Arc { center, r1, .. } = n90.shape else {
+        panic!("N90 is an arc")
+    };
+    assert!(close(zx(center), [-35.8, 19.2], 1e-9) && (r1 - 4.2).abs() < 1e-9);
+    assert_line(
+        seg(&segs, "N100", Role::Retract),
+        [-40.0, 19.2],
+        [-40.0, 25.0],
+    );
+}
+
+/// 808D G41 → G42: the last block on the old side ends in its normal end position, the G42
+/// block goes to the normal start position of the block after it.
+/// N40 faces down Z0 from r24 to r0 with G41 (nose at Z +0.8): ends at S (0.8, 0), P (0, −0.8).
+/// N60's chamfer (Z1, r8) → (Z−1, r10), heading (−1, 1)/√2, right normal (1, 1)/√2: normal
+/// start S = (1 + 0.4√2, 8 + 0.4√2), P = S + (−0.8, −0.8).
+/// N60 → N70 turns left with the tool right: convex, G450 arc about (Z−1, r10).
+/// N70 → N80 turns right: concave, the intersection S (−24.2, 10.8), P (−25, 10).
+/// N90 ends normal (G40 follows): S (−40, 15.8), P (−40.8, 15); N100 to (Z−40, r18).
+#[test]
+fn s808d_direction_change_g41_to_g42() {
+    let segs = shipped("direction_change.mpf");
+    let h = 0.4 * 2f64.sqrt();
+    assert_line(seg(&segs, "N40", Role::Contour), [0.0, 23.2], [0.0, -0.8]);
+    assert_line(
+        seg(&segs, "N50", Role::Approach),
+        [0.0, -0.8],
+        [1.0 + h - 0.8, 8.0 + h - 0.8],
+    );
+    assert_line(
+        seg(&segs, "N60", Role::Contour),
+        [1.0 + h - 0.8, 8.0 + h - 0.8],
+        [-1.0 + h - 0.8, 10.0 + h - 0.8],
+    );
+    let corner = seg(&segs, "N70", Role::Corner);
+    let Shape::Arc { center, .. } = corner.shape else {
+        panic!("G450 arc")
+    };
+    assert!(close(zx(center), [-1.8, 9.2], 1e-9));
+    assert_line(
+        seg(&segs, "N70", Role::Contour),
+        [-1.8, 10.0],
+        [-25.0, 10.0],
+    );
+    assert_line(
+        seg(&segs, "N90", Role::Contour),
+        [-25.8, 15.0],
+        [-40.8, 15.0],
+    );
+    assert_line(
+        seg(&segs, "N100", Role::Retract),
+        [-40.8, 15.0],
+        [-40.0, 18.0],
+    );
+}
+
+/// 808D: G41 programmed again while active is a new selection. N50 (G0 back to Z2, r12, still
+/// compensated) meets N40 at a concave corner: the intersection of Z = 0.8 with N50's
+/// equidistant; N50 itself ends in its normal end position before the new start, and N60
+/// approaches N70's normal start (nose below r24: S (−18, 23.2), P (−18.8, 22.4)).
+#[test]
+fn s808d_repeated_g41_is_a_new_selection() {
+    let segs = shipped("repeat_g41.mpf");
+    // N50 heading (2, 12)/√148, left normal (−12, 2)/√148 · 0.8.
+    let l = 148f64.sqrt();
+    let n = [-12.0 / l * 0.8, 2.0 / l * 0.8];
+    // On N50's equidistant where Z = 0.8: t along (2, 12)/l from (0,0) + n.
+    let t = (0.8 - n[0]) / (2.0 / l);
+    let x_int = n[1] + t * 12.0 / l;
+    assert_line(
+        seg(&segs, "N40", Role::Contour),
+        [0.0, 11.2],
+        [0.0, x_int - 0.8],
+    );
+    let n50 = seg(&segs, "N50", Role::Contour);
+    assert_line(
+        n50,
+        [0.0, x_int - 0.8],
+        [2.0 + n[0] - 0.8, 12.0 + n[1] - 0.8],
+    );
+    assert_line(
+        seg(&segs, "N60", Role::Approach),
+        [2.0 + n[0] - 0.8, 12.0 + n[1] - 0.8],
+        [-18.8, 22.4],
+    );
+    // N70 → N80 concave: S (−19.2, 23.2), P (−20, 22.4); N80 ends normal at S (−19.2, 10).
+    assert_line(
+        seg(&segs, "N70", Role::Contour),
+        [-18.8, 22.4],
+        [-20.0, 22.4],
+    );
+    assert_line(
+        seg(&segs, "N80", Role::Contour),
+        [-20.0, 22.4],
+        [-20.0, 9.2],
+    );
+    assert_line(
+        seg(&segs, "N90", Role::Retract),
+        [-20.0, 9.2],
+        [-18.0, 12.0],
+    );
+}
+
+/// 808D D change over a line (N50, D1 → D2 on the taper (Z−10, r8) → (Z−20, r12)): the block
+/// start intersection with the old radius, the end with the new (840C 11.7), and the tip
+/// vector going from position 3's to position 4's along the line.
+#[test]
+fn s808d_offset_change_over_a_line() {
+    let segs = shipped("d_change.mpf");
+    let l = 116f64.sqrt();
+    // Right normal of the taper's heading (−10, 4)/l: (4, 10)/l.
+    let nr = [4.0 / l, 10.0 / l];
+    // Start: N40's equidistant r 8.8 meets the taper's at R 0.8.
+    let o = [-10.0 + 0.8 * nr[0], 8.0 + 0.8 * nr[1]];
+    let t = (8.8 - o[1]) / (4.0 / l);
+    let start_s = [o[0] - 10.0 / l * t, 8.8];
+    // End: convex corner to N60 (G450): normal end with R 0.4.
+    let end_s = [-20.0 + 0.4 * nr[0], 12.0 + 0.4 * nr[1]];
+    assert_line(
+        seg(&segs, "N50", Role::Contour),
+        [start_s[0] - 0.8, start_s[1] - 0.8],
+        [end_s[0] + 0.4, end_s[1] - 0.4],
+    );
+}
+
+/// 808D diameter programming: X words are diameters, the centre offset I stays a radius, and
+/// every output gives X as a radius. G2 from (Z0, D20) to (Z−5, D30) with I5 K0: centre
+/// (Z0, r15), radius 5 (I5 read as a diameter would put it at r12.5, off both end points).
+#[test]
+fn diameter_programming_reads_i_as_a_radius() {
+    let prog = "N10 G18 G90 DIAMON T1 D1 G0 X20 Z0\nN20 G2 X30 Z-5 I5 K0 F100\nN30 M30\n";
+    let segs = run(prog, 3);
+    let arc = segs.iter().find(|s| s.source.line == 2).unwrap();
+    let Shape::Arc {
+        center, r0, ccw, ..
+    } = arc.shape
+    else {
+        panic!("N20 is an arc")
+    };
+    assert!(close(zx(arc.from), [0.0, 10.0], 0.0) && close(zx(arc.to), [-5.0, 15.0], 0.0));
+    assert!(close(zx(center), [0.0, 15.0], 1e-12) && (r0 - 5.0).abs() < 1e-12 && !ccw);
+}
