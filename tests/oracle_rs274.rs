@@ -107,11 +107,22 @@ fn rs274_output(ngc: &str, tag: &str) -> (String, String) {
     let file = dir.join("p.ngc");
     std::fs::write(&file, ngc).unwrap();
     let guard = RS274.lock().unwrap_or_else(|e| e.into_inner());
-    let out = Command::new("rs274")
-        .arg("-g")
-        .arg(&file)
-        .output()
-        .expect("rs274 runs");
+    // rs274 (2.9.0~pre1) now and then dies from a signal on a loaded machine, with no output:
+    // that is the oracle failing, not an answer. Up to three tries; its own errors (an exit
+    // code) are answers and come back at once.
+    let mut tries = 0;
+    let out = loop {
+        tries += 1;
+        let out = Command::new("rs274")
+            .arg("-g")
+            .arg(&file)
+            .output()
+            .expect("rs274 runs");
+        if out.status.code().is_some() || tries == 3 {
+            break out;
+        }
+        eprintln!("rs274 died ({}), trying again", out.status);
+    };
     drop(guard);
     let _ = std::fs::remove_dir_all(&dir);
     (
