@@ -5,35 +5,29 @@
 //! compensation holds back only the element whose end depends on the next corner.
 
 pub mod bottleneck;
-pub mod decoder;
+pub mod front;
 pub mod jsonl;
 pub mod resume;
 pub mod s_points;
 pub mod tool_tip;
 
 pub use bottleneck::{Bottleneck, Gouge, Reaction};
-pub use decoder::Decoder;
 pub use resume::{Interruption, Resumed};
 pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
 
 use crate::alarm::{Alarm, AlarmCode};
-use crate::dialect::Dialect;
-use crate::frontend::block::{Block, Motion, TrcSide};
 use crate::frontend::Interpreter;
 use crate::machine_data::{MachineData, ViolationReaction};
 use crate::segment::{Segment, Source};
 use crate::tools::ToolTable;
-use crate::trc::{Compensator, Out, TrcFault};
+use crate::trc::Out;
+use front::{Front, Step};
 
 /// Streams the tool path of one program.
 pub struct Preparation<'a> {
     name: &'a str,
-    decoder: Decoder<'a>,
-    trc: Compensator,
+    front: FrontEnd<'a>,
     out: Out,
-    /// Tool length in effect on the tool axis, and the one the active offset asks for: a new
-    /// length is traversed with the next move of the tool axis (002, 840C 11.5.2 "N15 Z..").
-    length: f64,
     blocks: u64,
     done: bool,
     /// The end record is out (or an alarm ended the stream).
@@ -44,6 +38,8 @@ pub struct Preparation<'a> {
     released: heapless::Deque<Segment, { bottleneck::HELD + 8 }>,
     /// ISG contour masking (G141) in the last block.
     masking: bool,
+    /// The compensation holds back part of the path after the last block.
+    holds_back: bool,
     /// An alarm waiting until the path before it is out.
     deferred: Option<Alarm>,
     warn: bool,
@@ -53,15 +49,23 @@ pub struct Preparation<'a> {
     tip: tool_tip::ToolTip,
 }
 
+/// Where the compensated blocks come from: the front in this thread, or in its own.
+enum FrontEnd<'a> {
+    Local(Box<Front<'a>>),
+    Threaded(front::Threaded),
+}
+
 impl<'a> Preparation<'a> {
     pub fn new(name: &'a str, source: &'a str, md: &'a MachineData, tools: &'a ToolTable) -> Self {
         let interp = Interpreter::new(name, source, md, tools);
-        let (plane, start) = (interp.state().plane, interp.position());
-        Self::with_decoder(name, Decoder::Direct(interp), plane, start, md)
+        let start = interp.position();
+        let front = Front::new(name, interp, md);
+        Self::with_front(name, FrontEnd::Local(Box::new(front)), start, md)
     }
 
-    /// The same stream, with the interpreter running ahead in a thread of `scope` (about
-    /// twice the throughput on two cores for long programs; the output is identical).
+    /// The same stream, with interpretation and compensation running ahead in a thread of
+    /// `scope` (the bottleneck window, S points and the tool tip stay in this one): about
+    /// twice the throughput on two cores for long programs; the output is identical.
     pub fn threaded<'scope>(
         scope: &'scope std::thread::Scope<'scope, 'a>,
         name: &'a str,
@@ -70,33 +74,21 @@ impl<'a> Preparation<'a> {
         tools: &'a ToolTable,
     ) -> Self {
         let interp = Interpreter::new(name, source, md, tools);
-        let (plane, start) = (interp.state().plane, interp.position());
-        Self::with_decoder(name, Decoder::threaded(scope, interp), plane, start, md)
+        let start = interp.position();
+        let front = Front::new(name, interp, md).threaded(scope);
+        Self::with_front(name, FrontEnd::Threaded(front), start, md)
     }
 
-    fn with_decoder(
+    fn with_front(
         name: &'a str,
-        decoder: Decoder<'a>,
-        plane: crate::frontend::block::Plane,
+        front: FrontEnd<'a>,
         start: crate::frontend::block::Pos,
         md: &'a MachineData,
     ) -> Self {
-        let rules = Dialect::get(md.dialect).trc;
-        let mut trc = Compensator::new(
-            rules,
-            md.trc.max_blocks_outside_plane,
-            md.trc.suppression_distance,
-            start,
-            plane,
-        );
-        trc.warn_on_violation(md.trc.violation_reaction == ViolationReaction::Warn);
-        trc.set_feed_adaption_rmin(md.trc.feed_adaption_rmin);
         Preparation {
             name,
-            decoder,
-            trc,
+            front,
             out: Out::new(),
-            length: 0.0,
             blocks: 0,
             done: false,
             ended: false,
@@ -105,6 +97,7 @@ impl<'a> Preparation<'a> {
             bottleneck: Bottleneck::new(md.trc.bottleneck_window as usize),
             released: heapless::Deque::new(),
             masking: false,
+            holds_back: false,
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
             tip: tool_tip::ToolTip::new(),
@@ -265,7 +258,7 @@ impl<'a> Preparation<'a> {
             if let Some(a) = self.deferred.take() {
                 return Err(a);
             }
-            if !self.s_points.idle() && !self.trc.holds_back() && self.bottleneck.is_empty() {
+            if !self.s_points.idle() && !self.holds_back && self.bottleneck.is_empty() {
                 // The path is out up to here: what waits is due at the current position.
                 self.s_points.flush(&mut self.ready);
                 return Ok(true);
@@ -287,106 +280,78 @@ impl<'a> Preparation<'a> {
                 }
                 return Ok(false);
             }
-            let inner_corner = match self.decoder.next_block() {
-                Ok(Some(b)) => decoder::selects_at_inner_corner(b),
-                Ok(None) => {
+            let step = match &mut self.front {
+                FrontEnd::Local(f) => f.step(&mut self.out),
+                FrontEnd::Threaded(t) => t.step(&mut self.out),
+            };
+            let b = match step {
+                Step::Block(b) => b,
+                Step::End { holds_back } => {
+                    self.holds_back = holds_back;
                     self.done = true;
-                    let r = self.trc.finish(&mut self.out);
-                    if let Err(f) = r {
-                        return Err(self.alarm(*f));
-                    }
                     continue;
                 }
-                Err(a) => {
+                Step::EndFault(a) => {
+                    self.done = true;
+                    return Err(a);
+                }
+                Step::Decode(a) => {
                     self.done = true;
                     self.ended = true;
                     return Err(a);
                 }
             };
-            self.blocks += 1;
-            if inner_corner {
-                let closing = self.decoder.closing();
-                self.trc.close_contour(closing);
-            }
-            let block = self.decoder.current();
-            self.tip.block(block, self.blocks as u32);
-            self.s_points.set_plane(block.modal.plane);
-            if !self.s_points.block(block, self.blocks as u32) {
+            let info = b.info;
+            let source = info.source;
+            self.blocks = u64::from(source.seq);
+            self.tip.block(info.tip, source.seq);
+            self.s_points.set_plane(info.plane);
+            let words_fit = self.s_points.block(source, b.words, info.stop);
+            let (element, fault) = (b.element, b.fault);
+            self.holds_back = b.holds_back;
+            // Warnings are rare: copied out only when there are any.
+            let warnings = if b.warnings.is_empty() {
+                Vec::new()
+            } else {
+                b.warnings.to_vec()
+            };
+            if !words_fit {
                 self.done = true;
                 self.ended = true;
+                self.out.clear();
                 return Err(Alarm {
                     code: AlarmCode::TooManyWords,
                     program: self.name.to_string(),
-                    line: block.line,
-                    col: block.col,
-                    block: block.number.map(|n| n.to_string()),
+                    line: source.line,
+                    col: source.col,
+                    block: source.number.map(|n| n.to_string()),
                     message: "too many blocks with auxiliary functions wait for their S point"
                         .into(),
                 });
             }
-            let motion = block
-                .motion
-                .map(|m| with_length(&m, &mut self.length, block));
-            if let Err(f) = self.trc.block(block, motion.as_ref(), &mut self.out) {
+            if let Some(a) = fault.map(|a| *a) {
                 // The path still in the bottleneck window has not been checked against the
                 // contour after it: it does not go out (docs/trc.md).
-                let a = self.alarm(*f);
                 self.stop_with(a);
                 self.bottleneck.discard();
                 continue;
             }
-            self.masking = block.modal.masking;
-            self.bottleneck.set_plane(block.modal.plane);
-            let element = self.trc.take_element();
+            self.masking = info.masking;
+            self.bottleneck.set_plane(info.plane);
             if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
-                let source = Source {
-                    number: block.number,
-                    line: block.line,
-                    col: block.col,
-                    seq: self.blocks as u32,
-                };
-                let side = match block.modal.trc {
-                    TrcSide::Left => 1,
-                    TrcSide::Right => -1,
-                    TrcSide::Off => 0,
-                };
-                let found = self.bottleneck.element(source, e, r, side, self.reaction());
+                let found = self
+                    .bottleneck
+                    .element(source, e, r, info.side, self.reaction());
                 if self.on_gouge(found) {
                     continue;
                 }
             }
-            while let Some(w) = self.trc.take_warning() {
+            for w in warnings {
                 // Ahead of the segments of this block (`ready` is served first).
-                let w = self.alarm(w);
                 let _ = self.ready.push_back(Prepared::Warning(w));
             }
         }
     }
-
-    fn alarm(&self, f: TrcFault) -> Alarm {
-        Alarm {
-            code: f.code,
-            program: self.name.to_string(),
-            line: f.source.line,
-            col: f.source.col,
-            block: f.source.number.map(|n| n.to_string()),
-            message: f.message,
-        }
-    }
-}
-
-/// The motion with the tool length on the tool axis: the old length up to a block that
-/// programs the tool axis, the new one from its end on.
-fn with_length(m: &Motion, length: &mut f64, b: &Block) -> Motion {
-    let n = m.plane.normal as usize;
-    let mut m = *m;
-    m.start[n] += *length;
-    m.center[n] += *length;
-    if m.programmed & (1 << n) != 0 {
-        *length = b.modal.length;
-    }
-    m.end[n] += *length;
-    m
 }
 
 impl Iterator for Preparation<'_> {

@@ -10,7 +10,7 @@
 //! intermediate blocks"); a block outside the plane outputs them at the S point where it is
 //! executed (11.11); M00, M01, M18 act at the end of their block, M02/M30 end the program.
 
-use crate::frontend::block::{AuxWord, Block, Plane, Pos, ProgramStop, MAX_AUX_WORDS};
+use crate::frontend::block::{AuxWord, Plane, Pos, ProgramStop, MAX_AUX_WORDS};
 use crate::machine_data::AuxOutput;
 use crate::segment::{Role, Segment, Source};
 
@@ -114,20 +114,18 @@ impl SPoints {
     /// Records what block `b` (execution number `seq`) outputs. Returns false when more
     /// blocks wait than there is room for (never with the outside-plane limit ≤ 8).
     #[inline]
-    pub fn block(&mut self, b: &Block, seq: u32) -> bool {
-        if b.words.is_empty() && b.stop.is_none() {
+    pub fn block(
+        &mut self,
+        source: Source,
+        block_words: &[AuxWord],
+        stop: Option<ProgramStop>,
+    ) -> bool {
+        if block_words.is_empty() && stop.is_none() {
             return true;
         }
-        let source = Source {
-            number: b.number,
-            line: b.line,
-            col: b.col,
-            seq,
-        };
         let mut words = heapless::Vec::new();
-        let m18_stop = b.stop == Some(ProgramStop::StopAtEnd);
-        for w in b
-            .words
+        let m18_stop = stop == Some(ProgramStop::StopAtEnd);
+        for w in block_words
             .iter()
             .filter(|w| is_aux(w) && !(m18_stop && w.address == b'M' && w.value == 18.0))
         {
@@ -137,7 +135,7 @@ impl SPoints {
         if !words.is_empty() {
             ok &= self.waiting.push_back(Waiting::Aux(source, words)).is_ok();
         }
-        match b.stop {
+        match stop {
             Some(s) if s.ends_program() => self.end = Some((source, s)),
             Some(ProgramStop::OptionalStop) if !self.optional_stop => {}
             Some(s) => ok &= self.waiting.push_back(Waiting::Stop(source, s)).is_ok(),

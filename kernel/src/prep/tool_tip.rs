@@ -11,9 +11,8 @@
 //!   traversed continuously over a circle) the arc's centre moves with it
 //!   (`Shape::Arc::center_end`).
 
-use crate::frontend::block::{Block, Plane};
+use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Shape};
-use crate::trc::cutting_edge::tip_vector;
 use crate::trc::geom::{v2, V2};
 
 /// Blocks whose cutting edge changed, as far back as a segment in the bottleneck window can
@@ -38,14 +37,10 @@ impl ToolTip {
         }
     }
 
-    /// A block was read (number `seq` in execution order).
+    /// A block was read (number `seq` in execution order); `v` is its cutting edge's
+    /// nose centre → tip vector (`trc::cutting_edge::tip_vector`).
     #[inline]
-    pub fn block(&mut self, b: &Block, seq: u32) {
-        let v = if b.modal.edge == 0 {
-            v2(0.0, 0.0)
-        } else {
-            tip_vector(b.modal.edge, b.modal.radius, b.modal.plane)
-        };
+    pub fn block(&mut self, v: V2, seq: u32) {
         if v != self.now {
             self.now = v;
             if self.changes.is_full() {

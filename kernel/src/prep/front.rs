@@ -1,0 +1,433 @@
+//! The front half of block preparation: the interpreter's blocks through tool length and tool
+//! radius compensation, one [`Step`] per block. The back half ([`super::Preparation`]: the
+//! bottleneck window, S points, the tool tip) takes the steps in the same thread, or — with
+//! [`Front::threaded`] — from a thread of their own, as controls split block decoding and
+//! preparation into tasks. The steps, and so the output, are the same bit for bit.
+//!
+//! The thread hands steps over in batches: a fixed set of batch buffers circulates between
+//! the two threads over two bounded channels (full ones to the back, empty ones back), so
+//! nothing is allocated per block and the threads meet once per batch, not once per block.
+
+use crate::alarm::Alarm;
+use crate::frontend::block::{
+    AuxWord, Block, Motion, Plane, ProgramStop, SelectionPolicy, TrcSide,
+};
+use crate::frontend::Interpreter;
+use crate::machine_data::{MachineData, ViolationReaction};
+use crate::segment::{Segment, Source};
+use crate::trc::cutting_edge::tip_vector;
+use crate::trc::geom::{v2, Elem, V2};
+use crate::trc::{Compensator, Out, TrcFault};
+use crossbeam::channel::{bounded, Receiver, Sender};
+
+/// What one block gave. Its segments went into the `out` the step was asked with.
+pub enum Step<'b> {
+    Block(BlockStep<'b>),
+    /// The interpreter stopped with an alarm.
+    Decode(Alarm),
+    /// The program's end: the compensation's last segments are in `out`.
+    End {
+        holds_back: bool,
+    },
+    /// The compensation could not end (its alarm).
+    EndFault(Alarm),
+}
+
+/// What the back needs of a block (a few dozen bytes: it crosses threads).
+#[derive(Clone, Copy, Debug)]
+pub struct BlockInfo {
+    /// The block, with its number in execution order.
+    pub source: Source,
+    pub plane: Plane,
+    /// ISG contour masking (G141).
+    pub masking: bool,
+    /// Compensation side: +1 left, −1 right, 0 off.
+    pub side: i8,
+    /// Nose centre → tool tip of the active cutting edge (zero for a milling tool).
+    pub tip: V2,
+    pub stop: Option<ProgramStop>,
+}
+
+pub struct BlockStep<'b> {
+    pub info: BlockInfo,
+    /// The block's auxiliary and technology words.
+    pub words: &'b [AuxWord],
+    /// The programmed contour element and the radius it is cut with.
+    pub element: Option<(Elem, f64)>,
+    /// The compensation still holds back part of the path (S points wait for it).
+    pub holds_back: bool,
+    /// A compensation alarm in this block: its segments are not valid. (Boxed: the step is
+    /// moved per block, the alarm almost never there.)
+    pub fault: Option<Box<Alarm>>,
+    /// Violations the machine data lets pass.
+    pub warnings: &'b [Alarm],
+}
+
+/// Interpretation, tool length, tool radius compensation.
+pub struct Front<'a> {
+    name: &'a str,
+    interp: Interpreter<'a>,
+    trc: Compensator,
+    /// Tool length in effect on the tool axis, and the one the active offset asks for: a new
+    /// length is traversed with the next move of the tool axis (002, 840C 11.5.2 "N15 Z..").
+    length: f64,
+    blocks: u32,
+    warnings: Vec<Alarm>,
+}
+
+impl<'a> Front<'a> {
+    pub fn new(name: &'a str, interp: Interpreter<'a>, md: &MachineData) -> Self {
+        let rules = crate::dialect::Dialect::get(md.dialect).trc;
+        let mut trc = Compensator::new(
+            rules,
+            md.trc.max_blocks_outside_plane,
+            md.trc.suppression_distance,
+            interp.position(),
+            interp.state().plane,
+        );
+        trc.warn_on_violation(md.trc.violation_reaction == ViolationReaction::Warn);
+        trc.set_feed_adaption_rmin(md.trc.feed_adaption_rmin);
+        Front {
+            name,
+            interp,
+            trc,
+            length: 0.0,
+            blocks: 0,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The next block through the compensation; its segments go to `out`.
+    pub fn step(&mut self, out: &mut Out) -> Step<'_> {
+        let inner_corner = match self.interp.next_block() {
+            Ok(Some(b)) => selects_at_inner_corner(b),
+            Ok(None) => {
+                return match self.trc.finish(out) {
+                    Ok(()) => Step::End {
+                        holds_back: self.trc.holds_back(),
+                    },
+                    Err(f) => Step::EndFault(alarm(self.name, *f)),
+                }
+            }
+            Err(a) => return Step::Decode(a),
+        };
+        self.blocks = self.blocks.wrapping_add(1);
+        if inner_corner {
+            self.trc.close_contour(closing_element(&self.interp));
+        }
+        let block = self.interp.current();
+        let motion = block
+            .motion
+            .map(|m| with_length(&m, &mut self.length, block));
+        let fault = self
+            .trc
+            .block(block, motion.as_ref(), out)
+            .err()
+            .map(|f| Box::new(alarm(self.name, *f)));
+        self.warnings.clear();
+        while let Some(w) = self.trc.take_warning() {
+            self.warnings.push(alarm(self.name, w));
+        }
+        let info = BlockInfo {
+            source: Source {
+                number: block.number,
+                line: block.line,
+                col: block.col,
+                seq: self.blocks,
+            },
+            plane: block.modal.plane,
+            masking: block.modal.masking,
+            side: match block.modal.trc {
+                TrcSide::Left => 1,
+                TrcSide::Right => -1,
+                TrcSide::Off => 0,
+            },
+            tip: if block.modal.edge == 0 {
+                v2(0.0, 0.0)
+            } else {
+                tip_vector(block.modal.edge, block.modal.radius, block.modal.plane)
+            },
+            stop: block.stop,
+        };
+        Step::Block(BlockStep {
+            info,
+            words: &block.words,
+            element: self.trc.take_element(),
+            holds_back: self.trc.holds_back(),
+            fault,
+            warnings: &self.warnings,
+        })
+    }
+
+    /// This front in a thread of `scope`, running ahead of the back. The thread ends when the
+    /// program does, or when the returned handle is dropped.
+    pub fn threaded<'scope>(self, scope: &'scope std::thread::Scope<'scope, 'a>) -> Threaded {
+        let (full_tx, full_rx) = bounded::<Batch>(BATCHES);
+        let (empty_tx, empty_rx) = bounded::<Batch>(BATCHES);
+        for _ in 0..BATCHES {
+            let _ = empty_tx.send(Batch {
+                steps: Vec::with_capacity(BATCH),
+                segments: Vec::with_capacity(4 * BATCH),
+                words: Vec::new(),
+            });
+        }
+        let mut front = self;
+        scope.spawn(move || {
+            let mut staging = Out::new();
+            // Batches are refilled in place: after the first round nothing is allocated.
+            while let Ok(mut batch) = recv_soon(&empty_rx) {
+                batch.steps.clear();
+                batch.segments.clear();
+                batch.words.clear();
+                let mut end = false;
+                while batch.steps.len() < BATCH && !end {
+                    let first = batch.segments.len() as u32;
+                    let w0 = batch.words.len() as u32;
+                    let owned = match front.step(&mut staging) {
+                        Step::Block(b) => Owned::Block {
+                            info: b.info,
+                            words: {
+                                batch.words.extend_from_slice(b.words);
+                                (w0, batch.words.len() as u32)
+                            },
+                            element: b.element,
+                            holds_back: b.holds_back,
+                            fault: b.fault,
+                            warnings: b.warnings.to_vec(),
+                            segments: (first, 0),
+                        },
+                        Step::Decode(a) => {
+                            end = true;
+                            Owned::Decode(Box::new(a))
+                        }
+                        Step::End { holds_back } => {
+                            end = true;
+                            Owned::End {
+                                holds_back,
+                                segments: (first, 0),
+                            }
+                        }
+                        Step::EndFault(a) => {
+                            end = true;
+                            Owned::EndFault(Box::new(a))
+                        }
+                    };
+                    batch.segments.extend(staging.iter().copied());
+                    staging.clear();
+                    let last = batch.segments.len() as u32;
+                    let mut owned = owned;
+                    if let Owned::Block { segments, .. } | Owned::End { segments, .. } = &mut owned
+                    {
+                        *segments = (first, last);
+                    }
+                    batch.steps.push(owned);
+                }
+                if full_tx.send(batch).is_err() || end {
+                    return;
+                }
+            }
+        });
+        Threaded {
+            full: full_rx,
+            empty: empty_tx,
+            batch: Batch::default(),
+            next: 0,
+            ended: false,
+        }
+    }
+}
+
+/// Steps per batch and batches in flight: enough to ride out a scheduling hiccup of the other
+/// thread (~512 blocks), small enough to stay in the caches.
+const BATCH: usize = 128;
+const BATCHES: usize = 4;
+
+/// A step as it crosses threads.
+// Nearly every step is a block: boxing it would allocate once per block.
+#[allow(clippy::large_enum_variant)]
+enum Owned {
+    Block {
+        info: BlockInfo,
+        /// The block's words: a range of the batch's.
+        words: (u32, u32),
+        element: Option<(Elem, f64)>,
+        holds_back: bool,
+        fault: Option<Box<Alarm>>,
+        warnings: Vec<Alarm>,
+        /// The step's segments: a range of the batch's.
+        segments: (u32, u32),
+    },
+    Decode(Box<Alarm>),
+    End {
+        holds_back: bool,
+        segments: (u32, u32),
+    },
+    EndFault(Box<Alarm>),
+}
+
+#[derive(Default)]
+struct Batch {
+    steps: Vec<Owned>,
+    segments: Vec<Segment>,
+    words: Vec<AuxWord>,
+}
+
+/// The back's side of a front thread.
+pub struct Threaded {
+    full: Receiver<Batch>,
+    empty: Sender<Batch>,
+    batch: Batch,
+    next: usize,
+    ended: bool,
+}
+
+impl Threaded {
+    /// The next step; its segments go to `out`.
+    pub fn step(&mut self, out: &mut Out) -> Step<'_> {
+        loop {
+            if self.next < self.batch.steps.len() {
+                let i = self.next;
+                self.next += 1;
+                let (steps, segs, all_words) = (
+                    &mut self.batch.steps,
+                    &self.batch.segments,
+                    &self.batch.words,
+                );
+                return match &mut steps[i] {
+                    Owned::Block {
+                        info,
+                        words: w,
+                        element,
+                        holds_back,
+                        fault,
+                        warnings,
+                        segments,
+                    } => {
+                        for s in &segs[segments.0 as usize..segments.1 as usize] {
+                            let _ = out.push_back(*s);
+                        }
+                        Step::Block(BlockStep {
+                            info: *info,
+                            words: &all_words[w.0 as usize..w.1 as usize],
+                            element: *element,
+                            holds_back: *holds_back,
+                            fault: fault.take(),
+                            warnings,
+                        })
+                    }
+                    Owned::Decode(a) => {
+                        self.ended = true;
+                        Step::Decode((**a).clone())
+                    }
+                    Owned::End {
+                        holds_back,
+                        segments,
+                    } => {
+                        self.ended = true;
+                        for s in &segs[segments.0 as usize..segments.1 as usize] {
+                            let _ = out.push_back(*s);
+                        }
+                        Step::End {
+                            holds_back: *holds_back,
+                        }
+                    }
+                    Owned::EndFault(a) => {
+                        self.ended = true;
+                        Step::EndFault((**a).clone())
+                    }
+                };
+            }
+            if self.ended {
+                // Asked again after the end: the end again, with nothing more.
+                return Step::End { holds_back: false };
+            }
+            // This batch is done: back to the front, and the next one. A closed channel
+            // means the front stopped without an end step (it cannot; treated as the end).
+            let done = std::mem::take(&mut self.batch);
+            if done.steps.capacity() > 0 {
+                let _ = self.empty.send(done);
+            }
+            self.next = 0;
+            match recv_soon(&self.full) {
+                Ok(b) => self.batch = b,
+                Err(_) => self.ended = true,
+            }
+        }
+    }
+}
+
+/// Receives, spinning a little before the thread sleeps: a batch is a few tens of
+/// microseconds of work, about what waking a sleeping thread costs on a VM (docs/benchmarks.md),
+/// so sleeping at every hand-over would halve the throughput.
+fn recv_soon<T>(rx: &Receiver<T>) -> Result<T, crossbeam::channel::RecvError> {
+    for _ in 0..SPIN {
+        match rx.try_recv() {
+            Ok(x) => return Ok(x),
+            Err(crossbeam::channel::TryRecvError::Disconnected) => {
+                return Err(crossbeam::channel::RecvError)
+            }
+            Err(crossbeam::channel::TryRecvError::Empty) => std::hint::spin_loop(),
+        }
+    }
+    rx.recv()
+}
+
+/// Spins before sleeping: ~50 µs here.
+const SPIN: u32 = 20_000;
+
+fn alarm(name: &str, f: TrcFault) -> Alarm {
+    Alarm {
+        code: f.code,
+        program: name.to_string(),
+        line: f.source.line,
+        col: f.source.col,
+        block: f.source.number.map(|n| n.to_string()),
+        message: f.message,
+    }
+}
+
+/// A G41/G42 block under ISG's inner-corner selection (G238).
+fn selects_at_inner_corner(b: &Block) -> bool {
+    b.trc.is_some_and(|s| s != TrcSide::Off)
+        && b.approach.is_none()
+        && b.modal.selection == SelectionPolicy::InnerCorner
+}
+
+/// G238 needs the contour's last element before it starts: the last block moving in the plane
+/// before the next G40, read ahead by a copy of the interpreter (once per selection; `None`
+/// when the program ends or stops with an alarm first, which the main stream then reports).
+fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
+    let mut ahead = interp.clone();
+    let mut last = None;
+    while let Ok(Some(b)) = ahead.next_block() {
+        if b.trc == Some(TrcSide::Off) {
+            return last;
+        }
+        if let Some(m) = b.motion.filter(|m| m.moves_in_plane(1e-9)) {
+            last = Some((
+                m,
+                Source {
+                    number: b.number,
+                    line: b.line,
+                    col: b.col,
+                    seq: 0,
+                },
+            ));
+        }
+    }
+    None
+}
+
+/// The motion with the tool length on the tool axis: the old length up to a block that
+/// programs the tool axis, the new one from its end on.
+fn with_length(m: &Motion, length: &mut f64, b: &Block) -> Motion {
+    let n = m.plane.normal as usize;
+    let mut m = *m;
+    m.start[n] += *length;
+    m.center[n] += *length;
+    if m.programmed & (1 << n) != 0 {
+        *length = b.modal.length;
+    }
+    m.end[n] += *length;
+    m
+}
