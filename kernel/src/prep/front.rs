@@ -181,21 +181,32 @@ impl<'a> Front<'a> {
                 batch.words.clear();
                 let mut end = false;
                 while batch.steps.len() < BATCH && !end {
+                    let step = front.step(&mut staging);
+                    // The step's segments, in one copy (the staging queue's two halves).
                     let first = batch.segments.len() as u32;
+                    let (x, y) = staging.as_slices();
+                    batch.segments.extend_from_slice(x);
+                    batch.segments.extend_from_slice(y);
+                    staging.clear();
+                    let segments = (first, batch.segments.len() as u32);
                     let w0 = batch.words.len() as u32;
-                    let owned = match front.step(&mut staging) {
-                        Step::Block(b) => Owned::Block {
-                            info: b.info,
-                            words: {
-                                batch.words.extend_from_slice(b.words);
-                                (w0, batch.words.len() as u32)
-                            },
-                            element: b.element,
-                            holds_back: b.holds_back,
-                            fault: b.fault,
-                            warnings: b.warnings.to_vec(),
-                            segments: (first, 0),
-                        },
+                    batch.steps.push(match step {
+                        Step::Block(b) => {
+                            batch.words.extend_from_slice(b.words);
+                            Owned::Block {
+                                info: b.info,
+                                words: (w0, batch.words.len() as u32),
+                                element: b.element,
+                                holds_back: b.holds_back,
+                                fault: b.fault,
+                                warnings: if b.warnings.is_empty() {
+                                    Vec::new()
+                                } else {
+                                    b.warnings.to_vec()
+                                },
+                                segments,
+                            }
+                        }
                         Step::Decode(a) => {
                             end = true;
                             Owned::Decode(Box::new(a))
@@ -204,23 +215,14 @@ impl<'a> Front<'a> {
                             end = true;
                             Owned::End {
                                 holds_back,
-                                segments: (first, 0),
+                                segments,
                             }
                         }
                         Step::EndFault(a) => {
                             end = true;
                             Owned::EndFault(Box::new(a))
                         }
-                    };
-                    batch.segments.extend(staging.iter().copied());
-                    staging.clear();
-                    let last = batch.segments.len() as u32;
-                    let mut owned = owned;
-                    if let Owned::Block { segments, .. } | Owned::End { segments, .. } = &mut owned
-                    {
-                        *segments = (first, last);
-                    }
-                    batch.steps.push(owned);
+                    });
                 }
                 if full_tx.send(batch).is_err() || end {
                     return;
