@@ -95,6 +95,11 @@ impl<'a> Picture<'a> {
     fn tool_circles(&self) -> Vec<((f64, f64), f64, String)> {
         let mut out = Vec::new();
         let mut last_r = 0.0;
+        let centre = if self.turning_tips() {
+            "nose centre"
+        } else {
+            "tool centre"
+        };
         for (i, s) in self.segments.iter().enumerate() {
             let block_ends = self
                 .segments
@@ -125,11 +130,7 @@ impl<'a> Picture<'a> {
                     s.source
                         .number
                         .map_or_else(|| format!("line {}", s.source.line), |n| n.to_string()),
-                    if self.turning_tips() {
-                        "nose centre"
-                    } else {
-                        "tool centre"
-                    },
+                    centre,
                     names[self.plane.abscissa as usize],
                     num(c.0),
                     names[self.plane.ordinate as usize],

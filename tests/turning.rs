@@ -30,21 +30,19 @@ fn v(edge: u8) -> [f64; 2] {
     }
 }
 
+/// The shipped lathe machine data (config/siemens-808d.toml).
+fn lathe() -> MachineData {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/siemens-808d.toml");
+    MachineData::load(Some(std::path::Path::new(path)), &[]).unwrap()
+}
+
 fn run(program: &str, edge: u8) -> Vec<Segment> {
-    let md = MachineData::load(
-        Some(std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/config/siemens-808d.toml"
-        ))),
-        &[],
-    )
-    .unwrap();
     let tools = ToolTable::from_toml_str(
         &format!("[[offset]]\nt = 1\nd = 1\nradius = {R}\nedge = {edge}\n"),
         "test",
     )
     .unwrap();
-    prepare("turn", program, &md, &tools).unwrap_or_else(|a| panic!("{a}"))
+    prepare("turn", program, &lathe(), &tools).unwrap_or_else(|a| panic!("{a}"))
 }
 
 fn close(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
@@ -169,16 +167,7 @@ fn without_compensation_a_taper_is_off_by_the_closed_form() {
 /// + v(D1).
 #[test]
 fn an_offset_change_over_an_arc_moves_its_centre_with_the_tip() {
-    let md = MachineData::load(
-        Some(std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/config/siemens-808d.toml"
-        ))),
-        &[],
-    )
-    .unwrap();
-    let src = include_str!("../programs/siemens-808d/d_change.mpf");
-    let segs = prepare("d_change", src, &md, &ToolTable::builtin()).unwrap();
+    let segs = shipped("d_change.mpf");
     // N40: D16 (radius 8) with D1: S at X 8.8, P = S + (−0.8, −0.8) at X 8.
     let n40 = segs.iter().find(|s| s.source.line == 15).unwrap();
     assert!((n40.from[0] - 8.0).abs() < 1e-12 && (n40.to[0] - 8.0).abs() < 1e-12);
@@ -217,20 +206,12 @@ fn an_offset_change_over_an_arc_moves_its_centre_with_the_tip() {
 /// A shipped 808D program through preparation with the shipped tools (T1 D1: R 0.8 in
 /// position 3, v = (−0.8, −0.8); T1 D2: R 0.4 in position 4, v = (+0.4, −0.4)).
 fn shipped(file: &str) -> Vec<Segment> {
-    let md = MachineData::load(
-        Some(std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/config/siemens-808d.toml"
-        ))),
-        &[],
-    )
-    .unwrap();
     let path = format!(
         "{}/programs/siemens-808d/{file}",
         env!("CARGO_MANIFEST_DIR")
     );
     let src = std::fs::read_to_string(&path).unwrap();
-    prepare(file, &src, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"))
+    prepare(file, &src, &lathe(), &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"))
 }
 
 /// The segment of block `n` in `role` (the first, or the only one).

@@ -295,6 +295,11 @@ impl Threaded {
                     &self.batch.segments,
                     &self.batch.words,
                 );
+                let mut take = |(first, last): (u32, u32)| {
+                    for s in &segs[first as usize..last as usize] {
+                        let _ = out.push_back(*s);
+                    }
+                };
                 return match &mut steps[i] {
                     Owned::Block {
                         info,
@@ -305,9 +310,7 @@ impl Threaded {
                         warnings,
                         segments,
                     } => {
-                        for s in &segs[segments.0 as usize..segments.1 as usize] {
-                            let _ = out.push_back(*s);
-                        }
+                        take(*segments);
                         Step::Block(BlockStep {
                             info: *info,
                             words: &all_words[w.0 as usize..w.1 as usize],
@@ -326,9 +329,7 @@ impl Threaded {
                         segments,
                     } => {
                         self.ended = true;
-                        for s in &segs[segments.0 as usize..segments.1 as usize] {
-                            let _ = out.push_back(*s);
-                        }
+                        take(*segments);
                         Step::End {
                             holds_back: *holds_back,
                         }

@@ -439,11 +439,15 @@ fn on_arc(e: &Elem, p: V2, c: V2) -> bool {
     if near_ray(s) || near_ray(t) {
         return true;
     }
-    let st = s.cross(t);
     let full = (a - b).len() <= 1e-12 * r.max(1.0);
-    if full {
-        return true;
-    }
+    full || between(s, t, v)
+}
+
+/// Whether direction `v` lies between `s` and `t`, counter-clockwise from `s` (vectors from an
+/// arc's centre to its ends, in ccw order): cross products only, no tolerance.
+#[inline]
+fn between(s: V2, t: V2, v: V2) -> bool {
+    let st = s.cross(t);
     if st > 0.0 || (st == 0.0 && s.dot(t) < 0.0) {
         // At most half a turn: between the two rays.
         s.cross(v) >= 0.0 && v.cross(t) >= 0.0
@@ -519,20 +523,15 @@ pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
 }
 
 /// Whether direction `w` from an arc's centre lies within the arc's sweep, for the cheap
-/// tests below: cross products only, no tolerance (a direction within rounding of an end
-/// changes their values by a second-order amount).
+/// tests below: no tolerance (a direction within rounding of an end changes their values by
+/// a second-order amount).
 #[inline]
 fn in_sweep(e: &Elem, w: V2) -> bool {
     let Elem::Arc { a, b, c, ccw } = *e else {
         return false;
     };
-    // Counter-clockwise from s to t.
     let (s, t) = if ccw { (a - c, b - c) } else { (b - c, a - c) };
-    if s.cross(t) >= 0.0 {
-        s.cross(w) >= 0.0 && w.cross(t) >= 0.0
-    } else {
-        !(t.cross(w) > 0.0 && w.cross(s) > 0.0)
-    }
+    between(s, t, w)
 }
 
 /// Smallest and largest value of `X·w` over the points X of the element.
