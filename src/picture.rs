@@ -681,12 +681,13 @@ fn grid(v: &View, plane: Plane, w: f64, h: f64) -> Group {
     let (u1, v1) = (u0 + w, v0 + h);
     let (x0, y0) = v.px((u0, v0));
     let (x1, y1) = v.px((u1, v1));
+    // The frame from the top edge down, whichever way the ordinate is drawn.
     g = g.add(
         Rectangle::new()
             .set("x", rd(x0))
-            .set("y", rd(y1))
+            .set("y", rd(y0.min(y1)))
             .set("width", rd(x1 - x0))
-            .set("height", rd(y0 - y1))
+            .set("height", rd((y0 - y1).abs()))
             .set("fill", "none")
             .set("stroke", "#c9cdd2"),
     );

@@ -232,6 +232,10 @@ fn lathe_nose_circles_and_the_view_from_in_front() {
         let r = run(&[prog, "--machine", "config/siemens-808d.toml", "--md", &md]);
         assert_eq!(r.code, 0);
         let doc = roxmltree::Document::parse(&r.svg).expect("well-formed SVG");
+        let frame = group(&doc, "grid")
+            .and_then(|g| g.children().find(|n| n.has_tag_name("rect")))
+            .expect("plot frame");
+        assert!(attr(frame, "height") > 0.0, "{post}: frame height");
         let (to_u, to_v) = maps(&doc);
         // World X (ordinate) per pixel downwards: negative when X is drawn up.
         slopes.push(to_v(100.0) - to_v(0.0));
