@@ -51,6 +51,25 @@ enum Command {
         #[command(flatten)]
         input: ProgramArgs,
     },
+    /// Run the program through the kernel (preparation, lookahead, interpolation, channel)
+    /// against a simulated clock and write one CSV row per IPO cycle:
+    /// `cycle,time,X,Y,Z,v_path,block,events` (docs/ipo.md). Bit-identical on every run.
+    Simulate {
+        #[command(flatten)]
+        input: ProgramArgs,
+        /// Write the setpoints to FILE instead of standard output.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Path override in percent (0–120).
+        #[arg(long = "override", value_name = "PERCENT", default_value_t = 100.0)]
+        override_percent: f64,
+        /// Single-block mode: stop at every S point (the simulation presses NC start again).
+        #[arg(long)]
+        single_block: bool,
+        /// IPO cycles from an auxiliary function's output to the PLC's acknowledgement.
+        #[arg(long, value_name = "CYCLES", default_value_t = 1)]
+        ack_cycles: u64,
+    },
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -320,5 +339,85 @@ fn main() -> ExitCode {
             output,
         } => path(input, *format, output.as_ref()),
         Command::Check { input } => check(input),
+        Command::Simulate {
+            input,
+            output,
+            override_percent,
+            single_block,
+            ack_cycles,
+        } => simulate(
+            input,
+            output.as_ref(),
+            *override_percent,
+            *single_block,
+            *ack_cycles,
+        ),
+    }
+}
+
+fn simulate(
+    input: &ProgramArgs,
+    output: Option<&PathBuf>,
+    override_percent: f64,
+    single_block: bool,
+    ack_cycles: u64,
+) -> ExitCode {
+    if !(0.0..=120.0).contains(&override_percent) {
+        return fail(format!(
+            "--override {override_percent}: expected a percentage from 0 to 120"
+        ));
+    }
+    let l = match load(input) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let opts = nc_kernel::simulate::Options {
+        ack_cycles,
+        override_: override_percent / 100.0,
+        single_block,
+        ..Default::default()
+    };
+    let mut out: Box<dyn Write> = match output {
+        Some(p) => match std::fs::File::create(p) {
+            Ok(f) => Box::new(f),
+            Err(e) => return fail(format!("{}: {e}", p.display())),
+        },
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let t0 = std::time::Instant::now();
+    let r = nc_kernel::simulate::run(&l.name, &l.source, &l.md, &l.tools, &opts, &mut out);
+    let s = match r {
+        Ok(s) => s,
+        Err(e) => return fail(format!("writing setpoints: {e}")),
+    };
+    for w in &s.warnings {
+        eprintln!("{}", render_warning(w, &l.source));
+    }
+    for a in &s.alarms {
+        eprintln!("{}", render(a, &l.source));
+    }
+    let cycle_s = f64::from(l.md.ipo.cycle_us) * 1e-6;
+    eprintln!(
+        "{}: {}: {} cycles ({:.3} s machine time), {} segments, {} auxiliary functions, top path speed {:.1} mm/min; simulated in {:.0} ms",
+        l.name,
+        s.end_state.map_or("?", |st| st.name()),
+        s.cycles,
+        s.cycles as f64 * cycle_s,
+        s.segments,
+        s.aux,
+        s.max_speed,
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+    if s.timed_out {
+        eprintln!(
+            "error: the simulation stopped after {} cycles without reaching the end",
+            s.cycles
+        );
+        return ExitCode::from(1);
+    }
+    if s.alarms.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
     }
 }

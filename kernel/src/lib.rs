@@ -7,10 +7,12 @@
 pub mod alarm;
 pub mod dialect;
 pub mod frontend;
+pub mod ipo;
 pub(crate) mod json;
 pub mod machine_data;
 pub mod prep;
 pub mod segment;
+pub mod simulate;
 pub mod synthetic;
 pub mod tools;
 pub mod trc;

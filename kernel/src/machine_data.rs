@@ -182,6 +182,23 @@ impl ZeroOffsets {
 pub struct IpoData {
     /// Interpolation cycle in microseconds.
     pub cycle_us: u32,
+    /// Segments the planner looks ahead (1 ..= 128).
+    pub lookahead: u32,
+    /// Auxiliary functions the path waits at until the PLC acknowledges them, e.g. "M6"
+    /// (tool change), "M3" (spindle at speed): they act as exact stops.
+    pub wait_for_ack: Vec<String>,
+}
+
+impl IpoData {
+    /// Whether `word` (address letter, value) is one the path waits for.
+    pub fn waits_for(&self, address: u8, value: f64) -> bool {
+        self.wait_for_ack.iter().any(|w| {
+            let b = w.as_bytes();
+            !b.is_empty()
+                && b[0].eq_ignore_ascii_case(&address)
+                && w[1..].parse::<f64>().is_ok_and(|x| x == value)
+        })
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -397,6 +414,27 @@ impl MachineData {
                     self.ipo.cycle_us
                 ),
             ));
+        }
+        if !(1..=128).contains(&self.ipo.lookahead) {
+            return Err((
+                "ipo.lookahead".into(),
+                format!(
+                    "{} is outside the allowed range 1 ..= 128",
+                    self.ipo.lookahead
+                ),
+            ));
+        }
+        for w in &self.ipo.wait_for_ack {
+            let b = w.as_bytes();
+            if b.len() < 2
+                || !matches!(b[0].to_ascii_uppercase(), b'M' | b'H' | b'S' | b'T')
+                || w[1..].parse::<f64>().map_or(true, |x| !x.is_finite())
+            {
+                return Err((
+                    "ipo.wait_for_ack".into(),
+                    format!("{w:?} is not an auxiliary function like \"M6\" (M, H, S or T and a number)"),
+                ));
+            }
         }
         let mut any = false;
         for (i, name) in ["X", "Y", "Z"].iter().enumerate() {

@@ -47,6 +47,8 @@ pub struct Preparation<'a> {
     ready: heapless::Deque<Prepared, 32>,
     /// Turning tools: nose centre to tool tip.
     tip: tool_tip::ToolTip,
+    /// Where the program starts (the interpreter's initial position).
+    start: crate::frontend::block::Pos,
 }
 
 /// Where the compensated blocks come from: the front in this thread, or in its own.
@@ -101,7 +103,13 @@ impl<'a> Preparation<'a> {
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
             tip: tool_tip::ToolTip::new(),
+            start,
         }
+    }
+
+    /// Where the program starts: the position before its first motion.
+    pub fn start(&self) -> crate::frontend::block::Pos {
+        self.start
     }
 
     /// Interpreted blocks so far.

@@ -1,0 +1,394 @@
+//! The channel (issue 5 d): its states around the planner, and the auxiliary functions,
+//! program stops and the program end output at their S points.
+//!
+//! RESET → ACTIVE (NC start) → STOPPED (NC stop: braking on the path, then holding;
+//! resumable) → ACTIVE → END (M02/M30) → RESET. M00, M01 (with the optional-stop switch)
+//! and M18 stop at the end of their block and wait for NC start; single-block mode does the
+//! same at every S point, inserted blocks included. An auxiliary function listed in
+//! `ipo.wait_for_ack` makes the path stop where it is output and wait for the PLC's
+//! acknowledgement. A preparation alarm stops the channel where the prepared path ends, with
+//! the position kept.
+//!
+//! What arrives from preparation is tagged with the number of the segment it comes before;
+//! it is output when that segment starts (or, after the last one, when the path is done).
+
+use super::planner::{Entry, Planner, Sample};
+use crate::frontend::block::Pos;
+use crate::machine_data::MachineData;
+use crate::prep::{AuxFunction, Stop};
+use crate::segment::Source;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ChannelState {
+    Reset,
+    Active,
+    Stopped,
+    End,
+}
+
+impl ChannelState {
+    pub fn name(self) -> &'static str {
+        match self {
+            ChannelState::Reset => "RESET",
+            ChannelState::Active => "ACTIVE",
+            ChannelState::Stopped => "STOPPED",
+            ChannelState::End => "END",
+        }
+    }
+}
+
+/// Something that happened in a cycle.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Event {
+    /// Auxiliary functions output to the PLC at their S point.
+    Aux(AuxFunction),
+    /// M00, M01 or M18 reached: the channel stops.
+    Stop(Stop),
+    /// M02 or M30 reached.
+    End(Stop),
+    /// Single-block mode stopped at an S point.
+    SingleBlock,
+    /// A preparation alarm reached: the channel stops with its position kept.
+    Alarm { code: u32, source: Source },
+    /// The channel changed state.
+    State(ChannelState),
+}
+
+/// What preparation feeds the channel, in program order.
+#[derive(Clone, Debug)]
+pub enum Input {
+    Motion(Entry),
+    Aux(AuxFunction),
+    Stop(Stop),
+    End(Stop),
+    Alarm {
+        code: u32,
+        source: Source,
+    },
+    /// The program is through (after its last record).
+    Done,
+}
+
+pub const MAX_EVENTS: usize = 8;
+
+/// One IPO cycle's output.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Setpoint {
+    pub cycle: u64,
+    pub pos: Pos,
+    /// Path speed, mm/s.
+    pub v_path: f64,
+    pub source: Option<Source>,
+    pub state: ChannelState,
+    pub events: heapless::Vec<Event, MAX_EVENTS>,
+}
+
+/// Records waiting for their S point.
+const WAITING: usize = 64;
+
+/// The channel's state apart from the planner (a separate borrow in the cycle).
+struct Gate {
+    waiting: heapless::Deque<(u64, Event), WAITING>,
+    acks_due: u32,
+    /// Waits for NC start (program stop, single block, alarm).
+    halted: bool,
+    alarm: bool,
+    single_block: bool,
+    /// The segment NC start released last (single block), and the last one started.
+    released: Option<u64>,
+    started: Option<u64>,
+    wait_for_ack: heapless::Vec<(u8, f64), 16>,
+    /// Events of this cycle beyond what fits are dropped into this count (never expected:
+    /// the S-point stage limits what waits at one point).
+    lost: u32,
+}
+
+impl Gate {
+    fn emit(&mut self, out: &mut heapless::Vec<Event, MAX_EVENTS>, e: Event) {
+        if out.push(e).is_err() {
+            self.lost += 1;
+        }
+    }
+
+    /// Outputs what waits for the start of segment `no` (all of it for `None`: the end);
+    /// true when the segment may start.
+    fn pass(
+        &mut self,
+        no: Option<u64>,
+        at_rest: bool,
+        out: &mut heapless::Vec<Event, MAX_EVENTS>,
+    ) -> bool {
+        while let Some(&(tag, _)) = self.waiting.front() {
+            if no.is_some_and(|n| tag > n) {
+                break;
+            }
+            let Some((_, e)) = self.waiting.pop_front() else {
+                break;
+            };
+            match &e {
+                Event::Aux(a) => {
+                    let wait = a.words.iter().any(|w| {
+                        self.wait_for_ack
+                            .iter()
+                            .any(|&(ad, v)| ad == w.address.to_ascii_uppercase() && v == w.value)
+                    });
+                    if wait {
+                        self.acks_due += 1;
+                    }
+                }
+                Event::Stop(_) => self.halted = true,
+                Event::Alarm { .. } => {
+                    self.halted = true;
+                    self.alarm = true;
+                }
+                _ => {}
+            }
+            self.emit(out, e);
+        }
+        let Some(no) = no else {
+            return false;
+        };
+        if at_rest
+            && self.single_block
+            && self.started.is_some()
+            && self.released != Some(no)
+            && !self.halted
+        {
+            self.halted = true;
+            // The S point is where the segment before ended; its block is the one shown.
+            self.emit(out, Event::SingleBlock);
+        }
+        let go = !(self.halted || self.acks_due > 0);
+        if go || !at_rest {
+            self.started = Some(no);
+        }
+        go
+    }
+}
+
+pub struct Channel {
+    planner: Planner,
+    gate: Gate,
+    state: ChannelState,
+    input_done: bool,
+    ended: bool,
+}
+
+impl Channel {
+    pub fn new(md: &MachineData, start: Pos) -> Self {
+        let lim = super::AxisLimits::new(md);
+        let mut wait = heapless::Vec::new();
+        for w in &md.ipo.wait_for_ack {
+            if let Ok(v) = w[1..].parse::<f64>() {
+                let _ = wait.push((w.as_bytes()[0].to_ascii_uppercase(), v));
+            }
+        }
+        Channel {
+            planner: Planner::new(lim, md.ipo.lookahead as usize, start),
+            gate: Gate {
+                waiting: heapless::Deque::new(),
+                acks_due: 0,
+                halted: false,
+                alarm: false,
+                single_block: false,
+                released: None,
+                started: None,
+                wait_for_ack: wait,
+                lost: 0,
+            },
+            state: ChannelState::Reset,
+            input_done: false,
+            ended: false,
+        }
+    }
+
+    pub fn state(&self) -> ChannelState {
+        self.state
+    }
+
+    pub fn planner(&self) -> &Planner {
+        &self.planner
+    }
+
+    /// Whether `input` can be taken now (room in the lookahead, or for what waits).
+    pub fn can_take(&self, input: &Input) -> bool {
+        match input {
+            Input::Motion(_) => self.planner.room() > 0,
+            Input::Done => true,
+            _ => !self.gate.waiting.is_full(),
+        }
+    }
+
+    /// Takes the next record from preparation; false (nothing taken) when there is no room:
+    /// offer it again after a cycle.
+    pub fn take(&mut self, input: Input) -> bool {
+        if !self.can_take(&input) || self.input_done {
+            return false;
+        }
+        let tag = self.planner.pushed();
+        let (event, halts) = match input {
+            Input::Motion(mut e) => {
+                if self.gate.single_block {
+                    e.stop_after = true;
+                }
+                self.planner.push(e);
+                return true;
+            }
+            Input::Done => {
+                self.input_done = true;
+                return true;
+            }
+            Input::Aux(a) => {
+                let halts = a.words.iter().any(|w| {
+                    self.gate
+                        .wait_for_ack
+                        .iter()
+                        .any(|&(ad, v)| ad == w.address.to_ascii_uppercase() && v == w.value)
+                });
+                (Event::Aux(a), halts)
+            }
+            Input::Stop(s) => (Event::Stop(s), true),
+            Input::End(s) => {
+                self.input_done = true;
+                (Event::End(s), true)
+            }
+            Input::Alarm { code, source } => {
+                self.input_done = true;
+                (Event::Alarm { code, source }, true)
+            }
+        };
+        if halts {
+            self.planner.stop_after_last();
+        }
+        let _ = self.gate.waiting.push_back((tag, event));
+        true
+    }
+
+    /// All input taken (the end of the program is known).
+    pub fn input_done(&self) -> bool {
+        self.input_done
+    }
+
+    /// NC start: RESET → ACTIVE, or STOPPED → ACTIVE (after an NC stop, a program stop or
+    /// a single-block stop). Not after an alarm or at the end: reset first.
+    pub fn start(&mut self) {
+        match self.state {
+            ChannelState::Reset => self.state = ChannelState::Active,
+            // NC start while still braking from an NC stop: go on from where it is.
+            ChannelState::Active => self.planner.resume(),
+            ChannelState::Stopped if !self.gate.alarm => {
+                self.state = ChannelState::Active;
+                self.planner.resume();
+                if self.gate.halted {
+                    self.gate.halted = false;
+                    self.gate.released = Some(self.planner.pushed().min(self.next_segment()));
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The number of the next segment to start.
+    fn next_segment(&self) -> u64 {
+        self.gate.started.map_or(0, |s| s + 1)
+    }
+
+    /// NC stop: the path brakes and holds; STOPPED once at rest.
+    pub fn stop(&mut self) {
+        if self.state == ChannelState::Active {
+            self.planner.stop();
+        }
+    }
+
+    /// Reset: the program is dropped, the position stays.
+    pub fn reset(&mut self) {
+        self.planner.clear();
+        self.gate.waiting.clear();
+        self.gate.acks_due = 0;
+        self.gate.halted = false;
+        self.gate.alarm = false;
+        self.gate.released = None;
+        self.gate.started = None;
+        self.input_done = false;
+        self.ended = false;
+        self.state = ChannelState::Reset;
+    }
+
+    /// The PLC acknowledged an auxiliary function.
+    pub fn ack(&mut self) {
+        self.gate.acks_due = self.gate.acks_due.saturating_sub(1);
+    }
+
+    pub fn acks_due(&self) -> u32 {
+        self.gate.acks_due
+    }
+
+    pub fn set_override(&mut self, f: f64) {
+        self.planner.set_override(f);
+    }
+
+    /// Single-block mode: stop at every S point.
+    pub fn set_single_block(&mut self, on: bool) {
+        self.gate.single_block = on;
+        if on {
+            self.planner.stop_after_each();
+        }
+    }
+
+    /// The setpoint of cycle `k`.
+    pub fn cycle(&mut self, k: u64, out: &mut Setpoint) {
+        out.events.clear();
+        let before = self.state;
+        let sample = match self.state {
+            ChannelState::Active | ChannelState::Stopped => {
+                let gate = &mut self.gate;
+                let events = &mut out.events;
+                self.planner
+                    .cycle(k, &mut |no, rest| gate.pass(Some(no), rest, events))
+            }
+            ChannelState::Reset | ChannelState::End => Sample {
+                pos: self.planner.position(),
+                v: 0.0,
+                source: out.source,
+            },
+        };
+        if self.state == ChannelState::Active {
+            if self.planner.idle() && self.input_done && !self.ended {
+                // The path is done: what waits after the last segment is due now.
+                self.gate.pass(None, true, &mut out.events);
+                self.ended = true;
+                if !self.gate.alarm {
+                    self.state = ChannelState::End;
+                }
+            }
+            if self.planner.at_rest() && (self.gate.halted || self.planner_stopping()) {
+                self.state = ChannelState::Stopped;
+            }
+        }
+        if self.state != before {
+            self.gate.emit(&mut out.events, Event::State(self.state));
+        }
+        out.cycle = k;
+        out.pos = sample.pos;
+        out.v_path = sample.v;
+        out.source = sample.source;
+        out.state = self.state;
+    }
+
+    fn planner_stopping(&self) -> bool {
+        self.planner.is_stopping()
+    }
+}
+
+impl Setpoint {
+    pub fn new(start: Pos) -> Self {
+        Setpoint {
+            cycle: 0,
+            pos: start,
+            v_path: 0.0,
+            source: None,
+            state: ChannelState::Reset,
+            events: heapless::Vec::new(),
+        }
+    }
+}

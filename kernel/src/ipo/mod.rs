@@ -1,0 +1,22 @@
+//! Interpolation: the prepared path becomes one setpoint per IPO cycle.
+//!
+//! - [`path`]: a segment as a curve: length, point at a distance, tangents and curvature;
+//! - [`limits`]: the axes' velocity, acceleration and jerk limits as the path's limits, and
+//!   the corner speeds;
+//! - [`profile`]: jerk-limited velocity profiles along the path;
+//! - [`planner`]: the lookahead over the queued segments and the interpolator that samples
+//!   the plan at every cycle;
+//! - [`channel`]: the channel states (RESET, ACTIVE, STOPPED, END) around it.
+//!
+//! Everything the IPO thread runs works in place: no allocation, no lock (docs/ipo.md).
+
+pub mod channel;
+pub mod limits;
+pub mod path;
+pub mod planner;
+pub mod profile;
+
+pub use channel::{Channel, ChannelState, Event, Setpoint};
+pub use limits::AxisLimits;
+pub use path::Piece;
+pub use planner::{Entry, Planner};

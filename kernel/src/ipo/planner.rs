@@ -1,0 +1,409 @@
+//! Lookahead and interpolation (issue 5 a, b).
+//!
+//! The planner holds up to `lookahead` prepared segments. Each segment's end speed is bounded
+//! by the corner to the next one ([`AxisLimits::corner`]), by both segments' speeds, and by
+//! what the rest of the queue still allows: a backward pass from the last queued segment,
+//! which ends at rest because nothing is known after it. So the braking distance from the
+//! current speed always lies inside the queued path: when preparation falls behind, the path
+//! slows down under control and waits, instead of stopping dead.
+//!
+//! The segment that runs gets a jerk-limited [`profile`](super::profile) from the state it is
+//! entered with to its end speed, with acceleration 0 at the end. Every IPO cycle samples the
+//! profile; a segment that ends inside a cycle hands over to the next at the exact time
+//! (C² along the path), unless it ends at rest: then the setpoint stays exactly on its end
+//! point for at least one whole cycle before the next motion starts.
+//!
+//! An override change or an NC stop replans the running segment from the state of the last
+//! setpoint at the next cycle. Nothing here allocates.
+
+use super::limits::{AxisLimits, SegmentLimits};
+use super::path::Piece;
+use super::profile::{plan, reach, Profile};
+use crate::frontend::block::Pos;
+use crate::segment::{Segment, Source};
+
+/// Longest lookahead, in segments.
+pub const MAX_LOOKAHEAD: usize = 128;
+
+/// The speed a segment may run at: programmed feed times override, within the axes' cap;
+/// rapid traverse at the cap, the override acting up to 100 %; 0 while stopping.
+fn speed(e: &Entry, stopping: bool, ovr: f64) -> f64 {
+    if stopping {
+        return 0.0;
+    }
+    match e.feed {
+        Some(f) => (f * ovr).min(e.limits.v_cap),
+        None => e.limits.v_cap * ovr.min(1.0),
+    }
+}
+
+/// A segment in the lookahead queue.
+#[derive(Clone, Copy, Debug)]
+pub struct Entry {
+    pub piece: Piece,
+    pub limits: SegmentLimits,
+    /// Programmed path feed in mm/s; `None` for rapid traverse.
+    pub feed: Option<f64>,
+    /// The path stops at its end: exact stop (G09, G60), or something waits there.
+    pub stop_after: bool,
+    /// Numbered in the order pushed, from 0.
+    pub no: u64,
+    end_cap: f64,
+    end_max: f64,
+}
+
+impl Entry {
+    /// `Ok(None)` for a segment without length; `Err(axis)` when it moves an axis without
+    /// machine data. Computed where the segment is prepared, not in the IPO thread (it
+    /// evaluates the arc's trigonometry).
+    pub fn new(seg: &Segment, lim: &AxisLimits) -> Result<Option<Entry>, usize> {
+        let Some(piece) = Piece::new(seg) else {
+            return Ok(None);
+        };
+        let limits = lim.segment(&piece)?;
+        Ok(Some(Entry {
+            piece,
+            limits,
+            feed: (!seg.rapid).then_some(seg.feed / 60.0),
+            stop_after: seg.exact_stop,
+            no: 0,
+            end_cap: 0.0,
+            end_max: 0.0,
+        }))
+    }
+
+    /// Its speed at the end as planned now (tests).
+    pub fn planned_end_speed(&self) -> f64 {
+        self.end_max
+    }
+
+    /// The corner limit to the next segment (0 at a stop or with nothing after it).
+    pub fn corner_limit(&self) -> f64 {
+        self.end_cap
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    prof: Profile,
+    /// Time (s) the profile starts, and the end speed it was planned to.
+    t0: f64,
+    w: f64,
+}
+
+/// One IPO cycle's output of the planner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub pos: Pos,
+    /// Path speed, mm/s.
+    pub v: f64,
+    /// The block the setpoint belongs to (the last one after the end).
+    pub source: Option<Source>,
+}
+
+pub struct Planner {
+    lim: AxisLimits,
+    lookahead: usize,
+    queue: heapless::Deque<Entry, MAX_LOOKAHEAD>,
+    pushed: u64,
+    override_: f64,
+    stopping: bool,
+    replan: bool,
+    run: Option<Run>,
+    /// Distance done on the front segment before the running profile started.
+    offset: f64,
+    /// Path state at the last setpoint (or at a hand-over).
+    v: f64,
+    a: f64,
+    /// When a segment handed over without stopping: the time it ended.
+    t_free: f64,
+    /// At rest: the first cycle a new motion may start at.
+    rest_cycle: u64,
+    last_t: f64,
+    pos: Pos,
+    source: Option<Source>,
+}
+
+impl Planner {
+    pub fn new(lim: AxisLimits, lookahead: usize, start: Pos) -> Self {
+        Planner {
+            lim,
+            lookahead: lookahead.clamp(1, MAX_LOOKAHEAD),
+            queue: heapless::Deque::new(),
+            pushed: 0,
+            override_: 1.0,
+            stopping: false,
+            replan: false,
+            run: None,
+            offset: 0.0,
+            v: 0.0,
+            a: 0.0,
+            t_free: 0.0,
+            rest_cycle: 0,
+            last_t: 0.0,
+            pos: start,
+            source: None,
+        }
+    }
+
+    pub fn limits(&self) -> &AxisLimits {
+        &self.lim
+    }
+
+    /// Segments that can still be queued.
+    pub fn room(&self) -> usize {
+        self.lookahead.saturating_sub(self.queue.len())
+    }
+
+    /// Segments pushed so far: the number the next one gets.
+    pub fn pushed(&self) -> u64 {
+        self.pushed
+    }
+
+    /// Nothing queued and the path at rest.
+    pub fn idle(&self) -> bool {
+        self.queue.is_empty() && self.run.is_none()
+    }
+
+    /// The path stands still (between segments or stopped on one).
+    pub fn at_rest(&self) -> bool {
+        self.v == 0.0
+    }
+
+    pub fn position(&self) -> Pos {
+        self.pos
+    }
+
+    /// Queues a segment (the caller keeps to [`room`](Self::room)).
+    pub fn push(&mut self, mut e: Entry) {
+        if self.queue.len() >= self.lookahead {
+            return;
+        }
+        let corner = |last: &Entry, e: &Entry| {
+            if last.stop_after {
+                0.0
+            } else {
+                self.lim.corner(&last.piece, &e.piece)
+            }
+        };
+        if let Some(last) = self.queue.back() {
+            let c = corner(last, &e);
+            if let Some(last) = self.queue.back_mut() {
+                last.end_cap = c;
+            }
+        }
+        e.no = self.pushed;
+        e.end_cap = 0.0;
+        e.end_max = 0.0;
+        self.pushed += 1;
+        let _ = self.queue.push_back(e);
+        self.backward(false);
+    }
+
+    /// The path must come to rest at the end of the last queued segment (something waits
+    /// at the next S point). With nothing queued it is at rest there already.
+    pub fn stop_after_last(&mut self) {
+        if let Some(last) = self.queue.back_mut() {
+            last.stop_after = true;
+            last.end_cap = 0.0;
+            self.backward(true);
+        }
+    }
+
+    /// Stops at the end of every queued segment from now on (single block).
+    pub fn stop_after_each(&mut self) {
+        for e in self.queue.iter_mut() {
+            e.stop_after = true;
+            e.end_cap = 0.0;
+        }
+        self.backward(true);
+    }
+
+    /// Path override, 0–1.2 (0–120 %); takes effect at the next cycle.
+    pub fn set_override(&mut self, f: f64) {
+        let f = if f.is_finite() {
+            f.clamp(0.0, 1.2)
+        } else {
+            0.0
+        };
+        if f != self.override_ {
+            self.override_ = f;
+            self.backward(true);
+            self.replan = true;
+        }
+    }
+
+    /// NC stop: brake on the path, from the next cycle.
+    pub fn stop(&mut self) {
+        if !self.stopping {
+            self.stopping = true;
+            self.backward(true);
+            self.replan = true;
+        }
+    }
+
+    pub fn is_stopping(&self) -> bool {
+        self.stopping
+    }
+
+    /// After an NC stop: go on.
+    pub fn resume(&mut self) {
+        if self.stopping {
+            self.stopping = false;
+            self.backward(true);
+            self.replan = true;
+        }
+    }
+
+    /// Drops what is queued; the position stays (channel reset).
+    pub fn clear(&mut self) {
+        self.queue.clear();
+        self.run = None;
+        self.offset = 0.0;
+        self.v = 0.0;
+        self.a = 0.0;
+        self.stopping = false;
+        self.replan = false;
+    }
+
+    /// The speed the segment may run at now.
+    fn vmax(&self, e: &Entry) -> f64 {
+        speed(e, self.stopping, self.override_)
+    }
+
+    /// The highest speed at each segment's end from which the rest of the queue can still be
+    /// done, from the back; on a push only the tail can change (`full` after an override).
+    fn backward(&mut self, full: bool) {
+        let (stopping, ovr) = (self.stopping, self.override_);
+        let n = self.queue.len();
+        // (start speed the next segment allows, its own cap)
+        let mut next: Option<(f64, f64)> = None;
+        let (a, b) = self.queue.as_mut_slices();
+        for (k, e) in b.iter_mut().rev().chain(a.iter_mut().rev()).enumerate() {
+            let i = n - 1 - k;
+            let own = speed(e, stopping, ovr);
+            let end = match next {
+                None => 0.0,
+                Some((start_next, cap_next)) => e.end_cap.min(own).min(cap_next).min(start_next),
+            };
+            if !full && i + 2 < n && end == e.end_max {
+                break;
+            }
+            e.end_max = end;
+            next = Some((reach(end, e.piece.len, e.limits.dynamics), own));
+        }
+    }
+
+    /// The setpoint of cycle `k` (time k·T). `gate(no, at_rest)` is asked before segment
+    /// `no` starts; at rest it may hold the start (false), in a running hand-over its answer
+    /// is ignored (whatever waits there made the segment before stop).
+    pub fn cycle(&mut self, k: u64, gate: &mut impl FnMut(u64, bool) -> bool) -> Sample {
+        let t = k as f64 * self.lim.cycle();
+        if std::mem::take(&mut self.replan) {
+            self.replan_at(self.last_t);
+        }
+        loop {
+            if self.run.is_none() {
+                let Some(front) = self.queue.front() else {
+                    break;
+                };
+                let at_rest = self.v == 0.0;
+                let t0 = if at_rest {
+                    if k < self.rest_cycle || !gate(front.no, true) {
+                        break;
+                    }
+                    t
+                } else {
+                    gate(front.no, false);
+                    self.t_free
+                };
+                let (prof, w) = plan(
+                    self.v,
+                    self.a,
+                    front.piece.len - self.offset,
+                    self.vmax(front),
+                    front.end_max,
+                    front.limits.dynamics,
+                );
+                self.run = Some(Run { prof, t0, w });
+            }
+            let (Some(run), Some(front)) = (self.run, self.queue.front()) else {
+                break;
+            };
+            let rem = front.piece.len - self.offset;
+            let tau = t - run.t0;
+            let (s, v, a) = run.prof.at(tau);
+            // A plan that ends at rest on the end point is done when its phases are; one
+            // that ends at rest before it (NC stop, override 0) stays.
+            let ends_here = run.w == 0.0
+                && tau >= run.prof.duration()
+                && run.prof.distance() >= rem - 1e-9 * rem.max(1.0);
+            if s < rem && !ends_here {
+                self.pos = front.piece.point(self.offset + s);
+                // A plan that ended at rest short of the end (NC stop): exactly at rest.
+                let done = run.w == 0.0 && tau >= run.prof.duration();
+                self.v = if v > 0.0 && !done { v } else { 0.0 };
+                self.a = if done { 0.0 } else { a };
+                self.source = Some(front.piece.seg.source);
+                break;
+            }
+            // The segment ends inside this cycle.
+            let te = if ends_here {
+                run.prof.duration()
+            } else {
+                run.prof.time_at(rem).unwrap_or(tau)
+            };
+            let (_, ve, ae) = run.prof.at(te);
+            self.pos = front.piece.seg.to;
+            self.source = Some(front.piece.seg.source);
+            self.queue.pop_front();
+            self.run = None;
+            self.offset = 0.0;
+            if run.w == 0.0 {
+                self.v = 0.0;
+                self.a = 0.0;
+                // This cycle is the first on the end point; the next motion starts with the
+                // next one, whose setpoint is the same point: one whole cycle at rest.
+                self.rest_cycle = k + 1;
+            } else {
+                self.v = ve;
+                self.a = ae;
+                self.t_free = run.t0 + te;
+            }
+        }
+        self.last_t = t;
+        Sample {
+            pos: self.pos,
+            v: self.v,
+            source: self.source,
+        }
+    }
+
+    /// A new profile for the running segment from the state of the setpoint at `t`.
+    fn replan_at(&mut self, t: f64) {
+        let Some(run) = self.run else {
+            return;
+        };
+        let Some(front) = self.queue.front() else {
+            return;
+        };
+        let (s, v, a) = run.prof.at(t - run.t0);
+        let rem = front.piece.len - self.offset;
+        if s >= rem {
+            return;
+        }
+        self.offset += s;
+        let v = v.max(0.0);
+        let (prof, w) = plan(
+            v,
+            a,
+            front.piece.len - self.offset,
+            self.vmax(front),
+            front.end_max,
+            front.limits.dynamics,
+        );
+        self.run = Some(Run { prof, t0: t, w });
+        self.v = v;
+        self.a = a;
+    }
+}

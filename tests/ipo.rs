@@ -1,0 +1,601 @@
+//! Interpolation checked from the setpoint stream alone (issue 5): `softnc simulate`'s rows
+//! against the prepared path and the machine data, with geometry and finite differences
+//! written here.
+//!
+//! - every setpoint lies on its block's compensated path (1e-9 mm);
+//! - no axis exceeds its velocity, acceleration or jerk limit (finite differences of the
+//!   setpoints over the IPO cycle; tolerance 1e-6 relative plus rounding);
+//! - at every G9 block end the setpoint is exactly the end point for two cycles (path speed 0
+//!   for one whole cycle);
+//! - corner speeds do not exceed the planner's corner limit;
+//! - NC stop, override and single block;
+//! - the same program and machine data give the same bits (sha256 pinned per sample program,
+//!   and with the preparation thread slowed down).
+
+use nc_kernel::ipo::{AxisLimits, Piece};
+use nc_kernel::simulate::{run, Options, Summary};
+use nc_kernel::{MachineData, Segment, Shape, ToolTable};
+use sha2::{Digest, Sha256};
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[derive(Debug, Clone)]
+struct Row {
+    cycle: u64,
+    pos: [f64; 3],
+    /// mm/min
+    v: f64,
+    block: String,
+    events: String,
+}
+
+fn machine(file: Option<&str>, over: &[&str]) -> MachineData {
+    let over: Vec<String> = over.iter().map(|s| s.to_string()).collect();
+    let path = file.map(|f| root().join("config").join(f));
+    MachineData::load(path.as_deref(), &over).expect("machine data")
+}
+
+fn simulate_bytes(md: &MachineData, text: &str, opts: &Options) -> (Vec<u8>, Summary) {
+    let tools = ToolTable::builtin();
+    let mut out = Vec::new();
+    let s = run("test.mpf", text, md, &tools, opts, &mut out).expect("simulate");
+    (out, s)
+}
+
+fn rows(csv: &[u8]) -> Vec<Row> {
+    let text = std::str::from_utf8(csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("cycle,time,X,Y,Z,v_path,block,events"));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.splitn(8, ',').collect();
+            Row {
+                cycle: f[0].parse().unwrap(),
+                pos: [
+                    f[2].parse().unwrap(),
+                    f[3].parse().unwrap(),
+                    f[4].parse().unwrap(),
+                ],
+                v: f[5].parse().unwrap(),
+                block: f[6].to_string(),
+                events: f[7].to_string(),
+            }
+        })
+        .collect()
+}
+
+fn simulate(md: &MachineData, text: &str) -> (Vec<Row>, Summary) {
+    let (b, s) = simulate_bytes(md, text, &Options::default());
+    (rows(&b), s)
+}
+
+fn block_name(s: &Segment) -> String {
+    match s.source.number {
+        Some(n) => n.to_string(),
+        None => format!("L{}", s.source.line),
+    }
+}
+
+/// Distance from `p` to a prepared segment, written independently of the kernel: a line, or
+/// an arc about a fixed centre whose radius and normal coordinate change linearly with the
+/// angle from `from` to `to`.
+fn dist_to(seg: &Segment, p: [f64; 3]) -> f64 {
+    match seg.shape {
+        Shape::Line => {
+            let d = [
+                seg.to[0] - seg.from[0],
+                seg.to[1] - seg.from[1],
+                seg.to[2] - seg.from[2],
+            ];
+            let w = [p[0] - seg.from[0], p[1] - seg.from[1], p[2] - seg.from[2]];
+            let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let t = ((w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / dd).clamp(0.0, 1.0);
+            let q = [w[0] - t * d[0], w[1] - t * d[1], w[2] - t * d[2]];
+            (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt()
+        }
+        Shape::Arc {
+            center,
+            center_end,
+            ccw,
+            plane,
+            ..
+        } => {
+            assert_eq!(center, center_end, "moving centres are not checked here");
+            let (a, o, n) = (
+                plane.abscissa as usize,
+                plane.ordinate as usize,
+                plane.normal as usize,
+            );
+            let ang = |q: [f64; 3]| (q[o] - center[o]).atan2(q[a] - center[a]);
+            let rad = |q: [f64; 3]| (q[a] - center[a]).hypot(q[o] - center[o]);
+            let tau = std::f64::consts::TAU;
+            let dir = |x: f64| {
+                let x = if ccw { x } else { -x };
+                x.rem_euclid(tau)
+            };
+            let full = seg.from[a] == seg.to[a] && seg.from[o] == seg.to[o];
+            let sweep = if full {
+                tau
+            } else {
+                dir(ang(seg.to) - ang(seg.from))
+            };
+            let mut phi = dir(ang(p) - ang(seg.from));
+            if phi > sweep && phi > (sweep + tau) / 2.0 {
+                phi -= tau; // just before the start
+            }
+            let (r0, r1) = (rad(seg.from), rad(seg.to));
+            let u = phi / sweep;
+            if !(-1e-9..=1.0 + 1e-9).contains(&u) {
+                return f64::INFINITY;
+            }
+            let r = r0 + (r1 - r0) * u;
+            let h = seg.from[n] + (seg.to[n] - seg.from[n]) * u;
+            (rad(p) - r).hypot(p[n] - h)
+        }
+    }
+}
+
+/// Every setpoint lies on a segment of its block (1e-9 mm); returns the rows checked.
+fn assert_on_path(md: &MachineData, text: &str, rows: &[Row]) -> usize {
+    let segs = nc_kernel::prepare("test.mpf", text, md, &ToolTable::builtin()).expect("path");
+    let mut checked = 0;
+    for r in rows {
+        let own: Vec<&Segment> = segs.iter().filter(|s| block_name(s) == r.block).collect();
+        if own.is_empty() {
+            continue;
+        }
+        let d = own
+            .iter()
+            .map(|s| dist_to(s, r.pos))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d <= 1e-9,
+            "cycle {} ({}) at {:?}: {d:e} mm off the path",
+            r.cycle,
+            r.block,
+            r.pos
+        );
+        checked += 1;
+    }
+    checked
+}
+
+/// Largest |finite difference| of order 1, 2, 3 per axis over the cycle, relative to the
+/// axis's limit; panics on any above 1 + 1e-6.
+fn assert_within_limits(md: &MachineData, rows: &[Row]) -> [[f64; 3]; 3] {
+    let t = f64::from(md.ipo.cycle_us) * 1e-6;
+    let mut worst = [[0.0; 3]; 3];
+    for ax in 0..3 {
+        let Some(lim) = md.axes.get(ax) else {
+            continue;
+        };
+        let x: Vec<f64> = rows.iter().map(|r| r.pos[ax]).collect();
+        let v: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]) / t).collect();
+        let a: Vec<f64> = v.windows(2).map(|w| (w[1] - w[0]) / t).collect();
+        let j: Vec<f64> = a.windows(2).map(|w| (w[1] - w[0]) / t).collect();
+        // Rounding of positions ~1e2 mm: ~1e-14 mm per setpoint, /T³ for the jerk.
+        let noise = 1e-13 / (t * t * t);
+        for (k, (series, limit)) in [
+            (&v, lim.max_velocity / 60.0),
+            (&a, lim.max_acceleration),
+            (&j, lim.max_jerk),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for (i, d) in series.iter().enumerate() {
+                let r = (d.abs() - noise.min(limit * 1e-6)) / limit;
+                assert!(
+                    r <= 1.0 + 1e-6,
+                    "axis {} order {} at cycle {}: {} above the limit {}",
+                    ["X", "Y", "Z"][ax],
+                    k + 1,
+                    rows[i + k + 1].cycle,
+                    d,
+                    limit
+                );
+                worst[ax][k] = f64::max(worst[ax][k], r);
+            }
+        }
+    }
+    worst
+}
+
+fn workpiece() -> String {
+    std::fs::read_to_string(root().join("programs/siemens-840c/11_15_workpiece.mpf")).unwrap()
+}
+
+#[test]
+fn the_840c_workpiece_runs_on_its_path_within_the_axis_limits() {
+    let md = machine(None, &[]);
+    let text = workpiece();
+    let (rows, s) = simulate(&md, &text);
+    assert_eq!(s.end_state.map(|s| s.name()), Some("END"));
+    assert!(s.alarms.is_empty());
+    let checked = assert_on_path(&md, &text, &rows);
+    assert!(checked > 40_000, "{checked}");
+    let worst = assert_within_limits(&md, &rows);
+    // The axes are used: acceleration and velocity reach their limits somewhere.
+    assert!(worst[1][0] > 0.99 && worst[1][1] > 0.99, "{worst:?}");
+    // It ends exactly at N130's end point (Z50 plus D1's tool length 100) with M30 and END.
+    let last = rows.last().unwrap();
+    assert_eq!(last.pos, [15.0, 60.0, 150.0]);
+    assert_eq!(last.events, "M30;END");
+    // M3 waits for its acknowledgement: the path stands at S0 for it.
+    let m3 = rows
+        .iter()
+        .position(|r| r.events.contains("aux S80 M3"))
+        .unwrap();
+    assert_eq!(rows[m3].v, 0.0);
+    assert_eq!(rows[m3].pos, rows[m3 + 1].pos);
+}
+
+#[test]
+fn helices_and_full_circles_lie_on_their_curves() {
+    let md = machine(None, &[]);
+    let text = "N10 G17 G90 G0 X10 Y0 Z0\n\
+                N20 G3 X10 Y0 Z-6 I-10 J0 F2000 ; a full helix turn\n\
+                N30 G2 X-10 Y0 I-10 J0 ; half circle\n\
+                N40 G1 X-10 Y20 Z0\n\
+                N50 G3 X-30 Y20 I-10 J0 Z-3 ; half helix\n\
+                N60 M30\n";
+    let (rows, s) = simulate(&md, text);
+    assert_eq!(s.end_state.map(|s| s.name()), Some("END"));
+    assert!(assert_on_path(&md, text, &rows) > 1000);
+    assert_within_limits(&md, &rows);
+}
+
+#[test]
+fn every_g9_block_ends_exactly_at_rest_for_a_cycle() {
+    let md = machine(None, &[]);
+    let text = "N10 G90 G1 X20 Y0 F3000\n\
+                N20 G9 X40 Y5\n\
+                N30 X60 Y0\n\
+                N40 G9 G2 X80 Y0 I10 J0\n\
+                N50 G1 X100 Y0\n\
+                N60 G9 X100.001 Y0 ; a tiny block\n\
+                N70 X120 Y10\n\
+                N80 M30\n";
+    let (rows, _) = simulate(&md, text);
+    for (block, end) in [
+        ("N20", [40.0, 5.0, 0.0]),
+        ("N40", [80.0, 0.0, 0.0]),
+        ("N60", [100.001, 0.0, 0.0]),
+    ] {
+        let k = rows
+            .iter()
+            .position(|r| r.pos == end)
+            .unwrap_or_else(|| panic!("{block}'s end point is never a setpoint"));
+        assert_eq!(rows[k + 1].pos, end, "{block}: one cycle at rest");
+        assert_eq!(rows[k + 1].v, 0.0, "{block}");
+        assert_eq!(rows[k].block, block);
+    }
+    assert_within_limits(&md, &rows);
+    assert_on_path(&md, text, &rows);
+}
+
+#[test]
+fn corners_are_not_passed_faster_than_the_planner_allows() {
+    // A polygon with corners of 5°, 30°, 90°, 150° and a tangent line-to-arc transition.
+    let md = machine(None, &[]);
+    let text = "N10 G90 G1 X50 Y0 F6000\n\
+                N20 X100 Y4.374\n\
+                N30 X140 Y27.468\n\
+                N40 X117 Y67.3\n\
+                N50 X20 Y40\n\
+                N60 X0 Y40\n\
+                N70 G2 X-20 Y20 I0 J-20\n\
+                N80 G1 X-20 Y0\n\
+                N90 M30\n";
+    let segs = nc_kernel::prepare("test.mpf", text, &md, &ToolTable::builtin()).unwrap();
+    let lim = AxisLimits::new(&md);
+    let (rows, _) = simulate(&md, text);
+    let t = f64::from(md.ipo.cycle_us) * 1e-6;
+    let mut seen = 0;
+    for w in segs.windows(2) {
+        let (a, b) = (Piece::new(&w[0]).unwrap(), Piece::new(&w[1]).unwrap());
+        let limit = lim.corner(&a, &b) * 60.0; // mm/min
+        let (na, nb) = (block_name(&w[0]), block_name(&w[1]));
+        // The rows on either side of the corner: the path's acceleration is 0 there and the
+        // jerk at most the axes', so within a cycle the speed moves by < j·T²/2.
+        let slack = 50_000.0 * t * t * 60.0;
+        let Some(k) = rows
+            .windows(2)
+            .position(|p| p[0].block == na && p[1].block == nb)
+        else {
+            panic!("no transition {na} → {nb}");
+        };
+        for r in &rows[k..k + 2] {
+            assert!(
+                r.v <= limit + slack,
+                "{na} → {nb}: {} mm/min above the corner limit {limit}",
+                r.v
+            );
+        }
+        seen += 1;
+    }
+    assert_eq!(seen, 7);
+    assert_within_limits(&md, &rows);
+}
+
+#[test]
+fn override_scales_the_feed_and_keeps_the_limits() {
+    let md = machine(None, &[]);
+    let text = "N10 G90 G1 X200 F3000\nN20 M30\n";
+    let top = |ovr: f64| {
+        let opts = Options {
+            override_: ovr,
+            ..Default::default()
+        };
+        let (b, _) = simulate_bytes(&md, text, &opts);
+        let rows = rows(&b);
+        assert_within_limits(&md, &rows);
+        (rows.iter().map(|r| r.v).fold(0.0, f64::max), rows.len())
+    };
+    let (v100, n100) = top(1.0);
+    let (v50, n50) = top(0.5);
+    let (v120, _) = top(1.2);
+    assert!((v100 - 3000.0).abs() < 1e-6, "{v100}");
+    assert!((v50 - 1500.0).abs() < 1e-6, "{v50}");
+    assert!((v120 - 3600.0).abs() < 1e-6, "{v120}");
+    assert!(n50 > n100);
+}
+
+#[test]
+fn m00_and_single_block_stop_at_block_end() {
+    let md = machine(None, &[]);
+    let text = "N10 G90 G1 X20 F3000\nN20 X40 M0\nN30 X60\nN40 M30\n";
+    let (stopped, _) = simulate(&md, text);
+    let k = stopped
+        .iter()
+        .position(|r| r.events.contains("M0"))
+        .unwrap();
+    assert_eq!(stopped[k].pos, [40.0, 0.0, 0.0]);
+    assert_eq!(stopped[k].v, 0.0);
+    assert!(stopped[k].events.contains("STOPPED"));
+    // Single block: a stop at every S point before the next motion (N10's and N20's
+    // ends), each exactly on it; N30's end is the program end.
+    let text = "N10 G90 G1 X20 F3000\nN20 X40\nN30 X60\nN40 M30\n";
+    let opts = Options {
+        single_block: true,
+        ..Default::default()
+    };
+    let (b, s) = simulate_bytes(&md, text, &opts);
+    assert_eq!(s.end_state.map(|s| s.name()), Some("END"));
+    let stops: Vec<([f64; 3], f64)> = rows(&b)
+        .iter()
+        .filter(|r| r.events.contains("single-block"))
+        .map(|r| (r.pos, r.v))
+        .collect();
+    assert_eq!(
+        stops,
+        vec![([20.0, 0.0, 0.0], 0.0), ([40.0, 0.0, 0.0], 0.0)]
+    );
+}
+
+/// The machine data file for a sample program's directory.
+fn md_for(dir: &str) -> Option<&'static str> {
+    match dir {
+        "isg" => Some("isg.toml"),
+        "fanuc" => Some("fanuc.toml"),
+        "siemens-808d" => Some("siemens-808d.toml"),
+        _ => None,
+    }
+}
+
+fn sample_programs() -> Vec<(String, PathBuf, Option<&'static str>)> {
+    let mut out = Vec::new();
+    let mut dirs: Vec<_> = std::fs::read_dir(root().join("programs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    dirs.sort();
+    for d in dirs {
+        let dname = d.file_name().unwrap().to_string_lossy().to_string();
+        let mut files: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        files.sort();
+        for f in files {
+            let rel = format!(
+                "programs/{}/{}",
+                dname,
+                f.file_name().unwrap().to_string_lossy()
+            );
+            out.push((rel, f, md_for(&dname)));
+        }
+    }
+    out
+}
+
+fn sha256_hex(b: &[u8]) -> String {
+    Sha256::digest(b)
+        .iter()
+        .map(|x| format!("{x:02x}"))
+        .collect()
+}
+
+const HASHES: &str = "tests/data/simulate.sha256";
+
+#[test]
+fn sample_programs_give_their_pinned_setpoint_hashes() {
+    // The first 150 000 cycles (2.5 min of machine time): all but the ISG grinding cycle,
+    // which grinds at F5 for a day, run to their end.
+    let opts = Options {
+        max_cycles: 150_000,
+        ..Default::default()
+    };
+    let mut lines = Vec::new();
+    for (rel, path, md_file) in sample_programs() {
+        let md = machine(md_file, &[]);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (b, s) = simulate_bytes(&md, &text, &opts);
+        assert!(
+            !s.timed_out || rel.ends_with("grinding_cycle.nc"),
+            "{rel} did not end"
+        );
+        lines.push(format!("{}  {}", sha256_hex(&b), rel));
+    }
+    let now = lines.join("\n") + "\n";
+    let file = root().join(HASHES);
+    if std::env::var_os("SOFTNC_BLESS").is_some() {
+        std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+        std::fs::write(&file, &now).unwrap();
+        return;
+    }
+    let pinned = std::fs::read_to_string(&file)
+        .expect("tests/data/simulate.sha256 (SOFTNC_BLESS=1 writes it)");
+    for (p, n) in pinned.lines().zip(now.lines()) {
+        assert_eq!(p, n, "setpoints changed (if on purpose: SOFTNC_BLESS=1 cargo test --test ipo, and say why in the commit)");
+    }
+    assert_eq!(
+        pinned.lines().count(),
+        now.lines().count(),
+        "sample programs added or removed: rebless"
+    );
+}
+
+#[test]
+fn a_slow_preparation_thread_changes_no_bit() {
+    let md = machine(None, &[]);
+    let text = workpiece();
+    let (fast, _) = simulate_bytes(&md, &text, &Options::default());
+    let slow_opts = Options {
+        prep_delay: std::time::Duration::from_millis(2),
+        ..Default::default()
+    };
+    let (slow, _) = simulate_bytes(&md, &text, &slow_opts);
+    assert_eq!(sha256_hex(&fast), sha256_hex(&slow));
+    // A longer program whose lookahead is refilled all the time.
+    let long = nc_kernel::synthetic::compensated_program(400, nc_kernel::synthetic::Header::Softnc);
+    let (fast, _) = simulate_bytes(&md, &long, &Options::default());
+    let slow_opts = Options {
+        prep_delay: std::time::Duration::from_micros(100),
+        ..Default::default()
+    };
+    let (slow, s) = simulate_bytes(&md, &long, &slow_opts);
+    assert!(s.segments > 400);
+    assert_eq!(sha256_hex(&fast), sha256_hex(&slow));
+}
+
+/// Runs the channel directly with operator actions at given cycles; rows as `simulate`
+/// writes them.
+fn drive(md: &MachineData, text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
+    use nc_kernel::ipo::channel::Input;
+    use nc_kernel::ipo::{Channel, ChannelState, Entry, Setpoint};
+    use nc_kernel::prep::Prepared;
+    let tools = ToolTable::builtin();
+    let lim = AxisLimits::new(md);
+    let mut prep = nc_kernel::Preparation::new("test.mpf", text, md, &tools);
+    let start = prep.start();
+    let mut inputs = Vec::new();
+    while let Some(item) = prep.next_item().unwrap() {
+        match item {
+            Prepared::Segment(s) => {
+                if let Some(e) = Entry::new(&s, &lim).unwrap() {
+                    inputs.push(Input::Motion(e));
+                }
+            }
+            Prepared::Aux(a) => inputs.push(Input::Aux(a)),
+            Prepared::Stop(s) => inputs.push(Input::Stop(s)),
+            Prepared::End(s) => inputs.push(Input::End(s)),
+            Prepared::Warning(_) => {}
+        }
+    }
+    inputs.push(Input::Done);
+    let mut it = inputs.into_iter().peekable();
+    let mut ch = Channel::new(md, start);
+    let mut sp = Setpoint::new(start);
+    ch.start();
+    let mut out = Vec::new();
+    for k in 0..2_000_000u64 {
+        while let Some(i) = it.peek() {
+            if !ch.can_take(i) {
+                break;
+            }
+            ch.take(it.next().unwrap());
+        }
+        for &(at, what) in actions {
+            if at == k {
+                match what {
+                    "stop" => ch.stop(),
+                    "start" => ch.start(),
+                    o => ch.set_override(o.parse::<f64>().unwrap() / 100.0),
+                }
+            }
+        }
+        while ch.acks_due() > 0 {
+            ch.ack();
+        }
+        ch.cycle(k, &mut sp);
+        out.push(Row {
+            cycle: k,
+            pos: sp.pos,
+            v: sp.v_path * 60.0,
+            block: sp.source.map_or(String::new(), |s| {
+                s.number.map_or(format!("L{}", s.line), |n| n.to_string())
+            }),
+            events: format!("{:?}", sp.events),
+        });
+        if sp.state == ChannelState::End {
+            break;
+        }
+    }
+    out
+}
+
+#[test]
+fn nc_stop_and_override_replan_within_one_cycle_and_keep_to_the_path() {
+    let md = machine(None, &[]);
+    let text = workpiece();
+    let plain = drive(&md, &text, &[]);
+    // NC stop at cycle 3000 (on N20 at F400), NC start at 5000; override 30 % at 9000,
+    // 120 % at 15000.
+    let acts = [
+        (3000, "stop"),
+        (5000, "start"),
+        (9000, "30"),
+        (15000, "120"),
+    ];
+    let rows = drive(&md, &text, &acts);
+    assert_eq!(rows.last().unwrap().pos, plain.last().unwrap().pos);
+    assert_on_path(&md, &text, &rows);
+    assert_within_limits(&md, &rows);
+    // Identical up to the stop; the setpoint of the next cycle already brakes.
+    assert_eq!(
+        rows[..=2999].iter().map(|r| r.pos).collect::<Vec<_>>(),
+        plain[..=2999].iter().map(|r| r.pos).collect::<Vec<_>>()
+    );
+    assert!(
+        rows[3000].v < plain[3000].v,
+        "{} {}",
+        rows[3000].v,
+        plain[3000].v
+    );
+    // At rest, then STOPPED, holding the position until NC start.
+    let stopped = rows
+        .iter()
+        .position(|r| r.events.contains("Stopped"))
+        .unwrap();
+    assert!(stopped < 5000 && rows[stopped].v == 0.0);
+    assert!(rows[stopped..5000]
+        .iter()
+        .all(|r| r.pos == rows[stopped].pos));
+    // The braking from F400 (6.7 mm/s) takes well under a second.
+    assert!(stopped - 3000 < 500, "{}", stopped - 3000);
+    // Override: 30 % of F400 is 120 mm/min, reached and held on N40's long line.
+    assert!(rows[9000..15000]
+        .iter()
+        .all(|r| r.v <= 400.0 * 0.3 + 1e-6 || r.cycle < 9300));
+    // 120 %: F400 runs at 480 mm/min on the long lines.
+    let top = rows[15000..]
+        .iter()
+        .filter(|r| r.block == "N100")
+        .map(|r| r.v)
+        .fold(0.0, f64::max);
+    assert!((top - 480.0).abs() < 1e-6, "{top}");
+}

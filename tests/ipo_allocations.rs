@@ -1,0 +1,144 @@
+//! The IPO path allocates nothing (issue 5 c): a counting global allocator sees no
+//! allocation, reallocation or free in the thread that runs the channel — taking the prepared
+//! records into the lookahead, and every cycle from NC start to the program end, with
+//! auxiliary functions, acknowledgements, an override change and an NC stop and restart on
+//! the way. The records are prepared before counting (preparation runs in its own thread in
+//! the kernel and may allocate).
+
+use nc_kernel::ipo::channel::Input;
+use nc_kernel::ipo::{AxisLimits, Channel, ChannelState, Entry, Setpoint};
+use nc_kernel::prep::Prepared;
+use nc_kernel::{MachineData, Preparation, ToolTable};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+struct Counting;
+
+static EVENTS: AtomicU64 = AtomicU64::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+fn count() {
+    if COUNTING.with(|c| c.get()) {
+        EVENTS.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        count();
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn inputs(text: &str, md: &MachineData) -> (Vec<Input>, [f64; 3]) {
+    let tools = ToolTable::builtin();
+    let lim = AxisLimits::new(md);
+    let mut prep = Preparation::new("alloc", text, md, &tools);
+    let start = prep.start();
+    let mut out = Vec::new();
+    while let Some(item) = prep.next_item().expect("no alarm") {
+        match item {
+            Prepared::Segment(s) => {
+                if let Some(e) = Entry::new(&s, &lim).expect("axes configured") {
+                    out.push(Input::Motion(e));
+                }
+            }
+            Prepared::Aux(a) => out.push(Input::Aux(a)),
+            Prepared::Stop(s) => out.push(Input::Stop(s)),
+            Prepared::End(s) => out.push(Input::End(s)),
+            Prepared::Warning(_) => {}
+        }
+    }
+    out.push(Input::Done);
+    (out, start)
+}
+
+/// Runs the channel over `inputs` and returns the allocator events in this thread and the
+/// cycles run.
+fn run(inputs: Vec<Input>, start: [f64; 3], md: &MachineData) -> (u64, u64) {
+    let mut ch = Box::new(Channel::new(md, start));
+    let mut sp = Box::new(Setpoint::new(start));
+    let mut it = inputs.into_iter();
+    let mut pending: Option<Input> = None;
+    let before = EVENTS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    ch.start();
+    let mut k = 0u64;
+    let mut acks = 0u32;
+    loop {
+        loop {
+            let Some(i) = pending.take().or_else(|| it.next()) else {
+                break;
+            };
+            if !ch.can_take(&i) {
+                pending = Some(i);
+                break;
+            }
+            ch.take(i);
+        }
+        for _ in 0..acks {
+            ch.ack();
+        }
+        ch.cycle(k, &mut sp);
+        acks = ch.acks_due();
+        match k {
+            2_000 => ch.set_override(0.5),
+            4_000 => ch.stop(),
+            _ => {}
+        }
+        if sp.state == ChannelState::Stopped {
+            ch.start();
+        }
+        if sp.state == ChannelState::End || k > 50_000_000 {
+            break;
+        }
+        k += 1;
+    }
+    COUNTING.with(|c| c.set(false));
+    // What is left (an empty iterator, the boxes) is freed after counting.
+    drop(pending);
+    (EVENTS.load(Ordering::Relaxed) - before, k)
+}
+
+#[test]
+fn the_ipo_path_does_not_touch_the_allocator() {
+    // The counter sees this thread's allocations (a test that can fail).
+    let before = EVENTS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    drop(std::hint::black_box(vec![1u8; 16]));
+    COUNTING.with(|c| c.set(false));
+    assert_eq!(EVENTS.load(Ordering::Relaxed) - before, 2);
+    let md = MachineData::load(None, &[]).unwrap();
+    let workpiece = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("programs/siemens-840c/11_15_workpiece.mpf"),
+    )
+    .unwrap();
+    let long =
+        nc_kernel::synthetic::compensated_program(3_000, nc_kernel::synthetic::Header::Softnc);
+    for text in [workpiece.as_str(), long.as_str()] {
+        let (inputs, start) = inputs(text, &md);
+        let n = inputs.len();
+        let (events, cycles) = run(inputs, start, &md);
+        assert!(cycles > 10_000, "{cycles}");
+        assert_eq!(
+            events, 0,
+            "{events} allocator calls over {cycles} cycles and {n} records"
+        );
+    }
+}
