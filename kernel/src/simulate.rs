@@ -14,10 +14,11 @@
 
 use crate::alarm::Alarm;
 use crate::ipo::channel::Input;
-use crate::ipo::{AxisLimits, Channel, ChannelState, Entry, Event, Setpoint};
-use crate::prep::{Preparation, Prepared};
+use crate::ipo::{AxisLimits, Channel, ChannelState, Event, Setpoint};
+use crate::runtime::{prepare_into, FinishGuard, Handover, Job, Report, PREP_STACK};
 use crate::{MachineData, ToolTable};
 use std::io::Write;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 #[derive(Clone, Debug)]
@@ -54,21 +55,11 @@ pub struct Summary {
     /// Highest path speed, mm/min.
     pub max_speed: f64,
     pub end_state: Option<ChannelState>,
-    /// Alarms: preparation's (the channel stopped there) and warnings.
+    /// Preparation's alarms (the channel stopped there) and warnings.
     pub alarms: Vec<Alarm>,
     pub warnings: Vec<Alarm>,
     /// The run hit `max_cycles`.
     pub timed_out: bool,
-}
-
-/// What the preparation thread sends. Not boxed: the IPO side would free the box (no
-/// allocator traffic on that side).
-#[allow(clippy::large_enum_variant)]
-enum Fed {
-    Start(crate::frontend::block::Pos),
-    In(Input),
-    Warning(Alarm),
-    Alarm(Alarm),
 }
 
 /// Runs `source` to its end (or alarm) and writes the setpoint rows to `out`.
@@ -80,89 +71,51 @@ pub fn run(
     opts: &Options,
     out: &mut dyn Write,
 ) -> std::io::Result<Summary> {
-    let (tx, rx) = crossbeam::channel::bounded::<Fed>(256);
     let lim = AxisLimits::new(md);
-    std::thread::scope(|scope| {
+    let hand = Handover::default();
+    let (report_tx, report_rx) = crossbeam::channel::unbounded();
+    let job = Job {
+        name,
+        source,
+        md,
+        tools,
+    };
+    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+    let result = std::thread::scope(|scope| {
+        let (hand, lim) = (&hand, &lim);
         let prep_thread = std::thread::Builder::new()
             .name("preparation".into())
-            .spawn_scoped(scope, move || feed(name, source, md, tools, &lim, opts, tx))
+            .stack_size(PREP_STACK)
+            .spawn_scoped(scope, move || {
+                let _guard = FinishGuard(hand);
+                prepare_into(job, &start_tx, lim, hand, &report_tx, opts.prep_delay);
+            })
             .map_err(std::io::Error::other)?;
-        let r = ipo_loop(md, &rx, opts, out);
-        drop(rx);
+        // The machine stands where the program starts.
+        let start = start_rx.recv().unwrap_or([0.0; 3]);
+        let r = ipo_loop(md, start, hand, opts, out);
+        hand.cancel.store(true, Ordering::Relaxed);
         let _ = prep_thread.join();
         r
-    })
-}
-
-/// The preparation thread: records in program order, entries with their limits.
-fn feed(
-    name: &str,
-    source: &str,
-    md: &MachineData,
-    tools: &ToolTable,
-    lim: &AxisLimits,
-    opts: &Options,
-    tx: crossbeam::channel::Sender<Fed>,
-) {
-    let mut prep = Preparation::new(name, source, md, tools);
-    if tx.send(Fed::Start(prep.start())).is_err() {
-        return;
-    }
-    let send = |f: Fed| {
-        if !opts.prep_delay.is_zero() {
-            std::thread::sleep(opts.prep_delay);
-        }
-        tx.send(f).is_ok()
-    };
-    loop {
-        let fed = match prep.next_item() {
-            Ok(None) => {
-                send(Fed::In(Input::Done));
-                return;
-            }
-            Ok(Some(Prepared::Segment(s))) => match Entry::new(&s, lim) {
-                Ok(Some(e)) => Fed::In(Input::Motion(e)),
-                Ok(None) => continue,
-                Err(axis) => Fed::Alarm(Alarm {
-                    code: crate::AlarmCode::UnknownAddress,
-                    program: name.to_string(),
-                    line: s.source.line,
-                    col: s.source.col,
-                    block: s.source.number.map(|n| n.to_string()),
-                    message: format!(
-                        "the path moves axis {} which has no machine data",
-                        crate::frontend::block::AXIS_NAMES[axis]
-                    ),
-                }),
-            },
-            Ok(Some(Prepared::Aux(a))) => Fed::In(Input::Aux(a)),
-            Ok(Some(Prepared::Stop(s))) => Fed::In(Input::Stop(s)),
-            Ok(Some(Prepared::End(s))) => Fed::In(Input::End(s)),
-            Ok(Some(Prepared::Warning(w))) => Fed::Warning(w),
-            Err(a) => Fed::Alarm(a),
-        };
-        let last = matches!(fed, Fed::Alarm(_) | Fed::In(Input::End(_)));
-        if !send(fed) || last {
-            if last {
-                send(Fed::In(Input::Done));
-            }
-            return;
+    });
+    let mut summary = result?;
+    for r in report_rx.try_iter() {
+        match r {
+            Report::Warning(w) => summary.warnings.push(w),
+            Report::Alarm(a) => summary.alarms.push(a),
         }
     }
+    Ok(summary)
 }
 
 fn ipo_loop(
     md: &MachineData,
-    rx: &crossbeam::channel::Receiver<Fed>,
+    start: crate::frontend::block::Pos,
+    hand: &Handover,
     opts: &Options,
     out: &mut dyn Write,
 ) -> std::io::Result<Summary> {
-    // The machine stands where the program starts.
-    let start = match rx.recv() {
-        Ok(Fed::Start(p)) => p,
-        _ => [0.0; 3],
-    };
-    let mut ch = Channel::new(md, start);
+    let mut ch = Box::new(Channel::new(md, start));
     ch.set_override(opts.override_);
     ch.set_single_block(opts.single_block);
     let mut sp = Setpoint::new(start);
@@ -173,47 +126,33 @@ fn ipo_loop(
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
     writeln!(w, "cycle,time,X,Y,Z,v_path,block,events")?;
     let mut line = String::with_capacity(256);
-    let mut started = false;
+    let mut alarm = false;
+    ch.start();
     let mut k: u64 = 0;
     loop {
         // Take what preparation has, up to the lookahead; wait for it (simulated time stands
         // still), so the result does not depend on the thread's speed.
         while !ch.input_done() {
-            let input = match pending.take() {
+            let input = match pending.take().or_else(|| hand.queue.pop()) {
                 Some(i) => i,
-                None => match rx.recv() {
-                    Ok(Fed::In(i)) => i,
-                    Ok(Fed::Start(_)) => continue,
-                    Ok(Fed::Warning(a)) => {
-                        summary.warnings.push(a);
-                        continue;
-                    }
-                    Ok(Fed::Alarm(a)) => {
-                        let source = crate::segment::Source {
-                            number: None,
-                            line: a.line,
-                            col: a.col,
-                            seq: 0,
-                        };
-                        let code = a.number();
-                        summary.alarms.push(a);
-                        Input::Alarm { code, source }
-                    }
-                    Err(_) => Input::Done,
-                },
+                None if hand.finished.load(Ordering::Acquire) && hand.queue.is_empty() => {
+                    Input::Done
+                }
+                None => {
+                    std::thread::yield_now();
+                    continue;
+                }
             };
-            if matches!(input, Input::Motion(_)) {
-                summary.segments += 1;
-            }
             if !ch.can_take(&input) {
                 pending = Some(input);
                 break;
             }
+            match input {
+                Input::Motion(_) => summary.segments += 1,
+                Input::Alarm { .. } => alarm = true,
+                _ => {}
+            }
             ch.take(input);
-        }
-        if !started {
-            ch.start();
-            started = true;
         }
         // The simulated operator and PLC act between cycles.
         while acks.front().is_some_and(|&due| due <= k) {
@@ -226,8 +165,8 @@ fn ipo_loop(
                 summary.aux += 1;
             }
         }
-        let new_acks = ch.acks_due() as usize;
-        while acks.len() < new_acks {
+        let due = ch.acks_due() as usize;
+        while acks.len() < due {
             acks.push_back(k + opts.ack_cycles.max(1));
         }
         summary.max_speed = summary.max_speed.max(sp.v_path * 60.0);
@@ -235,7 +174,7 @@ fn ipo_loop(
         w.write_all(line.as_bytes())?;
         match sp.state {
             ChannelState::End => break,
-            ChannelState::Stopped if summary.alarms.is_empty() => ch.start(),
+            ChannelState::Stopped if !alarm => ch.start(),
             ChannelState::Stopped => break,
             _ => {}
         }

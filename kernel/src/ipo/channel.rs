@@ -319,6 +319,11 @@ impl Channel {
         self.gate.acks_due = self.gate.acks_due.saturating_sub(1);
     }
 
+    /// A preparation alarm stopped the channel (reset to go on).
+    pub fn has_alarm(&self) -> bool {
+        self.gate.alarm
+    }
+
     pub fn acks_due(&self) -> u32 {
         self.gate.acks_due
     }

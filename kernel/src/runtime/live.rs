@@ -1,0 +1,191 @@
+//! The kernel on the live clock: the IPO thread wakes at absolute deadlines one IPO cycle
+//! apart (clock_nanosleep TIMER_ABSTIME), runs the channel's cycle and hands the setpoint to
+//! a sink (the IPC publisher in the process; a recorder in tests and benchmarks).
+//!
+//! Measured per cycle, into histograms allocated before the loop: the wake-up latency (how
+//! late after its deadline the thread ran) and the compute time of the cycle.
+
+use super::os::{self, RtReport};
+use super::{prepare_into, FinishGuard, Handover, Job, Report, PREP_STACK};
+use crate::ipo::channel::Input;
+use crate::ipo::{AxisLimits, Channel, ChannelState, Setpoint};
+use crate::{MachineData, ToolTable};
+use hdrhistogram::Histogram;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+#[derive(Clone, Debug)]
+pub struct LiveOptions {
+    /// SCHED_FIFO priority asked for (1–99).
+    pub priority: i32,
+    /// Timer slack asked for, ns (1 = the smallest the kernel allows).
+    pub slack_ns: u64,
+    /// Stop after this long even if the program has not ended (None: run to the end).
+    pub limit: Option<Duration>,
+    /// Path override, 0–1.2.
+    pub override_: f64,
+    /// Say on stderr what the IPO thread got (scheduling, locked memory, timer slack) before
+    /// its first cycle.
+    pub announce: bool,
+}
+
+impl Default for LiveOptions {
+    fn default() -> Self {
+        LiveOptions {
+            priority: 80,
+            slack_ns: 1,
+            limit: None,
+            override_: 1.0,
+            announce: false,
+        }
+    }
+}
+
+/// What a live run measured.
+pub struct LiveStats {
+    pub rt: RtReport,
+    pub cycles: u64,
+    /// Wake-up latency after each deadline, ns.
+    pub wakeup: Histogram<u64>,
+    /// Work per cycle (taking input, the channel's cycle, the sink), ns.
+    pub compute: Histogram<u64>,
+    /// Cycles whose work ended after the next deadline.
+    pub overruns: u64,
+    /// Cycles that found the lookahead not full while preparation was still running.
+    pub starved: u64,
+    pub end_state: ChannelState,
+    pub reports: Vec<Report>,
+}
+
+fn histogram() -> Histogram<u64> {
+    // 1 ns .. 10 s at 3 significant digits: allocated once, recording never allocates.
+    Histogram::new_with_bounds(1, 10_000_000_000, 3).expect("valid histogram bounds")
+}
+
+/// Runs the program on the live clock. `sink` gets every setpoint in the IPO thread: it
+/// must not block or allocate either.
+pub fn run(
+    name: &str,
+    source: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+    opts: &LiveOptions,
+    sink: &mut (dyn FnMut(&Setpoint) + Send),
+) -> LiveStats {
+    let lim = AxisLimits::new(md);
+    let hand = Handover::default();
+    let (report_tx, report_rx) = crossbeam::channel::unbounded();
+    let job = Job {
+        name,
+        source,
+        md,
+        tools,
+    };
+    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+    let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
+    let mut stats = std::thread::scope(|scope| {
+        let (hand, lim) = (&hand, &lim);
+        let prep_thread = std::thread::Builder::new()
+            .name("preparation".into())
+            .stack_size(PREP_STACK)
+            .spawn_scoped(scope, move || {
+                let _guard = FinishGuard(hand);
+                prepare_into(job, &start_tx, lim, hand, &report_tx, Duration::ZERO);
+            })
+            .expect("spawn the preparation thread");
+        let start = start_rx.recv().unwrap_or([0.0; 3]);
+        let ipo = std::thread::Builder::new()
+            .name("ipo".into())
+            .spawn_scoped(scope, move || {
+                ipo_thread(md, start, hand, opts, cycle_ns, sink)
+            })
+            .expect("spawn the IPO thread");
+        let stats = ipo.join().expect("IPO thread");
+        hand.cancel.store(true, Ordering::Relaxed);
+        let _ = prep_thread.join();
+        stats
+    });
+    stats.reports = report_rx.try_iter().collect();
+    stats
+}
+
+fn ipo_thread(
+    md: &MachineData,
+    start: crate::frontend::block::Pos,
+    hand: &Handover,
+    opts: &LiveOptions,
+    cycle_ns: u64,
+    sink: &mut (dyn FnMut(&Setpoint) + Send),
+) -> LiveStats {
+    // Everything the loop needs is made here, before the real-time part starts.
+    let mut ch = Box::new(Channel::new(md, start));
+    ch.set_override(opts.override_);
+    let mut sp = Box::new(Setpoint::new(start));
+    let mut wakeup = histogram();
+    let mut compute = histogram();
+    let (rt, _latency_request) = os::setup_cyclic_thread(opts.priority, opts.slack_ns);
+    if opts.announce {
+        eprintln!("IPO thread: {rt}; cycle {} µs", cycle_ns / 1000);
+    }
+    let mut pending: Option<Input> = None;
+    let (mut overruns, mut starved) = (0u64, 0u64);
+    let limit_cycles = opts
+        .limit
+        .map_or(u64::MAX, |d| (d.as_nanos() as u64 / cycle_ns).max(1));
+    ch.start();
+    let t0 = os::now_ns() + cycle_ns;
+    let mut k: u64 = 0;
+    loop {
+        let deadline = t0 + k * cycle_ns;
+        os::sleep_until(deadline);
+        let woke = os::now_ns();
+        let _ = wakeup.record(woke.saturating_sub(deadline).max(1));
+        // Take what is there, never wait.
+        while !ch.input_done() {
+            let Some(input) = pending.take().or_else(|| hand.queue.pop()) else {
+                if hand.finished.load(Ordering::Acquire) && hand.queue.is_empty() {
+                    ch.take(Input::Done);
+                } else if ch.planner().room() > 0 {
+                    starved += 1;
+                }
+                break;
+            };
+            if !ch.can_take(&input) {
+                pending = Some(input);
+                break;
+            }
+            ch.take(input);
+        }
+        while ch.acks_due() > 0 {
+            // No PLC in this process yet (issue 6): acknowledged at once.
+            ch.ack();
+        }
+        ch.cycle(k, &mut sp);
+        sink(&sp);
+        let done = os::now_ns();
+        let _ = compute.record(done.saturating_sub(woke).max(1));
+        if done > deadline + cycle_ns {
+            overruns += 1;
+        }
+        k += 1;
+        match sp.state {
+            ChannelState::End => break,
+            ChannelState::Stopped if ch.has_alarm() => break,
+            ChannelState::Stopped => ch.start(),
+            _ => {}
+        }
+        if k >= limit_cycles {
+            break;
+        }
+    }
+    LiveStats {
+        rt,
+        cycles: k,
+        wakeup,
+        compute,
+        overruns,
+        starved,
+        end_state: sp.state,
+        reports: Vec::new(),
+    }
+}

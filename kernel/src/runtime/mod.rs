@@ -1,0 +1,166 @@
+//! The kernel's threads (issue 5 c).
+//!
+//! ```text
+//!  preparation thread                         IPO thread (cyclic, SCHED_FIFO)
+//!  Preparation::next_item ─► Entry::new ─► [ ArrayQueue<Input> ] ─► Channel::cycle ─► Setpoint
+//!        │ (may allocate)          bounded, lock-free        (no allocation, no lock, never
+//!        └─► reports (alarms, warnings, for the user)          blocks: takes what is there)
+//! ```
+//!
+//! The queue is a fixed-capacity lock-free array queue: pushing and popping are a few atomic
+//! operations, neither side ever waits for a lock held by the other. The preparation thread
+//! waits (sleeping briefly) while the queue is full; the IPO thread only takes what is there
+//! and, when preparation falls behind, the lookahead's braking (planner.rs) slows the path.
+//! Alarms and warnings carry text, so they go to the reporting side on their own channel:
+//! the IPO thread gets only their number and block, and never frees memory.
+
+pub mod live;
+pub mod os;
+
+use crate::alarm::Alarm;
+use crate::ipo::channel::Input;
+use crate::ipo::{AxisLimits, Entry};
+use crate::prep::{Preparation, Prepared};
+use crate::{MachineData, ToolTable};
+use crossbeam::queue::ArrayQueue;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// Records the queue holds between the threads.
+pub const QUEUE: usize = 256;
+
+/// What preparation tells the user.
+#[derive(Clone, Debug)]
+pub enum Report {
+    Warning(Alarm),
+    Alarm(Alarm),
+}
+
+/// The two threads' shared state.
+pub struct Handover {
+    pub queue: ArrayQueue<Input>,
+    /// Set by the preparation thread when it has pushed its last record (or gave up).
+    pub finished: AtomicBool,
+    /// Set by the consumer to make the preparation thread stop early.
+    pub cancel: AtomicBool,
+}
+
+impl Default for Handover {
+    fn default() -> Self {
+        Handover {
+            queue: ArrayQueue::new(QUEUE),
+            finished: AtomicBool::new(false),
+            cancel: AtomicBool::new(false),
+        }
+    }
+}
+
+/// What the preparation thread prepares.
+#[derive(Clone, Copy)]
+pub struct Job<'a> {
+    pub name: &'a str,
+    pub source: &'a str,
+    pub md: &'a MachineData,
+    pub tools: &'a ToolTable,
+}
+
+/// Stack for the preparation thread: `Preparation` keeps its queues in place (no heap), and
+/// unoptimised builds copy it around.
+pub const PREP_STACK: usize = 32 << 20;
+
+/// The preparation thread's work: the start position to `start` first, then every record,
+/// ready for the channel, into the queue in program order; `Input::Done` last. `delay` slows
+/// it down (a test hook).
+pub fn prepare_into(
+    job: Job<'_>,
+    start: &crossbeam::channel::Sender<crate::frontend::block::Pos>,
+    lim: &AxisLimits,
+    hand: &Handover,
+    reports: &crossbeam::channel::Sender<Report>,
+    delay: Duration,
+) {
+    let name = job.name;
+    let mut prep = Preparation::new(job.name, job.source, job.md, job.tools);
+    let _ = start.send(prep.start());
+    let push = |mut x: Input| -> bool {
+        if !delay.is_zero() {
+            std::thread::sleep(delay);
+        }
+        loop {
+            match hand.queue.push(x) {
+                Ok(()) => return true,
+                Err(back) => {
+                    if hand.cancel.load(Ordering::Relaxed) {
+                        return false;
+                    }
+                    x = back;
+                    // Full: the queue holds many cycles of path; a long nap keeps this thread from
+                    // waking the IPO thread's core every few microseconds.
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+            }
+        }
+    };
+    let alarm_input = |a: &Alarm| Input::Alarm {
+        code: a.number(),
+        source: crate::segment::Source {
+            number: None,
+            line: a.line,
+            col: a.col,
+            seq: 0,
+        },
+    };
+    loop {
+        let input = match prep.next_item() {
+            Ok(None) => break,
+            Ok(Some(Prepared::Segment(s))) => match Entry::new(&s, lim) {
+                Ok(Some(e)) => Input::Motion(e),
+                Ok(None) => continue,
+                Err(axis) => {
+                    let a = Alarm {
+                        code: crate::AlarmCode::UnknownAddress,
+                        program: name.to_string(),
+                        line: s.source.line,
+                        col: s.source.col,
+                        block: s.source.number.map(|n| n.to_string()),
+                        message: format!(
+                            "the path moves axis {} which has no machine data",
+                            crate::frontend::block::AXIS_NAMES[axis]
+                        ),
+                    };
+                    let i = alarm_input(&a);
+                    let _ = reports.send(Report::Alarm(a));
+                    i
+                }
+            },
+            Ok(Some(Prepared::Aux(a))) => Input::Aux(a),
+            Ok(Some(Prepared::Stop(s))) => Input::Stop(s),
+            Ok(Some(Prepared::End(s))) => Input::End(s),
+            Ok(Some(Prepared::Warning(w))) => {
+                let _ = reports.send(Report::Warning(w));
+                continue;
+            }
+            Err(a) => {
+                let i = alarm_input(&a);
+                let _ = reports.send(Report::Alarm(a));
+                i
+            }
+        };
+        let last = matches!(input, Input::Alarm { .. } | Input::End(_));
+        if !push(input) || last {
+            break;
+        }
+    }
+    push(Input::Done);
+    hand.finished.store(true, Ordering::Release);
+}
+
+/// Marks the hand-over finished when the preparation thread ends in any way (a panic
+/// included), so a waiting consumer does not wait forever.
+pub struct FinishGuard<'a>(pub &'a Handover);
+
+impl Drop for FinishGuard<'_> {
+    fn drop(&mut self) {
+        self.0.finished.store(true, Ordering::Release);
+    }
+}
