@@ -362,9 +362,10 @@ fn simulate(
     single_block: bool,
     ack_cycles: u64,
 ) -> ExitCode {
-    if !(0.0..=120.0).contains(&override_percent) {
+    // 0 % holds the path forever: a simulation would never end.
+    if !(override_percent > 0.0 && override_percent <= 120.0) {
         return fail(format!(
-            "--override {override_percent}: expected a percentage from 0 to 120"
+            "--override {override_percent}: expected a percentage above 0 and up to 120"
         ));
     }
     let l = match load(input) {

@@ -599,3 +599,75 @@ fn nc_stop_and_override_replan_within_one_cycle_and_keep_to_the_path() {
         .fold(0.0, f64::max);
     assert!((top - 480.0).abs() < 1e-6, "{top}");
 }
+
+#[test]
+fn the_simulate_command_writes_the_same_rows_and_says_how_it_ended() {
+    let dir = std::env::temp_dir().join(format!("softnc-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("w.csv");
+    let program = root().join("programs/siemens-840c/11_15_workpiece.mpf");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("simulate")
+        .arg(&program)
+        .arg("-o")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains(": END: 50817 cycles (50.817 s machine time)"),
+        "{said}"
+    );
+    let (lib, _) = simulate_bytes(&machine(None, &[]), &workpiece(), &Options::default());
+    assert!(
+        std::fs::read(&csv).unwrap() == lib,
+        "the command and the library differ"
+    );
+    // An override of 0 would hold the path forever: refused.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .args(["simulate", "--override", "0"])
+        .arg(&program)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("--override 0: expected a percentage above 0"));
+    // A program that stops on a preparation alarm: the channel stops with the position kept
+    // after the last good segment, exit status 1, the alarm printed like a diagnostic.
+    let alarm = root().join("programs/siemens-840c/11_11_four_blocks_outside_plane_alarm.mpf");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("simulate")
+        .arg(&alarm)
+        .arg("-o")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("alarm 3021") && said.contains(": STOPPED: "),
+        "{said}"
+    );
+    let rows = rows(&std::fs::read(&csv).unwrap());
+    let last = rows.last().unwrap();
+    assert!(
+        last.events.contains("alarm 3021") && last.v == 0.0,
+        "{last:?}"
+    );
+    // Exactly where the last segment prepared before the alarm ends.
+    let text = std::fs::read_to_string(&alarm).unwrap();
+    let md = machine(None, &[]);
+    let tools = ToolTable::builtin();
+    let mut prep = nc_kernel::Preparation::new("a", &text, &md, &tools);
+    let mut end = None;
+    while let Ok(Some(seg)) = prep.next_segment() {
+        end = Some(seg.to);
+    }
+    assert_eq!(Some(last.pos), end);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -546,6 +546,21 @@ mod tests {
     }
 
     #[test]
+    fn ipo_keys_are_checked() {
+        let md = MachineData::default();
+        assert_eq!(md.ipo.lookahead, 64);
+        assert!(md.ipo.waits_for(b'M', 6.0) && md.ipo.waits_for(b'M', 3.0));
+        assert!(!md.ipo.waits_for(b'M', 5.0) && !md.ipo.waits_for(b'H', 6.0));
+        let e = MachineData::load(None, &["ipo.lookahead=0".into()]).unwrap_err();
+        assert_eq!(e.key, "ipo.lookahead");
+        let e = MachineData::load(None, &["ipo.wait_for_ack=[\"X6\"]".into()]).unwrap_err();
+        assert_eq!(e.key, "ipo.wait_for_ack");
+        assert!(e.reason.contains("\"X6\""), "{}", e.reason);
+        let md = MachineData::load(None, &["ipo.wait_for_ack=[\"M8\", \"H2\"]".into()]).unwrap();
+        assert!(md.ipo.waits_for(b'H', 2.0) && !md.ipo.waits_for(b'M', 6.0));
+    }
+
+    #[test]
     fn unknown_key_names_file_and_key() {
         let e = MachineData::from_toml_str("[trc]\nfoo = 1\n", "m.toml").unwrap_err();
         assert_eq!(e.file, "m.toml");

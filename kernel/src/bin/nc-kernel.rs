@@ -100,6 +100,20 @@ fn main() -> ExitCode {
         stats.overruns,
         stats.starved
     );
+    if let Some(path) = value(&args, "--histogram") {
+        // The wake-up latency in cyclictest's histogram format: "<µs> <count>" per line.
+        let mut text = String::from("# nc-kernel wake-up latency histogram, µs\n");
+        let mut buckets = std::collections::BTreeMap::<u64, u64>::new();
+        for v in stats.wakeup.iter_recorded() {
+            *buckets.entry(v.value_iterated_to() / 1000).or_default() += v.count_at_value();
+        }
+        for (us, n) in buckets {
+            text.push_str(&format!("{us:06} {n:06}\n"));
+        }
+        if let Err(e) = std::fs::write(path, text) {
+            return fail(format!("{path}: {e}"));
+        }
+    }
     if alarms > 0 {
         ExitCode::from(1)
     } else {

@@ -94,9 +94,9 @@ pub fn prepare_into(
                         return false;
                     }
                     x = back;
-                    // Full: the queue holds many cycles of path; a long nap keeps this thread from
-                    // waking the IPO thread's core every few microseconds.
-                    std::thread::sleep(Duration::from_millis(2));
+                    // Full: 256 records are at least 256 cycles of path. Napping 2 ms instead
+                    // cost the IPO thread's wake-up p99 20–80 µs on a 2-core VM (measured).
+                    std::thread::sleep(Duration::from_millis(20));
                 }
             }
         }
