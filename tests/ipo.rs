@@ -671,3 +671,108 @@ fn the_simulate_command_writes_the_same_rows_and_says_how_it_ended() {
     assert_eq!(Some(last.pos), end);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+mod random_contours {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A block of a random contour: a line, or an arc given by its centre offset and the
+    /// angle it turns, with a random feed, exact stop and Z.
+    #[derive(Debug, Clone)]
+    enum Step {
+        Line(f64, f64, f64),
+        Arc {
+            r: f64,
+            turn: f64,
+            ccw: bool,
+            dz: f64,
+        },
+    }
+
+    fn step() -> impl Strategy<Value = (Step, f64, bool)> {
+        let s = prop_oneof![
+            (
+                -40.0..40.0f64,
+                -40.0..40.0f64,
+                prop_oneof![Just(0.0), -3.0..3.0f64]
+            )
+                .prop_map(|(x, y, z)| Step::Line(x, y, z)),
+            (
+                0.5..30.0f64,
+                0.1..6.2f64,
+                any::<bool>(),
+                prop_oneof![Just(0.0), -2.0..2.0f64]
+            )
+                .prop_map(|(r, turn, ccw, dz)| Step::Arc { r, turn, ccw, dz }),
+        ];
+        (s, 50.0..9000.0f64, prop::bool::weighted(0.2))
+    }
+
+    /// The program text (4 decimals, so the arcs' ends lie on their circles to 1e-4 and the
+    /// front end puts the centre where both radii agree).
+    fn program(steps: &[(Step, f64, bool)]) -> String {
+        let (mut x, mut y, mut z) = (0.0f64, 0.0f64, 0.0f64);
+        let mut t = String::from("N1 G17 G90 G1 X0 Y0 Z0 F1000\n");
+        let mut heading: f64 = 0.0;
+        for (i, (s, f, g9)) in steps.iter().enumerate() {
+            let n = 10 * (i + 1);
+            let g9 = if *g9 { " G9" } else { "" };
+            match *s {
+                Step::Line(dx, dy, dz) => {
+                    if dx.hypot(dy) < 0.01 && dz == 0.0 {
+                        continue;
+                    }
+                    x += dx;
+                    y += dy;
+                    z += dz;
+                    heading = dy.atan2(dx);
+                    t += &format!("N{n}{g9} G1 X{x:.4} Y{y:.4} Z{z:.4} F{f:.1}\n");
+                }
+                Step::Arc { r, turn, ccw, dz } => {
+                    // Centre to the left (ccw) or right of the current heading.
+                    let side = if ccw { 1.0 } else { -1.0 };
+                    let (cx, cy) = (x - side * r * heading.sin(), y + side * r * heading.cos());
+                    let a0 = (y - cy).atan2(x - cx);
+                    let a1 = a0 + side * turn;
+                    let (ex, ey) = (cx + r * a1.cos(), cy + r * a1.sin());
+                    let (ex, ey) = ((ex * 1e4).round() / 1e4, (ey * 1e4).round() / 1e4);
+                    let (i_, j_) = (cx - x, cy - y);
+                    let g = if ccw { "G3" } else { "G2" };
+                    z += dz;
+                    t += &format!(
+                        "N{n}{g9} {g} X{ex:.4} Y{ey:.4} Z{z:.4} I{i_:.4} J{j_:.4} F{f:.1}\n"
+                    );
+                    x = ex;
+                    y = ey;
+                    heading = a1 + side * std::f64::consts::FRAC_PI_2;
+                }
+            }
+        }
+        t + "N999 M30\n"
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+        #[test]
+        fn random_contours_stay_on_the_path_within_the_limits(
+            steps in prop::collection::vec(step(), 1..7)
+        ) {
+            let md = machine(None, &[]);
+            let text = program(&steps);
+            let opts = Options { max_cycles: 3_000_000, ..Default::default() };
+            let (b, s) = simulate_bytes(&md, &text, &opts);
+            // Arcs the front end rejects (the rounded end off the circle) end in an alarm:
+            // then the run stops there; the rest still holds.
+            prop_assert!(!s.timed_out, "{}", text);
+            let rows = rows(&b);
+            if s.alarms.is_empty() {
+                prop_assert_eq!(s.end_state.map(|s| s.name()), Some("END"));
+                let segs = nc_kernel::prepare("t", &text, &md, &ToolTable::builtin()).unwrap();
+                prop_assert_eq!(rows.last().unwrap().pos, segs.last().unwrap().to);
+            }
+            assert_on_path(&md, &text, &rows);
+            assert_within_limits(&md, &rows);
+        }
+    }
+}
