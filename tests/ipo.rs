@@ -485,28 +485,16 @@ fn a_slow_preparation_thread_changes_no_bit() {
 /// Runs the channel directly with operator actions at given cycles; rows as `simulate`
 /// writes them.
 fn drive(md: &MachineData, text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
-    use nc_kernel::ipo::channel::Input;
-    use nc_kernel::ipo::{Channel, ChannelState, Entry, Setpoint};
-    use nc_kernel::prep::Prepared;
+    use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
     let tools = ToolTable::builtin();
-    let lim = AxisLimits::new(md);
-    let mut prep = nc_kernel::Preparation::new("test.mpf", text, md, &tools);
-    let start = prep.start();
-    let mut inputs = Vec::new();
-    while let Some(item) = prep.next_item().unwrap() {
-        match item {
-            Prepared::Segment(s) => {
-                if let Some(e) = Entry::new(&s, &lim).unwrap() {
-                    inputs.push(Input::Motion(e));
-                }
-            }
-            Prepared::Aux(a) => inputs.push(Input::Aux(a)),
-            Prepared::Stop(s) => inputs.push(Input::Stop(s)),
-            Prepared::End(s) => inputs.push(Input::End(s)),
-            Prepared::Warning(_) => {}
-        }
-    }
-    inputs.push(Input::Done);
+    let job = nc_kernel::runtime::Job {
+        name: "test.mpf",
+        source: text,
+        md,
+        tools: &tools,
+    };
+    let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
+    assert!(reports.is_empty());
     let mut it = inputs.into_iter().peekable();
     let mut ch = Channel::new(md, start);
     let mut sp = Setpoint::new(start);

@@ -6,9 +6,9 @@
 //! the kernel and may allocate).
 
 use nc_kernel::ipo::channel::Input;
-use nc_kernel::ipo::{AxisLimits, Channel, ChannelState, Entry, Setpoint};
-use nc_kernel::prep::Prepared;
-use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
+use nc_kernel::runtime::{prepare_all, Job};
+use nc_kernel::{MachineData, ToolTable};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -47,25 +47,15 @@ static GLOBAL: Counting = Counting;
 
 fn inputs(text: &str, md: &MachineData) -> (Vec<Input>, [f64; 3]) {
     let tools = ToolTable::builtin();
-    let lim = AxisLimits::new(md);
-    let mut prep = Preparation::new("alloc", text, md, &tools);
-    let start = prep.start();
-    let mut out = Vec::new();
-    while let Some(item) = prep.next_item().expect("no alarm") {
-        match item {
-            Prepared::Segment(s) => {
-                if let Some(e) = Entry::new(&s, &lim).expect("axes configured") {
-                    out.push(Input::Motion(e));
-                }
-            }
-            Prepared::Aux(a) => out.push(Input::Aux(a)),
-            Prepared::Stop(s) => out.push(Input::Stop(s)),
-            Prepared::End(s) => out.push(Input::End(s)),
-            Prepared::Warning(_) => {}
-        }
-    }
-    out.push(Input::Done);
-    (out, start)
+    let job = Job {
+        name: "alloc",
+        source: text,
+        md,
+        tools: &tools,
+    };
+    let (start, inputs, reports) = prepare_all(job);
+    assert!(reports.is_empty(), "no alarm, no warning");
+    (inputs, start)
 }
 
 /// Runs the channel over `inputs` and returns the allocator events in this thread and the

@@ -6,11 +6,9 @@
 //! `ipo_timing [BLOCKS]` (default 4000 blocks of the G41 serpentine, about 1.5 M cycles)
 
 use hdrhistogram::Histogram;
-use nc_kernel::ipo::channel::Input;
-use nc_kernel::ipo::{AxisLimits, Channel, ChannelState, Entry, Setpoint};
-use nc_kernel::prep::Prepared;
+use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::runtime::os::now_ns;
-use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_kernel::{MachineData, ToolTable};
 
 fn main() {
     let blocks: usize = std::env::args()
@@ -20,24 +18,17 @@ fn main() {
     let tools = ToolTable::builtin();
     let text =
         nc_kernel::synthetic::compensated_program(blocks, nc_kernel::synthetic::Header::Softnc);
-    let lim = AxisLimits::new(&md);
-    let mut prep = Preparation::new("bench", &text, &md, &tools);
-    let start = prep.start();
-    let mut inputs = Vec::new();
-    while let Some(item) = prep.next_item().expect("no alarm") {
-        match item {
-            Prepared::Segment(s) => {
-                if let Some(e) = Entry::new(&s, &lim).expect("axes") {
-                    inputs.push(Input::Motion(e));
-                }
-            }
-            Prepared::Aux(a) => inputs.push(Input::Aux(a)),
-            Prepared::Stop(s) => inputs.push(Input::Stop(s)),
-            Prepared::End(s) => inputs.push(Input::End(s)),
-            Prepared::Warning(_) => {}
-        }
-    }
-    inputs.push(Input::Done);
+    let job = nc_kernel::runtime::Job {
+        name: "bench",
+        source: &text,
+        md: &md,
+        tools: &tools,
+    };
+    let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
+    assert!(
+        reports.is_empty(),
+        "the bench program prepares without alarms"
+    );
     let mut it = inputs.into_iter().peekable();
     let mut ch = Box::new(Channel::new(&md, start));
     let mut sp = Box::new(Setpoint::new(start));

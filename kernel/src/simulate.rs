@@ -14,8 +14,8 @@
 
 use crate::alarm::Alarm;
 use crate::ipo::channel::Input;
-use crate::ipo::{AxisLimits, Channel, ChannelState, Event, Setpoint};
-use crate::runtime::{prepare_into, FinishGuard, Handover, Job, Report, PREP_STACK};
+use crate::ipo::{Channel, ChannelState, Event, Setpoint};
+use crate::runtime::{with_preparation, Handover, Job, Report};
 use crate::{MachineData, ToolTable};
 use std::io::Write;
 use std::sync::atomic::Ordering;
@@ -71,35 +71,17 @@ pub fn run(
     opts: &Options,
     out: &mut dyn Write,
 ) -> std::io::Result<Summary> {
-    let lim = AxisLimits::new(md);
-    let hand = Handover::default();
-    let (report_tx, report_rx) = crossbeam::channel::unbounded();
     let job = Job {
         name,
         source,
         md,
         tools,
     };
-    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
-    let result = std::thread::scope(|scope| {
-        let (hand, lim) = (&hand, &lim);
-        let prep_thread = std::thread::Builder::new()
-            .name("preparation".into())
-            .stack_size(PREP_STACK)
-            .spawn_scoped(scope, move || {
-                let _guard = FinishGuard(hand);
-                prepare_into(job, &start_tx, lim, hand, &report_tx, opts.prep_delay);
-            })
-            .map_err(std::io::Error::other)?;
-        // The machine stands where the program starts.
-        let start = start_rx.recv().unwrap_or([0.0; 3]);
-        let r = ipo_loop(md, start, hand, opts, out);
-        hand.cancel.store(true, Ordering::Relaxed);
-        let _ = prep_thread.join();
-        r
-    });
+    let (result, reports) = with_preparation(job, opts.prep_delay, |start, hand| {
+        ipo_loop(md, start, hand, opts, out)
+    })?;
     let mut summary = result?;
-    for r in report_rx.try_iter() {
+    for r in reports {
         match r {
             Report::Warning(w) => summary.warnings.push(w),
             Report::Alarm(a) => summary.alarms.push(a),

@@ -65,9 +65,12 @@ fn main() -> ExitCode {
         Err(e) => return fail(format!("{program}: {e}")),
     };
     let mut setpoints = 0u64;
-    let stats = run(program, &source, &md, &tools, &opts, &mut |_sp| {
+    let stats = match run(program, &source, &md, &tools, &opts, &mut |_sp| {
         setpoints += 1
-    });
+    }) {
+        Ok(s) => s,
+        Err(e) => return fail(format!("cannot start the kernel's threads: {e}")),
+    };
     let mut alarms = 0;
     for r in &stats.reports {
         match r {

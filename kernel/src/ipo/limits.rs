@@ -148,29 +148,14 @@ impl AxisLimits {
 mod tests {
     use super::*;
     use crate::frontend::block::Plane;
-    use crate::segment::{Role, Segment, Shape, Source};
+    use crate::segment::{Segment, Shape};
 
     fn md() -> MachineData {
         MachineData::load(None, &[]).unwrap()
     }
 
     fn line(from: [f64; 3], to: [f64; 3]) -> Piece {
-        Piece::new(&Segment {
-            source: Source {
-                number: None,
-                line: 1,
-                col: 1,
-                seq: 1,
-            },
-            role: Role::Contour,
-            shape: Shape::Line,
-            from,
-            to,
-            feed: 1000.0,
-            rapid: false,
-            exact_stop: false,
-        })
-        .unwrap()
+        Piece::new(&crate::ipo::path::tests::seg(from, to, Shape::Line)).unwrap()
     }
 
     #[test]

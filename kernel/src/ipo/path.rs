@@ -273,11 +273,12 @@ impl Piece {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::segment::{Role, Source};
 
-    fn seg(from: Pos, to: Pos, shape: Shape) -> Segment {
+    /// A contour segment at F1000 for the tests of this stage.
+    pub(crate) fn seg(from: Pos, to: Pos, shape: Shape) -> Segment {
         Segment {
             source: Source {
                 number: None,

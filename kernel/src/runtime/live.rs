@@ -6,9 +6,9 @@
 //! late after its deadline the thread ran) and the compute time of the cycle.
 
 use super::os::{self, RtReport};
-use super::{prepare_into, FinishGuard, Handover, Job, Report, PREP_STACK};
+use super::{with_preparation, Handover, Job, Report};
 use crate::ipo::channel::Input;
-use crate::ipo::{AxisLimits, Channel, ChannelState, Setpoint};
+use crate::ipo::{Channel, ChannelState, Setpoint};
 use crate::{MachineData, ToolTable};
 use hdrhistogram::Histogram;
 use std::sync::atomic::Ordering;
@@ -63,7 +63,7 @@ fn histogram() -> Histogram<u64> {
 }
 
 /// Runs the program on the live clock. `sink` gets every setpoint in the IPO thread: it
-/// must not block or allocate either.
+/// must not block or allocate either. An error: a thread could not be started.
 pub fn run(
     name: &str,
     source: &str,
@@ -71,42 +71,29 @@ pub fn run(
     tools: &ToolTable,
     opts: &LiveOptions,
     sink: &mut (dyn FnMut(&Setpoint) + Send),
-) -> LiveStats {
-    let lim = AxisLimits::new(md);
-    let hand = Handover::default();
-    let (report_tx, report_rx) = crossbeam::channel::unbounded();
+) -> std::io::Result<LiveStats> {
     let job = Job {
         name,
         source,
         md,
         tools,
     };
-    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
     let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
-    let mut stats = std::thread::scope(|scope| {
-        let (hand, lim) = (&hand, &lim);
-        let prep_thread = std::thread::Builder::new()
-            .name("preparation".into())
-            .stack_size(PREP_STACK)
-            .spawn_scoped(scope, move || {
-                let _guard = FinishGuard(hand);
-                prepare_into(job, &start_tx, lim, hand, &report_tx, Duration::ZERO);
-            })
-            .expect("spawn the preparation thread");
-        let start = start_rx.recv().unwrap_or([0.0; 3]);
-        let ipo = std::thread::Builder::new()
-            .name("ipo".into())
-            .spawn_scoped(scope, move || {
-                ipo_thread(md, start, hand, opts, cycle_ns, sink)
-            })
-            .expect("spawn the IPO thread");
-        let stats = ipo.join().expect("IPO thread");
-        hand.cancel.store(true, Ordering::Relaxed);
-        let _ = prep_thread.join();
-        stats
-    });
-    stats.reports = report_rx.try_iter().collect();
-    stats
+    let (stats, reports) = with_preparation(job, Duration::ZERO, |start, hand| {
+        std::thread::scope(|scope| {
+            std::thread::Builder::new()
+                .name("ipo".into())
+                .spawn_scoped(scope, move || {
+                    ipo_thread(md, start, hand, opts, cycle_ns, sink)
+                })
+                .map_err(std::io::Error::other)?
+                .join()
+                .map_err(|_| std::io::Error::other("the IPO thread panicked"))
+        })
+    })?;
+    let mut stats = stats?;
+    stats.reports = reports;
+    Ok(stats)
 }
 
 fn ipo_thread(

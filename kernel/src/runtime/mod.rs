@@ -68,6 +68,57 @@ pub struct Job<'a> {
 /// unoptimised builds copy it around.
 pub const PREP_STACK: usize = 32 << 20;
 
+/// One record from preparation as the channel takes it; `None` for what the channel does not
+/// see (a segment without length, a warning). Alarms and warnings go to `report` with their
+/// text; the channel gets the alarm's number and place.
+fn to_input(
+    item: Result<Prepared, Alarm>,
+    name: &str,
+    lim: &AxisLimits,
+    report: &mut dyn FnMut(Report),
+) -> Option<Input> {
+    let alarm = |a: Alarm, report: &mut dyn FnMut(Report)| {
+        let i = Input::Alarm {
+            code: a.number(),
+            source: crate::segment::Source {
+                number: None,
+                line: a.line,
+                col: a.col,
+                seq: 0,
+            },
+        };
+        report(Report::Alarm(a));
+        Some(i)
+    };
+    match item {
+        Ok(Prepared::Segment(s)) => match Entry::new(&s, lim) {
+            Ok(e) => e.map(Input::Motion),
+            Err(axis) => alarm(
+                Alarm {
+                    code: crate::AlarmCode::UnknownAddress,
+                    program: name.to_string(),
+                    line: s.source.line,
+                    col: s.source.col,
+                    block: s.source.number.map(|n| n.to_string()),
+                    message: format!(
+                        "the path moves axis {} which has no machine data",
+                        crate::frontend::block::AXIS_NAMES[axis]
+                    ),
+                },
+                report,
+            ),
+        },
+        Ok(Prepared::Aux(a)) => Some(Input::Aux(a)),
+        Ok(Prepared::Stop(s)) => Some(Input::Stop(s)),
+        Ok(Prepared::End(s)) => Some(Input::End(s)),
+        Ok(Prepared::Warning(w)) => {
+            report(Report::Warning(w));
+            None
+        }
+        Err(a) => alarm(a, report),
+    }
+}
+
 /// The preparation thread's work: the start position to `start` first, then every record,
 /// ready for the channel, into the queue in program order; `Input::Done` last. `delay` slows
 /// it down (a test hook).
@@ -79,7 +130,6 @@ pub fn prepare_into(
     reports: &crossbeam::channel::Sender<Report>,
     delay: Duration,
 ) {
-    let name = job.name;
     let mut prep = Preparation::new(job.name, job.source, job.md, job.tools);
     let _ = start.send(prep.start());
     let push = |mut x: Input| -> bool {
@@ -101,50 +151,17 @@ pub fn prepare_into(
             }
         }
     };
-    let alarm_input = |a: &Alarm| Input::Alarm {
-        code: a.number(),
-        source: crate::segment::Source {
-            number: None,
-            line: a.line,
-            col: a.col,
-            seq: 0,
-        },
+    let mut report = |r: Report| {
+        let _ = reports.send(r);
     };
     loop {
-        let input = match prep.next_item() {
+        let item = match prep.next_item() {
             Ok(None) => break,
-            Ok(Some(Prepared::Segment(s))) => match Entry::new(&s, lim) {
-                Ok(Some(e)) => Input::Motion(e),
-                Ok(None) => continue,
-                Err(axis) => {
-                    let a = Alarm {
-                        code: crate::AlarmCode::UnknownAddress,
-                        program: name.to_string(),
-                        line: s.source.line,
-                        col: s.source.col,
-                        block: s.source.number.map(|n| n.to_string()),
-                        message: format!(
-                            "the path moves axis {} which has no machine data",
-                            crate::frontend::block::AXIS_NAMES[axis]
-                        ),
-                    };
-                    let i = alarm_input(&a);
-                    let _ = reports.send(Report::Alarm(a));
-                    i
-                }
-            },
-            Ok(Some(Prepared::Aux(a))) => Input::Aux(a),
-            Ok(Some(Prepared::Stop(s))) => Input::Stop(s),
-            Ok(Some(Prepared::End(s))) => Input::End(s),
-            Ok(Some(Prepared::Warning(w))) => {
-                let _ = reports.send(Report::Warning(w));
-                continue;
-            }
-            Err(a) => {
-                let i = alarm_input(&a);
-                let _ = reports.send(Report::Alarm(a));
-                i
-            }
+            Ok(Some(p)) => Ok(p),
+            Err(a) => Err(a),
+        };
+        let Some(input) = to_input(item, job.name, lim, &mut report) else {
+            continue;
         };
         let last = matches!(input, Input::Alarm { .. } | Input::End(_));
         if !push(input) || last {
@@ -153,6 +170,63 @@ pub fn prepare_into(
     }
     push(Input::Done);
     hand.finished.store(true, Ordering::Release);
+}
+
+/// Runs `consumer` beside a preparation thread working on `job`. The consumer gets the
+/// program's start position and the hand-over; when it returns, the preparation thread is
+/// told to stop and joined. Returns the consumer's result and preparation's reports.
+pub fn with_preparation<R>(
+    job: Job<'_>,
+    delay: Duration,
+    consumer: impl FnOnce(crate::frontend::block::Pos, &Handover) -> R,
+) -> std::io::Result<(R, Vec<Report>)> {
+    let lim = AxisLimits::new(job.md);
+    let hand = Handover::default();
+    let (report_tx, report_rx) = crossbeam::channel::unbounded();
+    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+    let r = std::thread::scope(|scope| {
+        let (hand, lim) = (&hand, &lim);
+        let prep = std::thread::Builder::new()
+            .name("preparation".into())
+            .stack_size(PREP_STACK)
+            .spawn_scoped(scope, move || {
+                let _guard = FinishGuard(hand);
+                prepare_into(job, &start_tx, lim, hand, &report_tx, delay);
+            })?;
+        // The machine stands where the program starts.
+        let start = start_rx.recv().unwrap_or([0.0; 3]);
+        let r = consumer(start, hand);
+        hand.cancel.store(true, Ordering::Relaxed);
+        let _ = prep.join();
+        Ok::<R, std::io::Error>(r)
+    })?;
+    Ok((r, report_rx.try_iter().collect()))
+}
+
+/// The whole program as the channel takes it, prepared in this thread (tests, benchmarks):
+/// the start position and the records, `Input::Done` last; alarms and warnings are dropped
+/// into the reports.
+pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Vec<Report>) {
+    let lim = AxisLimits::new(job.md);
+    let mut prep = Preparation::new(job.name, job.source, job.md, job.tools);
+    let start = prep.start();
+    let (mut inputs, mut reports) = (Vec::new(), Vec::new());
+    loop {
+        let item = match prep.next_item() {
+            Ok(None) => break,
+            Ok(Some(p)) => Ok(p),
+            Err(a) => Err(a),
+        };
+        let failed = item.is_err();
+        if let Some(i) = to_input(item, job.name, &lim, &mut |r| reports.push(r)) {
+            inputs.push(i);
+        }
+        if failed {
+            break;
+        }
+    }
+    inputs.push(Input::Done);
+    (start, inputs, reports)
 }
 
 /// Marks the hand-over finished when the preparation thread ends in any way (a panic
