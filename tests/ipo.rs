@@ -485,6 +485,17 @@ fn a_slow_preparation_thread_changes_no_bit() {
 /// Runs the channel directly with operator actions at given cycles; rows as `simulate`
 /// writes them.
 fn drive(md: &MachineData, text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
+    drive_fed(md, text, actions, None)
+}
+
+/// `drive`, with the records offered one every `every` cycles when given (a preparation that
+/// falls behind).
+fn drive_fed(
+    md: &MachineData,
+    text: &str,
+    actions: &[(u64, &str)],
+    every: Option<u64>,
+) -> Vec<Row> {
     use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
     let tools = ToolTable::builtin();
     let job = nc_kernel::runtime::Job {
@@ -501,11 +512,13 @@ fn drive(md: &MachineData, text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
     ch.start();
     let mut out = Vec::new();
     for k in 0..2_000_000u64 {
+        let mut budget = every.map_or(usize::MAX, |n| usize::from(k % n == 0));
         while let Some(i) = it.peek() {
-            if !ch.can_take(i) {
+            if !ch.can_take(i) || budget == 0 {
                 break;
             }
             ch.take(it.next().unwrap());
+            budget -= 1;
         }
         for &(at, what) in actions {
             if at == k {
@@ -763,4 +776,26 @@ mod random_contours {
             assert_within_limits(&md, &rows);
         }
     }
+}
+
+#[test]
+fn a_preparation_that_falls_behind_slows_the_path_under_control() {
+    // The serpentine at F1000 (a segment takes at most ~7 000 cycles) with one record offered
+    // every 20 000 cycles: the lookahead runs dry before every segment, so the path brakes to
+    // rest at the end of what it has and waits — within the axis limits, on the path, with
+    // no jump.
+    let md = machine(None, &[]);
+    let text = nc_kernel::synthetic::compensated_program(12, nc_kernel::synthetic::Header::Softnc);
+    let full = drive(&md, &text, &[]);
+    let starved = drive_fed(&md, &text, &[], Some(20_000));
+    assert_on_path(&md, &text, &starved);
+    assert_within_limits(&md, &starved);
+    assert_eq!(starved.last().unwrap().pos, full.last().unwrap().pos);
+    assert!(starved.len() > full.len());
+    // It came to rest between segments and went on: rows at speed 0 in the middle.
+    let rests = starved
+        .windows(2)
+        .filter(|w| w[0].v > 0.0 && w[1].v == 0.0)
+        .count();
+    assert!(rests >= 10, "{rests}");
 }
