@@ -506,20 +506,18 @@ fn drive_fed(
     };
     let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
     assert!(reports.is_empty());
-    let mut it = inputs.into_iter().peekable();
+    let mut it = inputs.into_iter();
+    let mut pending = None;
     let mut ch = Channel::new(md, start);
     let mut sp = Setpoint::new(start);
     ch.start();
     let mut out = Vec::new();
     for k in 0..2_000_000u64 {
         let mut budget = every.map_or(usize::MAX, |n| usize::from(k % n == 0));
-        while let Some(i) = it.peek() {
-            if !ch.can_take(i) || budget == 0 {
-                break;
-            }
-            ch.take(it.next().unwrap());
-            budget -= 1;
-        }
+        ch.fill(&mut pending, || {
+            budget = budget.checked_sub(1)?;
+            it.next()
+        });
         for &(at, what) in actions {
             if at == k {
                 match what {

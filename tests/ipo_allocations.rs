@@ -71,16 +71,7 @@ fn run(inputs: Vec<Input>, start: [f64; 3], md: &MachineData) -> (u64, u64) {
     let mut k = 0u64;
     let mut acks = 0u32;
     loop {
-        loop {
-            let Some(i) = pending.take().or_else(|| it.next()) else {
-                break;
-            };
-            if !ch.can_take(&i) {
-                pending = Some(i);
-                break;
-            }
-            ch.take(i);
-        }
+        ch.fill(&mut pending, || it.next());
         for _ in 0..acks {
             ch.ack();
         }

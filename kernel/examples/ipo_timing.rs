@@ -29,7 +29,8 @@ fn main() {
         reports.is_empty(),
         "the bench program prepares without alarms"
     );
-    let mut it = inputs.into_iter().peekable();
+    let mut it = inputs.into_iter();
+    let mut pending = None;
     let mut ch = Box::new(Channel::new(&md, start));
     let mut sp = Box::new(Setpoint::new(start));
     let mut plain = Histogram::<u64>::new_with_bounds(1, 1_000_000_000, 3).unwrap();
@@ -47,12 +48,7 @@ fn main() {
                 _ => ch.start(),
             }
         }
-        while let Some(i) = it.peek() {
-            if !ch.can_take(i) {
-                break;
-            }
-            ch.take(it.next().unwrap());
-        }
+        ch.fill(&mut pending, || it.next());
         while ch.acks_due() > 0 {
             ch.ack();
         }

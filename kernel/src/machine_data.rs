@@ -190,14 +190,18 @@ pub struct IpoData {
 }
 
 impl IpoData {
+    /// `wait_for_ack` as (address letter in upper case, value): "M6" is (b'M', 6.0).
+    pub fn ack_words(&self) -> impl Iterator<Item = (u8, f64)> + '_ {
+        self.wait_for_ack.iter().filter_map(|w| {
+            let a = w.as_bytes().first()?.to_ascii_uppercase();
+            Some((a, w.get(1..)?.parse::<f64>().ok()?))
+        })
+    }
+
     /// Whether `word` (address letter, value) is one the path waits for.
     pub fn waits_for(&self, address: u8, value: f64) -> bool {
-        self.wait_for_ack.iter().any(|w| {
-            let b = w.as_bytes();
-            !b.is_empty()
-                && b[0].eq_ignore_ascii_case(&address)
-                && w[1..].parse::<f64>().is_ok_and(|x| x == value)
-        })
+        let address = address.to_ascii_uppercase();
+        self.ack_words().any(|w| w == (address, value))
     }
 }
 

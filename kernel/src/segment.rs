@@ -85,3 +85,149 @@ impl Segment {
         matches!(self.shape, Shape::Arc { .. })
     }
 }
+
+/// A segment as a curve of one parameter u from 0 (its start) to 1 (its end): a line, or
+/// angle θ0 + u·sweep, radius r0 + u·(r1 − r0), centre c0 + u·(c1 − c0) and coordinate along
+/// the plane's normal h0 + u·(h1 − h0) — arcs, helices, the TRC core's radius changes and a
+/// turning tool's moving centre alike. The radii are the end points' own distances from
+/// their centres, so the curve runs exactly from `from` to `to`. The interpolator samples it
+/// (ipo/path.rs); a resumed block starts on it (prep/resume.rs).
+#[derive(Clone, Copy, Debug)]
+pub enum Curve {
+    Line {
+        from: Pos,
+        d: Pos,
+    },
+    Arc {
+        plane: Plane,
+        c0: [f64; 2],
+        dc: [f64; 2],
+        r0: f64,
+        dr: f64,
+        th0: f64,
+        /// Signed: positive counter-clockwise.
+        sweep: f64,
+        h0: f64,
+        dh: f64,
+    },
+}
+
+impl Curve {
+    /// `None` for an arc with an end on its centre.
+    pub fn new(seg: &Segment) -> Option<Curve> {
+        let Shape::Arc {
+            center,
+            center_end,
+            ccw,
+            plane,
+            ..
+        } = seg.shape
+        else {
+            let d = [
+                seg.to[0] - seg.from[0],
+                seg.to[1] - seg.from[1],
+                seg.to[2] - seg.from[2],
+            ];
+            return Some(Curve::Line { from: seg.from, d });
+        };
+        let (ia, io, ino) = (
+            plane.abscissa as usize,
+            plane.ordinate as usize,
+            plane.normal as usize,
+        );
+        let c0 = [center[ia], center[io]];
+        let c1 = [center_end[ia], center_end[io]];
+        let (fa, fo) = (seg.from[ia] - c0[0], seg.from[io] - c0[1]);
+        let (ta, to) = (seg.to[ia] - c1[0], seg.to[io] - c1[1]);
+        let r0 = (fa * fa + fo * fo).sqrt();
+        let r1 = (ta * ta + to * to).sqrt();
+        if r0.is_nan() || r1.is_nan() || r0 <= 0.0 || r1 <= 0.0 {
+            return None;
+        }
+        let th0 = libm::atan2(fo, fa);
+        let th1 = libm::atan2(to, ta);
+        let full = seg.from[ia] == seg.to[ia] && seg.from[io] == seg.to[io];
+        let tau = std::f64::consts::TAU;
+        let mut sweep = if ccw { th1 - th0 } else { th0 - th1 };
+        if full {
+            sweep = tau;
+        } else if sweep < 0.0 {
+            sweep += tau;
+            // An arc whose ends differ only by rounding is not a full circle.
+            if sweep >= tau {
+                sweep = 0.0;
+            }
+        }
+        Some(Curve::Arc {
+            plane,
+            c0,
+            dc: [c1[0] - c0[0], c1[1] - c0[1]],
+            r0,
+            dr: r1 - r0,
+            th0,
+            sweep: if ccw { sweep } else { -sweep },
+            h0: seg.from[ino],
+            dh: seg.to[ino] - seg.from[ino],
+        })
+    }
+
+    /// The point at parameter u.
+    pub fn point(&self, u: f64) -> Pos {
+        match *self {
+            Curve::Line { from, d } => [from[0] + d[0] * u, from[1] + d[1] * u, from[2] + d[2] * u],
+            Curve::Arc {
+                plane,
+                c0,
+                dc,
+                r0,
+                dr,
+                th0,
+                sweep,
+                h0,
+                dh,
+            } => {
+                let th = th0 + sweep * u;
+                let r = r0 + dr * u;
+                let mut p = [0.0; 3];
+                p[plane.abscissa as usize] = c0[0] + dc[0] * u + r * libm::cos(th);
+                p[plane.ordinate as usize] = c0[1] + dc[1] * u + r * libm::sin(th);
+                p[plane.normal as usize] = h0 + dh * u;
+                p
+            }
+        }
+    }
+
+    /// dP/du and d²P/du² at u.
+    pub fn derivatives(&self, u: f64) -> (Pos, Pos) {
+        let (plane, dc, r0, dr, th0, sweep, dh) = match *self {
+            Curve::Line { d, .. } => return (d, [0.0; 3]),
+            Curve::Arc {
+                plane,
+                dc,
+                r0,
+                dr,
+                th0,
+                sweep,
+                dh,
+                ..
+            } => (plane, dc, r0, dr, th0, sweep, dh),
+        };
+        let th = th0 + sweep * u;
+        let (sn, cs) = (libm::sin(th), libm::cos(th));
+        let r = r0 + dr * u;
+        let mut d1 = [0.0; 3];
+        let mut d2 = [0.0; 3];
+        let (ia, io, ino) = (
+            plane.abscissa as usize,
+            plane.ordinate as usize,
+            plane.normal as usize,
+        );
+        // P = c + r·e(θ); e' = sweep·e⊥, e⊥' = −sweep·e.
+        d1[ia] = dc[0] + dr * cs - r * sweep * sn;
+        d1[io] = dc[1] + dr * sn + r * sweep * cs;
+        d1[ino] = dh;
+        d2[ia] = -2.0 * dr * sweep * sn - r * sweep * sweep * cs;
+        d2[io] = 2.0 * dr * sweep * cs - r * sweep * sweep * sn;
+        (d1, d2)
+    }
+}

@@ -18,7 +18,6 @@ use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::runtime::{with_preparation, Handover, Job, Report};
 use crate::{MachineData, ToolTable};
 use std::io::Write;
-use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 #[derive(Clone, Debug)]
@@ -108,34 +107,17 @@ fn ipo_loop(
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
     writeln!(w, "cycle,time,X,Y,Z,v_path,block,events")?;
     let mut line = String::with_capacity(256);
-    let mut alarm = false;
     ch.start();
     let mut k: u64 = 0;
     loop {
         // Take what preparation has, up to the lookahead; wait for it (simulated time stands
         // still), so the result does not depend on the thread's speed.
-        while !ch.input_done() {
-            let input = match pending.take().or_else(|| hand.queue.pop()) {
-                Some(i) => i,
-                None if hand.finished.load(Ordering::Acquire) && hand.queue.is_empty() => {
-                    Input::Done
-                }
-                None => {
-                    std::thread::yield_now();
-                    continue;
-                }
-            };
-            if !ch.can_take(&input) {
-                pending = Some(input);
-                break;
+        ch.fill(&mut pending, || loop {
+            if let Some(i) = hand.pop() {
+                return Some(i);
             }
-            match input {
-                Input::Motion(_) => summary.segments += 1,
-                Input::Alarm { .. } => alarm = true,
-                _ => {}
-            }
-            ch.take(input);
-        }
+            std::thread::yield_now();
+        });
         // The simulated operator and PLC act between cycles.
         while acks.front().is_some_and(|&due| due <= k) {
             acks.pop_front();
@@ -156,7 +138,7 @@ fn ipo_loop(
         w.write_all(line.as_bytes())?;
         match sp.state {
             ChannelState::End => break,
-            ChannelState::Stopped if !alarm => ch.start(),
+            ChannelState::Stopped if !ch.has_alarm() => ch.start(),
             ChannelState::Stopped => break,
             _ => {}
         }
@@ -168,6 +150,7 @@ fn ipo_loop(
     }
     w.flush()?;
     summary.cycles = k + 1;
+    summary.segments = ch.planner().pushed();
     summary.end_state = Some(sp.state);
     Ok(summary)
 }
@@ -189,7 +172,7 @@ fn write_row(line: &mut String, sp: &Setpoint, cycle_us: u64) {
         line.push(',');
         // -0.0 prints as 0: the same place.
         let x = if *x == 0.0 { 0.0 } else { *x };
-        line.push_str(trim(buf.format(x)));
+        line.push_str(buf.format(x));
     }
     line.push(',');
     if let Some(s) = sp.source {
@@ -227,9 +210,4 @@ fn write_row(line: &mut String, sp: &Setpoint, cycle_us: u64) {
         }
     }
     line.push('\n');
-}
-
-/// ryu writes integers as "12.0": kept as they are (unambiguous, round-trips).
-fn trim(s: &str) -> &str {
-    s
 }

@@ -86,9 +86,17 @@ pub struct Setpoint {
 /// Records waiting for their S point.
 const WAITING: usize = 64;
 
+/// A record waiting for the start of segment `tag` (after the last one: the end).
+struct Waiting {
+    tag: u64,
+    event: Event,
+    /// An auxiliary function the PLC must acknowledge before the path goes on.
+    acked: bool,
+}
+
 /// The channel's state apart from the planner (a separate borrow in the cycle).
 struct Gate {
-    waiting: heapless::Deque<(u64, Event), WAITING>,
+    waiting: heapless::Deque<Waiting, WAITING>,
     acks_due: u32,
     /// Waits for NC start (program stop, single block, alarm).
     halted: bool,
@@ -118,24 +126,20 @@ impl Gate {
         at_rest: bool,
         out: &mut heapless::Vec<Event, MAX_EVENTS>,
     ) -> bool {
-        while let Some(&(tag, _)) = self.waiting.front() {
-            if no.is_some_and(|n| tag > n) {
+        while let Some(w) = self.waiting.front() {
+            if no.is_some_and(|n| w.tag > n) {
                 break;
             }
-            let Some((_, e)) = self.waiting.pop_front() else {
+            let Some(Waiting {
+                event: e, acked, ..
+            }) = self.waiting.pop_front()
+            else {
                 break;
             };
+            if acked {
+                self.acks_due += 1;
+            }
             match &e {
-                Event::Aux(a) => {
-                    let wait = a.words.iter().any(|w| {
-                        self.wait_for_ack
-                            .iter()
-                            .any(|&(ad, v)| ad == w.address.to_ascii_uppercase() && v == w.value)
-                    });
-                    if wait {
-                        self.acks_due += 1;
-                    }
-                }
                 Event::Stop(_) => self.halted = true,
                 Event::Alarm { .. } => {
                     self.halted = true;
@@ -178,10 +182,8 @@ impl Channel {
     pub fn new(md: &MachineData, start: Pos) -> Self {
         let lim = super::AxisLimits::new(md);
         let mut wait = heapless::Vec::new();
-        for w in &md.ipo.wait_for_ack {
-            if let Ok(v) = w[1..].parse::<f64>() {
-                let _ = wait.push((w.as_bytes()[0].to_ascii_uppercase(), v));
-            }
+        for w in md.ipo.ack_words() {
+            let _ = wait.push(w);
         }
         Channel {
             planner: Planner::new(lim, md.ipo.lookahead as usize, start),
@@ -211,7 +213,7 @@ impl Channel {
     }
 
     /// Whether `input` can be taken now (room in the lookahead, or for what waits).
-    pub fn can_take(&self, input: &Input) -> bool {
+    fn can_take(&self, input: &Input) -> bool {
         match input {
             Input::Motion(_) => self.planner.room() > 0,
             Input::Done => true,
@@ -219,49 +221,68 @@ impl Channel {
         }
     }
 
-    /// Takes the next record from preparation; false (nothing taken) when there is no room:
-    /// offer it again after a cycle.
-    pub fn take(&mut self, input: Input) -> bool {
-        if !self.can_take(&input) || self.input_done {
-            return false;
+    /// Takes the next record from preparation; gives it back when there is no room (offer it
+    /// again after a cycle). After the end of the input, whatever comes is dropped. The record
+    /// comes back by value: boxing it would allocate on the IPO path.
+    #[allow(clippy::result_large_err)]
+    pub fn take(&mut self, input: Input) -> Result<(), Input> {
+        if self.input_done {
+            return Ok(());
+        }
+        if !self.can_take(&input) {
+            return Err(input);
         }
         let tag = self.planner.pushed();
-        let (event, halts) = match input {
+        let (event, acked) = match input {
             Input::Motion(mut e) => {
                 if self.gate.single_block {
                     e.stop_after = true;
                 }
                 self.planner.push(e);
-                return true;
+                return Ok(());
             }
             Input::Done => {
                 self.input_done = true;
-                return true;
+                return Ok(());
             }
             Input::Aux(a) => {
-                let halts = a.words.iter().any(|w| {
-                    self.gate
-                        .wait_for_ack
-                        .iter()
-                        .any(|&(ad, v)| ad == w.address.to_ascii_uppercase() && v == w.value)
+                let acked = a.words.iter().any(|w| {
+                    let word = (w.address.to_ascii_uppercase(), w.value);
+                    self.gate.wait_for_ack.contains(&word)
                 });
-                (Event::Aux(a), halts)
+                (Event::Aux(a), acked)
             }
-            Input::Stop(s) => (Event::Stop(s), true),
+            Input::Stop(s) => (Event::Stop(s), false),
             Input::End(s) => {
                 self.input_done = true;
-                (Event::End(s), true)
+                (Event::End(s), false)
             }
             Input::Alarm { code, source } => {
                 self.input_done = true;
-                (Event::Alarm { code, source }, true)
+                (Event::Alarm { code, source }, false)
             }
         };
-        if halts {
+        // Whatever waits here (an acknowledgement, a stop, the end, an alarm) needs the path
+        // at rest: the segment before ends with an exact stop.
+        if acked || !matches!(event, Event::Aux(_)) {
             self.planner.stop_after_last();
         }
-        let _ = self.gate.waiting.push_back((tag, event));
-        true
+        let _ = self.gate.waiting.push_back(Waiting { tag, event, acked });
+        Ok(())
+    }
+
+    /// Takes records from `next` until the lookahead is full or the input is done; one that
+    /// does not fit waits in `pending` for the next call.
+    pub fn fill(&mut self, pending: &mut Option<Input>, mut next: impl FnMut() -> Option<Input>) {
+        while !self.input_done {
+            let Some(input) = pending.take().or_else(&mut next) else {
+                return;
+            };
+            if let Err(back) = self.take(input) {
+                *pending = Some(back);
+                return;
+            }
+        }
     }
 
     /// All input taken (the end of the program is known).
@@ -366,7 +387,7 @@ impl Channel {
                     self.state = ChannelState::End;
                 }
             }
-            if self.planner.at_rest() && (self.gate.halted || self.planner_stopping()) {
+            if self.planner.at_rest() && (self.gate.halted || self.planner.is_stopping()) {
                 self.state = ChannelState::Stopped;
             }
         }
@@ -378,10 +399,6 @@ impl Channel {
         out.v_path = sample.v;
         out.source = sample.source;
         out.state = self.state;
-    }
-
-    fn planner_stopping(&self) -> bool {
-        self.planner.is_stopping()
     }
 }
 

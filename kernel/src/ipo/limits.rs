@@ -69,19 +69,19 @@ impl AxisLimits {
         // How much of the path speed each axis can see: a line's direction cosines; on an
         // arc the whole of it in the plane (the tangent turns) and the lead along the normal.
         let mut share = [0.0f64; 3];
-        match p.arc() {
+        match p.plane() {
             None => {
                 for (i, s) in share.iter_mut().enumerate() {
                     *s = p.tangent[0][i].abs();
                 }
             }
-            Some((plane, _)) => {
+            Some(plane) => {
                 share[plane.abscissa as usize] = p.stretch;
                 share[plane.ordinate as usize] = p.stretch;
                 share[plane.normal as usize] = p.normal_share() * p.stretch;
             }
         }
-        let line = p.arc().is_none();
+        let line = p.plane().is_none();
         let (mut v, mut a, mut j) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         for (i, &sh) in share.iter().enumerate() {
             if sh <= 1e-12 {
@@ -104,8 +104,8 @@ impl AxisLimits {
             });
         }
         // The turning direction acts in the plane: the plane axes' own limits.
-        let (a_plane, j_plane) = match p.arc() {
-            Some((plane, _)) => {
+        let (a_plane, j_plane) = match p.plane() {
+            Some(plane) => {
                 let (ia, io) = (plane.abscissa as usize, plane.ordinate as usize);
                 (self.a[ia].min(self.a[io]), self.j[ia].min(self.j[io]))
             }

@@ -3,33 +3,14 @@
 //!
 //! Lines, arcs, helices (an arc with a move along the plane's normal) and the arcs of the TRC
 //! core whose radius changes over the block (r0 → r1) or whose centre moves (a turning
-//! tool's cutting edge changing, prep/tool_tip.rs) are one parametrisation: with u = s/len,
-//! angle θ0 + u·sweep, radius r0 + u·(r1 − r0), centre c0 + u·(c1 − c0), normal coordinate
-//! h0 + u·(h1 − h0). Every setpoint is a point of that curve, computed directly (no chords);
-//! the end points are the segment's own.
+//! tool's cutting edge changing, prep/tool_tip.rs) are one parametrisation, the segment's
+//! [`Curve`], with u = s/len. Every setpoint is a point of that curve, computed directly
+//! (no chords); the end points are the segment's own.
 
 use crate::frontend::block::{Plane, Pos};
-use crate::segment::{Segment, Shape};
+use crate::segment::{Curve, Segment};
 
 pub type V3 = [f64; 3];
-
-#[derive(Clone, Copy, Debug)]
-enum Geo {
-    Line {
-        d: V3,
-    },
-    Arc {
-        plane: Plane,
-        c0: [f64; 2],
-        dc: [f64; 2],
-        r0: f64,
-        dr: f64,
-        th0: f64,
-        sweep: f64,
-        h0: f64,
-        dh: f64,
-    },
-}
 
 /// A segment ready for interpolation.
 #[derive(Clone, Copy, Debug)]
@@ -37,7 +18,7 @@ pub struct Piece {
     pub seg: Segment,
     /// Path length, mm.
     pub len: f64,
-    geo: Geo,
+    curve: Curve,
     /// Unit tangents at the start and the end.
     pub tangent: [V3; 2],
     /// Curvature vectors (1/mm, towards the centre) at the start and the end.
@@ -62,160 +43,76 @@ fn dot(a: V3, b: V3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-const TAU: f64 = std::f64::consts::TAU;
-
 impl Piece {
     /// `None` for a segment without length (nothing to interpolate).
     pub fn new(seg: &Segment) -> Option<Piece> {
-        match seg.shape {
-            Shape::Line => {
-                let d = sub(seg.to, seg.from);
-                let len = norm(d);
-                if len.is_nan() || len <= 0.0 {
-                    return None;
-                }
-                let t = scale(d, 1.0 / len);
-                Some(Piece {
-                    seg: *seg,
-                    len,
-                    geo: Geo::Line { d },
-                    tangent: [t, t],
-                    curvature: [[0.0; 3]; 2],
-                    stretch: 1.0,
-                    kappa: 0.0,
-                })
-            }
-            Shape::Arc {
-                center,
-                center_end,
-                ccw,
-                plane,
-                ..
-            } => {
-                let (ia, io, ino) = (
-                    plane.abscissa as usize,
-                    plane.ordinate as usize,
-                    plane.normal as usize,
-                );
-                let c0 = [center[ia], center[io]];
-                let c1 = [center_end[ia], center_end[io]];
-                let (fa, fo) = (seg.from[ia] - c0[0], seg.from[io] - c0[1]);
-                let (ta, to) = (seg.to[ia] - c1[0], seg.to[io] - c1[1]);
-                // The radii from the end points themselves: the end is the segment's own.
-                let r0 = (fa * fa + fo * fo).sqrt();
-                let r1 = (ta * ta + to * to).sqrt();
-                if r0.is_nan() || r1.is_nan() || r0 <= 0.0 || r1 <= 0.0 {
-                    return None;
-                }
-                let th0 = libm::atan2(fo, fa);
-                let th1 = libm::atan2(to, ta);
-                let full = seg.from[ia] == seg.to[ia] && seg.from[io] == seg.to[io];
-                let mut sweep = if ccw { th1 - th0 } else { th0 - th1 };
-                if full {
-                    sweep = TAU;
-                } else if sweep < 0.0 {
-                    sweep += TAU;
-                    // An arc whose ends differ only by rounding is not a full circle.
-                    if sweep >= TAU {
-                        sweep = 0.0;
-                    }
-                }
-                let sweep = if ccw { sweep } else { -sweep };
-                let geo = Geo::Arc {
-                    plane,
-                    c0,
-                    dc: [c1[0] - c0[0], c1[1] - c0[1]],
-                    r0,
-                    dr: r1 - r0,
-                    th0,
-                    sweep,
-                    h0: seg.from[ino],
-                    dh: seg.to[ino] - seg.from[ino],
-                };
-                let mut p = Piece {
-                    seg: *seg,
-                    len: 0.0,
-                    geo,
-                    tangent: [[0.0; 3]; 2],
-                    curvature: [[0.0; 3]; 2],
-                    stretch: 1.0,
-                    kappa: 1.0 / r0.min(r1),
-                };
-                let uniform = r0 == r1 && c0 == c1;
-                let len = if uniform {
-                    let h = seg.to[ino] - seg.from[ino];
-                    ((r0 * sweep) * (r0 * sweep) + h * h).sqrt()
-                } else {
-                    // Simpson over the speed |dP/du|: the parametrisation is not by length.
-                    const N: usize = 64;
-                    let mut sum = 0.0;
-                    for k in 0..=N {
-                        let w = if k == 0 || k == N {
-                            1.0
-                        } else if k % 2 == 1 {
-                            4.0
-                        } else {
-                            2.0
-                        };
-                        sum += w * norm(p.derivatives(k as f64 / N as f64).0);
-                    }
-                    sum / (3.0 * N as f64)
-                };
-                if len.is_nan() || len <= 0.0 {
-                    return None;
-                }
-                p.len = len;
-                if !uniform {
-                    let mut most: f64 = 0.0;
-                    for k in 0..=64 {
-                        most = most.max(norm(p.derivatives(k as f64 / 64.0).0));
-                    }
-                    p.stretch = (most / len).max(1.0);
-                }
-                for (end, u) in [(0, 0.0), (1, 1.0)] {
-                    let (d1, d2) = p.derivatives(u);
-                    let speed = norm(d1);
-                    let t = scale(d1, 1.0 / speed);
-                    p.tangent[end] = t;
-                    p.curvature[end] = scale(sub(d2, scale(t, dot(d2, t))), 1.0 / (speed * speed));
-                }
-                Some(p)
-            }
-        }
-    }
-
-    /// dP/du and d²P/du² of an arc (u = s/len).
-    fn derivatives(&self, u: f64) -> (V3, V3) {
-        let Geo::Arc {
-            plane,
-            dc,
+        let curve = Curve::new(seg)?;
+        let mut p = Piece {
+            seg: *seg,
+            len: 0.0,
+            curve,
+            tangent: [[0.0; 3]; 2],
+            curvature: [[0.0; 3]; 2],
+            stretch: 1.0,
+            kappa: 0.0,
+        };
+        let Curve::Arc {
             r0,
             dr,
-            th0,
+            dc,
             sweep,
             dh,
             ..
-        } = self.geo
+        } = curve
         else {
-            return (sub(self.seg.to, self.seg.from), [0.0; 3]);
+            let d = sub(seg.to, seg.from);
+            p.len = norm(d);
+            if p.len.is_nan() || p.len <= 0.0 {
+                return None;
+            }
+            let t = scale(d, 1.0 / p.len);
+            p.tangent = [t, t];
+            return Some(p);
         };
-        let th = th0 + sweep * u;
-        let (sn, cs) = (libm::sin(th), libm::cos(th));
-        let r = r0 + dr * u;
-        let mut d1 = [0.0; 3];
-        let mut d2 = [0.0; 3];
-        let (ia, io, ino) = (
-            plane.abscissa as usize,
-            plane.ordinate as usize,
-            plane.normal as usize,
-        );
-        // P = c + r·e(θ); e' = sweep·e⊥, e⊥' = −sweep·e.
-        d1[ia] = dc[0] + dr * cs - r * sweep * sn;
-        d1[io] = dc[1] + dr * sn + r * sweep * cs;
-        d1[ino] = dh;
-        d2[ia] = -2.0 * dr * sweep * sn - r * sweep * sweep * cs;
-        d2[io] = 2.0 * dr * sweep * cs - r * sweep * sweep * sn;
-        (d1, d2)
+        let r1 = r0 + dr;
+        p.kappa = 1.0 / r0.min(r1);
+        let uniform = dr == 0.0 && dc == [0.0, 0.0];
+        p.len = if uniform {
+            ((r0 * sweep) * (r0 * sweep) + dh * dh).sqrt()
+        } else {
+            // Simpson over the speed |dP/du|: the parametrisation is not by length.
+            const N: usize = 64;
+            let mut sum = 0.0;
+            for k in 0..=N {
+                let w = if k == 0 || k == N {
+                    1.0
+                } else if k % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                sum += w * norm(curve.derivatives(k as f64 / N as f64).0);
+            }
+            sum / (3.0 * N as f64)
+        };
+        if p.len.is_nan() || p.len <= 0.0 {
+            return None;
+        }
+        if !uniform {
+            let mut most: f64 = 0.0;
+            for k in 0..=64 {
+                most = most.max(norm(curve.derivatives(k as f64 / 64.0).0));
+            }
+            p.stretch = (most / p.len).max(1.0);
+        }
+        for (end, u) in [(0, 0.0), (1, 1.0)] {
+            let (d1, d2) = curve.derivatives(u);
+            let speed = norm(d1);
+            let t = scale(d1, 1.0 / speed);
+            p.tangent[end] = t;
+            p.curvature[end] = scale(sub(d2, scale(t, dot(d2, t))), 1.0 / (speed * speed));
+        }
+        Some(p)
     }
 
     /// The point at distance `s` along the segment (clamped to it); the ends exactly.
@@ -226,48 +123,22 @@ impl Piece {
         if s >= self.len {
             return self.seg.to;
         }
-        let u = s / self.len;
-        match self.geo {
-            Geo::Line { d } => [
-                self.seg.from[0] + d[0] * u,
-                self.seg.from[1] + d[1] * u,
-                self.seg.from[2] + d[2] * u,
-            ],
-            Geo::Arc {
-                plane,
-                c0,
-                dc,
-                r0,
-                dr,
-                th0,
-                sweep,
-                h0,
-                dh,
-            } => {
-                let th = th0 + sweep * u;
-                let r = r0 + dr * u;
-                let mut p = self.seg.from;
-                p[plane.abscissa as usize] = c0[0] + dc[0] * u + r * libm::cos(th);
-                p[plane.ordinate as usize] = c0[1] + dc[1] * u + r * libm::sin(th);
-                p[plane.normal as usize] = h0 + dh * u;
-                p
-            }
-        }
+        self.curve.point(s / self.len)
     }
 
-    /// The plane and sweep of an arc (for tests and the corner limits).
-    pub fn arc(&self) -> Option<(Plane, f64)> {
-        match self.geo {
-            Geo::Arc { plane, sweep, .. } => Some((plane, sweep)),
-            Geo::Line { .. } => None,
+    /// The plane of an arc; `None` for a line.
+    pub fn plane(&self) -> Option<Plane> {
+        match self.curve {
+            Curve::Arc { plane, .. } => Some(plane),
+            Curve::Line { .. } => None,
         }
     }
 
     /// Share of the path speed along the plane's normal (a helix's lead).
     pub fn normal_share(&self) -> f64 {
-        match self.geo {
-            Geo::Arc { dh, .. } => (dh / self.len).abs(),
-            Geo::Line { .. } => 0.0,
+        match self.curve {
+            Curve::Arc { dh, .. } => (dh / self.len).abs(),
+            Curve::Line { .. } => 0.0,
         }
     }
 }
@@ -275,7 +146,7 @@ impl Piece {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::segment::{Role, Source};
+    use crate::segment::{Role, Shape, Source};
 
     /// A contour segment at F1000 for the tests of this stage.
     pub(crate) fn seg(from: Pos, to: Pos, shape: Shape) -> Segment {

@@ -71,16 +71,6 @@ impl Entry {
             end_max: 0.0,
         }))
     }
-
-    /// Its speed at the end as planned now (tests).
-    pub fn planned_end_speed(&self) -> f64 {
-        self.end_max
-    }
-
-    /// The corner limit to the next segment (0 at a stop or with nothing after it).
-    pub fn corner_limit(&self) -> f64 {
-        self.end_cap
-    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -144,10 +134,6 @@ impl Planner {
             pos: start,
             source: None,
         }
-    }
-
-    pub fn limits(&self) -> &AxisLimits {
-        &self.lim
     }
 
     /// Segments that can still be queued.
@@ -327,7 +313,8 @@ impl Planner {
                 );
                 self.run = Some(Run { prof, t0, w });
             }
-            let (Some(run), Some(front)) = (self.run, self.queue.front()) else {
+            // Borrowed, not copied: this runs every cycle.
+            let (Some(run), Some(front)) = (self.run.as_ref(), self.queue.front()) else {
                 break;
             };
             let rem = front.piece.len - self.offset;
@@ -354,12 +341,13 @@ impl Planner {
                 run.prof.time_at(rem).unwrap_or(tau)
             };
             let (_, ve, ae) = run.prof.at(te);
+            let (t0, w) = (run.t0, run.w);
             self.pos = front.piece.seg.to;
             self.source = Some(front.piece.seg.source);
             self.queue.pop_front();
             self.run = None;
             self.offset = 0.0;
-            if run.w == 0.0 {
+            if w == 0.0 {
                 self.v = 0.0;
                 self.a = 0.0;
                 // This cycle is the first on the end point; the next motion starts with the
@@ -368,7 +356,7 @@ impl Planner {
             } else {
                 self.v = ve;
                 self.a = ae;
-                self.t_free = run.t0 + te;
+                self.t_free = t0 + te;
             }
         }
         self.last_t = t;

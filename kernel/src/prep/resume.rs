@@ -11,9 +11,8 @@ use super::{Preparation, Prepared};
 use crate::alarm::{Alarm, AlarmCode};
 use crate::frontend::block::Pos;
 use crate::machine_data::MachineData;
-use crate::segment::{Role, Segment, Shape};
+use crate::segment::{Curve, Role, Segment, Shape};
 use crate::tools::ToolTable;
-use crate::trc::geom::{self, v2};
 
 /// Where the path stopped: the block (its execution number, [`crate::segment::Source::seq`])
 /// and how far along its contour segment, 0 at the start to 1 at the end.
@@ -92,41 +91,12 @@ impl<'a> Preparation<'a> {
     }
 }
 
-/// The point `t` (0..=1) along a segment: by length on a line, by angle on an arc (whose
-/// radius goes linearly from r0 to r1), the tool axis linearly.
+/// The point `t` (0..=1) along a segment: on its [`Curve`], the parametrisation the
+/// interpolator runs along (by angle on an arc, the radius, centre and tool axis linearly).
 fn point_at(s: &Segment, t: f64) -> Pos {
-    let lerp = |a: f64, b: f64| a + (b - a) * t;
-    match s.shape {
-        Shape::Line => [
-            lerp(s.from[0], s.to[0]),
-            lerp(s.from[1], s.to[1]),
-            lerp(s.from[2], s.to[2]),
-        ],
-        Shape::Arc {
-            center,
-            center_end,
-            ccw,
-            r0,
-            r1,
-            plane,
-        } => {
-            let (a, o, n) = (
-                plane.abscissa as usize,
-                plane.ordinate as usize,
-                plane.normal as usize,
-            );
-            let uv = |p: &Pos| v2(p[a], p[o]);
-            // The end as seen from the start centre (the centre may move, tool_tip.rs).
-            let end = uv(&s.to) - (uv(&center_end) - uv(&center));
-            let a0 = libm::atan2(s.from[o] - center[o], s.from[a] - center[a]);
-            let sweep = geom::sweep(uv(&center), uv(&s.from), end, ccw);
-            let ang = a0 + if ccw { sweep } else { -sweep } * t;
-            let r = lerp(r0, r1);
-            let mut p = [0.0; 3];
-            p[a] = lerp(center[a], center_end[a]) + r * libm::cos(ang);
-            p[o] = lerp(center[o], center_end[o]) + r * libm::sin(ang);
-            p[n] = lerp(s.from[n], s.to[n]);
-            p
-        }
+    match Curve::new(s) {
+        Some(c) if t > 0.0 && t < 1.0 => c.point(t),
+        _ if t >= 1.0 => s.to,
+        _ => s.from,
     }
 }

@@ -11,7 +11,6 @@ use crate::ipo::channel::Input;
 use crate::ipo::{Channel, ChannelState, Setpoint};
 use crate::{MachineData, ToolTable};
 use hdrhistogram::Histogram;
-use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 #[derive(Clone, Debug)]
@@ -128,20 +127,9 @@ fn ipo_thread(
         let woke = os::now_ns();
         let _ = wakeup.record(woke.saturating_sub(deadline).max(1));
         // Take what is there, never wait.
-        while !ch.input_done() {
-            let Some(input) = pending.take().or_else(|| hand.queue.pop()) else {
-                if hand.finished.load(Ordering::Acquire) && hand.queue.is_empty() {
-                    ch.take(Input::Done);
-                } else if ch.planner().room() > 0 {
-                    starved += 1;
-                }
-                break;
-            };
-            if !ch.can_take(&input) {
-                pending = Some(input);
-                break;
-            }
-            ch.take(input);
+        ch.fill(&mut pending, || hand.pop());
+        if !ch.input_done() && pending.is_none() && ch.planner().room() > 0 {
+            starved += 1;
         }
         while ch.acks_due() > 0 {
             // No PLC in this process yet (issue 6): acknowledged at once.

@@ -55,6 +55,16 @@ impl Default for Handover {
     }
 }
 
+impl Handover {
+    /// The next record, `Input::Done` once the preparation thread has ended (in any way)
+    /// and everything it pushed is taken; `None` while it is still at work.
+    pub fn pop(&self) -> Option<Input> {
+        self.queue.pop().or_else(|| {
+            (self.finished.load(Ordering::Acquire) && self.queue.is_empty()).then_some(Input::Done)
+        })
+    }
+}
+
 /// What the preparation thread prepares.
 #[derive(Clone, Copy)]
 pub struct Job<'a> {
@@ -66,7 +76,7 @@ pub struct Job<'a> {
 
 /// Stack for the preparation thread: `Preparation` keeps its queues in place (no heap), and
 /// unoptimised builds copy it around.
-pub const PREP_STACK: usize = 32 << 20;
+const PREP_STACK: usize = 32 << 20;
 
 /// One record from preparation as the channel takes it; `None` for what the channel does not
 /// see (a segment without length, a warning). Alarms and warnings go to `report` with their
@@ -120,9 +130,9 @@ fn to_input(
 }
 
 /// The preparation thread's work: the start position to `start` first, then every record,
-/// ready for the channel, into the queue in program order; `Input::Done` last. `delay` slows
-/// it down (a test hook).
-pub fn prepare_into(
+/// ready for the channel, into the queue in program order; `Input::Done` last (the caller's
+/// [`FinishGuard`] marks the hand-over finished). `delay` slows it down (a test hook).
+fn prepare_into(
     job: Job<'_>,
     start: &crossbeam::channel::Sender<crate::frontend::block::Pos>,
     lim: &AxisLimits,
@@ -169,7 +179,6 @@ pub fn prepare_into(
         }
     }
     push(Input::Done);
-    hand.finished.store(true, Ordering::Release);
 }
 
 /// Runs `consumer` beside a preparation thread working on `job`. The consumer gets the
@@ -231,7 +240,7 @@ pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Ve
 
 /// Marks the hand-over finished when the preparation thread ends in any way (a panic
 /// included), so a waiting consumer does not wait forever.
-pub struct FinishGuard<'a>(pub &'a Handover);
+struct FinishGuard<'a>(&'a Handover);
 
 impl Drop for FinishGuard<'_> {
     fn drop(&mut self) {
