@@ -797,3 +797,27 @@ fn a_preparation_that_falls_behind_slows_the_path_under_control() {
         .count();
     assert!(rests >= 10, "{rests}");
 }
+
+#[test]
+fn more_aux_functions_at_one_s_point_than_fit_in_a_cycle_all_go_out_in_order() {
+    // Eight blocks of auxiliary functions between two lines (machine data allows eight
+    // blocks outside the plane): all come out at N10's end, in program order, in two
+    // consecutive cycles (six fit in one setpoint; the path runs on through, none of them
+    // waits for an acknowledgement).
+    let md = machine(None, &["trc.max_blocks_outside_plane=8"]);
+    let text = "N10 G90 G1 X10 F1000\nN11 H1\nN12 H2\nN13 H3\nN14 H4\nN15 H5\nN16 H6\nN17 H7\nN18 H8\nN20 X20\nN30 M30\n";
+    let (rows, s) = simulate(&md, text);
+    assert_eq!(s.end_state.map(|s| s.name()), Some("END"));
+    let with: Vec<&Row> = rows.iter().filter(|r| r.events.contains("aux")).collect();
+    let words: Vec<String> = with
+        .iter()
+        .flat_map(|r| r.events.split(';'))
+        .filter_map(|e| {
+            e.strip_prefix("aux ")
+                .map(|w| w.split(" @").next().unwrap().to_string())
+        })
+        .collect();
+    assert_eq!(words, ["H1", "H2", "H3", "H4", "H5", "H6", "H7", "H8"]);
+    assert_eq!(with.len(), 2);
+    assert_eq!(with[1].cycle, with[0].cycle + 1);
+}

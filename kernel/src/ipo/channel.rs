@@ -69,7 +69,11 @@ pub enum Input {
     Done,
 }
 
+/// Events in one setpoint. What waits at an S point beyond that goes out in the next
+/// cycles, before the path moves on; two places stay free for a single-block stop and a
+/// state change.
 pub const MAX_EVENTS: usize = 8;
+const RECORDS_PER_CYCLE: usize = MAX_EVENTS - 2;
 
 /// One IPO cycle's output.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,29 +110,18 @@ struct Gate {
     released: Option<u64>,
     started: Option<u64>,
     wait_for_ack: heapless::Vec<(u8, f64), 16>,
-    /// Events of this cycle beyond what fits are dropped into this count (never expected:
-    /// the S-point stage limits what waits at one point).
-    lost: u32,
 }
 
 impl Gate {
-    fn emit(&mut self, out: &mut heapless::Vec<Event, MAX_EVENTS>, e: Event) {
-        if out.push(e).is_err() {
-            self.lost += 1;
-        }
-    }
-
-    /// Outputs what waits for the start of segment `no` (all of it for `None`: the end);
-    /// true when the segment may start.
-    fn pass(
-        &mut self,
-        no: Option<u64>,
-        at_rest: bool,
-        out: &mut heapless::Vec<Event, MAX_EVENTS>,
-    ) -> bool {
+    /// Outputs what waits for the start of segment `no` (all of it for `None`: the end), as
+    /// much as fits in this cycle; true when all of it is out.
+    fn drain(&mut self, no: Option<u64>, out: &mut heapless::Vec<Event, MAX_EVENTS>) -> bool {
         while let Some(w) = self.waiting.front() {
             if no.is_some_and(|n| w.tag > n) {
-                break;
+                return true;
+            }
+            if out.len() >= RECORDS_PER_CYCLE {
+                return false;
             }
             let Some(Waiting {
                 event: e, acked, ..
@@ -147,11 +140,15 @@ impl Gate {
                 }
                 _ => {}
             }
-            self.emit(out, e);
+            let _ = out.push(e);
         }
-        let Some(no) = no else {
-            return false;
-        };
+        true
+    }
+
+    /// At the start of segment `no`: what waits for it goes out; true when the segment may
+    /// start.
+    fn pass(&mut self, no: u64, at_rest: bool, out: &mut heapless::Vec<Event, MAX_EVENTS>) -> bool {
+        let all_out = self.drain(Some(no), out);
         if at_rest
             && self.single_block
             && self.started.is_some()
@@ -160,9 +157,9 @@ impl Gate {
         {
             self.halted = true;
             // The S point is where the segment before ended; its block is the one shown.
-            self.emit(out, Event::SingleBlock);
+            let _ = out.push(Event::SingleBlock);
         }
-        let go = !(self.halted || self.acks_due > 0);
+        let go = all_out && !(self.halted || self.acks_due > 0);
         if go || !at_rest {
             self.started = Some(no);
         }
@@ -196,7 +193,6 @@ impl Channel {
                 released: None,
                 started: None,
                 wait_for_ack: wait,
-                lost: 0,
             },
             state: ChannelState::Reset,
             input_done: false,
@@ -370,7 +366,7 @@ impl Channel {
                 let gate = &mut self.gate;
                 let events = &mut out.events;
                 self.planner
-                    .cycle(k, &mut |no, rest| gate.pass(Some(no), rest, events))
+                    .cycle(k, &mut |no, rest| gate.pass(no, rest, events))
             }
             ChannelState::Reset | ChannelState::End => Sample {
                 pos: self.planner.position(),
@@ -378,10 +374,17 @@ impl Channel {
                 source: out.source,
             },
         };
+        if let Some(started) = self.gate.started {
+            // What a running hand-over left for lack of room in its cycle.
+            self.gate.drain(Some(started), &mut out.events);
+        }
         if self.state == ChannelState::Active {
-            if self.planner.idle() && self.input_done && !self.ended {
-                // The path is done: what waits after the last segment is due now.
-                self.gate.pass(None, true, &mut out.events);
+            // The path is done: what waits after the last segment is due now.
+            if self.planner.idle()
+                && self.input_done
+                && !self.ended
+                && self.gate.drain(None, &mut out.events)
+            {
                 self.ended = true;
                 if !self.gate.alarm {
                     self.state = ChannelState::End;
@@ -392,7 +395,7 @@ impl Channel {
             }
         }
         if self.state != before {
-            self.gate.emit(&mut out.events, Event::State(self.state));
+            let _ = out.events.push(Event::State(self.state));
         }
         out.cycle = k;
         out.pos = sample.pos;
