@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod picture;
+mod run;
 
 #[derive(Parser)]
 #[command(
@@ -69,6 +70,29 @@ enum Command {
         /// IPO cycles from an auxiliary function's output to the PLC's acknowledgement.
         #[arg(long, value_name = "CYCLES", default_value_t = 1)]
         ack_cycles: u64,
+    },
+    /// Run the program on the control: nc-kernel and plc-sim as processes over shared memory
+    /// (iceoryx2), with progress, a summary (time, following error, deviation of the actual
+    /// path, aux functions acknowledged) and an SVG of programmed, compensated and actual path.
+    Run {
+        #[command(flatten)]
+        input: ProgramArgs,
+        /// Instance name: the prefix of the services and shared memory (default: run-<pid>).
+        #[arg(long, value_name = "NAME")]
+        instance: Option<String>,
+        /// Keep plc-sim's CSV trace in FILE
+        /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`).
+        #[arg(long, value_name = "FILE")]
+        trace: Option<PathBuf>,
+        /// Write the picture to FILE (default: <program>.run.svg here).
+        #[arg(long, value_name = "FILE")]
+        svg: Option<PathBuf>,
+        /// Pass an argument to plc-sim, e.g. `--plc=--estop-at --plc=5000`.
+        #[arg(long = "plc", value_name = "ARG", allow_hyphen_values = true)]
+        plc: Vec<String>,
+        /// No progress line.
+        #[arg(long)]
+        quiet: bool,
     },
 }
 
@@ -330,6 +354,14 @@ fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
 }
 
 fn main() -> ExitCode {
+    // One executable for the whole control: `softnc run` starts itself in these roles, so
+    // one `cargo run` builds everything the run needs.
+    let mut args = std::env::args().skip(1);
+    match args.next().as_deref() {
+        Some("nc-kernel") => return nc_kernel::process::main(args.collect()),
+        Some("plc-sim") => return plc_sim::main(args.collect()),
+        _ => {}
+    }
     let cli = Cli::parse();
     match &cli.command {
         Command::Parse { input, output } => parse(input, output.as_ref()),
@@ -339,6 +371,33 @@ fn main() -> ExitCode {
             output,
         } => path(input, *format, output.as_ref()),
         Command::Check { input } => check(input),
+        Command::Run {
+            input,
+            instance,
+            trace,
+            svg,
+            plc,
+            quiet,
+        } => {
+            let l = match load(input) {
+                Ok(l) => l,
+                Err(code) => return code,
+            };
+            run::run(run::RunOptions {
+                name: &l.name,
+                source: &l.source,
+                program: &input.program,
+                md: &l.md,
+                tools: &l.tools,
+                tools_file: input.tools.as_deref(),
+                set: &input.set,
+                instance: instance.clone(),
+                trace: trace.clone(),
+                svg: svg.clone(),
+                plc_args: plc,
+                quiet: *quiet,
+            })
+        }
         Command::Simulate {
             input,
             output,

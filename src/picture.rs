@@ -32,6 +32,7 @@ const APPROACH: &str = "#1a7f37";
 const CORNER: &str = "#d4650a";
 const UNCOMP: &str = "#6e7781";
 const ALARM: &str = "#cf222e";
+const ACTUAL: &str = "#8250df";
 
 /// What the picture shows, gathered before drawing.
 pub struct Picture<'a> {
@@ -41,6 +42,8 @@ pub struct Picture<'a> {
     segments: &'a [Segment],
     alarm: Option<&'a Alarm>,
     plane: Plane,
+    /// The axes' actual positions (softnc run), drawn over the path.
+    actual: &'a [Pos],
 }
 
 impl<'a> Picture<'a> {
@@ -75,7 +78,14 @@ impl<'a> Picture<'a> {
             segments,
             alarm,
             plane,
+            actual: &[],
         }
+    }
+
+    /// Adds the actual path the axes took.
+    pub fn with_actual(mut self, actual: &'a [Pos]) -> Self {
+        self.actual = actual;
+        self
     }
 
     fn uv(&self, p: Pos) -> (f64, f64) {
@@ -207,6 +217,9 @@ impl<'a> Picture<'a> {
                 bb.add(p);
             }
         }
+        for p in self.actual {
+            bb.add(self.uv(*p));
+        }
         for (c, r, _) in &circles {
             bb.add((c.0 - r, c.1 - r));
             bb.add((c.0 + r, c.1 + r));
@@ -236,7 +249,8 @@ impl<'a> Picture<'a> {
 
         let legend_y = TOP + plot_h + 40.0;
         let alarm_lines = usize::from(self.alarm.is_some());
-        let height = legend_y + 44.0 + 20.0 * alarm_lines as f64;
+        let extra = alarm_lines + usize::from(self.actual.len() > 1);
+        let height = legend_y + 44.0 + 20.0 * extra as f64;
         let width = LEFT + w * scale + RIGHT;
         let width = width.max(LEFT + PLOT_W + RIGHT);
 
@@ -258,6 +272,9 @@ impl<'a> Picture<'a> {
         doc = doc.add(grid(&view, self.plane, w, h));
         doc = doc.add(programmed_group(&view, &prog, self.alarm.map(|a| a.line)));
         doc = doc.add(self.path_group(&view));
+        if self.actual.len() > 1 {
+            doc = doc.add(self.actual_group(&view));
+        }
         if !circles.is_empty() {
             let mut g = Group::new()
                 .set("id", "tool-circles")
@@ -386,6 +403,29 @@ impl<'a> Picture<'a> {
             g = g.add(p);
         }
         g
+    }
+
+    /// The actual path as one polyline, thinned to points at least half a pixel apart.
+    fn actual_group(&self, v: &View) -> Group {
+        let mut d = Data::new();
+        let mut last: Option<(f64, f64)> = None;
+        for p in self.actual {
+            let q = v.px(self.uv(*p));
+            match last {
+                None => d = d.move_to((q.0 as f32, q.1 as f32)),
+                Some(l) if (l.0 - q.0).hypot(l.1 - q.1) < 0.5 => continue,
+                Some(_) => d = d.line_to((q.0 as f32, q.1 as f32)),
+            }
+            last = Some(q);
+        }
+        Group::new().set("id", "actual-path").add(
+            Path::new()
+                .set("d", d)
+                .set("fill", "none")
+                .set("stroke", ACTUAL)
+                .set("stroke-width", 1.0)
+                .set("stroke-linejoin", "round"),
+        )
     }
 
     fn labels(&self, v: &View) -> Group {
@@ -527,6 +567,25 @@ impl<'a> Picture<'a> {
             ("rapid", UNCOMP, 1.2, Some("5 4")),
         ];
         let mut g = Group::new().set("id", "legend").set("font-size", 11);
+        if self.actual.len() > 1 {
+            let (x, y) = (LEFT + 690.0, y + 40.0);
+            g = g
+                .add(
+                    Line::new()
+                        .set("x1", x)
+                        .set("y1", y - 4.0)
+                        .set("x2", x + 22.0)
+                        .set("y2", y - 4.0)
+                        .set("stroke", ACTUAL)
+                        .set("stroke-width", 1.0),
+                )
+                .add(
+                    Text::new("actual path (plc-sim)")
+                        .set("x", x + 28.0)
+                        .set("y", y)
+                        .set("fill", INK),
+                );
+        }
         // Two rows of three, in columns wide enough for the longest label.
         for (i, (label, colour, width, dash)) in items.into_iter().enumerate() {
             let x = LEFT + 230.0 * (i % 3) as f64;

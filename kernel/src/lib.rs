@@ -11,6 +11,7 @@ pub mod ipo;
 pub(crate) mod json;
 pub mod machine_data;
 pub mod prep;
+pub mod process;
 pub mod runtime;
 pub mod segment;
 pub mod simulate;

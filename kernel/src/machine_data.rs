@@ -205,6 +205,26 @@ impl IpoData {
     }
 }
 
+/// The PLC and the drives (plc-sim's axis models) and the supervision between kernel and PLC.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlcData {
+    /// IPO cycles without the peer's sign of life before its watchdog acts: the kernel
+    /// stops the path (alarm 2000), plc-sim brakes the axes (PLC alarm 700000).
+    pub watchdog_cycles: u32,
+    /// Position-loop gain kv, 1/s (16.67/s is the 840D's kv = 1 (m/min)/mm).
+    pub kv: f64,
+    /// Cycles between a setpoint's arrival and the position loop acting on it.
+    pub dead_time_cycles: u32,
+    /// How long a tool change (M6) takes, ms.
+    pub tool_change_ms: u32,
+    /// Spindle acceleration, rpm/s: M3/M4 are acknowledged at speed.
+    pub spindle_acceleration: f64,
+    /// Software limit switches per axis (X, Y, Z), machine coordinates, mm.
+    pub software_limit_min: [f64; 3],
+    pub software_limit_max: [f64; 3],
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisData {
@@ -248,6 +268,7 @@ pub struct MachineData {
     pub trc: TrcData,
     pub zero_offsets: ZeroOffsets,
     pub ipo: IpoData,
+    pub plc: PlcData,
     pub axes: Axes,
 }
 
@@ -418,6 +439,54 @@ impl MachineData {
                     self.ipo.cycle_us
                 ),
             ));
+        }
+        let plc = &self.plc;
+        if !(2..=10_000).contains(&plc.watchdog_cycles) {
+            return Err((
+                "plc.watchdog_cycles".into(),
+                format!(
+                    "{} is outside the allowed range 2 ..= 10000",
+                    plc.watchdog_cycles
+                ),
+            ));
+        }
+        // The discrete position loop x += T·kv·(s − x) needs kv·T well below 1.
+        let kv_max = 0.5e6 / f64::from(self.ipo.cycle_us);
+        range("plc.kv", plc.kv, 0.1, kv_max)?;
+        if plc.dead_time_cycles > 100 {
+            return Err((
+                "plc.dead_time_cycles".into(),
+                format!(
+                    "{} is outside the allowed range 0 ..= 100",
+                    plc.dead_time_cycles
+                ),
+            ));
+        }
+        if plc.tool_change_ms > 600_000 {
+            return Err((
+                "plc.tool_change_ms".into(),
+                format!(
+                    "{} is outside the allowed range 0 ..= 600000",
+                    plc.tool_change_ms
+                ),
+            ));
+        }
+        range(
+            "plc.spindle_acceleration",
+            plc.spindle_acceleration,
+            1.0,
+            1e6,
+        )?;
+        for i in 0..3 {
+            let (lo, hi) = (plc.software_limit_min[i], plc.software_limit_max[i]);
+            range(&format!("plc.software_limit_min[{i}]"), lo, -1e6, 1e6)?;
+            range(&format!("plc.software_limit_max[{i}]"), hi, -1e6, 1e6)?;
+            if lo >= hi {
+                return Err((
+                    format!("plc.software_limit_min[{i}]"),
+                    format!("{lo} is not below software_limit_max[{i}] = {hi}"),
+                ));
+            }
         }
         if !(1..=128).contains(&self.ipo.lookahead) {
             return Err((

@@ -1,10 +1,5 @@
-//! plc-sim: a process of the softnc control. Its cyclic function is built in a later issue; until
-//! then it only reports that and exits with status 2, so that nothing mistakes it for a peer.
+//! plc-sim: the simulated PLC and axes (src/lib.rs).
 
-fn main() {
-    eprintln!(
-        "plc-sim: not built yet (services under the prefix '{}' are defined in a later issue)",
-        softnc_protocol::DEFAULT_INSTANCE
-    );
-    std::process::exit(2);
+fn main() -> std::process::ExitCode {
+    plc_sim::main(std::env::args().skip(1).collect())
 }

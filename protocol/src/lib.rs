@@ -1,19 +1,10 @@
-//! softnc-protocol: payload types and service names shared by nc-kernel, plc-sim and
-//! hmi-bridge. The iceoryx2 services are defined in the IPC issue; this crate pins the
-//! naming scheme now so that every process agrees on it from the start.
+//! softnc-protocol: what nc-kernel, plc-sim, hmi-bridge and the `softnc` command exchange,
+//! and how they open the services. The one iceoryx2 version of all of them is this crate's
+//! (re-exported), so no two processes can be built against different ones.
 
-/// Default instance prefix for service names; tests and side-by-side machines set their own.
-pub const DEFAULT_INSTANCE: &str = "softnc";
+pub mod payload;
+pub mod services;
 
-/// The full service name for `service` under `instance` (`softnc/setpoints`).
-pub fn service_name(instance: &str, service: &str) -> String {
-    format!("{instance}/{service}")
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn names_are_prefixed() {
-        assert_eq!(super::service_name("a", "setpoints"), "a/setpoints");
-    }
-}
+pub use iceoryx2;
+pub use payload::*;
+pub use services::{abi, Instance, IpcError, DEFAULT_INSTANCE};

@@ -242,10 +242,7 @@ impl Channel {
                 return Ok(());
             }
             Input::Aux(a) => {
-                let acked = a.words.iter().any(|w| {
-                    let word = (w.address.to_ascii_uppercase(), w.value);
-                    self.gate.wait_for_ack.contains(&word)
-                });
+                let acked = self.waits_for_ack(&a);
                 (Event::Aux(a), acked)
             }
             Input::Stop(s) => (Event::Stop(s), false),
@@ -279,6 +276,36 @@ impl Channel {
                 return;
             }
         }
+    }
+
+    /// Whether the path waits at `aux`'s S point for the PLC's acknowledgement
+    /// (`ipo.wait_for_ack`).
+    pub fn waits_for_ack(&self, aux: &AuxFunction) -> bool {
+        aux.words.iter().any(|w| {
+            let word = (w.address.to_ascii_uppercase(), w.value);
+            self.gate.wait_for_ack.contains(&word)
+        })
+    }
+
+    /// An alarm from outside the program (PLC, drives, emergency stop): the path brakes on
+    /// its contour and the channel stops with the alarm; NC start is refused until reset.
+    pub fn fault(&mut self) {
+        self.gate.alarm = true;
+        if self.state == ChannelState::Active {
+            self.gate.halted = true;
+            self.planner.stop();
+        }
+    }
+
+    /// Waiting for NC start after a program stop, a single-block stop or an alarm.
+    pub fn waits_for_start(&self) -> bool {
+        self.gate.halted
+    }
+
+    /// Read-in disable (PLC): no further block starts; the path comes to rest at the first
+    /// block end it can still reach, and goes on when the signal drops.
+    pub fn set_read_in_disable(&mut self, on: bool) {
+        self.planner.set_hold(on);
     }
 
     /// All input taken (the end of the program is known).
@@ -320,6 +347,7 @@ impl Channel {
     /// Reset: the program is dropped, the position stays.
     pub fn reset(&mut self) {
         self.planner.clear();
+        self.planner.set_hold(false);
         self.gate.waiting.clear();
         self.gate.acks_due = 0;
         self.gate.halted = false;
@@ -329,6 +357,11 @@ impl Channel {
         self.input_done = false;
         self.ended = false;
         self.state = ChannelState::Reset;
+    }
+
+    /// Where the channel stands, for a channel with nothing queued (after a reset).
+    pub fn set_position(&mut self, pos: Pos) {
+        self.planner.set_position(pos);
     }
 
     /// The PLC acknowledged an auxiliary function.

@@ -98,6 +98,9 @@ pub struct Planner {
     pushed: u64,
     override_: f64,
     stopping: bool,
+    /// Read-in disable: no segment starts, the path comes to rest at the first segment end
+    /// it can still reach.
+    hold: bool,
     replan: bool,
     run: Option<Run>,
     /// Distance done on the front segment before the running profile started.
@@ -123,6 +126,7 @@ impl Planner {
             pushed: 0,
             override_: 1.0,
             stopping: false,
+            hold: false,
             replan: false,
             run: None,
             offset: 0.0,
@@ -166,7 +170,7 @@ impl Planner {
             return;
         }
         let corner = |last: &Entry, e: &Entry| {
-            if last.stop_after {
+            if last.stop_after || self.hold {
                 0.0
             } else {
                 self.lim.corner(&last.piece, &e.piece)
@@ -205,6 +209,44 @@ impl Planner {
         self.backward(true);
     }
 
+    /// Read-in disable on: no further segment starts, and every queued segment end becomes
+    /// a place to stop, so the path rests at the first end it can still reach without
+    /// leaving its limits. Off: the corners are what they were, and the path goes on.
+    pub fn set_hold(&mut self, on: bool) {
+        if on == self.hold {
+            return;
+        }
+        self.hold = on;
+        if on {
+            for e in self.queue.iter_mut() {
+                e.end_cap = 0.0;
+            }
+        } else {
+            let mut caps: heapless::Vec<f64, MAX_LOOKAHEAD> = heapless::Vec::new();
+            let mut prev: Option<&Entry> = None;
+            for e in self.queue.iter() {
+                if let Some(a) = prev {
+                    let c = if a.stop_after {
+                        0.0
+                    } else {
+                        self.lim.corner(&a.piece, &e.piece)
+                    };
+                    let _ = caps.push(c);
+                }
+                prev = Some(e);
+            }
+            for (e, c) in self.queue.iter_mut().zip(caps) {
+                e.end_cap = c;
+            }
+        }
+        self.backward(true);
+        self.replan = true;
+    }
+
+    pub fn is_held(&self) -> bool {
+        self.hold
+    }
+
     /// Path override, 0–1.2 (0–120 %); takes effect at the next cycle.
     pub fn set_override(&mut self, f: f64) {
         let f = if f.is_finite() {
@@ -238,6 +280,13 @@ impl Planner {
             self.stopping = false;
             self.backward(true);
             self.replan = true;
+        }
+    }
+
+    /// Moves the idle planner to `pos` (nothing queued: the position of a fresh channel).
+    pub fn set_position(&mut self, pos: Pos) {
+        if self.idle() {
+            self.pos = pos;
         }
     }
 
@@ -295,7 +344,7 @@ impl Planner {
                 };
                 let at_rest = self.v == 0.0;
                 let t0 = if at_rest {
-                    if k < self.rest_cycle || !gate(front.no, true) {
+                    if k < self.rest_cycle || self.hold || !gate(front.no, true) {
                         break;
                     }
                     t

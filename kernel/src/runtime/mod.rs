@@ -14,6 +14,7 @@
 //! Alarms and warnings carry text, so they go to the reporting side on their own channel:
 //! the IPO thread gets only their number and block, and never frees memory.
 
+pub mod cyclic;
 pub mod live;
 pub mod os;
 
@@ -210,6 +211,52 @@ pub fn with_preparation<R>(
         Ok::<R, std::io::Error>(r)
     })?;
     Ok((r, report_rx.try_iter().collect()))
+}
+
+/// A preparation thread that owns its program: for a kernel process that loads programs
+/// while it runs.
+pub struct Spawned {
+    pub hand: std::sync::Arc<Handover>,
+    /// Where the program starts.
+    pub start: crate::frontend::block::Pos,
+    /// Alarms and warnings with their text, as preparation finds them.
+    pub reports: crossbeam::channel::Receiver<Report>,
+    pub thread: std::thread::JoinHandle<()>,
+}
+
+/// Starts preparing `source` in a thread of its own; it ends at the program's end or when
+/// the hand-over is cancelled.
+pub fn spawn_preparation(
+    name: String,
+    source: String,
+    md: MachineData,
+    tools: ToolTable,
+) -> std::io::Result<Spawned> {
+    let hand = std::sync::Arc::new(Handover::default());
+    let (report_tx, reports) = crossbeam::channel::unbounded();
+    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+    let h = hand.clone();
+    let thread = std::thread::Builder::new()
+        .name("preparation".into())
+        .stack_size(PREP_STACK)
+        .spawn(move || {
+            let _guard = FinishGuard(&h);
+            let lim = AxisLimits::new(&md);
+            let job = Job {
+                name: &name,
+                source: &source,
+                md: &md,
+                tools: &tools,
+            };
+            prepare_into(job, &start_tx, &lim, &h, &report_tx, Duration::ZERO);
+        })?;
+    let start = start_rx.recv().unwrap_or([0.0; 3]);
+    Ok(Spawned {
+        hand,
+        start,
+        reports,
+        thread,
+    })
 }
 
 /// The whole program as the channel takes it, prepared in this thread (tests, benchmarks):

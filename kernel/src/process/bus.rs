@@ -1,0 +1,209 @@
+//! The IPO thread's ports: the [`Bus`] over iceoryx2. Every call returns at once: publishers
+//! overwrite a slow subscriber's oldest sample, requests go out without waiting, and
+//! answers are polled.
+
+use crate::ipo::{ChannelState, Setpoint};
+use crate::runtime::cyclic::{AuxOut, Bus, PlcInput, Status};
+use crate::runtime::os;
+use softnc_protocol::iceoryx2::node::Node;
+use softnc_protocol::iceoryx2::pending_response::PendingResponse;
+use softnc_protocol::iceoryx2::port::client::Client;
+use softnc_protocol::iceoryx2::port::notifier::Notifier;
+use softnc_protocol::iceoryx2::port::publisher::Publisher;
+use softnc_protocol::iceoryx2::port::subscriber::Subscriber;
+use softnc_protocol::iceoryx2::prelude::ipc;
+use softnc_protocol::{
+    state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
+    SetpointMsg, AUX_WORDS,
+};
+
+type Pending = PendingResponse<ipc::Service, AuxRequest, (), AuxAck, ()>;
+
+pub struct IceBus {
+    // Ports before the node: they are dropped first.
+    setpoints: Publisher<ipc::Service, SetpointMsg, ()>,
+    wake: Notifier<ipc::Service>,
+    aux: Client<ipc::Service, AuxRequest, (), AuxAck, ()>,
+    pending: heapless::Vec<(u64, Pending), 32>,
+    signals: Subscriber<ipc::Service, PlcSignals, ()>,
+    status: Publisher<ipc::Service, KernelStatus, ()>,
+    _node: Node<ipc::Service>,
+    seq: u64,
+    status_seq: u64,
+    /// Time of cycle 0 and the cycle, ns (for the deadlines in the payload).
+    pub t0: u64,
+    cycle_ns: u64,
+    /// Sends that failed (no memory to loan, a peer gone while sending).
+    pub send_errors: u64,
+}
+
+pub fn state_code(s: ChannelState) -> u8 {
+    match s {
+        ChannelState::Reset => state::RESET,
+        ChannelState::Active => state::ACTIVE,
+        ChannelState::Stopped => state::STOPPED,
+        ChannelState::End => state::END,
+    }
+}
+
+impl IceBus {
+    pub fn open(instance: &Instance, cycle_ns: u64) -> Result<Self, IpcError> {
+        let node = instance.node("nc-kernel")?;
+        let err = |what: &str, e: &dyn std::fmt::Debug| {
+            IpcError(format!(
+                "{}: cannot create the {what}: {e:?}",
+                instance.name()
+            ))
+        };
+        let setpoints = instance
+            .setpoints(&node)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| err("setpoint publisher", &e))?;
+        let wake = instance
+            .setpoint_event(&node)?
+            .notifier_builder()
+            .create()
+            .map_err(|e| err("setpoint notifier", &e))?;
+        let aux = instance
+            .aux(&node)?
+            .client_builder()
+            .create()
+            .map_err(|e| err("aux client", &e))?;
+        let signals = instance
+            .plc_signals(&node)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| err("PLC signal subscriber", &e))?;
+        let status = instance
+            .status(&node)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| err("status publisher", &e))?;
+        // Opened so that every service of the instance exists whoever starts first.
+        instance.actual_values(&node)?;
+        Ok(IceBus {
+            setpoints,
+            wake,
+            aux,
+            pending: heapless::Vec::new(),
+            signals,
+            status,
+            _node: node,
+            seq: 0,
+            status_seq: 0,
+            t0: 0,
+            cycle_ns,
+            send_errors: 0,
+        })
+    }
+}
+
+impl Bus for IceBus {
+    fn plc(&mut self) -> Option<PlcInput> {
+        let mut newest = None;
+        while let Ok(Some(s)) = self.signals.receive() {
+            newest = Some(*s.payload());
+        }
+        newest.map(|s| PlcInput {
+            feed_hold: s.feed_hold != 0,
+            read_in_disable: s.read_in_disable != 0,
+            drives_ready: s.drives_ready != 0,
+            emergency_stop: s.emergency_stop != 0,
+            alarm: s.alarm,
+        })
+    }
+
+    fn setpoint(&mut self, sp: &Setpoint) {
+        self.seq += 1;
+        let msg = SetpointMsg {
+            seq: self.seq,
+            cycle: sp.cycle,
+            sent_ns: os::now_ns(),
+            deadline_ns: self.t0 + (sp.cycle + 1) * self.cycle_ns,
+            cycle_us: (self.cycle_ns / 1000) as u32,
+            line: sp.source.map_or(0, |s| s.line),
+            pos: sp.pos,
+            v_path: sp.v_path,
+            state: state_code(sp.state),
+            _pad: [0; 7],
+        };
+        let sent = match self.setpoints.loan_uninit() {
+            Ok(s) => s.write_payload(msg).send().is_ok(),
+            Err(_) => false,
+        };
+        if !sent || self.wake.notify().is_err() {
+            self.send_errors += 1;
+        }
+    }
+
+    fn aux(&mut self, out: &AuxOut<'_>) -> bool {
+        if self.pending.is_full() {
+            return false;
+        }
+        let mut words = [AuxWordMsg::default(); AUX_WORDS];
+        let mut count = 0;
+        for (w, slot) in out.aux.words.iter().zip(words.iter_mut()) {
+            *slot = AuxWordMsg {
+                address: w.address.to_ascii_uppercase(),
+                _pad: [0; 7],
+                value: w.value,
+            };
+            count += 1;
+        }
+        let req = AuxRequest {
+            id: out.id,
+            cycle: out.cycle,
+            line: out.aux.source.line,
+            count,
+            words,
+            wait: out.wait as u8,
+            _pad: [0; 7],
+        };
+        match self.aux.send_copy(req) {
+            Ok(p) => self.pending.push((out.id, p)).is_ok(),
+            Err(_) => false,
+        }
+    }
+
+    fn acks(&mut self, f: &mut dyn FnMut(u64, u32)) {
+        let mut i = 0;
+        while i < self.pending.len() {
+            let answered = match self.pending[i].1.receive() {
+                Ok(Some(r)) => Some(r.payload().alarm),
+                _ => None,
+            };
+            if let Some(alarm) = answered {
+                f(self.pending[i].0, alarm);
+                // Order among the pending ones does not matter; swap_remove keeps it cheap.
+                drop(self.pending.swap_remove(i));
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    fn status(&mut self, st: &Status) {
+        self.status_seq += 1;
+        let msg = KernelStatus {
+            seq: self.status_seq,
+            cycle: st.cycle,
+            program: st.program,
+            line: st.line,
+            pos: st.pos,
+            v_path: st.v_path,
+            override_: st.override_,
+            alarm: st.alarm,
+            aux_sent: st.aux_sent,
+            aux_acked: st.aux_acked,
+            plc_cycle: st.plc_cycle,
+            state: st.state.map_or(state::RESET, state_code),
+            single_block: st.single_block as u8,
+            plc_alive: st.plc_alive as u8,
+            _pad: [0; 5],
+        };
+        if self.status.send_copy(msg).is_err() {
+            self.send_errors += 1;
+        }
+    }
+}

@@ -1,0 +1,187 @@
+//! nc-kernel process: the NC kernel on the live clock — preparation thread, lock-free
+//! queue, cyclic IPO thread (SCHED_FIFO, locked memory, absolute deadlines).
+//!
+//! `nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE]`: a process
+//! of the control, talking to plc-sim and the HMI over iceoryx2 (serve.rs).
+//!
+//! `nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P]`: the
+//! program alone, no PLC (auxiliary functions acknowledged at once), with the IPO thread's
+//! wake-up latency and compute time (the latency benchmark).
+
+mod bus;
+mod serve;
+
+use crate::runtime::live::{run, LiveOptions};
+use crate::runtime::Report;
+use std::process::ExitCode;
+use std::time::Duration;
+
+const USAGE: &str = "usage: nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE] [--set Dn=R]... [--priority P]
+       nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P] [--histogram FILE]";
+
+fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
+    args.windows(2)
+        .find(|w| w[0] == flag)
+        .map(|w| w[1].as_str())
+}
+
+/// The nc-kernel process with its arguments (after the program name).
+pub fn main(args: Vec<String>) -> ExitCode {
+    if args.is_empty() || args.iter().any(|a| a == "--help" || a == "-h") {
+        eprintln!("{USAGE}");
+        return ExitCode::from(2);
+    }
+    let fail = |m: String| {
+        eprintln!("error: {m}");
+        ExitCode::from(2)
+    };
+    // Flags and their values; the one other argument is the program.
+    let with_value = [
+        "--instance",
+        "--machine",
+        "--tools",
+        "--seconds",
+        "--priority",
+        "--histogram",
+        "--set",
+    ];
+    let mut program = None;
+    let mut i = 0;
+    while i < args.len() {
+        let a = &args[i];
+        if with_value.contains(&a.as_str()) {
+            if i + 1 >= args.len() {
+                return fail(format!("{a} needs a value\n{USAGE}"));
+            }
+            i += 2;
+            continue;
+        }
+        if a.starts_with("--") && a != "--start" {
+            return fail(format!("unknown option {a}\n{USAGE}"));
+        }
+        if !a.starts_with("--") {
+            if program.is_some() {
+                return fail(format!("one program only\n{USAGE}"));
+            }
+            program = Some(a.clone());
+        }
+        i += 1;
+    }
+    let md =
+        match crate::MachineData::load(value(&args, "--machine").map(std::path::Path::new), &[]) {
+            Ok(md) => md,
+            Err(e) => return fail(e.to_string()),
+        };
+    let tools = match value(&args, "--tools") {
+        Some(p) => match crate::ToolTable::load(std::path::Path::new(p)) {
+            Ok(t) => t,
+            Err(e) => return fail(e.to_string()),
+        },
+        None => crate::ToolTable::builtin(),
+    };
+    let mut tools = tools;
+    for w in args.windows(2).filter(|w| w[0] == "--set") {
+        let parsed = w[1].split_once('=').and_then(|(k, v)| {
+            let d = k.trim().strip_prefix(['D', 'd'])?.parse::<u32>().ok()?;
+            Some((d, v.trim().parse::<f64>().ok()?))
+        });
+        let Some((d, r)) = parsed else {
+            return fail(format!("--set {}: expected Dn=RADIUS, e.g. D1=10.0", w[1]));
+        };
+        if let Err(e) = tools.set_radius(d, r) {
+            return fail(format!("--set {}: {e}", w[1]));
+        }
+    }
+    let mut opts = LiveOptions {
+        announce: true,
+        ..Default::default()
+    };
+    if let Some(s) = value(&args, "--seconds") {
+        match s.parse::<f64>() {
+            Ok(x) if x > 0.0 && x.is_finite() => opts.limit = Some(Duration::from_secs_f64(x)),
+            _ => return fail(format!("--seconds {s}: expected a positive number")),
+        }
+    }
+    if let Some(p) = value(&args, "--priority") {
+        match p.parse::<i32>() {
+            Ok(x) if (1..=99).contains(&x) => opts.priority = x,
+            _ => return fail(format!("--priority {p}: expected 1 to 99")),
+        }
+    }
+    if let Some(instance) = value(&args, "--instance") {
+        return serve::run(serve::ServeOptions {
+            instance: instance.to_string(),
+            program,
+            start: args.iter().any(|a| a == "--start"),
+            md,
+            tools,
+            priority: opts.priority,
+        });
+    }
+    let Some(program) = program else {
+        return fail(format!("no program given\n{USAGE}"));
+    };
+    let program = &program;
+    let source = match std::fs::read_to_string(program) {
+        Ok(s) => s,
+        Err(e) => return fail(format!("{program}: {e}")),
+    };
+    let mut setpoints = 0u64;
+    let stats = match run(program, &source, &md, &tools, &opts, &mut |_sp| {
+        setpoints += 1
+    }) {
+        Ok(s) => s,
+        Err(e) => return fail(format!("cannot start the kernel's threads: {e}")),
+    };
+    let mut alarms = 0;
+    for r in &stats.reports {
+        match r {
+            Report::Warning(w) => eprintln!("{}", crate::alarm::render(w, &source)),
+            Report::Alarm(a) => {
+                alarms += 1;
+                eprintln!("{}", crate::alarm::render(a, &source));
+            }
+        }
+    }
+    let q = |h: &hdrhistogram::Histogram<u64>, p: f64| h.value_at_quantile(p) as f64 / 1000.0;
+    println!(
+        "{program}: {} after {} cycles ({setpoints} setpoints); {}",
+        stats.end_state.name(),
+        stats.cycles,
+        stats.rt
+    );
+    println!(
+        "wake-up latency µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}",
+        q(&stats.wakeup, 0.5),
+        q(&stats.wakeup, 0.99),
+        q(&stats.wakeup, 0.999),
+        stats.wakeup.max() as f64 / 1000.0
+    );
+    println!(
+        "cycle work µs:      p50 {:.2}  p99 {:.2}  max {:.1}; overruns {}, cycles short of lookahead {}",
+        q(&stats.compute, 0.5),
+        q(&stats.compute, 0.99),
+        stats.compute.max() as f64 / 1000.0,
+        stats.overruns,
+        stats.starved
+    );
+    if let Some(path) = value(&args, "--histogram") {
+        // The wake-up latency in cyclictest's histogram format: "<µs> <count>" per line.
+        let mut text = String::from("# nc-kernel wake-up latency histogram, µs\n");
+        let mut buckets = std::collections::BTreeMap::<u64, u64>::new();
+        for v in stats.wakeup.iter_recorded() {
+            *buckets.entry(v.value_iterated_to() / 1000).or_default() += v.count_at_value();
+        }
+        for (us, n) in buckets {
+            text.push_str(&format!("{us:06} {n:06}\n"));
+        }
+        if let Err(e) = std::fs::write(path, text) {
+            return fail(format!("{path}: {e}"));
+        }
+    }
+    if alarms > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}

@@ -1,0 +1,471 @@
+//! nc-kernel as a process of the control (issue 6): the IPO thread runs the cycle with the
+//! PLC over iceoryx2, this (control) thread answers HMI commands, loads programs and tells
+//! the user about alarms.
+//!
+//! ```text
+//!  control thread (this)                         IPO thread (SCHED_FIFO)
+//!  commands server ─► Control ─► [ArrayQueue 4] ─► Cyclic::command
+//!  reply ◄─────────── Result ◄── [ArrayQueue 4] ◄─┘      Cyclic::cycle ─► IceBus
+//!  frees programs ◄── Box<Program> ◄ [ArrayQueue 4] ◄── take_released
+//! ```
+//!
+//! Programs are built (preparation thread started, channel allocated) here and handed over
+//! boxed, so the IPO thread never allocates or frees.
+
+use super::bus::IceBus;
+use crate::ipo::Channel;
+use crate::runtime::cyclic::{Control, Cyclic, Program, Refusal};
+use crate::runtime::{os, spawn_preparation, Report};
+use crate::{MachineData, ToolTable};
+use crossbeam::queue::ArrayQueue;
+use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
+use std::collections::HashMap;
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+pub struct ServeOptions {
+    pub instance: String,
+    pub program: Option<String>,
+    pub start: bool,
+    pub md: MachineData,
+    pub tools: ToolTable,
+    pub priority: i32,
+}
+
+/// What the control thread keeps of a loaded program.
+struct Loaded {
+    name: String,
+    source: String,
+    reports: crossbeam::channel::Receiver<Report>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+struct Shared {
+    ctrl: ArrayQueue<Control>,
+    answers: ArrayQueue<Result<(), Refusal>>,
+    garbage: ArrayQueue<Box<Program>>,
+    /// Set by the IPO thread when it has ended.
+    done: AtomicBool,
+}
+
+fn fail(m: impl std::fmt::Display) -> ExitCode {
+    eprintln!("nc-kernel: error: {m}");
+    ExitCode::from(2)
+}
+
+pub fn run(opts: ServeOptions) -> ExitCode {
+    let instance = match Instance::new(&opts.instance) {
+        Ok(i) => i,
+        Err(e) => return fail(e),
+    };
+    let (cleaned, _) = instance.cleanup_dead_nodes();
+    if cleaned > 0 {
+        eprintln!(
+            "nc-kernel: removed what {cleaned} dead process(es) of instance '{}' left behind",
+            instance.name()
+        );
+    }
+    let term = Arc::new(AtomicBool::new(false));
+    {
+        let term = term.clone();
+        // SIGINT and SIGTERM: brake, then end (ctrlc's "termination" feature).
+        if let Err(e) = ctrlc::set_handler(move || term.store(true, Ordering::SeqCst)) {
+            return fail(format!("cannot install the signal handler: {e}"));
+        }
+    }
+    let md = Arc::new(opts.md);
+    let mut tools = opts.tools;
+    let mut programs: HashMap<u32, Loaded> = HashMap::new();
+    let mut next_id = 1u32;
+    // The first program, if any, fixes where the axes stand at start-up; without one they
+    // stand where an empty program would start.
+    let mut first = None;
+    if let Some(path) = &opts.program {
+        match load(path, &md, &tools, next_id) {
+            Ok((p, l)) => {
+                programs.insert(next_id, l);
+                first = Some(p);
+                next_id += 1;
+            }
+            Err(e) => return fail(e),
+        }
+    }
+    let start = first.as_ref().map_or_else(
+        || crate::Interpreter::new("", "", &md, &tools).position(),
+        |p| p.start,
+    );
+    let shared = Arc::new(Shared {
+        ctrl: ArrayQueue::new(4),
+        answers: ArrayQueue::new(4),
+        garbage: ArrayQueue::new(4),
+        done: AtomicBool::new(false),
+    });
+    let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<String, String>>(1);
+    let ipo = {
+        let (shared, md, instance) = (shared.clone(), md.clone(), instance.clone());
+        let priority = opts.priority;
+        std::thread::Builder::new()
+            .name("ipo".into())
+            .spawn(move || ipo_thread(&instance, &md, start, priority, &shared, ready_tx))
+    };
+    let ipo = match ipo {
+        Ok(t) => t,
+        Err(e) => return fail(format!("cannot start the IPO thread: {e}")),
+    };
+    match ready_rx.recv() {
+        Ok(Ok(rt)) => eprintln!(
+            "nc-kernel: instance '{}' ready; IPO cycle {} µs; {rt}",
+            instance.name(),
+            md.ipo.cycle_us
+        ),
+        Ok(Err(e)) => {
+            let _ = ipo.join();
+            return fail(e);
+        }
+        Err(_) => {
+            let _ = ipo.join();
+            return fail("the IPO thread ended before it was ready");
+        }
+    }
+    let code = match control(
+        &instance,
+        &shared,
+        &md,
+        &mut tools,
+        &mut programs,
+        &mut next_id,
+        first,
+        opts.start,
+        &term,
+    ) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("nc-kernel: error: {e}");
+            // The IPO thread brakes and ends.
+            let _ = shared.ctrl.push(Control::Shutdown);
+            ExitCode::from(2)
+        }
+    };
+    let _ = ipo.join();
+    while let Some(g) = shared.garbage.pop() {
+        drop(g);
+    }
+    for (_, mut l) in programs {
+        if let Some(t) = l.thread.take() {
+            let _ = t.join();
+        }
+    }
+    code
+}
+
+/// Reads and starts preparing a program; the channel is built here, at its start position.
+fn load(
+    path: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+    id: u32,
+) -> Result<(Box<Program>, Loaded), String> {
+    let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools.clone())
+        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
+    let program = Box::new(Program {
+        id,
+        channel: Box::new(Channel::new(md, s.start)),
+        hand: s.hand,
+        start: s.start,
+    });
+    Ok((
+        program,
+        Loaded {
+            name: path.to_string(),
+            source,
+            reports: s.reports,
+            thread: Some(s.thread),
+        },
+    ))
+}
+
+fn ipo_thread(
+    instance: &Instance,
+    md: &MachineData,
+    start: crate::frontend::block::Pos,
+    priority: i32,
+    shared: &Shared,
+    ready: crossbeam::channel::Sender<Result<String, String>>,
+) {
+    let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
+    let mut bus = match IceBus::open(instance, cycle_ns) {
+        Ok(b) => b,
+        Err(e) => {
+            let _ = ready.send(Err(e.to_string()));
+            shared.done.store(true, Ordering::Release);
+            return;
+        }
+    };
+    let mut cyclic = Box::new(Cyclic::new(md, start));
+    let (rt, _latency) = os::setup_cyclic_thread(priority, 1);
+    let _ = ready.send(Ok(rt.to_string()));
+    let mut released: Option<Box<Program>> = None;
+    let t0 = os::now_ns() + cycle_ns;
+    bus.t0 = t0;
+    let mut k: u64 = 0;
+    loop {
+        os::sleep_until(t0 + k * cycle_ns);
+        while let Some(c) = shared.ctrl.pop() {
+            let r = cyclic.command(c);
+            let _ = shared.answers.push(r);
+        }
+        cyclic.cycle(k, &mut bus);
+        if released.is_none() {
+            released = cyclic.take_released();
+        }
+        if let Some(g) = released.take() {
+            if let Err(back) = shared.garbage.push(g) {
+                released = Some(back);
+            }
+        }
+        k += 1;
+        if cyclic.may_exit() {
+            break;
+        }
+    }
+    // Hand everything back to be freed on the control thread.
+    if let Some(g) = cyclic.take_released().or(released) {
+        let _ = shared.garbage.push(g);
+    }
+    shared.done.store(true, Ordering::Release);
+}
+
+/// Sends a command to the IPO thread and waits for its answer.
+fn ask(shared: &Shared, c: Control) -> Result<(), Refusal> {
+    let mut c = Some(c);
+    let t = Instant::now();
+    while let Some(x) = c.take() {
+        if let Err(back) = shared.ctrl.push(x) {
+            c = Some(back);
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        if t.elapsed() > Duration::from_secs(2) || shared.done.load(Ordering::Acquire) {
+            return Err(Refusal::Ending);
+        }
+    }
+    loop {
+        if let Some(a) = shared.answers.pop() {
+            return a;
+        }
+        if t.elapsed() > Duration::from_secs(2) || shared.done.load(Ordering::Acquire) {
+            return Err(Refusal::Ending);
+        }
+        std::thread::sleep(Duration::from_micros(200));
+    }
+}
+
+fn refusal_text(r: Refusal) -> (u32, String) {
+    let p = |p: [f64; 3]| format!("X{:.3} Y{:.3} Z{:.3}", p[0], p[1], p[2]);
+    match r {
+        Refusal::NotInReset(s) => (0, format!("the channel is {}: reset it first", s.name())),
+        Refusal::NoProgram => (0, "no program is loaded (or it has ended): load one".into()),
+        Refusal::Alarm(a) => (a, format!("alarm {a} stands: reset first")),
+        Refusal::NoPlc => (
+            crate::runtime::cyclic::alarm::PLC_SIGN_OF_LIFE,
+            "no PLC: plc-sim is not running for this instance".into(),
+        ),
+        Refusal::DrivesNotReady => (0, "the drives are not ready (PLC)".into()),
+        Refusal::EmergencyStop => (
+            crate::runtime::cyclic::alarm::EMERGENCY_STOP,
+            "emergency stop is pressed: release it, then reset".into(),
+        ),
+        Refusal::StartsElsewhere { start, here } => (
+            0,
+            format!(
+                "the program starts at {} but the axes stand at {}: move them there first",
+                p(start),
+                p(here)
+            ),
+        ),
+        Refusal::Ending => (0, "the kernel is ending".into()),
+        Refusal::BadOverride => (0, "override must be above 0 and at most 1.2 (120 %)".into()),
+    }
+}
+
+fn alarm_text(a: u32) -> &'static str {
+    use crate::runtime::cyclic::alarm::*;
+    match a {
+        PLC_SIGN_OF_LIFE => "PLC sign of life lost: the path brakes",
+        EMERGENCY_STOP => "emergency stop: the path brakes on its contour, reset after release",
+        AUX_NOT_DELIVERED => "auxiliary functions could not be handed to the PLC",
+        DRIVES_NOT_READY => "drives not ready while the path moved",
+        700_000..=799_999 => "PLC alarm",
+        _ => "program alarm (see above)",
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn control(
+    instance: &Instance,
+    shared: &Shared,
+    md: &MachineData,
+    tools: &mut ToolTable,
+    programs: &mut HashMap<u32, Loaded>,
+    next_id: &mut u32,
+    first: Option<Box<Program>>,
+    start: bool,
+    term: &AtomicBool,
+) -> Result<(), String> {
+    let node = instance.node("nc-kernel-hmi").map_err(|e| e.to_string())?;
+    let server = instance
+        .commands(&node)
+        .map_err(|e| e.to_string())?
+        .server_builder()
+        .create()
+        .map_err(|e| format!("cannot create the command server: {e:?}"))?;
+    let status = instance
+        .status(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| format!("cannot subscribe to the status: {e:?}"))?;
+    if let Some(p) = first {
+        if let Err(r) = ask(shared, Control::Load(p)) {
+            return Err(refusal_text(r).1);
+        }
+    }
+    let mut want_start = start;
+    let mut last = KernelStatus::default();
+    let mut shutting_down = false;
+    loop {
+        if shared.done.load(Ordering::Acquire) {
+            break;
+        }
+        if term.load(Ordering::SeqCst) && !shutting_down {
+            shutting_down = true;
+            eprintln!("nc-kernel: terminating: the path brakes, then the process ends");
+            let _ = ask(shared, Control::Shutdown);
+        }
+        while let Ok(Some(req)) = server.receive() {
+            let c: Command = *req.payload();
+            let reply = handle(&c, shared, md, tools, programs, next_id);
+            let _ = req.send_copy(reply);
+        }
+        while let Ok(Some(s)) = status.receive() {
+            let s = *s.payload();
+            if s.alarm != last.alarm && s.alarm != 0 {
+                eprintln!(
+                    "nc-kernel: alarm {} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
+                    s.alarm,
+                    s.cycle,
+                    s.line,
+                    alarm_text(s.alarm),
+                    s.plc_cycle
+                );
+            }
+            if s.state != last.state {
+                eprintln!("nc-kernel: {} at cycle {}", state::name(s.state), s.cycle);
+            }
+            last = s;
+        }
+        // NC start once the PLC is there (--start).
+        if want_start && last.plc_alive != 0 {
+            match ask(shared, Control::Start) {
+                Ok(()) => want_start = false,
+                Err(Refusal::NoPlc | Refusal::DrivesNotReady) => {}
+                Err(r) => {
+                    eprintln!("nc-kernel: NC start refused: {}", refusal_text(r).1);
+                    want_start = false;
+                }
+            }
+        }
+        while let Some(g) = shared.garbage.pop() {
+            if let Some(mut l) = programs.remove(&g.id) {
+                drop(g);
+                if let Some(t) = l.thread.take() {
+                    let _ = t.join();
+                }
+                print_reports(&l);
+            }
+        }
+        for l in programs.values() {
+            print_reports(l);
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    Ok(())
+}
+
+fn print_reports(l: &Loaded) {
+    for r in l.reports.try_iter() {
+        match r {
+            Report::Warning(w) | Report::Alarm(w) => {
+                eprintln!("{}", crate::alarm::render(&w, &l.source))
+            }
+        }
+    }
+    let _ = &l.name;
+}
+
+fn handle(
+    c: &Command,
+    shared: &Shared,
+    md: &MachineData,
+    tools: &mut ToolTable,
+    programs: &mut HashMap<u32, Loaded>,
+    next_id: &mut u32,
+) -> Reply {
+    let answer = |r: Result<(), Refusal>, ok: &str| match r {
+        Ok(()) => Reply::new(true, 0, ok),
+        Err(r) => {
+            let (a, m) = refusal_text(r);
+            Reply::new(false, a, &m)
+        }
+    };
+    match c.kind {
+        command::START => answer(ask(shared, Control::Start), "NC start"),
+        command::STOP => answer(ask(shared, Control::Stop), "NC stop"),
+        command::RESET => answer(ask(shared, Control::Reset), "reset"),
+        command::SINGLE_BLOCK => answer(
+            ask(shared, Control::SingleBlock(c.value != 0.0)),
+            if c.value != 0.0 {
+                "single block on"
+            } else {
+                "single block off"
+            },
+        ),
+        command::OVERRIDE => answer(ask(shared, Control::Override(c.value)), "override set"),
+        command::SHUTDOWN => answer(ask(shared, Control::Shutdown), "shutting down"),
+        command::LOAD => {
+            let path = c.text();
+            match load(path, md, tools, *next_id) {
+                Ok((p, l)) => {
+                    let id = *next_id;
+                    programs.insert(id, l);
+                    *next_id += 1;
+                    answer(
+                        ask(shared, Control::Load(p)),
+                        &format!("program {path} loaded (number {id})"),
+                    )
+                }
+                Err(e) => Reply::new(false, 0, &e),
+            }
+        }
+        command::SET_OFFSET => {
+            if c.flag != 0 {
+                return Reply::new(
+                    false,
+                    0,
+                    "wear offsets are edited through the tool file: give the radius",
+                );
+            }
+            match tools.set_radius(c.d, c.value) {
+                Ok(()) => Reply::new(
+                    true,
+                    0,
+                    &format!("D{} = {} mm: acts from the next program load", c.d, c.value),
+                ),
+                Err(e) => Reply::new(false, 0, &e),
+            }
+        }
+        k => Reply::new(false, 0, &format!("unknown command {k}")),
+    }
+}

@@ -1,0 +1,503 @@
+//! The kernel's cycle with the PLC and the HMI around it (issue 6): what one IPO cycle does
+//! between waking up and sleeping again, apart from the clock and the transport.
+//!
+//! ```text
+//!  commands (HMI) ─► Cyclic::command ─┐
+//!  PLC signals ─► sign of life, feed hold, read-in disable, drives, E-stop ─► Channel
+//!  preparation ─► Channel::fill ──────┴─► Channel::cycle ─► setpoint, aux requests, status
+//!  aux acknowledgements ─► Channel::ack
+//! ```
+//!
+//! The transport is a [`Bus`]: iceoryx2 in the nc-kernel process, a recorder in tests (a mock
+//! clock and PLC: every reaction below is checked cycle by cycle without a second process).
+//! Nothing here allocates, frees or blocks; a new program arrives built and boxed, and the
+//! one it replaces goes back to the caller to be freed outside the IPO thread.
+
+use super::Handover;
+use crate::frontend::block::Pos;
+use crate::ipo::channel::Input;
+use crate::ipo::{Channel, ChannelState, Event, Setpoint};
+use crate::prep::AuxFunction;
+use crate::MachineData;
+use std::sync::Arc;
+
+/// Alarms of the interface between NC and PLC (docs/alarms.md), numbered as on an 840D.
+pub mod alarm {
+    /// The PLC's sign of life stayed away for `plc.watchdog_cycles` cycles.
+    pub const PLC_SIGN_OF_LIFE: u32 = 2000;
+    /// Emergency stop from the PLC.
+    pub const EMERGENCY_STOP: u32 = 3000;
+    /// Auxiliary functions could not be handed to the PLC (its request queue stayed full).
+    pub const AUX_NOT_DELIVERED: u32 = 2011;
+    /// The drives dropped their ready signal while the path moved.
+    pub const DRIVES_NOT_READY: u32 = 21612;
+}
+
+/// The PLC interface signals as the kernel reads them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlcInput {
+    pub feed_hold: bool,
+    pub read_in_disable: bool,
+    pub drives_ready: bool,
+    pub emergency_stop: bool,
+    /// A PLC alarm standing (0: none).
+    pub alarm: u32,
+}
+
+/// An auxiliary-function request as it goes to the PLC.
+pub struct AuxOut<'a> {
+    pub id: u64,
+    pub cycle: u64,
+    pub aux: &'a AuxFunction,
+    /// The path waits for the acknowledgement.
+    pub wait: bool,
+}
+
+/// The kernel's state after a cycle, for the HMI.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Status {
+    pub cycle: u64,
+    pub program: u32,
+    pub state: Option<ChannelState>,
+    pub line: u32,
+    pub pos: Pos,
+    pub v_path: f64,
+    pub override_: f64,
+    pub alarm: u32,
+    pub aux_sent: u32,
+    pub aux_acked: u32,
+    pub single_block: bool,
+    pub plc_alive: bool,
+    /// The cycle in which the PLC's sign of life last arrived.
+    pub plc_cycle: u64,
+}
+
+/// The IPO thread's transport. Every method returns at once.
+pub trait Bus {
+    /// The PLC's signals if any arrived since the last call (the newest).
+    fn plc(&mut self) -> Option<PlcInput>;
+    /// Publishes the setpoint of the cycle.
+    fn setpoint(&mut self, sp: &Setpoint);
+    /// Sends an auxiliary-function request; false when it cannot be sent now.
+    fn aux(&mut self, out: &AuxOut<'_>) -> bool;
+    /// Calls `f(id, plc_alarm)` for each acknowledgement that arrived.
+    fn acks(&mut self, f: &mut dyn FnMut(u64, u32));
+    fn status(&mut self, st: &Status);
+}
+
+/// A program ready to run: its channel (at the program's start position) and the queue its
+/// preparation thread fills.
+pub struct Program {
+    pub id: u32,
+    pub channel: Box<Channel>,
+    pub hand: Arc<Handover>,
+    /// Where the program starts.
+    pub start: Pos,
+}
+
+/// What an HMI asks.
+pub enum Control {
+    Start,
+    Stop,
+    Reset,
+    SingleBlock(bool),
+    Override(f64),
+    Load(Box<Program>),
+    /// End the process: brakes first if the path moves.
+    Shutdown,
+}
+
+/// Why a command was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Refusal {
+    /// The command needs the channel in RESET or END.
+    NotInReset(ChannelState),
+    NoProgram,
+    /// An alarm stands: reset first.
+    Alarm(u32),
+    NoPlc,
+    DrivesNotReady,
+    EmergencyStop,
+    /// The program starts at `start`, the axes stand at `here`.
+    StartsElsewhere {
+        start: Pos,
+        here: Pos,
+    },
+    BadOverride,
+    /// The IPO thread has ended or does not answer.
+    Ending,
+}
+
+/// Requests in flight to the PLC, and those waiting to be sent.
+const AUX_IN_FLIGHT: usize = 32;
+
+pub struct Cyclic {
+    program: Option<Box<Program>>,
+    /// The channel when no program is loaded (holds the position).
+    idle: Box<Channel>,
+    pending: Option<Input>,
+    sp: Box<Setpoint>,
+    watchdog: u64,
+    plc: PlcInput,
+    plc_seen: Option<u64>,
+    feed_held: bool,
+    /// The first alarm standing (0: none).
+    alarm: u32,
+    override_: f64,
+    single_block: bool,
+    aux_next: u64,
+    aux_sent: u32,
+    aux_acked: u32,
+    /// Sent, not yet acknowledged: (id, the path waits for it).
+    in_flight: heapless::Deque<(u64, bool), AUX_IN_FLIGHT>,
+    /// Output at their S point, not yet sent (the PLC's queue was full).
+    outbox: heapless::Deque<(u64, bool, AuxFunction), AUX_IN_FLIGHT>,
+    shutdown: bool,
+    reset_pending: bool,
+    released: Option<Box<Program>>,
+    k: u64,
+}
+
+impl Cyclic {
+    /// Allocates everything the cycle uses; call before the real-time part starts.
+    pub fn new(md: &MachineData, start: Pos) -> Self {
+        Cyclic {
+            program: None,
+            idle: Box::new(Channel::new(md, start)),
+            pending: None,
+            sp: Box::new(Setpoint::new(start)),
+            watchdog: u64::from(md.plc.watchdog_cycles),
+            plc: PlcInput::default(),
+            plc_seen: None,
+            feed_held: false,
+            alarm: 0,
+            override_: 1.0,
+            single_block: false,
+            aux_next: 1,
+            aux_sent: 0,
+            aux_acked: 0,
+            in_flight: heapless::Deque::new(),
+            outbox: heapless::Deque::new(),
+            shutdown: false,
+            reset_pending: false,
+            released: None,
+            k: 0,
+        }
+    }
+
+    fn channel(&mut self) -> &mut Channel {
+        match &mut self.program {
+            Some(p) => &mut p.channel,
+            None => &mut self.idle,
+        }
+    }
+
+    pub fn state(&self) -> ChannelState {
+        self.program
+            .as_ref()
+            .map_or(self.idle.state(), |p| p.channel.state())
+    }
+
+    fn plc_alive(&self) -> bool {
+        self.plc_seen
+            .is_some_and(|s| self.k.saturating_sub(s) <= self.watchdog)
+    }
+
+    /// The path stands still and no program runs: the process may end.
+    pub fn may_exit(&self) -> bool {
+        self.shutdown && (self.state() != ChannelState::Active || self.sp.v_path == 0.0)
+    }
+
+    pub fn setpoint(&self) -> &Setpoint {
+        &self.sp
+    }
+
+    /// An HMI command, between two cycles. A program replaced by `Load` or dropped by
+    /// `Reset` waits in [`take_released`](Self::take_released); one refused comes back in the
+    /// error.
+    pub fn command(&mut self, c: Control) -> Result<(), Refusal> {
+        let state = self.state();
+        let at_rest = matches!(state, ChannelState::Reset | ChannelState::End);
+        match c {
+            Control::Start => {
+                if self.plc.emergency_stop {
+                    return Err(Refusal::EmergencyStop);
+                }
+                if self.alarm != 0 {
+                    return Err(Refusal::Alarm(self.alarm));
+                }
+                if !self.plc_alive() {
+                    return Err(Refusal::NoPlc);
+                }
+                if !self.plc.drives_ready {
+                    return Err(Refusal::DrivesNotReady);
+                }
+                if self.program.is_none() || state == ChannelState::End {
+                    return Err(Refusal::NoProgram);
+                }
+                self.channel().start();
+                Ok(())
+            }
+            Control::Stop => {
+                self.channel().stop();
+                Ok(())
+            }
+            Control::Reset => {
+                if self.plc.emergency_stop {
+                    return Err(Refusal::EmergencyStop);
+                }
+                // A moving path brakes first: a reset never makes a step in speed.
+                self.reset_pending = true;
+                if self.sp.v_path != 0.0 {
+                    self.channel().stop();
+                } else {
+                    self.reset_now();
+                }
+                Ok(())
+            }
+            Control::SingleBlock(on) => {
+                self.single_block = on;
+                self.channel().set_single_block(on);
+                Ok(())
+            }
+            Control::Override(f) => {
+                if !(f.is_finite() && f > 0.0 && f <= 1.2) {
+                    return Err(Refusal::BadOverride);
+                }
+                self.override_ = f;
+                self.channel().set_override(f);
+                Ok(())
+            }
+            Control::Load(mut p) => {
+                if !at_rest || self.reset_pending {
+                    self.released = Some(p);
+                    return Err(Refusal::NotInReset(state));
+                }
+                let here = self.sp.pos;
+                let d = (0..3)
+                    .map(|i| (p.start[i] - here[i]).abs())
+                    .fold(0.0, f64::max);
+                if d > 1e-6 {
+                    let start = p.start;
+                    self.released = Some(p);
+                    return Err(Refusal::StartsElsewhere { start, here });
+                }
+                p.channel.set_override(self.override_);
+                p.channel.set_single_block(self.single_block);
+                self.alarm = 0;
+                self.pending = None;
+                self.in_flight.clear();
+                self.outbox.clear();
+                if let Some(o) = self.program.replace(p) {
+                    o.hand
+                        .cancel
+                        .store(true, std::sync::atomic::Ordering::Relaxed);
+                    self.released = Some(o);
+                }
+                Ok(())
+            }
+            Control::Shutdown => {
+                self.shutdown = true;
+                self.channel().stop();
+                Ok(())
+            }
+        }
+    }
+
+    fn reset_now(&mut self) {
+        self.reset_pending = false;
+        self.alarm = 0;
+        self.feed_held = false;
+        self.in_flight.clear();
+        self.outbox.clear();
+        self.pending = None;
+        let pos = self.sp.pos;
+        if let Some(p) = self.program.take() {
+            // The preparation thread stops at its next record.
+            p.hand
+                .cancel
+                .store(true, std::sync::atomic::Ordering::Relaxed);
+            self.released = Some(p);
+        }
+        self.idle.reset();
+        self.idle.set_position(pos);
+        self.sp.state = ChannelState::Reset;
+    }
+
+    /// A program dropped by a reset or replaced by a load, to be freed outside the IPO
+    /// thread.
+    pub fn take_released(&mut self) -> Option<Box<Program>> {
+        self.released.take()
+    }
+
+    /// Raises an alarm from outside the program (the first one stays shown).
+    fn fault(&mut self, code: u32) {
+        if self.alarm == 0 {
+            self.alarm = code;
+        }
+        self.channel().fault();
+    }
+
+    /// One IPO cycle: cycle number `k`.
+    pub fn cycle(&mut self, k: u64, bus: &mut impl Bus) {
+        self.k = k;
+        self.plc_signals(k, bus);
+        self.acknowledgements(bus);
+        // Take what preparation has ready, never wait.
+        if let Some(p) = &mut self.program {
+            let hand = &p.hand;
+            p.channel.fill(&mut self.pending, || hand.pop());
+        }
+        let sp = &mut *self.sp;
+        match &mut self.program {
+            Some(p) => p.channel.cycle(k, sp),
+            None => self.idle.cycle(k, sp),
+        }
+        if self.reset_pending && self.sp.v_path == 0.0 {
+            self.reset_now();
+        }
+        bus.setpoint(&self.sp);
+        self.events(k, bus);
+        self.flush_outbox(bus);
+        let st = self.status();
+        bus.status(&st);
+    }
+
+    /// Reads the PLC interface signals and reacts to them.
+    fn plc_signals(&mut self, k: u64, bus: &mut impl Bus) {
+        if let Some(s) = bus.plc() {
+            self.plc_seen = Some(k);
+            let was = self.plc;
+            self.plc = s;
+            let moving = self.state() == ChannelState::Active;
+            if s.emergency_stop && !was.emergency_stop {
+                self.fault(alarm::EMERGENCY_STOP);
+            }
+            if s.alarm != 0 && s.alarm != was.alarm {
+                self.fault(s.alarm);
+            }
+            if was.drives_ready && !s.drives_ready && moving {
+                self.fault(alarm::DRIVES_NOT_READY);
+            }
+            if s.read_in_disable != was.read_in_disable {
+                self.channel().set_read_in_disable(s.read_in_disable);
+            }
+            if s.feed_hold && !was.feed_hold && moving {
+                self.feed_held = true;
+                self.channel().stop();
+            }
+            if !s.feed_hold && was.feed_hold && self.feed_held {
+                self.feed_held = false;
+                // Only the stop feed hold made is undone: not a program stop or an alarm.
+                if self.alarm == 0 && !self.channel().waits_for_start() {
+                    self.channel().start();
+                }
+            }
+        } else if let Some(seen) = self.plc_seen {
+            // Sign-of-life watchdog: only while a program is loaded and not at its end, so an
+            // idle kernel waiting for its PLC raises nothing.
+            let running = matches!(self.state(), ChannelState::Active | ChannelState::Stopped);
+            if k.saturating_sub(seen) > self.watchdog && running && self.alarm == 0 {
+                self.fault(alarm::PLC_SIGN_OF_LIFE);
+            }
+        }
+    }
+
+    fn acknowledgements(&mut self, bus: &mut impl Bus) {
+        let mut acked: heapless::Vec<(u64, u32), AUX_IN_FLIGHT> = heapless::Vec::new();
+        bus.acks(&mut |id, plc_alarm| {
+            let _ = acked.push((id, plc_alarm));
+        });
+        for (id, plc_alarm) in acked {
+            // Take the entry out, keeping the order of the others.
+            let mut found = None;
+            for _ in 0..self.in_flight.len() {
+                let Some(e) = self.in_flight.pop_front() else {
+                    break;
+                };
+                if found.is_none() && e.0 == id {
+                    found = Some(e.1);
+                } else {
+                    let _ = self.in_flight.push_back(e);
+                }
+            }
+            // None: an answer to a request from before a reset.
+            let Some(wait) = found else {
+                continue;
+            };
+            self.aux_acked += 1;
+            if plc_alarm != 0 {
+                self.fault(plc_alarm);
+            } else if wait {
+                self.channel().ack();
+            }
+        }
+    }
+
+    /// Auxiliary functions of this cycle go to the PLC; the program's alarms are shown.
+    fn events(&mut self, k: u64, bus: &mut impl Bus) {
+        for i in 0..self.sp.events.len() {
+            match &self.sp.events[i] {
+                Event::Aux(a) => {
+                    let wait = self
+                        .program
+                        .as_ref()
+                        .is_some_and(|p| p.channel.waits_for_ack(a));
+                    let id = self.aux_next;
+                    self.aux_next += 1;
+                    if self.outbox.is_empty()
+                        && bus.aux(&AuxOut {
+                            id,
+                            cycle: k,
+                            aux: a,
+                            wait,
+                        })
+                    {
+                        self.aux_sent += 1;
+                        let _ = self.in_flight.push_back((id, wait));
+                    } else if self.outbox.push_back((id, wait, a.clone())).is_err() {
+                        self.fault(alarm::AUX_NOT_DELIVERED);
+                    }
+                }
+                Event::Alarm { code, .. } if self.alarm == 0 => self.alarm = *code,
+                _ => {}
+            }
+        }
+    }
+
+    fn flush_outbox(&mut self, bus: &mut impl Bus) {
+        while let Some((id, wait, a)) = self.outbox.front() {
+            if self.in_flight.is_full()
+                || !bus.aux(&AuxOut {
+                    id: *id,
+                    cycle: self.k,
+                    aux: a,
+                    wait: *wait,
+                })
+            {
+                return;
+            }
+            let _ = self.in_flight.push_back((*id, *wait));
+            self.aux_sent += 1;
+            self.outbox.pop_front();
+        }
+    }
+
+    pub fn status(&self) -> Status {
+        Status {
+            cycle: self.k,
+            program: self.program.as_ref().map_or(0, |p| p.id),
+            state: Some(self.sp.state),
+            line: self.sp.source.map_or(0, |s| s.line),
+            pos: self.sp.pos,
+            v_path: self.sp.v_path,
+            override_: self.override_,
+            alarm: self.alarm,
+            aux_sent: self.aux_sent,
+            aux_acked: self.aux_acked,
+            single_block: self.single_block,
+            plc_alive: self.plc_alive(),
+            plc_cycle: self.plc_seen.unwrap_or(0),
+        }
+    }
+}

@@ -1,0 +1,325 @@
+//! The payloads the processes exchange: plain `#[repr(C)]` values in shared memory, with
+//! explicit type names (otherwise iceoryx2 names them by crate path and two binaries built
+//! from different trees disagree). Everything is fixed size: no pointers, no heap.
+
+use iceoryx2::prelude::ZeroCopySend;
+
+/// The channel state as sent (the kernel's `ChannelState`).
+pub mod state {
+    pub const RESET: u8 = 0;
+    pub const ACTIVE: u8 = 1;
+    pub const STOPPED: u8 = 2;
+    pub const END: u8 = 3;
+
+    pub fn name(s: u8) -> &'static str {
+        match s {
+            RESET => "RESET",
+            ACTIVE => "ACTIVE",
+            STOPPED => "STOPPED",
+            END => "END",
+            _ => "?",
+        }
+    }
+}
+
+/// One IPO cycle's setpoint, kernel → PLC, every cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::SetpointMsg")]
+pub struct SetpointMsg {
+    /// 1, 2, … per kernel run: a gap means samples were lost.
+    pub seq: u64,
+    /// The IPO cycle the setpoint belongs to.
+    pub cycle: u64,
+    /// CLOCK_MONOTONIC, ns, when it was sent.
+    pub sent_ns: u64,
+    /// The consumer must have taken it by then (the next cycle's start), CLOCK_MONOTONIC ns.
+    pub deadline_ns: u64,
+    /// IPO cycle, µs.
+    pub cycle_us: u32,
+    /// Source line of the block being run (0: none).
+    pub line: u32,
+    pub pos: [f64; 3],
+    /// Path speed, mm/s.
+    pub v_path: f64,
+    /// `state::*`.
+    pub state: u8,
+    pub _pad: [u8; 7],
+}
+
+/// Words an auxiliary-function request carries at most (the front end's limit).
+pub const AUX_WORDS: usize = 12;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::AuxWordMsg")]
+pub struct AuxWordMsg {
+    /// Address letter, ASCII upper case (M, S, T, H, …).
+    pub address: u8,
+    pub _pad: [u8; 7],
+    pub value: f64,
+}
+
+/// Auxiliary functions output at an S point, kernel → PLC, answered by an [`AuxAck`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::AuxRequest")]
+pub struct AuxRequest {
+    /// 1, 2, … per kernel run.
+    pub id: u64,
+    /// The IPO cycle it was output in.
+    pub cycle: u64,
+    pub line: u32,
+    pub count: u32,
+    pub words: [AuxWordMsg; AUX_WORDS],
+    /// The path waits for the acknowledgement (machine data `ipo.wait_for_ack`).
+    pub wait: u8,
+    pub _pad: [u8; 7],
+}
+
+impl AuxRequest {
+    pub fn words(&self) -> &[AuxWordMsg] {
+        &self.words[..(self.count as usize).min(AUX_WORDS)]
+    }
+}
+
+/// The PLC's answer to an [`AuxRequest`]: done, or refused with a PLC alarm.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::AuxAck")]
+pub struct AuxAck {
+    pub id: u64,
+    /// 0: done; otherwise the PLC alarm that refused it.
+    pub alarm: u32,
+    pub _pad: u32,
+}
+
+/// The PLC interface signals, PLC → NC, every PLC cycle. A flag is 1 when set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::PlcSignals")]
+pub struct PlcSignals {
+    pub seq: u64,
+    /// The last setpoint cycle the PLC consumed (its sign of life for the kernel).
+    pub echo_cycle: u64,
+    /// Feed hold: the path brakes and waits; it goes on by itself when the signal drops.
+    pub feed_hold: u8,
+    /// Read-in disable: no further block starts; the path stops at the next block end.
+    pub read_in_disable: u8,
+    /// All drives ready: without it NC start is refused, and losing it stops the path.
+    pub drives_ready: u8,
+    /// Emergency stop (1: pressed).
+    pub emergency_stop: u8,
+    /// A PLC alarm (0: none), e.g. a software limit switch.
+    pub alarm: u32,
+}
+
+/// The axes' actual values, PLC → anyone, every PLC cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::ActualValues")]
+pub struct ActualValues {
+    pub seq: u64,
+    /// The setpoint cycle these follow.
+    pub cycle: u64,
+    pub pos: [f64; 3],
+    /// Setpoint − actual position per axis, mm.
+    pub following_error: [f64; 3],
+    pub spindle_rpm: f64,
+    /// The tool in the spindle.
+    pub tool: u32,
+    /// Auxiliary functions acknowledged so far.
+    pub aux_acked: u32,
+    pub plc_alarm: u32,
+    pub _pad: u32,
+}
+
+/// The kernel's state for the HMI, kernel → anyone, every IPO cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::KernelStatus")]
+pub struct KernelStatus {
+    pub seq: u64,
+    pub cycle: u64,
+    /// Changes with every program load (0: none loaded).
+    pub program: u32,
+    pub line: u32,
+    pub pos: [f64; 3],
+    pub v_path: f64,
+    pub override_: f64,
+    /// The first alarm standing (0: none).
+    pub alarm: u32,
+    pub aux_sent: u32,
+    pub aux_acked: u32,
+    /// The kernel cycle in which the PLC's sign of life last arrived.
+    pub plc_cycle: u64,
+    pub state: u8,
+    pub single_block: u8,
+    /// The PLC is there (its sign of life arrived within the watchdog time).
+    pub plc_alive: u8,
+    pub _pad: [u8; 5],
+}
+
+/// What an HMI asks the kernel.
+pub mod command {
+    pub const START: u32 = 1;
+    pub const STOP: u32 = 2;
+    pub const RESET: u32 = 3;
+    /// `text`: the program's path.
+    pub const LOAD: u32 = 4;
+    /// `value`: 1 on, 0 off.
+    pub const SINGLE_BLOCK: u32 = 5;
+    /// `value`: 0 < x ≤ 1.2.
+    pub const OVERRIDE: u32 = 6;
+    /// `d`: the D number, `value`: the radius, `flag`: 1 for wear.
+    pub const SET_OFFSET: u32 = 7;
+    /// The kernel process ends (after braking, if the path moves).
+    pub const SHUTDOWN: u32 = 8;
+}
+
+pub const TEXT: usize = 512;
+
+/// An HMI command (request-response: one [`Reply`] each).
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::Command")]
+pub struct Command {
+    /// `command::*`.
+    pub kind: u32,
+    pub d: u32,
+    pub value: f64,
+    pub flag: u8,
+    pub _pad: u8,
+    pub text_len: u16,
+    pub _pad2: u32,
+    pub text: [u8; TEXT],
+}
+
+impl Command {
+    pub fn new(kind: u32) -> Self {
+        Command {
+            kind,
+            d: 0,
+            value: 0.0,
+            flag: 0,
+            _pad: 0,
+            text_len: 0,
+            _pad2: 0,
+            text: [0; TEXT],
+        }
+    }
+
+    /// With `text` (cut at the first UTF-8 boundary that fits).
+    pub fn with_text(mut self, text: &str) -> Self {
+        let n = fit(text, TEXT);
+        self.text[..n].copy_from_slice(&text.as_bytes()[..n]);
+        self.text_len = n as u16;
+        self
+    }
+
+    pub fn text(&self) -> &str {
+        as_text(&self.text, self.text_len as usize)
+    }
+}
+
+/// The kernel's answer to a [`Command`].
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::Reply")]
+pub struct Reply {
+    /// 1: done; 0: refused, `message` says why.
+    pub ok: u8,
+    pub _pad: u8,
+    pub len: u16,
+    /// An alarm number when refused for one (0: none).
+    pub alarm: u32,
+    pub message: [u8; TEXT],
+}
+
+impl Reply {
+    pub fn new(ok: bool, alarm: u32, message: &str) -> Self {
+        let mut r = Reply {
+            ok: ok as u8,
+            _pad: 0,
+            len: 0,
+            alarm,
+            message: [0; TEXT],
+        };
+        let n = fit(message, TEXT);
+        r.message[..n].copy_from_slice(&message.as_bytes()[..n]);
+        r.len = n as u16;
+        r
+    }
+
+    pub fn message(&self) -> &str {
+        as_text(&self.message, self.len as usize)
+    }
+}
+
+/// The longest prefix of `s` within `max` bytes that ends on a character boundary.
+fn fit(s: &str, max: usize) -> usize {
+    let mut n = s.len().min(max);
+    while !s.is_char_boundary(n) {
+        n -= 1;
+    }
+    n
+}
+
+fn as_text(bytes: &[u8], len: usize) -> &str {
+    let b = &bytes[..len.min(bytes.len())];
+    match std::str::from_utf8(b) {
+        Ok(s) => s,
+        // A peer wrote bytes that are not UTF-8: show what is valid.
+        Err(e) => std::str::from_utf8(&b[..e.valid_up_to()]).unwrap_or(""),
+    }
+}
+
+/// Size and alignment of every payload, in a fixed order: part of the ABI string, so a peer
+/// whose layout differs in any way is refused by name.
+pub fn layouts() -> [(&'static str, usize, usize); 9] {
+    use std::mem::{align_of, size_of};
+    macro_rules! l {
+        ($t:ty) => {
+            (stringify!($t), size_of::<$t>(), align_of::<$t>())
+        };
+    }
+    [
+        l!(SetpointMsg),
+        l!(AuxWordMsg),
+        l!(AuxRequest),
+        l!(AuxAck),
+        l!(PlcSignals),
+        l!(ActualValues),
+        l!(KernelStatus),
+        l!(Command),
+        l!(Reply),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_is_cut_on_a_character_boundary() {
+        let long = "ä".repeat(400); // 800 bytes
+        let c = Command::new(command::LOAD).with_text(&long);
+        assert_eq!(c.text().len(), 512);
+        assert!(c.text().chars().all(|ch| ch == 'ä'));
+        assert_eq!(Reply::new(false, 7, "no").message(), "no");
+    }
+
+    #[test]
+    fn payloads_have_no_hidden_padding() {
+        // Explicit padding fields keep the bytes defined; the sizes are what the fields add
+        // up to.
+        assert_eq!(
+            std::mem::size_of::<SetpointMsg>(),
+            4 * 8 + 2 * 4 + 4 * 8 + 8
+        );
+        assert_eq!(std::mem::size_of::<AuxRequest>(), 16 + 8 + 12 * 16 + 8);
+        assert_eq!(std::mem::size_of::<PlcSignals>(), 24);
+        assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT);
+        assert_eq!(std::mem::size_of::<Reply>(), 8 + TEXT);
+    }
+}

@@ -1,0 +1,422 @@
+//! The iceoryx2 services of one softnc instance, opened the same way by every process.
+//!
+//! ```text
+//!  nc-kernel ──setpoints (pub-sub, every cycle) + setpoints.event──► plc-sim
+//!  nc-kernel ──aux (request-response: AuxRequest → AuxAck)─────────► plc-sim
+//!  nc-kernel ◄─plc.signals (pub-sub: feed hold, read-in disable, drives ready, E-stop)── plc-sim
+//!  anyone    ◄─plc.actuals (pub-sub)── plc-sim        anyone ◄─status (pub-sub)── nc-kernel
+//!  HMI, softnc ──commands (request-response: Command → Reply)──► nc-kernel
+//! ```
+//!
+//! Service names live under the instance name (`<instance>/setpoints`), and every file
+//! iceoryx2 makes carries the prefix `softnc_<instance>_`: two instances, or a test and a
+//! running machine, never see each other. Every service carries the attribute `softnc.abi`:
+//! a peer built from a different protocol is refused by name when it opens a service.
+//! Publishers never block: a slow subscriber loses its oldest samples (hence the sequence
+//! numbers in the payloads).
+
+use crate::payload::*;
+use iceoryx2::config::Config;
+use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::prelude::*;
+use iceoryx2::service::attribute::{AttributeKey, AttributeValue};
+use iceoryx2::service::port_factory::{event, publish_subscribe, request_response};
+use std::fmt;
+use std::path::PathBuf;
+
+/// Version of the protocol; with the payloads' layouts it makes the ABI string.
+pub const PROTOCOL_VERSION: u32 = 1;
+pub const ABI_KEY: &str = "softnc.abi";
+
+/// The default instance; tests and side-by-side machines take their own.
+pub const DEFAULT_INSTANCE: &str = "softnc";
+
+pub type PubSub<T> = publish_subscribe::PortFactory<ipc::Service, T, ()>;
+pub type ReqRes<Q, A> = request_response::PortFactory<ipc::Service, Q, (), A, ()>;
+pub type Events = event::PortFactory<ipc::Service>;
+
+/// This build's ABI: the protocol version and a hash over every payload's name, size and
+/// alignment.
+pub fn abi() -> String {
+    // FNV-1a: stable across builds and platforms, unlike std's hasher.
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for (name, size, align) in layouts() {
+        for b in format!("{name}:{size}:{align};").bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    format!("softnc-ipc/{PROTOCOL_VERSION}/{h:016x}")
+}
+
+/// Why a service could not be opened, for the user.
+#[derive(Debug)]
+pub struct IpcError(pub String);
+
+impl fmt::Display for IpcError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for IpcError {}
+
+/// One softnc instance: its name, its iceoryx2 configuration and the ABI it speaks.
+#[derive(Clone)]
+pub struct Instance {
+    name: String,
+    config: Config,
+    abi: String,
+}
+
+impl fmt::Debug for Instance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Instance({})", self.name)
+    }
+}
+
+impl Instance {
+    pub fn new(name: &str) -> Result<Self, IpcError> {
+        Self::with_abi(name, &abi())
+    }
+
+    /// An instance that speaks another ABI: what a peer built from another protocol looks
+    /// like (tests).
+    pub fn with_abi(name: &str, abi: &str) -> Result<Self, IpcError> {
+        let valid = !name.is_empty()
+            && name.len() <= 48
+            && name
+                .bytes()
+                .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+        if !valid {
+            return Err(IpcError(format!(
+                "instance name '{name}': use 1 to 48 letters, digits, '-' or '_'"
+            )));
+        }
+        // Built here rather than read from a file: iceoryx2 would otherwise look for
+        // ./config/iceoryx2.toml, which in this repository is the machine data folder.
+        let mut config = Config::default();
+        config.global.prefix = FileName::new(Self::prefix_of(name).as_bytes())
+            .map_err(|e| IpcError(format!("instance name '{name}': {e:?}")))?;
+        Ok(Instance {
+            name: name.to_string(),
+            config,
+            abi: abi.to_string(),
+        })
+    }
+
+    fn prefix_of(name: &str) -> String {
+        format!("softnc_{name}_")
+    }
+
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    pub fn abi(&self) -> &str {
+        &self.abi
+    }
+
+    /// A node for one process (`role`: "nc-kernel", "plc-sim", …). Signals are left to the
+    /// process. Nodes of processes that died are cleaned up first, so a crashed run leaves
+    /// nothing behind for the next start.
+    pub fn node(&self, role: &str) -> Result<Node<ipc::Service>, IpcError> {
+        let name = NodeName::new(role).map_err(|e| IpcError(format!("node name {role}: {e:?}")))?;
+        let node = NodeBuilder::new()
+            .name(&name)
+            .config(&self.config)
+            .signal_handling_mode(SignalHandlingMode::Disabled)
+            .create::<ipc::Service>()
+            .map_err(|e| {
+                IpcError(format!(
+                    "{}: cannot create the {role} node: {e:?}",
+                    self.name
+                ))
+            })?;
+        node.try_cleanup_dead_nodes();
+        Ok(node)
+    }
+
+    /// Removes what dead processes of this instance left: (cleaned, failed).
+    pub fn cleanup_dead_nodes(&self) -> (u64, u64) {
+        let mut cleaned = 0;
+        let mut failed = 0;
+        let _ = Node::<ipc::Service>::list(&self.config, |state| {
+            if let NodeState::Dead(view) = state {
+                match view.try_remove_stale_resources() {
+                    Ok(_) => cleaned += 1,
+                    Err(_) => failed += 1,
+                }
+            }
+            CallbackProgression::Continue
+        });
+        (cleaned, failed)
+    }
+
+    /// Processes of this instance that are alive.
+    pub fn alive_nodes(&self) -> usize {
+        let mut n = 0;
+        let _ = Node::<ipc::Service>::list(&self.config, |state| {
+            if let NodeState::Alive(_) = state {
+                n += 1;
+            }
+            CallbackProgression::Continue
+        });
+        n
+    }
+
+    /// For the owner of a private instance, after its processes have ended: removes what
+    /// dead ones left and iceoryx2's per-instance node counter (a 16-byte segment iceoryx2
+    /// keeps on purpose). Returns the files still there (none, normally). Does nothing while
+    /// a process of the instance is alive.
+    pub fn remove_when_unused(&self) -> Result<Vec<PathBuf>, IpcError> {
+        self.cleanup_dead_nodes();
+        let alive = self.alive_nodes();
+        if alive > 0 {
+            return Err(IpcError(format!(
+                "{}: {alive} process(es) still use the instance",
+                self.name
+            )));
+        }
+        // SAFETY: no process of this instance is alive (checked just above), and the
+        // instance belongs to the caller, so none can start meanwhile.
+        let _ =
+            unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&self.config) };
+        Ok(self.files())
+    }
+
+    /// The files of this instance in shared memory and in iceoryx2's folder: none once every
+    /// process of it has ended and dead ones are cleaned up.
+    pub fn files(&self) -> Vec<PathBuf> {
+        let prefix = Self::prefix_of(&self.name);
+        let mut out = Vec::new();
+        let root = PathBuf::from(self.config.global.root_path().to_string());
+        let mut dirs = vec![PathBuf::from("/dev/shm"), root];
+        while let Some(dir) = dirs.pop() {
+            let Ok(entries) = std::fs::read_dir(&dir) else {
+                continue;
+            };
+            for e in entries.flatten() {
+                let path = e.path();
+                let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+                let ours = e.file_name().to_string_lossy().starts_with(&prefix);
+                if is_dir && dir != std::path::Path::new("/dev/shm") {
+                    dirs.push(path.clone());
+                }
+                if ours {
+                    out.push(path);
+                }
+            }
+        }
+        out.sort();
+        out
+    }
+
+    fn service_name(&self, service: &str) -> Result<ServiceName, IpcError> {
+        let full = format!("{}/{service}", self.name);
+        ServiceName::new(&full).map_err(|e| IpcError(format!("service name {full}: {e:?}")))
+    }
+
+    fn verifier(&self) -> AttributeVerifier {
+        let key = AttributeKey::new(ABI_KEY.as_bytes()).expect("a valid attribute key");
+        let value = AttributeValue::new(self.abi.as_bytes()).expect("ABI strings are short");
+        AttributeVerifier::new()
+            .require(&key, &value)
+            .expect("one attribute fits")
+    }
+
+    /// The message for a service that exists with another ABI, naming the peer's.
+    fn abi_mismatch(&self, node: &Node<ipc::Service>, service: &str, detail: &str) -> IpcError {
+        let key = AttributeKey::new(ABI_KEY.as_bytes()).expect("a valid attribute key");
+        let peer = self
+            .service_name(service)
+            .ok()
+            .and_then(|n| {
+                node.service_builder(&n)
+                    .event()
+                    .open()
+                    .ok()
+                    .and_then(|f| f.attributes().key_value(&key, 0).map(|v| v.to_string()))
+            })
+            .or_else(|| {
+                let n = self.service_name(service).ok()?;
+                let f = node
+                    .service_builder(&n)
+                    .publish_subscribe::<SetpointMsg>()
+                    .open()
+                    .ok()?;
+                f.attributes().key_value(&key, 0).map(|v| v.to_string())
+            });
+        IpcError(format!(
+            "{}/{service}: refused, the peer speaks another protocol ({detail}): it has {}, this \
+             build has {}. Build nc-kernel, plc-sim and softnc from the same source.",
+            self.name,
+            peer.map_or("an ABI of another layout".to_string(), |p| format!(
+                "ABI {p}"
+            )),
+            self.abi
+        ))
+    }
+
+    /// Opens or creates a service with `attempt`, retrying while another process cleans up
+    /// or creates the same service; `attempt` gives `Err(Some(e))` for a final refusal.
+    fn retry<T>(
+        &self,
+        service: &str,
+        mut attempt: impl FnMut() -> Result<T, Result<IpcError, String>>,
+    ) -> Result<T, IpcError> {
+        let mut last = String::new();
+        for _ in 0..50 {
+            match attempt() {
+                Ok(t) => return Ok(t),
+                Err(Ok(e)) => return Err(e),
+                Err(Err(e)) => last = e,
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        Err(IpcError(format!(
+            "{}/{service}: cannot open or create the service: {last}",
+            self.name
+        )))
+    }
+
+    fn pubsub<T: std::fmt::Debug + ZeroCopySend + Copy>(
+        &self,
+        node: &Node<ipc::Service>,
+        service: &str,
+        buffer: usize,
+    ) -> Result<PubSub<T>, IpcError> {
+        use iceoryx2::service::builder::publish_subscribe::{
+            PublishSubscribeOpenError as O, PublishSubscribeOpenOrCreateError as E,
+        };
+        let name = self.service_name(service)?;
+        self.retry(service, || {
+            node.service_builder(&name)
+                .publish_subscribe::<T>()
+                .enable_safe_overflow(true)
+                .history_size(0)
+                .subscriber_max_buffer_size(buffer)
+                .subscriber_max_borrowed_samples(2)
+                .max_publishers(2)
+                .max_subscribers(8)
+                .max_nodes(12)
+                .open_or_create_with_attributes(&self.verifier())
+                .map_err(|e| match e {
+                    E::PublishSubscribeOpenError(O::IncompatibleAttributes) => {
+                        Ok(self.abi_mismatch(node, service, "attributes differ"))
+                    }
+                    E::PublishSubscribeOpenError(O::IncompatibleTypes) => {
+                        Ok(self.abi_mismatch(node, service, "payload type differs"))
+                    }
+                    e => Err(format!("{e:?}")),
+                })
+        })
+    }
+
+    fn reqres<Q, A>(
+        &self,
+        node: &Node<ipc::Service>,
+        service: &str,
+        active: usize,
+    ) -> Result<ReqRes<Q, A>, IpcError>
+    where
+        Q: std::fmt::Debug + ZeroCopySend + Copy,
+        A: std::fmt::Debug + ZeroCopySend + Copy,
+    {
+        use iceoryx2::service::builder::request_response::{
+            RequestResponseOpenError as O, RequestResponseOpenOrCreateError as E,
+        };
+        let name = self.service_name(service)?;
+        self.retry(service, || {
+            node.service_builder(&name)
+                .request_response::<Q, A>()
+                .enable_safe_overflow_for_requests(true)
+                .enable_safe_overflow_for_responses(true)
+                .max_active_requests_per_client(active)
+                .max_response_buffer_size(2)
+                .max_servers(2)
+                .max_clients(8)
+                .max_nodes(12)
+                .open_or_create_with_attributes(&self.verifier())
+                .map_err(|e| match e {
+                    E::RequestResponseOpenError(O::IncompatibleAttributes) => {
+                        Ok(self.abi_mismatch(node, service, "attributes differ"))
+                    }
+                    E::RequestResponseOpenError(O::IncompatibleRequestOrResponseType) => {
+                        Ok(self.abi_mismatch(node, service, "payload type differs"))
+                    }
+                    e => Err(format!("{e:?}")),
+                })
+        })
+    }
+
+    /// Setpoints, kernel → PLC, every IPO cycle.
+    pub fn setpoints(&self, node: &Node<ipc::Service>) -> Result<PubSub<SetpointMsg>, IpcError> {
+        self.pubsub(node, "setpoints", 64)
+    }
+
+    /// Wakes the PLC when a setpoint is out.
+    pub fn setpoint_event(&self, node: &Node<ipc::Service>) -> Result<Events, IpcError> {
+        use iceoryx2::service::builder::event::{EventOpenError as O, EventOpenOrCreateError as E};
+        let service = "setpoints.event";
+        let name = self.service_name(service)?;
+        self.retry(service, || {
+            node.service_builder(&name)
+                .event()
+                .max_notifiers(2)
+                .max_listeners(4)
+                .max_nodes(12)
+                .open_or_create_with_attributes(&self.verifier())
+                .map_err(|e| match e {
+                    E::EventOpenError(O::IncompatibleAttributes) => {
+                        Ok(self.abi_mismatch(node, service, "attributes differ"))
+                    }
+                    e => Err(format!("{e:?}")),
+                })
+        })
+    }
+
+    /// Auxiliary functions, kernel → PLC, acknowledged.
+    pub fn aux(&self, node: &Node<ipc::Service>) -> Result<ReqRes<AuxRequest, AuxAck>, IpcError> {
+        self.reqres(node, "aux", 16)
+    }
+
+    pub fn plc_signals(&self, node: &Node<ipc::Service>) -> Result<PubSub<PlcSignals>, IpcError> {
+        self.pubsub(node, "plc.signals", 16)
+    }
+
+    pub fn actual_values(
+        &self,
+        node: &Node<ipc::Service>,
+    ) -> Result<PubSub<ActualValues>, IpcError> {
+        self.pubsub(node, "plc.actuals", 64)
+    }
+
+    pub fn status(&self, node: &Node<ipc::Service>) -> Result<PubSub<KernelStatus>, IpcError> {
+        self.pubsub(node, "status", 16)
+    }
+
+    /// HMI commands to the kernel.
+    pub fn commands(&self, node: &Node<ipc::Service>) -> Result<ReqRes<Command, Reply>, IpcError> {
+        self.reqres(node, "commands", 4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn abi_names_version_and_layout() {
+        let a = abi();
+        assert!(a.starts_with("softnc-ipc/1/"), "{a}");
+        assert_eq!(a, abi());
+        assert!(a.len() < 64);
+    }
+
+    #[test]
+    fn instance_names_are_checked() {
+        assert!(Instance::new("bad/name").is_err());
+        assert!(Instance::new("").is_err());
+        assert!(Instance::new("cell-1_a").is_ok());
+    }
+}

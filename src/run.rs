@@ -1,0 +1,522 @@
+//! `softnc run`: the control as three processes on this machine. Starts nc-kernel and
+//! plc-sim (this executable in their roles, each in its own process group), loads and starts
+//! the program over the command service, shows progress from the kernel's status, and at the
+//! end prints a summary from plc-sim's trace and draws programmed contour, compensated path
+//! and actual path. Ctrl-C: NC stop, the axes brake, the children end, the instance's shared
+//! memory is removed.
+
+use nc_kernel::segment::Segment;
+use nc_kernel::{MachineData, Preparation, ToolTable};
+use softnc_protocol::iceoryx2::prelude::ipc;
+use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
+use std::io::Write;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, ExitCode, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+pub struct RunOptions<'a> {
+    pub name: &'a str,
+    pub source: &'a str,
+    pub program: &'a Path,
+    pub md: &'a MachineData,
+    pub tools: &'a ToolTable,
+    pub tools_file: Option<&'a Path>,
+    pub set: &'a [String],
+    pub instance: Option<String>,
+    pub trace: Option<PathBuf>,
+    pub svg: Option<PathBuf>,
+    pub plc_args: &'a [String],
+    pub quiet: bool,
+}
+
+/// Temporary files of a run, removed when it ends.
+struct Temp(Vec<PathBuf>);
+
+impl Drop for Temp {
+    fn drop(&mut self) {
+        for p in &self.0 {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+}
+
+/// Children that are killed if the run ends early (an error, a panic).
+struct Children(Vec<(&'static str, Child)>);
+
+impl Drop for Children {
+    fn drop(&mut self) {
+        for (_, c) in &mut self.0 {
+            if let Ok(None) = c.try_wait() {
+                let _ = c.kill();
+                let _ = c.wait();
+            }
+        }
+    }
+}
+
+fn signal(c: &Child, sig: i32) {
+    // SAFETY: kill(2) on our own child's pid.
+    unsafe {
+        libc::kill(c.id() as i32, sig);
+    }
+}
+
+fn wait_for(c: &mut Child, limit: Duration) -> Option<std::process::ExitStatus> {
+    let t = Instant::now();
+    loop {
+        if let Ok(Some(s)) = c.try_wait() {
+            return Some(s);
+        }
+        if t.elapsed() > limit {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+struct Hmi {
+    client: softnc_protocol::iceoryx2::port::client::Client<ipc::Service, Command, (), Reply, ()>,
+    status: softnc_protocol::iceoryx2::port::subscriber::Subscriber<ipc::Service, KernelStatus, ()>,
+    _node: softnc_protocol::iceoryx2::node::Node<ipc::Service>,
+}
+
+impl Hmi {
+    /// Sends a command and waits for the kernel's reply (retrying while no kernel serves the
+    /// commands yet), up to `limit`.
+    fn ask(&self, c: Command, limit: Duration) -> Result<Reply, String> {
+        let t = Instant::now();
+        loop {
+            if let Ok(pending) = self.client.send_copy(c) {
+                let t1 = Instant::now();
+                while t1.elapsed() < Duration::from_millis(500) {
+                    if let Ok(Some(r)) = pending.receive() {
+                        return Ok(*r.payload());
+                    }
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            }
+            if t.elapsed() > limit {
+                return Err("the kernel does not answer".into());
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+pub fn run(o: RunOptions<'_>) -> ExitCode {
+    match run_inner(o) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
+    let instance_name = o
+        .instance
+        .clone()
+        .unwrap_or_else(|| format!("run-{}", std::process::id()));
+    let instance = Instance::new(&instance_name).map_err(|e| e.to_string())?;
+    let (cleaned, _) = instance.cleanup_dead_nodes();
+    if cleaned > 0 {
+        eprintln!(
+            "removed what {cleaned} crashed process(es) of instance '{instance_name}' left behind"
+        );
+    }
+    if instance.alive_nodes() > 0 {
+        return Err(format!(
+            "instance '{instance_name}' is in use by running processes: choose another --instance"
+        ));
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("cannot find this executable: {e}"))?;
+    let tmp = std::env::temp_dir();
+    let md_file = tmp.join(format!("softnc-{instance_name}-machine.toml"));
+    let md_text = toml::to_string(o.md).map_err(|e| format!("machine data: {e}"))?;
+    std::fs::write(&md_file, md_text).map_err(|e| format!("{}: {e}", md_file.display()))?;
+    let mut temp = Temp(vec![md_file.clone()]);
+    let trace = match &o.trace {
+        Some(p) => p.clone(),
+        None => {
+            let p = tmp.join(format!("softnc-{instance_name}-trace.csv"));
+            temp.0.push(p.clone());
+            p
+        }
+    };
+    let logs = [
+        tmp.join(format!("softnc-{instance_name}-nc-kernel.log")),
+        tmp.join(format!("softnc-{instance_name}-plc-sim.log")),
+    ];
+    temp.0.extend(logs.iter().cloned());
+
+    let spawn = |role: &str, args: &[String], log: &Path| -> Result<Child, String> {
+        let log = std::fs::File::create(log).map_err(|e| format!("{}: {e}", log.display()))?;
+        std::process::Command::new(&exe)
+            .arg(role)
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(log)
+            // Its own process group: Ctrl-C reaches only this process, which stops the
+            // children in order.
+            .process_group(0)
+            .spawn()
+            .map_err(|e| format!("cannot start {role}: {e}"))
+    };
+    let mut kargs = vec![
+        "--instance".to_string(),
+        instance_name.clone(),
+        "--machine".into(),
+        md_file.display().to_string(),
+    ];
+    if let Some(t) = o.tools_file {
+        kargs.extend(["--tools".into(), t.display().to_string()]);
+    }
+    for s in o.set {
+        kargs.extend(["--set".into(), s.clone()]);
+    }
+    let mut pargs = vec![
+        "--instance".to_string(),
+        instance_name.clone(),
+        "--machine".into(),
+        md_file.display().to_string(),
+        "--trace".into(),
+        trace.display().to_string(),
+    ];
+    pargs.extend(o.plc_args.iter().cloned());
+    let mut children = Children(Vec::new());
+    children
+        .0
+        .push(("plc-sim", spawn("plc-sim", &pargs, &logs[1])?));
+    children
+        .0
+        .push(("nc-kernel", spawn("nc-kernel", &kargs, &logs[0])?));
+
+    let interrupted = Arc::new(AtomicBool::new(false));
+    {
+        let i = interrupted.clone();
+        let _ = ctrlc::set_handler(move || i.store(true, Ordering::SeqCst));
+    }
+
+    let node = instance.node("softnc-run").map_err(|e| e.to_string())?;
+    let hmi = Hmi {
+        client: instance
+            .commands(&node)
+            .map_err(|e| e.to_string())?
+            .client_builder()
+            .create()
+            .map_err(|e| format!("command client: {e:?}"))?,
+        status: instance
+            .status(&node)
+            .map_err(|e| e.to_string())?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| format!("status subscriber: {e:?}"))?,
+        _node: node,
+    };
+    let check_children = |children: &mut Children| -> Result<(), String> {
+        for (role, c) in children.0.iter_mut() {
+            if let Ok(Some(s)) = c.try_wait() {
+                let i = if *role == "nc-kernel" { 0 } else { 1 };
+                let log = std::fs::read_to_string(&logs[i]).unwrap_or_default();
+                return Err(format!("{role} ended ({s}):\n{}", log.trim_end()));
+            }
+        }
+        Ok(())
+    };
+    let path =
+        std::fs::canonicalize(o.program).map_err(|e| format!("{}: {e}", o.program.display()))?;
+    let t_start = Instant::now();
+    let r = loop {
+        check_children(&mut children)?;
+        match hmi.ask(
+            Command::new(command::LOAD).with_text(&path.display().to_string()),
+            Duration::from_millis(600),
+        ) {
+            Ok(r) => break r,
+            Err(_) if t_start.elapsed() < Duration::from_secs(20) => continue,
+            Err(e) => return Err(e),
+        }
+    };
+    if r.ok == 0 {
+        return Err(format!("the kernel refused the program: {}", r.message()));
+    }
+    // NC start once plc-sim has been seen.
+    let mut last = KernelStatus::default();
+    let t0 = Instant::now();
+    loop {
+        check_children(&mut children)?;
+        while let Ok(Some(s)) = hmi.status.receive() {
+            last = *s.payload();
+        }
+        if last.plc_alive != 0 {
+            break;
+        }
+        if t0.elapsed() > Duration::from_secs(20) || interrupted.load(Ordering::SeqCst) {
+            return Err("plc-sim did not come up".into());
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let r = hmi.ask(Command::new(command::START), Duration::from_secs(5))?;
+    if r.ok == 0 {
+        return Err(format!("NC start refused: {}", r.message()));
+    }
+
+    let total_lines = o.source.lines().count().max(1) as u32;
+    let cycle_s = f64::from(o.md.ipo.cycle_us) * 1e-6;
+    let mut first_cycle: Option<u64> = None;
+    let mut shown = Instant::now() - Duration::from_secs(1);
+    let mut stop_sent = false;
+    let mut alarm = 0u32;
+    let outcome;
+    loop {
+        if let Err(e) = check_children(&mut children) {
+            outcome = Err(e);
+            break;
+        }
+        while let Ok(Some(s)) = hmi.status.receive() {
+            last = *s.payload();
+            if last.state == state::ACTIVE && first_cycle.is_none() {
+                first_cycle = Some(last.cycle);
+            }
+        }
+        if last.alarm != 0 && alarm == 0 {
+            alarm = last.alarm;
+            if !o.quiet {
+                eprintln!("\ralarm {} at line {}              ", last.alarm, last.line);
+            }
+        }
+        if interrupted.load(Ordering::SeqCst) && !stop_sent {
+            stop_sent = true;
+            eprintln!("\rinterrupted: NC stop, the axes brake …");
+            let _ = hmi.ask(Command::new(command::STOP), Duration::from_secs(2));
+        }
+        if !o.quiet && shown.elapsed() > Duration::from_millis(100) {
+            shown = Instant::now();
+            let frac = (f64::from(last.line) / f64::from(total_lines)).min(1.0);
+            let n = (frac * 30.0) as usize;
+            eprint!(
+                "\r[{}{}] line {:>5}/{total_lines}  {:<7}  X{:>9.3} Y{:>9.3} Z{:>9.3}  {:>7.0} mm/min",
+                "#".repeat(n),
+                " ".repeat(30 - n),
+                last.line,
+                state::name(last.state),
+                last.pos[0],
+                last.pos[1],
+                last.pos[2],
+                last.v_path * 60.0
+            );
+            let _ = std::io::stderr().flush();
+        }
+        match last.state {
+            state::END => {
+                outcome = Ok(true);
+                break;
+            }
+            state::STOPPED if last.alarm != 0 || stop_sent => {
+                outcome = Ok(false);
+                break;
+            }
+            _ => {}
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    if !o.quiet {
+        eprintln!();
+    }
+    let end_cycle = last.cycle;
+    // Orderly end: the kernel first (it stops its setpoints), then plc-sim.
+    let _ = hmi.ask(Command::new(command::SHUTDOWN), Duration::from_secs(2));
+    let mut statuses = Vec::new();
+    for role in ["nc-kernel", "plc-sim"] {
+        if let Some((_, c)) = children.0.iter_mut().find(|(r, _)| *r == role) {
+            signal(c, libc::SIGTERM);
+            let s = wait_for(c, Duration::from_secs(10)).or_else(|| {
+                let _ = c.kill();
+                c.wait().ok()
+            });
+            statuses.push((role, s));
+        }
+    }
+    drop(hmi);
+    let leftover = instance.remove_when_unused().map_err(|e| e.to_string())?;
+    let kernel_log = std::fs::read_to_string(&logs[0]).unwrap_or_default();
+    let plc_log = std::fs::read_to_string(&logs[1]).unwrap_or_default();
+    let finished = outcome?;
+    for l in kernel_log.lines().chain(plc_log.lines()) {
+        if l.contains("alarm") || l.contains("error") {
+            eprintln!("{l}");
+        }
+    }
+
+    // The summary, from the trace.
+    let rows = read_trace(&trace)?;
+    let segments: Vec<Segment> = Preparation::new(o.name, o.source, o.md, o.tools)
+        .map_while(Result::ok)
+        .collect();
+    let s = summarize(&rows);
+    let blocks = nc_kernel::Interpreter::new(o.name, o.source, o.md, o.tools)
+        .map_while(Result::ok)
+        .count();
+    let secs = first_cycle.map_or(0.0, |f| (end_cycle.saturating_sub(f)) as f64 * cycle_s);
+    println!(
+        "{}: {} in {secs:.2} s ({blocks} blocks, {} IPO cycles of {} µs)",
+        o.name,
+        if finished {
+            "ran to its end".to_string()
+        } else if alarm != 0 {
+            format!("stopped with alarm {alarm}")
+        } else {
+            "stopped by the operator".to_string()
+        },
+        end_cycle.saturating_sub(first_cycle.unwrap_or(end_cycle)),
+        o.md.ipo.cycle_us
+    );
+    println!(
+        "max following error {:.4} mm (v/kv at {:.0} mm/min: {:.4} mm); actual path within {:.4} mm of the compensated path",
+        s.max_following_error,
+        s.max_v * 60.0,
+        s.max_v / o.md.plc.kv,
+        s.max_deviation
+    );
+    println!(
+        "auxiliary functions: {} output, {} acknowledged by the PLC; setpoints: {} lost",
+        last.aux_sent, last.aux_acked, s.lost
+    );
+    println!(
+        "processes ended: {}; shared memory files left: {}",
+        statuses
+            .iter()
+            .map(|(r, st)| format!("{r} {}", st.map_or("killed".into(), |s| s.to_string())))
+            .collect::<Vec<_>>()
+            .join(", "),
+        leftover.len()
+    );
+    let svg_path = o.svg.clone().unwrap_or_else(|| {
+        let stem = o
+            .program
+            .file_stem()
+            .map_or("program".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.run.svg"))
+    });
+    let actual: Vec<[f64; 3]> = rows.iter().map(|r| r.actual).collect();
+    let pic = crate::picture::Picture::new(o.name, o.source, o.md, o.tools, &segments, None)
+        .with_actual(&actual);
+    svg::save(&svg_path, &pic.render()).map_err(|e| format!("{}: {e}", svg_path.display()))?;
+    println!("picture: {}", svg_path.display());
+    drop(temp);
+    Ok(if finished {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// One row of plc-sim's trace.
+pub struct Row {
+    pub setpoint: [f64; 3],
+    pub actual: [f64; 3],
+    pub following_error: [f64; 3],
+    /// mm/s
+    pub v_path: f64,
+    pub seq: u64,
+}
+
+pub fn read_trace(path: &Path) -> Result<Vec<Row>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut rows = Vec::new();
+    for (i, l) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = l.split(',').collect();
+        let num = |k: usize| -> Result<f64, String> {
+            f.get(k)
+                .and_then(|x| x.parse::<f64>().ok())
+                .ok_or_else(|| format!("{}: line {}: field {k} unreadable", path.display(), i + 1))
+        };
+        rows.push(Row {
+            seq: num(2)? as u64,
+            setpoint: [num(3)?, num(4)?, num(5)?],
+            actual: [num(6)?, num(7)?, num(8)?],
+            following_error: [num(9)?, num(10)?, num(11)?],
+            v_path: num(12)? / 60.0,
+        });
+    }
+    Ok(rows)
+}
+
+pub struct Summary {
+    pub max_following_error: f64,
+    pub max_deviation: f64,
+    pub max_v: f64,
+    pub lost: u64,
+}
+
+/// Following error, and the actual path's distance from the setpoint polyline (the setpoints
+/// lie on the compensated path; between two of them the chord is within (v·T)²/8r of it),
+/// searched within ±2000 rows of the actual point's row.
+pub fn summarize(rows: &[Row]) -> Summary {
+    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let mut s = Summary {
+        max_following_error: 0.0,
+        max_deviation: 0.0,
+        max_v: 0.0,
+        lost: 0,
+    };
+    let mut last_seq = None;
+    for r in rows {
+        if r.seq == 0 {
+            continue; // a watchdog row
+        }
+        if let Some(l) = last_seq {
+            if r.seq > l + 1 {
+                s.lost += r.seq - l - 1;
+            }
+        }
+        last_seq = Some(r.seq);
+    }
+    for (i, r) in rows.iter().enumerate() {
+        s.max_following_error = s.max_following_error.max(norm(r.following_error));
+        s.max_v = s.max_v.max(r.v_path);
+        let lo = i.saturating_sub(2000);
+        let hi = (i + 2000).min(rows.len().saturating_sub(1));
+        let mut best = f64::INFINITY;
+        for j in lo..hi.max(lo) {
+            best = best.min(point_segment(
+                r.actual,
+                rows[j].setpoint,
+                rows[j + 1].setpoint,
+            ));
+        }
+        if rows.len() == 1 {
+            best = norm(sub(r.actual, rows[0].setpoint));
+        }
+        if best.is_finite() {
+            s.max_deviation = s.max_deviation.max(best);
+        }
+    }
+    s
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+pub fn point_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let ab = sub(b, a);
+    let l2 = dot(ab, ab);
+    let t = if l2 > 0.0 {
+        (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let q = [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]];
+    dot(sub(p, q), sub(p, q)).sqrt()
+}

@@ -1,0 +1,459 @@
+//! The control as processes (issue 6): `softnc run` end to end, and faults — a process
+//! killed, a peer of another protocol, stale shared memory. Each test takes an instance of
+//! its own, so they run side by side (that is the "no crosstalk" check too).
+//!
+//! Times are not asserted: the watchdogs count cycles, and the tests check the counts.
+
+use softnc_protocol::iceoryx2::prelude::ipc;
+use softnc_protocol::{command, state, Command, Instance, KernelStatus};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command as Proc, Stdio};
+use std::time::{Duration, Instant};
+
+const EXE: &str = env!("CARGO_BIN_EXE_softnc");
+/// plc.watchdog_cycles of the built-in machine data.
+const WATCHDOG: u64 = 50;
+/// plc.kv of the built-in machine data, 1/s.
+const KV: f64 = 16.667;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn instance(tag: &str) -> String {
+    format!("t-{tag}-{}", std::process::id())
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("softnc-ipc-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// A child that is killed when the test ends in any way.
+struct Kid(Child);
+
+impl Drop for Kid {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn spawn(role: &str, args: &[&str], log: &Path) -> Kid {
+    let log = std::fs::File::create(log).unwrap();
+    Kid(Proc::new(EXE)
+        .arg(role)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .unwrap())
+}
+
+/// A program that keeps the axes moving for about `seconds` at F3000 (50 mm/s).
+fn long_program(seconds: f64) -> PathBuf {
+    let mut text = String::from("N1 G0 X0 Y0 Z0\nN2 G1 F3000\n");
+    let legs = (seconds * 50.0 / 100.0).ceil() as usize + 1;
+    for i in 0..legs {
+        let x = if i % 2 == 0 { 100 } else { 0 };
+        text.push_str(&format!("N{} X{x} Y{}\n", 10 + i, i % 7));
+    }
+    text.push_str("M30\n");
+    let p = scratch(&format!("long-{seconds}.mpf"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+struct Hmi {
+    client: softnc_protocol::iceoryx2::port::client::Client<
+        ipc::Service,
+        Command,
+        (),
+        softnc_protocol::Reply,
+        (),
+    >,
+    status: softnc_protocol::iceoryx2::port::subscriber::Subscriber<ipc::Service, KernelStatus, ()>,
+    _node: softnc_protocol::iceoryx2::node::Node<ipc::Service>,
+}
+
+impl Hmi {
+    fn new(inst: &Instance) -> Hmi {
+        let node = inst.node("test-hmi").unwrap();
+        Hmi {
+            client: inst
+                .commands(&node)
+                .unwrap()
+                .client_builder()
+                .create()
+                .unwrap(),
+            status: inst
+                .status(&node)
+                .unwrap()
+                .subscriber_builder()
+                .create()
+                .unwrap(),
+            _node: node,
+        }
+    }
+
+    fn ask(&self, c: Command) -> softnc_protocol::Reply {
+        let t = Instant::now();
+        while t.elapsed() < Duration::from_secs(30) {
+            if let Ok(p) = self.client.send_copy(c) {
+                let t1 = Instant::now();
+                while t1.elapsed() < Duration::from_millis(500) {
+                    if let Ok(Some(r)) = p.receive() {
+                        return *r.payload();
+                    }
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            }
+        }
+        panic!("no reply to command {}", c.kind);
+    }
+
+    /// Status samples until `until` holds for one (all of them returned), within `limit`.
+    fn watch(&self, limit: Duration, until: impl Fn(&KernelStatus) -> bool) -> Vec<KernelStatus> {
+        let mut seen = Vec::new();
+        let t = Instant::now();
+        while t.elapsed() < limit {
+            while let Ok(Some(s)) = self.status.receive() {
+                let s = *s.payload();
+                seen.push(s);
+                if until(&s) {
+                    return seen;
+                }
+            }
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        panic!(
+            "condition not reached in {limit:?}; last status {:?}",
+            seen.last()
+        );
+    }
+}
+
+struct TraceRow {
+    cycle: u64,
+    seq: u64,
+    sp: [f64; 3],
+    act: [f64; 3],
+    fe: [f64; 3],
+    v: f64,
+    state: String,
+    events: String,
+}
+
+fn trace(path: &Path) -> Vec<TraceRow> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let n = |k: usize| f[k].parse::<f64>().unwrap();
+            TraceRow {
+                cycle: f[1].parse().unwrap(),
+                seq: f[2].parse().unwrap(),
+                sp: [n(3), n(4), n(5)],
+                act: [n(6), n(7), n(8)],
+                fe: [n(9), n(10), n(11)],
+                v: n(12) / 60.0,
+                state: f[14].to_string(),
+                events: f.get(15).unwrap_or(&"").to_string(),
+            }
+        })
+        .collect()
+}
+
+fn dist_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+    let l2 = ab.iter().map(|x| x * x).sum::<f64>();
+    let t = if l2 > 0.0 {
+        (ap.iter().zip(ab.iter()).map(|(x, y)| x * y).sum::<f64>() / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|i| (p[i] - a[i] - t * ab[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// The README's main job: the 840C workpiece runs to M30 with every aux function
+/// acknowledged; the following error at constant speed on a straight line is v/kv, and the
+/// actual path stays within v/kv of the compensated path.
+#[test]
+fn softnc_run_runs_the_workpiece_to_m30() {
+    let inst = instance("wp");
+    let (tr, svg) = (scratch("wp.csv"), scratch("wp.svg"));
+    let out = Proc::new(EXE)
+        .current_dir(root())
+        .args([
+            "run",
+            "programs/siemens-840c/11_15_workpiece.mpf",
+            "--quiet",
+        ])
+        .args(["--instance", &inst, "--trace"])
+        .arg(&tr)
+        .arg("--svg")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("ran to its end"), "{stdout}");
+    // N10 has S80 M3: one request, acknowledged at speed.
+    assert!(
+        stdout.contains("auxiliary functions: 1 output, 1 acknowledged"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("shared memory files left: 0"), "{stdout}");
+    assert!(Instance::new(&inst).unwrap().files().is_empty());
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg_text.contains("actual-path"));
+
+    let rows = trace(&tr);
+    assert_eq!(rows.last().unwrap().state, "END");
+    assert!(rows.iter().all(|r| r.seq > 0), "no watchdog rows, no gaps");
+    for w in rows.windows(2) {
+        assert_eq!(w[1].seq, w[0].seq + 1, "no setpoint lost");
+    }
+    // Steady state: 600 cycles (10/kv) of constant speed and direction; the error at its
+    // end is v/kv within 0.1 % (the residual of the transient is e^-10).
+    let mut checked = 0;
+    let mut run = 0;
+    for i in 2..rows.len() {
+        let d0: Vec<f64> = (0..3).map(|k| rows[i].sp[k] - rows[i - 1].sp[k]).collect();
+        let d1: Vec<f64> = (0..3)
+            .map(|k| rows[i - 1].sp[k] - rows[i - 2].sp[k])
+            .collect();
+        let same = (0..3).all(|k| (d0[k] - d1[k]).abs() < 1e-9) && rows[i].v > 1.0;
+        run = if same { run + 1 } else { 0 };
+        if run >= 600 {
+            let v = rows[i].v;
+            let fe = norm(rows[i].fe);
+            assert!(
+                (fe - v / KV).abs() <= 1e-3 * v / KV,
+                "row {i}: following error {fe} mm, v/kv = {} mm",
+                v / KV
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000, "steady-state rows checked: {checked}");
+    // The actual path against the setpoint polyline (the compensated path).
+    let vmax = rows.iter().map(|r| r.v).fold(0.0, f64::max);
+    let bound = vmax / KV;
+    for (i, r) in rows.iter().enumerate() {
+        let lo = i.saturating_sub(3000);
+        let d = (lo..i.max(lo + 1).min(rows.len() - 1))
+            .map(|j| dist_to_segment(r.act, rows[j].sp, rows[j + 1].sp))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d <= bound + 1e-9,
+            "row {i}: {d} mm off the path (bound {bound})"
+        );
+    }
+}
+
+/// kill -9 of plc-sim: the kernel's watchdog raises alarm 2000 no later than N+1 cycles
+/// after the PLC's last sign of life, and the path brakes from that setpoint on. A new
+/// plc-sim, a reset, and the kernel takes a program again.
+#[test]
+fn plc_killed_then_kernel_brakes_and_reconnects_after_reset() {
+    let inst_name = instance("plckill");
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = long_program(30.0);
+    let prog_s = prog.display().to_string();
+    let mut plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name],
+        &scratch("pk-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &["--instance", &inst_name, &prog_s, "--start"],
+        &scratch("pk-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    hmi.watch(Duration::from_secs(30), |s| {
+        s.state == state::ACTIVE && s.v_path > 40.0
+    });
+    plc.0.kill().unwrap();
+    plc.0.wait().unwrap();
+    let seen = hmi.watch(Duration::from_secs(10), |s| s.alarm != 0);
+    let a = seen.last().unwrap();
+    assert_eq!(a.alarm, 2000);
+    assert!(
+        a.cycle - a.plc_cycle <= WATCHDOG + 1,
+        "alarm at cycle {}, last sign of life at {}",
+        a.cycle,
+        a.plc_cycle
+    );
+    // Braking from the alarm's setpoint on, down to rest, STOPPED.
+    let before = seen
+        .iter()
+        .rev()
+        .find(|s| s.cycle + 1 == a.cycle)
+        .map(|s| s.v_path);
+    if let Some(b) = before {
+        assert!(a.v_path < b, "speed {} after {b}", a.v_path);
+    }
+    let after = hmi.watch(Duration::from_secs(10), |s| s.state == state::STOPPED);
+    for w in after.windows(2) {
+        assert!(w[1].v_path <= w[0].v_path + 1e-9);
+    }
+    // A new plc-sim: NC start is refused until reset, then the kernel runs again.
+    let _plc2 = spawn(
+        "plc-sim",
+        &["--instance", &inst_name],
+        &scratch("pk-plc2.log"),
+    );
+    hmi.watch(Duration::from_secs(20), |s| s.plc_alive != 0);
+    let r = hmi.ask(Command::new(command::START));
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert!(r.message().contains("2000"), "{}", r.message());
+    assert_eq!(hmi.ask(Command::new(command::RESET)).ok, 1);
+    let r = hmi.ask(Command::new(command::LOAD).with_text(&prog_s));
+    // The axes stand where the path stopped, not at the program's start.
+    assert_eq!(r.ok, 0);
+    assert!(
+        r.message().contains("move them there first"),
+        "{}",
+        r.message()
+    );
+}
+
+/// kill -9 of the kernel: plc-sim's watchdog brakes the axes no later than N+1 of its
+/// cycles after the last setpoint; what the dead kernel left in shared memory is cleaned
+/// when the instance is next used.
+#[test]
+fn kernel_killed_then_plc_watchdog_brakes_and_stale_memory_is_cleaned() {
+    let inst_name = instance("nckill");
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = long_program(30.0);
+    let tr = scratch("nk.csv");
+    let mut plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name, "--trace", tr.to_str().unwrap()],
+        &scratch("nk-plc.log"),
+    );
+    let mut nck = spawn(
+        "nc-kernel",
+        &["--instance", &inst_name, prog.to_str().unwrap(), "--start"],
+        &scratch("nk-nck.log"),
+    );
+    {
+        let hmi = Hmi::new(&inst);
+        hmi.watch(Duration::from_secs(30), |s| {
+            s.state == state::ACTIVE && s.v_path > 40.0
+        });
+    }
+    nck.0.kill().unwrap();
+    nck.0.wait().unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    // SIGTERM: plc-sim ends cleanly and flushes its trace.
+    unsafe {
+        libc::kill(plc.0.id() as i32, libc::SIGTERM);
+    }
+    plc.0.wait().unwrap();
+    let rows = trace(&tr);
+    let last_sp = rows.iter().rposition(|r| r.seq > 0).unwrap();
+    let wd = rows
+        .iter()
+        .position(|r| r.events.contains("watchdog"))
+        .expect("a watchdog row");
+    assert!(wd > last_sp);
+    assert!(
+        rows[wd].cycle - rows[last_sp].cycle <= WATCHDOG + 1,
+        "watchdog at cycle {}, last setpoint {}",
+        rows[wd].cycle,
+        rows[last_sp].cycle
+    );
+    // The axes brake: speed from the actual positions falls to 0 and stays there.
+    let speed = |i: usize| {
+        norm([
+            rows[i].act[0] - rows[i - 1].act[0],
+            rows[i].act[1] - rows[i - 1].act[1],
+            rows[i].act[2] - rows[i - 1].act[2],
+        ])
+    };
+    assert!(speed(wd) > 0.0, "it was moving");
+    for i in wd + 1..rows.len() {
+        assert!(speed(i) <= speed(i - 1) + 1e-12, "row {i}");
+    }
+    assert_eq!(speed(rows.len() - 1), 0.0);
+
+    // The dead kernel's files are there until the next start cleans them.
+    assert!(!inst.files().is_empty());
+    let mut plc2 = spawn(
+        "plc-sim",
+        &["--instance", &inst_name],
+        &scratch("nk-plc2.log"),
+    );
+    let t = Instant::now();
+    while inst.alive_nodes() == 0 && t.elapsed() < Duration::from_secs(20) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    unsafe {
+        libc::kill(plc2.0.id() as i32, libc::SIGTERM);
+    }
+    plc2.0.wait().unwrap();
+    let left = inst.remove_when_unused().unwrap();
+    assert!(left.is_empty(), "stale files: {left:?}");
+}
+
+/// A peer built from another protocol is refused by name, with both ABIs in the message.
+#[test]
+fn a_peer_with_another_abi_is_refused() {
+    let inst_name = instance("abi");
+    let other = Instance::with_abi(&inst_name, "softnc-ipc/0/0123456789abcdef").unwrap();
+    let node = other.node("old-peer").unwrap();
+    let _svc = other.setpoints(&node).unwrap();
+    let log = scratch("abi.log");
+    let mut nck = spawn("nc-kernel", &["--instance", &inst_name], &log);
+    let status = nck.0.wait().unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(2), "{text}");
+    assert!(text.contains("another protocol"), "{text}");
+    assert!(text.contains("softnc-ipc/0/0123456789abcdef"), "{text}");
+    assert!(text.contains(softnc_protocol::abi().as_str()), "{text}");
+}
+
+/// Emergency stop from the PLC: alarm 3000, the path brakes on its contour to STOPPED, NC
+/// start and reset are refused while it is pressed.
+#[test]
+fn emergency_stop_brakes_the_path() {
+    let inst_name = instance("estop");
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = long_program(20.0);
+    let _plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name, "--estop-at", "3000"],
+        &scratch("es-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &["--instance", &inst_name, prog.to_str().unwrap(), "--start"],
+        &scratch("es-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    let seen = hmi.watch(Duration::from_secs(30), |s| s.alarm != 0);
+    assert_eq!(seen.last().unwrap().alarm, 3000);
+    let after = hmi.watch(Duration::from_secs(10), |s| s.state == state::STOPPED);
+    for w in after.windows(2) {
+        assert!(w[1].v_path <= w[0].v_path + 1e-9);
+    }
+    let r = hmi.ask(Command::new(command::START));
+    assert_eq!(r.ok, 0);
+    assert!(r.message().contains("emergency stop"), "{}", r.message());
+    assert_eq!(hmi.ask(Command::new(command::RESET)).ok, 0);
+}
