@@ -142,16 +142,7 @@ fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
         None => ToolTable::builtin(),
     };
     for s in &a.set {
-        let parsed = s
-            .split_once('=')
-            .and_then(|(k, v)| {
-                let d = k.trim().strip_prefix(['D', 'd'])?.parse::<u32>().ok()?;
-                Some((d, v.trim().parse::<f64>().ok()?))
-            })
-            .ok_or_else(|| fail(format!("--set {s}: expected Dn=RADIUS, e.g. D1=10.0")))?;
-        tools
-            .set_radius(parsed.0, parsed.1)
-            .map_err(|e| fail(format!("--set {s}: {e}")))?;
+        tools.apply_set(s).map_err(fail)?;
     }
     let name = a.program.display().to_string();
     let bytes = std::fs::read(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;

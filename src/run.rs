@@ -480,22 +480,12 @@ pub fn summarize(rows: &[Row]) -> Summary {
     for (i, r) in rows.iter().enumerate() {
         s.max_following_error = s.max_following_error.max(norm(r.following_error));
         s.max_v = s.max_v.max(r.v_path);
-        let lo = i.saturating_sub(2000);
-        let hi = (i + 2000).min(rows.len().saturating_sub(1));
-        let mut best = f64::INFINITY;
-        for j in lo..hi.max(lo) {
-            best = best.min(point_segment(
-                r.actual,
-                rows[j].setpoint,
-                rows[j + 1].setpoint,
-            ));
-        }
-        if rows.len() == 1 {
-            best = norm(sub(r.actual, rows[0].setpoint));
-        }
-        if best.is_finite() {
-            s.max_deviation = s.max_deviation.max(best);
-        }
+        let (lo, hi) = (i.saturating_sub(2000), (i + 2000).min(rows.len() - 1));
+        // The last index pairs with itself: a point, which also covers a one-row trace.
+        let best = (lo..=hi)
+            .map(|j| point_segment(r.actual, rows[j].setpoint, rows[(j + 1).min(hi)].setpoint))
+            .fold(f64::INFINITY, f64::min);
+        s.max_deviation = s.max_deviation.max(best);
     }
     s
 }

@@ -125,7 +125,7 @@ fn ipo_loop(
         }
         ch.cycle(k, &mut sp);
         for e in &sp.events {
-            if let Event::Aux(_) = e {
+            if let Event::Aux { .. } = e {
                 summary.aux += 1;
             }
         }
@@ -191,7 +191,7 @@ fn write_row(line: &mut String, sp: &Setpoint, cycle_us: u64) {
             line.push(';');
         }
         match e {
-            Event::Aux(a) => {
+            Event::Aux { aux: a, .. } => {
                 line.push_str("aux");
                 for w in &a.words {
                     let _ = write!(line, " {w}");

@@ -150,6 +150,19 @@ impl ToolTable {
         self.offset.get_mut(idx)
     }
 
+    /// `--set` as written on a command line: "Dn=R" (also "dn=R").
+    pub fn apply_set(&mut self, arg: &str) -> Result<(), String> {
+        let (d, r) = arg
+            .split_once('=')
+            .and_then(|(k, v)| {
+                let d = k.trim().strip_prefix(['D', 'd'])?.parse::<u32>().ok()?;
+                Some((d, v.trim().parse::<f64>().ok()?))
+            })
+            .ok_or_else(|| format!("--set {arg}: expected Dn=RADIUS, e.g. D1=10.0"))?;
+        self.set_radius(d, r)
+            .map_err(|e| format!("--set {arg}: {e}"))
+    }
+
     /// `--set Dn=R`: offset n gets radius R (wear 0) whatever tool is active; an offset that
     /// is not in the table is created with length 0.
     pub fn set_radius(&mut self, d: u32, radius: f64) -> Result<(), String> {

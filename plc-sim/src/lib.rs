@@ -14,6 +14,7 @@
 pub mod axis;
 
 use axis::Axis;
+use nc_kernel::runtime::os::now_ns;
 use nc_kernel::MachineData;
 use softnc_protocol::iceoryx2::port::server::Server;
 use softnc_protocol::iceoryx2::prelude::ipc;
@@ -45,16 +46,6 @@ struct Script {
 
 fn within(w: Option<(u64, u64)>, c: u64) -> bool {
     w.is_some_and(|(from, n)| c >= from && c < from + n)
-}
-
-fn now_ns() -> u64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: a valid timespec; CLOCK_MONOTONIC always exists on Linux.
-    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
-    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
 }
 
 /// The plc-sim process with its arguments (after the program name).

@@ -224,28 +224,15 @@ impl Instance {
             .expect("one attribute fits")
     }
 
-    /// The message for a service that exists with another ABI, naming the peer's.
-    fn abi_mismatch(&self, node: &Node<ipc::Service>, service: &str, detail: &str) -> IpcError {
+    /// The message for a service that exists with another ABI, naming the peer's (read
+    /// from the service's static configuration, whatever its payload types).
+    fn abi_mismatch(&self, service: &str, pattern: MessagingPattern, detail: &str) -> IpcError {
         let key = AttributeKey::new(ABI_KEY.as_bytes()).expect("a valid attribute key");
-        let peer = self
-            .service_name(service)
-            .ok()
-            .and_then(|n| {
-                node.service_builder(&n)
-                    .event()
-                    .open()
-                    .ok()
-                    .and_then(|f| f.attributes().key_value(&key, 0).map(|v| v.to_string()))
-            })
-            .or_else(|| {
-                let n = self.service_name(service).ok()?;
-                let f = node
-                    .service_builder(&n)
-                    .publish_subscribe::<SetpointMsg>()
-                    .open()
-                    .ok()?;
-                f.attributes().key_value(&key, 0).map(|v| v.to_string())
-            });
+        let peer = self.service_name(service).ok().and_then(|n| {
+            let details = ipc::Service::details(&n, &self.config, pattern).ok()??;
+            let abi = details.static_details.attributes().key_value(&key, 0)?;
+            Some(abi.to_string())
+        });
         IpcError(format!(
             "{}/{service}: refused, the peer speaks another protocol ({detail}): it has {}, this \
              build has {}. Build nc-kernel, plc-sim and softnc from the same source.",
@@ -258,7 +245,8 @@ impl Instance {
     }
 
     /// Opens or creates a service with `attempt`, retrying while another process cleans up
-    /// or creates the same service; `attempt` gives `Err(Some(e))` for a final refusal.
+    /// or creates the same service; `attempt` gives `Err(Ok(e))` for a final refusal and
+    /// `Err(Err(why))` for one worth retrying.
     fn retry<T>(
         &self,
         service: &str,
@@ -301,12 +289,17 @@ impl Instance {
                 .max_nodes(12)
                 .open_or_create_with_attributes(&self.verifier())
                 .map_err(|e| match e {
-                    E::PublishSubscribeOpenError(O::IncompatibleAttributes) => {
-                        Ok(self.abi_mismatch(node, service, "attributes differ"))
-                    }
-                    E::PublishSubscribeOpenError(O::IncompatibleTypes) => {
-                        Ok(self.abi_mismatch(node, service, "payload type differs"))
-                    }
+                    E::PublishSubscribeOpenError(O::IncompatibleAttributes) => Ok(self
+                        .abi_mismatch(
+                            service,
+                            MessagingPattern::PublishSubscribe,
+                            "attributes differ",
+                        )),
+                    E::PublishSubscribeOpenError(O::IncompatibleTypes) => Ok(self.abi_mismatch(
+                        service,
+                        MessagingPattern::PublishSubscribe,
+                        "payload type differs",
+                    )),
                     e => Err(format!("{e:?}")),
                 })
         })
@@ -338,12 +331,18 @@ impl Instance {
                 .max_nodes(12)
                 .open_or_create_with_attributes(&self.verifier())
                 .map_err(|e| match e {
-                    E::RequestResponseOpenError(O::IncompatibleAttributes) => {
-                        Ok(self.abi_mismatch(node, service, "attributes differ"))
-                    }
-                    E::RequestResponseOpenError(O::IncompatibleRequestOrResponseType) => {
-                        Ok(self.abi_mismatch(node, service, "payload type differs"))
-                    }
+                    E::RequestResponseOpenError(O::IncompatibleAttributes) => Ok(self
+                        .abi_mismatch(
+                            service,
+                            MessagingPattern::RequestResponse,
+                            "attributes differ",
+                        )),
+                    E::RequestResponseOpenError(O::IncompatibleRequestOrResponseType) => Ok(self
+                        .abi_mismatch(
+                            service,
+                            MessagingPattern::RequestResponse,
+                            "payload type differs",
+                        )),
                     e => Err(format!("{e:?}")),
                 })
         })
@@ -367,9 +366,11 @@ impl Instance {
                 .max_nodes(12)
                 .open_or_create_with_attributes(&self.verifier())
                 .map_err(|e| match e {
-                    E::EventOpenError(O::IncompatibleAttributes) => {
-                        Ok(self.abi_mismatch(node, service, "attributes differ"))
-                    }
+                    E::EventOpenError(O::IncompatibleAttributes) => Ok(self.abi_mismatch(
+                        service,
+                        MessagingPattern::Event,
+                        "attributes differ",
+                    )),
                     e => Err(format!("{e:?}")),
                 })
         })

@@ -39,9 +39,13 @@ impl ChannelState {
 
 /// Something that happened in a cycle.
 #[derive(Clone, Debug, PartialEq)]
+// Events live in a fixed-size vector in the setpoint: boxing the large one would allocate on
+// the IPO path.
+#[allow(clippy::large_enum_variant)]
 pub enum Event {
-    /// Auxiliary functions output to the PLC at their S point.
-    Aux(AuxFunction),
+    /// Auxiliary functions output to the PLC at their S point; `wait`: the path waits for
+    /// the acknowledgement (`ipo.wait_for_ack`).
+    Aux { aux: AuxFunction, wait: bool },
     /// M00, M01 or M18 reached: the channel stops.
     Stop(Stop),
     /// M02 or M30 reached.
@@ -242,8 +246,11 @@ impl Channel {
                 return Ok(());
             }
             Input::Aux(a) => {
-                let acked = self.waits_for_ack(&a);
-                (Event::Aux(a), acked)
+                let wait = a.words.iter().any(|w| {
+                    let word = (w.address.to_ascii_uppercase(), w.value);
+                    self.gate.wait_for_ack.contains(&word)
+                });
+                (Event::Aux { aux: a, wait }, wait)
             }
             Input::Stop(s) => (Event::Stop(s), false),
             Input::End(s) => {
@@ -257,7 +264,7 @@ impl Channel {
         };
         // Whatever waits here (an acknowledgement, a stop, the end, an alarm) needs the path
         // at rest: the segment before ends with an exact stop.
-        if acked || !matches!(event, Event::Aux(_)) {
+        if acked || !matches!(event, Event::Aux { .. }) {
             self.planner.stop_after_last();
         }
         let _ = self.gate.waiting.push_back(Waiting { tag, event, acked });
@@ -276,15 +283,6 @@ impl Channel {
                 return;
             }
         }
-    }
-
-    /// Whether the path waits at `aux`'s S point for the PLC's acknowledgement
-    /// (`ipo.wait_for_ack`).
-    pub fn waits_for_ack(&self, aux: &AuxFunction) -> bool {
-        aux.words.iter().any(|w| {
-            let word = (w.address.to_ascii_uppercase(), w.value);
-            self.gate.wait_for_ack.contains(&word)
-        })
     }
 
     /// An alarm from outside the program (PLC, drives, emergency stop): the path brakes on

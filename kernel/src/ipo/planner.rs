@@ -169,15 +169,8 @@ impl Planner {
         if self.queue.len() >= self.lookahead {
             return;
         }
-        let corner = |last: &Entry, e: &Entry| {
-            if last.stop_after || self.hold {
-                0.0
-            } else {
-                self.lim.corner(&last.piece, &e.piece)
-            }
-        };
         if let Some(last) = self.queue.back() {
-            let c = corner(last, &e);
+            let c = self.end_cap(last, &e);
             if let Some(last) = self.queue.back_mut() {
                 last.end_cap = c;
             }
@@ -226,12 +219,7 @@ impl Planner {
             let mut prev: Option<&Entry> = None;
             for e in self.queue.iter() {
                 if let Some(a) = prev {
-                    let c = if a.stop_after {
-                        0.0
-                    } else {
-                        self.lim.corner(&a.piece, &e.piece)
-                    };
-                    let _ = caps.push(c);
+                    let _ = caps.push(self.end_cap(a, e));
                 }
                 prev = Some(e);
             }
@@ -243,8 +231,13 @@ impl Planner {
         self.replan = true;
     }
 
-    pub fn is_held(&self) -> bool {
-        self.hold
+    /// The speed allowed where `a` hands over to `b`: 0 where the path must rest there.
+    fn end_cap(&self, a: &Entry, b: &Entry) -> f64 {
+        if a.stop_after || self.hold {
+            0.0
+        } else {
+            self.lim.corner(&a.piece, &b.piece)
+        }
     }
 
     /// Path override, 0–1.2 (0–120 %); takes effect at the next cycle.

@@ -81,15 +81,8 @@ pub fn main(args: Vec<String>) -> ExitCode {
     };
     let mut tools = tools;
     for w in args.windows(2).filter(|w| w[0] == "--set") {
-        let parsed = w[1].split_once('=').and_then(|(k, v)| {
-            let d = k.trim().strip_prefix(['D', 'd'])?.parse::<u32>().ok()?;
-            Some((d, v.trim().parse::<f64>().ok()?))
-        });
-        let Some((d, r)) = parsed else {
-            return fail(format!("--set {}: expected Dn=RADIUS, e.g. D1=10.0", w[1]));
-        };
-        if let Err(e) = tools.set_radius(d, r) {
-            return fail(format!("--set {}: {e}", w[1]));
+        if let Err(e) = tools.apply_set(&w[1]) {
+            return fail(e);
         }
     }
     let mut opts = LiveOptions {

@@ -36,7 +36,6 @@ pub struct ServeOptions {
 
 /// What the control thread keeps of a loaded program.
 struct Loaded {
-    name: String,
     source: String,
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
@@ -179,7 +178,6 @@ fn load(
     Ok((
         program,
         Loaded {
-            name: path.to_string(),
             source,
             reports: s.reports,
             thread: Some(s.thread),
@@ -240,17 +238,12 @@ fn ipo_thread(
 
 /// Sends a command to the IPO thread and waits for its answer.
 fn ask(shared: &Shared, c: Control) -> Result<(), Refusal> {
-    let mut c = Some(c);
-    let t = Instant::now();
-    while let Some(x) = c.take() {
-        if let Err(back) = shared.ctrl.push(x) {
-            c = Some(back);
-            std::thread::sleep(Duration::from_micros(200));
-        }
-        if t.elapsed() > Duration::from_secs(2) || shared.done.load(Ordering::Acquire) {
-            return Err(Refusal::Ending);
-        }
+    // Only this thread asks, one command at a time: the queue always has room, and the
+    // IPO thread answers at its next cycle unless it has ended.
+    if shared.ctrl.push(c).is_err() {
+        return Err(Refusal::Ending);
     }
+    let t = Instant::now();
     loop {
         if let Some(a) = shared.answers.pop() {
             return a;
@@ -402,7 +395,6 @@ fn print_reports(l: &Loaded) {
             }
         }
     }
-    let _ = &l.name;
 }
 
 fn handle(

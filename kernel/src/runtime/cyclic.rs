@@ -438,11 +438,8 @@ impl Cyclic {
     fn events(&mut self, k: u64, bus: &mut impl Bus) {
         for i in 0..self.sp.events.len() {
             match &self.sp.events[i] {
-                Event::Aux(a) => {
-                    let wait = self
-                        .program
-                        .as_ref()
-                        .is_some_and(|p| p.channel.waits_for_ack(a));
+                Event::Aux { aux: a, wait } => {
+                    let wait = *wait;
                     let id = self.aux_next;
                     self.aux_next += 1;
                     if self.outbox.is_empty()
