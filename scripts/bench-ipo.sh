@@ -26,13 +26,6 @@ while [ "$i" -le "$rounds" ]; do
     i=$((i + 1))
 done
 head -1 "$tmp/nc.out.1"
-summary() {
-    awk -v name="$1" '!/^#/ && NF >= 2 { n[$1+0] += $2; tot += $2; if ($1+0 > max) max = $1+0 }
-        END { c = 0; split("0.5 0.99 0.999", qs, " "); k = 1; line = sprintf("%-11s cycles %d:", name, tot);
-              for (us = 0; us <= 30000 && k <= 3; us++) { c += n[us];
-                  while (k <= 3 && c >= qs[k] * tot) { line = line sprintf(" p%s %d µs", qs[k]*100, us); k++ } }
-              print line sprintf(" max %d µs", max) }'
-}
-cat "$tmp"/nc.[0-9]* | summary nc-kernel
-cat "$tmp"/ct.[0-9]* | summary cyclictest
+awk -v name=nc-kernel -f scripts/histogram-summary.awk "$tmp"/nc.[0-9]*
+awk -v name=cyclictest -f scripts/histogram-summary.awk "$tmp"/ct.[0-9]*
 grep -h 'Max Latencies' "$tmp"/ct.* | sed 's/^/cyclictest per round: /'

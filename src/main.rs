@@ -94,6 +94,13 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Remove what ended or crashed processes of an instance left in shared memory
+    /// (/dev/shm and iceoryx2's folder). Refused while a process of the instance runs.
+    Clean {
+        /// The instance's name.
+        #[arg(long, value_name = "NAME")]
+        instance: String,
+    },
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -344,6 +351,34 @@ fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
     render(w, source).replacen(": alarm ", ": warning ", 1)
 }
 
+fn clean(name: &str) -> ExitCode {
+    let inst = match softnc_protocol::Instance::new(name) {
+        Ok(i) => i,
+        Err(e) => {
+            eprintln!("softnc: error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let before = inst.files().len();
+    match inst.remove_when_unused() {
+        Ok(left) if left.is_empty() => {
+            println!("instance '{name}': {before} file(s) removed, none left");
+            ExitCode::SUCCESS
+        }
+        Ok(left) => {
+            eprintln!("softnc: error: instance '{name}': could not remove:");
+            for f in left {
+                eprintln!("  {}", f.display());
+            }
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("softnc: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     // One executable for the whole control: `softnc run` starts itself in these roles, so
     // one `cargo run` builds everything the run needs.
@@ -362,6 +397,7 @@ fn main() -> ExitCode {
             output,
         } => path(input, *format, output.as_ref()),
         Command::Check { input } => check(input),
+        Command::Clean { instance } => clean(instance),
         Command::Run {
             input,
             instance,

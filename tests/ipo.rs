@@ -503,6 +503,7 @@ fn drive_fed(
         source: text,
         md,
         tools: &tools,
+        at: None,
     };
     let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
     assert!(reports.is_empty());

@@ -5,45 +5,16 @@
 //! the way. The records are prepared before counting (preparation runs in its own thread in
 //! the kernel and may allocate).
 
+#[path = "support/counting.rs"]
+mod counting;
+
 use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::runtime::{prepare_all, Job};
 use nc_kernel::{MachineData, ToolTable};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-struct Counting;
-
-static EVENTS: AtomicU64 = AtomicU64::new(0);
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn count() {
-    if COUNTING.with(|c| c.get()) {
-        EVENTS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        count();
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: counting::Counting = counting::Counting;
 
 fn inputs(text: &str, md: &MachineData) -> (Vec<Input>, [f64; 3]) {
     let tools = ToolTable::builtin();
@@ -52,6 +23,7 @@ fn inputs(text: &str, md: &MachineData) -> (Vec<Input>, [f64; 3]) {
         source: text,
         md,
         tools: &tools,
+        at: None,
     };
     let (start, inputs, reports) = prepare_all(job);
     assert!(reports.is_empty(), "no alarm, no warning");
@@ -65,45 +37,40 @@ fn run(inputs: Vec<Input>, start: [f64; 3], md: &MachineData) -> (u64, u64) {
     let mut sp = Box::new(Setpoint::new(start));
     let mut it = inputs.into_iter();
     let mut pending: Option<Input> = None;
-    let before = EVENTS.load(Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    ch.start();
-    let mut k = 0u64;
-    let mut acks = 0u32;
-    loop {
-        ch.fill(&mut pending, || it.next());
-        for _ in 0..acks {
-            ch.ack();
+    let (k, events) = counting::counted(|| {
+        ch.start();
+        let mut k = 0u64;
+        let mut acks = 0u32;
+        loop {
+            ch.fill(&mut pending, || it.next());
+            for _ in 0..acks {
+                ch.ack();
+            }
+            ch.cycle(k, &mut sp);
+            acks = ch.acks_due();
+            match k {
+                2_000 => ch.set_override(0.5),
+                4_000 => ch.stop(),
+                _ => {}
+            }
+            if sp.state == ChannelState::Stopped {
+                ch.start();
+            }
+            if sp.state == ChannelState::End || k > 50_000_000 {
+                break;
+            }
+            k += 1;
         }
-        ch.cycle(k, &mut sp);
-        acks = ch.acks_due();
-        match k {
-            2_000 => ch.set_override(0.5),
-            4_000 => ch.stop(),
-            _ => {}
-        }
-        if sp.state == ChannelState::Stopped {
-            ch.start();
-        }
-        if sp.state == ChannelState::End || k > 50_000_000 {
-            break;
-        }
-        k += 1;
-    }
-    COUNTING.with(|c| c.set(false));
+        k
+    });
     // What is left (an empty iterator, the boxes) is freed after counting.
     drop(pending);
-    (EVENTS.load(Ordering::Relaxed) - before, k)
+    (events, k)
 }
 
 #[test]
 fn the_ipo_path_does_not_touch_the_allocator() {
-    // The counter sees this thread's allocations (a test that can fail).
-    let before = EVENTS.load(Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    drop(std::hint::black_box(vec![1u8; 16]));
-    COUNTING.with(|c| c.set(false));
-    assert_eq!(EVENTS.load(Ordering::Relaxed) - before, 2);
+    counting::self_test();
     let md = MachineData::load(None, &[]).unwrap();
     let workpiece = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -23,6 +23,7 @@ fn main() {
         source: &text,
         md: &md,
         tools: &tools,
+        at: None,
     };
     let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
     assert!(

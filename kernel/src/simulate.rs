@@ -75,6 +75,7 @@ pub fn run(
         source,
         md,
         tools,
+        at: None,
     };
     let (result, reports) = with_preparation(job, opts.prep_delay, |start, hand| {
         ipo_loop(md, start, hand, opts, out)

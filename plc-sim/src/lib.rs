@@ -27,7 +27,7 @@ use std::time::Duration;
 
 const USAGE: &str = "usage: plc-sim --instance NAME [--machine FILE] [--trace FILE]
                [--estop-at CYCLE] [--feed-hold CYCLE:CYCLES] [--read-in-disable CYCLE:CYCLES]
-               [--drives-off-at CYCLE]";
+               [--drives-off-at CYCLE] [--priority P] [--histogram FILE]";
 
 /// PLC alarms (the 840D's range for user PLC alarms starts at 700000).
 mod plc_alarm {
@@ -114,6 +114,8 @@ fn run(args: Vec<String>) -> Result<(), String> {
         "--feed-hold",
         "--read-in-disable",
         "--drives-off-at",
+        "--priority",
+        "--histogram",
     ];
     let mut i = 0;
     while i < args.len() {
@@ -133,6 +135,12 @@ fn run(args: Vec<String>) -> Result<(), String> {
         read_in_disable: window_arg(&args, "--read-in-disable")?,
         drives_off_at: cycle_arg(&args, "--drives-off-at")?,
     };
+    let priority = value(&args, "--priority")
+        .map(|p| match p.parse::<i32>() {
+            Ok(x) if (1..=99).contains(&x) => Ok(x),
+            _ => Err(format!("--priority {p}: expected 1 to 99")),
+        })
+        .transpose()?;
     let mut trace = match value(&args, "--trace") {
         Some(p) => Some(std::io::BufWriter::new(
             std::fs::File::create(p).map_err(|e| format!("{p}: {e}"))?,
@@ -207,9 +215,14 @@ fn run(args: Vec<String>) -> Result<(), String> {
         n_watch
     );
 
+    // SCHED_FIFO for the drive cycle, as a PLC's cyclic task runs: one below the kernel's
+    // IPO thread (80) unless --priority says otherwise.
+    let (rt, _keep) = nc_kernel::runtime::os::setup_cyclic_thread(priority.unwrap_or(79), 1);
+    eprintln!("plc-sim: {rt}");
     let mut axes: Option<[Axis; 3]> = None;
     let mut last: Option<SetpointMsg> = None;
-    let mut last_arrival = now_ns();
+    // Own cycles (waits that timed out) since the last setpoint: the watchdog counts these,
+    // not wall time, so a hold-up of the whole machine is not taken for a dead kernel.
     let mut missed: u64 = 0;
     let mut braking = false;
     let mut alarm: u32 = 0;
@@ -232,7 +245,8 @@ fn run(args: Vec<String>) -> Result<(), String> {
 
     while !term.load(Ordering::SeqCst) {
         // Wake on the kernel's event, or after one cycle without it.
-        let _ = listener.timed_wait(|_| {}, Duration::from_nanos(cycle_ns));
+        let mut event = false;
+        let _ = listener.timed_wait(|_| event = true, Duration::from_nanos(cycle_ns));
         let mut got = false;
         while let Ok(Some(sample)) = setpoints.receive() {
             let sp = *sample.payload();
@@ -252,7 +266,6 @@ fn run(args: Vec<String>) -> Result<(), String> {
                 _ => {}
             }
             got = true;
-            last_arrival = now;
             missed = 0;
             if braking && sp.state == state::RESET {
                 // The kernel was reset (or restarted): the watchdog alarm is acknowledged,
@@ -327,46 +340,43 @@ fn run(args: Vec<String>) -> Result<(), String> {
             });
             last = Some(sp);
         }
-        if !got {
+        if !got && !event {
             let now = now_ns();
-            let silent = now.saturating_sub(last_arrival) / cycle_ns;
             if let (Some(ax), Some(l)) = (axes.as_mut(), last) {
-                while missed < silent {
-                    missed += 1;
-                    if missed >= n_watch && !braking {
-                        braking = true;
-                        if alarm == 0 {
-                            alarm = plc_alarm::WATCHDOG;
-                        }
-                        events.push_str(&format!("watchdog: no setpoint for {missed} cycles;"));
-                        eprintln!(
+                missed += 1;
+                if missed >= n_watch && !braking {
+                    braking = true;
+                    if alarm == 0 {
+                        alarm = plc_alarm::WATCHDOG;
+                    }
+                    events.push_str(&format!("watchdog: no setpoint for {missed} cycles;"));
+                    eprintln!(
                             "plc-sim: alarm {}: no setpoint for {missed} cycles after cycle {}: braking the axes",
                             plc_alarm::WATCHDOG,
                             l.cycle
                         );
+                }
+                if braking {
+                    let mut actual = [0.0; 3];
+                    for (a, x) in ax.iter_mut().zip(actual.iter_mut()) {
+                        *x = a.brake();
                     }
-                    if braking {
-                        let mut actual = [0.0; 3];
-                        for (a, x) in ax.iter_mut().zip(actual.iter_mut()) {
-                            *x = a.brake();
-                        }
-                        if let Some(tr) = &mut trace {
-                            row(
-                                tr,
-                                (now - start_ns) as f64 * 1e-9,
-                                l.cycle + missed,
-                                0,
-                                &l.pos,
-                                &actual,
-                                &[0.0; 3],
-                                0.0,
-                                l.line,
-                                l.state,
-                                &events,
-                            );
-                        }
-                        events.clear();
+                    if let Some(tr) = &mut trace {
+                        row(
+                            tr,
+                            (now - start_ns) as f64 * 1e-9,
+                            l.cycle + missed,
+                            0,
+                            &l.pos,
+                            &actual,
+                            &[0.0; 3],
+                            0.0,
+                            l.line,
+                            l.state,
+                            &events,
+                        );
                     }
+                    events.clear();
                 }
             }
         }
@@ -455,6 +465,14 @@ fn run(args: Vec<String>) -> Result<(), String> {
         q(0.999),
         latency.max() as f64 / 1000.0
     );
+    if let Some(path) = value(&args, "--histogram") {
+        let text = nc_kernel::runtime::histogram_text(
+            "plc-sim setpoint latency (kernel send to plc-sim receive)",
+            &latency,
+            &[("samples", samples), ("lost", lost), ("late", late)],
+        );
+        std::fs::write(path, text).map_err(|e| format!("{path}: {e}"))?;
+    }
     Ok(())
 }
 

@@ -157,7 +157,10 @@ pub struct KernelStatus {
     pub single_block: u8,
     /// The PLC is there (its sign of life arrived within the watchdog time).
     pub plc_alive: u8,
-    pub _pad: [u8; 5],
+    pub _pad: u8,
+    /// IPO periods skipped because a cycle started a period or more late (the kernel's
+    /// thread or the machine was held up): the path paused for them.
+    pub skipped: u32,
 }
 
 /// What an HMI asks the kernel.

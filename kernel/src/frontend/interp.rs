@@ -235,6 +235,14 @@ impl<'a> Interpreter<'a> {
         &self.block.modal
     }
 
+    /// The same interpreter with the axes standing at `p` (machine coordinates) before the
+    /// first block: a kernel loads a program where the last one left the axes, as a control
+    /// does (the first motion starts from there).
+    pub fn starting_at(mut self, p: Pos) -> Self {
+        self.cur = p;
+        self
+    }
+
     /// The position after the last block handed out.
     pub fn position(&self) -> Pos {
         self.cur

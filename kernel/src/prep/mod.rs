@@ -59,7 +59,22 @@ enum FrontEnd<'a> {
 
 impl<'a> Preparation<'a> {
     pub fn new(name: &'a str, source: &'a str, md: &'a MachineData, tools: &'a ToolTable) -> Self {
-        let interp = Interpreter::new(name, source, md, tools);
+        Self::starting_at(name, source, md, tools, None)
+    }
+
+    /// As `new`, with the axes at `at` before the first block (`None`: where the
+    /// interpreter starts, the machine zero).
+    pub fn starting_at(
+        name: &'a str,
+        source: &'a str,
+        md: &'a MachineData,
+        tools: &'a ToolTable,
+        at: Option<crate::frontend::block::Pos>,
+    ) -> Self {
+        let mut interp = Interpreter::new(name, source, md, tools);
+        if let Some(p) = at {
+            interp = interp.starting_at(p);
+        }
         let start = interp.position();
         let front = Front::new(name, interp, md);
         Self::with_front(name, FrontEnd::Local(Box::new(front)), start, md)

@@ -30,8 +30,10 @@ pub struct IceBus {
     _node: Node<ipc::Service>,
     seq: u64,
     status_seq: u64,
-    /// Time of cycle 0 and the cycle, ns (for the deadlines in the payload).
-    pub t0: u64,
+    /// The end of the running cycle, ns (the setpoint's deadline), set by the IPO loop.
+    pub deadline_ns: u64,
+    /// Periods the IPO loop skipped so far (runtime/clock.rs), for the status.
+    pub skipped: u64,
     cycle_ns: u64,
     /// Sends that failed (no memory to loan, a peer gone while sending).
     pub send_errors: u64,
@@ -92,7 +94,8 @@ impl IceBus {
             _node: node,
             seq: 0,
             status_seq: 0,
-            t0: 0,
+            deadline_ns: 0,
+            skipped: 0,
             cycle_ns,
             send_errors: 0,
         })
@@ -120,7 +123,7 @@ impl Bus for IceBus {
             seq: self.seq,
             cycle: sp.cycle,
             sent_ns: os::now_ns(),
-            deadline_ns: self.t0 + (sp.cycle + 1) * self.cycle_ns,
+            deadline_ns: self.deadline_ns,
             cycle_us: (self.cycle_ns / 1000) as u32,
             line: sp.source.map_or(0, |s| s.line),
             pos: sp.pos,
@@ -200,7 +203,8 @@ impl Bus for IceBus {
             state: st.state.map_or(state::RESET, state_code),
             single_block: st.single_block as u8,
             plc_alive: st.plc_alive as u8,
-            _pad: [0; 5],
+            _pad: 0,
+            skipped: self.skipped.min(u64::from(u32::MAX)) as u32,
         };
         if self.status.send_copy(msg).is_err() {
             self.send_errors += 1;

@@ -151,23 +151,16 @@ pub fn main(args: Vec<String>) -> ExitCode {
         stats.wakeup.max() as f64 / 1000.0
     );
     println!(
-        "cycle work µs:      p50 {:.2}  p99 {:.2}  max {:.1}; overruns {}, cycles short of lookahead {}",
+        "cycle work µs:      p50 {:.2}  p99 {:.2}  max {:.1}; overruns {}, periods skipped {}, cycles short of lookahead {}",
         q(&stats.compute, 0.5),
         q(&stats.compute, 0.99),
         stats.compute.max() as f64 / 1000.0,
         stats.overruns,
+        stats.skipped,
         stats.starved
     );
     if let Some(path) = value(&args, "--histogram") {
-        // The wake-up latency in cyclictest's histogram format: "<µs> <count>" per line.
-        let mut text = String::from("# nc-kernel wake-up latency histogram, µs\n");
-        let mut buckets = std::collections::BTreeMap::<u64, u64>::new();
-        for v in stats.wakeup.iter_recorded() {
-            *buckets.entry(v.value_iterated_to() / 1000).or_default() += v.count_at_value();
-        }
-        for (us, n) in buckets {
-            text.push_str(&format!("{us:06} {n:06}\n"));
-        }
+        let text = crate::runtime::histogram_text("nc-kernel wake-up latency", &stats.wakeup, &[]);
         if let Err(e) = std::fs::write(path, text) {
             return fail(format!("{path}: {e}"));
         }

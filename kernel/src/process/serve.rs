@@ -14,6 +14,7 @@
 
 use super::bus::IceBus;
 use crate::ipo::Channel;
+use crate::runtime::clock::CycleClock;
 use crate::runtime::cyclic::{Control, Cyclic, Program, Refusal};
 use crate::runtime::{os, spawn_preparation, Report};
 use crate::{MachineData, ToolTable};
@@ -82,7 +83,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
     // stand where an empty program would start.
     let mut first = None;
     if let Some(path) = &opts.program {
-        match load(path, &md, &tools, next_id) {
+        match load(path, &md, &tools, next_id, None) {
             Ok((p, l)) => {
                 programs.insert(next_id, l);
                 first = Some(p);
@@ -159,16 +160,24 @@ pub fn run(opts: ServeOptions) -> ExitCode {
     code
 }
 
-/// Reads and starts preparing a program; the channel is built here, at its start position.
+/// Reads and starts preparing a program with the axes at `at` (`None`: the machine zero);
+/// the channel is built here, at the program's start.
 fn load(
     path: &str,
     md: &MachineData,
     tools: &ToolTable,
     id: u32,
+    at: Option<crate::frontend::block::Pos>,
 ) -> Result<(Box<Program>, Loaded), String> {
     let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools.clone())
-        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
+    let s = spawn_preparation(
+        path.to_string(),
+        source.clone(),
+        md.clone(),
+        tools.clone(),
+        at,
+    )
+    .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
     let program = Box::new(Program {
         id,
         channel: Box::new(Channel::new(md, s.start)),
@@ -206,11 +215,12 @@ fn ipo_thread(
     let (rt, _latency) = os::setup_cyclic_thread(priority, 1);
     let _ = ready.send(Ok(rt.to_string()));
     let mut released: Option<Box<Program>> = None;
-    let t0 = os::now_ns() + cycle_ns;
-    bus.t0 = t0;
+    let mut clock = CycleClock::new(cycle_ns);
     let mut k: u64 = 0;
     loop {
-        os::sleep_until(t0 + k * cycle_ns);
+        let tick = clock.wait();
+        bus.deadline_ns = tick.deadline;
+        bus.skipped = clock.skipped();
         while let Some(c) = shared.ctrl.pop() {
             let r = cyclic.command(c);
             let _ = shared.answers.push(r);
@@ -339,25 +349,15 @@ fn control(
         }
         while let Ok(Some(req)) = server.receive() {
             let c: Command = *req.payload();
-            let reply = handle(&c, shared, md, tools, programs, next_id);
+            // The newest status first: a program loads where the axes stand now.
+            while let Ok(Some(s)) = status.receive() {
+                last = report_status(*s.payload(), &last);
+            }
+            let reply = handle(&c, shared, md, tools, programs, next_id, last.pos);
             let _ = req.send_copy(reply);
         }
         while let Ok(Some(s)) = status.receive() {
-            let s = *s.payload();
-            if s.alarm != last.alarm && s.alarm != 0 {
-                eprintln!(
-                    "nc-kernel: alarm {} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
-                    s.alarm,
-                    s.cycle,
-                    s.line,
-                    alarm_text(s.alarm),
-                    s.plc_cycle
-                );
-            }
-            if s.state != last.state {
-                eprintln!("nc-kernel: {} at cycle {}", state::name(s.state), s.cycle);
-            }
-            last = s;
+            last = report_status(*s.payload(), &last);
         }
         // NC start once the PLC is there (--start).
         if want_start && last.plc_alive != 0 {
@@ -387,6 +387,24 @@ fn control(
     Ok(())
 }
 
+/// Tells the user about a new alarm or state; returns `s` as the new last status.
+fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
+    if s.alarm != last.alarm && s.alarm != 0 {
+        eprintln!(
+            "nc-kernel: alarm {} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
+            s.alarm,
+            s.cycle,
+            s.line,
+            alarm_text(s.alarm),
+            s.plc_cycle
+        );
+    }
+    if s.state != last.state {
+        eprintln!("nc-kernel: {} at cycle {}", state::name(s.state), s.cycle);
+    }
+    s
+}
+
 fn print_reports(l: &Loaded) {
     for r in l.reports.try_iter() {
         match r {
@@ -404,6 +422,7 @@ fn handle(
     tools: &mut ToolTable,
     programs: &mut HashMap<u32, Loaded>,
     next_id: &mut u32,
+    at: crate::frontend::block::Pos,
 ) -> Reply {
     let answer = |r: Result<(), Refusal>, ok: &str| match r {
         Ok(()) => Reply::new(true, 0, ok),
@@ -428,7 +447,7 @@ fn handle(
         command::SHUTDOWN => answer(ask(shared, Control::Shutdown), "shutting down"),
         command::LOAD => {
             let path = c.text();
-            match load(path, md, tools, *next_id) {
+            match load(path, md, tools, *next_id, Some(at)) {
                 Ok((p, l)) => {
                     let id = *next_id;
                     programs.insert(id, l);

@@ -239,6 +239,8 @@ impl Cyclic {
                 Ok(())
             }
             Control::Stop => {
+                // The operator's stop: releasing a feed hold may not start the path again.
+                self.feed_held = false;
                 self.channel().stop();
                 Ok(())
             }

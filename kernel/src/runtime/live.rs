@@ -48,8 +48,10 @@ pub struct LiveStats {
     pub wakeup: Histogram<u64>,
     /// Work per cycle (taking input, the channel's cycle, the sink), ns.
     pub compute: Histogram<u64>,
-    /// Cycles whose work ended after the next deadline.
+    /// Cycles whose work ended after the next cycle's start.
     pub overruns: u64,
+    /// Periods skipped because a cycle started a period or more late (runtime/clock.rs).
+    pub skipped: u64,
     /// Cycles that found the lookahead not full while preparation was still running.
     pub starved: u64,
     pub end_state: ChannelState,
@@ -76,6 +78,7 @@ pub fn run(
         source,
         md,
         tools,
+        at: None,
     };
     let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
     let (stats, reports) = with_preparation(job, Duration::ZERO, |start, hand| {
@@ -119,13 +122,12 @@ fn ipo_thread(
         .limit
         .map_or(u64::MAX, |d| (d.as_nanos() as u64 / cycle_ns).max(1));
     ch.start();
-    let t0 = os::now_ns() + cycle_ns;
+    let mut clock = super::clock::CycleClock::new(cycle_ns);
     let mut k: u64 = 0;
     loop {
-        let deadline = t0 + k * cycle_ns;
-        os::sleep_until(deadline);
-        let woke = os::now_ns();
-        let _ = wakeup.record(woke.saturating_sub(deadline).max(1));
+        let tick = clock.wait();
+        let woke = tick.woke;
+        let _ = wakeup.record(woke.saturating_sub(tick.start).max(1));
         // Take what is there, never wait.
         ch.fill(&mut pending, || hand.pop());
         if !ch.input_done() && pending.is_none() && ch.planner().room() > 0 {
@@ -139,7 +141,7 @@ fn ipo_thread(
         sink(&sp);
         let done = os::now_ns();
         let _ = compute.record(done.saturating_sub(woke).max(1));
-        if done > deadline + cycle_ns {
+        if done > tick.deadline {
             overruns += 1;
         }
         k += 1;
@@ -159,6 +161,7 @@ fn ipo_thread(
         wakeup,
         compute,
         overruns,
+        skipped: clock.skipped(),
         starved,
         end_state: sp.state,
         reports: Vec::new(),

@@ -14,6 +14,7 @@
 //! Alarms and warnings carry text, so they go to the reporting side on their own channel:
 //! the IPO thread gets only their number and block, and never frees memory.
 
+pub mod clock;
 pub mod cyclic;
 pub mod live;
 pub mod os;
@@ -66,6 +67,28 @@ impl Handover {
     }
 }
 
+/// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
+/// alike: `# title`, `# name value` comment lines, then "<µs> <count>" per 1 µs bucket.
+pub fn histogram_text(
+    title: &str,
+    h: &hdrhistogram::Histogram<u64>,
+    extra: &[(&str, u64)],
+) -> String {
+    use std::fmt::Write;
+    let mut text = format!("# {title} histogram, µs\n");
+    for (k, v) in extra {
+        let _ = writeln!(text, "# {k} {v}");
+    }
+    let mut buckets = std::collections::BTreeMap::<u64, u64>::new();
+    for v in h.iter_recorded() {
+        *buckets.entry(v.value_iterated_to() / 1000).or_default() += v.count_at_value();
+    }
+    for (us, n) in buckets {
+        let _ = writeln!(text, "{us:06} {n:06}");
+    }
+    text
+}
+
 /// What the preparation thread prepares.
 #[derive(Clone, Copy)]
 pub struct Job<'a> {
@@ -73,6 +96,8 @@ pub struct Job<'a> {
     pub source: &'a str,
     pub md: &'a MachineData,
     pub tools: &'a ToolTable,
+    /// Where the axes stand before the first block (`None`: the machine zero).
+    pub at: Option<crate::frontend::block::Pos>,
 }
 
 /// Stack for the preparation thread: `Preparation` keeps its queues in place (no heap), and
@@ -141,7 +166,7 @@ fn prepare_into(
     reports: &crossbeam::channel::Sender<Report>,
     delay: Duration,
 ) {
-    let mut prep = Preparation::new(job.name, job.source, job.md, job.tools);
+    let mut prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
     let _ = start.send(prep.start());
     let push = |mut x: Input| -> bool {
         if !delay.is_zero() {
@@ -231,6 +256,7 @@ pub fn spawn_preparation(
     source: String,
     md: MachineData,
     tools: ToolTable,
+    at: Option<crate::frontend::block::Pos>,
 ) -> std::io::Result<Spawned> {
     let hand = std::sync::Arc::new(Handover::default());
     let (report_tx, reports) = crossbeam::channel::unbounded();
@@ -247,6 +273,7 @@ pub fn spawn_preparation(
                 source: &source,
                 md: &md,
                 tools: &tools,
+                at,
             };
             prepare_into(job, &start_tx, &lim, &h, &report_tx, Duration::ZERO);
         })?;
@@ -264,7 +291,7 @@ pub fn spawn_preparation(
 /// into the reports.
 pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Vec<Report>) {
     let lim = AxisLimits::new(job.md);
-    let mut prep = Preparation::new(job.name, job.source, job.md, job.tools);
+    let mut prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
     let start = prep.start();
     let (mut inputs, mut reports) = (Vec::new(), Vec::new());
     loop {
