@@ -402,3 +402,26 @@ fn the_cycle_does_not_touch_the_allocator() {
     assert!(rig.plc.status.len() > 1_000);
     assert_eq!(rig.plc.requests.len(), 2);
 }
+
+/// At rest after NC stop the setpoint stays the same, bit for bit, however long it waits.
+#[test]
+fn the_setpoint_at_rest_after_nc_stop_does_not_move() {
+    let md = md();
+    for prog in [
+        "N1 G1 X500 F3000\nM30\n",
+        "N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\nN30 Y100\nN40 X40\nM30\n",
+    ] {
+        let mut rig = Rig::new(&md, 100_000);
+        rig.load_and_start(&md, 1, prog);
+        // At speed on the first line, or on N30 of the second program.
+        rig.run_until(5_000, |s| {
+            (s.v_path - V).abs() < 1e-9 && (s.line == 1 || s.pos[1] > 1.0)
+        });
+        rig.ask(Control::Stop).unwrap();
+        let stopped = rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
+        for _ in 0..1_000 {
+            let s = rig.step();
+            assert_eq!((s.pos, s.v_path), (stopped.pos, 0.0), "{prog}");
+        }
+    }
+}

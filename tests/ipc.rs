@@ -158,6 +158,7 @@ struct TraceRow {
     act: [f64; 3],
     fe: [f64; 3],
     v: f64,
+    line: u32,
     state: String,
     events: String,
 }
@@ -176,6 +177,7 @@ fn trace(path: &Path) -> Vec<TraceRow> {
                 act: [n(6), n(7), n(8)],
                 fe: [n(9), n(10), n(11)],
                 v: n(12) / 60.0,
+                line: f[13].parse().unwrap(),
                 state: f[14].to_string(),
                 events: f.get(15).unwrap_or(&"").to_string(),
             }
@@ -758,4 +760,174 @@ fn no_false_watchdog_under_load() {
     assert!(!plc_text.contains("alarm"), "{plc_text}");
     assert!(!nck_text.contains("alarm"), "{nck_text}");
     assert!(plc_text.contains(" 0 lost"), "{plc_text}");
+}
+
+/// Distance from `p` (outside it) to the square [0, 100]².
+fn off_square(p: [f64; 3]) -> f64 {
+    let dx = (0.0 - p[0]).max(p[0] - 100.0).max(0.0);
+    let dy = (0.0 - p[1]).max(p[1] - 100.0).max(0.0);
+    (dx * dx + dy * dy).sqrt()
+}
+
+fn write(name: &str, text: &str) -> PathBuf {
+    let p = scratch(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// 840C 11.8 through the control: D1 changed from 10 to 12 in NC stop halfway along the top
+/// edge of a square (G41, outside, G450 corners). NC start repositions onto the new
+/// equidistant, and from there every setpoint of the contour lies 12 mm from the square;
+/// before the stop every one lay 10 mm from it. The same edit while the program runs is
+/// refused and changes nothing.
+#[test]
+fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant() {
+    let inst_name = instance("offset");
+    let _scope = Scope::new(&inst_name);
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = write(
+        "square.mpf",
+        "N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n",
+    );
+    let tr = scratch("offset.csv");
+    let mut plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name, "--trace", tr.to_str().unwrap()],
+        &scratch("offset-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &[
+            "--instance",
+            &inst_name,
+            prog.to_str().unwrap(),
+            "--start",
+            "--set",
+            "D1=10",
+        ],
+        &scratch("offset-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    // On N40 (line 4), at speed.
+    hmi.watch(Duration::from_secs(30), |s| s.line == 4 && s.v_path > 40.0);
+    let r = hmi.ask(Command::offset(1, 12.0, false));
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert!(r.message().contains("running"), "{}", r.message());
+    assert_eq!(hmi.ask(Command::new(command::STOP)).ok, 1);
+    let stopped = *hmi
+        .watch(Duration::from_secs(10), |s| s.state == state::STOPPED)
+        .last()
+        .unwrap();
+    assert_eq!(stopped.tools_version, 1, "the refused edit changed nothing");
+    assert_eq!(stopped.line, 4);
+    assert!((off_square(stopped.pos) - 10.0).abs() < 1e-6);
+    let r = hmi.ask(Command::offset(1, 12.0, false));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(r.message().contains("version 2"), "{}", r.message());
+    let r = hmi.ask(Command::new(command::START));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let end = hmi.watch(Duration::from_secs(30), |s| {
+        s.state == state::END || s.alarm != 0
+    });
+    let e = end.last().unwrap();
+    assert_eq!((e.state, e.alarm, e.tools_version), (state::END, 0, 2));
+    terminate(&mut plc);
+
+    let rows = trace(&tr);
+    let contour = |r: &TraceRow| (3..=6).contains(&r.line);
+    let stop = rows
+        .iter()
+        .position(|r| r.state == "STOPPED")
+        .expect("NC stop in the trace");
+    let mut checked = [0usize; 2];
+    for (i, r) in rows[..stop].iter().enumerate().filter(|(_, r)| contour(r)) {
+        let d = off_square(r.sp);
+        assert!((d - 10.0).abs() < 1e-6, "row {i} before the stop: {d} mm");
+        checked[0] += 1;
+    }
+    // After NC start: the reposition move (moving out from 10 to 12 mm), then the contour
+    // at 12 mm up to the retract.
+    let on_new = stop
+        + rows[stop..]
+            .iter()
+            .position(|r| (off_square(r.sp) - 12.0).abs() < 1e-6)
+            .expect("the path reaches the new equidistant");
+    for (i, r) in rows.iter().enumerate().take(on_new).skip(stop) {
+        let d = off_square(r.sp);
+        assert!(
+            (10.0 - 1e-6..=12.0 + 1e-6).contains(&d),
+            "reposition row {i}: {d}"
+        );
+    }
+    for (i, r) in rows
+        .iter()
+        .enumerate()
+        .skip(on_new)
+        .filter(|(_, r)| contour(r))
+    {
+        let d = off_square(r.sp);
+        assert!((d - 12.0).abs() < 1e-6, "row {i} after resuming: {d} mm");
+        checked[1] += 1;
+    }
+    assert!(checked[0] > 2000 && checked[1] > 4000, "{checked:?}");
+}
+
+/// An offset that would violate the contour (a slot 22 mm wide: R 12 does not fit, 840C
+/// 11.12): NC start is refused with the alarm and nothing moves; the offset set back, NC
+/// start goes on.
+#[test]
+fn an_offset_that_violates_the_contour_is_refused_before_any_motion() {
+    let inst_name = instance("violate");
+    let _scope = Scope::new(&inst_name);
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = write(
+        "slot.mpf",
+        "N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\nN30 Y100\nN40 X40\nN50 Y60\nN60 X62\nN70 Y100\nN80 X100\nN90 Y0\nN100 X0\nN110 G40 X-30 Y-30\nM30\n",
+    );
+    let _plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name],
+        &scratch("viol-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &[
+            "--instance",
+            &inst_name,
+            prog.to_str().unwrap(),
+            "--start",
+            "--set",
+            "D1=10",
+        ],
+        &scratch("viol-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    hmi.watch(Duration::from_secs(30), |s| s.line == 3 && s.v_path > 40.0);
+    assert_eq!(hmi.ask(Command::new(command::STOP)).ok, 1);
+    let stopped = *hmi
+        .watch(Duration::from_secs(10), |s| s.state == state::STOPPED)
+        .last()
+        .unwrap();
+    assert_eq!(hmi.ask(Command::offset(1, 12.0, false)).ok, 1);
+    let r = hmi.ask(Command::new(command::START));
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert_eq!(r.alarm, 3021, "{}", r.message());
+    assert!(r.message().contains("nothing moved"), "{}", r.message());
+    let after = hmi.watch(Duration::from_millis(500), |s| {
+        s.cycle > stopped.cycle + 300
+    });
+    for s in &after {
+        assert_eq!(
+            (s.state, s.pos, s.v_path),
+            (state::STOPPED, stopped.pos, 0.0)
+        );
+    }
+    // Set back to 10: NC start resumes and the program runs to its end.
+    assert_eq!(hmi.ask(Command::offset(1, 10.0, false)).ok, 1);
+    let r = hmi.ask(Command::new(command::START));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let end = hmi.watch(Duration::from_secs(30), |s| {
+        s.state == state::END || s.alarm != 0
+    });
+    assert_eq!(end.last().unwrap().state, state::END);
 }

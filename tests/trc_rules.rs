@@ -765,11 +765,14 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         &src,
         &md,
         &new,
-        Interruption { seq, along: 0.5 },
+        None,
+        Interruption::contour(seq, 0.5),
         [mid_old, 65.0, -5.0 + 100.0],
     )
     .unwrap_or_else(|a| panic!("{a}"));
-    let [reposition, remainder] = r.first;
+    let [Prepared::Segment(reposition), Prepared::Segment(remainder)] = r.first.as_slice() else {
+        panic!("two segments first");
+    };
     assert_eq!(reposition.role, Role::Approach);
     at("reposition from the axes", reposition.from, mid_old, 65.0);
     at(
@@ -802,7 +805,8 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         &src,
         &md,
         &huge,
-        Interruption { seq, along: 0.5 },
+        None,
+        Interruption::contour(seq, 0.5),
         [mid_old, 65.0, 95.0],
     )
     .err()

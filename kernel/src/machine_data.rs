@@ -225,6 +225,21 @@ pub struct PlcData {
     pub software_limit_max: [f64; 3],
 }
 
+/// The operator's side: the HMI bridge and what offset edits it may make (840C 11.8).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HmiData {
+    /// TCP port of hmi-bridge on 127.0.0.1.
+    pub port: u16,
+    /// Largest geometry radius an operator may enter, mm (either sign).
+    pub max_radius: f64,
+    /// Largest wear value an operator may enter, mm (either sign).
+    pub max_wear: f64,
+    /// Offset edits while the program runs: false refuses them (840C 11.8: immediately
+    /// effective only in NC stop); true stores them, to act when that D is next programmed.
+    pub edit_while_active: bool,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisData {
@@ -269,6 +284,7 @@ pub struct MachineData {
     pub zero_offsets: ZeroOffsets,
     pub ipo: IpoData,
     pub plc: PlcData,
+    pub hmi: HmiData,
     pub axes: Axes,
 }
 
@@ -365,6 +381,23 @@ impl MachineData {
     }
 
     fn validate(&self) -> Result<(), (String, String)> {
+        for (key, v) in [
+            ("hmi.max_radius", self.hmi.max_radius),
+            ("hmi.max_wear", self.hmi.max_wear),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= crate::tools::MAX_OFFSET_MM) {
+                return Err((
+                    key.into(),
+                    format!(
+                        "{v}: expected above 0 and at most {} mm",
+                        crate::tools::MAX_OFFSET_MM
+                    ),
+                ));
+            }
+        }
+        if self.hmi.port == 0 {
+            return Err(("hmi.port".into(), "0: expected a TCP port (1–65535)".into()));
+        }
         fn range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), (String, String)> {
             if v.is_finite() && v >= lo && v <= hi {
                 Ok(())

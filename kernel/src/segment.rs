@@ -33,6 +33,27 @@ pub enum Role {
 }
 
 impl Role {
+    const ALL: [Role; 6] = [
+        Role::Approach,
+        Role::Contour,
+        Role::Corner,
+        Role::Intermediate,
+        Role::Retract,
+        Role::Uncompensated,
+    ];
+
+    /// A number for the wire (1…6; 0 stands for none).
+    pub fn code(self) -> u8 {
+        Self::ALL
+            .iter()
+            .position(|r| *r == self)
+            .map_or(0, |i| i as u8 + 1)
+    }
+
+    pub fn from_code(c: u8) -> Option<Role> {
+        Self::ALL.get(usize::from(c).checked_sub(1)?).copied()
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Role::Approach => "approach",

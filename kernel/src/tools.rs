@@ -179,6 +179,80 @@ impl ToolTable {
         Ok(())
     }
 
+    /// An operator's edit of offset D`d` (tool `t` on T/D machines): the geometry radius,
+    /// or the radius wear when `wear`. The offset must exist, the value be finite and within
+    /// `limit` mm either side. A `--set` override of that D gives way to the edit.
+    pub fn edit(
+        &mut self,
+        t: Option<u32>,
+        d: u32,
+        wear: bool,
+        value: f64,
+        limit: f64,
+    ) -> Result<(), String> {
+        let what = if wear { "radius wear" } else { "radius" };
+        if !value.is_finite() {
+            return Err(format!("{what} {value} is not a number"));
+        }
+        if value.abs() > limit {
+            return Err(format!(
+                "{what} {value} mm is beyond the limit of ±{limit} mm (machine data hmi.max_{})",
+                if wear { "wear" } else { "radius" }
+            ));
+        }
+        let label = match t {
+            Some(t) => format!("T{t} D{d}"),
+            None => format!("D{d}"),
+        };
+        let o = self
+            .find_mut(t, d)
+            .ok_or_else(|| format!("{label} is not in the tool table"))?;
+        if wear {
+            o.radius_wear = value;
+        } else {
+            o.radius = value;
+        }
+        self.radius_overrides.retain(|(k, _)| *k != d);
+        Ok(())
+    }
+
+    /// The table as TOML, as `load` reads it (without `--set` overrides).
+    pub fn to_toml(&self) -> Result<String, String> {
+        toml::to_string(self).map_err(|e| e.to_string())
+    }
+
+    /// Writes the table to `path` so that a crash at any moment leaves the old file or the
+    /// new one, never a torn one: a temporary file beside it, synced, renamed over it, and
+    /// the folder synced.
+    pub fn save_atomic(&self, path: &Path) -> std::io::Result<()> {
+        use std::io::Write;
+        let text = self.to_toml().map_err(std::io::Error::other)?;
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => std::path::PathBuf::from("."),
+        };
+        let name = path
+            .file_name()
+            .ok_or_else(|| std::io::Error::other("the tool file path names no file"))?;
+        let tmp = dir.join(format!(
+            ".{}.tmp-{}",
+            name.to_string_lossy(),
+            std::process::id()
+        ));
+        let write = || -> std::io::Result<()> {
+            let mut f = std::fs::File::create(&tmp)?;
+            f.write_all(text.as_bytes())?;
+            f.sync_all()?;
+            std::fs::rename(&tmp, path)?;
+            std::fs::File::open(&dir)?.sync_all()
+        };
+        let r = write();
+        if r.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        r
+    }
+
     /// Effective (radius, length, cutting edge) of D `d` with tool `t` active, `--set`
     /// overrides applied.
     pub fn resolve(&self, t: Option<u32>, d: u32) -> Option<(f64, f64, Option<u8>)> {
@@ -217,6 +291,50 @@ impl ToolOffset {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn edits_are_checked_and_saved_whole() {
+        let mut t = ToolTable::builtin();
+        let r0 = t.find(None, 1).unwrap().radius;
+        assert!(t
+            .edit(None, 1, false, f64::NAN, 500.0)
+            .unwrap_err()
+            .contains("not a number"));
+        assert!(t
+            .edit(None, 1, false, 501.0, 500.0)
+            .unwrap_err()
+            .contains("hmi.max_radius"));
+        assert!(t
+            .edit(None, 1, true, 1.5, 1.0)
+            .unwrap_err()
+            .contains("hmi.max_wear"));
+        assert!(t
+            .edit(None, 99, false, 1.0, 500.0)
+            .unwrap_err()
+            .contains("D99 is not"));
+        assert_eq!(
+            t.find(None, 1).unwrap().radius,
+            r0,
+            "refused edits change nothing"
+        );
+        t.edit(None, 1, false, 12.0, 500.0).unwrap();
+        t.edit(None, 1, true, -0.02, 1.0).unwrap();
+        let dir = std::env::temp_dir().join(format!("softnc-tools-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("tools.toml");
+        t.save_atomic(&p).unwrap();
+        let back = ToolTable::load(&p).unwrap();
+        assert_eq!(back.find(None, 1).unwrap().effective_radius(), 12.0 - 0.02);
+        assert_eq!(back.offset, t.offset);
+        // Nothing but the file itself is left beside it.
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name())
+            .collect();
+        assert_eq!(names, ["tools.toml"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn effective_values_add_wear() {

@@ -151,16 +151,25 @@ pub struct KernelStatus {
     pub alarm: u32,
     pub aux_sent: u32,
     pub aux_acked: u32,
+    /// The tool table's version: 1 at start, one more with every accepted offset edit.
+    pub tools_version: u32,
     /// The kernel cycle in which the PLC's sign of life last arrived.
     pub plc_cycle: u64,
     pub state: u8,
     pub single_block: u8,
     /// The PLC is there (its sign of life arrived within the watchdog time).
     pub plc_alive: u8,
-    pub _pad: u8,
+    /// The running segment's role (the kernel's `Role::code`; 0: none).
+    pub role: u8,
     /// IPO periods skipped because a cycle started a period or more late (the kernel's
     /// thread or the machine was held up): the path paused for them.
     pub skipped: u32,
+    /// Where the path is on the program: the block's execution number (0: none), the
+    /// segment's place among the block's segments, and how far along it (0 to 1). After an
+    /// NC stop, the interruption point an offset change resumes from.
+    pub block_seq: u32,
+    pub piece: u32,
+    pub along: f64,
 }
 
 /// What an HMI asks the kernel.
@@ -222,6 +231,15 @@ impl Command {
 
     pub fn text(&self) -> &str {
         as_text(&self.text, self.text_len as usize)
+    }
+
+    /// `SET_OFFSET` of D`d`: the geometry radius, or the radius wear when `wear`.
+    pub fn offset(d: u32, value: f64, wear: bool) -> Self {
+        let mut c = Command::new(command::SET_OFFSET);
+        c.d = d;
+        c.value = value;
+        c.flag = wear as u8;
+        c
     }
 }
 
@@ -322,6 +340,11 @@ mod tests {
         );
         assert_eq!(std::mem::size_of::<AuxRequest>(), 16 + 8 + 12 * 16 + 8);
         assert_eq!(std::mem::size_of::<PlcSignals>(), 24);
+        // Every byte a named field: no implicit padding.
+        assert_eq!(
+            std::mem::size_of::<KernelStatus>(),
+            2 * 8 + 2 * 4 + 3 * 8 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8
+        );
         assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT);
         assert_eq!(std::mem::size_of::<Reply>(), 8 + TEXT);
     }

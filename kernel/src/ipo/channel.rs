@@ -295,6 +295,11 @@ impl Channel {
         }
     }
 
+    /// Where the path is on the program (see [`Planner::progress`]).
+    pub fn progress(&self) -> Option<super::planner::Progress> {
+        self.planner.progress()
+    }
+
     /// Waiting for NC start after a program stop, a single-block stop or an alarm.
     pub fn waits_for_start(&self) -> bool {
         self.gate.halted

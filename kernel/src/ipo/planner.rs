@@ -115,6 +115,20 @@ pub struct Planner {
     last_t: f64,
     pos: Pos,
     source: Option<Source>,
+    /// The block of the segment finished last, and how many of its segments are finished.
+    finished: Option<(u32, u32)>,
+    last_role: crate::segment::Role,
+}
+
+/// Where the path is on the program (an NC stop's interruption point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    pub source: Source,
+    pub role: crate::segment::Role,
+    /// The segment's place among its block's segments with length, from 0.
+    pub nth: u32,
+    /// How far along the segment, 0 to 1, by its parametrisation.
+    pub along: f64,
 }
 
 impl Planner {
@@ -137,7 +151,38 @@ impl Planner {
             last_t: 0.0,
             pos: start,
             source: None,
+            finished: None,
+            last_role: crate::segment::Role::Uncompensated,
         }
+    }
+
+    /// The running segment (or the next one to start, at 0), or the end of the last one
+    /// when nothing is queued.
+    pub fn progress(&self) -> Option<Progress> {
+        let Some(f) = self.queue.front() else {
+            let (seq, n) = self.finished?;
+            let source = self.source?;
+            return (source.seq == seq).then_some(Progress {
+                source,
+                role: self.last_role,
+                nth: n.saturating_sub(1),
+                along: 1.0,
+            });
+        };
+        let done = self.offset + self.run.map_or(0.0, |r| r.prof.at(self.last_t - r.t0).0);
+        let seq = f.piece.seg.source.seq;
+        Some(Progress {
+            source: f.piece.seg.source,
+            role: f.piece.seg.role,
+            nth: self
+                .finished
+                .map_or(0, |(s, n)| if s == seq { n } else { 0 }),
+            along: if f.piece.len > 0.0 {
+                (done / f.piece.len).clamp(0.0, 1.0)
+            } else {
+                0.0
+            },
+        })
     }
 
     /// Segments that can still be queued.
@@ -292,6 +337,7 @@ impl Planner {
         self.a = 0.0;
         self.stopping = false;
         self.replan = false;
+        self.finished = None;
     }
 
     /// The speed the segment may run at now.
@@ -361,7 +407,14 @@ impl Planner {
             };
             let rem = front.piece.len - self.offset;
             let tau = t - run.t0;
-            let (s, v, a) = run.prof.at(tau);
+            // A plan to rest is over: it stays on its end point, not on the cruise after it
+            // (whose speed is 0 only up to rounding, which would creep).
+            let over = run.w == 0.0 && tau >= run.prof.duration();
+            let (s, v, a) = if over {
+                (run.prof.distance(), 0.0, 0.0)
+            } else {
+                run.prof.at(tau)
+            };
             // A plan that ends at rest on the end point is done when its phases are; one
             // that ends at rest before it (NC stop, override 0) stays.
             let ends_here = run.w == 0.0
@@ -370,9 +423,8 @@ impl Planner {
             if s < rem && !ends_here {
                 self.pos = front.piece.point(self.offset + s);
                 // A plan that ended at rest short of the end (NC stop): exactly at rest.
-                let done = run.w == 0.0 && tau >= run.prof.duration();
-                self.v = if v > 0.0 && !done { v } else { 0.0 };
-                self.a = if done { 0.0 } else { a };
+                self.v = if v > 0.0 && !over { v } else { 0.0 };
+                self.a = if over { 0.0 } else { a };
                 self.source = Some(front.piece.seg.source);
                 break;
             }
@@ -386,6 +438,12 @@ impl Planner {
             let (t0, w) = (run.t0, run.w);
             self.pos = front.piece.seg.to;
             self.source = Some(front.piece.seg.source);
+            let seq = front.piece.seg.source.seq;
+            self.last_role = front.piece.seg.role;
+            self.finished = Some(match self.finished {
+                Some((s, n)) if s == seq => (s, n + 1),
+                _ => (seq, 1),
+            });
             self.queue.pop_front();
             self.run = None;
             self.offset = 0.0;

@@ -34,6 +34,8 @@ pub struct IceBus {
     pub deadline_ns: u64,
     /// Periods the IPO loop skipped so far (runtime/clock.rs), for the status.
     pub skipped: u64,
+    /// The tool table's version, for the status (set by the control thread's commands).
+    pub tools_version: u32,
     cycle_ns: u64,
     /// Sends that failed (no memory to loan, a peer gone while sending).
     pub send_errors: u64,
@@ -96,6 +98,7 @@ impl IceBus {
             status_seq: 0,
             deadline_ns: 0,
             skipped: 0,
+            tools_version: 1,
             cycle_ns,
             send_errors: 0,
         })
@@ -199,12 +202,16 @@ impl Bus for IceBus {
             alarm: st.alarm,
             aux_sent: st.aux_sent,
             aux_acked: st.aux_acked,
+            tools_version: self.tools_version,
             plc_cycle: st.plc_cycle,
             state: st.state.map_or(state::RESET, state_code),
             single_block: st.single_block as u8,
             plc_alive: st.plc_alive as u8,
-            _pad: 0,
+            role: st.progress.map_or(0, |p| p.role.code()),
             skipped: self.skipped.min(u64::from(u32::MAX)) as u32,
+            block_seq: st.progress.map_or(0, |p| p.source.seq),
+            piece: st.progress.map_or(0, |p| p.nth),
+            along: st.progress.map_or(0.0, |p| p.along),
         };
         if self.status.send_copy(msg).is_err() {
             self.send_errors += 1;

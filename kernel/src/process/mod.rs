@@ -108,6 +108,7 @@ pub fn main(args: Vec<String>) -> ExitCode {
             start: args.iter().any(|a| a == "--start"),
             md,
             tools,
+            tools_path: value(&args, "--tools").map(std::path::PathBuf::from),
             priority: opts.priority,
         });
     }

@@ -32,12 +32,17 @@ pub struct ServeOptions {
     pub start: bool,
     pub md: MachineData,
     pub tools: ToolTable,
+    /// Where offset edits are saved (atomically); `None`: the built-in table, not saved.
+    pub tools_path: Option<std::path::PathBuf>,
     pub priority: i32,
 }
 
 /// What the control thread keeps of a loaded program.
 struct Loaded {
+    name: String,
     source: String,
+    /// Where the axes stood when it was loaded (its interpretation starts there).
+    at: Option<crate::frontend::block::Pos>,
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -48,6 +53,20 @@ struct Shared {
     garbage: ArrayQueue<Box<Program>>,
     /// Set by the IPO thread when it has ended.
     done: AtomicBool,
+    /// The tool table's version, shown in the status.
+    tools_version: std::sync::atomic::AtomicU32,
+}
+
+/// The control thread's own state besides the ports.
+struct Desk<'a> {
+    shared: &'a Shared,
+    md: &'a MachineData,
+    tools: ToolTable,
+    tools_path: Option<std::path::PathBuf>,
+    programs: HashMap<u32, Loaded>,
+    next_id: u32,
+    /// Offsets changed in NC stop since the program stopped: NC start resumes with them.
+    changed_in_stop: bool,
 }
 
 fn fail(m: impl std::fmt::Display) -> ExitCode {
@@ -76,7 +95,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
         }
     }
     let md = Arc::new(opts.md);
-    let mut tools = opts.tools;
+    let tools = opts.tools;
     let mut programs: HashMap<u32, Loaded> = HashMap::new();
     let mut next_id = 1u32;
     // The first program, if any, fixes where the axes stand at start-up; without one they
@@ -101,6 +120,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
         answers: ArrayQueue::new(4),
         garbage: ArrayQueue::new(4),
         done: AtomicBool::new(false),
+        tools_version: std::sync::atomic::AtomicU32::new(1),
     });
     let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<String, String>>(1);
     let ipo = {
@@ -129,17 +149,16 @@ pub fn run(opts: ServeOptions) -> ExitCode {
             return fail("the IPO thread ended before it was ready");
         }
     }
-    let code = match control(
-        &instance,
-        &shared,
-        &md,
-        &mut tools,
-        &mut programs,
-        &mut next_id,
-        first,
-        opts.start,
-        &term,
-    ) {
+    let mut desk = Desk {
+        shared: &shared,
+        md: &md,
+        tools,
+        tools_path: opts.tools_path,
+        programs,
+        next_id,
+        changed_in_stop: false,
+    };
+    let code = match control(&instance, &mut desk, first, opts.start, &term) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("nc-kernel: error: {e}");
@@ -152,7 +171,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
     while let Some(g) = shared.garbage.pop() {
         drop(g);
     }
-    for (_, mut l) in programs {
+    for (_, mut l) in desk.programs {
         if let Some(t) = l.thread.take() {
             let _ = t.join();
         }
@@ -187,7 +206,9 @@ fn load(
     Ok((
         program,
         Loaded {
+            name: path.to_string(),
             source,
+            at,
             reports: s.reports,
             thread: Some(s.thread),
         },
@@ -221,6 +242,7 @@ fn ipo_thread(
         let tick = clock.wait();
         bus.deadline_ns = tick.deadline;
         bus.skipped = clock.skipped();
+        bus.tools_version = shared.tools_version.load(Ordering::Relaxed);
         while let Some(c) = shared.ctrl.pop() {
             let r = cyclic.command(c);
             let _ = shared.answers.push(r);
@@ -269,6 +291,10 @@ fn refusal_text(r: Refusal) -> (u32, String) {
     let p = |p: [f64; 3]| format!("X{:.3} Y{:.3} Z{:.3}", p[0], p[1], p[2]);
     match r {
         Refusal::NotInReset(s) => (0, format!("the channel is {}: reset it first", s.name())),
+        Refusal::NotStopped(s) => (
+            0,
+            format!("the channel is {}: this needs NC stop, at rest", s.name()),
+        ),
         Refusal::NoProgram => (0, "no program is loaded (or it has ended): load one".into()),
         Refusal::Alarm(a) => (a, format!("alarm {a} stands: reset first")),
         Refusal::NoPlc => (
@@ -308,15 +334,12 @@ fn alarm_text(a: u32) -> &'static str {
 #[allow(clippy::too_many_arguments)]
 fn control(
     instance: &Instance,
-    shared: &Shared,
-    md: &MachineData,
-    tools: &mut ToolTable,
-    programs: &mut HashMap<u32, Loaded>,
-    next_id: &mut u32,
+    desk: &mut Desk<'_>,
     first: Option<Box<Program>>,
     start: bool,
     term: &AtomicBool,
 ) -> Result<(), String> {
+    let shared = desk.shared;
     let node = instance.node("nc-kernel-hmi").map_err(|e| e.to_string())?;
     let server = instance
         .commands(&node)
@@ -353,7 +376,7 @@ fn control(
             while let Ok(Some(s)) = status.receive() {
                 last = report_status(*s.payload(), &last);
             }
-            let reply = handle(&c, shared, md, tools, programs, next_id, last.pos);
+            let reply = desk.handle(&c, &last);
             let _ = req.send_copy(reply);
         }
         while let Ok(Some(s)) = status.receive() {
@@ -371,7 +394,7 @@ fn control(
             }
         }
         while let Some(g) = shared.garbage.pop() {
-            if let Some(mut l) = programs.remove(&g.id) {
+            if let Some(mut l) = desk.programs.remove(&g.id) {
                 drop(g);
                 if let Some(t) = l.thread.take() {
                     let _ = t.join();
@@ -379,7 +402,7 @@ fn control(
                 print_reports(&l);
             }
         }
-        for l in programs.values() {
+        for l in desk.programs.values() {
             print_reports(l);
         }
         std::thread::sleep(Duration::from_millis(1));
@@ -415,68 +438,191 @@ fn print_reports(l: &Loaded) {
     }
 }
 
-fn handle(
-    c: &Command,
-    shared: &Shared,
-    md: &MachineData,
-    tools: &mut ToolTable,
-    programs: &mut HashMap<u32, Loaded>,
-    next_id: &mut u32,
-    at: crate::frontend::block::Pos,
-) -> Reply {
-    let answer = |r: Result<(), Refusal>, ok: &str| match r {
-        Ok(()) => Reply::new(true, 0, ok),
-        Err(r) => {
-            let (a, m) = refusal_text(r);
-            Reply::new(false, a, &m)
-        }
-    };
-    match c.kind {
-        command::START => answer(ask(shared, Control::Start), "NC start"),
-        command::STOP => answer(ask(shared, Control::Stop), "NC stop"),
-        command::RESET => answer(ask(shared, Control::Reset), "reset"),
-        command::SINGLE_BLOCK => answer(
-            ask(shared, Control::SingleBlock(c.value != 0.0)),
-            if c.value != 0.0 {
-                "single block on"
-            } else {
-                "single block off"
-            },
-        ),
-        command::OVERRIDE => answer(ask(shared, Control::Override(c.value)), "override set"),
-        command::SHUTDOWN => answer(ask(shared, Control::Shutdown), "shutting down"),
-        command::LOAD => {
-            let path = c.text();
-            match load(path, md, tools, *next_id, Some(at)) {
-                Ok((p, l)) => {
-                    let id = *next_id;
-                    programs.insert(id, l);
-                    *next_id += 1;
-                    answer(
-                        ask(shared, Control::Load(p)),
-                        &format!("program {path} loaded (number {id})"),
-                    )
-                }
-                Err(e) => Reply::new(false, 0, &e),
+impl Desk<'_> {
+    fn handle(&mut self, c: &Command, last: &KernelStatus) -> Reply {
+        let shared = self.shared;
+        let answer = |r: Result<(), Refusal>, ok: &str| match r {
+            Ok(()) => Reply::new(true, 0, ok),
+            Err(r) => {
+                let (a, m) = refusal_text(r);
+                Reply::new(false, a, &m)
             }
+        };
+        match c.kind {
+            command::START if self.changed_in_stop && last.state == state::STOPPED => {
+                self.resume(last)
+            }
+            command::START => answer(ask(shared, Control::Start), "NC start"),
+            command::STOP => answer(ask(shared, Control::Stop), "NC stop"),
+            command::RESET => {
+                let r = ask(shared, Control::Reset);
+                if r.is_ok() {
+                    self.changed_in_stop = false;
+                }
+                answer(r, "reset")
+            }
+            command::SINGLE_BLOCK => answer(
+                ask(shared, Control::SingleBlock(c.value != 0.0)),
+                if c.value != 0.0 {
+                    "single block on"
+                } else {
+                    "single block off"
+                },
+            ),
+            command::OVERRIDE => answer(ask(shared, Control::Override(c.value)), "override set"),
+            command::SHUTDOWN => answer(ask(shared, Control::Shutdown), "shutting down"),
+            command::LOAD => {
+                let path = c.text();
+                let id = self.next_id;
+                match load(path, self.md, &self.tools, id, Some(last.pos)) {
+                    Ok((p, l)) => {
+                        self.programs.insert(id, l);
+                        self.next_id += 1;
+                        let r = ask(shared, Control::Load(p));
+                        if r.is_ok() {
+                            self.changed_in_stop = false;
+                        }
+                        answer(r, &format!("program {path} loaded (number {id})"))
+                    }
+                    Err(e) => Reply::new(false, 0, &e),
+                }
+            }
+            command::SET_OFFSET => self.set_offset(c, last),
+            k => Reply::new(false, 0, &format!("unknown command {k}")),
         }
-        command::SET_OFFSET => {
-            if c.flag != 0 {
+    }
+
+    /// An operator's offset edit (840C 11.8): taken at once in RESET, END and NC stop (from
+    /// NC stop, NC start resumes on the new equidistant); refused while the program runs.
+    /// Saved atomically before it counts; the reply names the table version now active.
+    fn set_offset(&mut self, c: &Command, last: &KernelStatus) -> Reply {
+        let wear = c.flag != 0;
+        let what = if wear { "radius wear" } else { "radius" };
+        if last.state == state::ACTIVE {
+            return Reply::new(
+                false,
+                0,
+                &format!(
+                    "the program is running: D{} {what} can be changed in NC stop or reset only (840C 11.8); nothing changed",
+                    c.d
+                ),
+            );
+        }
+        let limit = if wear {
+            self.md.hmi.max_wear
+        } else {
+            self.md.hmi.max_radius
+        };
+        let before = self.tools.clone();
+        if let Err(e) = self.tools.edit(None, c.d, wear, c.value, limit) {
+            return Reply::new(false, 0, &format!("{e}; nothing changed"));
+        }
+        if let Some(path) = &self.tools_path {
+            if let Err(e) = self.tools.save_atomic(path) {
+                self.tools = before;
                 return Reply::new(
                     false,
                     0,
-                    "wear offsets are edited through the tool file: give the radius",
+                    &format!("cannot save {}: {e}; nothing changed", path.display()),
                 );
             }
-            match tools.set_radius(c.d, c.value) {
-                Ok(()) => Reply::new(
+        }
+        let version = shared_bump(self.shared);
+        let when = if last.state == state::STOPPED && last.program != 0 {
+            self.changed_in_stop = true;
+            "acts at NC start: the tool moves onto the new equidistant at the interruption point"
+        } else {
+            "acts from the next program load"
+        };
+        let saved = if self.tools_path.is_some() {
+            "saved"
+        } else {
+            "not saved: built-in table"
+        };
+        Reply::new(
+            true,
+            0,
+            &format!(
+                "D{} {what} = {} mm; tool table version {version} ({saved}); {when}",
+                c.d, c.value
+            ),
+        )
+    }
+
+    /// NC start after an offset change in NC stop: the program is prepared again with the
+    /// new offsets from the interruption point; an alarm (the new radius violates the
+    /// contour) refuses the start and nothing moves.
+    fn resume(&mut self, last: &KernelStatus) -> Reply {
+        let Some(l) = self.programs.get(&last.program) else {
+            return Reply::new(false, 0, "no program is loaded: load one");
+        };
+        let Some(role) = crate::segment::Role::from_code(last.role) else {
+            return Reply::new(false, 0, "the stopped program has no segment to resume on");
+        };
+        let at = crate::prep::Interruption {
+            seq: last.block_seq,
+            role,
+            nth: last.piece,
+            along: last.along,
+        };
+        let spawned = crate::runtime::spawn_resume(
+            l.name.clone(),
+            l.source.clone(),
+            self.md.clone(),
+            self.tools.clone(),
+            l.at,
+            at,
+            last.pos,
+        );
+        let s = match spawned {
+            Ok(Ok(s)) => s,
+            Ok(Err(alarm)) => {
+                let text = crate::alarm::render(&alarm, &l.source);
+                eprintln!("{text}");
+                return Reply::new(
+                    false,
+                    alarm.number(),
+                    &format!("NC start refused with the new offsets, nothing moved: {text}"),
+                );
+            }
+            Err(e) => return Reply::new(false, 0, &format!("cannot prepare: {e}")),
+        };
+        let id = self.next_id;
+        self.next_id += 1;
+        let program = Box::new(Program {
+            id,
+            channel: Box::new(Channel::new(self.md, s.start)),
+            hand: s.hand,
+            start: s.start,
+        });
+        let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
+        self.programs.insert(
+            id,
+            Loaded {
+                name,
+                source,
+                at: load_at,
+                reports: s.reports,
+                thread: Some(s.thread),
+            },
+        );
+        match ask(self.shared, Control::Resume(program)) {
+            Ok(()) => {
+                self.changed_in_stop = false;
+                Reply::new(
                     true,
                     0,
-                    &format!("D{} = {} mm: acts from the next program load", c.d, c.value),
-                ),
-                Err(e) => Reply::new(false, 0, &e),
+                    "NC start with the new offsets: repositioning onto the new equidistant",
+                )
+            }
+            Err(r) => {
+                let (a, m) = refusal_text(r);
+                Reply::new(false, a, &m)
             }
         }
-        k => Reply::new(false, 0, &format!("unknown command {k}")),
     }
+}
+
+fn shared_bump(shared: &Shared) -> u32 {
+    shared.tools_version.fetch_add(1, Ordering::AcqRel) + 1
 }

@@ -8,8 +8,8 @@
 //!  aux acknowledgements ─► Channel::ack
 //! ```
 //!
-//! The transport is a [`Bus`]: iceoryx2 in the nc-kernel process, a recorder in tests (a mock
-//! clock and PLC: every reaction below is checked cycle by cycle without a second process).
+//! The transport is a [`Bus`]: iceoryx2 in the nc-kernel process, a mock PLC on a mock clock
+//! in tests/cyclic.rs (every reaction below checked cycle by cycle, in one thread).
 //! Nothing here allocates, frees or blocks; a new program arrives built and boxed, and the
 //! one it replaces goes back to the caller to be freed outside the IPO thread.
 
@@ -70,6 +70,8 @@ pub struct Status {
     pub plc_alive: bool,
     /// The cycle in which the PLC's sign of life last arrived.
     pub plc_cycle: u64,
+    /// Where the path is on the program.
+    pub progress: Option<crate::ipo::planner::Progress>,
 }
 
 /// The IPO thread's transport. Every method returns at once.
@@ -103,6 +105,10 @@ pub enum Control {
     SingleBlock(bool),
     Override(f64),
     Load(Box<Program>),
+    /// NC start after an offset change in NC stop: the program re-prepared from the
+    /// interruption point (runtime::spawn_resume) replaces the stopped one and starts with
+    /// its reposition move from where the axes stand.
+    Resume(Box<Program>),
     /// End the process: brakes first if the path moves.
     Shutdown,
 }
@@ -112,6 +118,8 @@ pub enum Control {
 pub enum Refusal {
     /// The command needs the channel in RESET or END.
     NotInReset(ChannelState),
+    /// The command needs the channel in NC stop, at rest.
+    NotStopped(ChannelState),
     NoProgram,
     /// An alarm stands: reset first.
     Alarm(u32),
@@ -290,6 +298,48 @@ impl Cyclic {
                 self.pending = None;
                 self.in_flight.clear();
                 self.outbox.clear();
+                if let Some(o) = self.program.replace(p) {
+                    o.hand
+                        .cancel
+                        .store(true, std::sync::atomic::Ordering::Relaxed);
+                    self.released = Some(o);
+                }
+                Ok(())
+            }
+            Control::Resume(mut p) => {
+                let refusal = if state != ChannelState::Stopped || self.sp.v_path != 0.0 {
+                    Some(Refusal::NotStopped(state))
+                } else if self.plc.emergency_stop {
+                    Some(Refusal::EmergencyStop)
+                } else if self.alarm != 0 {
+                    Some(Refusal::Alarm(self.alarm))
+                } else if !self.plc_alive() {
+                    Some(Refusal::NoPlc)
+                } else if !self.plc.drives_ready {
+                    Some(Refusal::DrivesNotReady)
+                } else if self.reset_pending {
+                    Some(Refusal::NotStopped(state))
+                } else {
+                    let here = self.sp.pos;
+                    let d = (0..3)
+                        .map(|i| (p.start[i] - here[i]).abs())
+                        .fold(0.0, f64::max);
+                    (d > 1e-6).then_some(Refusal::StartsElsewhere {
+                        start: p.start,
+                        here,
+                    })
+                };
+                if let Some(r) = refusal {
+                    self.released = Some(p);
+                    return Err(r);
+                }
+                p.channel.set_override(self.override_);
+                p.channel.set_single_block(self.single_block);
+                self.pending = None;
+                self.in_flight.clear();
+                self.outbox.clear();
+                self.feed_held = false;
+                p.channel.start();
                 if let Some(o) = self.program.replace(p) {
                     o.hand
                         .cancel
@@ -497,6 +547,10 @@ impl Cyclic {
             single_block: self.single_block,
             plc_alive: self.plc_alive(),
             plc_cycle: self.plc_seen.unwrap_or(0),
+            progress: match &self.program {
+                Some(p) => p.channel.progress(),
+                None => None,
+            },
         }
     }
 }

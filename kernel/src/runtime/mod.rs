@@ -166,8 +166,22 @@ fn prepare_into(
     reports: &crossbeam::channel::Sender<Report>,
     delay: Duration,
 ) {
-    let mut prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
+    let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
     let _ = start.send(prep.start());
+    feed(prep, Vec::new(), job.name, lim, hand, reports, delay);
+}
+
+/// Pushes `first`, then every record of `prep`, ready for the channel, into the queue in
+/// program order; `Input::Done` last.
+fn feed(
+    mut prep: Preparation<'_>,
+    first: Vec<Prepared>,
+    name: &str,
+    lim: &AxisLimits,
+    hand: &Handover,
+    reports: &crossbeam::channel::Sender<Report>,
+    delay: Duration,
+) {
     let push = |mut x: Input| -> bool {
         if !delay.is_zero() {
             std::thread::sleep(delay);
@@ -190,13 +204,17 @@ fn prepare_into(
     let mut report = |r: Report| {
         let _ = reports.send(r);
     };
+    let mut first = first.into_iter();
     loop {
-        let item = match prep.next_item() {
-            Ok(None) => break,
-            Ok(Some(p)) => Ok(p),
-            Err(a) => Err(a),
+        let item = match first.next() {
+            Some(p) => Ok(p),
+            None => match prep.next_item() {
+                Ok(None) => break,
+                Ok(Some(p)) => Ok(p),
+                Err(a) => Err(a),
+            },
         };
-        let Some(input) = to_input(item, job.name, lim, &mut report) else {
+        let Some(input) = to_input(item, name, lim, &mut report) else {
             continue;
         };
         let last = matches!(input, Input::Alarm { .. } | Input::End(_));
@@ -284,6 +302,71 @@ pub fn spawn_preparation(
         reports,
         thread,
     })
+}
+
+/// The rest of a program after an offset change in NC stop (prep/resume.rs), prepared in a
+/// thread of its own: the reposition move from `axes` first. The rest is prepared to its
+/// end once before (the program's alarms checked with the new offsets): `Ok(Err(alarm))`
+/// when it cannot go on with them (a contour violation, say), and nothing was queued.
+#[allow(clippy::too_many_arguments)]
+pub fn spawn_resume(
+    name: String,
+    source: String,
+    md: MachineData,
+    tools: ToolTable,
+    start: Option<crate::frontend::block::Pos>,
+    at: crate::prep::Interruption,
+    axes: crate::frontend::block::Pos,
+) -> std::io::Result<Result<Spawned, Alarm>> {
+    let hand = std::sync::Arc::new(Handover::default());
+    let (report_tx, reports) = crossbeam::channel::unbounded();
+    let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<(), Alarm>>(1);
+    let h = hand.clone();
+    let thread = std::thread::Builder::new()
+        .name("preparation".into())
+        .stack_size(PREP_STACK)
+        .spawn(move || {
+            let _guard = FinishGuard(&h);
+            let lim = AxisLimits::new(&md);
+            // The whole rest is checked first: a violation anywhere after the interruption
+            // refuses the start before anything moves, not when the path gets there.
+            let check = || -> Result<(), Alarm> {
+                let mut r = Preparation::resume(&name, &source, &md, &tools, start, at, axes)?;
+                while r.rest.next_item()?.is_some() {}
+                Ok(())
+            };
+            if let Err(a) = check() {
+                let _ = ready_tx.send(Err(a));
+                return;
+            }
+            match Preparation::resume(&name, &source, &md, &tools, start, at, axes) {
+                Ok(r) => {
+                    let _ = ready_tx.send(Ok(()));
+                    feed(r.rest, r.first, &name, &lim, &h, &report_tx, Duration::ZERO);
+                }
+                Err(a) => {
+                    let _ = ready_tx.send(Err(a));
+                }
+            }
+        })?;
+    match ready_rx.recv() {
+        Ok(Ok(())) => Ok(Ok(Spawned {
+            hand,
+            start: axes,
+            reports,
+            thread,
+        })),
+        Ok(Err(a)) => {
+            let _ = thread.join();
+            Ok(Err(a))
+        }
+        Err(_) => {
+            let _ = thread.join();
+            Err(std::io::Error::other(
+                "the preparation thread ended without an answer",
+            ))
+        }
+    }
 }
 
 /// The whole program as the channel takes it, prepared in this thread (tests, benchmarks):
