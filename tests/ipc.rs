@@ -931,3 +931,79 @@ fn an_offset_that_violates_the_contour_is_refused_before_any_motion() {
     });
     assert_eq!(end.last().unwrap().state, state::END);
 }
+
+/// With machine data `hmi.edit_while_active`, an edit while the program runs is stored and
+/// acts when the program next programs that D (840C 11.8): the contour running at the edit
+/// keeps R 10, the one selected with D1 after it runs on R 12.
+#[test]
+fn an_edit_while_active_acts_at_the_next_d_when_machine_data_allows_it() {
+    let inst_name = instance("live");
+    let _scope = Scope::new(&inst_name);
+    let inst = Instance::new(&inst_name).unwrap();
+    let mut text = String::from("N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\n");
+    for k in 1..=600 {
+        text.push_str(&format!("Y{k}\n"));
+    }
+    // Lines 603–607.
+    text.push_str("G40 X-30 Y650\nG41 D1 X0 Y700\nY800\nG40 X-30 Y850\nM30\n");
+    let prog = write("live.mpf", &text);
+    let md = write("live.toml", "[hmi]\nedit_while_active = true\n");
+    let tr = scratch("live.csv");
+    let mut plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name, "--trace", tr.to_str().unwrap()],
+        &scratch("live-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &[
+            "--instance",
+            &inst_name,
+            prog.to_str().unwrap(),
+            "--start",
+            "--machine",
+            md.to_str().unwrap(),
+        ],
+        &scratch("live-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    hmi.watch(Duration::from_secs(30), |s| {
+        s.pos[1] > 20.0 && s.v_path > 40.0
+    });
+    let r = hmi.ask(Command::offset(1, 12.0, false));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().contains("next programs this D"),
+        "{}",
+        r.message()
+    );
+    let edit_at = hmi.watch(Duration::from_secs(5), |s| s.tools_version == 2);
+    let y_edit = edit_at.last().unwrap().pos[1];
+    let end = hmi.watch(Duration::from_secs(60), |s| {
+        s.state == state::END || s.alarm != 0
+    });
+    assert_eq!(end.last().unwrap().state, state::END);
+    terminate(&mut plc);
+    let rows = trace(&tr);
+    let first: Vec<_> = rows
+        .iter()
+        .filter(|r| (3..=602).contains(&r.line))
+        .collect();
+    assert!(first.iter().any(|r| r.sp[1] > y_edit + 100.0));
+    for r in &first {
+        assert!(
+            (r.sp[0] + 10.0).abs() < 1e-9,
+            "first contour at x = {}",
+            r.sp[0]
+        );
+    }
+    let second: Vec<_> = rows.iter().filter(|r| r.line == 605).collect();
+    assert!(second.len() > 1000, "{}", second.len());
+    for r in &second {
+        assert!(
+            (r.sp[0] + 12.0).abs() < 1e-9,
+            "second contour at x = {}",
+            r.sp[0]
+        );
+    }
+}

@@ -44,6 +44,54 @@ pub struct ToolTable {
     /// `--set Dn=R` radius overrides (not part of the file).
     #[serde(skip)]
     pub radius_overrides: Vec<(u32, f64)>,
+    /// Edits made while the program runs, shared with its preparation (not part of the file).
+    #[serde(skip)]
+    pub live: Option<LiveEdits>,
+}
+
+/// Offset edits an operator makes while a program runs (machine data
+/// `hmi.edit_while_active`): the kernel's control thread adds them, the running program's
+/// preparation takes each when that D is next programmed (840C 11.8), in a block it has not
+/// read yet. One list per program run; clones of the table share it.
+#[derive(Clone, Debug, Default)]
+pub struct LiveEdits(std::sync::Arc<std::sync::Mutex<Vec<LiveEdit>>>);
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LiveEdit {
+    pub d: u32,
+    pub wear: bool,
+    pub value: f64,
+}
+
+impl PartialEq for LiveEdits {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl LiveEdits {
+    pub fn push(&self, e: LiveEdit) {
+        if let Ok(mut v) = self.0.lock() {
+            v.push(e);
+        }
+    }
+
+    /// Applies the edits of `o`'s D, in the order made; whether there was one.
+    fn apply(&self, o: &mut ToolOffset) -> bool {
+        let Ok(v) = self.0.lock() else {
+            return false;
+        };
+        let mut any = false;
+        for e in v.iter().filter(|e| e.d == o.d) {
+            if e.wear {
+                o.radius_wear = e.value;
+            } else {
+                o.radius = e.value;
+            }
+            any = true;
+        }
+        any
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -261,7 +309,15 @@ impl ToolTable {
             .iter()
             .find(|(k, _)| *k == d)
             .map(|(_, r)| *r);
-        match (self.find(t, d), over) {
+        let mut found = self.find(t, d).cloned();
+        let mut over = over;
+        if let (Some(l), Some(o)) = (&self.live, found.as_mut()) {
+            // An edit made while running outranks a `--set` override of the same D.
+            if l.apply(o) {
+                over = None;
+            }
+        }
+        match (found.as_ref(), over) {
             (Some(o), Some(r)) => Some((r, o.effective_length(), o.edge)),
             (Some(o), None) => Some((o.effective_radius(), o.effective_length(), o.edge)),
             (None, Some(r)) => Some((r, 0.0, None)),

@@ -43,6 +43,8 @@ struct Loaded {
     source: String,
     /// Where the axes stood when it was loaded (its interpretation starts there).
     at: Option<crate::frontend::block::Pos>,
+    /// Offset edits made while it runs, taken by its preparation at the next D.
+    live: crate::tools::LiveEdits,
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -189,14 +191,11 @@ fn load(
     at: Option<crate::frontend::block::Pos>,
 ) -> Result<(Box<Program>, Loaded), String> {
     let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let s = spawn_preparation(
-        path.to_string(),
-        source.clone(),
-        md.clone(),
-        tools.clone(),
-        at,
-    )
-    .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
+    let live = crate::tools::LiveEdits::default();
+    let mut tools = tools.clone();
+    tools.live = Some(live.clone());
+    let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools, at)
+        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
     let program = Box::new(Program {
         id,
         channel: Box::new(Channel::new(md, s.start)),
@@ -209,6 +208,7 @@ fn load(
             name: path.to_string(),
             source,
             at,
+            live,
             reports: s.reports,
             thread: Some(s.thread),
         },
@@ -493,12 +493,14 @@ impl Desk<'_> {
     }
 
     /// An operator's offset edit (840C 11.8): taken at once in RESET, END and NC stop (from
-    /// NC stop, NC start resumes on the new equidistant); refused while the program runs.
+    /// NC stop, NC start resumes on the new equidistant); while the program runs refused, or
+    /// with `hmi.edit_while_active` stored to act when the program next programs that D.
     /// Saved atomically before it counts; the reply names the table version now active.
     fn set_offset(&mut self, c: &Command, last: &KernelStatus) -> Reply {
         let wear = c.flag != 0;
         let what = if wear { "radius wear" } else { "radius" };
-        if last.state == state::ACTIVE {
+        let running = last.state == state::ACTIVE;
+        if running && !self.md.hmi.edit_while_active {
             return Reply::new(
                 false,
                 0,
@@ -528,7 +530,16 @@ impl Desk<'_> {
             }
         }
         let version = shared_bump(self.shared);
-        let when = if last.state == state::STOPPED && last.program != 0 {
+        let when = if running {
+            if let Some(l) = self.programs.get(&last.program) {
+                l.live.push(crate::tools::LiveEdit {
+                    d: c.d,
+                    wear,
+                    value: c.value,
+                });
+            }
+            "the running program takes it when it next programs this D in a block not yet prepared (840C 11.8), the path it runs now does not change"
+        } else if last.state == state::STOPPED && last.program != 0 {
             self.changed_in_stop = true;
             "acts at NC start: the tool moves onto the new equidistant at the interruption point"
         } else {
@@ -565,11 +576,14 @@ impl Desk<'_> {
             nth: last.piece,
             along: last.along,
         };
+        let live = crate::tools::LiveEdits::default();
+        let mut tools = self.tools.clone();
+        tools.live = Some(live.clone());
         let spawned = crate::runtime::spawn_resume(
             l.name.clone(),
             l.source.clone(),
             self.md.clone(),
-            self.tools.clone(),
+            tools,
             l.at,
             at,
             last.pos,
@@ -602,6 +616,7 @@ impl Desk<'_> {
                 name,
                 source,
                 at: load_at,
+                live,
                 reports: s.reports,
                 thread: Some(s.thread),
             },
