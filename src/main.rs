@@ -94,6 +94,35 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Show the control's state through hmi-bridge: channel state, block, position, feed,
+    /// override, alarm.
+    Status {
+        #[command(flatten)]
+        bridge: BridgeArgs,
+        /// Print the status as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// NC start through hmi-bridge.
+    Start {
+        #[command(flatten)]
+        bridge: BridgeArgs,
+    },
+    /// NC stop through hmi-bridge.
+    Stop {
+        #[command(flatten)]
+        bridge: BridgeArgs,
+    },
+    /// Reset through hmi-bridge.
+    Reset {
+        #[command(flatten)]
+        bridge: BridgeArgs,
+    },
+    /// Tool offsets through hmi-bridge: `softnc offset set D1 --radius 10.02 [--wear]`.
+    Offset {
+        #[command(subcommand)]
+        action: OffsetAction,
+    },
     /// Remove what ended or crashed processes of an instance left in shared memory
     /// (/dev/shm and iceoryx2's folder). Refused while a process of the instance runs.
     Clean {
@@ -101,6 +130,38 @@ enum Command {
         #[arg(long, value_name = "NAME")]
         instance: String,
     },
+}
+
+#[derive(Subcommand)]
+enum OffsetAction {
+    /// Set an offset's geometry radius, or its radius wear with --wear (in NC stop or reset;
+    /// while the program runs only if machine data hmi.edit_while_active allows it).
+    Set {
+        /// The offset, e.g. D1.
+        d: String,
+        /// The value, mm.
+        #[arg(long, allow_hyphen_values = true)]
+        radius: f64,
+        /// Set the radius wear instead of the geometry radius.
+        #[arg(long)]
+        wear: bool,
+        #[command(flatten)]
+        bridge: BridgeArgs,
+    },
+}
+
+/// Where hmi-bridge listens.
+#[derive(Args)]
+struct BridgeArgs {
+    /// hmi-bridge's address (default: 127.0.0.1 and the port of machine data hmi.port).
+    #[arg(long, value_name = "HOST:PORT")]
+    bridge: Option<String>,
+    /// Machine data file, for hmi.port.
+    #[arg(long, value_name = "FILE")]
+    machine: Option<PathBuf>,
+    /// The bridge's token, if it has one (or SOFTNC_HMI_TOKEN).
+    #[arg(long)]
+    token: Option<String>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -351,6 +412,133 @@ fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
     render(w, source).replacen(": alarm ", ": warning ", 1)
 }
 
+fn bridge(b: &BridgeArgs) -> Result<hmi_bridge::client::Bridge, ExitCode> {
+    let addr = match &b.bridge {
+        Some(a) => a.clone(),
+        None => {
+            let md = MachineData::load(b.machine.as_deref(), &[]).map_err(|e| {
+                eprintln!("softnc: error: {e}");
+                ExitCode::from(2)
+            })?;
+            format!("127.0.0.1:{}", md.hmi.port)
+        }
+    };
+    let token = b
+        .token
+        .clone()
+        .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok());
+    Ok(hmi_bridge::client::Bridge::new(addr, token))
+}
+
+/// Prints the bridge's answer: the message on success, the refusal on stderr (exit 1).
+fn report(r: Result<hmi_bridge::client::Answer, String>) -> ExitCode {
+    match r {
+        Ok(a) if (200..300).contains(&a.status) => {
+            let j = a.json();
+            println!("{}", j["message"].as_str().unwrap_or("done"));
+            ExitCode::SUCCESS
+        }
+        Ok(a) => {
+            let j = a.json();
+            eprintln!(
+                "softnc: refused ({}): {}",
+                a.status,
+                j["error"].as_str().unwrap_or(a.body.as_str())
+            );
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("softnc: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn simple(b: &BridgeArgs, path: &str) -> ExitCode {
+    match bridge(b) {
+        Ok(br) => report(br.post(path, &serde_json::json!({}))),
+        Err(code) => code,
+    }
+}
+
+fn offset(b: &BridgeArgs, d: &str, value: f64, wear: bool) -> ExitCode {
+    let Some(n) = d
+        .strip_prefix(['D', 'd'])
+        .and_then(|n| n.parse::<u32>().ok())
+        .filter(|n| *n > 0)
+    else {
+        eprintln!("softnc: error: {d}: expected an offset like D1");
+        return ExitCode::from(2);
+    };
+    match bridge(b) {
+        Ok(br) => report(br.post(
+            "/api/offset",
+            &serde_json::json!({ "d": n, "radius": value, "wear": wear }),
+        )),
+        Err(code) => code,
+    }
+}
+
+fn status(b: &BridgeArgs, json: bool) -> ExitCode {
+    let br = match bridge(b) {
+        Ok(br) => br,
+        Err(code) => return code,
+    };
+    let a = match br.get("/api/status") {
+        Ok(a) if a.status == 200 => a,
+        other => return report(other),
+    };
+    let s = a.json();
+    if json {
+        println!("{s}");
+        return ExitCode::SUCCESS;
+    }
+    if s["connected"] != serde_json::Value::Bool(true) {
+        println!("kernel: not running (hmi-bridge has no status from it)");
+        return ExitCode::FAILURE;
+    }
+    let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
+    let pos = &s["pos"];
+    println!(
+        "{:<8} program {}  line {}",
+        s["state"].as_str().unwrap_or("?"),
+        s["program_path"].as_str().unwrap_or("(none)"),
+        s["line"]
+    );
+    println!(
+        "X {:.3}  Y {:.3}  Z {:.3}  F {:.0} mm/min  override {:.0} %  single block {}",
+        f(&pos[0]),
+        f(&pos[1]),
+        f(&pos[2]),
+        f(&s["feed_mm_min"]),
+        f(&s["override_percent"]),
+        if s["single_block"] == serde_json::Value::Bool(true) {
+            "on"
+        } else {
+            "off"
+        }
+    );
+    println!(
+        "aux functions {} sent, {} acknowledged; tool table version {}; PLC {}",
+        s["aux_sent"],
+        s["aux_acked"],
+        s["tools_version"],
+        if s["plc_alive"] == serde_json::Value::Bool(true) {
+            "ok"
+        } else {
+            "missing"
+        }
+    );
+    if let Some(a) = s["alarm"].as_object() {
+        println!(
+            "alarm {}: {}",
+            a.get("number").cloned().unwrap_or_default(),
+            a.get("text").and_then(|t| t.as_str()).unwrap_or("")
+        );
+    }
+    ExitCode::SUCCESS
+}
+
 fn clean(name: &str) -> ExitCode {
     let inst = match softnc_protocol::Instance::new(name) {
         Ok(i) => i,
@@ -386,6 +574,7 @@ fn main() -> ExitCode {
     match args.next().as_deref() {
         Some("nc-kernel") => return nc_kernel::process::main(args.collect()),
         Some("plc-sim") => return plc_sim::main(args.collect()),
+        Some("hmi-bridge") => return hmi_bridge::main(args.collect()),
         _ => {}
     }
     let cli = Cli::parse();
@@ -398,6 +587,19 @@ fn main() -> ExitCode {
         } => path(input, *format, output.as_ref()),
         Command::Check { input } => check(input),
         Command::Clean { instance } => clean(instance),
+        Command::Status { bridge, json } => status(bridge, *json),
+        Command::Start { bridge } => simple(bridge, "/api/start"),
+        Command::Stop { bridge } => simple(bridge, "/api/stop"),
+        Command::Reset { bridge } => simple(bridge, "/api/reset"),
+        Command::Offset {
+            action:
+                OffsetAction::Set {
+                    d,
+                    radius,
+                    wear,
+                    bridge,
+                },
+        } => offset(bridge, d, *radius, *wear),
         Command::Run {
             input,
             instance,

@@ -187,6 +187,8 @@ pub mod command {
     pub const SET_OFFSET: u32 = 7;
     /// The kernel process ends (after braking, if the path moves).
     pub const SHUTDOWN: u32 = 8;
+    /// `d`: a program number (`KernelStatus::program`); the reply's message is its path.
+    pub const PROGRAM_INFO: u32 = 9;
 }
 
 pub const TEXT: usize = 512;
@@ -254,6 +256,9 @@ pub struct Reply {
     pub len: u16,
     /// An alarm number when refused for one (0: none).
     pub alarm: u32,
+    /// The tool table's version after the command (the kernel sets it on every reply).
+    pub tools_version: u32,
+    pub _pad2: u32,
     pub message: [u8; TEXT],
 }
 
@@ -264,6 +269,8 @@ impl Reply {
             _pad: 0,
             len: 0,
             alarm,
+            tools_version: 0,
+            _pad2: 0,
             message: [0; TEXT],
         };
         let n = fit(message, TEXT);
@@ -274,6 +281,59 @@ impl Reply {
 
     pub fn message(&self) -> &str {
         as_text(&self.message, self.len as usize)
+    }
+}
+
+/// Offsets a [`ToolTableMsg`] carries at most.
+pub const TOOL_ENTRIES: usize = 64;
+
+/// One tool offset.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::ToolEntry")]
+pub struct ToolEntry {
+    /// Tool number on T/D machines (0: a global D offset).
+    pub t: u32,
+    pub d: u32,
+    pub radius: f64,
+    pub radius_wear: f64,
+    pub length: f64,
+    pub length_wear: f64,
+}
+
+/// The kernel's tool table, kernel → anyone, when it changes (the newest kept for late
+/// subscribers).
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::ToolTableMsg")]
+pub struct ToolTableMsg {
+    /// 1 at start, one more with every accepted edit (as `KernelStatus::tools_version`).
+    pub version: u32,
+    pub count: u32,
+    /// Saved to a tool file (0: the built-in table, not saved).
+    pub saved: u8,
+    /// More offsets than fit (`TOOL_ENTRIES`) were left out.
+    pub truncated: u8,
+    pub _pad: [u8; 6],
+    pub entries: [ToolEntry; TOOL_ENTRIES],
+}
+
+impl Default for ToolTableMsg {
+    fn default() -> Self {
+        ToolTableMsg {
+            version: 0,
+            count: 0,
+            saved: 0,
+            truncated: 0,
+            _pad: [0; 6],
+            entries: [ToolEntry::default(); TOOL_ENTRIES],
+        }
+    }
+}
+
+impl ToolTableMsg {
+    pub fn entries(&self) -> &[ToolEntry] {
+        &self.entries[..(self.count as usize).min(TOOL_ENTRIES)]
     }
 }
 
@@ -297,7 +357,7 @@ fn as_text(bytes: &[u8], len: usize) -> &str {
 
 /// Size and alignment of every payload, in a fixed order: part of the ABI string, so a peer
 /// whose layout differs in any way is refused by name.
-pub fn layouts() -> [(&'static str, usize, usize); 9] {
+pub fn layouts() -> [(&'static str, usize, usize); 11] {
     use std::mem::{align_of, size_of};
     macro_rules! l {
         ($t:ty) => {
@@ -314,6 +374,8 @@ pub fn layouts() -> [(&'static str, usize, usize); 9] {
         l!(KernelStatus),
         l!(Command),
         l!(Reply),
+        l!(ToolEntry),
+        l!(ToolTableMsg),
     ]
 }
 

@@ -272,6 +272,7 @@ impl Instance {
         node: &Node<ipc::Service>,
         service: &str,
         buffer: usize,
+        history: usize,
     ) -> Result<PubSub<T>, IpcError> {
         use iceoryx2::service::builder::publish_subscribe::{
             PublishSubscribeOpenError as O, PublishSubscribeOpenOrCreateError as E,
@@ -281,7 +282,7 @@ impl Instance {
             node.service_builder(&name)
                 .publish_subscribe::<T>()
                 .enable_safe_overflow(true)
-                .history_size(0)
+                .history_size(history)
                 .subscriber_max_buffer_size(buffer)
                 .subscriber_max_borrowed_samples(2)
                 .max_publishers(2)
@@ -350,7 +351,7 @@ impl Instance {
 
     /// Setpoints, kernel → PLC, every IPO cycle.
     pub fn setpoints(&self, node: &Node<ipc::Service>) -> Result<PubSub<SetpointMsg>, IpcError> {
-        self.pubsub(node, "setpoints", 64)
+        self.pubsub(node, "setpoints", 64, 0)
     }
 
     /// Wakes the PLC when a setpoint is out.
@@ -382,18 +383,24 @@ impl Instance {
     }
 
     pub fn plc_signals(&self, node: &Node<ipc::Service>) -> Result<PubSub<PlcSignals>, IpcError> {
-        self.pubsub(node, "plc.signals", 16)
+        self.pubsub(node, "plc.signals", 16, 0)
     }
 
     pub fn actual_values(
         &self,
         node: &Node<ipc::Service>,
     ) -> Result<PubSub<ActualValues>, IpcError> {
-        self.pubsub(node, "plc.actuals", 64)
+        self.pubsub(node, "plc.actuals", 64, 0)
     }
 
     pub fn status(&self, node: &Node<ipc::Service>) -> Result<PubSub<KernelStatus>, IpcError> {
-        self.pubsub(node, "status", 16)
+        self.pubsub(node, "status", 16, 0)
+    }
+
+    /// The kernel's tool table, published when it changes; a new subscriber gets the
+    /// newest at once.
+    pub fn tools(&self, node: &Node<ipc::Service>) -> Result<PubSub<ToolTableMsg>, IpcError> {
+        self.pubsub(node, "tools", 2, 1)
     }
 
     /// HMI commands to the kernel.

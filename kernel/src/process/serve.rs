@@ -19,6 +19,7 @@ use crate::runtime::cyclic::{Control, Cyclic, Program, Refusal};
 use crate::runtime::{os, spawn_preparation, Report};
 use crate::{MachineData, ToolTable};
 use crossbeam::queue::ArrayQueue;
+use softnc_protocol::iceoryx2::port::update_connections::UpdateConnections;
 use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
 use std::collections::HashMap;
 use std::process::ExitCode;
@@ -319,18 +320,6 @@ fn refusal_text(r: Refusal) -> (u32, String) {
     }
 }
 
-fn alarm_text(a: u32) -> &'static str {
-    use crate::runtime::cyclic::alarm::*;
-    match a {
-        PLC_SIGN_OF_LIFE => "PLC sign of life lost: the path brakes",
-        EMERGENCY_STOP => "emergency stop: the path brakes on its contour, reset after release",
-        AUX_NOT_DELIVERED => "auxiliary functions could not be handed to the PLC",
-        DRIVES_NOT_READY => "drives not ready while the path moved",
-        700_000..=799_999 => "PLC alarm",
-        _ => "program alarm (see above)",
-    }
-}
-
 #[allow(clippy::too_many_arguments)]
 fn control(
     instance: &Instance,
@@ -353,6 +342,15 @@ fn control(
         .subscriber_builder()
         .create()
         .map_err(|e| format!("cannot subscribe to the status: {e:?}"))?;
+    let tools_pub = instance
+        .tools(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .create()
+        .map_err(|e| format!("cannot publish the tool table: {e:?}"))?;
+    let _ = tools_pub.send_copy(desk.table_msg(1));
+    let mut published = 1u32;
+    let mut tools_seen = Instant::now();
     if let Some(p) = first {
         if let Err(r) = ask(shared, Control::Load(p)) {
             return Err(refusal_text(r).1);
@@ -370,13 +368,26 @@ fn control(
             eprintln!("nc-kernel: terminating: the path brakes, then the process ends");
             let _ = ask(shared, Control::Shutdown);
         }
+        // A late subscriber gets the table kept in the history when the publisher looks
+        // for new subscribers: now and then, not only when the table changes.
+        if tools_seen.elapsed() > Duration::from_millis(50) {
+            let _ = tools_pub.update_connections();
+            tools_seen = Instant::now();
+        }
         while let Ok(Some(req)) = server.receive() {
             let c: Command = *req.payload();
             // The newest status first: a program loads where the axes stand now.
             while let Ok(Some(s)) = status.receive() {
                 last = report_status(*s.payload(), &last);
             }
-            let reply = desk.handle(&c, &last);
+            let mut reply = desk.handle(&c, &last);
+            // The new table goes out before the reply: who reads after the reply reads it.
+            let version = shared.tools_version.load(Ordering::Acquire);
+            if version != published {
+                let _ = tools_pub.send_copy(desk.table_msg(version));
+                published = version;
+            }
+            reply.tools_version = version;
             let _ = req.send_copy(reply);
         }
         while let Ok(Some(s)) = status.receive() {
@@ -418,7 +429,7 @@ fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
             s.alarm,
             s.cycle,
             s.line,
-            alarm_text(s.alarm),
+            crate::runtime::cyclic::alarm::title(s.alarm),
             s.plc_cycle
         );
     }
@@ -488,6 +499,10 @@ impl Desk<'_> {
                 }
             }
             command::SET_OFFSET => self.set_offset(c, last),
+            command::PROGRAM_INFO => match self.programs.get(&c.d) {
+                Some(l) => Reply::new(true, 0, &l.name),
+                None => Reply::new(false, 0, &format!("no program number {}", c.d)),
+            },
             k => Reply::new(false, 0, &format!("unknown command {k}")),
         }
     }
@@ -635,6 +650,38 @@ impl Desk<'_> {
                 Reply::new(false, a, &m)
             }
         }
+    }
+}
+
+impl Desk<'_> {
+    /// The table as HMIs get it.
+    fn table_msg(&self, version: u32) -> softnc_protocol::ToolTableMsg {
+        let mut m = softnc_protocol::ToolTableMsg {
+            version,
+            saved: self.tools_path.is_some() as u8,
+            ..Default::default()
+        };
+        let n = self.tools.offset.len().min(softnc_protocol::TOOL_ENTRIES);
+        m.count = n as u32;
+        m.truncated = (self.tools.offset.len() > n) as u8;
+        for (e, o) in m.entries.iter_mut().zip(&self.tools.offset) {
+            // A `--set Dn=R` override stands for radius R with wear 0.
+            let (radius, radius_wear) = self
+                .tools
+                .radius_overrides
+                .iter()
+                .find(|(d, _)| *d == o.d)
+                .map_or((o.radius, o.radius_wear), |(_, r)| (*r, 0.0));
+            *e = softnc_protocol::ToolEntry {
+                t: o.t.unwrap_or(0),
+                d: o.d,
+                radius,
+                radius_wear,
+                length: o.length,
+                length_wear: o.length_wear,
+            };
+        }
+        m
     }
 }
 

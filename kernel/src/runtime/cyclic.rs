@@ -31,6 +31,21 @@ pub mod alarm {
     pub const AUX_NOT_DELIVERED: u32 = 2011;
     /// The drives dropped their ready signal while the path moved.
     pub const DRIVES_NOT_READY: u32 = 21612;
+
+    /// What an alarm number stands for, in a few words (docs/alarms.md has the reactions).
+    pub fn title(a: u32) -> &'static str {
+        match a {
+            PLC_SIGN_OF_LIFE => "PLC sign of life lost: the path brakes",
+            EMERGENCY_STOP => "emergency stop: the path brakes on its contour, reset after release",
+            AUX_NOT_DELIVERED => "auxiliary functions could not be handed to the PLC",
+            DRIVES_NOT_READY => "drives not ready while the path moved",
+            700_000 => "PLC: no setpoints, the axes were braked (watchdog)",
+            700_001 => "PLC: software limit switch",
+            700_002..=799_999 => "PLC alarm",
+            3021 => "contour violation with tool radius compensation",
+            _ => "program alarm (see the program's diagnostics)",
+        }
+    }
 }
 
 /// The PLC interface signals as the kernel reads them.

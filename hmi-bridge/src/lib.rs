@@ -1,0 +1,122 @@
+//! hmi-bridge: the operator's side of a softnc control (issue 7, docs/hmi.md). It talks to
+//! the kernel over iceoryx2 (link.rs) and serves an HTTP JSON API, a Server-Sent-Events
+//! status stream and one web page (api.rs, page.html) on 127.0.0.1. Another address needs
+//! `--listen` and a token that every request then carries.
+
+pub mod api;
+pub mod client;
+pub mod link;
+pub mod net;
+pub mod plot;
+
+use nc_kernel::MachineData;
+use softnc_protocol::Instance;
+use std::net::{IpAddr, SocketAddr};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+const USAGE: &str = "usage: hmi-bridge [--instance NAME] [--machine FILE] [--port PORT (0: any)]
+                  [--listen ADDRESS[:PORT] --token TOKEN] [--programs DIR]
+  The token may also come from the environment variable SOFTNC_HMI_TOKEN.";
+
+pub fn main(args: Vec<String>) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hmi-bridge: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
+    args.windows(2)
+        .find(|w| w[0] == flag)
+        .map(|w| w[1].as_str())
+}
+
+fn run(args: Vec<String>) -> Result<(), String> {
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        eprintln!("{USAGE}");
+        return Ok(());
+    }
+    let known = [
+        "--instance",
+        "--machine",
+        "--port",
+        "--listen",
+        "--token",
+        "--programs",
+    ];
+    let mut i = 0;
+    while i < args.len() {
+        if !known.contains(&args[i].as_str()) || i + 1 >= args.len() {
+            return Err(format!("unexpected argument {}\n{USAGE}", args[i]));
+        }
+        i += 2;
+    }
+    let instance =
+        Instance::new(value(&args, "--instance").unwrap_or(softnc_protocol::DEFAULT_INSTANCE))
+            .map_err(|e| e.to_string())?;
+    let md = MachineData::load(value(&args, "--machine").map(std::path::Path::new), &[])
+        .map_err(|e| e.to_string())?;
+    let port = match value(&args, "--port") {
+        // 0: any free port (tests); the address taken is printed.
+        Some(p) => p
+            .parse::<u16>()
+            .map_err(|_| format!("--port {p}: expected a TCP port (0–65535)"))?,
+        None => md.hmi.port,
+    };
+    let addr = match value(&args, "--listen") {
+        None => SocketAddr::from(([127, 0, 0, 1], port)),
+        Some(a) => a
+            .parse::<SocketAddr>()
+            .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
+            .map_err(|_| {
+                format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:8640")
+            })?,
+    };
+    let token = value(&args, "--token")
+        .map(str::to_string)
+        .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())
+        .filter(|t| !t.is_empty());
+    if !addr.ip().is_loopback() && token.is_none() {
+        return Err(format!(
+            "listening on {addr} lets other machines command the control: give --token (or SOFTNC_HMI_TOKEN)"
+        ));
+    }
+    if token.as_ref().is_some_and(|t| t.len() < 12) {
+        return Err("the token is too short: use at least 12 characters".into());
+    }
+    let programs = value(&args, "--programs").map_or_else(
+        || std::path::PathBuf::from("programs"),
+        std::path::PathBuf::from,
+    );
+
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
+            .map_err(|e| format!("cannot install the signal handler: {e}"))?;
+    }
+    let (link, link_thread) = link::start(instance.clone(), api::status_text, stop.clone())?;
+    let listener = net::listen(addr).map_err(|e| format!("{addr}: {e}"))?;
+    let bound = listener.local_addr().map_err(|e| e.to_string())?;
+    let api = Arc::new(api::Api::new(link, token.clone(), md, programs));
+    eprintln!(
+        "hmi-bridge: instance '{}': http://{bound}/{}",
+        instance.name(),
+        if token.is_some() {
+            " (token required)"
+        } else {
+            ""
+        }
+    );
+    let handler: Arc<dyn Fn(net::Request) -> net::Response + Send + Sync> =
+        Arc::new(move |req| api.handle(req));
+    net::serve(listener, handler, stop.clone());
+    stop.store(true, Ordering::SeqCst);
+    let _ = link_thread.join();
+    Ok(())
+}

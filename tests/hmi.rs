@@ -1,0 +1,582 @@
+//! The HMI bridge (issue 7): offsets changed at the machine through the HTTP API, end to end
+//! with kernel and plc-sim, checked from plc-sim's trace; bad requests of every kind refused
+//! with a 4xx and a message, changing nothing; the `softnc` commands that go through the
+//! bridge. The browser test is tests/browser.rs.
+
+#[path = "support/control.rs"]
+mod control;
+
+use control::*;
+use hmi_bridge::client::Bridge;
+use serde_json::{json, Value};
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// plc-sim, nc-kernel and hmi-bridge of one instance.
+struct Station {
+    bridge: Bridge,
+    trace: PathBuf,
+    // Children before the scope: they are killed before the instance is cleaned.
+    kids: Vec<Kid>,
+    _scope: Scope,
+}
+
+fn station(tag: &str, program: Option<&Path>, kernel: &[&str], bridge: &[&str]) -> Station {
+    let name = instance(tag);
+    let scope = Scope::new(&name);
+    let trace = scratch(&format!("{tag}.csv"));
+    let mut kids = vec![spawn(
+        "plc-sim",
+        &["--instance", &name, "--trace", trace.to_str().unwrap()],
+        &scratch(&format!("{tag}-plc.log")),
+    )];
+    let mut args = vec!["--instance", name.as_str()];
+    if let Some(p) = program {
+        args.extend([p.to_str().unwrap(), "--start"]);
+    }
+    args.extend(kernel);
+    kids.push(spawn(
+        "nc-kernel",
+        &args,
+        &scratch(&format!("{tag}-nck.log")),
+    ));
+    let log = scratch(&format!("{tag}-hmi.log"));
+    let mut args = vec!["--instance", name.as_str(), "--port", "0"];
+    args.extend(bridge);
+    kids.push(spawn("hmi-bridge", &args, &log));
+    let t = Instant::now();
+    let addr = loop {
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        if let Some(a) = text
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+        {
+            break a.to_string();
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let token = bridge
+        .windows(2)
+        .find(|w| w[0] == "--token")
+        .map(|w| w[1].to_string());
+    let s = Station {
+        bridge: Bridge::new(addr, token),
+        trace,
+        kids,
+        _scope: scope,
+    };
+    s.watch(Duration::from_secs(30), |v| v["connected"] == json!(true));
+    // Ready when the kernel's tool table has arrived too.
+    let t = Instant::now();
+    while s.bridge.get("/api/tools").unwrap().status != 200 {
+        assert!(t.elapsed() < Duration::from_secs(10), "no tool table");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    s
+}
+
+impl Station {
+    fn status(&self) -> Value {
+        let a = self.bridge.get("/api/status").unwrap();
+        assert_eq!(a.status, 200, "{}", a.body);
+        a.json()
+    }
+
+    /// Statuses until `until` holds for one (all of them returned), within `limit`.
+    fn watch(&self, limit: Duration, until: impl Fn(&Value) -> bool) -> Vec<Value> {
+        let t = Instant::now();
+        let mut seen = Vec::new();
+        while t.elapsed() < limit {
+            let s = self.status();
+            let done = until(&s);
+            seen.push(s);
+            if done {
+                return seen;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        panic!("not reached in {limit:?}; last {:?}", seen.last());
+    }
+
+    fn post(&self, path: &str, body: Value) -> (u16, Value) {
+        let a = self.bridge.post(path, &body).unwrap();
+        (a.status, a.json())
+    }
+
+    /// plc-sim ends (flushing its trace); its rows.
+    fn trace(&mut self) -> Vec<TraceRow> {
+        terminate(&mut self.kids[0]);
+        trace(&self.trace)
+    }
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+fn pos(s: &Value) -> [f64; 3] {
+    [f(&s["pos"][0]), f(&s["pos"][1]), f(&s["pos"][2])]
+}
+
+fn write(name: &str, text: &str) -> PathBuf {
+    let p = scratch(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Distance from `p` (outside it) to the square [0, 100]².
+fn off_square(p: [f64; 3]) -> f64 {
+    let dx = (0.0 - p[0]).max(p[0] - 100.0).max(0.0);
+    let dy = (0.0 - p[1]).max(p[1] - 100.0).max(0.0);
+    (dx * dx + dy * dy).sqrt()
+}
+
+const SQUARE: &str = "N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n";
+
+/// 840C 11.8 through the HMI: D1 changed from 10 to 12 in NC stop halfway along the top
+/// edge of a square (G41, outside, G450 corners). NC start repositions onto the new
+/// equidistant, and from there every setpoint of the contour lies 12 mm from the square;
+/// before the stop every one lay 10 mm from it. The same edit while the program runs is
+/// refused and changes nothing.
+#[test]
+fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant() {
+    let prog = write("square.mpf", SQUARE);
+    let mut st = station("offset", Some(&prog), &["--set", "D1=10"], &[]);
+    // On N40 (line 4), at speed.
+    st.watch(Duration::from_secs(30), |s| {
+        s["line"] == json!(4) && f(&s["feed_mm_min"]) > 2400.0
+    });
+    let (code, r) = st.post("/api/offset", json!({ "d": 1, "radius": 12.0 }));
+    assert_eq!(code, 409, "{r}");
+    assert!(r["error"].as_str().unwrap().contains("running"), "{r}");
+    assert_eq!(st.post("/api/stop", json!({})).0, 200);
+    let stopped = st
+        .watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
+        .pop()
+        .unwrap();
+    assert_eq!(
+        stopped["tools_version"],
+        json!(1),
+        "the refused edit changed nothing"
+    );
+    assert_eq!(stopped["line"], json!(4));
+    assert!((off_square(pos(&stopped)) - 10.0).abs() < 1e-6);
+    let (code, r) = st.post("/api/offset", json!({ "d": 1, "radius": 12.0 }));
+    assert_eq!(code, 200, "{r}");
+    assert_eq!(r["tools_version"], json!(2), "{r}");
+    let tools = st.bridge.get("/api/tools").unwrap().json();
+    assert_eq!(
+        (
+            tools["version"].clone(),
+            tools["offsets"][0]["radius"].clone()
+        ),
+        (json!(2), json!(12.0))
+    );
+    let (code, r) = st.post("/api/start", json!({}));
+    assert_eq!(code, 200, "{r}");
+    let end = st
+        .watch(Duration::from_secs(30), |s| {
+            s["state"] == json!("END") || !s["alarm"].is_null()
+        })
+        .pop()
+        .unwrap();
+    assert_eq!(
+        (end["state"].clone(), end["alarm"].clone()),
+        (json!("END"), Value::Null)
+    );
+
+    let rows = st.trace();
+    let contour = |r: &TraceRow| (3..=6).contains(&r.line);
+    let stop = rows
+        .iter()
+        .position(|r| r.state == "STOPPED")
+        .expect("NC stop in the trace");
+    let mut checked = [0usize; 2];
+    for (i, r) in rows[..stop].iter().enumerate().filter(|(_, r)| contour(r)) {
+        let d = off_square(r.sp);
+        assert!((d - 10.0).abs() < 1e-6, "row {i} before the stop: {d} mm");
+        checked[0] += 1;
+    }
+    // After NC start: the reposition move (moving out from 10 to 12 mm), then the contour
+    // at 12 mm up to the retract.
+    let on_new = stop
+        + rows[stop..]
+            .iter()
+            .position(|r| (off_square(r.sp) - 12.0).abs() < 1e-6)
+            .expect("the path reaches the new equidistant");
+    for (i, r) in rows.iter().enumerate().take(on_new).skip(stop) {
+        let d = off_square(r.sp);
+        assert!(
+            (10.0 - 1e-6..=12.0 + 1e-6).contains(&d),
+            "reposition row {i}: {d}"
+        );
+    }
+    for (i, r) in rows
+        .iter()
+        .enumerate()
+        .skip(on_new)
+        .filter(|(_, r)| contour(r))
+    {
+        let d = off_square(r.sp);
+        assert!((d - 12.0).abs() < 1e-6, "row {i} after resuming: {d} mm");
+        checked[1] += 1;
+    }
+    assert!(checked[0] > 2000 && checked[1] > 4000, "{checked:?}");
+}
+
+/// An offset that would violate the contour (a slot 22 mm wide: R 12 does not fit, 840C
+/// 11.12): NC start is refused with the alarm and nothing moves; the offset set back, NC
+/// start goes on.
+#[test]
+fn an_offset_that_violates_the_contour_is_refused_before_any_motion() {
+    let prog = write(
+        "slot.mpf",
+        "N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\nN30 Y100\nN40 X40\nN50 Y60\nN60 X62\nN70 Y100\nN80 X100\nN90 Y0\nN100 X0\nN110 G40 X-30 Y-30\nM30\n",
+    );
+    let st = station("violate", Some(&prog), &["--set", "D1=10"], &[]);
+    st.watch(Duration::from_secs(30), |s| {
+        s["line"] == json!(3) && f(&s["feed_mm_min"]) > 2400.0
+    });
+    assert_eq!(st.post("/api/stop", json!({})).0, 200);
+    let stopped = st
+        .watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
+        .pop()
+        .unwrap();
+    assert_eq!(
+        st.post("/api/offset", json!({ "d": 1, "radius": 12.0 })).0,
+        200
+    );
+    let (code, r) = st.post("/api/start", json!({}));
+    assert_eq!(code, 409, "{r}");
+    assert_eq!(r["alarm"], json!(3021), "{r}");
+    assert!(
+        r["error"].as_str().unwrap().contains("nothing moved"),
+        "{r}"
+    );
+    let c0 = stopped["cycle"].as_u64().unwrap();
+    for s in st.watch(Duration::from_secs(5), |s| {
+        s["cycle"].as_u64().unwrap() > c0 + 300
+    }) {
+        assert_eq!(s["state"], json!("STOPPED"));
+        assert_eq!(pos(&s), pos(&stopped));
+    }
+    // Set back to 10: NC start resumes and the program runs to its end.
+    assert_eq!(
+        st.post("/api/offset", json!({ "d": 1, "radius": 10.0 })).0,
+        200
+    );
+    let (code, r) = st.post("/api/start", json!({}));
+    assert_eq!(code, 200, "{r}");
+    let end = st
+        .watch(Duration::from_secs(30), |s| {
+            s["state"] == json!("END") || !s["alarm"].is_null()
+        })
+        .pop()
+        .unwrap();
+    assert_eq!(end["state"], json!("END"));
+}
+
+/// With machine data `hmi.edit_while_active`, an edit while the program runs is stored and
+/// acts when the program next programs that D (840C 11.8): the contour running at the edit
+/// keeps R 10, the one selected with D1 after it runs on R 12.
+#[test]
+fn an_edit_while_active_acts_at_the_next_d_when_machine_data_allows_it() {
+    let mut text = String::from("N10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F3000\n");
+    for k in 1..=600 {
+        text.push_str(&format!("Y{k}\n"));
+    }
+    // Lines 603–607.
+    text.push_str("G40 X-30 Y650\nG41 D1 X0 Y700\nY800\nG40 X-30 Y850\nM30\n");
+    let prog = write("live.mpf", &text);
+    let md = write("live.toml", "[hmi]\nedit_while_active = true\n");
+    let md = md.to_str().unwrap();
+    let mut st = station("live", Some(&prog), &["--machine", md], &["--machine", md]);
+    st.watch(Duration::from_secs(30), |s| {
+        f(&s["pos"][1]) > 20.0 && f(&s["feed_mm_min"]) > 2400.0
+    });
+    let (code, r) = st.post("/api/offset", json!({ "d": 1, "radius": 12.0 }));
+    assert_eq!(code, 200, "{r}");
+    assert!(
+        r["message"]
+            .as_str()
+            .unwrap()
+            .contains("next programs this D"),
+        "{r}"
+    );
+    let y_edit = f(&st.status()["pos"][1]);
+    let end = st
+        .watch(Duration::from_secs(60), |s| {
+            s["state"] == json!("END") || !s["alarm"].is_null()
+        })
+        .pop()
+        .unwrap();
+    assert_eq!(end["state"], json!("END"));
+    let rows = st.trace();
+    let first: Vec<_> = rows
+        .iter()
+        .filter(|r| (3..=602).contains(&r.line))
+        .collect();
+    assert!(first.iter().any(|r| r.sp[1] > y_edit + 100.0));
+    for r in &first {
+        assert!(
+            (r.sp[0] + 10.0).abs() < 1e-9,
+            "first contour at x = {}",
+            r.sp[0]
+        );
+    }
+    let second: Vec<_> = rows.iter().filter(|r| r.line == 605).collect();
+    assert!(second.len() > 1000, "{}", second.len());
+    for r in &second {
+        assert!(
+            (r.sp[0] + 12.0).abs() < 1e-9,
+            "second contour at x = {}",
+            r.sp[0]
+        );
+    }
+}
+
+/// One raw request; the status code of the answer (or 0 if the connection closed without
+/// one) and its text.
+fn raw(addr: &str, bytes: &[u8], pause_after: Option<Duration>) -> (u16, String) {
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    let _ = s.write_all(bytes);
+    if let Some(p) = pause_after {
+        std::thread::sleep(p);
+    }
+    let mut out = Vec::new();
+    let _ = s.read_to_end(&mut out);
+    let text = String::from_utf8_lossy(&out).to_string();
+    let code = text
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    (code, text)
+}
+
+/// Every kind of bad request gets a 4xx with a message, and none changes anything: the tool
+/// table stays at version 1 with D1 = 10, the channel in RESET.
+#[test]
+fn bad_requests_get_a_4xx_with_a_message_and_change_nothing() {
+    const TOKEN: &str = "s3cret-token-for-tests";
+    let st = station("bad", None, &["--set", "D1=10"], &["--token", TOKEN]);
+    let addr = st.bridge.addr.clone();
+    let no_token = Bridge::new(addr.clone(), None);
+    let wrong = Bridge::new(addr.clone(), Some("not-the-token-at-all".into()));
+    let offset = |b: &Bridge, body: &str| b.request("POST", "/api/offset", Some(body)).unwrap();
+    let cases: Vec<(&str, u16, hmi_bridge::client::Answer)> = vec![
+        ("missing token", 401, no_token.get("/api/status").unwrap()),
+        (
+            "missing token, command",
+            401,
+            offset(&no_token, r#"{"d":1,"radius":12}"#),
+        ),
+        ("wrong token", 401, offset(&wrong, r#"{"d":1,"radius":12}"#)),
+        (
+            "malformed JSON",
+            400,
+            offset(&st.bridge, r#"{"d":1,"radius":"#),
+        ),
+        ("not JSON", 400, offset(&st.bridge, "radius=12")),
+        ("NaN", 400, offset(&st.bridge, r#"{"d":1,"radius":NaN}"#)),
+        (
+            "NaN as text",
+            400,
+            offset(&st.bridge, r#"{"d":1,"radius":"NaN"}"#),
+        ),
+        (
+            "unknown field",
+            400,
+            offset(&st.bridge, r#"{"d":1,"radius":12,"force":true}"#),
+        ),
+        ("missing field", 400, offset(&st.bridge, r#"{"d":1}"#)),
+        (
+            "negative D",
+            400,
+            offset(&st.bridge, r#"{"d":-1,"radius":12}"#),
+        ),
+        (
+            "unknown D",
+            422,
+            offset(&st.bridge, r#"{"d":99,"radius":12}"#),
+        ),
+        (
+            "huge radius",
+            422,
+            offset(&st.bridge, r#"{"d":1,"radius":1e300}"#),
+        ),
+        (
+            "radius beyond the limit",
+            422,
+            offset(&st.bridge, r#"{"d":1,"radius":-500.5}"#),
+        ),
+        (
+            "wear beyond the limit",
+            422,
+            offset(&st.bridge, r#"{"d":1,"radius":1.5,"wear":true}"#),
+        ),
+        (
+            "overflowing number",
+            400,
+            offset(&st.bridge, r#"{"d":1,"radius":1e999}"#),
+        ),
+        (
+            "oversized body",
+            413,
+            offset(
+                &st.bridge,
+                &format!(r#"{{"d":1,"radius":12,"x":"{}"}}"#, "a".repeat(20_000)),
+            ),
+        ),
+        (
+            "unknown resource",
+            404,
+            st.bridge.get("/api/nothing").unwrap(),
+        ),
+        ("wrong method", 405, st.bridge.get("/api/offset").unwrap()),
+        (
+            "program outside the folder",
+            422,
+            st.bridge
+                .post("/api/load", &json!({ "program": "../Cargo.toml" }))
+                .unwrap(),
+        ),
+        (
+            "override out of range",
+            422,
+            st.bridge
+                .post("/api/override", &json!({ "percent": 500 }))
+                .unwrap(),
+        ),
+        (
+            "body on start",
+            400,
+            st.bridge
+                .request("POST", "/api/start", Some("[1,2]"))
+                .unwrap(),
+        ),
+    ];
+    for (what, want, a) in &cases {
+        assert_eq!(a.status, *want, "{what}: {}", a.body);
+        let msg = a.json()["error"].as_str().unwrap_or("").to_string();
+        assert!(msg.len() > 5, "{what}: no message in {}", a.body);
+    }
+    // A body announced far larger than allowed is refused before it is read.
+    let (code, text) = raw(
+        &addr,
+        format!(
+            "POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 1000000000\r\n\r\n{{"
+        )
+        .as_bytes(),
+        None,
+    );
+    assert_eq!(code, 413, "{text}");
+    // Slow clients: a body that stops coming, and a head that never ends.
+    let t = Instant::now();
+    let (code, text) = raw(
+        &addr,
+        format!(
+            "POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,"
+        )
+        .as_bytes(),
+        None,
+    );
+    assert_eq!(code, 408, "{text}");
+    assert!(text.contains("too slowly"), "{text}");
+    let (code, text) = raw(&addr, b"GET /api/status HTTP/1.1\r\nHost: x\r\n", None);
+    assert_eq!(code, 408, "{text}");
+    assert!(t.elapsed() < Duration::from_secs(30));
+    // Meanwhile others are served.
+    assert_eq!(st.bridge.get("/api/status").unwrap().status, 200);
+    // Nothing changed.
+    let tools = st.bridge.get("/api/tools").unwrap().json();
+    assert_eq!(tools["version"], json!(1));
+    assert_eq!(tools["offsets"][0]["radius"], json!(10.0));
+    assert_eq!(st.status()["state"], json!("RESET"));
+}
+
+/// A bridge on another address than loopback insists on a token.
+#[test]
+fn another_address_needs_a_token() {
+    let log = scratch("listen.log");
+    let mut kid = spawn(
+        "hmi-bridge",
+        &[
+            "--instance",
+            &instance("listen"),
+            "--listen",
+            "0.0.0.0",
+            "--port",
+            "0",
+        ],
+        &log,
+    );
+    let status = kid.0.wait().unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(2), "{text}");
+    assert!(text.contains("--token"), "{text}");
+}
+
+/// `softnc status`, `start`, `stop`, `reset` and `offset set` through the bridge.
+#[test]
+fn the_softnc_commands_go_through_the_bridge() {
+    let prog = write("cli.mpf", SQUARE);
+    let folder = prog.parent().unwrap().to_str().unwrap().to_string();
+    let st = station("cli", None, &["--set", "D1=10"], &["--programs", &folder]);
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(EXE)
+            .args(args)
+            .args(["--bridge", &st.bridge.addr])
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).to_string(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let (code, out, _) = run(&["status"]);
+    assert_eq!(code, Some(0));
+    assert!(out.starts_with("RESET"), "{out}");
+    let (code, out, _) = run(&["offset", "set", "D1", "--radius", "10.02"]);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(out.contains("version 2"), "{out}");
+    let (code, out, _) = run(&["offset", "set", "D1", "--radius", "-0.01", "--wear"]);
+    assert_eq!(code, Some(0), "{out}");
+    let tools = st.bridge.get("/api/tools").unwrap().json();
+    assert_eq!(tools["offsets"][0]["radius"], json!(10.02));
+    assert_eq!(tools["offsets"][0]["radius_wear"], json!(-0.01));
+    let (code, _, err) = run(&["offset", "set", "D99", "--radius", "1"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("D99"), "{err}");
+    let (code, _, err) = run(&["start"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("no program"), "{err}");
+    let (code, r) = st.post("/api/load", json!({ "program": "cli.mpf" }));
+    assert_eq!(code, 200, "{r}");
+    let (code, out, _) = run(&["start"]);
+    assert_eq!(code, Some(0), "{out}");
+    st.watch(Duration::from_secs(30), |s| s["state"] == json!("ACTIVE"));
+    let (code, out, _) = run(&["stop"]);
+    assert_eq!(code, Some(0), "{out}");
+    st.watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"));
+    let (code, out, _) = run(&["status"]);
+    assert_eq!(code, Some(0));
+    assert!(
+        out.starts_with("STOPPED") && out.contains("cli.mpf"),
+        "{out}"
+    );
+    let (code, out, _) = run(&["reset"]);
+    assert_eq!(code, Some(0), "{out}");
+    st.watch(Duration::from_secs(10), |s| s["state"] == json!("RESET"));
+    let (code, out, _) = run(&["status", "--json"]);
+    assert_eq!(code, Some(0));
+    assert_eq!(
+        serde_json::from_str::<Value>(&out).unwrap()["tools_version"],
+        json!(3)
+    );
+}

@@ -1,0 +1,178 @@
+//! The control's processes in tests: each test takes an instance of its own, starts
+//! `softnc` in the roles it needs as children (killed when the test ends in any way),
+//! reads plc-sim's trace, and leaves no shared memory behind.
+#![allow(dead_code)] // each test file uses a different part
+
+use softnc_protocol::Instance;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command as Proc, Stdio};
+
+pub const EXE: &str = env!("CARGO_BIN_EXE_softnc");
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn instance(tag: &str) -> String {
+    format!("t-{tag}-{}", std::process::id())
+}
+
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("softnc-ipc-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// The test's instance, cleaned when the test ends in any way (declared before the
+/// children, so it is dropped after they are killed): no run leaves shared memory behind.
+///
+/// A scope also takes one of `STATIONS` places: a kernel's IPO thread and plc-sim run
+/// SCHED_FIFO, and more than two unoptimised controls at once on a 2-core machine leave the
+/// kernels' control threads (normal priority) too little time to answer commands.
+pub struct Scope(pub Instance, Place);
+
+const STATIONS: usize = 2;
+
+static PLACES: (std::sync::Mutex<usize>, std::sync::Condvar) =
+    (std::sync::Mutex::new(0), std::sync::Condvar::new());
+
+pub struct Place;
+
+impl Place {
+    fn take() -> Place {
+        let mut n = PLACES.0.lock().unwrap_or_else(|e| e.into_inner());
+        while *n >= STATIONS {
+            n = PLACES.1.wait(n).unwrap_or_else(|e| e.into_inner());
+        }
+        *n += 1;
+        Place
+    }
+}
+
+impl Drop for Place {
+    fn drop(&mut self) {
+        let mut n = PLACES.0.lock().unwrap_or_else(|e| e.into_inner());
+        *n -= 1;
+        PLACES.1.notify_one();
+    }
+}
+
+impl Scope {
+    pub fn new(name: &str) -> Scope {
+        Scope(Instance::new(name).unwrap(), Place::take())
+    }
+}
+
+impl Drop for Scope {
+    fn drop(&mut self) {
+        let _ = self.0.remove_when_unused();
+    }
+}
+
+/// A child that is killed when the test ends in any way.
+pub struct Kid(pub Child);
+
+impl Drop for Kid {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+pub fn spawn(role: &str, args: &[&str], log: &Path) -> Kid {
+    let log = std::fs::File::create(log).unwrap();
+    Kid(Proc::new(EXE)
+        .arg(role)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .unwrap())
+}
+
+/// A program that keeps the axes moving for about `seconds` at F3000 (50 mm/s).
+pub fn long_program(seconds: f64) -> PathBuf {
+    let mut text = String::from("N1 G0 X0 Y0 Z0\nN2 G1 F3000\n");
+    let legs = (seconds * 50.0 / 100.0).ceil() as usize + 1;
+    for i in 0..legs {
+        let x = if i % 2 == 0 { 100 } else { 0 };
+        text.push_str(&format!("N{} X{x} Y{}\n", 10 + i, i % 7));
+    }
+    text.push_str("M30\n");
+    let p = scratch(&format!("long-{seconds}.mpf"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+pub struct TraceRow {
+    pub cycle: u64,
+    pub seq: u64,
+    pub sp: [f64; 3],
+    pub act: [f64; 3],
+    pub fe: [f64; 3],
+    pub v: f64,
+    pub line: u32,
+    pub state: String,
+    pub events: String,
+}
+
+pub fn trace(path: &Path) -> Vec<TraceRow> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let n = |k: usize| f[k].parse::<f64>().unwrap();
+            TraceRow {
+                cycle: f[1].parse().unwrap(),
+                seq: f[2].parse().unwrap(),
+                sp: [n(3), n(4), n(5)],
+                act: [n(6), n(7), n(8)],
+                fe: [n(9), n(10), n(11)],
+                v: n(12) / 60.0,
+                line: f[13].parse().unwrap(),
+                state: f[14].to_string(),
+                events: f.get(15).unwrap_or(&"").to_string(),
+            }
+        })
+        .collect()
+}
+
+pub fn dist_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+    let l2 = ab.iter().map(|x| x * x).sum::<f64>();
+    let t = if l2 > 0.0 {
+        (ap.iter().zip(ab.iter()).map(|(x, y)| x * y).sum::<f64>() / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|i| (p[i] - a[i] - t * ab[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+pub fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// SIGTERM: the process ends cleanly (plc-sim flushes its trace); waits for it.
+pub fn terminate(kid: &mut Kid) {
+    unsafe {
+        libc::kill(kid.0.id() as i32, libc::SIGTERM);
+    }
+    kid.0.wait().unwrap();
+}
+
+/// A straight line from the origin along `axis` at F3000.
+pub fn line_program(name: &str, axis: char, length: f64) -> PathBuf {
+    let p = scratch(name);
+    std::fs::write(
+        &p,
+        format!("N1 G0 X0 Y0 Z0\nN2 G1 F3000 {axis}{length}\nM30\n"),
+    )
+    .unwrap();
+    p
+}
