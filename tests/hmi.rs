@@ -5,127 +5,15 @@
 
 #[path = "support/control.rs"]
 mod control;
+#[path = "support/station.rs"]
+mod station;
 
 use control::*;
 use hmi_bridge::client::Bridge;
 use serde_json::{json, Value};
+use station::*;
 use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// plc-sim, nc-kernel and hmi-bridge of one instance.
-struct Station {
-    bridge: Bridge,
-    trace: PathBuf,
-    // Children before the scope: they are killed before the instance is cleaned.
-    kids: Vec<Kid>,
-    _scope: Scope,
-}
-
-fn station(tag: &str, program: Option<&Path>, kernel: &[&str], bridge: &[&str]) -> Station {
-    let name = instance(tag);
-    let scope = Scope::new(&name);
-    let trace = scratch(&format!("{tag}.csv"));
-    let mut kids = vec![spawn(
-        "plc-sim",
-        &["--instance", &name, "--trace", trace.to_str().unwrap()],
-        &scratch(&format!("{tag}-plc.log")),
-    )];
-    let mut args = vec!["--instance", name.as_str()];
-    if let Some(p) = program {
-        args.extend([p.to_str().unwrap(), "--start"]);
-    }
-    args.extend(kernel);
-    kids.push(spawn(
-        "nc-kernel",
-        &args,
-        &scratch(&format!("{tag}-nck.log")),
-    ));
-    let log = scratch(&format!("{tag}-hmi.log"));
-    let mut args = vec!["--instance", name.as_str(), "--port", "0"];
-    args.extend(bridge);
-    kids.push(spawn("hmi-bridge", &args, &log));
-    let t = Instant::now();
-    let addr = loop {
-        let text = std::fs::read_to_string(&log).unwrap_or_default();
-        if let Some(a) = text
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-        {
-            break a.to_string();
-        }
-        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let token = bridge
-        .windows(2)
-        .find(|w| w[0] == "--token")
-        .map(|w| w[1].to_string());
-    let s = Station {
-        bridge: Bridge::new(addr, token),
-        trace,
-        kids,
-        _scope: scope,
-    };
-    s.watch(Duration::from_secs(30), |v| v["connected"] == json!(true));
-    // Ready when the kernel's tool table has arrived too.
-    let t = Instant::now();
-    while s.bridge.get("/api/tools").unwrap().status != 200 {
-        assert!(t.elapsed() < Duration::from_secs(10), "no tool table");
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    s
-}
-
-impl Station {
-    fn status(&self) -> Value {
-        let a = self.bridge.get("/api/status").unwrap();
-        assert_eq!(a.status, 200, "{}", a.body);
-        a.json()
-    }
-
-    /// Statuses until `until` holds for one (all of them returned), within `limit`.
-    fn watch(&self, limit: Duration, until: impl Fn(&Value) -> bool) -> Vec<Value> {
-        let t = Instant::now();
-        let mut seen = Vec::new();
-        while t.elapsed() < limit {
-            let s = self.status();
-            let done = until(&s);
-            seen.push(s);
-            if done {
-                return seen;
-            }
-            std::thread::sleep(Duration::from_millis(2));
-        }
-        panic!("not reached in {limit:?}; last {:?}", seen.last());
-    }
-
-    fn post(&self, path: &str, body: Value) -> (u16, Value) {
-        let a = self.bridge.post(path, &body).unwrap();
-        (a.status, a.json())
-    }
-
-    /// plc-sim ends (flushing its trace); its rows.
-    fn trace(&mut self) -> Vec<TraceRow> {
-        terminate(&mut self.kids[0]);
-        trace(&self.trace)
-    }
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or(f64::NAN)
-}
-
-fn pos(s: &Value) -> [f64; 3] {
-    [f(&s["pos"][0]), f(&s["pos"][1]), f(&s["pos"][2])]
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let p = scratch(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
 
 /// Distance from `p` (outside it) to the square [0, 100]².
 fn off_square(p: [f64; 3]) -> f64 {
@@ -578,5 +466,99 @@ fn the_softnc_commands_go_through_the_bridge() {
     assert_eq!(
         serde_json::from_str::<Value>(&out).unwrap()["tools_version"],
         json!(3)
+    );
+}
+
+/// Edits from two clients at once are taken one after the other: every one is answered with
+/// its own table version, the versions run 2, 3, … without a gap or a repeat, and the table
+/// ends with the value of the edit that got the last version. The tool file, written
+/// atomically, holds that table.
+#[test]
+fn concurrent_edits_are_serialised_and_named_by_version() {
+    let tools = scratch("concurrent-tools.toml");
+    std::fs::copy(root().join("config/tools.toml"), &tools).unwrap();
+    let st = station(
+        "concurrent",
+        None,
+        &["--tools", tools.to_str().unwrap()],
+        &[],
+    );
+    let results: Vec<(u64, f64)> = std::thread::scope(|s| {
+        let clients: Vec<_> = (0..2)
+            .map(|c| {
+                let bridge = st.bridge.clone();
+                s.spawn(move || {
+                    (0..10)
+                        .map(|i| {
+                            let r = 10.0 + c as f64 + i as f64 / 100.0;
+                            let a = bridge
+                                .post("/api/offset", &json!({ "d": 1, "radius": r }))
+                                .unwrap();
+                            assert_eq!(a.status, 200, "{}", a.body);
+                            (a.json()["tools_version"].as_u64().unwrap(), r)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        clients
+            .into_iter()
+            .flat_map(|h| h.join().unwrap())
+            .collect()
+    });
+    let mut versions: Vec<u64> = results.iter().map(|(v, _)| *v).collect();
+    versions.sort();
+    assert_eq!(versions, (2..=21).collect::<Vec<u64>>());
+    let last = results.iter().max_by_key(|(v, _)| *v).unwrap().1;
+    let table = st.bridge.get("/api/tools").unwrap().json();
+    assert_eq!(table["version"], json!(21));
+    assert_eq!(table["offsets"][0]["radius"], json!(last));
+    let saved = nc_kernel::ToolTable::load(&tools).unwrap();
+    assert_eq!(saved.find(None, 1).unwrap().radius, last);
+}
+
+/// kill -9 of the kernel while it saves edit after edit: the tool file is whole afterwards,
+/// holding the table of one of the edits (or the one before them), never a torn one.
+#[test]
+fn a_crash_while_saving_leaves_a_whole_tool_file() {
+    let tools = scratch("crash-tools.toml");
+    std::fs::copy(root().join("config/tools.toml"), &tools).unwrap();
+    let mut st = station("crash", None, &["--tools", tools.to_str().unwrap()], &[]);
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let written: Vec<f64> = std::thread::scope(|s| {
+        let writer = s.spawn(|| {
+            let mut sent = vec![10.0];
+            let mut i = 0;
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                i += 1;
+                let r = 10.0 + i as f64 / 1000.0;
+                sent.push(r);
+                if st
+                    .bridge
+                    .post("/api/offset", &json!({ "d": 1, "radius": r }))
+                    .map_or(true, |a| a.status != 200)
+                {
+                    break;
+                }
+            }
+            sent
+        });
+        std::thread::sleep(Duration::from_millis(400));
+        st.kids[1].0.kill().unwrap();
+        st.kids[1].0.wait().unwrap();
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        writer.join().unwrap()
+    });
+    assert!(
+        written.len() > 5,
+        "edits were being saved: {}",
+        written.len()
+    );
+    let saved = nc_kernel::ToolTable::load(&tools).expect("a whole tool file");
+    let r = saved.find(None, 1).unwrap().radius;
+    assert!(written.contains(&r), "{r} is none of the values written");
+    assert_eq!(
+        saved.offset.len(),
+        nc_kernel::ToolTable::builtin().offset.len()
     );
 }

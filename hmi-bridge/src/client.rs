@@ -76,10 +76,38 @@ impl Bridge {
         s.write_all(head.as_bytes())
             .and_then(|_| s.write_all(body.as_bytes()))
             .map_err(|e| format!("cannot send to hmi-bridge: {e}"))?;
-        let mut raw = Vec::new();
-        s.read_to_end(&mut raw)
-            .map_err(|e| format!("no answer from hmi-bridge: {e}"))?;
+        let raw =
+            read_response(&mut s).map_err(|e| format!("no answer from {}: {e}", self.addr))?;
         parse(&raw)
+    }
+}
+
+/// One response: up to the end of its body by Content-Length, the last chunk, or the end
+/// of the connection (a server may keep it open despite `Connection: close`).
+fn read_response(s: &mut TcpStream) -> std::io::Result<Vec<u8>> {
+    let mut raw = Vec::new();
+    let mut chunk = [0u8; 8192];
+    loop {
+        if let Some(end) = raw.windows(4).position(|w| w == b"\r\n\r\n").map(|i| i + 4) {
+            let head = String::from_utf8_lossy(&raw[..end]).to_ascii_lowercase();
+            let length = head
+                .lines()
+                .find_map(|l| l.strip_prefix("content-length:"))
+                .and_then(|v| v.trim().parse::<usize>().ok());
+            if let Some(n) = length {
+                if raw.len() >= end + n {
+                    raw.truncate(end + n);
+                    return Ok(raw);
+                }
+            } else if head.contains("transfer-encoding: chunked") && raw.ends_with(b"0\r\n\r\n") {
+                return Ok(raw);
+            }
+        }
+        let n = s.read(&mut chunk)?;
+        if n == 0 {
+            return Ok(raw);
+        }
+        raw.extend_from_slice(&chunk[..n]);
     }
 }
 

@@ -1,0 +1,260 @@
+//! The HMI page in a real browser (issue 7): headless Chromium driven over WebDriver
+//! (chromedriver) loads the page of a running control, stops the program, edits D1, resumes,
+//! and sees the state and the plot follow. It keeps a screenshot in
+//! target/hmi-screenshot.png (docs/img/hmi.png is one of these).
+//!
+//! Needs Debian's `chromium` and `chromium-driver`; without them the test says so and
+//! passes, unless SOFTNC_REQUIRE_BROWSER is set (CI sets it, after installing them).
+
+#[path = "support/control.rs"]
+mod control;
+#[path = "support/station.rs"]
+mod station;
+
+use control::*;
+use hmi_bridge::client::Bridge;
+use serde_json::{json, Value};
+use station::*;
+use std::process::{Command as Proc, Stdio};
+use std::time::{Duration, Instant};
+
+const ELEMENT: &str = "element-6066-11e4-a52e-4f735466cecf";
+
+fn which(name: &str) -> Option<String> {
+    let out = Proc::new("sh")
+        .args(["-c", &format!("command -v {name}")])
+        .output()
+        .ok()?;
+    let p = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    (!p.is_empty()).then_some(p)
+}
+
+/// A WebDriver session.
+struct Browser {
+    driver: Bridge,
+    session: String,
+    _kid: Kid,
+}
+
+impl Browser {
+    fn start(chromium: &str, chromedriver: &str) -> Browser {
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let kid = Kid(Proc::new(chromedriver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap());
+        let driver = Bridge::new(format!("127.0.0.1:{port}"), None);
+        let t = Instant::now();
+        while driver.get("/status").is_err() {
+            assert!(
+                t.elapsed() < Duration::from_secs(20),
+                "chromedriver did not start"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let caps = json!({ "capabilities": { "alwaysMatch": {
+            "browserName": "chrome",
+            "goog:chromeOptions": {
+                "binary": chromium,
+                "args": ["--headless=new", "--no-sandbox", "--disable-gpu",
+                         "--disable-dev-shm-usage", "--window-size=1440,980",
+                         "--force-device-scale-factor=1"]
+            }
+        }}});
+        let a = driver.post("/session", &caps).unwrap();
+        assert_eq!(a.status, 200, "{}", a.body);
+        let session = a.json()["value"]["sessionId"].as_str().unwrap().to_string();
+        Browser {
+            driver,
+            session,
+            _kid: kid,
+        }
+    }
+
+    fn call(&self, method: &str, path: &str, body: Value) -> Value {
+        let p = format!("/session/{}{path}", self.session);
+        let a = self
+            .driver
+            .request(method, &p, Some(&body.to_string()))
+            .unwrap();
+        assert_eq!(a.status, 200, "{method} {path}: {}", a.body);
+        a.json()["value"].clone()
+    }
+
+    fn script(&self, js: &str) -> Value {
+        self.call("POST", "/execute/sync", json!({ "script": js, "args": [] }))
+    }
+
+    fn find(&self, css: &str) -> String {
+        let v = self.call(
+            "POST",
+            "/element",
+            json!({ "using": "css selector", "value": css }),
+        );
+        v[ELEMENT].as_str().unwrap().to_string()
+    }
+
+    fn click(&self, css: &str) {
+        let e = self.find(css);
+        self.call("POST", &format!("/element/{e}/click"), json!({}));
+    }
+
+    fn type_into(&self, css: &str, text: &str) {
+        let e = self.find(css);
+        self.call("POST", &format!("/element/{e}/clear"), json!({}));
+        self.call(
+            "POST",
+            &format!("/element/{e}/value"),
+            json!({ "text": text }),
+        );
+    }
+
+    /// Waits until the script gives `want`.
+    fn wait(&self, js: &str, want: &Value, limit: Duration) {
+        let t = Instant::now();
+        loop {
+            let v = self.script(js);
+            if &v == want {
+                return;
+            }
+            assert!(t.elapsed() < limit, "{js} stayed {v}, wanted {want}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    fn screenshot(&self, to: &std::path::Path) {
+        let v = self.call("GET", "/screenshot", json!({}));
+        let png = decode_base64(v.as_str().unwrap());
+        assert_eq!(&png[1..4], b"PNG");
+        std::fs::write(to, png).unwrap();
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self
+            .driver
+            .request("DELETE", &format!("/session/{}", self.session), None);
+    }
+}
+
+fn decode_base64(s: &str) -> Vec<u8> {
+    let val = |c: u8| -> Option<u32> {
+        Some(match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => return None,
+        } as u32)
+    };
+    let mut out = Vec::with_capacity(s.len() * 3 / 4);
+    let (mut acc, mut bits) = (0u32, 0u32);
+    for c in s.bytes().filter_map(val) {
+        acc = (acc << 6) | c;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    out
+}
+
+const SQUARE: &str = "; softnc HMI demo: a square with G41, D1\nN10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F1500\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n";
+
+#[test]
+fn the_page_stops_edits_an_offset_and_resumes() {
+    let (Some(chromium), Some(chromedriver)) = (which("chromium"), which("chromedriver")) else {
+        if std::env::var_os("SOFTNC_REQUIRE_BROWSER").is_some() {
+            panic!("chromium and chromedriver are required (SOFTNC_REQUIRE_BROWSER is set)");
+        }
+        eprintln!(
+            "skipped: chromium or chromedriver not installed (Debian: chromium chromium-driver)"
+        );
+        return;
+    };
+    let prog = scratch("square-hmi.mpf");
+    std::fs::write(&prog, SQUARE).unwrap();
+    let st = station("browser", Some(&prog), &["--set", "D1=10"], &[]);
+    let b = Browser::start(&chromium, &chromedriver);
+    b.call(
+        "POST",
+        "/url",
+        json!({ "url": format!("http://{}/", st.bridge.addr) }),
+    );
+    b.wait(
+        "return document.body.dataset.state",
+        &json!("ACTIVE"),
+        Duration::from_secs(30),
+    );
+    // The program text is shown and the plot drawn.
+    b.wait(
+        "return document.querySelectorAll('#program div').length",
+        &json!(SQUARE.lines().count()),
+        Duration::from_secs(10),
+    );
+    b.wait(
+        "return document.querySelectorAll('#g-path polyline').length > 0",
+        &json!(true),
+        Duration::from_secs(10),
+    );
+    // On the top edge (N40): NC stop.
+    st.watch(Duration::from_secs(60), |s| s["line"] == json!(5));
+    b.click("#btn-stop");
+    b.wait(
+        "return document.body.dataset.state",
+        &json!("STOPPED"),
+        Duration::from_secs(10),
+    );
+    let path_before = b.script("return document.querySelector('#g-path').innerHTML");
+    // D1 from 10 to 12.
+    b.type_into("input[data-d='1'][data-wear='0']", "12");
+    b.click("button[data-set='1']");
+    b.wait(
+        "return document.body.dataset.toolsVersion",
+        &json!("2"),
+        Duration::from_secs(10),
+    );
+    b.wait(
+        "return document.querySelector('#msg').className",
+        &json!("good"),
+        Duration::from_secs(5),
+    );
+    // The plot follows the new radius.
+    let t = Instant::now();
+    while b.script("return document.querySelector('#g-path').innerHTML") == path_before {
+        assert!(
+            t.elapsed() < Duration::from_secs(10),
+            "the plot did not change"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let tools = st.bridge.get("/api/tools").unwrap().json();
+    assert_eq!(tools["offsets"][0]["radius"], json!(12.0));
+    // NC start: repositioning, then on.
+    b.click("#btn-start");
+    b.wait(
+        "return document.body.dataset.state",
+        &json!("ACTIVE"),
+        Duration::from_secs(10),
+    );
+    st.watch(Duration::from_secs(60), |s| s["line"] == json!(6));
+    std::thread::sleep(Duration::from_millis(1500));
+    let shot = root().join("target").join("hmi-screenshot.png");
+    b.screenshot(&shot);
+    b.wait(
+        "return document.body.dataset.state",
+        &json!("END"),
+        Duration::from_secs(60),
+    );
+    assert!(std::fs::metadata(&shot).unwrap().len() > 10_000);
+}

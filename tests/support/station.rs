@@ -1,0 +1,123 @@
+//! A whole control for a test: plc-sim, nc-kernel and hmi-bridge of one instance, and the
+//! bridge's API as the test reads it.
+#![allow(dead_code)] // each test file uses a different part
+
+use crate::control::*;
+use hmi_bridge::client::Bridge;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// plc-sim, nc-kernel and hmi-bridge of one instance.
+pub struct Station {
+    pub bridge: Bridge,
+    pub trace: PathBuf,
+    // Children before the scope: they are killed before the instance is cleaned.
+    pub kids: Vec<Kid>,
+    _scope: Scope,
+}
+
+pub fn station(tag: &str, program: Option<&Path>, kernel: &[&str], bridge: &[&str]) -> Station {
+    let name = instance(tag);
+    let scope = Scope::new(&name);
+    let trace = scratch(&format!("{tag}.csv"));
+    let mut kids = vec![spawn(
+        "plc-sim",
+        &["--instance", &name, "--trace", trace.to_str().unwrap()],
+        &scratch(&format!("{tag}-plc.log")),
+    )];
+    let mut args = vec!["--instance", name.as_str()];
+    if let Some(p) = program {
+        args.extend([p.to_str().unwrap(), "--start"]);
+    }
+    args.extend(kernel);
+    kids.push(spawn(
+        "nc-kernel",
+        &args,
+        &scratch(&format!("{tag}-nck.log")),
+    ));
+    let log = scratch(&format!("{tag}-hmi.log"));
+    let mut args = vec!["--instance", name.as_str(), "--port", "0"];
+    args.extend(bridge);
+    kids.push(spawn("hmi-bridge", &args, &log));
+    let t = Instant::now();
+    let addr = loop {
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        if let Some(a) = text
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+        {
+            break a.to_string();
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let token = bridge
+        .windows(2)
+        .find(|w| w[0] == "--token")
+        .map(|w| w[1].to_string());
+    let s = Station {
+        bridge: Bridge::new(addr, token),
+        trace,
+        kids,
+        _scope: scope,
+    };
+    s.watch(Duration::from_secs(30), |v| v["connected"] == json!(true));
+    // Ready when the kernel's tool table has arrived too.
+    let t = Instant::now();
+    while s.bridge.get("/api/tools").unwrap().status != 200 {
+        assert!(t.elapsed() < Duration::from_secs(10), "no tool table");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    s
+}
+
+impl Station {
+    pub fn status(&self) -> Value {
+        let a = self.bridge.get("/api/status").unwrap();
+        assert_eq!(a.status, 200, "{}", a.body);
+        a.json()
+    }
+
+    /// Statuses until `until` holds for one (all of them returned), within `limit`.
+    pub fn watch(&self, limit: Duration, until: impl Fn(&Value) -> bool) -> Vec<Value> {
+        let t = Instant::now();
+        let mut seen = Vec::new();
+        while t.elapsed() < limit {
+            let s = self.status();
+            let done = until(&s);
+            seen.push(s);
+            if done {
+                return seen;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        panic!("not reached in {limit:?}; last {:?}", seen.last());
+    }
+
+    pub fn post(&self, path: &str, body: Value) -> (u16, Value) {
+        let a = self.bridge.post(path, &body).unwrap();
+        (a.status, a.json())
+    }
+
+    /// plc-sim ends (flushing its trace); its rows.
+    pub fn trace(&mut self) -> Vec<TraceRow> {
+        terminate(&mut self.kids[0]);
+        trace(&self.trace)
+    }
+}
+
+pub fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+pub fn pos(s: &Value) -> [f64; 3] {
+    [f(&s["pos"][0]), f(&s["pos"][1]), f(&s["pos"][2])]
+}
+
+pub fn write(name: &str, text: &str) -> PathBuf {
+    let p = scratch(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
