@@ -408,6 +408,6 @@ mod tests {
             2 * 8 + 2 * 4 + 3 * 8 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8
         );
         assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT);
-        assert_eq!(std::mem::size_of::<Reply>(), 8 + TEXT);
+        assert_eq!(std::mem::size_of::<Reply>(), 16 + TEXT);
     }
 }
