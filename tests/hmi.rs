@@ -228,13 +228,10 @@ fn an_edit_while_active_acts_at_the_next_d_when_machine_data_allows_it() {
 
 /// One raw request; the status code of the answer (or 0 if the connection closed without
 /// one) and its text.
-fn raw(addr: &str, bytes: &[u8], pause_after: Option<Duration>) -> (u16, String) {
+fn raw(addr: &str, bytes: &[u8]) -> (u16, String) {
     let mut s = std::net::TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
     let _ = s.write_all(bytes);
-    if let Some(p) = pause_after {
-        std::thread::sleep(p);
-    }
     let mut out = Vec::new();
     let _ = s.read_to_end(&mut out);
     let text = String::from_utf8_lossy(&out).to_string();
@@ -246,141 +243,278 @@ fn raw(addr: &str, bytes: &[u8], pause_after: Option<Duration>) -> (u16, String)
     (code, text)
 }
 
-/// Every kind of bad request gets a 4xx with a message, and none changes anything: the tool
-/// table stays at version 1 with D1 = 10, the channel in RESET.
-#[test]
-fn bad_requests_get_a_4xx_with_a_message_and_change_nothing() {
-    const TOKEN: &str = "s3cret-token-for-tests";
-    let st = station("bad", None, &["--set", "D1=10"], &["--token", TOKEN]);
-    let addr = st.bridge.addr.clone();
-    let no_token = Bridge::new(addr.clone(), None);
-    let wrong = Bridge::new(addr.clone(), Some("not-the-token-at-all".into()));
-    let offset = |b: &Bridge, body: &str| b.request("POST", "/api/offset", Some(body)).unwrap();
-    let cases: Vec<(&str, u16, hmi_bridge::client::Answer)> = vec![
-        ("missing token", 401, no_token.get("/api/status").unwrap()),
-        (
-            "missing token, command",
-            401,
-            offset(&no_token, r#"{"d":1,"radius":12}"#),
-        ),
-        ("wrong token", 401, offset(&wrong, r#"{"d":1,"radius":12}"#)),
-        (
-            "malformed JSON",
-            400,
-            offset(&st.bridge, r#"{"d":1,"radius":"#),
-        ),
-        ("not JSON", 400, offset(&st.bridge, "radius=12")),
-        ("NaN", 400, offset(&st.bridge, r#"{"d":1,"radius":NaN}"#)),
-        (
-            "NaN as text",
-            400,
-            offset(&st.bridge, r#"{"d":1,"radius":"NaN"}"#),
-        ),
-        (
-            "unknown field",
-            400,
-            offset(&st.bridge, r#"{"d":1,"radius":12,"force":true}"#),
-        ),
-        ("missing field", 400, offset(&st.bridge, r#"{"d":1}"#)),
-        (
-            "negative D",
-            400,
-            offset(&st.bridge, r#"{"d":-1,"radius":12}"#),
-        ),
-        (
-            "unknown D",
-            422,
-            offset(&st.bridge, r#"{"d":99,"radius":12}"#),
-        ),
-        (
-            "huge radius",
-            422,
-            offset(&st.bridge, r#"{"d":1,"radius":1e300}"#),
-        ),
-        (
-            "radius beyond the limit",
-            422,
-            offset(&st.bridge, r#"{"d":1,"radius":-500.5}"#),
-        ),
-        (
-            "wear beyond the limit",
-            422,
-            offset(&st.bridge, r#"{"d":1,"radius":1.5,"wear":true}"#),
-        ),
-        (
-            "overflowing number",
-            400,
-            offset(&st.bridge, r#"{"d":1,"radius":1e999}"#),
-        ),
-        (
-            "oversized body",
-            413,
-            offset(
-                &st.bridge,
-                &format!(r#"{{"d":1,"radius":12,"x":"{}"}}"#, "a".repeat(20_000)),
-            ),
-        ),
-        (
-            "unknown resource",
-            404,
-            st.bridge.get("/api/nothing").unwrap(),
-        ),
-        ("wrong method", 405, st.bridge.get("/api/offset").unwrap()),
-        (
-            "program outside the folder",
-            422,
-            st.bridge
-                .post("/api/load", &json!({ "program": "../Cargo.toml" }))
-                .unwrap(),
-        ),
-        (
-            "override out of range",
-            422,
-            st.bridge
-                .post("/api/override", &json!({ "percent": 500 }))
-                .unwrap(),
-        ),
-        (
-            "body on start",
-            400,
-            st.bridge
-                .request("POST", "/api/start", Some("[1,2]"))
-                .unwrap(),
-        ),
-    ];
-    for (what, want, a) in &cases {
-        assert_eq!(a.status, *want, "{what}: {}", a.body);
-        let msg = a.json()["error"].as_str().unwrap_or("").to_string();
-        assert!(msg.len() > 5, "{what}: no message in {}", a.body);
+const TOKEN: &str = "s3cret-token-for-tests";
+
+/// An hmi-bridge alone (no kernel: every request below is refused before one is asked),
+/// with a token.
+struct Lone {
+    bridge: Bridge,
+    _kid: Kid,
+    _scope: Scope,
+}
+
+fn lone(tag: &str) -> Lone {
+    let name = instance(tag);
+    let scope = Scope::light(&name);
+    let log = scratch(&format!("{tag}-hmi.log"));
+    let kid = spawn(
+        "hmi-bridge",
+        &["--instance", &name, "--port", "0", "--token", TOKEN],
+        &log,
+    );
+    let t = Instant::now();
+    let addr = loop {
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        if let Some(a) = text
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+        {
+            break a.to_string();
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Lone {
+        bridge: Bridge::new(addr, Some(TOKEN.into())),
+        _kid: kid,
+        _scope: scope,
     }
-    // A body announced far larger than allowed is refused before it is read.
+}
+
+/// The answer has status `want` and a message that says something.
+fn refused(a: hmi_bridge::client::Answer, want: u16, what: &str) -> String {
+    assert_eq!(a.status, want, "{what}: {}", a.body);
+    let msg = a.json()["error"].as_str().unwrap_or("").to_string();
+    assert!(msg.len() > 5, "{what}: no message in {}", a.body);
+    msg
+}
+
+fn offset_raw(b: &Bridge, body: &str) -> hmi_bridge::client::Answer {
+    b.request("POST", "/api/offset", Some(body)).unwrap()
+}
+
+#[test]
+fn a_missing_token_is_refused() {
+    let l = lone("notoken");
+    let none = Bridge::new(l.bridge.addr.clone(), None);
+    let m = refused(none.get("/api/status").unwrap(), 401, "status");
+    assert!(m.contains("token"), "{m}");
+    refused(offset_raw(&none, r#"{"d":1,"radius":12}"#), 401, "offset");
+    refused(none.get("/").unwrap(), 401, "the page");
+}
+
+#[test]
+fn a_wrong_token_is_refused() {
+    let l = lone("wrongtoken");
+    let wrong = Bridge::new(l.bridge.addr.clone(), Some("not-the-token-at-all".into()));
+    let m = refused(offset_raw(&wrong, r#"{"d":1,"radius":12}"#), 401, "offset");
+    assert!(m.contains("wrong token"), "{m}");
+    // The token in the address (event streams and the page) is checked alike.
+    let (code, _) = raw(
+        &l.bridge.addr,
+        b"GET /api/events?token=nope HTTP/1.1\r\nHost: x\r\n\r\n",
+    );
+    assert_eq!(code, 401);
+}
+
+#[test]
+fn malformed_json_is_refused() {
+    let l = lone("malformed");
+    for body in [
+        r#"{"d":1,"radius":"#,
+        "radius=12",
+        "",
+        "[1,2]",
+        r#"{"d":1,"radius":1e999}"#,
+    ] {
+        let m = refused(offset_raw(&l.bridge, body), 400, body);
+        assert!(m.contains("malformed JSON"), "{body}: {m}");
+    }
+    refused(
+        l.bridge
+            .request("POST", "/api/start", Some("[1,2]"))
+            .unwrap(),
+        400,
+        "start",
+    );
+}
+
+#[test]
+fn nan_is_refused() {
+    let l = lone("nan");
+    refused(offset_raw(&l.bridge, r#"{"d":1,"radius":NaN}"#), 400, "NaN");
+    refused(
+        offset_raw(&l.bridge, r#"{"d":1,"radius":"NaN"}"#),
+        400,
+        "NaN as text",
+    );
+}
+
+#[test]
+fn unknown_and_missing_fields_are_refused() {
+    let l = lone("fields");
+    let m = refused(
+        offset_raw(&l.bridge, r#"{"d":1,"radius":12,"force":true}"#),
+        400,
+        "unknown",
+    );
+    assert!(m.contains("force"), "{m}");
+    let m = refused(offset_raw(&l.bridge, r#"{"d":1}"#), 400, "missing");
+    assert!(m.contains("radius"), "{m}");
+    refused(
+        offset_raw(&l.bridge, r#"{"d":-1,"radius":12}"#),
+        400,
+        "negative D",
+    );
+}
+
+#[test]
+fn huge_values_are_refused() {
+    let l = lone("huge");
+    let m = refused(
+        offset_raw(&l.bridge, r#"{"d":1,"radius":1e300}"#),
+        422,
+        "1e300",
+    );
+    assert!(m.contains("hmi.max_radius"), "{m}");
+    refused(
+        offset_raw(&l.bridge, r#"{"d":1,"radius":-500.5}"#),
+        422,
+        "beyond the limit",
+    );
+    let m = refused(
+        offset_raw(&l.bridge, r#"{"d":1,"radius":1.5,"wear":true}"#),
+        422,
+        "wear",
+    );
+    assert!(m.contains("hmi.max_wear"), "{m}");
+    refused(
+        l.bridge
+            .post("/api/override", &json!({ "percent": 500 }))
+            .unwrap(),
+        422,
+        "override",
+    );
+}
+
+#[test]
+fn oversized_bodies_are_refused() {
+    let l = lone("oversized");
+    let big = format!(r#"{{"d":1,"radius":12,"x":"{}"}}"#, "a".repeat(20_000));
+    refused(offset_raw(&l.bridge, &big), 413, "20 kB");
+    // Announced far larger than allowed: refused before it is read.
     let (code, text) = raw(
-        &addr,
-        format!(
-            "POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 1000000000\r\n\r\n{{"
-        )
-        .as_bytes(),
-        None,
+        &l.bridge.addr,
+        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 1000000000\r\n\r\n{{")
+            .as_bytes(),
     );
     assert_eq!(code, 413, "{text}");
-    // Slow clients: a body that stops coming, and a head that never ends.
-    let t = Instant::now();
+    // A body without a length.
     let (code, text) = raw(
-        &addr,
-        format!(
-            "POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,"
-        )
-        .as_bytes(),
-        None,
+        &l.bridge.addr,
+        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nTransfer-Encoding: chunked\r\n\r\n")
+            .as_bytes(),
     );
-    assert_eq!(code, 408, "{text}");
-    assert!(text.contains("too slowly"), "{text}");
-    let (code, text) = raw(&addr, b"GET /api/status HTTP/1.1\r\nHost: x\r\n", None);
-    assert_eq!(code, 408, "{text}");
-    assert!(t.elapsed() < Duration::from_secs(30));
-    // Meanwhile others are served.
-    assert_eq!(st.bridge.get("/api/status").unwrap().status, 200);
-    // Nothing changed.
+    assert_eq!(code, 411, "{text}");
+    // A head with too many fields.
+    let mut head = String::from("GET /api/status HTTP/1.1\r\n");
+    for i in 0..100 {
+        head.push_str(&format!("X-Field-{i}: {i}\r\n"));
+    }
+    head.push_str("\r\n");
+    assert_eq!(raw(&l.bridge.addr, head.as_bytes()).0, 431);
+}
+
+#[test]
+fn slow_clients_are_refused_and_others_served_meanwhile() {
+    let l = lone("slow");
+    let addr = l.bridge.addr.clone();
+    let t = Instant::now();
+    std::thread::scope(|s| {
+        let body = s.spawn(|| {
+            raw(
+                &addr,
+                format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,")
+                    .as_bytes(),
+            )
+        });
+        let head = s.spawn(|| raw(&addr, b"GET /api/status HTTP/1.1\r\nHost: x\r\n"));
+        // Meanwhile others are served at once.
+        std::thread::sleep(Duration::from_millis(300));
+        let t1 = Instant::now();
+        assert_eq!(l.bridge.get("/api/programs").unwrap().status, 200);
+        assert!(t1.elapsed() < Duration::from_secs(1));
+        let (code, text) = body.join().unwrap();
+        assert_eq!(code, 408, "{text}");
+        assert!(text.contains("too slowly"), "{text}");
+        let (code, text) = head.join().unwrap();
+        assert_eq!(code, 408, "{text}");
+    });
+    assert!(t.elapsed() < Duration::from_secs(15));
+}
+
+#[test]
+fn unknown_resources_wrong_methods_and_foreign_programs_are_refused() {
+    let l = lone("routes");
+    refused(l.bridge.get("/api/nothing").unwrap(), 404, "unknown");
+    refused(l.bridge.get("/api/offset").unwrap(), 405, "GET offset");
+    refused(
+        l.bridge.request("DELETE", "/api/status", None).unwrap(),
+        405,
+        "DELETE",
+    );
+    for p in [
+        "../Cargo.toml",
+        "/etc/passwd",
+        "",
+        "siemens-840c/nothing.mpf",
+    ] {
+        refused(
+            l.bridge
+                .post("/api/load", &json!({ "program": p }))
+                .unwrap(),
+            422,
+            p,
+        );
+    }
+}
+
+/// Through a whole control: an unknown D is refused, and after every kind of bad request
+/// nothing has changed: the tool table at version 1 with D1 = 10, the channel in RESET.
+#[test]
+fn bad_requests_change_nothing() {
+    let st = station("bad", None, &["--set", "D1=10"], &["--token", TOKEN]);
+    let m = refused(
+        offset_raw(&st.bridge, r#"{"d":99,"radius":12}"#),
+        422,
+        "unknown D",
+    );
+    assert!(m.contains("D99"), "{m}");
+    let none = Bridge::new(st.bridge.addr.clone(), None);
+    // A good edit without the token, then bad ones with it.
+    let bodies = [
+        r#"{"d":1,"radius":12}"#,
+        r#"{"d":1,"radius":"#,
+        r#"{"d":1,"radius":NaN}"#,
+        r#"{"d":1,"radius":12,"force":true}"#,
+        r#"{"d":1,"radius":1e300}"#,
+        r#"{"d":1,"radius":2,"wear":true}"#,
+    ];
+    for body in bodies {
+        let a = offset_raw(&none, body);
+        assert_eq!(a.status, 401);
+    }
+    for body in &bodies[1..] {
+        let a = offset_raw(&st.bridge, body);
+        assert!((400..500).contains(&a.status), "{body}: {}", a.body);
+    }
+    let (code, _) = raw(
+        &st.bridge.addr,
+        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,\"radius\":12")
+            .as_bytes(),
+    );
+    assert_eq!(code, 408);
     let tools = st.bridge.get("/api/tools").unwrap().json();
     assert_eq!(tools["version"], json!(1));
     assert_eq!(tools["offsets"][0]["radius"], json!(10.0));

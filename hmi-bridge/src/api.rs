@@ -155,8 +155,16 @@ impl Api {
     fn simple(&self, req: &Request, c: Command) -> Answer {
         let text = text(req)?;
         if !text.trim().is_empty() {
-            let _: Empty = serde_json::from_str(&text)
-                .map_err(|e| refuse(400, format!("the body must be empty or {{}}: {e}")))?;
+            match serde_json::from_str::<Value>(&text) {
+                Ok(Value::Object(m)) if m.is_empty() => {}
+                Ok(_) => {
+                    return Err(refuse(
+                        400,
+                        "this command takes no parameters: send {} or nothing",
+                    ))
+                }
+                Err(e) => return Err(refuse(400, format!("malformed JSON: {e}"))),
+            }
         }
         self.command(c)
     }
@@ -347,10 +355,6 @@ impl Api {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct Empty {}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct SingleBlock {
     on: bool,
 }
@@ -381,9 +385,16 @@ fn text(req: &Request) -> Result<String, Refuse> {
     String::from_utf8(req.body.clone()).map_err(|_| refuse(400, "the body is not UTF-8"))
 }
 
+/// The body as a JSON object of type `T` (serde would also take an array in field order:
+/// not here).
 fn body<T: serde::de::DeserializeOwned>(req: &Request) -> Result<T, Refuse> {
     let text = text(req)?;
-    serde_json::from_str(&text).map_err(|e| refuse(400, format!("malformed JSON: {e}")))
+    let v: Value =
+        serde_json::from_str(&text).map_err(|e| refuse(400, format!("malformed JSON: {e}")))?;
+    if !v.is_object() {
+        return Err(refuse(400, "malformed JSON: expected an object"));
+    }
+    serde_json::from_value(v).map_err(|e| refuse(400, format!("malformed JSON: {e}")))
 }
 
 fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {

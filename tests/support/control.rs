@@ -29,7 +29,7 @@ pub fn scratch(name: &str) -> PathBuf {
 /// A scope also takes one of `STATIONS` places: a kernel's IPO thread and plc-sim run
 /// SCHED_FIFO, and more than two unoptimised controls at once on a 2-core machine leave the
 /// kernels' control threads (normal priority) too little time to answer commands.
-pub struct Scope(pub Instance, Place);
+pub struct Scope(pub Instance, Option<Place>);
 
 const STATIONS: usize = 2;
 
@@ -59,7 +59,12 @@ impl Drop for Place {
 
 impl Scope {
     pub fn new(name: &str) -> Scope {
-        Scope(Instance::new(name).unwrap(), Place::take())
+        Scope(Instance::new(name).unwrap(), Some(Place::take()))
+    }
+
+    /// For an instance without kernel and plc-sim (nothing real-time): no place taken.
+    pub fn light(name: &str) -> Scope {
+        Scope(Instance::new(name).unwrap(), None)
     }
 }
 
