@@ -423,11 +423,13 @@ impl Cyclic {
         if self.reset_pending && self.sp.v_path == 0.0 {
             self.reset_now();
         }
-        bus.setpoint(&self.sp);
         self.events(k, bus);
         self.flush_outbox(bus);
         let st = self.status();
         bus.status(&st);
+        // The setpoint last: its event wakes plc-sim, which on a shared core runs only once
+        // this thread sleeps, and which then finds this cycle's aux requests already there.
+        bus.setpoint(&self.sp);
     }
 
     /// Reads the PLC interface signals and reacts to them.
