@@ -226,6 +226,13 @@ fn an_edit_while_active_acts_at_the_next_d_when_machine_data_allows_it() {
     }
 }
 
+/// A raw POST to /api/offset with the token and `fields` (each ending in CRLF), then
+/// `body`.
+fn offset_post(fields: &str, body: &str) -> Vec<u8> {
+    format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\n{fields}\r\n{body}")
+        .into_bytes()
+}
+
 /// One raw request; the status code of the answer (or 0 if the connection closed without
 /// one) and its text.
 fn raw(addr: &str, bytes: &[u8]) -> (u16, String) {
@@ -262,19 +269,7 @@ fn lone(tag: &str) -> Lone {
         &["--instance", &name, "--port", "0", "--token", TOKEN],
         &log,
     );
-    let t = Instant::now();
-    let addr = loop {
-        let text = std::fs::read_to_string(&log).unwrap_or_default();
-        if let Some(a) = text
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-        {
-            break a.to_string();
-        }
-        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let addr = bridge_address(&log);
     Lone {
         bridge: Bridge::new(addr, Some(TOKEN.into())),
         _kid: kid,
@@ -406,15 +401,13 @@ fn oversized_bodies_are_refused() {
     // Announced far larger than allowed: refused before it is read.
     let (code, text) = raw(
         &l.bridge.addr,
-        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 1000000000\r\n\r\n{{")
-            .as_bytes(),
+        &offset_post("Content-Length: 1000000000\r\n", "{"),
     );
     assert_eq!(code, 413, "{text}");
     // A body without a length.
     let (code, text) = raw(
         &l.bridge.addr,
-        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nTransfer-Encoding: chunked\r\n\r\n")
-            .as_bytes(),
+        &offset_post("Transfer-Encoding: chunked\r\n", ""),
     );
     assert_eq!(code, 411, "{text}");
     // A head with too many fields.
@@ -432,13 +425,7 @@ fn slow_clients_are_refused_and_others_served_meanwhile() {
     let addr = l.bridge.addr.clone();
     let t = Instant::now();
     std::thread::scope(|s| {
-        let body = s.spawn(|| {
-            raw(
-                &addr,
-                format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,")
-                    .as_bytes(),
-            )
-        });
+        let body = s.spawn(|| raw(&addr, &offset_post("Content-Length: 40\r\n", "{\"d\":1,")));
         let head = s.spawn(|| raw(&addr, b"GET /api/status HTTP/1.1\r\nHost: x\r\n"));
         // Meanwhile others are served at once.
         std::thread::sleep(Duration::from_millis(300));
@@ -511,8 +498,7 @@ fn bad_requests_change_nothing() {
     }
     let (code, _) = raw(
         &st.bridge.addr,
-        format!("POST /api/offset HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer {TOKEN}\r\nContent-Length: 40\r\n\r\n{{\"d\":1,\"radius\":12")
-            .as_bytes(),
+        &offset_post("Content-Length: 40\r\n", "{\"d\":1,\"radius\":12"),
     );
     assert_eq!(code, 408);
     let tools = st.bridge.get("/api/tools").unwrap().json();

@@ -188,21 +188,9 @@ impl Api {
     }
 
     fn offset(&self, b: Offset) -> Answer {
-        let (limit, key) = if b.wear {
-            (self.md.hmi.max_wear, "hmi.max_wear")
-        } else {
-            (self.md.hmi.max_radius, "hmi.max_radius")
-        };
-        if !b.radius.is_finite() || b.radius.abs() > limit {
-            return Err(refuse(
-                422,
-                format!(
-                    "{} {} mm is beyond the limit of ±{limit} mm (machine data {key}); nothing changed",
-                    if b.wear { "radius wear" } else { "radius" },
-                    b.radius
-                ),
-            ));
-        }
+        // The kernel checks again; here the answer can say the value is wrong (422).
+        nc_kernel::tools::check_edit(b.wear, b.radius, self.md.hmi.offset_limit(b.wear))
+            .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         let snap = self.link.snapshot();
         if let Some(t) = &snap.tools {
             if !t.entries().iter().any(|e| e.d == b.d) {

@@ -9,8 +9,7 @@ pub mod link;
 pub mod net;
 pub mod plot;
 
-use nc_kernel::MachineData;
-use softnc_protocol::Instance;
+use nc_kernel::process::args::{instance, machine, only_flags, value};
 use std::net::{IpAddr, SocketAddr};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,12 +29,6 @@ pub fn main(args: Vec<String>) -> ExitCode {
     }
 }
 
-fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
-    args.windows(2)
-        .find(|w| w[0] == flag)
-        .map(|w| w[1].as_str())
-}
-
 fn run(args: Vec<String>) -> Result<(), String> {
     if args.iter().any(|a| a == "--help" || a == "-h") {
         eprintln!("{USAGE}");
@@ -49,18 +42,9 @@ fn run(args: Vec<String>) -> Result<(), String> {
         "--token",
         "--programs",
     ];
-    let mut i = 0;
-    while i < args.len() {
-        if !known.contains(&args[i].as_str()) || i + 1 >= args.len() {
-            return Err(format!("unexpected argument {}\n{USAGE}", args[i]));
-        }
-        i += 2;
-    }
-    let instance =
-        Instance::new(value(&args, "--instance").unwrap_or(softnc_protocol::DEFAULT_INSTANCE))
-            .map_err(|e| e.to_string())?;
-    let md = MachineData::load(value(&args, "--machine").map(std::path::Path::new), &[])
-        .map_err(|e| e.to_string())?;
+    only_flags(&args, &known, USAGE)?;
+    let instance = instance(&args)?;
+    let md = machine(&args)?;
     let port = match value(&args, "--port") {
         // 0: any free port (tests); the address taken is printed.
         Some(p) => p

@@ -240,6 +240,18 @@ pub struct HmiData {
     pub edit_while_active: bool,
 }
 
+impl HmiData {
+    /// The largest value an operator may enter for the radius wear (`wear`) or the geometry
+    /// radius.
+    pub fn offset_limit(&self, wear: bool) -> f64 {
+        if wear {
+            self.max_wear
+        } else {
+            self.max_radius
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisData {

@@ -49,6 +49,23 @@ pub struct ToolTable {
     pub live: Option<LiveEdits>,
 }
 
+/// Whether an operator may enter `value` as a geometry radius (or the radius wear, when
+/// `wear`): finite and within `limit` mm either side (machine data `hmi.max_radius` or
+/// `hmi.max_wear`, [`crate::machine_data::HmiData::offset_limit`]).
+pub fn check_edit(wear: bool, value: f64, limit: f64) -> Result<(), String> {
+    let what = if wear { "radius wear" } else { "radius" };
+    if !value.is_finite() {
+        return Err(format!("{what} {value} is not a number"));
+    }
+    if value.abs() > limit {
+        return Err(format!(
+            "{what} {value} mm is beyond the limit of ±{limit} mm (machine data hmi.max_{})",
+            if wear { "wear" } else { "radius" }
+        ));
+    }
+    Ok(())
+}
+
 /// Offset edits an operator makes while a program runs (machine data
 /// `hmi.edit_while_active`): the kernel's control thread adds them, the running program's
 /// preparation takes each when that D is next programmed (840C 11.8), in a block it has not
@@ -238,16 +255,7 @@ impl ToolTable {
         value: f64,
         limit: f64,
     ) -> Result<(), String> {
-        let what = if wear { "radius wear" } else { "radius" };
-        if !value.is_finite() {
-            return Err(format!("{what} {value} is not a number"));
-        }
-        if value.abs() > limit {
-            return Err(format!(
-                "{what} {value} mm is beyond the limit of ±{limit} mm (machine data hmi.max_{})",
-                if wear { "wear" } else { "radius" }
-            ));
-        }
+        check_edit(wear, value, limit)?;
         let label = match t {
             Some(t) => format!("T{t} D{d}"),
             None => format!("D{d}"),

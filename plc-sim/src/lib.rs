@@ -14,11 +14,12 @@
 pub mod axis;
 
 use axis::Axis;
+use nc_kernel::process::args::{instance, machine, only_flags, priority, value};
 use nc_kernel::runtime::os::now_ns;
 use nc_kernel::MachineData;
 use softnc_protocol::iceoryx2::port::server::Server;
 use softnc_protocol::iceoryx2::prelude::ipc;
-use softnc_protocol::{state, ActualValues, AuxAck, AuxRequest, Instance, PlcSignals, SetpointMsg};
+use softnc_protocol::{state, ActualValues, AuxAck, AuxRequest, PlcSignals, SetpointMsg};
 use std::io::Write;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -57,12 +58,6 @@ pub fn main(args: Vec<String>) -> ExitCode {
             ExitCode::from(2)
         }
     }
-}
-
-fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
-    args.windows(2)
-        .find(|w| w[0] == flag)
-        .map(|w| w[1].as_str())
 }
 
 fn cycle_arg(args: &[String], flag: &str) -> Result<Option<u64>, String> {
@@ -117,30 +112,16 @@ fn run(args: Vec<String>) -> Result<(), String> {
         "--priority",
         "--histogram",
     ];
-    let mut i = 0;
-    while i < args.len() {
-        if !known.contains(&args[i].as_str()) || i + 1 >= args.len() {
-            return Err(format!("unexpected argument {}\n{USAGE}", args[i]));
-        }
-        i += 2;
-    }
-    let instance =
-        Instance::new(value(&args, "--instance").unwrap_or(softnc_protocol::DEFAULT_INSTANCE))
-            .map_err(|e| e.to_string())?;
-    let md = MachineData::load(value(&args, "--machine").map(std::path::Path::new), &[])
-        .map_err(|e| e.to_string())?;
+    only_flags(&args, &known, USAGE)?;
+    let instance = instance(&args)?;
+    let md = machine(&args)?;
     let script = Script {
         estop_at: cycle_arg(&args, "--estop-at")?,
         feed_hold: window_arg(&args, "--feed-hold")?,
         read_in_disable: window_arg(&args, "--read-in-disable")?,
         drives_off_at: cycle_arg(&args, "--drives-off-at")?,
     };
-    let priority = value(&args, "--priority")
-        .map(|p| match p.parse::<i32>() {
-            Ok(x) if (1..=99).contains(&x) => Ok(x),
-            _ => Err(format!("--priority {p}: expected 1 to 99")),
-        })
-        .transpose()?;
+    let priority = priority(&args)?;
     let mut trace = match value(&args, "--trace") {
         Some(p) => Some(std::io::BufWriter::new(
             std::fs::File::create(p).map_err(|e| format!("{p}: {e}"))?,

@@ -8,6 +8,23 @@ use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+/// The `host:port` a starting hmi-bridge printed to its log.
+pub fn bridge_address(log: &Path) -> String {
+    let t = Instant::now();
+    loop {
+        let text = std::fs::read_to_string(log).unwrap_or_default();
+        if let Some(a) = text
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+        {
+            return a.to_string();
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// plc-sim, nc-kernel and hmi-bridge of one instance.
 pub struct Station {
     pub bridge: Bridge,
@@ -40,19 +57,7 @@ pub fn station(tag: &str, program: Option<&Path>, kernel: &[&str], bridge: &[&st
     let mut args = vec!["--instance", name.as_str(), "--port", "0"];
     args.extend(bridge);
     kids.push(spawn("hmi-bridge", &args, &log));
-    let t = Instant::now();
-    let addr = loop {
-        let text = std::fs::read_to_string(&log).unwrap_or_default();
-        if let Some(a) = text
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-        {
-            break a.to_string();
-        }
-        assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let addr = bridge_address(&log);
     let token = bridge
         .windows(2)
         .find(|w| w[0] == "--token")

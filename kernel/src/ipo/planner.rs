@@ -81,6 +81,24 @@ struct Run {
     w: f64,
 }
 
+impl Run {
+    /// A plan to rest whose phases are done at `tau`.
+    fn over(&self, tau: f64) -> bool {
+        self.w == 0.0 && tau >= self.prof.duration()
+    }
+
+    /// Distance, speed and acceleration at `tau`. A plan to rest that is over stays on its
+    /// end point, not on the cruise after it (whose speed is 0 only up to rounding, which
+    /// would creep).
+    fn at(&self, tau: f64) -> (f64, f64, f64) {
+        if self.over(tau) {
+            (self.prof.distance(), 0.0, 0.0)
+        } else {
+            self.prof.at(tau)
+        }
+    }
+}
+
 /// One IPO cycle's output of the planner.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
@@ -105,6 +123,8 @@ pub struct Planner {
     run: Option<Run>,
     /// Distance done on the front segment before the running profile started.
     offset: f64,
+    /// Distance done on the front segment at the last setpoint.
+    done: f64,
     /// Path state at the last setpoint (or at a hand-over).
     v: f64,
     a: f64,
@@ -144,6 +164,7 @@ impl Planner {
             replan: false,
             run: None,
             offset: 0.0,
+            done: 0.0,
             v: 0.0,
             a: 0.0,
             t_free: 0.0,
@@ -169,7 +190,6 @@ impl Planner {
                 along: 1.0,
             });
         };
-        let done = self.offset + self.run.map_or(0.0, |r| r.prof.at(self.last_t - r.t0).0);
         let seq = f.piece.seg.source.seq;
         Some(Progress {
             source: f.piece.seg.source,
@@ -178,7 +198,7 @@ impl Planner {
                 .finished
                 .map_or(0, |(s, n)| if s == seq { n } else { 0 }),
             along: if f.piece.len > 0.0 {
-                (done / f.piece.len).clamp(0.0, 1.0)
+                (self.done / f.piece.len).clamp(0.0, 1.0)
             } else {
                 0.0
             },
@@ -333,6 +353,7 @@ impl Planner {
         self.queue.clear();
         self.run = None;
         self.offset = 0.0;
+        self.done = 0.0;
         self.v = 0.0;
         self.a = 0.0;
         self.stopping = false;
@@ -407,21 +428,14 @@ impl Planner {
             };
             let rem = front.piece.len - self.offset;
             let tau = t - run.t0;
-            // A plan to rest is over: it stays on its end point, not on the cruise after it
-            // (whose speed is 0 only up to rounding, which would creep).
-            let over = run.w == 0.0 && tau >= run.prof.duration();
-            let (s, v, a) = if over {
-                (run.prof.distance(), 0.0, 0.0)
-            } else {
-                run.prof.at(tau)
-            };
+            let over = run.over(tau);
+            let (s, v, a) = run.at(tau);
             // A plan that ends at rest on the end point is done when its phases are; one
             // that ends at rest before it (NC stop, override 0) stays.
-            let ends_here = run.w == 0.0
-                && tau >= run.prof.duration()
-                && run.prof.distance() >= rem - 1e-9 * rem.max(1.0);
+            let ends_here = over && run.prof.distance() >= rem - 1e-9 * rem.max(1.0);
             if s < rem && !ends_here {
-                self.pos = front.piece.point(self.offset + s);
+                self.done = self.offset + s;
+                self.pos = front.piece.point(self.done);
                 // A plan that ended at rest short of the end (NC stop): exactly at rest.
                 self.v = if v > 0.0 && !over { v } else { 0.0 };
                 self.a = if over { 0.0 } else { a };
@@ -447,6 +461,7 @@ impl Planner {
             self.queue.pop_front();
             self.run = None;
             self.offset = 0.0;
+            self.done = 0.0;
             if w == 0.0 {
                 self.v = 0.0;
                 self.a = 0.0;

@@ -8,8 +8,11 @@
 //! program alone, no PLC (auxiliary functions acknowledged at once), with the IPO thread's
 //! wake-up latency and compute time (the latency benchmark).
 
+pub mod args;
 mod bus;
 mod serve;
+
+use args::value;
 
 use crate::runtime::live::{run, LiveOptions};
 use crate::runtime::Report;
@@ -18,12 +21,6 @@ use std::time::Duration;
 
 const USAGE: &str = "usage: nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE] [--set Dn=R]... [--priority P]
        nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P] [--histogram FILE]";
-
-fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
-    args.windows(2)
-        .find(|w| w[0] == flag)
-        .map(|w| w[1].as_str())
-}
 
 /// The nc-kernel process with its arguments (after the program name).
 pub fn main(args: Vec<String>) -> ExitCode {
@@ -67,11 +64,10 @@ pub fn main(args: Vec<String>) -> ExitCode {
         }
         i += 1;
     }
-    let md =
-        match crate::MachineData::load(value(&args, "--machine").map(std::path::Path::new), &[]) {
-            Ok(md) => md,
-            Err(e) => return fail(e.to_string()),
-        };
+    let md = match args::machine(&args) {
+        Ok(md) => md,
+        Err(e) => return fail(e),
+    };
     let tools = match value(&args, "--tools") {
         Some(p) => match crate::ToolTable::load(std::path::Path::new(p)) {
             Ok(t) => t,
@@ -95,11 +91,10 @@ pub fn main(args: Vec<String>) -> ExitCode {
             _ => return fail(format!("--seconds {s}: expected a positive number")),
         }
     }
-    if let Some(p) = value(&args, "--priority") {
-        match p.parse::<i32>() {
-            Ok(x) if (1..=99).contains(&x) => opts.priority = x,
-            _ => return fail(format!("--priority {p}: expected 1 to 99")),
-        }
+    match args::priority(&args) {
+        Ok(Some(p)) => opts.priority = p,
+        Ok(None) => {}
+        Err(e) => return fail(e),
     }
     if let Some(instance) = value(&args, "--instance") {
         return serve::run(serve::ServeOptions {

@@ -192,28 +192,57 @@ fn load(
     at: Option<crate::frontend::block::Pos>,
 ) -> Result<(Box<Program>, Loaded), String> {
     let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    let (tools, live) = run_table(tools);
+    let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools, at)
+        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
+    Ok(Loaded::running(
+        s,
+        md,
+        id,
+        path.to_string(),
+        source,
+        at,
+        live,
+    ))
+}
+
+/// The table a program runs with: `tools` and a list of its own for edits made while it
+/// runs.
+fn run_table(tools: &ToolTable) -> (ToolTable, crate::tools::LiveEdits) {
     let live = crate::tools::LiveEdits::default();
     let mut tools = tools.clone();
     tools.live = Some(live.clone());
-    let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools, at)
-        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
-    let program = Box::new(Program {
-        id,
-        channel: Box::new(Channel::new(md, s.start)),
-        hand: s.hand,
-        start: s.start,
-    });
-    Ok((
-        program,
-        Loaded {
-            name: path.to_string(),
+    (tools, live)
+}
+
+impl Loaded {
+    /// The program `s` prepares, with its channel at the program's start, and what this
+    /// thread keeps of it.
+    fn running(
+        s: crate::runtime::Spawned,
+        md: &MachineData,
+        id: u32,
+        name: String,
+        source: String,
+        at: Option<crate::frontend::block::Pos>,
+        live: crate::tools::LiveEdits,
+    ) -> (Box<Program>, Loaded) {
+        let program = Box::new(Program {
+            id,
+            channel: Box::new(Channel::new(md, s.start)),
+            hand: s.hand,
+            start: s.start,
+        });
+        let loaded = Loaded {
+            name,
             source,
             at,
             live,
             reports: s.reports,
             thread: Some(s.thread),
-        },
-    ))
+        };
+        (program, loaded)
+    }
 }
 
 fn ipo_thread(
@@ -525,11 +554,7 @@ impl Desk<'_> {
                 ),
             );
         }
-        let limit = if wear {
-            self.md.hmi.max_wear
-        } else {
-            self.md.hmi.max_radius
-        };
+        let limit = self.md.hmi.offset_limit(wear);
         let before = self.tools.clone();
         if let Err(e) = self.tools.edit(None, c.d, wear, c.value, limit) {
             return Reply::new(false, 0, &format!("{e}; nothing changed"));
@@ -591,9 +616,7 @@ impl Desk<'_> {
             nth: last.piece,
             along: last.along,
         };
-        let live = crate::tools::LiveEdits::default();
-        let mut tools = self.tools.clone();
-        tools.live = Some(live.clone());
+        let (tools, live) = run_table(&self.tools);
         let spawned = crate::runtime::spawn_resume(
             l.name.clone(),
             l.source.clone(),
@@ -618,24 +641,9 @@ impl Desk<'_> {
         };
         let id = self.next_id;
         self.next_id += 1;
-        let program = Box::new(Program {
-            id,
-            channel: Box::new(Channel::new(self.md, s.start)),
-            hand: s.hand,
-            start: s.start,
-        });
         let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
-        self.programs.insert(
-            id,
-            Loaded {
-                name,
-                source,
-                at: load_at,
-                live,
-                reports: s.reports,
-                thread: Some(s.thread),
-            },
-        );
+        let (program, loaded) = Loaded::running(s, self.md, id, name, source, load_at, live);
+        self.programs.insert(id, loaded);
         match ask(self.shared, Control::Resume(program)) {
             Ok(()) => {
                 self.changed_in_stop = false;
@@ -651,9 +659,7 @@ impl Desk<'_> {
             }
         }
     }
-}
 
-impl Desk<'_> {
     /// The table as HMIs get it.
     fn table_msg(&self, version: u32) -> softnc_protocol::ToolTableMsg {
         let mut m = softnc_protocol::ToolTableMsg {

@@ -243,17 +243,8 @@ impl Cyclic {
         let at_rest = matches!(state, ChannelState::Reset | ChannelState::End);
         match c {
             Control::Start => {
-                if self.plc.emergency_stop {
-                    return Err(Refusal::EmergencyStop);
-                }
-                if self.alarm != 0 {
-                    return Err(Refusal::Alarm(self.alarm));
-                }
-                if !self.plc_alive() {
-                    return Err(Refusal::NoPlc);
-                }
-                if !self.plc.drives_ready {
-                    return Err(Refusal::DrivesNotReady);
+                if let Some(r) = self.start_refusal() {
+                    return Err(r);
                 }
                 if self.program.is_none() || state == ChannelState::End {
                     return Err(Refusal::NoProgram);
@@ -293,74 +284,36 @@ impl Cyclic {
                 self.channel().set_override(f);
                 Ok(())
             }
-            Control::Load(mut p) => {
-                if !at_rest || self.reset_pending {
-                    self.released = Some(p);
-                    return Err(Refusal::NotInReset(state));
-                }
-                let here = self.sp.pos;
-                let d = (0..3)
-                    .map(|i| (p.start[i] - here[i]).abs())
-                    .fold(0.0, f64::max);
-                if d > 1e-6 {
-                    let start = p.start;
-                    self.released = Some(p);
-                    return Err(Refusal::StartsElsewhere { start, here });
-                }
-                p.channel.set_override(self.override_);
-                p.channel.set_single_block(self.single_block);
-                self.alarm = 0;
-                self.pending = None;
-                self.in_flight.clear();
-                self.outbox.clear();
-                if let Some(o) = self.program.replace(p) {
-                    o.hand
-                        .cancel
-                        .store(true, std::sync::atomic::Ordering::Relaxed);
-                    self.released = Some(o);
-                }
-                Ok(())
-            }
-            Control::Resume(mut p) => {
-                let refusal = if state != ChannelState::Stopped || self.sp.v_path != 0.0 {
-                    Some(Refusal::NotStopped(state))
-                } else if self.plc.emergency_stop {
-                    Some(Refusal::EmergencyStop)
-                } else if self.alarm != 0 {
-                    Some(Refusal::Alarm(self.alarm))
-                } else if !self.plc_alive() {
-                    Some(Refusal::NoPlc)
-                } else if !self.plc.drives_ready {
-                    Some(Refusal::DrivesNotReady)
-                } else if self.reset_pending {
-                    Some(Refusal::NotStopped(state))
+            Control::Load(p) => {
+                let refusal = if !at_rest || self.reset_pending {
+                    Some(Refusal::NotInReset(state))
                 } else {
-                    let here = self.sp.pos;
-                    let d = (0..3)
-                        .map(|i| (p.start[i] - here[i]).abs())
-                        .fold(0.0, f64::max);
-                    (d > 1e-6).then_some(Refusal::StartsElsewhere {
-                        start: p.start,
-                        here,
-                    })
+                    self.starts_elsewhere(&p)
                 };
                 if let Some(r) = refusal {
                     self.released = Some(p);
                     return Err(r);
                 }
-                p.channel.set_override(self.override_);
-                p.channel.set_single_block(self.single_block);
-                self.pending = None;
-                self.in_flight.clear();
-                self.outbox.clear();
-                self.feed_held = false;
-                p.channel.start();
-                if let Some(o) = self.program.replace(p) {
-                    o.hand
-                        .cancel
-                        .store(true, std::sync::atomic::Ordering::Relaxed);
-                    self.released = Some(o);
+                self.alarm = 0;
+                self.install(p);
+                Ok(())
+            }
+            Control::Resume(p) => {
+                let refusal = if state != ChannelState::Stopped
+                    || self.sp.v_path != 0.0
+                    || self.reset_pending
+                {
+                    Some(Refusal::NotStopped(state))
+                } else {
+                    self.start_refusal().or_else(|| self.starts_elsewhere(&p))
+                };
+                if let Some(r) = refusal {
+                    self.released = Some(p);
+                    return Err(r);
                 }
+                self.feed_held = false;
+                self.install(p);
+                self.channel().start();
                 Ok(())
             }
             Control::Shutdown => {
@@ -368,6 +321,49 @@ impl Cyclic {
                 self.channel().stop();
                 Ok(())
             }
+        }
+    }
+
+    /// Why NC start cannot be given now (the PLC's and the alarms' side), if it cannot.
+    fn start_refusal(&self) -> Option<Refusal> {
+        if self.plc.emergency_stop {
+            Some(Refusal::EmergencyStop)
+        } else if self.alarm != 0 {
+            Some(Refusal::Alarm(self.alarm))
+        } else if !self.plc_alive() {
+            Some(Refusal::NoPlc)
+        } else if !self.plc.drives_ready {
+            Some(Refusal::DrivesNotReady)
+        } else {
+            None
+        }
+    }
+
+    /// A program whose start is not where the axes stand (within 1 µm).
+    fn starts_elsewhere(&self, p: &Program) -> Option<Refusal> {
+        let here = self.sp.pos;
+        let d = (0..3)
+            .map(|i| (p.start[i] - here[i]).abs())
+            .fold(0.0, f64::max);
+        (d > 1e-6).then_some(Refusal::StartsElsewhere {
+            start: p.start,
+            here,
+        })
+    }
+
+    /// `p` becomes the running program with the operator's override and single-block
+    /// setting; the one it replaces is cancelled and released, and what waited for it goes.
+    fn install(&mut self, mut p: Box<Program>) {
+        p.channel.set_override(self.override_);
+        p.channel.set_single_block(self.single_block);
+        self.pending = None;
+        self.in_flight.clear();
+        self.outbox.clear();
+        if let Some(o) = self.program.replace(p) {
+            o.hand
+                .cancel
+                .store(true, std::sync::atomic::Ordering::Relaxed);
+            self.released = Some(o);
         }
     }
 

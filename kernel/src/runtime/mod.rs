@@ -267,6 +267,28 @@ pub struct Spawned {
     pub thread: std::thread::JoinHandle<()>,
 }
 
+/// A preparation thread of its own, with its hand-over and report channel; `work` fills
+/// them (the hand-over is marked finished however the thread ends).
+fn spawn_owned(
+    work: impl FnOnce(&Handover, &crossbeam::channel::Sender<Report>) + Send + 'static,
+) -> std::io::Result<(
+    std::sync::Arc<Handover>,
+    crossbeam::channel::Receiver<Report>,
+    std::thread::JoinHandle<()>,
+)> {
+    let hand = std::sync::Arc::new(Handover::default());
+    let (report_tx, reports) = crossbeam::channel::unbounded();
+    let h = hand.clone();
+    let thread = std::thread::Builder::new()
+        .name("preparation".into())
+        .stack_size(PREP_STACK)
+        .spawn(move || {
+            let _guard = FinishGuard(&h);
+            work(&h, &report_tx);
+        })?;
+    Ok((hand, reports, thread))
+}
+
 /// Starts preparing `source` in a thread of its own; it ends at the program's end or when
 /// the hand-over is cancelled.
 pub fn spawn_preparation(
@@ -276,25 +298,18 @@ pub fn spawn_preparation(
     tools: ToolTable,
     at: Option<crate::frontend::block::Pos>,
 ) -> std::io::Result<Spawned> {
-    let hand = std::sync::Arc::new(Handover::default());
-    let (report_tx, reports) = crossbeam::channel::unbounded();
     let (start_tx, start_rx) = crossbeam::channel::bounded(1);
-    let h = hand.clone();
-    let thread = std::thread::Builder::new()
-        .name("preparation".into())
-        .stack_size(PREP_STACK)
-        .spawn(move || {
-            let _guard = FinishGuard(&h);
-            let lim = AxisLimits::new(&md);
-            let job = Job {
-                name: &name,
-                source: &source,
-                md: &md,
-                tools: &tools,
-                at,
-            };
-            prepare_into(job, &start_tx, &lim, &h, &report_tx, Duration::ZERO);
-        })?;
+    let (hand, reports, thread) = spawn_owned(move |hand, reports| {
+        let lim = AxisLimits::new(&md);
+        let job = Job {
+            name: &name,
+            source: &source,
+            md: &md,
+            tools: &tools,
+            at,
+        };
+        prepare_into(job, &start_tx, &lim, hand, reports, Duration::ZERO);
+    })?;
     let start = start_rx.recv().unwrap_or([0.0; 3]);
     Ok(Spawned {
         hand,
@@ -318,37 +333,27 @@ pub fn spawn_resume(
     at: crate::prep::Interruption,
     axes: crate::frontend::block::Pos,
 ) -> std::io::Result<Result<Spawned, Alarm>> {
-    let hand = std::sync::Arc::new(Handover::default());
-    let (report_tx, reports) = crossbeam::channel::unbounded();
     let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<(), Alarm>>(1);
-    let h = hand.clone();
-    let thread = std::thread::Builder::new()
-        .name("preparation".into())
-        .stack_size(PREP_STACK)
-        .spawn(move || {
-            let _guard = FinishGuard(&h);
-            let lim = AxisLimits::new(&md);
-            // The whole rest is checked first: a violation anywhere after the interruption
-            // refuses the start before anything moves, not when the path gets there.
-            let check = || -> Result<(), Alarm> {
-                let mut r = Preparation::resume(&name, &source, &md, &tools, start, at, axes)?;
-                while r.rest.next_item()?.is_some() {}
-                Ok(())
-            };
-            if let Err(a) = check() {
+    let (hand, reports, thread) = spawn_owned(move |hand, reports| {
+        let lim = AxisLimits::new(&md);
+        let resume = || Preparation::resume(&name, &source, &md, &tools, start, at, axes);
+        // The whole rest is checked first: a violation anywhere after the interruption
+        // refuses the start before anything moves, not when the path gets there.
+        let check = || -> Result<(), Alarm> {
+            let mut r = resume()?;
+            while r.rest.next_item()?.is_some() {}
+            Ok(())
+        };
+        match check().and_then(|()| resume()) {
+            Ok(r) => {
+                let _ = ready_tx.send(Ok(()));
+                feed(r.rest, r.first, &name, &lim, hand, reports, Duration::ZERO);
+            }
+            Err(a) => {
                 let _ = ready_tx.send(Err(a));
-                return;
             }
-            match Preparation::resume(&name, &source, &md, &tools, start, at, axes) {
-                Ok(r) => {
-                    let _ = ready_tx.send(Ok(()));
-                    feed(r.rest, r.first, &name, &lim, &h, &report_tx, Duration::ZERO);
-                }
-                Err(a) => {
-                    let _ = ready_tx.send(Err(a));
-                }
-            }
-        })?;
+        }
+    })?;
     match ready_rx.recv() {
         Ok(Ok(())) => Ok(Ok(Spawned {
             hand,
