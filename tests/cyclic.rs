@@ -423,5 +423,14 @@ fn the_setpoint_at_rest_after_nc_stop_does_not_move() {
             let s = rig.step();
             assert_eq!((s.pos, s.v_path), (stopped.pos, 0.0), "{prog}");
         }
+        // An override turned in NC stop plans the rest again from where the path stands:
+        // still not a bit of motion.
+        for ovr in [0.3, 1.2, 0.05, 1.0] {
+            rig.ask(Control::Override(ovr)).unwrap();
+            for _ in 0..200 {
+                let s = rig.step();
+                assert_eq!((s.pos, s.v_path), (stopped.pos, 0.0), "{prog} at {ovr}");
+            }
+        }
     }
 }

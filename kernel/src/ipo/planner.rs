@@ -490,7 +490,8 @@ impl Planner {
         let Some(front) = self.queue.front() else {
             return;
         };
-        let (s, v, a) = run.prof.at(t - run.t0);
+        // As the cycle sees it: a plan to rest that is over stands on its end point.
+        let (s, v, a) = run.at(t - run.t0);
         let rem = front.piece.len - self.offset;
         if s >= rem {
             return;
