@@ -296,7 +296,7 @@ impl Api {
         let (Some(path), Some(t)) = (snap.program_path, snap.tools) else {
             return Ok((
                 200,
-                json!({ "axes": ["X", "Y"], "programmed": [], "path": [] }),
+                json!({ "axes": ["X", "Y"], "index": [0, 1], "programmed": [], "path": [] }),
             ));
         };
         if let Ok(c) = self.plot_cache.lock() {

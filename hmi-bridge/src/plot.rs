@@ -2,7 +2,7 @@
 //! tool-centre path (from preparation, with the kernel's current tool table), as polylines
 //! in the program's plane, arcs sampled finely enough to look round.
 
-use nc_kernel::frontend::block::MotionKind;
+use nc_kernel::frontend::block::{MotionKind, Plane};
 use nc_kernel::prep::Prepared;
 use nc_kernel::segment::Curve;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable};
@@ -13,8 +13,11 @@ const MAX_POINTS: usize = 100_000;
 
 #[derive(Debug, Default, serde::Serialize)]
 pub struct Plot {
-    /// Abscissa and ordinate of the plane ("X", "Y").
+    /// Abscissa and ordinate of the plane: "X", "Y" (G17), "Z", "X" (G18), "Y", "Z" (G19).
     pub axes: [&'static str; 2],
+    /// The same as indices into a position (X 0, Y 1, Z 2): the page draws the actual
+    /// position with them.
+    pub index: [usize; 2],
     pub programmed: Vec<Vec<[f64; 2]>>,
     pub path: Vec<Vec<[f64; 2]>>,
     /// Preparation's first alarm, rendered (the path ends there).
@@ -41,12 +44,20 @@ pub fn table(m: &ToolTableMsg) -> ToolTable {
     }
 }
 
+/// Names of the axes by index.
+const AXES: [&str; 3] = ["X", "Y", "Z"];
+
+/// The picture is drawn in the plane of the program's first feed move (where the contour
+/// is: a turned part in G18 is a Z/X picture); moves in other planes are drawn projected
+/// onto it.
 pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Plot {
+    let plane = contour_plane(name, source, md, tools);
+    let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
     let mut out = Plot {
-        axes: ["X", "Y"],
+        axes: [AXES[a], AXES[o]],
+        index: [a, o],
         ..Default::default()
     };
-    let (a, o) = (0usize, 1usize);
     let mut interp = Interpreter::new(name, source, md, tools);
     let mut line: Vec<[f64; 2]> = Vec::new();
     // Up to the first alarm: preparation below reports it.
@@ -119,6 +130,21 @@ pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Pl
     out
 }
 
+/// The plane of the first move at feed, else the one the program starts in.
+fn contour_plane(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Plane {
+    let mut interp = Interpreter::new(name, source, md, tools);
+    let start = interp.state().plane;
+    while let Ok(Some(b)) = interp.next_block() {
+        if b.motion
+            .as_ref()
+            .is_some_and(|m| m.kind != MotionKind::Rapid)
+        {
+            return b.modal.plane;
+        }
+    }
+    start
+}
+
 /// Steps for an arc: chords of at most 2° and at most 1 mm.
 fn arc_steps(r: f64, sweep: f64) -> usize {
     let by_angle = sweep.abs() / 2f64.to_radians();
@@ -149,5 +175,46 @@ fn thin(lines: &mut [Vec<[f64; 2]>]) {
             .map(|(_, p)| *p)
             .collect();
         *l = kept;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_turned_part_is_drawn_in_its_zx_plane() {
+        // G18: Z is the abscissa, X the ordinate (840C machine data: X as a radius value).
+        // D1 has radius 10 in the built-in table; G42 on the outside of the part while
+        // turning towards the chuck puts the tool centre 10 mm above the contour in X.
+        let text = "N10 G18 G90 G0 X50 Z10 D1\nN20 G1 G42 X20 Z0 F100\nN30 Z-10\nN40 X30 Z-20\nN50 G40 G0 X50 Z10\nM30\n";
+        let md = MachineData::load(None, &[]).unwrap();
+        let p = plot("t.mpf", text, &md, &ToolTable::builtin());
+        assert_eq!((p.axes, p.index), (["Z", "X"], [2, 0]));
+        assert!(p.alarm.is_none(), "{:?}", p.alarm);
+        assert_eq!(
+            p.programmed,
+            vec![vec![
+                [10.0, 50.0],
+                [0.0, 20.0],
+                [-10.0, 20.0],
+                [-20.0, 30.0]
+            ]]
+        );
+        // Selection straight to N30's normal position (0, 30); N30's equidistant at X 30 up
+        // to the inner corner with N40 (135°): Z −10 + 10·tan 22.5°; N40's end point moved
+        // 10 mm along its right-hand normal (1, 1)/√2. The G0 deselection is not drawn.
+        let h = 10.0 / 2f64.sqrt();
+        let want = [
+            [10.0, 50.0],
+            [0.0, 30.0],
+            [-10.0 + 10.0 * (std::f64::consts::PI / 8.0).tan(), 30.0],
+            [-20.0 + h, 30.0 + h],
+        ];
+        assert_eq!(p.path.len(), 1);
+        assert_eq!(p.path[0].len(), want.len());
+        for (got, want) in p.path[0].iter().zip(want) {
+            assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9);
+        }
     }
 }
