@@ -118,7 +118,8 @@ enum Command {
         #[command(flatten)]
         bridge: BridgeArgs,
     },
-    /// Tool offsets through hmi-bridge: `softnc offset set D1 --radius 10.02 [--wear]`.
+    /// Tool offsets through hmi-bridge: `softnc offset set D1 --radius 10.02 [--wear]`
+    /// (`T1D2` on a table numbered per tool).
     Offset {
         #[command(subcommand)]
         action: OffsetAction,
@@ -137,7 +138,7 @@ enum OffsetAction {
     /// Set an offset's geometry radius, or its radius wear with --wear (in NC stop or reset;
     /// while the program runs only if machine data hmi.edit_while_active allows it).
     Set {
-        /// The offset, e.g. D1.
+        /// The offset: D1, or T1D2 (also "T1 D2") where D numbers count per tool (808D).
         d: String,
         /// The value, mm.
         #[arg(long, allow_hyphen_values = true)]
@@ -462,21 +463,32 @@ fn simple(b: &BridgeArgs, path: &str) -> ExitCode {
 }
 
 fn offset(b: &BridgeArgs, d: &str, value: f64, wear: bool) -> ExitCode {
-    let Some(n) = d
-        .strip_prefix(['D', 'd'])
-        .and_then(|n| n.parse::<u32>().ok())
-        .filter(|n| *n > 0)
-    else {
-        eprintln!("softnc: error: {d}: expected an offset like D1");
+    let Some((t, n)) = offset_name(d) else {
+        eprintln!("softnc: error: {d}: expected an offset like D1, or T1D2 for a tool's edge");
         return ExitCode::from(2);
     };
+    let mut body = serde_json::json!({ "d": n, "radius": value, "wear": wear });
+    if let Some(t) = t {
+        body["t"] = t.into();
+    }
     match bridge(b) {
-        Ok(br) => report(br.post(
-            "/api/offset",
-            &serde_json::json!({ "d": n, "radius": value, "wear": wear }),
-        )),
+        Ok(br) => report(br.post("/api/offset", &body)),
         Err(code) => code,
     }
+}
+
+/// "D1" → (None, 1); "T1D2", "T1 D2", "t1d2" → (Some(1), 2). Numbers from 1.
+fn offset_name(s: &str) -> Option<(Option<u32>, u32)> {
+    let number = |x: &str| x.trim().parse::<u32>().ok().filter(|n| *n > 0);
+    let s = s.trim();
+    let (t, rest) = match s.strip_prefix(['T', 't']) {
+        Some(r) => {
+            let k = r.find(['D', 'd'])?;
+            (Some(number(&r[..k])?), &r[k..])
+        }
+        None => (None, s),
+    };
+    Some((t, number(rest.strip_prefix(['D', 'd'])?)?))
 }
 
 fn status(b: &BridgeArgs, json: bool) -> ExitCode {
@@ -708,5 +720,24 @@ fn simulate(
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::offset_name;
+
+    #[test]
+    fn offset_names() {
+        assert_eq!(offset_name("D1"), Some((None, 1)));
+        assert_eq!(offset_name("d12"), Some((None, 12)));
+        assert_eq!(offset_name("T1D2"), Some((Some(1), 2)));
+        assert_eq!(offset_name("T3 D1"), Some((Some(3), 1)));
+        assert_eq!(offset_name("t2d4"), Some((Some(2), 4)));
+        for bad in [
+            "", "D", "D0", "T0D1", "T1", "1", "X1", "D-1", "T1D", "D1.5", "TD1",
+        ] {
+            assert_eq!(offset_name(bad), None, "{bad}");
+        }
     }
 }

@@ -589,6 +589,59 @@ fn the_softnc_commands_go_through_the_bridge() {
     );
 }
 
+/// A table numbered per tool (the lathe tools of config/tools.toml: T1 D1, T1 D2, T2 D1,
+/// beside the global D1 and D2): an edit names the tool and changes that entry only, through
+/// the API and through `softnc offset set T2D1`; a D the tool does not have is refused.
+#[test]
+fn offsets_numbered_per_tool_are_edited_by_tool_and_d() {
+    let st = station("tdtable", None, &[], &[]);
+    let entry = |t: Option<u64>, d: u64| {
+        let tools = st.bridge.get("/api/tools").unwrap().json();
+        tools["offsets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["t"].as_u64() == t && o["d"].as_u64() == Some(d))
+            .unwrap_or_else(|| panic!("T{t:?} D{d} in {tools}"))
+            .clone()
+    };
+    assert_eq!(entry(Some(1), 2)["radius"], json!(0.4));
+    let (code, r) = st.post("/api/offset", json!({ "t": 1, "d": 2, "radius": 0.5 }));
+    assert_eq!(code, 200, "{r}");
+    assert!(
+        r["message"]
+            .as_str()
+            .unwrap()
+            .contains("T1 D2 radius = 0.5 mm"),
+        "{r}"
+    );
+    assert_eq!(entry(Some(1), 2)["radius"], json!(0.5));
+    assert_eq!(entry(None, 2)["radius"], json!(5.0));
+    assert_eq!(entry(Some(1), 1)["radius"], json!(0.8));
+    let (code, r) = st.post("/api/offset", json!({ "t": 2, "d": 2, "radius": 1.0 }));
+    assert_eq!(code, 422, "{r}");
+    assert!(
+        r["error"]
+            .as_str()
+            .unwrap()
+            .contains("T2 D2 is not in the tool table"),
+        "{r}"
+    );
+    let out = std::process::Command::new(EXE)
+        .args(["offset", "set", "T2D1", "--radius", "-0.05", "--wear"])
+        .args(["--bridge", &st.bridge.addr])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(entry(Some(2), 1)["radius_wear"], json!(-0.05));
+    assert_eq!(entry(None, 1)["radius_wear"], json!(0.0));
+    assert_eq!(st.status()["tools_version"], json!(3));
+}
+
 /// Edits from two clients at once are taken one after the other: every one is answered with
 /// its own table version, the versions run 2, 3, … without a gap or a repeat, and the table
 /// ends with the value of the edit that got the last version. The tool file, written

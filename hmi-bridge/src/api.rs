@@ -188,19 +188,19 @@ impl Api {
     }
 
     fn offset(&self, b: Offset) -> Answer {
-        // The kernel checks again; here the answer can say the value is wrong (422).
-        nc_kernel::tools::check_edit(b.wear, b.radius, self.md.hmi.offset_limit(b.wear))
+        // The kernel checks again; here the answer can say the request is wrong (422): the
+        // same edit on a copy of the kernel's last table (unless the message was cut short).
+        let limit = self.md.hmi.offset_limit(b.wear);
+        let t = b.t.filter(|&t| t != 0);
+        nc_kernel::tools::check_edit(b.wear, b.radius, limit)
             .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         let snap = self.link.snapshot();
-        if let Some(t) = &snap.tools {
-            if !t.entries().iter().any(|e| e.d == b.d) {
-                return Err(refuse(
-                    422,
-                    format!("D{} is not in the tool table; nothing changed", b.d),
-                ));
-            }
+        if let Some(table) = snap.tools.as_ref().filter(|m| m.truncated == 0) {
+            plot::table(table)
+                .edit(t, b.d, b.wear, b.radius, limit)
+                .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         }
-        self.command(Command::offset(b.d, b.radius, b.wear))
+        self.command(Command::offset(t, b.d, b.radius, b.wear))
     }
 
     fn tools(&self) -> Answer {
@@ -359,10 +359,13 @@ struct Load {
     program: String,
 }
 
-/// `{"d": 1, "radius": 10.02}`; `"wear": true` sets the radius wear instead.
+/// `{"d": 1, "radius": 10.02}`; `"wear": true` sets the radius wear instead; `"t": 1`
+/// names the tool on a T/D table (808D).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Offset {
+    #[serde(default)]
+    t: Option<u32>,
     d: u32,
     radius: f64,
     #[serde(default)]

@@ -75,6 +75,8 @@ pub struct LiveEdits(std::sync::Arc<std::sync::Mutex<Vec<LiveEdit>>>);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LiveEdit {
+    /// The tool on a T/D table (`None`: a D number of its own).
+    pub t: Option<u32>,
     pub d: u32,
     pub wear: bool,
     pub value: f64,
@@ -93,13 +95,13 @@ impl LiveEdits {
         }
     }
 
-    /// Applies the edits of `o`'s D, in the order made; whether there was one.
+    /// Applies the edits of `o`'s T and D, in the order made; whether there was one.
     fn apply(&self, o: &mut ToolOffset) -> bool {
         let Ok(v) = self.0.lock() else {
             return false;
         };
         let mut any = false;
-        for e in v.iter().filter(|e| e.d == o.d) {
+        for e in v.iter().filter(|e| e.d == o.d && e.t == o.t) {
             if e.wear {
                 o.radius_wear = e.value;
             } else {
@@ -208,11 +210,10 @@ impl ToolTable {
         self.offset.iter().find(|o| o.t.is_none() && o.d == d)
     }
 
-    pub fn find_mut(&mut self, t: Option<u32>, d: u32) -> Option<&mut ToolOffset> {
-        let idx = t
-            .and_then(|t| self.offset.iter().position(|o| o.t == Some(t) && o.d == d))
-            .or_else(|| self.offset.iter().position(|o| o.t.is_none() && o.d == d))?;
-        self.offset.get_mut(idx)
+    /// The entry named exactly: tool `t` (`None`: a D number of its own) and D `d`. An
+    /// operator's edit names one entry; it does not fall back as `find` does for a program.
+    fn exact_mut(&mut self, t: Option<u32>, d: u32) -> Option<&mut ToolOffset> {
+        self.offset.iter_mut().find(|o| o.t == t && o.d == d)
     }
 
     /// `--set` as written on a command line: "Dn=R" (also "dn=R").
@@ -260,9 +261,23 @@ impl ToolTable {
             Some(t) => format!("T{t} D{d}"),
             None => format!("D{d}"),
         };
-        let o = self
-            .find_mut(t, d)
-            .ok_or_else(|| format!("{label} is not in the tool table"))?;
+        let Some(o) = self.exact_mut(t, d) else {
+            // On a T/D table a D alone names no entry: say which tools have it.
+            let tools: Vec<String> = self
+                .offset
+                .iter()
+                .filter(|o| o.d == d)
+                .filter_map(|o| o.t.map(|t| format!("T{t} D{d}")))
+                .collect();
+            return Err(if t.is_none() && !tools.is_empty() {
+                format!(
+                    "D{d} is numbered per tool in this table: name the tool ({})",
+                    tools.join(", ")
+                )
+            } else {
+                format!("{label} is not in the tool table")
+            });
+        };
         if wear {
             o.radius_wear = value;
         } else {
@@ -398,6 +413,46 @@ mod tests {
             .collect();
         assert_eq!(names, ["tools.toml"]);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// On a T/D table (808D) an edit names the tool: it changes that entry only, never a
+    /// global D of the same number or another tool's edge.
+    #[test]
+    fn edits_on_a_table_numbered_per_tool_name_the_tool() {
+        let text = "[[offset]]\nd = 2\nradius = 5.0\n\n\
+                    [[offset]]\nt = 1\nd = 1\nradius = 0.8\n\n\
+                    [[offset]]\nt = 1\nd = 2\nradius = 0.4\n\n\
+                    [[offset]]\nt = 2\nd = 1\nradius = 1.2\n";
+        let mut t = ToolTable::from_toml_str(text, "test").unwrap();
+        t.edit(Some(1), 2, false, 0.5, 500.0).unwrap();
+        let radius = |t: &ToolTable, tool: Option<u32>, d| {
+            t.offset
+                .iter()
+                .find(|o| o.t == tool && o.d == d)
+                .unwrap()
+                .radius
+        };
+        assert_eq!(radius(&t, Some(1), 2), 0.5);
+        assert_eq!((radius(&t, None, 2), radius(&t, Some(1), 1)), (5.0, 0.8));
+        // D1 exists only per tool: the answer says which.
+        let e = t.edit(None, 1, false, 1.0, 500.0).unwrap_err();
+        assert!(e.contains("name the tool (T1 D1, T2 D1)"), "{e}");
+        // T2 has no D2: a program's T2 D2 would take the global D2, an edit does not.
+        let e = t.edit(Some(2), 2, false, 1.0, 500.0).unwrap_err();
+        assert!(e.contains("T2 D2 is not in the tool table"), "{e}");
+        assert_eq!(radius(&t, None, 2), 5.0);
+
+        // While running (hmi.edit_while_active): the edit of T2 D1 reaches T2's D1 only.
+        let live = LiveEdits::default();
+        t.live = Some(live.clone());
+        live.push(LiveEdit {
+            t: Some(2),
+            d: 1,
+            wear: true,
+            value: -0.1,
+        });
+        assert_eq!(t.resolve(Some(2), 1).unwrap().0, 1.2 - 0.1);
+        assert_eq!(t.resolve(Some(1), 1).unwrap().0, 0.8);
     }
 
     #[test]

@@ -183,7 +183,8 @@ pub mod command {
     pub const SINGLE_BLOCK: u32 = 5;
     /// `value`: 0 < x ≤ 1.2.
     pub const OVERRIDE: u32 = 6;
-    /// `d`: the D number, `value`: the radius, `flag`: 1 for wear.
+    /// `t`: the tool (0: a D number of its own, as on the 840C), `d`: the D number,
+    /// `value`: the radius, `flag`: 1 for wear.
     pub const SET_OFFSET: u32 = 7;
     /// The kernel process ends (after braking, if the path moves).
     pub const SHUTDOWN: u32 = 8;
@@ -205,7 +206,8 @@ pub struct Command {
     pub flag: u8,
     pub _pad: u8,
     pub text_len: u16,
-    pub _pad2: u32,
+    /// The tool number where offsets are numbered per tool (T/D, 808D); 0: none.
+    pub t: u32,
     pub text: [u8; TEXT],
 }
 
@@ -218,7 +220,7 @@ impl Command {
             flag: 0,
             _pad: 0,
             text_len: 0,
-            _pad2: 0,
+            t: 0,
             text: [0; TEXT],
         }
     }
@@ -235,9 +237,16 @@ impl Command {
         as_text(&self.text, self.text_len as usize)
     }
 
-    /// `SET_OFFSET` of D`d`: the geometry radius, or the radius wear when `wear`.
-    pub fn offset(d: u32, value: f64, wear: bool) -> Self {
+    /// The tool a `SET_OFFSET` names (`None`: a D number of its own).
+    pub fn tool(&self) -> Option<u32> {
+        (self.t != 0).then_some(self.t)
+    }
+
+    /// `SET_OFFSET` of D`d` (of tool `t` on a T/D table): the geometry radius, or the
+    /// radius wear when `wear`.
+    pub fn offset(t: Option<u32>, d: u32, value: f64, wear: bool) -> Self {
         let mut c = Command::new(command::SET_OFFSET);
+        c.t = t.unwrap_or(0);
         c.d = d;
         c.value = value;
         c.flag = wear as u8;

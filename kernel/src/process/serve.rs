@@ -543,20 +543,24 @@ impl Desk<'_> {
     fn set_offset(&mut self, c: &Command, last: &KernelStatus) -> Reply {
         let wear = c.flag != 0;
         let what = if wear { "radius wear" } else { "radius" };
+        let t = c.tool();
+        let name = match t {
+            Some(t) => format!("T{t} D{}", c.d),
+            None => format!("D{}", c.d),
+        };
         let running = last.state == state::ACTIVE;
         if running && !self.md.hmi.edit_while_active {
             return Reply::new(
                 false,
                 0,
                 &format!(
-                    "the program is running: D{} {what} can be changed in NC stop or reset only (840C 11.8); nothing changed",
-                    c.d
+                    "the program is running: {name} {what} can be changed in NC stop or reset only (840C 11.8); nothing changed"
                 ),
             );
         }
         let limit = self.md.hmi.offset_limit(wear);
         let before = self.tools.clone();
-        if let Err(e) = self.tools.edit(None, c.d, wear, c.value, limit) {
+        if let Err(e) = self.tools.edit(t, c.d, wear, c.value, limit) {
             return Reply::new(false, 0, &format!("{e}; nothing changed"));
         }
         if let Some(path) = &self.tools_path {
@@ -573,6 +577,7 @@ impl Desk<'_> {
         let when = if running {
             if let Some(l) = self.programs.get(&last.program) {
                 l.live.push(crate::tools::LiveEdit {
+                    t,
                     d: c.d,
                     wear,
                     value: c.value,
@@ -594,8 +599,8 @@ impl Desk<'_> {
             true,
             0,
             &format!(
-                "D{} {what} = {} mm; tool table version {version} ({saved}); {when}",
-                c.d, c.value
+                "{name} {what} = {} mm; tool table version {version} ({saved}); {when}",
+                c.value
             ),
         )
     }
