@@ -93,6 +93,13 @@ enum Command {
         /// No progress line.
         #[arg(long)]
         quiet: bool,
+        /// Also start hmi-bridge (the web page and JSON API, docs/hmi.md) and keep the control
+        /// up after the program's end until Ctrl-C.
+        #[arg(long)]
+        hmi: bool,
+        /// The bridge's port (default: machine data hmi.port; 0: any free one).
+        #[arg(long, value_name = "PORT", requires = "hmi")]
+        hmi_port: Option<u16>,
     },
     /// Show the control's state through hmi-bridge: channel state, block, position, feed,
     /// override, alarm.
@@ -619,6 +626,8 @@ fn main() -> ExitCode {
             svg,
             plc,
             quiet,
+            hmi,
+            hmi_port,
         } => {
             let l = match load(input) {
                 Ok(l) => l,
@@ -637,6 +646,7 @@ fn main() -> ExitCode {
                 svg: svg.clone(),
                 plc_args: plc,
                 quiet: *quiet,
+                hmi: hmi.then_some(*hmi_port),
             })
         }
         Command::Simulate {

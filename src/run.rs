@@ -30,6 +30,9 @@ pub struct RunOptions<'a> {
     pub svg: Option<PathBuf>,
     pub plc_args: &'a [String],
     pub quiet: bool,
+    /// Also start hmi-bridge (`Some(port)`; `None` in the port: machine data `hmi.port`),
+    /// and keep the control up after the program's end until Ctrl-C.
+    pub hmi: Option<Option<u16>>,
 }
 
 /// Temporary files of a run, removed when it ends.
@@ -150,8 +153,14 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     let logs = [
         tmp.join(format!("softnc-{instance_name}-nc-kernel.log")),
         tmp.join(format!("softnc-{instance_name}-plc-sim.log")),
+        tmp.join(format!("softnc-{instance_name}-hmi-bridge.log")),
     ];
     temp.0.extend(logs.iter().cloned());
+    let log_of = |role: &str| match role {
+        "nc-kernel" => &logs[0],
+        "plc-sim" => &logs[1],
+        _ => &logs[2],
+    };
 
     let spawn = |role: &str, args: &[String], log: &Path| -> Result<Child, String> {
         let log = std::fs::File::create(log).map_err(|e| format!("{}: {e}", log.display()))?;
@@ -195,6 +204,33 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     children
         .0
         .push(("nc-kernel", spawn("nc-kernel", &kargs, &logs[0])?));
+    let hmi_url = match o.hmi {
+        None => None,
+        Some(port) => {
+            let mut bargs = vec![
+                "--instance".to_string(),
+                instance_name.clone(),
+                "--machine".into(),
+                md_file.display().to_string(),
+            ];
+            if let Some(p) = port {
+                bargs.extend(["--port".into(), p.to_string()]);
+            }
+            // The page offers the programs beside this one.
+            if let Some(dir) = std::fs::canonicalize(o.program)
+                .ok()
+                .and_then(|p| p.parent().map(Path::to_path_buf))
+            {
+                bargs.extend(["--programs".into(), dir.display().to_string()]);
+            }
+            let mut c = spawn("hmi-bridge", &bargs, &logs[2])?;
+            let url = bridge_url(&mut c, &logs[2]);
+            children.0.push(("hmi-bridge", c));
+            let url = url?;
+            eprintln!("HMI: {url}");
+            Some(url)
+        }
+    };
 
     let interrupted = Arc::new(AtomicBool::new(false));
     {
@@ -221,8 +257,7 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     let check_children = |children: &mut Children| -> Result<(), String> {
         for (role, c) in children.0.iter_mut() {
             if let Ok(Some(s)) = c.try_wait() {
-                let i = if *role == "nc-kernel" { 0 } else { 1 };
-                let log = std::fs::read_to_string(&logs[i]).unwrap_or_default();
+                let log = std::fs::read_to_string(log_of(role)).unwrap_or_default();
                 return Err(format!("{role} ended ({s}):\n{}", log.trim_end()));
             }
         }
@@ -329,9 +364,33 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
         eprintln!();
     }
     let end_cycle = last.cycle;
-    // Orderly end: the kernel first (it stops its setpoints), then plc-sim.
-    let _ = hmi.ask(Command::new(command::SHUTDOWN), Duration::from_secs(2));
+    let mut outcome = outcome;
+    if let (Some(url), Ok(_), false) = (&hmi_url, &outcome, interrupted.load(Ordering::SeqCst)) {
+        // The operator carries on at the page (load, start, offsets) until Ctrl-C.
+        eprintln!("the program ended; the control stays up for the HMI at {url}: Ctrl-C ends it");
+        while !interrupted.load(Ordering::SeqCst) {
+            if let Err(e) = check_children(&mut children) {
+                outcome = Err(e);
+                break;
+            }
+            while let Ok(Some(s)) = hmi.status.receive() {
+                last = *s.payload();
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+    // Orderly end: the HMI first (no command arrives meanwhile), the kernel (it brakes if
+    // the path moves and stops its setpoints), then plc-sim.
     let mut statuses = Vec::new();
+    if let Some((_, c)) = children.0.iter_mut().find(|(r, _)| *r == "hmi-bridge") {
+        signal(c, libc::SIGTERM);
+        let s = wait_for(c, Duration::from_secs(10)).or_else(|| {
+            let _ = c.kill();
+            c.wait().ok()
+        });
+        statuses.push(("hmi-bridge", s));
+    }
+    let _ = hmi.ask(Command::new(command::SHUTDOWN), Duration::from_secs(2));
     for role in ["nc-kernel", "plc-sim"] {
         if let Some((_, c)) = children.0.iter_mut().find(|(r, _)| *r == role) {
             signal(c, libc::SIGTERM);
@@ -347,6 +406,9 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     let kernel_log = std::fs::read_to_string(&logs[0]).unwrap_or_default();
     let plc_log = std::fs::read_to_string(&logs[1]).unwrap_or_default();
     let finished = outcome?;
+    if hmi_url.is_some() {
+        println!("with the HMI: the summary and the picture cover the whole session");
+    }
     for l in kernel_log.lines().chain(plc_log.lines()) {
         if l.contains("alarm") || l.contains("error") {
             eprintln!("{l}");
@@ -414,6 +476,28 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// The page's address, from the bridge's first line (it may have taken any free port).
+fn bridge_url(c: &mut Child, log: &Path) -> Result<String, String> {
+    let t = Instant::now();
+    loop {
+        let text = std::fs::read_to_string(log).unwrap_or_default();
+        if let Some(a) = text
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+        {
+            return Ok(format!("http://{a}/"));
+        }
+        if let Ok(Some(s)) = c.try_wait() {
+            return Err(format!("hmi-bridge ended ({s}):\n{}", text.trim_end()));
+        }
+        if t.elapsed() > Duration::from_secs(20) {
+            return Err(format!("hmi-bridge did not come up:\n{}", text.trim_end()));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// One row of plc-sim's trace.

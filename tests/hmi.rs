@@ -642,6 +642,79 @@ fn offsets_numbered_per_tool_are_edited_by_tool_and_d() {
     assert_eq!(st.status()["tools_version"], json!(3));
 }
 
+/// `softnc run --hmi`: the bridge comes up with the run, the page's API answers while the
+/// program runs and after its end, the control stays up until Ctrl-C, and then all three
+/// processes end cleanly and nothing is left in shared memory.
+#[test]
+fn softnc_run_with_the_hmi_stays_up_until_ctrl_c() {
+    let inst = instance("runhmi");
+    let _scope = Scope::new(&inst);
+    let prog = write("runhmi.mpf", SQUARE);
+    let (err, svg) = (scratch("runhmi.err"), scratch("runhmi.svg"));
+    let mut run = std::process::Command::new(EXE)
+        .arg("run")
+        .arg(&prog)
+        .args(["--quiet", "--hmi", "--hmi-port", "0", "--instance", &inst])
+        .arg("--svg")
+        .arg(&svg)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::fs::File::create(&err).unwrap())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    let text = loop {
+        let text = std::fs::read_to_string(&err).unwrap();
+        if text.contains("stays up") {
+            break text;
+        }
+        assert!(run.try_wait().unwrap().is_none(), "run ended: {text}");
+        assert!(t.elapsed() < Duration::from_secs(120), "{text}");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let addr = text
+        .split("HMI: http://")
+        .nth(1)
+        .and_then(|r| r.split('/').next())
+        .unwrap_or_else(|| panic!("{text}"));
+    let bridge = Bridge::new(addr, None);
+    let status = bridge.get("/api/status").unwrap().json();
+    assert_eq!(
+        (&status["connected"], &status["state"]),
+        (&json!(true), &json!("END")),
+        "{status}"
+    );
+    // The page offers the programs beside the one that ran.
+    let programs = bridge.get("/api/programs").unwrap().json();
+    assert!(
+        programs["programs"]
+            .as_array()
+            .unwrap()
+            .contains(&json!("runhmi.mpf")),
+        "{programs}"
+    );
+    // Still up a while later; then Ctrl-C.
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(run.try_wait().unwrap().is_none());
+    unsafe {
+        libc::kill(run.id() as i32, libc::SIGINT);
+    }
+    let out = run.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("ran to its end"), "{stdout}");
+    assert!(
+        stdout.contains(
+            "processes ended: hmi-bridge exit status: 0, nc-kernel exit status: 0, plc-sim exit status: 0; shared memory files left: 0"
+        ),
+        "{stdout}"
+    );
+    assert!(softnc_protocol::Instance::new(&inst)
+        .unwrap()
+        .files()
+        .is_empty());
+    assert!(bridge.get("/api/status").is_err(), "the bridge has ended");
+}
+
 /// Edits from two clients at once are taken one after the other: every one is answered with
 /// its own table version, the versions run 2, 3, … without a gap or a repeat, and the table
 /// ends with the value of the edit that got the last version. The tool file, written
