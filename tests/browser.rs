@@ -216,9 +216,9 @@ fn the_page_stops_edits_an_offset_and_resumes() {
         Duration::from_secs(10),
     );
     let path_before = b.script("return document.querySelector('#g-path').innerHTML");
-    // D1 from 10 to 12.
-    b.type_into("input[data-d='1'][data-wear='0']", "12");
-    b.click("button[data-set='1']");
+    // D1 from 10 to 12 (the global D1, not the lathe tools' T1 D1 and T2 D1).
+    b.type_into("input[data-d='1']:not([data-t])[data-wear='0']", "12");
+    b.click("button[data-set='1']:not([data-t])");
     b.wait(
         "return document.body.dataset.toolsVersion",
         &json!("2"),
