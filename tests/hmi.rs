@@ -467,6 +467,151 @@ fn unknown_resources_wrong_methods_and_foreign_programs_are_refused() {
     }
 }
 
+/// Random requests (bytes, and requests built from the bridge's own routes with random
+/// methods, header fields, lengths and JSON bodies), each on its own connection whose sending
+/// side is closed after it: every one gets an answer, 200 or a refusal with a 4xx (503 for a
+/// command: no kernel here), never a 5xx of the bridge's own, and the bridge serves on.
+#[test]
+fn random_requests_are_answered_and_the_bridge_stays_up() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, TestRunner};
+    let l = lone("fuzz");
+    let json_value = prop_oneof![
+        Just("null".to_string()),
+        Just("true".to_string()),
+        any::<i64>().prop_map(|n| n.to_string()),
+        any::<f64>().prop_map(|x| format!("{x:?}")),
+        Just("1e999".to_string()),
+        "\\PC{0,12}".prop_map(|t| serde_json::to_string(&t).unwrap()),
+        Just("[1,2]".to_string()),
+        Just("{}".to_string()),
+    ];
+    let key = prop_oneof![
+        Just("d"),
+        Just("t"),
+        Just("radius"),
+        Just("wear"),
+        Just("program"),
+        Just("percent"),
+        Just("on"),
+        Just("x"),
+    ];
+    // Values of the right kind for the key, or anything.
+    let typed = (key, json_value).prop_flat_map(|(k, any_value)| {
+        let right: BoxedStrategy<String> = match k {
+            "d" | "t" => (0u32..4).prop_map(|n| n.to_string()).boxed(),
+            "radius" | "percent" => (-20.0f64..150.0).prop_map(|x| format!("{x}")).boxed(),
+            "wear" | "on" => any::<bool>().prop_map(|b| b.to_string()).boxed(),
+            "program" => prop_oneof![
+                Just("\"square.mpf\"".to_string()),
+                Just("\"../etc/passwd\"".to_string()),
+                Just("\"/tmp\"".to_string()),
+            ]
+            .boxed(),
+            _ => Just("1".to_string()).boxed(),
+        };
+        prop_oneof![3 => right, 1 => Just(any_value)].prop_map(move |v| (k, v))
+    });
+    let body = prop_oneof![
+        4 => proptest::collection::vec(typed, 0..4).prop_map(|kv| {
+            let fields: Vec<String> = kv.iter().map(|(k, v)| format!("\"{k}\":{v}")).collect();
+            format!("{{{}}}", fields.join(",")).into_bytes()
+        }),
+        1 => proptest::collection::vec(any::<u8>(), 0..64),
+    ];
+    let method = prop_oneof![
+        2 => Just("GET".to_string()),
+        6 => Just("POST".to_string()),
+        1 => Just("PUT".to_string()),
+        1 => Just("HEAD".to_string()),
+        1 => "[A-Z]{1,8}",
+        1 => "[ -~]{0,6}",
+    ];
+    // Not /api/events: a stream that runs until the client goes away.
+    let path = prop_oneof![
+        Just("/".to_string()),
+        Just("/api/status".to_string()),
+        Just("/api/tools".to_string()),
+        Just("/api/programs".to_string()),
+        Just("/api/program".to_string()),
+        Just("/api/plot".to_string()),
+        Just("/api/offset".to_string()),
+        Just("/api/load".to_string()),
+        Just("/api/override".to_string()),
+        Just("/api/single-block".to_string()),
+        Just("/api/start".to_string()),
+        Just("/api/stop".to_string()),
+        Just("/api/reset".to_string()),
+        "/[!-~]{0,30}",
+    ];
+    let length = prop_oneof![
+        1 => Just(None),
+        6 => Just(Some("exact".to_string())),
+        1 => "[0-9]{1,25}".prop_map(Some),
+        1 => "[ -~]{0,8}".prop_map(Some),
+    ];
+    // Mostly well-formed field names (a malformed one only ever gets the 400).
+    let fields = proptest::collection::vec(
+        (
+            prop_oneof![4 => "[A-Za-z][A-Za-z0-9-]{0,11}", 1 => "[!-9;-~]{1,12}"],
+            "[ -~]{0,20}",
+        ),
+        0..4,
+    );
+    let built = (method, path, any::<u8>(), length, fields, body).prop_map(
+        |(m, p, token, length, fields, body)| {
+            let mut head = format!("{m} {p} HTTP/1.1\r\nHost: x\r\n");
+            if token < 220 {
+                head += &format!("Authorization: Bearer {TOKEN}\r\n");
+            }
+            match length.as_deref() {
+                Some("exact") => head += &format!("Content-Length: {}\r\n", body.len()),
+                Some(v) => head += &format!("Content-Length: {v}\r\n"),
+                None => {}
+            }
+            for (k, v) in fields {
+                head += &format!("{k}: {v}\r\n");
+            }
+            let mut bytes = format!("{head}\r\n").into_bytes();
+            bytes.extend(body);
+            bytes
+        },
+    );
+    let request = prop_oneof![
+        1 => proptest::collection::vec(any::<u8>(), 0..400),
+        4 => built,
+    ];
+    let allowed = [200, 400, 401, 404, 405, 409, 411, 413, 422, 431, 503];
+    let mut runner = TestRunner::new(Config {
+        cases: 300,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    runner
+        .run(&request, |bytes| {
+            let mut s = std::net::TcpStream::connect(&l.bridge.addr).unwrap();
+            s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+            let _ = s.write_all(&bytes);
+            let _ = s.shutdown(std::net::Shutdown::Write);
+            let mut out = Vec::new();
+            let _ = s.read_to_end(&mut out);
+            let text = String::from_utf8_lossy(&out);
+            let code: u16 = text
+                .split_whitespace()
+                .nth(1)
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(0);
+            prop_assert!(
+                allowed.contains(&code),
+                "{code} for {:?}: {text}",
+                String::from_utf8_lossy(&bytes)
+            );
+            Ok(())
+        })
+        .unwrap();
+    assert_eq!(l.bridge.get("/api/status").unwrap().status, 200);
+}
+
 /// Through a whole control: an unknown D is refused, and after every kind of bad request
 /// nothing has changed: the tool table at version 1 with D1 = 10, the channel in RESET.
 #[test]
