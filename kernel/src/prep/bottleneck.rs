@@ -6,8 +6,9 @@
 //! itself, needs more: every compensated segment is held back until `window` more contour
 //! blocks have come, and the definition of a gouge is checked directly — the tool circle
 //! along a path segment must stay at least R from every programmed element in the window
-//! (the element it belongs to included: there the distance is R exactly). A gouge is alarm
-//! 3021 before the tool gets there. With ISG contour masking on, where the path crosses
+//! (the element it belongs to included: there the distance is R exactly); a path arc whose
+//! radius changes over the block is checked with the tool radius at each point ([`Spiral`]).
+//! A gouge is alarm 3021 before the tool gets there. With ISG contour masking on, where the path crosses
 //! itself the loop is cut out instead: the earlier segment ends at the crossing, the blocks
 //! in between are left out (their auxiliary functions are output there, in program order, by
 //! the S-point stage) and the new segment starts at the crossing. A gouge without such a
@@ -15,7 +16,9 @@
 
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
-use crate::trc::geom::{clear_by_ends, contains, dist_elems, intersections, v2, Elem, V2};
+use crate::trc::geom::{
+    clear_by_ends, contains, dist_elems, dist_point, intersections, v2, Elem, V2,
+};
 
 /// Largest window, in blocks.
 pub const MAX_WINDOW: usize = 64;
@@ -47,6 +50,8 @@ pub enum Reaction {
 struct Held {
     seg: Segment,
     elem: Option<Elem>,
+    /// A path arc whose radius changes along it (no `elem`): checked by bisection.
+    spiral: Option<Spiral>,
     /// Tool radius and side the segment was made with.
     r: f64,
     side: i8,
@@ -139,18 +144,20 @@ impl Bottleneck {
             x.len() + y.len()
         };
         for h in x.iter().chain(y).take(checked) {
-            let Some(he) = h.elem else {
-                continue;
-            };
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            if let Some(d) = too_close(&he, &elem, h.r) {
+            let close = match (h.elem, h.spiral) {
+                (Some(he), _) => too_close(&he, &elem, h.r).map(|d| (d, h.r)),
+                (None, Some(sp)) => sp.too_close(&elem),
+                (None, None) => None,
+            };
+            if let Some((d, radius)) = close {
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
                     distance: d,
-                    radius: h.r,
+                    radius,
                 });
                 break;
             }
@@ -214,21 +221,51 @@ impl Bottleneck {
         }
         let mut seg = seg;
         let mut warned = None;
-        let (r, side) = self
+        let own = self
             .programmed
             .iter()
             .rev()
-            .find(|p| p.source.seq == seg.source.seq)
+            .find(|p| p.source.seq == seg.source.seq);
+        let (r, side) = own
             .or(self.programmed.back())
             .map_or((0.0, 0), |p| (p.r, p.side));
         let mut elem = self.elem(&seg);
+        let spiral = match (elem, own) {
+            (None, Some(p)) if reaction != Reaction::Mask => Spiral::new(&seg, self.plane, &p.elem),
+            _ => None,
+        };
         if let (Some(e), Reaction::Mask) = (elem, reaction) {
             if let Some(x) = self.crossing_with_held(&e) {
                 self.cut_loop(x.0, x.1, &mut seg);
                 elem = self.elem(&seg);
             }
         }
-        let bb = elem.map_or([0.0; 4], |e| bbox(&e, r));
+        let bb = match (elem, spiral) {
+            (Some(e), _) => bbox(&e, r),
+            (None, Some(sp)) => sp.bbox(),
+            (None, None) => [0.0; 4],
+        };
+        if let Some(sp) = spiral {
+            let (a, b) = self.programmed.as_slices();
+            for p in a.iter().chain(b) {
+                if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
+                    continue;
+                }
+                if let Some((d, radius)) = sp.too_close(&p.elem) {
+                    let g = Gouge {
+                        path: seg.source,
+                        element: p.source,
+                        distance: d,
+                        radius,
+                    };
+                    if reaction != Reaction::Warn {
+                        return Err(g);
+                    }
+                    warned = Some(g);
+                    break;
+                }
+            }
+        }
         if let (Some(e), false) = (elem, reaction == Reaction::Mask) {
             let (a, b) = self.programmed.as_slices();
             for p in a.iter().chain(b) {
@@ -262,6 +299,7 @@ impl Bottleneck {
         let _ = self.held.push_back(Held {
             seg,
             elem,
+            spiral,
             r,
             side,
             bb,
@@ -422,6 +460,132 @@ fn near(a: u32, b: u32) -> bool {
     a == b
 }
 
+/// A path arc about a fixed centre whose radius changes linearly with the angle: the
+/// equidistant of a programmed arc while the tool radius changes over the block (a D change
+/// over an arc, 808D; 840C 11.8). The tool radius at each point is the point's distance from
+/// the programmed circle. The gouge test is the definition itself, f(u) = dist(P(u), E) −
+/// R(u) ≥ 0, shown by bisection: f changes by at most L·|Δu| (L = |P′| + |R′| at most), so
+/// an interval whose ends are high enough is clear, and a point below −tol is a gouge.
+#[derive(Clone, Copy, Debug)]
+struct Spiral {
+    c: V2,
+    r0: f64,
+    dr: f64,
+    th0: f64,
+    /// Signed: positive counter-clockwise.
+    sweep: f64,
+    /// Radius of the programmed circle.
+    rho: f64,
+}
+
+impl Spiral {
+    /// The spiral of a path segment whose programmed element `own` is an arc about the same
+    /// centre; `None` for anything else.
+    fn new(s: &Segment, plane: Plane, own: &Elem) -> Option<Spiral> {
+        let Shape::Arc {
+            center,
+            center_end,
+            plane: p,
+            ..
+        } = s.shape
+        else {
+            return None;
+        };
+        let Elem::Arc { a, c: pc, .. } = *own else {
+            return None;
+        };
+        let uv = |q: &Pos| v2(q[plane.abscissa as usize], q[plane.ordinate as usize]);
+        let c = uv(&center);
+        let scale = c.x.abs().max(c.y.abs()).max(1.0);
+        if p != plane || center != center_end || c.dist(pc) > 1e-9 * scale {
+            return None;
+        }
+        let Some(crate::segment::Curve::Arc {
+            r0, dr, th0, sweep, ..
+        }) = crate::segment::Curve::new(s)
+        else {
+            return None;
+        };
+        Some(Spiral {
+            c,
+            r0,
+            dr,
+            th0,
+            sweep,
+            rho: a.dist(pc),
+        })
+    }
+
+    /// The point at u and the tool radius there.
+    fn at(&self, u: f64) -> (V2, f64) {
+        let r = self.r0 + self.dr * u;
+        let th = self.th0 + self.sweep * u;
+        (
+            v2(self.c.x + r * libm::cos(th), self.c.y + r * libm::sin(th)),
+            (r - self.rho).abs(),
+        )
+    }
+
+    fn r_max(&self) -> f64 {
+        self.r0.max(self.r0 + self.dr)
+    }
+
+    /// The whole circle of the largest radius, grown by the largest tool radius.
+    fn bbox(&self) -> [f64; 4] {
+        let g = self.r_max()
+            + (self.r0 - self.rho)
+                .abs()
+                .max((self.r0 + self.dr - self.rho).abs());
+        [self.c.x - g, self.c.y - g, self.c.x + g, self.c.y + g]
+    }
+
+    /// Where the tool circle comes closer to `e` than its radius (beyond rounding): the
+    /// distance there and the tool radius.
+    fn too_close(&self, e: &Elem) -> Option<(f64, f64)> {
+        let tol = gouge_tol(e).max(1e-12 * self.r_max());
+        let l = self.dr.hypot(self.r_max() * self.sweep) + self.dr.abs();
+        let f = |u: f64| {
+            let (p, r) = self.at(u);
+            let d = dist_point(e, p);
+            (d - r, d, r)
+        };
+        let (fa, da, ra) = f(0.0);
+        if fa < -tol {
+            return Some((da, ra));
+        }
+        let (fb, db, rb) = f(1.0);
+        if fb < -tol {
+            return Some((db, rb));
+        }
+        // Depth first; an interval this short is within rounding of its ends. A stretch in
+        // contact (f = 0 all along: the same circle as another element, at exactly R) is
+        // never shown clear by the bound; the budget ends the search there: contact is no
+        // gouge.
+        let mut todo: heapless::Vec<(f64, f64, f64, f64), 64> = heapless::Vec::new();
+        let _ = todo.push((0.0, fa, 1.0, fb));
+        let mut budget = 4096;
+        while let Some((a, fa, b, fb)) = todo.pop() {
+            if (fa + fb - l * (b - a)) / 2.0 >= -tol || b - a < 1e-13 {
+                continue;
+            }
+            budget -= 1;
+            if budget == 0 {
+                break;
+            }
+            let m = 0.5 * (a + b);
+            let (fm, dm, rm) = f(m);
+            if fm < -tol {
+                return Some((dm, rm));
+            }
+            if todo.push((m, fm, b, fb)).is_err() || todo.push((a, fa, m, fm)).is_err() {
+                // Deeper than any interval of width 1e-13 needs: not reached.
+                continue;
+            }
+        }
+        None
+    }
+}
+
 /// `p` with its plane coordinates replaced by `x`.
 fn at(plane: Plane, p: &Pos, x: V2) -> Pos {
     let mut q = *p;
@@ -432,7 +596,7 @@ fn at(plane: Plane, p: &Pos, x: V2) -> Pos {
 
 /// A segment as a plane element; `None` for what cannot cross (no move in the plane) or is
 /// not a circle (an arc whose radius changes on purpose — a radius change spread over the
-/// block — is left out of the check; radii equal but for rounding are one circle).
+/// block — is a [`Spiral`]; radii equal but for rounding are one circle).
 fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
     let uv = |p: &Pos| v2(p[plane.abscissa as usize], p[plane.ordinate as usize]);
     let (a, b) = (uv(&s.from), uv(&s.to));
@@ -473,4 +637,98 @@ fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
 fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
     const TOL: f64 = 1e-7;
     p[0] <= q[2] + TOL && q[0] <= p[2] + TOL && p[1] <= q[3] + TOL && q[1] <= p[3] + TOL
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::segment::Source;
+
+    fn src(seq: u32) -> Source {
+        Source {
+            number: None,
+            line: seq,
+            col: 1,
+            seq,
+        }
+    }
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
+        Elem::Line {
+            a: v2(a.0, a.1),
+            b: v2(b.0, b.1),
+        }
+    }
+
+    /// Block 1: the quarter circle r 50 about the origin, clockwise from (50, 0) to
+    /// (0, −50), cut on its outside while the tool radius grows from 5 to 10 over it (a D
+    /// change over an arc): the path is the spiral from radius 55 to 60. Block 2 leaves
+    /// (0, −50) westwards. Block 3 is `third`: the window must measure the spiral's tool
+    /// circle, of the radius at each point, against it.
+    fn spiral_against(third: Elem) -> Result<(), Gouge> {
+        let mut b = Bottleneck::new(3);
+        let mut out: heapless::Deque<Segment, 64> = heapless::Deque::new();
+        let arc = Elem::Arc {
+            a: v2(50.0, 0.0),
+            b: v2(0.0, -50.0),
+            c: v2(0.0, 0.0),
+            ccw: false,
+        };
+        b.element(src(1), arc, 5.0, 1, Reaction::Alarm)?;
+        b.element(
+            src(2),
+            line((0.0, -50.0), (-40.0, -50.0)),
+            10.0,
+            1,
+            Reaction::Alarm,
+        )?;
+        let spiral = Segment {
+            source: src(1),
+            role: Role::Contour,
+            shape: Shape::Arc {
+                center: [0.0; 3],
+                center_end: [0.0; 3],
+                ccw: false,
+                r0: 55.0,
+                r1: 60.0,
+                plane: Plane::XY,
+            },
+            from: [55.0, 0.0, 0.0],
+            to: [0.0, -60.0, 0.0],
+            feed: 1000.0,
+            rapid: false,
+            exact_stop: false,
+        };
+        b.push(spiral, Reaction::Alarm, &mut out)?;
+        b.element(src(3), third, 10.0, 1, Reaction::Alarm)
+            .map(|_| ())
+    }
+
+    #[test]
+    fn a_spiral_is_checked_with_the_tool_radius_at_each_point() {
+        // A line 65 below the centre: at the spiral's end (0, −60) the tool (radius 10)
+        // reaches 5 mm past it; with the start radius 5 it would not.
+        let g = spiral_against(line((-40.0, -65.0), (40.0, -65.0))).unwrap_err();
+        assert_eq!((g.path.seq, g.element.seq), (1, 3));
+        assert!(
+            (g.distance - 5.0).abs() < 1e-9 && (g.radius - 10.0).abs() < 1e-12,
+            "{g:?}"
+        );
+        // 75 below: 5 mm to spare at the end, more before it.
+        spiral_against(line((-40.0, -75.0), (40.0, -75.0))).unwrap();
+        // Half way along (−45°) the spiral is at radius 57.5 with tool radius 7.5; a short
+        // line across the radius at 63 from the centre is 5.5 from it: found by bisection.
+        let (c, s) = (
+            std::f64::consts::FRAC_1_SQRT_2,
+            -std::f64::consts::FRAC_1_SQRT_2,
+        );
+        let at = |r: f64, t: f64| (r * c - t * s, r * s + t * c);
+        let g = spiral_against(line(at(63.0, -3.0), at(63.0, 3.0))).unwrap_err();
+        assert!(
+            (g.distance - 5.5).abs() < 1e-9 && (g.radius - 7.5).abs() < 1e-12,
+            "{g:?}"
+        );
+        // The same line at 70: 12.5 from the spiral's middle, and farther from the rest.
+        spiral_against(line(at(70.0, -3.0), at(70.0, 3.0))).unwrap();
+    }
 }
