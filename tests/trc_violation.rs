@@ -292,3 +292,44 @@ fn isg_masking_without_a_way_round_is_an_alarm() {
     let (_, alarm) = run_isg(&src);
     assert_eq!(alarm.map(|a| a.code), Some(AlarmCode::ContourViolation));
 }
+
+/// A D change over a circle (Fanuc: the radius is spread over the block) into a channel:
+/// N30 is the clockwise quarter circle r 50 about the origin from (50, 0) to (0, −50), cut
+/// outside (G41) while the radius goes from D1 = 10 to D2 = 5, so its path is a spiral from
+/// (60, 0) at radius 60 towards radius 55, ending at the inner corner with N40's equidistant
+/// X5: (5, −√3000). Three blocks later N60 rises along X68. At the spiral's
+/// start the tool circle (R 10 about (60, 0)) reaches X70: 8 mm from the wall, a gouge of
+/// 2 mm that the window finds before any motion. The walls later, cut with R 5, are clear;
+/// with the wall at X75 (15 mm from (60, 0)) the program passes.
+#[test]
+fn a_radius_change_over_a_circle_is_checked_with_the_radius_at_each_point() {
+    let prog = |wall: &str| {
+        format!(
+            "N10 G17 G90 G0 X50 Y40\nN20 G41 D1 G1 X50 Y0 F1000\nN30 G2 X0 Y-50 I-50 J0 D2\nN40 G1 Y-70\nN50 X{wall}\nN60 Y10\nN70 G40 X100 Y30\nN80 M30\n"
+        )
+    };
+    let (items, alarm) = run(&prog("68"), &["dialect=fanuc"]);
+    let a = alarm.expect("alarm 3021");
+    assert_eq!(a.code, AlarmCode::ContourViolation);
+    assert_eq!(a.block.as_deref(), Some("N30"));
+    assert!(
+        a.message
+            .contains("the tool path of N30 comes within 8.0000 mm of the contour of N60 (tool radius 10.0000)"),
+        "{}",
+        a.message
+    );
+    // N30's spiral was still held in the window: only the approach went out.
+    assert!(segments(&items).iter().all(|s| s.source.line < 3));
+    let (items, alarm) = run(&prog("75"), &["dialect=fanuc"]);
+    assert!(alarm.is_none(), "{alarm:?}");
+    // The spiral itself: radius 60 at its start, 55 at its end on N40's equidistant.
+    let spiral = segments(&items)
+        .into_iter()
+        .find(|s| s.source.line == 3)
+        .unwrap();
+    at(spiral.from, 60.0, 0.0);
+    at(spiral.to, 5.0, -(3000f64.sqrt()));
+    assert!(
+        matches!(spiral.shape, Shape::Arc { r0, r1, .. } if (r0 - 60.0).abs() < 1e-9 && (r1 - 55.0).abs() < 1e-9)
+    );
+}
