@@ -6,7 +6,7 @@ use nc_kernel::frontend::jsonl;
 use nc_kernel::prep::jsonl as prep_jsonl;
 use nc_kernel::prep::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -696,7 +696,34 @@ fn simulate(
         None => Box::new(std::io::stdout().lock()),
     };
     let t0 = std::time::Instant::now();
-    let r = nc_kernel::simulate::run(&l.name, &l.source, &l.md, &l.tools, &opts, &mut out);
+    // A progress line on a terminal, at most five times a second (long programs simulate for
+    // minutes: the ISG grinding cycle is 27 h of machine time).
+    let cycle_s = f64::from(l.md.ipo.cycle_us) * 1e-6;
+    let total_lines = l.source.lines().count().max(1);
+    let tty = std::io::stderr().is_terminal();
+    let mut shown = t0;
+    let mut progress = |p: nc_kernel::simulate::Progress| {
+        if tty && shown.elapsed() >= std::time::Duration::from_millis(200) {
+            shown = std::time::Instant::now();
+            eprint!(
+                "\rline {:>6}/{total_lines}  {:.1} s machine time ",
+                p.line,
+                p.cycles as f64 * cycle_s
+            );
+        }
+    };
+    let r = nc_kernel::simulate::run_with_progress(
+        &l.name,
+        &l.source,
+        &l.md,
+        &l.tools,
+        &opts,
+        &mut out,
+        &mut progress,
+    );
+    if tty && shown != t0 {
+        eprint!("\r{}\r", " ".repeat(60));
+    }
     let s = match r {
         Ok(s) => s,
         Err(e) => return fail(format!("writing setpoints: {e}")),
@@ -707,7 +734,6 @@ fn simulate(
     for a in &s.alarms {
         eprintln!("{}", render(a, &l.source));
     }
-    let cycle_s = f64::from(l.md.ipo.cycle_us) * 1e-6;
     eprintln!(
         "{}: {}: {} cycles ({:.3} s machine time), {} segments, {} auxiliary functions, top path speed {:.1} mm/min; simulated in {:.0} ms",
         l.name,

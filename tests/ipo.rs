@@ -822,3 +822,32 @@ fn more_aux_functions_at_one_s_point_than_fit_in_a_cycle_all_go_out_in_order() {
     assert_eq!(with.len(), 2);
     assert_eq!(with[1].cycle, with[0].cycle + 1);
 }
+
+/// A long simulation says where it is every 65 536 cycles: the cycle counts in order, the
+/// line of the block running then, and the same setpoints as without the reports.
+#[test]
+fn a_long_simulation_reports_its_progress() {
+    let md = machine(None, &[]);
+    // 400 mm at F100: 240 s of machine time.
+    let text = "N10 G0 X0 Y0 Z0\nN20 G1 X400 F100\nN30 M30\n";
+    let tools = ToolTable::builtin();
+    let mut seen = Vec::new();
+    let mut out = Vec::new();
+    let s = nc_kernel::simulate::run_with_progress(
+        "test.mpf",
+        text,
+        &md,
+        &tools,
+        &Options::default(),
+        &mut out,
+        &mut |p| seen.push((p.cycles, p.line)),
+    )
+    .unwrap();
+    let every = nc_kernel::simulate::PROGRESS_CYCLES;
+    assert!(s.cycles > 240_000, "{}", s.cycles);
+    assert_eq!(seen.len() as u64, (s.cycles - 1) / every);
+    for (i, (cycles, line)) in seen.iter().enumerate() {
+        assert_eq!((*cycles, *line), ((i as u64 + 1) * every, 2));
+    }
+    assert_eq!(out, simulate_bytes(&md, text, &Options::default()).0);
+}

@@ -61,6 +61,17 @@ pub struct Summary {
     pub timed_out: bool,
 }
 
+/// Where a long simulation is: told every [`PROGRESS_CYCLES`] cycles.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub cycles: u64,
+    /// Line of the block the setpoint belongs to (0: none yet).
+    pub line: u32,
+}
+
+/// Cycles between two progress reports (65 s of machine time at 1 ms).
+pub const PROGRESS_CYCLES: u64 = 1 << 16;
+
 /// Runs `source` to its end (or alarm) and writes the setpoint rows to `out`.
 pub fn run(
     name: &str,
@@ -70,6 +81,19 @@ pub fn run(
     opts: &Options,
     out: &mut dyn Write,
 ) -> std::io::Result<Summary> {
+    run_with_progress(name, source, md, tools, opts, out, &mut |_| {})
+}
+
+/// As [`run`], telling `progress` where it is every [`PROGRESS_CYCLES`] cycles.
+pub fn run_with_progress(
+    name: &str,
+    source: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+    opts: &Options,
+    out: &mut dyn Write,
+    progress: &mut dyn FnMut(Progress),
+) -> std::io::Result<Summary> {
     let job = Job {
         name,
         source,
@@ -78,7 +102,7 @@ pub fn run(
         at: None,
     };
     let (result, reports) = with_preparation(job, opts.prep_delay, |start, hand| {
-        ipo_loop(md, start, hand, opts, out)
+        ipo_loop(md, start, hand, opts, out, progress)
     })?;
     let mut summary = result?;
     for r in reports {
@@ -96,6 +120,7 @@ fn ipo_loop(
     hand: &Handover,
     opts: &Options,
     out: &mut dyn Write,
+    progress: &mut dyn FnMut(Progress),
 ) -> std::io::Result<Summary> {
     let mut ch = Box::new(Channel::new(md, start));
     ch.set_override(opts.override_);
@@ -144,6 +169,12 @@ fn ipo_loop(
             _ => {}
         }
         k += 1;
+        if k.is_multiple_of(PROGRESS_CYCLES) {
+            progress(Progress {
+                cycles: k,
+                line: sp.source.map_or(0, |s| s.line),
+            });
+        }
         if k >= opts.max_cycles {
             summary.timed_out = true;
             break;
