@@ -338,6 +338,56 @@ fn a_peer_with_another_abi_is_refused() {
     assert!(text.contains(softnc_protocol::abi().as_str()), "{text}");
 }
 
+/// The kernel keeps only the programs it runs: a load refused while a program runs is
+/// forgotten at once, and after later loads the earlier programs are dropped too (they kept
+/// their source text in memory for as long as the kernel ran); the one loaded is named.
+#[test]
+fn refused_and_replaced_programs_are_not_kept() {
+    let inst_name = instance("keep");
+    let _scope = Scope::new(&inst_name);
+    let inst = Instance::new(&inst_name).unwrap();
+    let prog = long_program(20.0);
+    let prog_s = prog.display().to_string();
+    let _plc = spawn(
+        "plc-sim",
+        &["--instance", &inst_name],
+        &scratch("kp-plc.log"),
+    );
+    let _nck = spawn(
+        "nc-kernel",
+        &["--instance", &inst_name, &prog_s, "--start"],
+        &scratch("kp-nck.log"),
+    );
+    let hmi = Hmi::new(&inst);
+    hmi.watch(Duration::from_secs(30), |s| s.state == state::ACTIVE);
+    let info = |id: u32| {
+        let mut c = Command::new(command::PROGRAM_INFO);
+        c.d = id;
+        hmi.ask(c)
+    };
+    assert_eq!(info(1).message(), prog_s);
+    // Program 2 is refused: the channel is not in reset.
+    let r = hmi.ask(Command::new(command::LOAD).with_text(&prog_s));
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert_eq!(info(2).ok, 0);
+    assert_eq!(hmi.ask(Command::new(command::STOP)).ok, 1);
+    hmi.watch(Duration::from_secs(10), |s| s.state == state::STOPPED);
+    assert_eq!(hmi.ask(Command::new(command::RESET)).ok, 1);
+    hmi.watch(Duration::from_secs(10), |s| s.state == state::RESET);
+    for id in [3, 4] {
+        let r = hmi.ask(Command::new(command::LOAD).with_text(&prog_s));
+        assert_eq!(r.ok, 1, "{}", r.message());
+        assert!(
+            r.message().contains(&format!("number {id}")),
+            "{}",
+            r.message()
+        );
+        hmi.watch(Duration::from_secs(10), |s| s.program == id);
+    }
+    assert_eq!(info(4).message(), prog_s);
+    assert_eq!(info(1).ok, 0, "program 1 is still kept");
+}
+
 /// Emergency stop from the PLC: alarm 3000, the path brakes on its contour to STOPPED, NC
 /// start and reset are refused while it is pressed.
 #[test]

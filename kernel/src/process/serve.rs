@@ -522,6 +522,7 @@ impl Desk<'_> {
                         if r.is_ok() {
                             self.changed_in_stop = false;
                         }
+                        self.settle(id, r.is_ok(), last.program);
                         answer(r, &format!("program {path} loaded (number {id})"))
                     }
                     Err(e) => Reply::new(false, 0, &e),
@@ -605,6 +606,18 @@ impl Desk<'_> {
         )
     }
 
+    /// Program `id` went to the IPO thread: if it was taken, it and the one the last status
+    /// names (an HMI may still ask for that one's path) are kept, and the earlier ones
+    /// dropped; if refused, it is dropped. (Every load and resume stayed before, source text
+    /// included, for as long as the kernel ran.)
+    fn settle(&mut self, id: u32, taken: bool, current: u32) {
+        if taken {
+            self.programs.retain(|k, _| *k == id || *k == current);
+        } else {
+            self.programs.remove(&id);
+        }
+    }
+
     /// NC start after an offset change in NC stop: the program is prepared again with the
     /// new offsets from the interruption point; an alarm (the new radius violates the
     /// contour) refuses the start and nothing moves.
@@ -649,7 +662,9 @@ impl Desk<'_> {
         let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
         let (program, loaded) = Loaded::running(s, self.md, id, name, source, load_at, live);
         self.programs.insert(id, loaded);
-        match ask(self.shared, Control::Resume(program)) {
+        let r = ask(self.shared, Control::Resume(program));
+        self.settle(id, r.is_ok(), last.program);
+        match r {
             Ok(()) => {
                 self.changed_in_stop = false;
                 Reply::new(
