@@ -8,11 +8,11 @@
 //! along a path segment must stay at least R from every programmed element in the window
 //! (the element it belongs to included: there the distance is R exactly); a path arc whose
 //! radius changes over the block is checked with the tool radius at each point ([`Spiral`]).
-//! A gouge is alarm 3021 before the tool gets there. With ISG contour masking on, where the path crosses
-//! itself the loop is cut out instead: the earlier segment ends at the crossing, the blocks
-//! in between are left out (their auxiliary functions are output there, in program order, by
-//! the S-point stage) and the new segment starts at the crossing. A gouge without such a
-//! crossing (no gouge-free path inside the window) stays an alarm.
+//! A gouge is alarm 3021 before the tool gets there. With ISG contour masking on, where the
+//! path crosses itself the loop is cut out instead: the earlier segment ends at the crossing,
+//! the blocks in between are left out (their auxiliary functions are output there, in program
+//! order, by the S-point stage) and the new segment starts at the crossing. A gouge without
+//! such a crossing (no gouge-free path inside the window) stays an alarm.
 
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
@@ -462,10 +462,11 @@ fn near(a: u32, b: u32) -> bool {
 
 /// A path arc about a fixed centre whose radius changes linearly with the angle: the
 /// equidistant of a programmed arc while the tool radius changes over the block (a D change
-/// over an arc, 808D; 840C 11.8). The tool radius at each point is the point's distance from
-/// the programmed circle. The gouge test is the definition itself, f(u) = dist(P(u), E) −
-/// R(u) ≥ 0, shown by bisection: f changes by at most L·|Δu| (L = |P′| + |R′| at most), so
-/// an interval whose ends are high enough is clear, and a point below −tol is a gouge.
+/// over an arc: 808D and Fanuc spread it over the block). The tool radius at each point is the
+/// point's distance from the programmed circle. The gouge test is the definition itself,
+/// f(u) = dist(P(u), E) − R(u) ≥ 0, shown by bisection: f changes by at most L·|Δu|
+/// (L = |P′| + |R′| at most), so an interval whose ends are high enough is clear, and a point
+/// below −tol is a gouge.
 #[derive(Clone, Copy, Debug)]
 struct Spiral {
     c: V2,
