@@ -561,6 +561,170 @@ fn offset_outer(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     Some(out)
 }
 
+/// Where two equidistants' carriers meet: a line (point, unit direction) or a circle.
+#[derive(Clone, Copy, Debug)]
+enum Carrier {
+    Line(P, P),
+    Circle(P, f64),
+}
+
+/// The carriers' intersection nearest `near` (the corner's normal points), if they meet.
+fn meet(x: Carrier, y: Carrier, near: P) -> Option<P> {
+    let line_circle = |p: P, u: P, c: P, r: f64| -> Vec<P> {
+        let f = sub(p, c);
+        let b = dot(f, u);
+        let disc = b * b - (dot(f, f) - r * r);
+        if disc < -1e-12 * r * r {
+            return vec![];
+        }
+        let h = disc.max(0.0).sqrt();
+        vec![add(p, mul(u, -b - h)), add(p, mul(u, -b + h))]
+    };
+    let found: Vec<P> = match (x, y) {
+        (Carrier::Line(p, u), Carrier::Line(q, w)) => {
+            let k = cross(u, w);
+            if k.abs() < 1e-12 {
+                vec![]
+            } else {
+                vec![add(p, mul(u, cross(sub(q, p), w) / k))]
+            }
+        }
+        (Carrier::Line(p, u), Carrier::Circle(c, r))
+        | (Carrier::Circle(c, r), Carrier::Line(p, u)) => line_circle(p, u, c, r),
+        (Carrier::Circle(c1, r1), Carrier::Circle(c2, r2)) => {
+            let d = norm(sub(c2, c1));
+            if d < 1e-12 || d > r1 + r2 + 1e-9 || d < (r1 - r2).abs() - 1e-9 {
+                vec![]
+            } else {
+                let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+                let h = (r1 * r1 - a * a).max(0.0).sqrt();
+                let e = mul(sub(c2, c1), 1.0 / d);
+                let m = add(c1, mul(e, a));
+                vec![add(m, mul([-e[1], e[0]], h)), add(m, mul([e[1], -e[0]], h))]
+            }
+        }
+    };
+    found
+        .into_iter()
+        .min_by(|a, b| norm(sub(*a, near)).total_cmp(&norm(sub(*b, near))))
+}
+
+/// The test's own full offset of any contour of lines and arcs: equidistants trimmed at
+/// their intersection at inner corners (line/line, line/circle, circle/circle: the one
+/// nearest the corner), circles about the vertex at outer ones, each with the elements it is
+/// built on. `None` where an equidistant runs backwards, an arc's shrinks to nothing or two
+/// do not meet.
+fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
+    let side = if case.left { 1.0 } else { -1.0 };
+    let tangent = |p: &Piece, at_end: bool| -> P {
+        match *p {
+            Piece::Seg(a, b) => mul(sub(b, a), 1.0 / norm(sub(b, a))),
+            Piece::Arc { a0, sw, .. } => {
+                let a = if at_end { a0 + sw } else { a0 };
+                let s = sw.signum();
+                [-a.sin() * s, a.cos() * s]
+            }
+        }
+    };
+    let n = case.pieces.len();
+    let mut carriers = Vec::with_capacity(n);
+    let mut starts = Vec::with_capacity(n);
+    let mut ends = Vec::with_capacity(n);
+    for p in &case.pieces {
+        match *p {
+            Piece::Seg(a, b) => {
+                let t = tangent(p, false);
+                let nrm = mul([-t[1], t[0]], side * case.r);
+                carriers.push(Carrier::Line(add(a, nrm), t));
+                starts.push(add(a, nrm));
+                ends.push(add(b, nrm));
+            }
+            Piece::Arc { c, r, a0, sw } => {
+                let ro = r - side * sw.signum() * case.r;
+                if ro <= 1e-9 {
+                    return None;
+                }
+                carriers.push(Carrier::Circle(c, ro));
+                starts.push(add(c, [ro * a0.cos(), ro * a0.sin()]));
+                ends.push(add(c, [ro * (a0 + sw).cos(), ro * (a0 + sw).sin()]));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for i in 0..n.saturating_sub(1) {
+        let (t1, t2) = (
+            tangent(&case.pieces[i], true),
+            tangent(&case.pieces[i + 1], false),
+        );
+        let turn = cross(t1, t2);
+        if turn.abs() < 1e-9 && dot(t1, t2) > 0.0 {
+            continue;
+        }
+        if turn * side > 0.0 && dot(t1, t2) > -(1.0 - 1e-12) {
+            let near = mul(add(ends[i], starts[i + 1]), 0.5);
+            let x = meet(carriers[i], carriers[i + 1], near)?;
+            ends[i] = x;
+            starts[i + 1] = x;
+        } else {
+            let v = case.pieces[i].at(1.0);
+            let a0 = (ends[i][1] - v[1]).atan2(ends[i][0] - v[0]);
+            let a1 = (starts[i + 1][1] - v[1]).atan2(starts[i + 1][0] - v[0]);
+            let sw = if side < 0.0 {
+                (a1 - a0).rem_euclid(std::f64::consts::TAU)
+            } else {
+                -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+            };
+            out.push((
+                Piece::Arc {
+                    c: v,
+                    r: case.r,
+                    a0,
+                    sw,
+                },
+                i,
+                i + 1,
+            ));
+        }
+    }
+    let pi = std::f64::consts::PI;
+    for (i, p) in case.pieces.iter().enumerate() {
+        let (s, e) = (starts[i], ends[i]);
+        let piece = match (*p, carriers[i]) {
+            (Piece::Seg(a, b), _) => {
+                let d = sub(b, a);
+                if dot(sub(e, s), d) < -1e-9 * norm(d) {
+                    return None;
+                }
+                if norm(sub(e, s)) == 0.0 {
+                    continue;
+                }
+                Piece::Seg(s, e)
+            }
+            (Piece::Arc { c, a0, sw, .. }, Carrier::Circle(_, ro)) => {
+                // Positions along the arc's direction, the start near 0 and the end near |sw|.
+                let k = sw.signum();
+                let along = |q: P, around: f64| {
+                    let a = ((q[1] - c[1]).atan2(q[0] - c[0]) - a0) * k;
+                    around + (a - around + pi).rem_euclid(std::f64::consts::TAU) - pi
+                };
+                let (ts, te) = (along(s, 0.0), along(e, sw.abs()));
+                if te < ts - 1e-9 {
+                    return None;
+                }
+                Piece::Arc {
+                    c,
+                    r: ro,
+                    a0: a0 + k * ts,
+                    sw: k * (te - ts),
+                }
+            }
+            (Piece::Arc { .. }, Carrier::Line(..)) => unreachable!("an arc's carrier is a circle"),
+        };
+        out.push((piece, i.saturating_sub(1), i + 1));
+    }
+    Some(out)
+}
+
 /// Smallest distance from the offset pieces to the contour elements they are built on
 /// (`built_on`), or to all the others.
 fn clearance(offset: &[(Piece, usize, usize)], contour: &[Piece], built_on: bool) -> f64 {
@@ -661,6 +825,48 @@ fn gouge_free_outer_contours_with_arcs_pass_without_an_alarm() {
         );
     }
     assert!(clear > 100, "{clear} of {checked} gouge-free");
+}
+
+/// (C) with arcs and inner corners: the test trims the equidistants itself (line/circle and
+/// circle/circle intersections), and a contour whose full offset clears it passes.
+#[test]
+fn gouge_free_contours_with_arcs_and_inner_corners_pass_without_an_alarm() {
+    let md = machine();
+    let mut rng = Rng(0x082efa98ec4e6c89);
+    let (mut clear, mut checked, mut inner_arcs) = (0, 0, 0);
+    for k in 0..CASES / 2 {
+        let case = make_case(&mut rng, false);
+        if case.pieces.iter().all(|p| matches!(p, Piece::Seg(..))) {
+            continue;
+        }
+        let Some(offset) = offset_general(&case) else {
+            continue;
+        };
+        checked += 1;
+        let far = clearance(&offset, &case.pieces, false);
+        let near = clearance(&offset, &case.pieces, true);
+        if far < case.r + 1e-6 || near < case.r - 1e-7 {
+            continue;
+        }
+        clear += 1;
+        // An inner corner next to an arc: what (B) and the polylines leave out.
+        let side = if case.left { 1.0 } else { -1.0 };
+        inner_arcs += usize::from(case.pieces.windows(2).any(|w| {
+            let arc = matches!(w[0], Piece::Arc { .. }) || matches!(w[1], Piece::Arc { .. });
+            let (a, b, c) = (w[0].at(1.0 - 1e-6), w[0].at(1.0), w[1].at(1e-6));
+            arc && cross(sub(b, a), sub(c, b)) * side > 1e-15
+        }));
+        let (_, alarm) = softnc_pieces(&case, &md);
+        assert!(
+            !alarm,
+            "case {k}: the full offset clears the contour, softnc raised an alarm (R = {})\n{}",
+            case.r, case.program
+        );
+    }
+    assert!(
+        clear > 100 && inner_arcs > 100,
+        "{clear} of {checked} gouge-free, {inner_arcs} with an inner corner at an arc"
+    );
 }
 
 #[test]
