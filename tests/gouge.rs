@@ -869,6 +869,142 @@ fn gouge_free_contours_with_arcs_and_inner_corners_pass_without_an_alarm() {
     );
 }
 
+/// The contour as a cavalier_contours polyline (arcs as bulges: every generated arc is under
+/// a half turn).
+fn cavalier_polyline(case: &Case) -> cavalier_contours::polyline::Polyline<f64> {
+    use cavalier_contours::polyline::{PlineSourceMut, Polyline};
+    let mut pl = Polyline::new();
+    for p in &case.pieces {
+        match *p {
+            Piece::Seg(a, _) => pl.add(a[0], a[1], 0.0),
+            Piece::Arc { sw, .. } => {
+                let a = p.at(0.0);
+                pl.add(a[0], a[1], (sw / 4.0).tan());
+            }
+        }
+    }
+    if let Some(last) = case.pieces.last() {
+        let e = last.at(1.0);
+        pl.add(e[0], e[1], 0.0);
+    }
+    pl
+}
+
+/// cavalier's offset as pieces.
+fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece> {
+    use cavalier_contours::polyline::PlineSource;
+    let mut out = Vec::new();
+    for i in 0..pl.vertex_count().saturating_sub(1) {
+        let (v, w) = (pl.at(i), pl.at(i + 1));
+        let (a, b) = ([v.x, v.y], [w.x, w.y]);
+        if v.bulge == 0.0 {
+            out.push(Piece::Seg(a, b));
+        } else {
+            // Bulge b = tan(sweep/4): the centre from the chord.
+            let sw = 4.0 * v.bulge.atan();
+            let chord = norm(sub(b, a));
+            let r = chord / (2.0 * (sw / 2.0).sin().abs());
+            let m = mul(add(a, b), 0.5);
+            let d = mul(sub(b, a), 1.0 / chord);
+            // Centre left of the chord for a ccw arc under a half turn.
+            let h = (r * r - chord * chord / 4.0).max(0.0).sqrt() * sw.signum();
+            let c = add(m, mul([-d[1], d[0]], h));
+            let a0 = (a[1] - c[1]).atan2(a[0] - c[0]);
+            out.push(Piece::Arc { c, r, a0, sw });
+        }
+    }
+    out
+}
+
+/// (D) Masking against an independent oracle: where cavalier_contours' offset (which trims
+/// what comes closer than R, globally) is one piece from the first normal position to the
+/// last and clears the contour, a gouge-free path exists, and softnc with ISG masking (G141,
+/// G26 transition circles, a 64-block window) must prepare the contour without an alarm and
+/// without a gouge.
+///
+/// Known gap, not yet met (docs/trc.md, "Masking: known gaps"): of 7 108 such contours, 1 344
+/// end in an alarm. 1 025 are 3021: an element shorter than its inner corner's trim (its
+/// equidistant runs backwards) leaves the neighbour's equidistant trimmed at a point that no
+/// longer exists, so there is no crossing to cut at; the path must instead join where the
+/// neighbours' equidistants meet once the element is left out. 319 are 10758: an inner circle
+/// the tool does not fit, which masking should leave out in the same way. No case gouges.
+/// Run it with `cargo test --test gouge -- --ignored`.
+#[test]
+#[ignore = "known gap in ISG masking (see the comment): 1 344 of 7 108 contours raise an alarm"]
+fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
+    use cavalier_contours::polyline::PlineSource;
+    let md = isg_masking();
+    let mut rng = Rng(0x452821e638d01377);
+    let (mut exists, mut masked) = (0, 0);
+    let mut failures = Vec::new();
+    for k in 0..CASES / 10 {
+        let case = make_case(&mut rng, k % 2 == 0);
+        if case.pieces.is_empty() {
+            continue;
+        }
+        let cav =
+            cavalier_polyline(&case).parallel_offset(if case.left { case.r } else { -case.r });
+        if cav.len() != 1 {
+            continue;
+        }
+        let pieces = cavalier_pieces(&cav[0]);
+        // Both ends kept: the path runs from the first normal position to the last.
+        let side = if case.left { 1.0 } else { -1.0 };
+        let normal_at = |p: &Piece, at_end: bool| {
+            let (q, t) = match *p {
+                Piece::Seg(a, b) => (
+                    if at_end { b } else { a },
+                    mul(sub(b, a), 1.0 / norm(sub(b, a))),
+                ),
+                Piece::Arc { a0, sw, .. } => {
+                    let a = if at_end { a0 + sw } else { a0 };
+                    (
+                        p.at(if at_end { 1.0 } else { 0.0 }),
+                        [-a.sin() * sw.signum(), a.cos() * sw.signum()],
+                    )
+                }
+            };
+            add(q, mul([-t[1], t[0]], side * case.r))
+        };
+        let (first, last) = (&case.pieces[0], &case.pieces[case.pieces.len() - 1]);
+        let (Some(s), Some(e)) = (pieces.first(), pieces.last()) else {
+            continue;
+        };
+        if norm(sub(s.at(0.0), normal_at(first, false))) > 1e-6
+            || norm(sub(e.at(1.0), normal_at(last, true))) > 1e-6
+        {
+            continue;
+        }
+        // Clear at this test's precision, with a margin for cavalier's own 1e-5 fuzz.
+        if min_dist(&pieces, &case.pieces) < case.r - 1e-7 {
+            continue;
+        }
+        exists += 1;
+        let full = offset_general(&case)
+            .is_some_and(|o| clearance(&o, &case.pieces, false) >= case.r + 1e-6);
+        masked += usize::from(!full);
+        let case = with_masking(&case);
+        let (path, alarm) = softnc_pieces(&case, &md);
+        let d = min_dist(&path, &case.pieces);
+        if alarm || d < case.r - 1e-9 {
+            failures.push(format!(
+                "case {k}: alarm {alarm}, distance {d}, R = {}\n{}",
+                case.r, case.program
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {exists} failed; the first:\n{}",
+        failures.len(),
+        failures.first().map_or("", |s| s.as_str())
+    );
+    assert!(
+        exists > 1000 && masked > 50,
+        "{exists} with a path, {masked} of them masked"
+    );
+}
+
 #[test]
 fn gouge_free_polylines_pass_without_an_alarm() {
     let md = machine();
