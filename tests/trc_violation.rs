@@ -284,6 +284,49 @@ fn isg_masking_leaves_out_what_would_violate_and_joins_at_the_intersection() {
     assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 6));
 }
 
+/// ISG masking of a step shorter than its inner corner's trim: N30 east along Y0, N40 3 mm up,
+/// N50 east along Y3, the tool above (G41, R 10, G26 transition circles). N40's equidistant
+/// x = 40 runs backwards (the trim at the inner corner is R·tan 45° = 10 > 3), and N30's was
+/// trimmed at their intersection (40, 10), a point that is gone once N40 is left out. The
+/// path joins where N30's equidistant y = 10, lengthened, meets the transition circle about
+/// N40's end (50, 3): x = 50 − √51. It goes on round that circle to N50's normal position
+/// (50, 13), and N40 is not cut. (Found by the cavalier oracle in tests/gouge.rs: before, the
+/// window found no crossing to cut at and stopped with 3021.)
+#[test]
+fn isg_masking_joins_past_a_step_shorter_than_its_trim() {
+    let src = "N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 Y3\nN50 X100\nN60 G40 X120 Y30\nN70 M30\n";
+    let (items, alarm) = run_isg(src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    let x = 50.0 - 51f64.sqrt();
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, x, 10.0);
+    assert!(segs
+        .iter()
+        .all(|s| block(s) != 40 || s.role == Role::Corner));
+    let corner = segs.iter().find(|s| s.role == Role::Corner).unwrap();
+    at(corner.from, x, 10.0);
+    at(corner.to, 50.0, 13.0);
+    let Shape::Arc { center, .. } = corner.shape else {
+        panic!("{corner:?}");
+    };
+    at(center, 50.0, 3.0);
+    // The transition circle is N50's first piece, its straight line the second.
+    assert_eq!(block(corner), 50);
+    let n50 = segs
+        .iter()
+        .find(|s| block(s) == 50 && s.role == Role::Contour)
+        .unwrap();
+    at(n50.from, 50.0, 13.0);
+    // G140: the step is a contour violation (11.12 at N40).
+    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ContourViolation, 5))
+    );
+}
+
 #[test]
 fn isg_masking_without_a_way_round_is_an_alarm() {
     // The contour that comes back close to itself without crossing (see `comes_back`): no loop

@@ -235,7 +235,10 @@ impl Bottleneck {
             _ => None,
         };
         if let (Some(e), Reaction::Mask) = (elem, reaction) {
-            if let Some(x) = self.crossing_with_held(&e) {
+            if let Some(x) = self
+                .crossing_with_held(&e)
+                .or_else(|| self.lengthened_to(&e))
+            {
                 self.cut_loop(x.0, x.1, &mut seg);
                 elem = self.elem(&seg);
             }
@@ -332,6 +335,47 @@ impl Bottleneck {
             }
         }
         None
+    }
+
+    /// Masking where no held segment crosses the new element: an element shorter than the
+    /// trim of its inner corner runs backwards, and the line before it was trimmed at their
+    /// intersection, a point that is gone once the element is left out. The path joins where
+    /// that line, lengthened, meets the new element (the equidistants' intersection).
+    fn lengthened_to(&self, e: &Elem) -> Option<(usize, V2)> {
+        let q = (0..self.held.len())
+            .rev()
+            .find(|&i| self.runs_backwards(i))?;
+        let j = q.checked_sub(1)?;
+        let Some(Elem::Line { a, b }) = self.held.iter().nth(j)?.elem else {
+            return None;
+        };
+        let d = b - a;
+        let ray = Elem::Line { a: b, b: b + d };
+        intersections(&ray, e)
+            .into_iter()
+            .filter(|&x| (x - b).dot(d) >= 0.0 && contains(e, x))
+            .min_by(|x, y| x.dist(b).total_cmp(&y.dist(b)))
+            .map(|x| (j, x))
+    }
+
+    /// Whether held segment `i` is a line's path that runs against its programmed line.
+    fn runs_backwards(&self, i: usize) -> bool {
+        let Some(h) = self.held.iter().nth(i) else {
+            return false;
+        };
+        let Some(Elem::Line { a, b }) = h.elem else {
+            return false;
+        };
+        h.seg.role == Role::Contour
+            && self
+                .programmed
+                .iter()
+                .rev()
+                .find(|p| p.source.seq == h.seg.source.seq)
+                .is_some_and(|p| match p.elem {
+                    Elem::Line { a: pa, b: pb } => (b - a).dot(pb - pa) < 0.0,
+                    Elem::Arc { .. } => false,
+                })
     }
 
     /// Masking: the held segment `i` ends at `x`, the ones after it are left out, and `seg`
