@@ -49,14 +49,57 @@ pub enum Reaction {
 #[derive(Clone, Copy, Debug)]
 struct Held {
     seg: Segment,
-    elem: Option<Elem>,
-    /// A path arc whose radius changes along it (no `elem`): checked by bisection.
-    spiral: Option<Spiral>,
+    piece: PathPiece,
+    /// A line's path that runs against its programmed line (an element shorter than the
+    /// trim of its inner corner): what masking lengthens the line before past.
+    backwards: bool,
     /// Tool radius and side the segment was made with.
     r: f64,
     side: i8,
     /// Bounding box in the plane, grown by the radius: min u, min v, max u, max v.
     bb: [f64; 4],
+}
+
+/// A path segment as the window measures it.
+#[derive(Clone, Copy, Debug)]
+enum PathPiece {
+    /// A line or a circle.
+    Plain(Elem),
+    /// A path arc whose radius changes along it: checked by bisection.
+    Spiral(Spiral),
+    /// Nothing to measure: no move in the plane, or a radius change the window does not model.
+    Off,
+}
+
+impl PathPiece {
+    fn plain(e: Option<Elem>) -> PathPiece {
+        e.map_or(PathPiece::Off, PathPiece::Plain)
+    }
+
+    fn elem(&self) -> Option<Elem> {
+        match *self {
+            PathPiece::Plain(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    fn bbox(&self, r: f64) -> [f64; 4] {
+        match self {
+            PathPiece::Plain(e) => bbox(e, r),
+            PathPiece::Spiral(sp) => sp.bbox(),
+            PathPiece::Off => [0.0; 4],
+        }
+    }
+
+    /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
+    /// its radius, beyond rounding: the distance there and the tool radius.
+    fn too_close(&self, other: &Elem, r: f64) -> Option<(f64, f64)> {
+        match self {
+            PathPiece::Plain(e) => too_close(e, other, r).map(|d| (d, r)),
+            PathPiece::Spiral(sp) => sp.too_close(other),
+            PathPiece::Off => None,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -147,12 +190,7 @@ impl Bottleneck {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            let close = match (h.elem, h.spiral) {
-                (Some(he), _) => too_close(&he, &elem, h.r).map(|d| (d, h.r)),
-                (None, Some(sp)) => sp.too_close(&elem),
-                (None, None) => None,
-            };
-            if let Some((d, radius)) = close {
+            if let Some((d, radius)) = h.piece.too_close(&elem, h.r) {
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
@@ -229,65 +267,35 @@ impl Bottleneck {
         let (r, side) = own
             .or(self.programmed.back())
             .map_or((0.0, 0), |p| (p.r, p.side));
-        let mut elem = self.elem(&seg);
-        let spiral = match (elem, own) {
-            (None, Some(p)) if reaction != Reaction::Mask => Spiral::new(&seg, self.plane, &p.elem),
-            _ => None,
+        let own = own.map(|p| p.elem);
+        let mask = reaction == Reaction::Mask;
+        let mut piece = match (self.elem(&seg), own) {
+            (Some(e), _) => PathPiece::Plain(e),
+            // Masking cuts lines and circles only (ISG has no radius change over a circle).
+            (None, Some(o)) if !mask => {
+                Spiral::new(&seg, self.plane, &o).map_or(PathPiece::Off, PathPiece::Spiral)
+            }
+            (None, _) => PathPiece::Off,
         };
-        if let (Some(e), Reaction::Mask) = (elem, reaction) {
+        if let (PathPiece::Plain(e), true) = (piece, mask) {
             if let Some(x) = self
                 .crossing_with_held(&e)
                 .or_else(|| self.lengthened_to(&e))
             {
                 self.cut_loop(x.0, x.1, &mut seg);
-                elem = self.elem(&seg);
+                piece = PathPiece::plain(self.elem(&seg));
             }
         }
-        let bb = match (elem, spiral) {
-            (Some(e), _) => bbox(&e, r),
-            (None, Some(sp)) => sp.bbox(),
-            (None, None) => [0.0; 4],
-        };
-        if let Some(sp) = spiral {
-            let (a, b) = self.programmed.as_slices();
-            for p in a.iter().chain(b) {
-                if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
-                    continue;
+        let backwards = seg.role == Role::Contour
+            && matches!((piece, own), (PathPiece::Plain(Elem::Line { a, b }),
+                Some(Elem::Line { a: pa, b: pb })) if (b - a).dot(pb - pa) < 0.0);
+        let bb = piece.bbox(r);
+        if !mask {
+            if let Some(g) = self.first_gouge(seg.source, &piece, r, side, &bb) {
+                if reaction != Reaction::Warn {
+                    return Err(g);
                 }
-                if let Some((d, radius)) = sp.too_close(&p.elem) {
-                    let g = Gouge {
-                        path: seg.source,
-                        element: p.source,
-                        distance: d,
-                        radius,
-                    };
-                    if reaction != Reaction::Warn {
-                        return Err(g);
-                    }
-                    warned = Some(g);
-                    break;
-                }
-            }
-        }
-        if let (Some(e), false) = (elem, reaction == Reaction::Mask) {
-            let (a, b) = self.programmed.as_slices();
-            for p in a.iter().chain(b) {
-                if p.side != side || near(p.source.seq, seg.source.seq) || !overlap(&p.bb, &bb) {
-                    continue;
-                }
-                if let Some(d) = too_close(&e, &p.elem, r) {
-                    let g = Gouge {
-                        path: seg.source,
-                        element: p.source,
-                        distance: d,
-                        radius: r,
-                    };
-                    if reaction != Reaction::Warn {
-                        return Err(g);
-                    }
-                    warned = Some(g);
-                    break;
-                }
+                warned = Some(g);
             }
         }
         // A new block in the window; the oldest leaves once there are more than `depth`.
@@ -295,14 +303,13 @@ impl Bottleneck {
             self.blocks += 1;
             self.last_seq = Some(seg.source.seq);
         }
-        let mask = reaction == Reaction::Mask;
         if self.held.is_full() {
             self.release_block(out, mask)?;
         }
         let _ = self.held.push_back(Held {
             seg,
-            elem,
-            spiral,
+            piece,
+            backwards,
             r,
             side,
             bb,
@@ -319,7 +326,7 @@ impl Bottleneck {
         let bb = bbox(e, 0.0);
         let n = self.held.len();
         for (i, h) in self.held.iter().enumerate().take(n.saturating_sub(1)) {
-            let Some(he) = h.elem else {
+            let Some(he) = h.piece.elem() else {
                 continue;
             };
             if !overlap(&bbox(&he, 0.0), &bb) {
@@ -342,11 +349,9 @@ impl Bottleneck {
     /// intersection, a point that is gone once the element is left out. The path joins where
     /// that line, lengthened, meets the new element (the equidistants' intersection).
     fn lengthened_to(&self, e: &Elem) -> Option<(usize, V2)> {
-        let q = (0..self.held.len())
-            .rev()
-            .find(|&i| self.runs_backwards(i))?;
+        let q = self.held.iter().rposition(|h| h.backwards)?;
         let j = q.checked_sub(1)?;
-        let Some(Elem::Line { a, b }) = self.held.iter().nth(j)?.elem else {
+        let Some(Elem::Line { a, b }) = self.held.iter().nth(j)?.piece.elem() else {
             return None;
         };
         let d = b - a;
@@ -358,26 +363,6 @@ impl Bottleneck {
             .map(|x| (j, x))
     }
 
-    /// Whether held segment `i` is a line's path that runs against its programmed line.
-    fn runs_backwards(&self, i: usize) -> bool {
-        let Some(h) = self.held.iter().nth(i) else {
-            return false;
-        };
-        let Some(Elem::Line { a, b }) = h.elem else {
-            return false;
-        };
-        h.seg.role == Role::Contour
-            && self
-                .programmed
-                .iter()
-                .rev()
-                .find(|p| p.source.seq == h.seg.source.seq)
-                .is_some_and(|p| match p.elem {
-                    Elem::Line { a: pa, b: pb } => (b - a).dot(pb - pa) < 0.0,
-                    Elem::Arc { .. } => false,
-                })
-    }
-
     /// Masking: the held segment `i` ends at `x`, the ones after it are left out, and `seg`
     /// starts at `x`.
     fn cut_loop(&mut self, i: usize, x: V2, seg: &mut Segment) {
@@ -387,8 +372,8 @@ impl Bottleneck {
         let plane = self.plane;
         if let Some(h) = self.held.back_mut() {
             h.seg.to = at(plane, &h.seg.to, x);
-            h.elem = elem_in(&h.seg, plane);
-            h.bb = h.elem.map_or([0.0; 4], |e| bbox(&e, h.r));
+            h.piece = PathPiece::plain(elem_in(&h.seg, plane));
+            h.bb = h.piece.bbox(h.r);
         }
         seg.from = at(plane, &seg.from, x);
         self.recount();
@@ -442,24 +427,34 @@ impl Bottleneck {
 
     /// A held segment against the programmed elements in the window.
     fn check(&self, h: &Held) -> Result<(), Gouge> {
-        let Some(e) = h.elem else {
-            return Ok(());
-        };
-        let (a, b) = self.programmed.as_slices();
-        for p in a.iter().chain(b) {
-            if p.side != h.side || near(p.source.seq, h.seg.source.seq) || !overlap(&p.bb, &h.bb) {
-                continue;
-            }
-            if let Some(d) = too_close(&e, &p.elem, h.r) {
-                return Err(Gouge {
-                    path: h.seg.source,
-                    element: p.source,
-                    distance: d,
-                    radius: h.r,
-                });
-            }
+        match self.first_gouge(h.seg.source, &h.piece, h.r, h.side, &h.bb) {
+            Some(g) => Err(g),
+            None => Ok(()),
         }
-        Ok(())
+    }
+
+    /// The first programmed element in the window (of the same side, not the path's own
+    /// block) that the path piece of block `path` comes too close to.
+    fn first_gouge(
+        &self,
+        path: crate::segment::Source,
+        piece: &PathPiece,
+        r: f64,
+        side: i8,
+        bb: &[f64; 4],
+    ) -> Option<Gouge> {
+        let (a, b) = self.programmed.as_slices();
+        a.iter().chain(b).find_map(|p| {
+            if p.side != side || near(p.source.seq, path.seq) || !overlap(&p.bb, bb) {
+                return None;
+            }
+            piece.too_close(&p.elem, r).map(|(distance, radius)| Gouge {
+                path,
+                element: p.source,
+                distance,
+                radius,
+            })
+        })
     }
 
     fn recount(&mut self) {
