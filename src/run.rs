@@ -483,11 +483,7 @@ fn bridge_url(c: &mut Child, log: &Path) -> Result<String, String> {
     let t = Instant::now();
     loop {
         let text = std::fs::read_to_string(log).unwrap_or_default();
-        if let Some(a) = text
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-        {
+        if let Some(a) = hmi_bridge::address_in(&text) {
             return Ok(format!("http://{a}/"));
         }
         if let Ok(Some(s)) = c.try_wait() {

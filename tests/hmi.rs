@@ -816,11 +816,7 @@ fn softnc_run_with_the_hmi_stays_up_until_ctrl_c() {
         assert!(t.elapsed() < Duration::from_secs(120), "{text}");
         std::thread::sleep(Duration::from_millis(50));
     };
-    let addr = text
-        .split("HMI: http://")
-        .nth(1)
-        .and_then(|r| r.split('/').next())
-        .unwrap_or_else(|| panic!("{text}"));
+    let addr = hmi_bridge::address_in(&text).unwrap_or_else(|| panic!("{text}"));
     let bridge = Bridge::new(addr, None);
     let status = bridge.get("/api/status").unwrap().json();
     assert_eq!(

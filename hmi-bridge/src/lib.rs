@@ -19,6 +19,13 @@ const USAGE: &str = "usage: hmi-bridge [--instance NAME] [--machine FILE] [--por
                   [--listen ADDRESS[:PORT] --token TOKEN] [--programs DIR]
   The token may also come from the environment variable SOFTNC_HMI_TOKEN.";
 
+/// The `host:port` in a log the bridge wrote: it announces `http://HOST:PORT/` on its
+/// first line (with `--port 0`, whatever port it got). For those who start it and read its
+/// log: `softnc run --hmi`, the tests.
+pub fn address_in(log: &str) -> Option<&str> {
+    log.split("http://").nth(1)?.split('/').next()
+}
+
 pub fn main(args: Vec<String>) -> ExitCode {
     match run(args) {
         Ok(()) => ExitCode::SUCCESS,

@@ -13,11 +13,7 @@ pub fn bridge_address(log: &Path) -> String {
     let t = Instant::now();
     loop {
         let text = std::fs::read_to_string(log).unwrap_or_default();
-        if let Some(a) = text
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-        {
+        if let Some(a) = hmi_bridge::address_in(&text) {
             return a.to_string();
         }
         assert!(t.elapsed() < Duration::from_secs(30), "no bridge: {text}");
