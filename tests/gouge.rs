@@ -46,6 +46,18 @@ enum Piece {
 }
 
 impl Piece {
+    /// Unit direction of travel at the start or the end.
+    fn tangent(&self, at_end: bool) -> P {
+        match *self {
+            Piece::Seg(a, b) => mul(sub(b, a), 1.0 / norm(sub(b, a))),
+            Piece::Arc { a0, sw, .. } => {
+                let a = if at_end { a0 + sw } else { a0 };
+                let s = sw.signum();
+                [-a.sin() * s, a.cos() * s]
+            }
+        }
+    }
+
     fn at(&self, t: f64) -> P {
         match *self {
             Piece::Seg(a, b) => add(a, mul(sub(b, a), t)),
@@ -458,24 +470,8 @@ fn offset_polyline(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
             starts[i + 1] = x;
         } else {
             // Outer (or a reversal): the circle about the vertex.
-            let c = b1;
-            let a0 = (ends[i][1] - c[1]).atan2(ends[i][0] - c[0]);
-            let a1 = (starts[i + 1][1] - c[1]).atan2(starts[i + 1][0] - c[0]);
-            let sw = if side < 0.0 {
-                (a1 - a0).rem_euclid(std::f64::consts::TAU)
-            } else {
-                -(a0 - a1).rem_euclid(std::f64::consts::TAU)
-            };
-            corners.push((
-                Piece::Arc {
-                    c,
-                    r: case.r,
-                    a0,
-                    sw,
-                },
-                i,
-                i + 1,
-            ));
+            let circle = corner_circle(b1, ends[i], starts[i + 1], side, case.r);
+            corners.push((circle, i, i + 1));
         }
     }
     let mut out = corners;
@@ -496,24 +492,11 @@ fn offset_polyline(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
 /// corners. `None` for contours with an inner corner or an arc the tool does not fit.
 fn offset_outer(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     let side = if case.left { 1.0 } else { -1.0 };
-    let tangent = |p: &Piece, at_end: bool| -> P {
-        match *p {
-            Piece::Seg(a, b) => {
-                let d = sub(b, a);
-                mul(d, 1.0 / norm(d))
-            }
-            Piece::Arc { a0, sw, .. } => {
-                let a = if at_end { a0 + sw } else { a0 };
-                let s = sw.signum();
-                [-a.sin() * s, a.cos() * s]
-            }
-        }
-    };
     let mut out = Vec::new();
     for (i, p) in case.pieces.iter().enumerate() {
         let piece = match *p {
             Piece::Seg(a, b) => {
-                let t = tangent(p, false);
+                let t = p.tangent(false);
                 let n = mul([-t[1], t[0]], side * case.r);
                 Piece::Seg(add(a, n), add(b, n))
             }
@@ -528,7 +511,7 @@ fn offset_outer(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
         };
         out.push((piece, i.saturating_sub(1), i + 1));
         if i + 1 < case.pieces.len() {
-            let (t1, t2) = (tangent(p, true), tangent(&case.pieces[i + 1], false));
+            let (t1, t2) = (p.tangent(true), case.pieces[i + 1].tangent(false));
             let turn = cross(t1, t2);
             if turn.abs() < 1e-9 && dot(t1, t2) > 0.0 {
                 continue;
@@ -539,23 +522,7 @@ fn offset_outer(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
             let v = p.at(1.0);
             let e = add(v, mul([-t1[1], t1[0]], side * case.r));
             let s2 = add(v, mul([-t2[1], t2[0]], side * case.r));
-            let a0 = (e[1] - v[1]).atan2(e[0] - v[0]);
-            let a1 = (s2[1] - v[1]).atan2(s2[0] - v[0]);
-            let sw = if side < 0.0 {
-                (a1 - a0).rem_euclid(std::f64::consts::TAU)
-            } else {
-                -(a0 - a1).rem_euclid(std::f64::consts::TAU)
-            };
-            out.push((
-                Piece::Arc {
-                    c: v,
-                    r: case.r,
-                    a0,
-                    sw,
-                },
-                i,
-                i + 1,
-            ));
+            out.push((corner_circle(v, e, s2, side, case.r), i, i + 1));
         }
     }
     Some(out)
@@ -616,16 +583,6 @@ fn meet(x: Carrier, y: Carrier, near: P) -> Option<P> {
 /// do not meet.
 fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     let side = if case.left { 1.0 } else { -1.0 };
-    let tangent = |p: &Piece, at_end: bool| -> P {
-        match *p {
-            Piece::Seg(a, b) => mul(sub(b, a), 1.0 / norm(sub(b, a))),
-            Piece::Arc { a0, sw, .. } => {
-                let a = if at_end { a0 + sw } else { a0 };
-                let s = sw.signum();
-                [-a.sin() * s, a.cos() * s]
-            }
-        }
-    };
     let n = case.pieces.len();
     let mut carriers = Vec::with_capacity(n);
     let mut starts = Vec::with_capacity(n);
@@ -633,7 +590,7 @@ fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     for p in &case.pieces {
         match *p {
             Piece::Seg(a, b) => {
-                let t = tangent(p, false);
+                let t = p.tangent(false);
                 let nrm = mul([-t[1], t[0]], side * case.r);
                 carriers.push(Carrier::Line(add(a, nrm), t));
                 starts.push(add(a, nrm));
@@ -653,8 +610,8 @@ fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
     let mut out = Vec::new();
     for i in 0..n.saturating_sub(1) {
         let (t1, t2) = (
-            tangent(&case.pieces[i], true),
-            tangent(&case.pieces[i + 1], false),
+            case.pieces[i].tangent(true),
+            case.pieces[i + 1].tangent(false),
         );
         let turn = cross(t1, t2);
         if turn.abs() < 1e-9 && dot(t1, t2) > 0.0 {
@@ -667,23 +624,8 @@ fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
             starts[i + 1] = x;
         } else {
             let v = case.pieces[i].at(1.0);
-            let a0 = (ends[i][1] - v[1]).atan2(ends[i][0] - v[0]);
-            let a1 = (starts[i + 1][1] - v[1]).atan2(starts[i + 1][0] - v[0]);
-            let sw = if side < 0.0 {
-                (a1 - a0).rem_euclid(std::f64::consts::TAU)
-            } else {
-                -(a0 - a1).rem_euclid(std::f64::consts::TAU)
-            };
-            out.push((
-                Piece::Arc {
-                    c: v,
-                    r: case.r,
-                    a0,
-                    sw,
-                },
-                i,
-                i + 1,
-            ));
+            let circle = corner_circle(v, ends[i], starts[i + 1], side, case.r);
+            out.push((circle, i, i + 1));
         }
     }
     let pi = std::f64::consts::PI;
@@ -723,6 +665,19 @@ fn offset_general(case: &Case) -> Option<Vec<(Piece, usize, usize)>> {
         out.push((piece, i.saturating_sub(1), i + 1));
     }
     Some(out)
+}
+
+/// The transition circle about the vertex `v` of an outer corner, radius `r`, from `from` to
+/// `to` (the equidistants' ends there), turning away from the tool side (`side` +1 left).
+fn corner_circle(v: P, from: P, to: P, side: f64, r: f64) -> Piece {
+    let a0 = (from[1] - v[1]).atan2(from[0] - v[0]);
+    let a1 = (to[1] - v[1]).atan2(to[0] - v[0]);
+    let sw = if side < 0.0 {
+        (a1 - a0).rem_euclid(std::f64::consts::TAU)
+    } else {
+        -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+    };
+    Piece::Arc { c: v, r, a0, sw }
 }
 
 /// Smallest distance from the offset pieces to the contour elements they are built on
@@ -950,19 +905,7 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
         // Both ends kept: the path runs from the first normal position to the last.
         let side = if case.left { 1.0 } else { -1.0 };
         let normal_at = |p: &Piece, at_end: bool| {
-            let (q, t) = match *p {
-                Piece::Seg(a, b) => (
-                    if at_end { b } else { a },
-                    mul(sub(b, a), 1.0 / norm(sub(b, a))),
-                ),
-                Piece::Arc { a0, sw, .. } => {
-                    let a = if at_end { a0 + sw } else { a0 };
-                    (
-                        p.at(if at_end { 1.0 } else { 0.0 }),
-                        [-a.sin() * sw.signum(), a.cos() * sw.signum()],
-                    )
-                }
-            };
+            let (q, t) = (p.at(if at_end { 1.0 } else { 0.0 }), p.tangent(at_end));
             add(q, mul([-t[1], t[0]], side * case.r))
         };
         let (first, last) = (&case.pieces[0], &case.pieces[case.pieces.len() - 1]);
