@@ -877,20 +877,19 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
 /// G26 transition circles, a 64-block window) must prepare the contour without an alarm and
 /// without a gouge.
 ///
-/// Known gap, not yet met (docs/trc.md, "Masking: known gaps"): of 7 108 such contours, 974
-/// end in an alarm (1 344 before the window lengthened a line past a step shorter than its
-/// trim). 655 are 3021, not yet analysed one by one (the lengthening handles a line before a
-/// line step only). 319 are 10758: an inner circle the tool does not fit, which masking
-/// should leave out in the same way. No case gouges.
-/// Run it with `cargo test --test gouge -- --ignored`.
+/// The gouges are checked in full. The alarms are a known gap (docs/trc.md, "Masking: known
+/// gaps"): of 7 108 such contours, 974 end in an alarm (1 344 before the window lengthened a
+/// line past a step shorter than its trim). 655 are 3021, not yet analysed one by one (the
+/// lengthening handles a line before a line step only); 319 are 10758, an inner circle the
+/// tool does not fit, which masking should leave out in the same way. The goal is none; the
+/// count is pinned until then: more is a regression, fewer an improvement to write down here.
 #[test]
-#[ignore = "known gap in ISG masking (see the comment): 974 of 7 108 contours raise an alarm"]
 fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     use cavalier_contours::polyline::PlineSource;
     let md = isg_masking();
     let mut rng = Rng(0x452821e638d01377);
     let (mut exists, mut masked) = (0, 0);
-    let mut failures = Vec::new();
+    let (mut alarms, mut gouges) = (Vec::new(), Vec::new());
     for k in 0..CASES / 10 {
         let case = make_case(&mut rng, k % 2 == 0);
         if case.pieces.is_empty() {
@@ -928,18 +927,28 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
         let case = with_masking(&case);
         let (path, alarm) = softnc_pieces(&case, &md);
         let d = min_dist(&path, &case.pieces);
-        if alarm || d < case.r - 1e-9 {
-            failures.push(format!(
-                "case {k}: alarm {alarm}, distance {d}, R = {}\n{}",
+        if d < case.r - 1e-9 {
+            gouges.push(format!(
+                "case {k}: distance {d}, R = {}\n{}",
                 case.r, case.program
             ));
         }
+        if alarm {
+            alarms.push(format!("case {k}: R = {}\n{}", case.r, case.program));
+        }
     }
     assert!(
-        failures.is_empty(),
-        "{} of {exists} failed; the first:\n{}",
-        failures.len(),
-        failures.first().map_or("", |s| s.as_str())
+        gouges.is_empty(),
+        "{} of {exists} gouge; the first:\n{}",
+        gouges.len(),
+        gouges[0]
+    );
+    assert_eq!(exists, 7108);
+    assert!(
+        alarms.len() <= 974,
+        "{} of {exists} raise an alarm; the first:\n{}",
+        alarms.len(),
+        alarms[0]
     );
     assert!(
         exists > 1000 && masked > 50,
