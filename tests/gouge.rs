@@ -878,11 +878,12 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
 /// without a gouge.
 ///
 /// The gouges are checked in full. The alarms are a known gap (docs/trc.md, "Masking: known
-/// gaps"): of 7 108 such contours, 974 end in an alarm (1 344 before the window lengthened a
-/// line past a step shorter than its trim). 655 are 3021, not yet analysed one by one (the
-/// lengthening handles a line before a line step only); 319 are 10758, an inner circle the
-/// tool does not fit, which masking should leave out in the same way. The goal is none; the
-/// count is pinned until then: more is a regression, fewer an improvement to write down here.
+/// gaps"): of 7 108 such contours, 76 end in an alarm, all 3021 where the path the window
+/// joined still comes too close to an element (974 before the window joined backward runs of
+/// lines and arcs, circles smaller than the tool and corners whose equidistants do not meet;
+/// 1 344 before it lengthened a line past a step shorter than its trim). The goal is none;
+/// the count is pinned until then: more is a regression, fewer an improvement to write down
+/// here.
 #[test]
 fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     use cavalier_contours::polyline::PlineSource;
@@ -945,7 +946,7 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     );
     assert_eq!(exists, 7108);
     assert!(
-        alarms.len() <= 974,
+        alarms.len() <= 76,
         "{} of {exists} raise an alarm; the first:\n{}",
         alarms.len(),
         alarms[0]
@@ -959,9 +960,10 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
 /// (D′) Where softnc's masking does get through, its path is the oracle's: every end and
 /// midpoint of a softnc piece lies on cavalier's offset and every vertex and segment midpoint
 /// of cavalier's lies on softnc's path, within cavalier's own 1e-5 mm. Known exceptions
-/// (docs/trc.md): 20 of the 6 140 compared paths take another, still gouge-free, way (14 of
-/// 5 770 before the window lengthened lines past short steps). The count is pinned: more is
-/// a regression, fewer an improvement to write down here.
+/// (docs/trc.md): 19 of the 7 038 compared paths take another, still gouge-free, way (20 of
+/// 6 140 before the window joined past backward runs, 14 of 5 770 before it lengthened lines
+/// past short steps). The count is pinned: more is a regression, fewer an improvement to
+/// write down here.
 #[test]
 fn masked_paths_follow_the_oracle() {
     use cavalier_contours::polyline::PlineSource;
@@ -1019,9 +1021,9 @@ fn masked_paths_follow_the_oracle() {
         }
         compared += 1;
     }
-    assert_eq!(compared, 6140);
+    assert_eq!(compared, 7038);
     assert!(
-        differ.len() <= 20,
+        differ.len() <= 19,
         "{} of {compared} differ:\n{}",
         differ.len(),
         differ.join("\n")

@@ -294,23 +294,15 @@ fn isg_masking_leaves_out_what_would_violate_and_joins_at_the_intersection() {
 /// window found no crossing to cut at and stopped with 3021.)
 #[test]
 fn isg_masking_joins_past_a_step_shorter_than_its_trim() {
-    let src = "N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 Y3\nN50 X100\nN60 G40 X120 Y30\nN70 M30\n";
-    let (items, alarm) = run_isg(src);
-    assert!(alarm.is_none(), "{alarm:?}");
+    let items = masked_step("3");
     let segs = segments(&items);
     let block = |s: &Segment| s.source.number.unwrap().value;
     let x = 50.0 - 51f64.sqrt();
     let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
     at(n30.to, x, 10.0);
-    assert!(segs
-        .iter()
-        .all(|s| block(s) != 40 || s.role == Role::Corner));
-    let corner = segs.iter().find(|s| s.role == Role::Corner).unwrap();
+    let (corner, center) = transition_circle(&segs);
     at(corner.from, x, 10.0);
     at(corner.to, 50.0, 13.0);
-    let Shape::Arc { center, .. } = corner.shape else {
-        panic!("{corner:?}");
-    };
     at(center, 50.0, 3.0);
     // The transition circle is N50's first piece, its straight line the second.
     assert_eq!(block(corner), 50);
@@ -319,11 +311,90 @@ fn isg_masking_joins_past_a_step_shorter_than_its_trim() {
         .find(|s| block(s) == 50 && s.role == Role::Contour)
         .unwrap();
     at(n50.from, 50.0, 13.0);
-    // G140: the step is a contour violation (11.12 at N40).
+}
+
+/// The mirror image: N30 east along Y0, N40 3 mm down, N50 east along Y−3, the tool above
+/// (G41, R 10, G26). N30→N40 is an outer corner: the transition circle about (50, 0) from
+/// (50, 10) to (60, 0) is N40's first piece. N40's equidistant x = 60 meets N50's y = 7 at
+/// (60, 7), above where it starts: it runs backwards. Left out, the path joins where the
+/// transition circle meets N50's equidistant, lengthened back: x = 50 + √51, y = 7.
+#[test]
+fn isg_masking_joins_a_transition_circle_before_a_step_down() {
+    let items = masked_step("-3");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    let x = 50.0 + 51f64.sqrt();
+    let (corner, center) = transition_circle(&segs);
+    assert_eq!(block(corner), 40);
+    at(corner.from, 50.0, 10.0);
+    at(corner.to, x, 7.0);
+    at(center, 50.0, 0.0);
+    let n50 = segs.iter().find(|s| block(s) == 50).unwrap();
+    at(n50.from, x, 7.0);
+    // Along y = 7 to the deselection's inner corner.
+    assert!((n50.to[1] - 7.0).abs() < 1e-9 && n50.to[0] > x, "{n50:?}");
+}
+
+/// The step of the two tests above under G141 (N40 `rise` mm up or down, the tool above,
+/// R 10, G26): prepared without an alarm, nothing of N40 cut but a transition circle; with
+/// G140 the step is a contour violation (11.12 at N40).
+fn masked_step(rise: &str) -> Vec<Prepared> {
+    let src = format!("N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 Y{rise}\nN50 X100\nN60 G40 X120 Y30\nN70 M30\n");
+    let (items, alarm) = run_isg(&src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    assert!(segments(&items)
+        .iter()
+        .all(|s| s.source.number.unwrap().value != 40 || s.role == Role::Corner));
     let (_, alarm) = run_isg(&src.replace("G141", "G140"));
     assert_eq!(
         alarm.map(|a| (a.code, a.line)),
         Some((AlarmCode::ContourViolation, 5))
+    );
+    items
+}
+
+/// The path's one transition circle and its centre.
+fn transition_circle<'a>(segs: &[&'a Segment]) -> (&'a Segment, [f64; 3]) {
+    let corner = *segs.iter().find(|s| s.role == Role::Corner).unwrap();
+    let Shape::Arc { center, .. } = corner.shape else {
+        panic!("{corner:?}");
+    };
+    (corner, center)
+}
+
+/// A concave circle smaller than the tool: N40 turns 90° left on r 2 about (50, 2), the tool
+/// inside it (G41, R 10). Without masking that is alarm 10758. With G141 the circle is left
+/// out: N30's equidistant y = 10 meets N50's x = 52 − 10 = 42 at (42, 10), where the tool
+/// is 10 from both lines and √(8² + 10²) from the circle's ends; N40's M8 comes out there.
+#[test]
+fn isg_masking_leaves_out_a_circle_smaller_than_the_tool() {
+    let src = "N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 G03 X52 Y2 I0 J2 M8\nN50 G01 Y50\nN60 G40 X30 Y70\nN70 M30\n";
+    let (items, alarm) = run_isg(src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    assert!(segs.iter().all(|s| block(s) != 40), "N40 left out");
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, 42.0, 10.0);
+    let n50 = segs.iter().find(|s| block(s) == 50).unwrap();
+    at(n50.from, 42.0, 10.0);
+    // Along x = 42 to the deselection's inner corner.
+    assert!(
+        (n50.to[0] - 42.0).abs() < 1e-9 && n50.to[1] > 10.0,
+        "{n50:?}"
+    );
+    let m8 = items
+        .iter()
+        .find_map(|x| match x {
+            Prepared::Aux(a) if a.source.number.unwrap().value == 40 => Some(a),
+            _ => None,
+        })
+        .expect("N40's M8");
+    at(m8.pos, 42.0, 10.0);
+    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ArcRadiusTooSmall, 5))
     );
 }
 

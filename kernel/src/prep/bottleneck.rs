@@ -11,13 +11,18 @@
 //! A gouge is alarm 3021 before the tool gets there. With ISG contour masking on, where the
 //! path crosses itself the loop is cut out instead: the earlier segment ends at the crossing,
 //! the blocks in between are left out (their auxiliary functions are output there, in program
-//! order, by the S-point stage) and the new segment starts at the crossing. A gouge without
-//! such a crossing (no gouge-free path inside the window) stays an alarm.
+//! order, by the S-point stage) and the new segment starts at the crossing. Where the trims
+//! took the crossing away — a segment that runs backwards, a circle smaller than the tool
+//! (the compensator turns its equidistant inside out), a corner whose equidistants do not meet
+//! (the compensator leaves a gap) — the path joins where a held segment and the new one meet,
+//! either lengthened along its equidistant, at a point clear of every element. Every segment
+//! is checked once more when it leaves the window; a gouge left, or a gap not closed, stays
+//! an alarm (no gouge-free path inside the window).
 
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    clear_by_ends, contains, dist_elems, dist_point, intersections, v2, Elem, V2,
+    clear_by_ends, contains, dist_elems, dist_point, intersections, sweep, v2, Elem, V2,
 };
 
 /// Largest window, in blocks.
@@ -34,6 +39,9 @@ pub struct Gouge {
     pub element: crate::segment::Source,
     pub distance: f64,
     pub radius: f64,
+    /// Masking found no joint across a corner whose equidistants do not meet (the path
+    /// has a gap there, `distance` means nothing).
+    pub unjoined: bool,
 }
 
 /// What to do with a gouge.
@@ -50,9 +58,12 @@ pub enum Reaction {
 struct Held {
     seg: Segment,
     piece: PathPiece,
-    /// A line's path that runs against its programmed line (an element shorter than the
-    /// trim of its inner corner): what masking lengthens the line before past.
+    /// A contour segment that runs against its programmed element (shorter than the trim of
+    /// its corners): what masking leaves out.
     backwards: bool,
+    /// Masking: the segment does not start where the one before it ends (a corner whose
+    /// equidistants do not meet); a later join must close the gap.
+    after_gap: bool,
     /// Tool radius and side the segment was made with.
     r: f64,
     side: i8,
@@ -196,6 +207,7 @@ impl Bottleneck {
                     element: source,
                     distance: d,
                     radius,
+                    unjoined: false,
                 });
                 break;
             }
@@ -242,6 +254,9 @@ impl Bottleneck {
         let depth = self.depth(reaction);
         if !checked || depth == 0 {
             // Compensation starts or ends here (or nothing is checked): the window starts anew.
+            if reaction == Reaction::Mask {
+                self.close_before_exit();
+            }
             self.flush(out, reaction == Reaction::Mask)?;
             if !checked {
                 // Elements before this segment's block belong to an earlier compensation; the
@@ -259,16 +274,13 @@ impl Bottleneck {
         }
         let mut seg = seg;
         let mut warned = None;
-        let own = self
-            .programmed
-            .iter()
-            .rev()
-            .find(|p| p.source.seq == seg.source.seq);
+        let own = self.own(seg.source.seq);
         let (r, side) = own
             .or(self.programmed.back())
             .map_or((0.0, 0), |p| (p.r, p.side));
         let own = own.map(|p| p.elem);
         let mask = reaction == Reaction::Mask;
+        let mut gap = false;
         let mut piece = match (self.elem(&seg), own) {
             (Some(e), _) => PathPiece::Plain(e),
             // Masking cuts lines and circles only (ISG has no radius change over a circle).
@@ -278,20 +290,34 @@ impl Bottleneck {
             (None, _) => PathPiece::Off,
         };
         if let (PathPiece::Plain(e), true) = (piece, mask) {
-            if let Some(x) = self
-                .crossing_with_held(&e)
-                .or_else(|| self.lengthened_to(&e))
-            {
+            // A gap: the compensator found no corner there (`Compensator::element`). A join
+            // must start before it; one not closed when its segment leaves is an alarm.
+            gap = self
+                .held
+                .back()
+                .is_some_and(|h| uv(&h.seg.to, self.plane).dist(e.start()) > 1e-9);
+            let before_gap = self.before_gap();
+            // A segment that runs backwards itself waits for the next element to join.
+            let x = if runs_backwards(seg.role, &e, own.as_ref(), r, side) {
+                None
+            } else if gap {
+                self.joined(&e, r, side, before_gap)
+            } else {
+                self.crossing_with_held(&e)
+                    .or_else(|| self.joined_past_backwards(&e, seg.source.seq, r, side, before_gap))
+            };
+            if let Some(x) = x {
                 self.cut_loop(x.0, x.1, &mut seg);
                 piece = PathPiece::plain(self.elem(&seg));
+                gap = false;
             }
         }
-        let backwards = seg.role == Role::Contour
-            && matches!((piece, own), (PathPiece::Plain(Elem::Line { a, b }),
-                Some(Elem::Line { a: pa, b: pb })) if (b - a).dot(pb - pa) < 0.0);
+        let backwards = piece
+            .elem()
+            .is_some_and(|e| runs_backwards(seg.role, &e, own.as_ref(), r, side));
         let bb = piece.bbox(r);
         if !mask {
-            if let Some(g) = self.first_gouge(seg.source, &piece, r, side, &bb) {
+            if let Some(g) = self.first_gouge(seg.source, &piece, r, side, &bb, false) {
                 if reaction != Reaction::Warn {
                     return Err(g);
                 }
@@ -310,6 +336,7 @@ impl Bottleneck {
             seg,
             piece,
             backwards,
+            after_gap: gap,
             r,
             side,
             bb,
@@ -345,22 +372,128 @@ impl Bottleneck {
     }
 
     /// Masking where no held segment crosses the new element: an element shorter than the
-    /// trim of its inner corner runs backwards, and the line before it was trimmed at their
-    /// intersection, a point that is gone once the element is left out. The path joins where
-    /// that line, lengthened, meets the new element (the equidistants' intersection).
-    fn lengthened_to(&self, e: &Elem) -> Option<(usize, V2)> {
-        let q = self.held.iter().rposition(|h| h.backwards)?;
-        let j = q.checked_sub(1)?;
-        let Some(Elem::Line { a, b }) = self.held.iter().nth(j)?.piece.elem() else {
+    /// trim of its inner corner runs backwards, and its neighbours were trimmed at their
+    /// intersections with it, points that are gone once it is left out. The path joins where
+    /// the equidistants meet: a held segment before the backward run, lengthened past its
+    /// end if need be, and the new element, lengthened back before its start if need be (002
+    /// G141: "the path joins at the equidistants' intersection"), as [`Self::joined`] finds.
+    fn joined_past_backwards(
+        &self,
+        e: &Elem,
+        seq: u32,
+        r: f64,
+        side: i8,
+        before_gap: usize,
+    ) -> Option<(usize, V2)> {
+        let last = self.held.iter().rposition(|h| h.backwards)?;
+        // Only a run at the end of the path: after it, nothing but the new block's own
+        // corner pieces (a run followed by a valid element was resolved or is no loop).
+        if self
+            .held
+            .iter()
+            .skip(last + 1)
+            .any(|h| h.seg.source.seq != seq)
+        {
+            return None;
+        }
+        self.joined(e, r, side, (last + 1).min(before_gap))
+    }
+
+    /// Where one of the first `upto` held segments, lengthened past its end if need be, and
+    /// `e`, lengthened back before its start if need be, meet with the tool clear of every
+    /// element in the window. The latest such segment: as little of the contour as possible
+    /// is left out; of its meeting points, the one that lengthens least.
+    fn joined(&self, e: &Elem, r: f64, side: i8, upto: usize) -> Option<(usize, V2)> {
+        for (j, h) in self.held.iter().enumerate().take(upto).rev() {
+            let Some(he) = self.carrier(h) else {
+                continue;
+            };
+            let mut best: Option<(f64, V2)> = None;
+            for x in intersections(&he, e) {
+                let (Some(u), Some(v)) = (past_end(&he, x), before_start(e, x)) else {
+                    continue;
+                };
+                if best.is_some_and(|b| b.0 <= u + v) || !self.clear_point(x, r, side) {
+                    continue;
+                }
+                best = Some((u + v, x));
+            }
+            if let Some((_, x)) = best {
+                return Some((j, x));
+            }
+        }
+        None
+    }
+
+    /// Masking where the path leaves the contour (deselection, or anything not checked): a
+    /// backward run still held has no later element to join; the last segment ends where the
+    /// retract starts, so the path joins into it, lengthened back before its start if need be.
+    fn close_before_exit(&mut self) {
+        let Some(last) = self.held.iter().rposition(|h| h.backwards) else {
+            return;
+        };
+        let Some(h) = self.held.back().copied() else {
+            return;
+        };
+        let Some(e) = h.piece.elem() else {
+            return;
+        };
+        let before_gap = self.before_gap();
+        let upto = (last + 1).min(self.held.len() - 1).min(before_gap);
+        if let Some((j, x)) = self.joined(&e, h.r, h.side, upto) {
+            let mut seg = h.seg;
+            self.cut_loop(j, x, &mut seg);
+            let piece = PathPiece::plain(self.elem(&seg));
+            let _ = self.held.push_back(Held {
+                seg,
+                piece,
+                bb: piece.bbox(h.r),
+                after_gap: false,
+                ..h
+            });
+            self.recount();
+        }
+    }
+
+    /// What a held segment offers to join along: itself; for a line that runs backwards, its
+    /// equidistant from its start on in the programmed direction (the part its trim got
+    /// wrong); nothing for an arc that runs backwards or a circle the tool does not fit.
+    fn carrier(&self, h: &Held) -> Option<Elem> {
+        let e = h.piece.elem()?;
+        if !h.backwards {
+            return Some(e);
+        }
+        let Elem::Line { a, .. } = e else {
             return None;
         };
-        let d = b - a;
-        let ray = Elem::Line { a: b, b: b + d };
-        intersections(&ray, e)
-            .into_iter()
-            .filter(|&x| (x - b).dot(d) >= 0.0 && contains(e, x))
-            .min_by(|x, y| x.dist(b).total_cmp(&y.dist(b)))
-            .map(|x| (j, x))
+        match self.own(h.seg.source.seq)?.elem {
+            Elem::Line { a: pa, b: pb } => Some(Elem::Line {
+                a,
+                b: a + (pb - pa),
+            }),
+            Elem::Arc { .. } => None,
+        }
+    }
+
+    /// Held segments before the first unclosed gap (all when there is none).
+    fn before_gap(&self) -> usize {
+        self.held
+            .iter()
+            .position(|h| h.after_gap)
+            .unwrap_or(self.held.len())
+    }
+
+    /// The programmed element of block `seq`, if still in the window.
+    fn own(&self, seq: u32) -> Option<&Programmed> {
+        self.programmed.iter().rev().find(|p| p.source.seq == seq)
+    }
+
+    /// Whether the tool circle at `x` keeps clear of every programmed element of its side.
+    fn clear_point(&self, x: V2, r: f64, side: i8) -> bool {
+        self.programmed
+            .iter()
+            .filter(|p| p.side == side)
+            .all(|p| dist_point(&p.elem, x) >= r - 1e-7)
     }
 
     /// Masking: the held segment `i` ends at `x`, the ones after it are left out, and `seg`
@@ -370,10 +503,20 @@ impl Bottleneck {
             self.held.pop_back();
         }
         let plane = self.plane;
+        let own = self
+            .held
+            .back()
+            .and_then(|h| self.own(h.seg.source.seq))
+            .map(|p| p.elem);
         if let Some(h) = self.held.back_mut() {
             h.seg.to = at(plane, &h.seg.to, x);
             h.piece = PathPiece::plain(elem_in(&h.seg, plane));
             h.bb = h.piece.bbox(h.r);
+            // A backward line joined along its equidistant runs forwards now.
+            h.backwards = h
+                .piece
+                .elem()
+                .is_some_and(|e| runs_backwards(h.seg.role, &e, own.as_ref(), h.r, h.side));
         }
         seg.from = at(plane, &seg.from, x);
         self.recount();
@@ -415,6 +558,15 @@ impl Bottleneck {
         };
         while self.held.front().is_some_and(|h| h.seg.source.seq == seq) {
             if let Some(h) = self.held.pop_front() {
+                if h.after_gap {
+                    return Err(Gouge {
+                        path: h.seg.source,
+                        element: h.seg.source,
+                        distance: 0.0,
+                        radius: h.r,
+                        unjoined: true,
+                    });
+                }
                 if mask {
                     self.check(&h)?;
                 }
@@ -427,14 +579,16 @@ impl Bottleneck {
 
     /// A held segment against the programmed elements in the window.
     fn check(&self, h: &Held) -> Result<(), Gouge> {
-        match self.first_gouge(h.seg.source, &h.piece, h.r, h.side, &h.bb) {
+        // Its own element too: a masked path may hold a piece of a block whose element the
+        // tool does not fit (a corner before a circle smaller than the tool).
+        match self.first_gouge(h.seg.source, &h.piece, h.r, h.side, &h.bb, true) {
             Some(g) => Err(g),
             None => Ok(()),
         }
     }
 
     /// The first programmed element in the window (of the same side, not the path's own
-    /// block) that the path piece of block `path` comes too close to.
+    /// block unless `own`) that the path piece of block `path` comes too close to.
     fn first_gouge(
         &self,
         path: crate::segment::Source,
@@ -442,10 +596,11 @@ impl Bottleneck {
         r: f64,
         side: i8,
         bb: &[f64; 4],
+        own: bool,
     ) -> Option<Gouge> {
         let (a, b) = self.programmed.as_slices();
         a.iter().chain(b).find_map(|p| {
-            if p.side != side || near(p.source.seq, path.seq) || !overlap(&p.bb, bb) {
+            if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
                 return None;
             }
             piece.too_close(&p.elem, r).map(|(distance, radius)| Gouge {
@@ -453,6 +608,7 @@ impl Bottleneck {
                 element: p.source,
                 distance,
                 radius,
+                unjoined: false,
             })
         })
     }
@@ -626,6 +782,58 @@ impl Spiral {
     }
 }
 
+/// A contour segment that runs against its programmed element (an element shorter than
+/// the trim of its corners; under masking the compensator puts such an arc out reversed).
+/// A circle the tool does not fit into (radius `r`, side +1 left) is left out whichever way
+/// its path runs.
+fn runs_backwards(role: Role, path: &Elem, own: Option<&Elem>, r: f64, side: i8) -> bool {
+    role == Role::Contour
+        && match (*path, own) {
+            (Elem::Line { a, b }, Some(&Elem::Line { a: pa, b: pb })) => (b - a).dot(pb - pa) < 0.0,
+            (Elem::Arc { ccw, .. }, Some(o @ &Elem::Arc { ccw: own, .. })) => {
+                ccw != own || (own == (side > 0) && o.radius() <= r + 1e-9)
+            }
+            _ => false,
+        }
+}
+
+/// How far `e` must be lengthened past its end to reach `x`, a point of its line or circle
+/// (0 when `x` lies on it; `None` behind its start).
+fn past_end(e: &Elem, x: V2) -> Option<f64> {
+    match *e {
+        Elem::Line { a, b } => {
+            let len = a.dist(b);
+            let t = (x - a).dot(b - a) / len;
+            (t >= -1e-9).then(|| (t - len).max(0.0))
+        }
+        Elem::Arc { b, c, ccw, .. } => Some(beyond(e, sweep(c, b, x, ccw))),
+    }
+}
+
+/// How far `e` must be lengthened back before its start to reach `x` (0 when `x` lies on
+/// it; `None` past its end).
+fn before_start(e: &Elem, x: V2) -> Option<f64> {
+    match *e {
+        Elem::Line { a, b } => {
+            let len = a.dist(b);
+            let t = (x - a).dot(b - a) / len;
+            (t <= len + 1e-9).then(|| (-t).max(0.0))
+        }
+        Elem::Arc { a, c, ccw, .. } => Some(beyond(e, sweep(c, x, a, ccw))),
+    }
+}
+
+/// An arc lengthened by the angle `phi` (from its end onwards, or from its start back): the
+/// length added, 0 where the angle lands on the arc itself.
+fn beyond(e: &Elem, phi: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    if phi >= tau - 1e-12 || phi > tau - e.sweep() {
+        0.0
+    } else {
+        phi * e.radius()
+    }
+}
+
 /// `p` with its plane coordinates replaced by `x`.
 fn at(plane: Plane, p: &Pos, x: V2) -> Pos {
     let mut q = *p;
@@ -637,9 +845,12 @@ fn at(plane: Plane, p: &Pos, x: V2) -> Pos {
 /// A segment as a plane element; `None` for what cannot cross (no move in the plane) or is
 /// not a circle (an arc whose radius changes on purpose — a radius change spread over the
 /// block — is a [`Spiral`]; radii equal but for rounding are one circle).
+fn uv(p: &Pos, plane: Plane) -> V2 {
+    v2(p[plane.abscissa as usize], p[plane.ordinate as usize])
+}
+
 fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
-    let uv = |p: &Pos| v2(p[plane.abscissa as usize], p[plane.ordinate as usize]);
-    let (a, b) = (uv(&s.from), uv(&s.to));
+    let (a, b) = (uv(&s.from, plane), uv(&s.to, plane));
     match s.shape {
         Shape::Line => (a.dist(b) > 1e-9).then_some(Elem::Line { a, b }),
         Shape::Arc {
@@ -655,7 +866,7 @@ fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
         .then(|| Elem::Arc {
             a,
             b,
-            c: uv(&center),
+            c: uv(&center, plane),
             ccw,
         }),
     }

@@ -259,13 +259,21 @@ impl<'a> Preparation<'a> {
             line: g.path.line,
             col: g.path.col,
             block: g.path.number.map(|n| n.to_string()),
-            message: format!(
-                "contour violation: the tool path of {} comes within {:.4} mm of the contour of {} (tool radius {:.4}): a bottleneck narrower than the tool (840C 11.12)",
-                name(&g.path),
-                g.distance,
-                name(&g.element),
-                g.radius
-            ),
+            message: if g.unjoined {
+                format!(
+                    "contour violation: the equidistants do not meet at the start of {} and contour masking finds no gouge-free joint in the window: the tool (radius {:.4}) does not fit (840C 11.12, ISG G141)",
+                    name(&g.path),
+                    g.radius
+                )
+            } else {
+                format!(
+                    "contour violation: the tool path of {} comes within {:.4} mm of the contour of {} (tool radius {:.4}): a bottleneck narrower than the tool (840C 11.12)",
+                    name(&g.path),
+                    g.distance,
+                    name(&g.element),
+                    g.radius
+                )
+            },
         }
     }
 

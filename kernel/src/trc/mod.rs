@@ -812,6 +812,31 @@ impl Compensator {
         })
     }
 
+    /// The equidistant an element is cut along. Under masking, an arc the tool does not fit
+    /// into (radius below R on the tool side) gets its equidistant turned inside out: the
+    /// circle of radius R − r about the same centre, run the other way, from normal position
+    /// to normal position; the bottleneck window leaves it out and joins its neighbours.
+    fn carrier(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, Fault> {
+        match (self.masking, *e) {
+            (true, Elem::Arc { a, b, c, ccw }) if e.offset(d).is_none() => {
+                let r = a.dist(c);
+                let r2 = if ccw { r - d } else { r + d };
+                if r2 > -EPS {
+                    // Radius equal to the tool's: no circle to run along.
+                    return self.offset(tag, e, d);
+                }
+                let k = r2 / r;
+                Ok(Elem::Arc {
+                    a: c + (a - c) * k,
+                    b: c + (b - c) * k,
+                    c,
+                    ccw: !ccw,
+                })
+            }
+            _ => self.offset(tag, e, d),
+        }
+    }
+
     fn corner_fault(tag: Tag, e: CornerError) -> Fault {
         match e {
             CornerError::NoIntersection => fault(
@@ -902,11 +927,11 @@ impl Compensator {
         let (_, w1) = split(&m.end, self.plane);
         // With a radius change the start corner is built with the old radius and the end
         // corner with the new one; the path joins the two (840C 11.7).
-        let o_start = self.offset(tag, &e, d0)?;
+        let o_start = self.carrier(tag, &e, d0)?;
         let o_end = if d1 == d0 {
             o_start
         } else {
-            self.offset(tag, &e, d1)?
+            self.carrier(tag, &e, d1)?
         };
         let settings = self.settings();
         let start;
@@ -941,8 +966,19 @@ impl Compensator {
             let c = if std::mem::take(&mut self.switching) {
                 corner::side_change(&p.carrier, &o_start)
             } else {
-                corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
-                    .map_err(|x| Self::corner_fault(tag, x))?
+                match corner::corner(&p.carrier, &o_start, e.start(), d0, &settings) {
+                    Ok(c) => c,
+                    // Masking: the tool does not reach this corner; the path leaves a gap
+                    // from one normal position to the other, which the bottleneck window
+                    // closes where the equidistants meet further out (or raises the alarm).
+                    Err(_) if self.masking => corner::Corner {
+                        end1: p.carrier.end(),
+                        start2: o_start.start(),
+                        pieces: heapless::Vec::new(),
+                        kind: corner::CornerKind::Inner,
+                    },
+                    Err(x) => return Err(Self::corner_fault(tag, x)),
+                }
             };
             self.emit_pending(&p, c.end1, out)?;
             self.flush_held(out);
@@ -1024,12 +1060,20 @@ impl Compensator {
                 }
                 self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
             }
-            Elem::Arc { c, ccw, .. } => {
-                let total = match violation::arc_travel(&p.prog, p.start, end) {
+            Elem::Arc { .. } => {
+                // The carrier's centre and sense: the programmed ones, but for a circle
+                // turned inside out under masking (`carrier`).
+                let Elem::Arc { c, mut ccw, .. } = p.carrier else {
+                    return Ok(());
+                };
+                let total = match violation::arc_travel(&p.carrier, p.start, end) {
                     violation::ArcTravel::Programmed => None,
                     violation::ArcTravel::Changed(s) => Some(s),
                     violation::ArcTravel::Reversed => {
                         self.violation(violation())?;
+                        // Masking leaves it out (prep/bottleneck.rs): it goes there as the short
+                        // way back, not as the rest of the circle.
+                        ccw ^= self.masking;
                         None
                     }
                 };
