@@ -312,9 +312,11 @@ impl Bottleneck {
                 gap = false;
             }
         }
-        let backwards = piece
-            .elem()
-            .is_some_and(|e| runs_backwards(seg.role, &e, own.as_ref(), r, side));
+        // Only masking leaves segments out.
+        let backwards = mask
+            && piece
+                .elem()
+                .is_some_and(|e| runs_backwards(seg.role, &e, own.as_ref(), r, side));
         let bb = piece.bbox(r);
         if !mask {
             if let Some(g) = self.first_gouge(seg.source, &piece, r, side, &bb, false) {
