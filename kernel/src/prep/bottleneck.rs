@@ -39,8 +39,8 @@ pub struct Gouge {
     pub element: crate::segment::Source,
     pub distance: f64,
     pub radius: f64,
-    /// Masking found no joint across a corner whose equidistants do not meet (the path
-    /// has a gap there, `distance` means nothing).
+    /// Masking found no way past this block: a corner whose equidistants do not meet, or a
+    /// segment that runs backwards, with no joint in the window (`distance` means nothing).
     pub unjoined: bool,
 }
 
@@ -301,7 +301,7 @@ impl Bottleneck {
             let x = if runs_backwards(seg.role, &e, own.as_ref(), r, side) {
                 None
             } else if gap {
-                self.joined(&e, r, side, before_gap)
+                self.joined(&e, seg.source.seq, r, side, before_gap)
             } else {
                 self.crossing_with_held(&e)
                     .or_else(|| self.joined_past_backwards(&e, seg.source.seq, r, side, before_gap))
@@ -398,14 +398,29 @@ impl Bottleneck {
         {
             return None;
         }
-        self.joined(e, r, side, (last + 1).min(before_gap))
+        self.joined(e, seq, r, side, (last + 1).min(before_gap))
     }
 
     /// Where one of the first `upto` held segments, lengthened past its end if need be, and
-    /// `e`, lengthened back before its start if need be, meet with the tool clear of every
-    /// element in the window. The latest such segment: as little of the contour as possible
-    /// is left out; of its meeting points, the one that lengthens least.
-    fn joined(&self, e: &Elem, r: f64, side: i8, upto: usize) -> Option<(usize, V2)> {
+    /// `e` (of block `seq`), lengthened back before its start if need be, meet with the tool
+    /// clear of every element in the window, at the point and along both. The point must
+    /// touch both blocks' elements (R from each): the masked path is the edge of what the
+    /// tool may reach, never a detour through free space (two equidistants that are nearly
+    /// parallel meet far from the part). The latest such segment: as little of the contour
+    /// as possible is left out; of its meeting points, the one that lengthens least.
+    fn joined(&self, e: &Elem, seq: u32, r: f64, side: i8, upto: usize) -> Option<(usize, V2)> {
+        let touches = |seq: u32, x: V2| {
+            self.own(seq)
+                .is_some_and(|p| dist_point(&p.elem, x) <= r + 1e-6)
+        };
+        // A circle's equidistant is the edge only over the circle's own span: lengthened
+        // further, it runs round the far side, away from the part.
+        let within = |seq: u32, path: &Elem| match (self.own(seq).map(|p| p.elem), *path) {
+            (Some(own @ Elem::Arc { c, .. }), Elem::Arc { c: pc, .. }) if c == pc => {
+                path.sweep() <= own.sweep() + 1e-9
+            }
+            _ => true,
+        };
         for (j, h) in self.held.iter().enumerate().take(upto).rev() {
             let Some(he) = self.carrier(h) else {
                 continue;
@@ -415,7 +430,16 @@ impl Bottleneck {
                 let (Some(u), Some(v)) = (past_end(&he, x), before_start(e, x)) else {
                     continue;
                 };
-                if best.is_some_and(|b| b.0 <= u + v) || !self.clear_point(x, r, side) {
+                let (hx, ex) = (he.with_end(x), e.with_start(x));
+                if best.is_some_and(|b| b.0 <= u + v)
+                    || !touches(h.seg.source.seq, x)
+                    || !touches(seq, x)
+                    || !within(h.seg.source.seq, &hx)
+                    || !within(seq, &ex)
+                    || !self.clear_point(x, r, side)
+                    || !self.clear(&hx, r, side)
+                    || !self.clear(&ex, r, side)
+                {
                     continue;
                 }
                 best = Some((u + v, x));
@@ -442,7 +466,7 @@ impl Bottleneck {
         };
         let before_gap = self.before_gap();
         let upto = (last + 1).min(self.held.len() - 1).min(before_gap);
-        if let Some((j, x)) = self.joined(&e, h.r, h.side, upto) {
+        if let Some((j, x)) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto) {
             let mut seg = h.seg;
             self.cut_loop(j, x, &mut seg);
             let piece = PathPiece::plain(self.elem(&seg));
@@ -450,6 +474,8 @@ impl Bottleneck {
                 seg,
                 piece,
                 bb: piece.bbox(h.r),
+                // Joined: it runs to where the retract starts, backwards or not.
+                backwards: false,
                 after_gap: false,
                 ..h
             });
@@ -488,6 +514,16 @@ impl Bottleneck {
     /// The programmed element of block `seq`, if still in the window.
     fn own(&self, seq: u32) -> Option<&Programmed> {
         self.programmed.iter().rev().find(|p| p.source.seq == seq)
+    }
+
+    /// Whether the tool circle along `path` keeps clear of every programmed element of its
+    /// side, its own included.
+    fn clear(&self, path: &Elem, r: f64, side: i8) -> bool {
+        let bb = bbox(path, r);
+        self.programmed
+            .iter()
+            .filter(|p| p.side == side && overlap(&p.bb, &bb))
+            .all(|p| too_close(path, &p.elem, r).is_none())
     }
 
     /// Whether the tool circle at `x` keeps clear of every programmed element of its side.
@@ -560,7 +596,10 @@ impl Bottleneck {
         };
         while self.held.front().is_some_and(|h| h.seg.source.seq == seq) {
             if let Some(h) = self.held.pop_front() {
-                if h.after_gap {
+                // Masking: a segment left over from what should have been left out (a gap
+                // not closed, or a piece that runs backwards, away from the part) never goes
+                // out.
+                if h.after_gap || h.backwards {
                     return Err(Gouge {
                         path: h.seg.source,
                         element: h.seg.source,

@@ -261,7 +261,7 @@ impl<'a> Preparation<'a> {
             block: g.path.number.map(|n| n.to_string()),
             message: if g.unjoined {
                 format!(
-                    "contour violation: the equidistants do not meet at the start of {} and contour masking finds no gouge-free joint in the window: the tool (radius {:.4}) does not fit (840C 11.12, ISG G141)",
+                    "contour violation: contour masking finds no gouge-free way past {} within the window: the tool (radius {:.4}) does not fit (840C 11.12, ISG G141)",
                     name(&g.path),
                     g.radius
                 )
