@@ -461,9 +461,19 @@ impl Bottleneck {
         let Some(h) = self.held.back().copied() else {
             return;
         };
-        let Some(e) = h.piece.elem() else {
+        let Some(mut e) = h.piece.elem() else {
             return;
         };
+        // The last line itself runs backwards: what counts is its end, the retract's start;
+        // the path comes to it along the equidistant in the programmed direction.
+        if let (true, Elem::Line { b, .. }) = (h.backwards, e) {
+            if let Some(Elem::Line { a: pa, b: pb }) = self.own(h.seg.source.seq).map(|p| p.elem) {
+                e = Elem::Line {
+                    a: b - (pb - pa),
+                    b,
+                };
+            }
+        }
         let before_gap = self.before_gap();
         let upto = (last + 1).min(self.held.len() - 1).min(before_gap);
         if let Some((j, x)) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto) {
