@@ -770,6 +770,14 @@ fn masking_never_puts_out_a_gouge() {
     assert!(alarms < n, "{alarms} alarms in {n} cases");
 }
 
+/// Whether the test's own offset clears the contour: by R with a margin from the elements it
+/// does not belong to, and by R less rounding from its neighbours too (an arc can curl back
+/// over the element before it).
+fn clears(offset: &[(Piece, usize, usize)], case: &Case) -> bool {
+    clearance(offset, &case.pieces, false) >= case.r + 1e-6
+        && clearance(offset, &case.pieces, true) >= case.r - 1e-7
+}
+
 /// (B) with arcs: contours whose corners are all outer or tangent, offset by the test.
 #[test]
 fn gouge_free_outer_contours_with_arcs_pass_without_an_alarm() {
@@ -785,10 +793,7 @@ fn gouge_free_outer_contours_with_arcs_pass_without_an_alarm() {
             continue;
         };
         checked += 1;
-        let far = clearance(&offset, &case.pieces, false);
-        // Neighbours too: an arc can curl back over the element before it.
-        let near = clearance(&offset, &case.pieces, true);
-        if far < case.r + 1e-6 || near < case.r - 1e-7 {
+        if !clears(&offset, &case) {
             continue;
         }
         clear += 1;
@@ -818,9 +823,7 @@ fn gouge_free_contours_with_arcs_and_inner_corners_pass_without_an_alarm() {
             continue;
         };
         checked += 1;
-        let far = clearance(&offset, &case.pieces, false);
-        let near = clearance(&offset, &case.pieces, true);
-        if far < case.r + 1e-6 || near < case.r - 1e-7 {
+        if !clears(&offset, &case) {
             continue;
         }
         clear += 1;

@@ -257,17 +257,14 @@ impl ToolTable {
         limit: f64,
     ) -> Result<(), String> {
         check_edit(wear, value, limit)?;
-        let label = match t {
-            Some(t) => format!("T{t} D{d}"),
-            None => format!("D{d}"),
-        };
+        let label = offset_label(t, d);
         let Some(o) = self.exact_mut(t, d) else {
             // On a T/D table a D alone names no entry: say which tools have it.
             let tools: Vec<String> = self
                 .offset
                 .iter()
-                .filter(|o| o.d == d)
-                .filter_map(|o| o.t.map(|t| format!("T{t} D{d}")))
+                .filter(|o| o.d == d && o.t.is_some())
+                .map(|o| o.label())
                 .collect();
             return Err(if t.is_none() && !tools.is_empty() {
                 format!(
@@ -358,12 +355,18 @@ impl ToolTable {
 /// The shipped tool table (config/tools.toml).
 pub const BUILTIN_TOOLS: &str = include_str!("../../config/tools.toml");
 
+/// An offset's name as operators and alarms write it: `T1 D2` on a table numbered per tool,
+/// `D2` for a D number of its own.
+pub fn offset_label(t: Option<u32>, d: u32) -> String {
+    match t {
+        Some(t) => format!("T{t} D{d}"),
+        None => format!("D{d}"),
+    }
+}
+
 impl ToolOffset {
     pub fn label(&self) -> String {
-        match self.t {
-            Some(t) => format!("T{t} D{}", self.d),
-            None => format!("D{}", self.d),
-        }
+        offset_label(self.t, self.d)
     }
 }
 

@@ -925,10 +925,7 @@ impl<'a> Interpreter<'a> {
             } else {
                 let tool = if d.tool_edges { new.tool } else { None };
                 let (radius, length, edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
-                    let what = match tool {
-                        Some(t) => format!("T{t} D{dn}"),
-                        None => format!("D{dn}"),
-                    };
+                    let what = crate::tools::offset_label(tool, dn);
                     fault(
                         AlarmCode::UnknownOffset,
                         at,

@@ -280,7 +280,8 @@ impl Bottleneck {
             .map_or((0.0, 0), |p| (p.r, p.side));
         let own = own.map(|p| p.elem);
         let mask = reaction == Reaction::Mask;
-        let mut gap = false;
+        // Only masking leaves segments out (and finds gaps).
+        let (mut gap, mut backwards) = (false, false);
         let mut piece = match (self.elem(&seg), own) {
             (Some(e), _) => PathPiece::Plain(e),
             // Masking cuts lines and circles only (ISG has no radius change over a circle).
@@ -296,15 +297,18 @@ impl Bottleneck {
                 .held
                 .back()
                 .is_some_and(|h| uv(&h.seg.to, self.plane).dist(e.start()) > 1e-9);
-            let before_gap = self.before_gap();
-            // A segment that runs backwards itself waits for the next element to join.
-            let x = if runs_backwards(seg.role, &e, own.as_ref(), r, side) {
+            // A segment that runs backwards itself waits for the next element to join (a
+            // join moves its start along its own line or circle: `backwards` holds for what
+            // is pushed too).
+            backwards = runs_backwards(seg.role, &e, own.as_ref(), r, side);
+            let x = if backwards {
                 None
             } else if gap {
-                self.joined(&e, seg.source.seq, r, side, before_gap)
+                self.joined(&e, seg.source.seq, r, side, self.before_gap())
             } else {
-                self.crossing_with_held(&e)
-                    .or_else(|| self.joined_past_backwards(&e, seg.source.seq, r, side, before_gap))
+                self.crossing_with_held(&e).or_else(|| {
+                    self.joined_past_backwards(&e, seg.source.seq, r, side, self.before_gap())
+                })
             };
             if let Some(x) = x {
                 self.cut_loop(x.0, x.1, &mut seg);
@@ -312,11 +316,6 @@ impl Bottleneck {
                 gap = false;
             }
         }
-        // Only masking leaves segments out.
-        let backwards = mask
-            && piece
-                .elem()
-                .is_some_and(|e| runs_backwards(seg.role, &e, own.as_ref(), r, side));
         let bb = piece.bbox(r);
         if !mask {
             if let Some(g) = self.first_gouge(seg.source, &piece, r, side, &bb, false) {
@@ -474,8 +473,7 @@ impl Bottleneck {
                 };
             }
         }
-        let before_gap = self.before_gap();
-        let upto = (last + 1).min(self.held.len() - 1).min(before_gap);
+        let upto = (last + 1).min(self.held.len() - 1).min(self.before_gap());
         if let Some((j, x)) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto) {
             let mut seg = h.seg;
             self.cut_loop(j, x, &mut seg);

@@ -545,10 +545,7 @@ impl Desk<'_> {
         let wear = c.flag != 0;
         let what = if wear { "radius wear" } else { "radius" };
         let t = c.tool();
-        let name = match t {
-            Some(t) => format!("T{t} D{}", c.d),
-            None => format!("D{}", c.d),
-        };
+        let name = crate::tools::offset_label(t, c.d);
         let running = last.state == state::ACTIVE;
         if running && !self.md.hmi.edit_while_active {
             return Reply::new(

@@ -153,6 +153,15 @@ impl Elem {
     /// The equidistant at `d` (> 0: left of the direction of travel). `None` when an arc
     /// would shrink to a point or turn inside out: the tool does not fit (alarm, never a path).
     pub fn offset(&self, d: f64) -> Option<Elem> {
+        self.equidistant(d).filter(
+            |o| !matches!((self, o), (Elem::Arc { ccw, .. }, Elem::Arc { ccw: k, .. }) if ccw != k),
+        )
+    }
+    /// As [`Elem::offset`], but an arc the tool does not fit into turns inside out: the
+    /// circle of radius R − r about the same centre, run the other way, from normal position
+    /// to normal position (a raw offset, for contour masking to leave out). `None` only where
+    /// it shrinks to a point.
+    pub fn equidistant(&self, d: f64) -> Option<Elem> {
         match *self {
             Elem::Line { a, b } => {
                 let n = (b - a).unit().left() * d;
@@ -162,7 +171,7 @@ impl Elem {
                 // Left of a counter-clockwise arc is towards its centre.
                 let r = a.dist(c);
                 let r2 = if ccw { r - d } else { r + d };
-                if r2 <= EPS {
+                if r2.abs() <= EPS {
                     return None;
                 }
                 let k = r2 / r;
@@ -170,7 +179,7 @@ impl Elem {
                     a: c + (a - c) * k,
                     b: c + (b - c) * k,
                     c,
-                    ccw,
+                    ccw: ccw == (r2 > 0.0),
                 })
             }
         }

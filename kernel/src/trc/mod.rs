@@ -813,27 +813,13 @@ impl Compensator {
     }
 
     /// The equidistant an element is cut along. Under masking, an arc the tool does not fit
-    /// into (radius below R on the tool side) gets its equidistant turned inside out: the
-    /// circle of radius R − r about the same centre, run the other way, from normal position
-    /// to normal position; the bottleneck window leaves it out and joins its neighbours.
+    /// into gets its equidistant turned inside out (`Elem::equidistant`); the bottleneck
+    /// window leaves it out and joins its neighbours.
     fn carrier(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, Fault> {
-        match (self.masking, *e) {
-            (true, Elem::Arc { a, b, c, ccw }) if e.offset(d).is_none() => {
-                let r = a.dist(c);
-                let r2 = if ccw { r - d } else { r + d };
-                if r2 > -EPS {
-                    // Radius equal to the tool's: no circle to run along.
-                    return self.offset(tag, e, d);
-                }
-                let k = r2 / r;
-                Ok(Elem::Arc {
-                    a: c + (a - c) * k,
-                    b: c + (b - c) * k,
-                    c,
-                    ccw: !ccw,
-                })
-            }
-            _ => self.offset(tag, e, d),
+        if self.masking {
+            e.equidistant(d).map_or_else(|| self.offset(tag, e, d), Ok)
+        } else {
+            self.offset(tag, e, d)
         }
     }
 
