@@ -22,7 +22,8 @@
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    clear_by_ends, contains, dist_elems, dist_point, intersections, sweep, v2, Elem, V2,
+    clear_by_ends_of, contains, dist_elems, dist_point, intersections, sweep, v2, Elem, Fence,
+    Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -75,7 +76,7 @@ struct Held {
 #[derive(Clone, Copy, Debug)]
 enum PathPiece {
     /// A line or a circle.
-    Plain(Elem),
+    Plain(Measured),
     /// A path arc whose radius changes along it: checked by bisection.
     Spiral(Spiral),
     /// Nothing to measure: no move in the plane, or a radius change the window does not model.
@@ -84,19 +85,19 @@ enum PathPiece {
 
 impl PathPiece {
     fn plain(e: Option<Elem>) -> PathPiece {
-        e.map_or(PathPiece::Off, PathPiece::Plain)
+        e.map_or(PathPiece::Off, |e| PathPiece::Plain(Measured::new(e)))
     }
 
     fn elem(&self) -> Option<Elem> {
         match *self {
-            PathPiece::Plain(e) => Some(e),
+            PathPiece::Plain(m) => Some(m.e),
             _ => None,
         }
     }
 
     fn bbox(&self, r: f64) -> [f64; 4] {
         match self {
-            PathPiece::Plain(e) => bbox(e, r),
+            PathPiece::Plain(m) => bbox(&m.e, r),
             PathPiece::Spiral(sp) => sp.bbox(),
             PathPiece::Off => [0.0; 4],
         }
@@ -104,9 +105,9 @@ impl PathPiece {
 
     /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
     /// its radius, beyond rounding: the distance there and the tool radius.
-    fn too_close(&self, other: &Elem, r: f64) -> Option<(f64, f64)> {
+    fn too_close(&self, other: &Elem, fence: &Fence, r: f64) -> Option<(f64, f64)> {
         match self {
-            PathPiece::Plain(e) => too_close(e, other, r).map(|d| (d, r)),
+            PathPiece::Plain(m) => too_close(m, other, fence, r).map(|d| (d, r)),
             PathPiece::Spiral(sp) => sp.too_close(other),
             PathPiece::Off => None,
         }
@@ -117,6 +118,8 @@ impl PathPiece {
 struct Programmed {
     source: crate::segment::Source,
     elem: Elem,
+    /// What the cheap clearance test needs of the element, worked out once.
+    fence: Fence,
     bb: [f64; 4],
     /// Tool radius the element is cut with.
     r: f64,
@@ -188,6 +191,7 @@ impl Bottleneck {
             return Ok(None);
         }
         let bb = bbox(&elem, 0.0);
+        let fence = Fence::new(&elem);
         let mut found = None;
         let (x, y) = self.held.as_slices();
         // Masking checks a segment when it leaves the window: a loop cut out later may drop
@@ -201,7 +205,7 @@ impl Bottleneck {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            if let Some((d, radius)) = h.piece.too_close(&elem, h.r) {
+            if let Some((d, radius)) = h.piece.too_close(&elem, &fence, h.r) {
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
@@ -219,6 +223,7 @@ impl Bottleneck {
         let _ = self.programmed.push_back(Programmed {
             source,
             elem,
+            fence,
             bb,
             r,
             side,
@@ -283,14 +288,14 @@ impl Bottleneck {
         // Only masking leaves segments out (and finds gaps).
         let (mut gap, mut backwards) = (false, false);
         let mut piece = match (self.elem(&seg), own) {
-            (Some(e), _) => PathPiece::Plain(e),
+            (Some(e), _) => PathPiece::Plain(Measured::new(e)),
             // Masking cuts lines and circles only (ISG has no radius change over a circle).
             (None, Some(o)) if !mask => {
                 Spiral::new(&seg, self.plane, &o).map_or(PathPiece::Off, PathPiece::Spiral)
             }
             (None, _) => PathPiece::Off,
         };
-        if let (PathPiece::Plain(e), true) = (piece, mask) {
+        if let (PathPiece::Plain(Measured { e, .. }), true) = (piece, mask) {
             // A gap: the compensator found no corner there (`Compensator::element`). A join
             // must start before it; one not closed when its segment leaves is an alarm.
             gap = self
@@ -528,10 +533,11 @@ impl Bottleneck {
     /// side, its own included.
     fn clear(&self, path: &Elem, r: f64, side: i8) -> bool {
         let bb = bbox(path, r);
+        let path = Measured::new(*path);
         self.programmed
             .iter()
             .filter(|p| p.side == side && overlap(&p.bb, &bb))
-            .all(|p| too_close(path, &p.elem, r).is_none())
+            .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
     }
 
     /// Whether the tool circle at `x` keeps clear of every programmed element of its side.
@@ -652,13 +658,15 @@ impl Bottleneck {
             if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
                 return None;
             }
-            piece.too_close(&p.elem, r).map(|(distance, radius)| Gouge {
-                path,
-                element: p.source,
-                distance,
-                radius,
-                unjoined: false,
-            })
+            piece
+                .too_close(&p.elem, &p.fence, r)
+                .map(|(distance, radius)| Gouge {
+                    path,
+                    element: p.source,
+                    distance,
+                    radius,
+                    unjoined: false,
+                })
         })
     }
 
@@ -688,12 +696,12 @@ impl Bottleneck {
 /// The distance from a path element to a programmed one when it is below the tool radius
 /// (beyond rounding). The cheap test by the element's ends settles most pairs that share a
 /// corner; the rest get the exact distance.
-fn too_close(path: &Elem, elem: &Elem, r: f64) -> Option<f64> {
-    let limit = r - gouge_tol(path);
-    if clear_by_ends(path, elem, limit) {
+fn too_close(path: &Measured, elem: &Elem, fence: &Fence, r: f64) -> Option<f64> {
+    let limit = r - gouge_tol(&path.e);
+    if clear_by_ends_of(path, elem, fence, limit) {
         return None;
     }
-    let d = dist_elems(path, elem);
+    let d = dist_elems(&path.e, elem);
     (d < limit).then_some(d)
 }
 

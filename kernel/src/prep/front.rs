@@ -7,6 +7,8 @@
 //! The thread hands steps over in batches: a fixed set of batch buffers circulates between
 //! the two threads over two bounded channels (full ones to the back, empty ones back), so
 //! nothing is allocated per block and the threads meet once per batch, not once per block.
+//! The compensation appends its segments straight into the batch, and the back reads them
+//! there: it swaps the batch's [`Out`] in as its own, one step's segments visible at a time.
 
 use crate::alarm::Alarm;
 use crate::frontend::block::{
@@ -14,7 +16,7 @@ use crate::frontend::block::{
 };
 use crate::frontend::Interpreter;
 use crate::machine_data::{MachineData, ViolationReaction};
-use crate::segment::{Segment, Source};
+use crate::segment::Source;
 use crate::trc::cutting_edge::tip_vector;
 use crate::trc::geom::{v2, Elem, V2};
 use crate::trc::{Compensator, Out, TrcFault};
@@ -167,13 +169,12 @@ impl<'a> Front<'a> {
         for _ in 0..BATCHES {
             let _ = empty_tx.send(Batch {
                 steps: Vec::with_capacity(BATCH),
-                segments: Vec::with_capacity(4 * BATCH),
+                segments: Out::with_capacity(4 * BATCH),
                 words: Vec::new(),
             });
         }
         let mut front = self;
         scope.spawn(move || {
-            let mut staging = Out::new();
             // Batches are refilled in place: after the first round nothing is allocated.
             while let Ok(mut batch) = recv_soon(&empty_rx) {
                 batch.steps.clear();
@@ -181,13 +182,9 @@ impl<'a> Front<'a> {
                 batch.words.clear();
                 let mut end = false;
                 while batch.steps.len() < BATCH && !end {
-                    let step = front.step(&mut staging);
-                    // The step's segments, in one copy (the staging queue's two halves).
+                    // The compensation appends the step's segments to the batch's.
                     let first = batch.segments.len() as u32;
-                    let (x, y) = staging.as_slices();
-                    batch.segments.extend_from_slice(x);
-                    batch.segments.extend_from_slice(y);
-                    staging.clear();
+                    let step = front.step(&mut batch.segments);
                     let segments = (first, batch.segments.len() as u32);
                     let w0 = batch.words.len() as u32;
                     batch.steps.push(match step {
@@ -270,7 +267,7 @@ enum Owned {
 #[derive(Default)]
 struct Batch {
     steps: Vec<Owned>,
-    segments: Vec<Segment>,
+    segments: Out,
     words: Vec<AuxWord>,
 }
 
@@ -284,22 +281,15 @@ pub struct Threaded {
 }
 
 impl Threaded {
-    /// The next step; its segments go to `out`.
+    /// The next step; its segments go to `out`, which must be empty: it is the batch's own
+    /// segments (swapped in with the batch), shown one step's at a time.
     pub fn step(&mut self, out: &mut Out) -> Step<'_> {
         loop {
             if self.next < self.batch.steps.len() {
                 let i = self.next;
                 self.next += 1;
-                let (steps, segs, all_words) = (
-                    &mut self.batch.steps,
-                    &self.batch.segments,
-                    &self.batch.words,
-                );
-                let mut take = |(first, last): (u32, u32)| {
-                    for s in &segs[first as usize..last as usize] {
-                        let _ = out.push_back(*s);
-                    }
-                };
+                let (steps, all_words) = (&mut self.batch.steps, &self.batch.words);
+                let mut take = |(_, last): (u32, u32)| out.limit_to(last as usize);
                 return match &mut steps[i] {
                     Owned::Block {
                         info,
@@ -352,7 +342,13 @@ impl Threaded {
             }
             self.next = 0;
             match recv_soon(&self.full) {
-                Ok(b) => self.batch = b,
+                Ok(mut b) => {
+                    // `out` is drained: it goes back with this batch, and the new batch's
+                    // segments are read where the front put them.
+                    std::mem::swap(out, &mut b.segments);
+                    out.limit_to(0);
+                    self.batch = b;
+                }
                 Err(_) => self.ended = true,
             }
         }

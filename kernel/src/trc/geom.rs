@@ -543,9 +543,124 @@ fn in_sweep(e: &Elem, w: V2) -> bool {
     between(s, t, w)
 }
 
-/// Smallest and largest value of `X·w` over the points X of the element.
+/// A path element made ready for [`clear_by_ends`]: its circle's radius worked out once (the
+/// test asks for it up to five times, a square root each).
+#[derive(Clone, Copy, Debug)]
+pub struct Measured {
+    pub e: Elem,
+    /// The circle's radius (0 for a line).
+    r: f64,
+}
+
+impl Measured {
+    pub fn new(e: Elem) -> Self {
+        let r = match e {
+            Elem::Line { .. } => 0.0,
+            Elem::Arc { a, c, .. } => a.dist(c),
+        };
+        Measured { e, r }
+    }
+}
+
+/// What [`clear_by_ends`] needs of the element a path must keep away from, worked out once
+/// when the element enters the bottleneck window (each is tested against several paths).
+#[derive(Clone, Copy, Debug)]
+pub struct Fence {
+    /// Rounding margin: a few 1e-14 of the coordinates.
+    eta: f64,
+    shape: FenceShape,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum FenceShape {
+    /// Direction `d` (with its length), the margin in units of |d|, a·d and b·d.
+    Line {
+        d: V2,
+        len: f64,
+        tol: f64,
+        ad: f64,
+        bd: f64,
+    },
+    /// An arc of at most half a turn: directions of travel at the start and the end (with
+    /// their lengths, the radius), the margin, c·ts, c·te, and the clearance the centre needs.
+    Arc {
+        ts: V2,
+        te: V2,
+        ts_len: f64,
+        te_len: f64,
+        tol: f64,
+        cts: f64,
+        cte: f64,
+        centre: f64,
+    },
+    /// Not to be shown clear by its ends (degenerate, or more than half a turn).
+    Never,
+}
+
+impl Fence {
+    pub fn new(other: &Elem) -> Self {
+        let (a, b) = (other.start(), other.end());
+        let m =
+            a.x.abs()
+                .max(a.y.abs())
+                .max(b.x.abs())
+                .max(b.y.abs())
+                .max(1.0);
+        let eta = 1e-14 * m;
+        let shape = match *other {
+            Elem::Line { .. } => {
+                let d = b - a;
+                let dd = d.dot(d);
+                if dd <= EPS * EPS {
+                    FenceShape::Never
+                } else {
+                    FenceShape::Line {
+                        d,
+                        len: d.len(),
+                        // Margins in units of |d|: eta·|d| ≤ eta·(|dx| + |dy|).
+                        tol: eta * (d.x.abs() + d.y.abs()),
+                        ad: a.dot(d),
+                        bd: b.dot(d),
+                    }
+                }
+            }
+            Elem::Arc { c, ccw, .. } => {
+                let (u, w) = (a - c, b - c);
+                let r2 = u.dot(u);
+                // At most half a turn (within rounding), and not a full circle.
+                let turn = if ccw { u.cross(w) } else { w.cross(u) };
+                if r2 <= EPS * EPS || a == b || turn < -1e-12 * r2 {
+                    FenceShape::Never
+                } else {
+                    // Directions of travel at the ends: the arc lies behind the end's and
+                    // ahead of the start's, so a ray beyond either misses it.
+                    // |ts| = |te| = r ≤ |ux|+|uy|.
+                    let (ts, te) = if ccw {
+                        (u.left(), w.left())
+                    } else {
+                        (-u.left(), -w.left())
+                    };
+                    FenceShape::Arc {
+                        ts,
+                        te,
+                        ts_len: ts.len(),
+                        te_len: te.len(),
+                        tol: eta * (u.x.abs() + u.y.abs()),
+                        cts: c.dot(ts),
+                        cte: c.dot(te),
+                        centre: 1e-3 * r2.sqrt(),
+                    }
+                }
+            }
+        };
+        Fence { eta, shape }
+    }
+}
+
+/// Smallest and largest value of `X·w` over the points X of the element (`w_len` = |w|).
 #[inline]
-fn extent(e: &Elem, w: V2) -> (f64, f64) {
+fn extent(p: &Measured, w: V2, w_len: f64) -> (f64, f64) {
+    let e = &p.e;
     let (s, t) = (e.start().dot(w), e.end().dot(w));
     let (mut lo, mut hi) = (s.min(t), s.max(t));
     if let Elem::Arc { a, b, c, .. } = *e {
@@ -553,7 +668,7 @@ fn extent(e: &Elem, w: V2) -> (f64, f64) {
             // A full circle.
             return (f64::NEG_INFINITY, f64::INFINITY);
         }
-        let k = a.dist(c) * w.len();
+        let k = p.r * w_len;
         let cw = c.dot(w);
         if in_sweep(e, w) {
             hi = hi.max(cw + k);
@@ -565,33 +680,32 @@ fn extent(e: &Elem, w: V2) -> (f64, f64) {
     (lo, hi)
 }
 
-/// Whether point `p` is at least `limit` (≥ 0) from the element: squared distances, no root
-/// for a line.
+/// Whether point `q` is at least `limit` (≥ 0) from the element: squared distances, no root.
 #[inline]
-fn at_least(e: &Elem, p: V2, limit: f64) -> bool {
+fn at_least(p: &Measured, q: V2, limit: f64) -> bool {
     let l2 = limit * limit;
-    match *e {
+    match p.e {
         Elem::Line { a, b } => {
             let d = b - a;
-            let (ap, dd) = (p - a, d.dot(d));
-            let t = ap.dot(d);
+            let (aq, dd) = (q - a, d.dot(d));
+            let t = aq.dot(d);
             let q2 = if t <= 0.0 || dd <= 0.0 {
-                ap.dot(ap)
+                aq.dot(aq)
             } else if t >= dd {
-                (p - b).dot(p - b)
+                (q - b).dot(q - b)
             } else {
                 // Squared distance to the line: cross² / |d|².
-                let x = ap.cross(d);
+                let x = aq.cross(d);
                 x * x / dd
             };
             q2 >= l2
         }
         Elem::Arc { a, b, c, .. } => {
-            let v = p - c;
-            if a != b && !in_sweep(e, v) {
-                return (p - a).dot(p - a) >= l2 && (p - b).dot(p - b) >= l2;
+            let v = q - c;
+            if a != b && !in_sweep(&p.e, v) {
+                return (q - a).dot(q - a) >= l2 && (q - b).dot(q - b) >= l2;
             }
-            let (r, v2) = (a.dist(c), v.dot(v));
+            let (r, v2) = (p.r, v.dot(v));
             let out = r + limit;
             v2 >= out * out || (r > limit && v2 <= (r - limit) * (r - limit))
         }
@@ -609,56 +723,53 @@ fn at_least(e: &Elem, p: V2, limit: f64) -> bool {
 /// `path`. Rounding is covered by a margin of a few 1e-14 of the coordinates (far below the
 /// gouge tolerance, so that a tangent neighbour at exactly R still passes).
 pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
+    clear_by_ends_of(&Measured::new(*path), other, &Fence::new(other), limit)
+}
+
+/// [`clear_by_ends`] with the path measured and the element's fence worked out beforehand
+/// (`fence` is `Fence::new(other)`): the bottleneck window's hot path.
+#[inline]
+pub fn clear_by_ends_of(path: &Measured, other: &Elem, fence: &Fence, limit: f64) -> bool {
     let (a, b) = (other.start(), other.end());
-    let m =
-        a.x.abs()
-            .max(a.y.abs())
-            .max(b.x.abs())
-            .max(b.y.abs())
-            .max(1.0);
-    let eta = 1e-14 * m;
-    let limit = limit.max(0.0) + 4.0 * eta;
-    match *other {
-        Elem::Line { .. } => {
-            let d = b - a;
-            let dd = d.dot(d);
-            if dd <= EPS * EPS {
-                return false;
-            }
-            // Margins in units of |d|: eta·|d| ≤ eta·(|dx| + |dy|).
-            let tol = eta * (d.x.abs() + d.y.abs());
-            let (lo, hi) = extent(path, d);
-            if hi - a.dot(d) <= tol {
+    let limit = limit.max(0.0) + 4.0 * fence.eta;
+    match fence.shape {
+        FenceShape::Line {
+            d,
+            len,
+            tol,
+            ad,
+            bd,
+        } => {
+            let (lo, hi) = extent(path, d, len);
+            if hi - ad <= tol {
                 at_least(path, a, limit)
-            } else if lo - b.dot(d) >= -tol {
+            } else if lo - bd >= -tol {
                 at_least(path, b, limit)
             } else {
                 false
             }
         }
-        Elem::Arc { c, ccw, .. } => {
-            let (u, w) = (a - c, b - c);
-            let r2 = u.dot(u);
-            // At most half a turn (within rounding), and not a full circle.
-            let turn = if ccw { u.cross(w) } else { w.cross(u) };
-            if r2 <= EPS * EPS || a == b || turn < -1e-12 * r2 {
+        FenceShape::Arc {
+            ts,
+            te,
+            ts_len,
+            te_len,
+            tol,
+            cts,
+            cte,
+            centre,
+        } => {
+            let Elem::Arc { c, .. } = *other else {
                 return false;
-            }
-            // Directions of travel at the ends: the arc lies behind the end's and ahead
-            // of the start's, so a ray beyond either misses it. |ts| = |te| = r ≤ |ux|+|uy|.
-            let (ts, te) = if ccw {
-                (u.left(), w.left())
-            } else {
-                (-u.left(), -w.left())
             };
-            let tol = eta * (u.x.abs() + u.y.abs());
-            let beyond_end = extent(path, te).0 - c.dot(te) >= -tol;
-            let before_start = || extent(path, ts).1 - c.dot(ts) <= tol;
+            let beyond_end = extent(path, te, te_len).0 - cte >= -tol;
+            let before_start = || extent(path, ts, ts_len).1 - cts <= tol;
             (beyond_end || before_start())
-                && at_least(path, c, 1e-3 * r2.sqrt())
+                && at_least(path, c, centre)
                 && at_least(path, a, limit)
                 && at_least(path, b, limit)
         }
+        FenceShape::Never => false,
     }
 }
 

@@ -114,13 +114,88 @@ fn fault(code: AlarmCode, source: Source, message: impl Into<String>) -> Fault {
     })
 }
 
-/// Where segments go. Preparation drains it after every block; 64 is far above the most one
-/// block can produce (held blocks + element + approach/corner/retract pieces).
-pub type Out = heapless::Deque<Segment, 64>;
+/// Where segments go, in order: the compensation appends, preparation takes them from the
+/// front. A vector and a read index rather than a ring: with the front in a thread of its own
+/// the compensation appends straight into the batch that crosses to the back, and the back
+/// reads the segments there, one step's at a time (`limit`; prep/front.rs), with no copy in
+/// between. Preparation takes every segment before it asks for the next block, so the vector
+/// starts again from its beginning then and never grows past what one block (or one batch)
+/// puts out.
+#[derive(Debug)]
+pub struct Out {
+    segs: Vec<Segment>,
+    next: usize,
+    /// Segments from here on are not to be taken yet.
+    limit: usize,
+}
+
+/// Empty, with no room yet (no allocation).
+impl Default for Out {
+    fn default() -> Self {
+        Self::with_capacity(0)
+    }
+}
+
+impl Out {
+    /// Room for far more than one block puts out (held blocks + element + approach, corner
+    /// and retract pieces): no allocation after the start.
+    pub fn new() -> Self {
+        Self::with_capacity(64)
+    }
+
+    pub fn with_capacity(n: usize) -> Self {
+        Out {
+            segs: Vec::with_capacity(n),
+            next: 0,
+            limit: usize::MAX,
+        }
+    }
+
+    #[inline]
+    pub fn push_back(&mut self, s: Segment) {
+        self.segs.push(s);
+    }
+
+    #[inline]
+    pub fn pop_front(&mut self) -> Option<Segment> {
+        if self.next >= self.limit {
+            return None;
+        }
+        let s = *self.segs.get(self.next)?;
+        self.next += 1;
+        if self.next == self.segs.len() && self.limit == usize::MAX {
+            // All taken (and no reader's limit on the indices): start again at the front.
+            self.segs.clear();
+            self.next = 0;
+        }
+        Some(s)
+    }
+
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.next >= self.segs.len().min(self.limit)
+    }
+
+    /// Segments put in so far (taken ones included).
+    pub fn len(&self) -> usize {
+        self.segs.len()
+    }
+
+    /// Drops every segment; all may be taken again.
+    pub fn clear(&mut self) {
+        self.segs.clear();
+        self.next = 0;
+        self.limit = usize::MAX;
+    }
+
+    /// Only segments before index `limit` (of those put in) may be taken.
+    pub fn limit_to(&mut self, limit: usize) {
+        self.limit = limit;
+    }
+}
 
 fn emit(out: &mut Out, s: Segment) {
-    // Capacity is guaranteed by the caller draining after each block (see `Out`).
-    let _ = out.push_back(s);
+    out.push_back(s);
 }
 
 /// Feed and source of the block a segment belongs to.
