@@ -7,7 +7,7 @@
 //! blocks have come, and the definition of a gouge is checked directly — the tool circle
 //! along a path segment must stay at least R from every programmed element in the window
 //! (the element it belongs to included: there the distance is R exactly); a path arc whose
-//! radius changes over the block is checked with the tool radius at each point ([`Spiral`]).
+//! radius changes over the block is checked with the tool radius at each point (a `Spiral`).
 //! A gouge is alarm 3021 before the tool gets there. With ISG contour masking on, where the
 //! path crosses itself the loop is cut out instead: the earlier segment ends at the crossing,
 //! the blocks in between are left out (their auxiliary functions are output there, in program

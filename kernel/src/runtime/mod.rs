@@ -68,7 +68,7 @@ impl Handover {
 }
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
-/// alike: `# title`, `# name value` comment lines, then "<µs> <count>" per 1 µs bucket.
+/// alike: `# title`, `# name value` comment lines, then "`<µs> <count>`" per 1 µs bucket.
 pub fn histogram_text(
     title: &str,
     h: &hdrhistogram::Histogram<u64>,
