@@ -419,6 +419,13 @@ fn softnc_pieces(case: &Case, md: &MachineData) -> (Vec<Piece>, bool) {
     (out, alarm)
 }
 
+/// Distance from a point to the nearest of `set`.
+fn dist_to(p: P, set: &[Piece]) -> f64 {
+    set.iter()
+        .map(|q| point_dist(p, q))
+        .fold(f64::INFINITY, f64::min)
+}
+
 fn min_dist(path: &[Piece], contour: &[Piece]) -> f64 {
     let mut d = f64::INFINITY;
     for p in path {
@@ -752,11 +759,7 @@ fn masking_never_puts_out_a_gouge() {
         // intersection of two nearly collinear equidistants is found to some 10 nm.
         for q in &path {
             for t in [0.0, 0.5, 1.0] {
-                let far = case
-                    .pieces
-                    .iter()
-                    .map(|c| point_dist(q.at(t), c))
-                    .fold(f64::INFINITY, f64::min);
+                let far = dist_to(q.at(t), &case.pieces);
                 assert!(
                     far <= case.r + 1e-3,
                     "case {k}: the path at {:?} is {far} from the contour, R = {}\n{}",
@@ -868,6 +871,20 @@ fn cavalier_polyline(case: &Case) -> cavalier_contours::polyline::Polyline<f64> 
     pl
 }
 
+/// cavalier's offset of the case's contour on the tool side, as pieces, where it is one
+/// polyline (`None` for an empty contour or an offset in several pieces).
+fn cavalier_offset(case: &Case) -> Option<Vec<Piece>> {
+    use cavalier_contours::polyline::PlineSource;
+    if case.pieces.is_empty() {
+        return None;
+    }
+    let cav = cavalier_polyline(case).parallel_offset(if case.left { case.r } else { -case.r });
+    match cav.as_slice() {
+        [one] => Some(cavalier_pieces(one)),
+        _ => None,
+    }
+}
+
 /// cavalier's offset as pieces.
 fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece> {
     use cavalier_contours::polyline::PlineSource;
@@ -909,22 +926,15 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
 /// an improvement to write down here.
 #[test]
 fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
-    use cavalier_contours::polyline::PlineSource;
     let md = isg_masking();
     let mut rng = Rng(0x452821e638d01377);
     let (mut exists, mut masked) = (0, 0);
     let (mut alarms, mut gouges) = (Vec::new(), Vec::new());
     for k in 0..CASES / 10 {
         let case = make_case(&mut rng, k % 2 == 0);
-        if case.pieces.is_empty() {
+        let Some(pieces) = cavalier_offset(&case) else {
             continue;
-        }
-        let cav =
-            cavalier_polyline(&case).parallel_offset(if case.left { case.r } else { -case.r });
-        if cav.len() != 1 {
-            continue;
-        }
-        let pieces = cavalier_pieces(&cav[0]);
+        };
         // Both ends kept: the path runs from the first normal position to the last.
         let side = if case.left { 1.0 } else { -1.0 };
         let normal_at = |p: &Piece, at_end: bool| {
@@ -988,21 +998,14 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
 /// pinned: more is a regression, fewer an improvement to write down here.
 #[test]
 fn masked_paths_follow_the_oracle() {
-    use cavalier_contours::polyline::PlineSource;
     let md = isg_masking();
     let mut rng = Rng(0x452821e638d01377);
     let (mut compared, mut differ) = (0, Vec::new());
     for k in 0..CASES / 10 {
         let case = make_case(&mut rng, k % 2 == 0);
-        if case.pieces.is_empty() {
+        let Some(oracle) = cavalier_offset(&case) else {
             continue;
-        }
-        let cav =
-            cavalier_polyline(&case).parallel_offset(if case.left { case.r } else { -case.r });
-        if cav.len() != 1 {
-            continue;
-        }
-        let oracle = cavalier_pieces(&cav[0]);
+        };
         if min_dist(&oracle, &case.pieces) < case.r - 1e-7 {
             continue;
         }
@@ -1011,25 +1014,14 @@ fn masked_paths_follow_the_oracle() {
         if alarm || path.is_empty() {
             continue;
         }
-        let on = |p: P, set: &[Piece]| {
-            set.iter()
-                .map(|q| point_dist(p, q))
-                .fold(f64::INFINITY, f64::min)
-        };
         let mut worst: (f64, P) = (0.0, [0.0; 2]);
-        for q in &path {
-            for t in [0.0, 0.5, 1.0] {
-                let (p, d) = (q.at(t), on(q.at(t), &oracle));
-                if d > worst.0 {
-                    worst = (d, p);
-                }
-            }
-        }
-        for q in &oracle {
-            for t in [0.0, 0.5, 1.0] {
-                let (p, d) = (q.at(t), on(q.at(t), &path));
-                if d > worst.0 {
-                    worst = (d, p);
+        for (from, to) in [(&path, &oracle), (&oracle, &path)] {
+            for q in from {
+                for t in [0.0, 0.5, 1.0] {
+                    let (p, d) = (q.at(t), dist_to(q.at(t), to));
+                    if d > worst.0 {
+                        worst = (d, p);
+                    }
                 }
             }
         }
