@@ -194,10 +194,6 @@ impl Out {
     }
 }
 
-fn emit(out: &mut Out, s: Segment) {
-    out.push_back(s);
-}
-
 /// Feed and source of the block a segment belongs to.
 #[derive(Clone, Copy, Debug)]
 struct Tag {
@@ -692,7 +688,7 @@ impl Compensator {
         let (t, w) = split(&m.end, m.plane);
         self.tool = t;
         self.tool_w = w;
-        emit(out, seg);
+        out.push_back(seg);
     }
 
     /// Alarm 3021: an error that stops preparation before the violating block, or with
@@ -822,19 +818,16 @@ impl Compensator {
         w1: f64,
         out: &mut Out,
     ) {
-        emit(
-            out,
-            Segment {
-                source: tag.source,
-                role,
-                shape,
-                from: join(a, w0, self.plane),
-                to: join(b, w1, self.plane),
-                feed: tag.feed,
-                rapid: tag.rapid,
-                exact_stop: tag.exact_stop,
-            },
-        );
+        out.push_back(Segment {
+            source: tag.source,
+            role,
+            shape,
+            from: join(a, w0, self.plane),
+            to: join(b, w1, self.plane),
+            feed: tag.feed,
+            rapid: tag.rapid,
+            exact_stop: tag.exact_stop,
+        });
         self.tool = b;
         self.tool_w = w1;
     }
