@@ -353,6 +353,46 @@ fn masked_step(rise: &str) -> Vec<Prepared> {
     items
 }
 
+/// The 2 mm step of [`masked_step`] programmed as two blocks on one line: N40 1 mm up, N45
+/// 1 mm more, N50 east along Y2 (G41, R 10, G26). N40's equidistant x = 40 runs backwards
+/// from the inner corner (40, 10); N45's, from (40, 1) to (40, 2), runs forwards but 1 mm
+/// from N30: it lies inside the loop and is left out with N40. The path joins where N30's
+/// equidistant y = 10, lengthened, meets the transition circle about N45's end (50, 2):
+/// (x − 50)² = 10² − 8², x = 44. Round that circle to N50's normal position (50, 12).
+/// (Found by the cavalier oracle in tests/gouge.rs: before, N45 ended the masking with 3021.)
+#[test]
+fn isg_masking_leaves_out_a_step_split_into_blocks_on_one_line() {
+    let src = "N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 Y1\nN45 Y2\nN50 X100\nN60 G40 X120 Y30\nN70 M30\n";
+    let (items, alarm) = run_isg(src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    assert!(segs.iter().all(|s| block(s) != 40));
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, 44.0, 10.0);
+    let (corner, center) = transition_circle(&segs);
+    at(corner.from, 44.0, 10.0);
+    at(corner.to, 50.0, 12.0);
+    at(center, 50.0, 2.0);
+    let Shape::Arc { ccw, .. } = corner.shape else {
+        unreachable!()
+    };
+    assert!(!ccw, "clockwise round the step's top");
+    let n50 = segs
+        .iter()
+        .find(|s| block(s) == 50 && s.role == Role::Contour)
+        .unwrap();
+    at(n50.from, 50.0, 12.0);
+    assert!(segs
+        .iter()
+        .all(|s| block(s) != 45 || s.role == Role::Corner));
+    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ContourViolation, 5))
+    );
+}
+
 /// The path's one transition circle and its centre.
 fn transition_circle<'a>(segs: &[&'a Segment]) -> (&'a Segment, [f64; 3]) {
     let corner = *segs.iter().find(|s| s.role == Role::Corner).unwrap();

@@ -10,7 +10,7 @@ fn main() {
     let text = std::fs::read_to_string(&path).expect("readable program");
     let md =
         nc_kernel::MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
-    let tools = nc_kernel::ToolTable::default();
+    let tools = nc_kernel::ToolTable::builtin();
     let mut n = 0usize;
     let mut interp = nc_kernel::Interpreter::new(&path, &text, &md, &tools);
     loop {

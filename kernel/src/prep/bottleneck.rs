@@ -319,6 +319,14 @@ impl Bottleneck {
                 self.cut_loop(x.0, x.1, &mut seg);
                 piece = PathPiece::plain(self.elem(&seg));
                 gap = false;
+            } else if !backwards
+                && !gap
+                && self.held.iter().any(|h| h.backwards)
+                && !self.clear(&e, r, side)
+            {
+                // Inside the loop of a backward run and not joined: it comes too close to
+                // the contour, so it is left out with the run (a later element must join).
+                backwards = true;
             }
         }
         let bb = piece.bbox(r);
@@ -359,6 +367,9 @@ impl Bottleneck {
         let bb = bbox(e, 0.0);
         let n = self.held.len();
         for (i, h) in self.held.iter().enumerate().take(n.saturating_sub(1)) {
+            if h.backwards {
+                continue;
+            }
             let Some(he) = h.piece.elem() else {
                 continue;
             };
@@ -413,9 +424,22 @@ impl Bottleneck {
     /// parallel meet far from the part). The latest such segment: as little of the contour
     /// as possible is left out; of its meeting points, the one that lengthens least.
     fn joined(&self, e: &Elem, seq: u32, r: f64, side: i8, upto: usize) -> Option<(usize, V2)> {
-        let touches = |seq: u32, x: V2| {
-            self.own(seq)
-                .is_some_and(|p| dist_point(&p.elem, x) <= r + 1e-6)
+        // The element of block `seq`, or of a block left out between it and `other` that
+        // continues it on the same line or circle (together they are one element).
+        let touches = |seq: u32, other: u32, x: V2| {
+            let Some(own) = self.own(seq).map(|p| p.elem) else {
+                return false;
+            };
+            let (lo, hi) = if seq.wrapping_sub(other) as i32 <= 0 {
+                (seq, other)
+            } else {
+                (other.wrapping_add(1), seq.wrapping_add(1))
+            };
+            self.programmed.iter().any(|p| {
+                p.source.seq.wrapping_sub(lo) < hi.wrapping_sub(lo)
+                    && (p.source.seq == seq || same_carrier(&p.elem, &own))
+                    && dist_point(&p.elem, x) <= r + 1e-6
+            })
         };
         // A circle's equidistant is the edge only over the circle's own span: lengthened
         // further, it runs round the far side, away from the part.
@@ -436,8 +460,8 @@ impl Bottleneck {
                 };
                 let (hx, ex) = (he.with_end(x), e.with_start(x));
                 if best.is_some_and(|b| b.0 <= u + v)
-                    || !touches(h.seg.source.seq, x)
-                    || !touches(seq, x)
+                    || !touches(h.seg.source.seq, seq, x)
+                    || !touches(seq, h.seg.source.seq, x)
                     || !within(h.seg.source.seq, &hx)
                     || !within(seq, &ex)
                     || !self.clear_point(x, r, side)
@@ -504,15 +528,26 @@ impl Bottleneck {
         if !h.backwards {
             return Some(e);
         }
-        let Elem::Line { a, .. } = e else {
-            return None;
-        };
-        match self.own(h.seg.source.seq)?.elem {
-            Elem::Line { a: pa, b: pb } => Some(Elem::Line {
+        match (e, self.own(h.seg.source.seq)?.elem) {
+            (Elem::Line { a, .. }, Elem::Line { a: pa, b: pb }) => Some(Elem::Line {
                 a,
                 b: a + (pb - pa),
             }),
-            Elem::Arc { .. } => None,
+            // An arc the tool fits: its equidistant circle from the start on, over the
+            // programmed element's sweep in its direction.
+            (Elem::Arc { a, c, .. }, own @ Elem::Arc { c: oc, ccw, .. })
+                if c == oc && !(ccw == (h.side > 0) && own.radius() <= h.r + 1e-9) =>
+            {
+                let phi = if ccw { own.sweep() } else { -own.sweep() };
+                let (u, (sn, cs)) = (a - c, (libm::sin(phi), libm::cos(phi)));
+                Some(Elem::Arc {
+                    a,
+                    b: c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs),
+                    c,
+                    ccw,
+                })
+            }
+            _ => None,
         }
     }
 
@@ -562,6 +597,12 @@ impl Bottleneck {
             .map(|p| p.elem);
         if let Some(h) = self.held.back_mut() {
             h.seg.to = at(plane, &h.seg.to, x);
+            // A backward arc joined along its carrier turns round with it.
+            if let (true, Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: own, .. })) =
+                (h.backwards, &mut h.seg.shape, own)
+            {
+                *ccw = own;
+            }
             h.piece = PathPiece::plain(elem_in(&h.seg, plane));
             h.bb = h.piece.bbox(h.r);
             // A backward line joined along its equidistant runs forwards now.
@@ -852,6 +893,22 @@ fn runs_backwards(role: Role, path: &Elem, own: Option<&Elem>, r: f64, side: i8)
             }
             _ => false,
         }
+}
+
+/// Whether two elements lie on one line, or on one circle (to rounding).
+fn same_carrier(p: &Elem, q: &Elem) -> bool {
+    let on = |x: V2, a: V2, b: V2| {
+        let d = b - a;
+        (x - a).cross(d).abs() <= 1e-9 * d.len() * (1.0 + x.len().max(a.len()))
+    };
+    match (*p, *q) {
+        (Elem::Line { a, b }, Elem::Line { a: qa, b: qb }) => on(a, qa, qb) && on(b, qa, qb),
+        (Elem::Arc { a, c, .. }, Elem::Arc { a: qa, c: qc, .. }) => {
+            let tol = 1e-9 * (1.0 + c.len().max(qc.len()));
+            c.dist(qc) <= tol && (a.dist(c) - qa.dist(qc)).abs() <= tol
+        }
+        _ => false,
+    }
 }
 
 /// How far `e` must be lengthened past its end to reach `x`, a point of its line or circle
