@@ -393,6 +393,44 @@ fn isg_masking_leaves_out_a_step_split_into_blocks_on_one_line() {
     );
 }
 
+/// A pocket narrower than the tool with a shallow wall before it: N30 east along Y0, N40 2 mm
+/// down, N50 east along Y−2 for 18 mm, N60 up the far wall X68 (G41, R 10, G26). N40's
+/// equidistant x = 60 runs backwards (down from the transition circle, up to the floor's
+/// y = 8), and so does the floor's, from (60, 8) back to the far wall's x = 58. The tool
+/// cannot reach the floor's corners: the transition circle about (50, 0) runs on until it
+/// meets the floor's equidistant, (x − 50)² = 10² − 8², x = 56; the path follows y = 8 to
+/// (58, 8) and goes up x = 58. Two joints for one new segment (N60): N50 is bridged.
+#[test]
+fn isg_masking_bridges_the_floor_of_a_pocket_narrower_than_the_tool() {
+    let src = "N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN40 Y-2\nN50 X68\nN60 Y40\nN70 G40 X90 Y60\nN80 M30\n";
+    let (items, alarm) = run_isg(src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, 50.0, 10.0);
+    let (corner, center) = transition_circle(&segs);
+    assert_eq!(block(corner), 40);
+    at(corner.from, 50.0, 10.0);
+    at(corner.to, 56.0, 8.0);
+    at(center, 50.0, 0.0);
+    assert!(segs
+        .iter()
+        .all(|s| block(s) != 40 || s.role == Role::Corner));
+    let floor: Vec<_> = segs.iter().filter(|s| block(s) == 50).collect();
+    assert_eq!(floor.len(), 1, "{floor:?}");
+    at(floor[0].from, 56.0, 8.0);
+    at(floor[0].to, 58.0, 8.0);
+    let n60 = segs.iter().find(|s| block(s) == 60).unwrap();
+    at(n60.from, 58.0, 8.0);
+    at(n60.to, 58.0, 40.0);
+    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ContourViolation, 5))
+    );
+}
+
 /// The path's one transition circle and its centre.
 fn transition_circle<'a>(segs: &[&'a Segment]) -> (&'a Segment, [f64; 3]) {
     let corner = *segs.iter().find(|s| s.role == Role::Corner).unwrap();

@@ -60,7 +60,8 @@ struct Held {
     seg: Segment,
     piece: PathPiece,
     /// A contour segment that runs against its programmed element (shorter than the trim of
-    /// its corners): what masking leaves out.
+    /// its corners), or one inside such a run's loop that comes too close to the contour:
+    /// what masking leaves out (unless a joint or bridge takes it up).
     backwards: bool,
     /// Masking: the segment does not start where the one before it ends (a corner whose
     /// equidistants do not meet); a later join must close the gap.
@@ -70,6 +71,17 @@ struct Held {
     side: i8,
     /// Bounding box in the plane, grown by the radius: min u, min v, max u, max v.
     bb: [f64; 4],
+}
+
+/// Where masking joins the path: held segment `at` ends at `x` and what follows it is left
+/// out. With `bridge`, held segment `bridge.0` (a line that ran backwards) comes back along
+/// its equidistant from `x` to `bridge.1`, and the new segment starts there; otherwise the
+/// new segment starts at `x`.
+#[derive(Clone, Copy, Debug)]
+struct Joint {
+    at: usize,
+    x: V2,
+    bridge: Option<(usize, V2)>,
 }
 
 /// A path segment as the window measures it.
@@ -309,14 +321,14 @@ impl Bottleneck {
             let x = if backwards {
                 None
             } else if gap {
-                self.joined(&e, seg.source.seq, r, side, self.before_gap())
+                self.joined(&e, seg.source.seq, r, side, self.before_gap(), true)
             } else {
                 self.crossing_with_held(&e).or_else(|| {
                     self.joined_past_backwards(&e, seg.source.seq, r, side, self.before_gap())
                 })
             };
             if let Some(x) = x {
-                self.cut_loop(x.0, x.1, &mut seg);
+                self.cut_loop(x, &mut seg);
                 piece = PathPiece::plain(self.elem(&seg));
                 gap = false;
             } else if !backwards
@@ -363,7 +375,7 @@ impl Bottleneck {
 
     /// Where a new path element crosses a held segment other than the last one (which
     /// shares its start): the held index and the point.
-    fn crossing_with_held(&self, e: &Elem) -> Option<(usize, V2)> {
+    fn crossing_with_held(&self, e: &Elem) -> Option<Joint> {
         let bb = bbox(e, 0.0);
         let n = self.held.len();
         for (i, h) in self.held.iter().enumerate().take(n.saturating_sub(1)) {
@@ -382,7 +394,11 @@ impl Bottleneck {
                     && x.dist(e.start()) > 1e-7
                     && x.dist(he.end()) > 1e-7
             }) {
-                return Some((i, x));
+                return Some(Joint {
+                    at: i,
+                    x,
+                    bridge: None,
+                });
             }
         }
         None
@@ -401,7 +417,7 @@ impl Bottleneck {
         r: f64,
         side: i8,
         before_gap: usize,
-    ) -> Option<(usize, V2)> {
+    ) -> Option<Joint> {
         let last = self.held.iter().rposition(|h| h.backwards)?;
         // Only a run at the end of the path: after it, nothing but the new block's own
         // corner pieces (a run followed by a valid element was resolved or is no loop).
@@ -413,7 +429,7 @@ impl Bottleneck {
         {
             return None;
         }
-        self.joined(e, seq, r, side, (last + 1).min(before_gap))
+        self.joined(e, seq, r, side, (last + 1).min(before_gap), true)
     }
 
     /// Where one of the first `upto` held segments, lengthened past its end if need be, and
@@ -423,7 +439,20 @@ impl Bottleneck {
     /// tool may reach, never a detour through free space (two equidistants that are nearly
     /// parallel meet far from the part). The latest such segment: as little of the contour
     /// as possible is left out; of its meeting points, the one that lengthens least.
-    fn joined(&self, e: &Elem, seq: u32, r: f64, side: i8, upto: usize) -> Option<(usize, V2)> {
+    ///
+    /// A backward line that meets `e` where the tool touches both, but whose own start is
+    /// wrong (the block before it is left out too), may be bridged (`bridge`): an earlier
+    /// segment joins its equidistant, which runs on to `e` (the floor of a pocket narrower
+    /// than the tool, between a wall left out and the wall `e` follows).
+    fn joined(
+        &self,
+        e: &Elem,
+        seq: u32,
+        r: f64,
+        side: i8,
+        upto: usize,
+        bridge: bool,
+    ) -> Option<Joint> {
         // The element of block `seq`, or of a block left out between it and `other` that
         // continues it on the same line or circle (together they are one element).
         let touches = |seq: u32, other: u32, x: V2| {
@@ -473,7 +502,66 @@ impl Bottleneck {
                 best = Some((u + v, x));
             }
             if let Some((_, x)) = best {
-                return Some((j, x));
+                return Some(Joint {
+                    at: j,
+                    x,
+                    bridge: None,
+                });
+            }
+            if !bridge || !h.backwards {
+                continue;
+            }
+            // The equidistant, through the point where it meets `e` (where `e` starts, if on
+            // it: a tangent transition), from an earlier segment on: both joints are found as
+            // above. For an arc, over the programmed sweep up to that point.
+            let h_seq = h.seg.source.seq;
+            let on_carrier = match he {
+                Elem::Line { a, b } => (e.start() - a).cross(b - a).abs() <= 1e-9 * a.dist(b),
+                Elem::Arc { a, c, .. } => (e.start().dist(c) - a.dist(c)).abs() <= 1e-9,
+            };
+            let mut points: heapless::Vec<V2, 3> = intersections(&he, e).into_iter().collect();
+            if on_carrier {
+                let _ = points.push(e.start());
+            }
+            let mut best: Option<(f64, Joint)> = None;
+            for y in points {
+                let Some(v) = before_start(e, y) else {
+                    continue;
+                };
+                let back = match he {
+                    Elem::Line { a, b } => Elem::Line {
+                        a: y - (b - a),
+                        b: y,
+                    },
+                    Elem::Arc { c, ccw, .. } => Elem::Arc {
+                        a: turned(y, c, if ccw { -he.sweep() } else { he.sweep() }),
+                        b: y,
+                        c,
+                        ccw,
+                    },
+                };
+                let ey = e.with_start(y);
+                if best.as_ref().is_some_and(|b| b.0 <= v)
+                    || !touches(h_seq, seq, y)
+                    || !touches(seq, h_seq, y)
+                    || !within(seq, &ey)
+                    || !self.clear_point(y, r, side)
+                    || !self.clear(&ey, r, side)
+                {
+                    continue;
+                }
+                if let Some(first) = self.joined(&back, h_seq, r, side, j, false) {
+                    best = Some((
+                        v,
+                        Joint {
+                            bridge: Some((j, y)),
+                            ..first
+                        },
+                    ));
+                }
+            }
+            if let Some((_, joint)) = best {
+                return Some(joint);
             }
         }
         None
@@ -503,9 +591,9 @@ impl Bottleneck {
             }
         }
         let upto = (last + 1).min(self.held.len() - 1).min(self.before_gap());
-        if let Some((j, x)) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto) {
+        if let Some(joint) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto, true) {
             let mut seg = h.seg;
-            self.cut_loop(j, x, &mut seg);
+            self.cut_loop(joint, &mut seg);
             let piece = PathPiece::plain(self.elem(&seg));
             let _ = self.held.push_back(Held {
                 seg,
@@ -538,11 +626,9 @@ impl Bottleneck {
             (Elem::Arc { a, c, .. }, own @ Elem::Arc { c: oc, ccw, .. })
                 if c == oc && !(ccw == (h.side > 0) && own.radius() <= h.r + 1e-9) =>
             {
-                let phi = if ccw { own.sweep() } else { -own.sweep() };
-                let (u, (sn, cs)) = (a - c, (libm::sin(phi), libm::cos(phi)));
                 Some(Elem::Arc {
                     a,
-                    b: c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs),
+                    b: turned(a, c, if ccw { own.sweep() } else { -own.sweep() }),
                     c,
                     ccw,
                 })
@@ -583,9 +669,11 @@ impl Bottleneck {
             .all(|p| dist_point(&p.elem, x) >= r - 1e-7)
     }
 
-    /// Masking: the held segment `i` ends at `x`, the ones after it are left out, and `seg`
-    /// starts at `x`.
-    fn cut_loop(&mut self, i: usize, x: V2, seg: &mut Segment) {
+    /// Masking: the held segment `joint.at` ends at `joint.x`, the ones after it are left
+    /// out (but a bridge), and `seg` starts where the joint says.
+    fn cut_loop(&mut self, joint: Joint, seg: &mut Segment) {
+        let Joint { at: i, x, bridge } = joint;
+        let bridge = bridge.and_then(|(k, y)| Some((*self.held.iter().nth(k)?, y)));
         while self.held.len() > i + 1 {
             self.held.pop_back();
         }
@@ -611,7 +699,23 @@ impl Bottleneck {
                 .elem()
                 .is_some_and(|e| runs_backwards(h.seg.role, &e, own.as_ref(), h.r, h.side));
         }
-        seg.from = at(plane, &seg.from, x);
+        let mut start = x;
+        if let Some((mut h, y)) = bridge {
+            h.seg.from = at(plane, &h.seg.from, x);
+            h.seg.to = at(plane, &h.seg.to, y);
+            if let (Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: own, .. })) =
+                (&mut h.seg.shape, self.own(h.seg.source.seq).map(|p| p.elem))
+            {
+                *ccw = own;
+            }
+            h.piece = PathPiece::plain(elem_in(&h.seg, plane));
+            h.bb = h.piece.bbox(h.r);
+            h.backwards = false;
+            h.after_gap = false;
+            let _ = self.held.push_back(h);
+            start = y;
+        }
+        seg.from = at(plane, &seg.from, start);
         self.recount();
     }
 
@@ -893,6 +997,12 @@ fn runs_backwards(role: Role, path: &Elem, own: Option<&Elem>, r: f64, side: i8)
             }
             _ => false,
         }
+}
+
+/// `p` turned about `c` by `phi` (counter-clockwise for phi > 0).
+fn turned(p: V2, c: V2, phi: f64) -> V2 {
+    let (u, (sn, cs)) = (p - c, (libm::sin(phi), libm::cos(phi)));
+    c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs)
 }
 
 /// Whether two elements lie on one line, or on one circle (to rounding).
