@@ -323,9 +323,15 @@ impl Bottleneck {
             } else if gap {
                 self.joined(&e, seg.source.seq, r, side, self.before_gap(), true)
             } else {
-                self.crossing_with_held(&e).or_else(|| {
-                    self.joined_past_backwards(&e, seg.source.seq, r, side, self.before_gap())
-                })
+                // A crossing whose cut still comes too close to the contour gives way to a
+                // joint past a backward run that does not (if there is one).
+                let crossing = self.crossing_with_held(&e);
+                match crossing {
+                    Some(c) if self.cut_clear(c, &e, r, side) => crossing,
+                    _ => self
+                        .joined_past_backwards(&e, seg.source.seq, r, side, self.before_gap())
+                        .or(crossing),
+                }
             };
             if let Some(x) = x {
                 self.cut_loop(x, &mut seg);
@@ -402,6 +408,18 @@ impl Bottleneck {
             }
         }
         None
+    }
+
+    /// Whether the path cut at a crossing keeps clear of the contour: the held segment up to
+    /// the point and the new element from it.
+    fn cut_clear(&self, c: Joint, e: &Elem, r: f64, side: i8) -> bool {
+        self.held
+            .iter()
+            .nth(c.at)
+            .and_then(|h| h.piece.elem())
+            .is_some_and(|he| {
+                self.clear(&he.with_end(c.x), r, side) && self.clear(&e.with_start(c.x), r, side)
+            })
     }
 
     /// Masking where no held segment crosses the new element: an element shorter than the
