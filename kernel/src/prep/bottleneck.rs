@@ -74,7 +74,7 @@ struct Held {
 }
 
 /// Where masking joins the path: held segment `at` ends at `x` and what follows it is left
-/// out. With `bridge`, held segment `bridge.0` (a line that ran backwards) comes back along
+/// out. With `bridge`, held segment `bridge.0` (one that ran backwards) comes back along
 /// its equidistant from `x` to `bridge.1`, and the new segment starts there; otherwise the
 /// new segment starts at `x`.
 #[derive(Clone, Copy, Debug)]
@@ -458,7 +458,7 @@ impl Bottleneck {
     /// parallel meet far from the part). The latest such segment: as little of the contour
     /// as possible is left out; of its meeting points, the one that lengthens least.
     ///
-    /// A backward line that meets `e` where the tool touches both, but whose own start is
+    /// A backward segment that meets `e` where the tool touches both, but whose own start is
     /// wrong (the block before it is left out too), may be bridged (`bridge`): an earlier
     /// segment joins its equidistant, which runs on to `e` (the floor of a pocket narrower
     /// than the tool, between a wall left out and the wall `e` follows).
@@ -535,7 +535,9 @@ impl Bottleneck {
             let h_seq = h.seg.source.seq;
             let on_carrier = match he {
                 Elem::Line { a, b } => (e.start() - a).cross(b - a).abs() <= 1e-9 * a.dist(b),
-                Elem::Arc { a, c, .. } => (e.start().dist(c) - a.dist(c)).abs() <= 1e-9,
+                Elem::Arc { a, c, .. } => {
+                    (e.start().dist(c) - a.dist(c)).abs() <= 1e-9 * (1.0 + c.len())
+                }
             };
             let mut points: heapless::Vec<V2, 3> = intersections(&he, e).into_iter().collect();
             if on_carrier {
