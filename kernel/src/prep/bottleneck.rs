@@ -456,12 +456,9 @@ impl Bottleneck {
     /// touch both blocks' elements (R from each): the masked path is the edge of what the
     /// tool may reach, never a detour through free space (two equidistants that are nearly
     /// parallel meet far from the part). The latest such segment: as little of the contour
-    /// as possible is left out; of its meeting points, the one that lengthens least.
-    ///
-    /// A backward segment that meets `e` where the tool touches both, but whose own start is
-    /// wrong (the block before it is left out too), may be bridged (`bridge`): an earlier
-    /// segment joins its equidistant, which runs on to `e` (the floor of a pocket narrower
-    /// than the tool, between a wall left out and the wall `e` follows).
+    /// as possible is left out; of its meeting points, the one that lengthens least. With
+    /// `bridge`, a backward segment that offers no such point may be bridged
+    /// ([`Self::bridged`]).
     fn joined(
         &self,
         e: &Elem,
@@ -471,35 +468,11 @@ impl Bottleneck {
         upto: usize,
         bridge: bool,
     ) -> Option<Joint> {
-        // The element of block `seq`, or of a block left out between it and `other` that
-        // continues it on the same line or circle (together they are one element).
-        let touches = |seq: u32, other: u32, x: V2| {
-            let Some(own) = self.own(seq).map(|p| p.elem) else {
-                return false;
-            };
-            let (lo, hi) = if seq.wrapping_sub(other) as i32 <= 0 {
-                (seq, other)
-            } else {
-                (other.wrapping_add(1), seq.wrapping_add(1))
-            };
-            self.programmed.iter().any(|p| {
-                p.source.seq.wrapping_sub(lo) < hi.wrapping_sub(lo)
-                    && (p.source.seq == seq || same_carrier(&p.elem, &own))
-                    && dist_point(&p.elem, x) <= r + 1e-6
-            })
-        };
-        // A circle's equidistant is the edge only over the circle's own span: lengthened
-        // further, it runs round the far side, away from the part.
-        let within = |seq: u32, path: &Elem| match (self.own(seq).map(|p| p.elem), *path) {
-            (Some(own @ Elem::Arc { c, .. }), Elem::Arc { c: pc, .. }) if c == pc => {
-                path.sweep() <= own.sweep() + 1e-9
-            }
-            _ => true,
-        };
         for (j, h) in self.held.iter().enumerate().take(upto).rev() {
             let Some(he) = self.carrier(h) else {
                 continue;
             };
+            let h_seq = h.seg.source.seq;
             let mut best: Option<(f64, V2)> = None;
             for x in intersections(&he, e) {
                 let (Some(u), Some(v)) = (past_end(&he, x), before_start(e, x)) else {
@@ -507,10 +480,10 @@ impl Bottleneck {
                 };
                 let (hx, ex) = (he.with_end(x), e.with_start(x));
                 if best.is_some_and(|b| b.0 <= u + v)
-                    || !touches(h.seg.source.seq, seq, x)
-                    || !touches(seq, h.seg.source.seq, x)
-                    || !within(h.seg.source.seq, &hx)
-                    || !within(seq, &ex)
+                    || !self.touches(h_seq, seq, x, r)
+                    || !self.touches(seq, h_seq, x, r)
+                    || !self.within(h_seq, &hx)
+                    || !self.within(seq, &ex)
                     || !self.clear_point(x, r, side)
                     || !self.clear(&hx, r, side)
                     || !self.clear(&ex, r, side)
@@ -526,65 +499,102 @@ impl Bottleneck {
                     bridge: None,
                 });
             }
-            if !bridge || !h.backwards {
-                continue;
-            }
-            // The equidistant, through the point where it meets `e` (where `e` starts, if on
-            // it: a tangent transition), from an earlier segment on: both joints are found as
-            // above. For an arc, over the programmed sweep up to that point.
-            let h_seq = h.seg.source.seq;
-            let on_carrier = match he {
-                Elem::Line { a, b } => (e.start() - a).cross(b - a).abs() <= 1e-9 * a.dist(b),
-                Elem::Arc { a, c, .. } => {
-                    (e.start().dist(c) - a.dist(c)).abs() <= 1e-9 * (1.0 + c.len())
+            if bridge && h.backwards {
+                if let Some(joint) = self.bridged(j, &he, e, seq, r, side) {
+                    return Some(joint);
                 }
-            };
-            let mut points: heapless::Vec<V2, 3> = intersections(&he, e).into_iter().collect();
-            if on_carrier {
-                let _ = points.push(e.start());
-            }
-            let mut best: Option<(f64, Joint)> = None;
-            for y in points {
-                let Some(v) = before_start(e, y) else {
-                    continue;
-                };
-                let back = match he {
-                    Elem::Line { a, b } => Elem::Line {
-                        a: y - (b - a),
-                        b: y,
-                    },
-                    Elem::Arc { c, ccw, .. } => Elem::Arc {
-                        a: turned(y, c, if ccw { -he.sweep() } else { he.sweep() }),
-                        b: y,
-                        c,
-                        ccw,
-                    },
-                };
-                let ey = e.with_start(y);
-                if best.as_ref().is_some_and(|b| b.0 <= v)
-                    || !touches(h_seq, seq, y)
-                    || !touches(seq, h_seq, y)
-                    || !within(seq, &ey)
-                    || !self.clear_point(y, r, side)
-                    || !self.clear(&ey, r, side)
-                {
-                    continue;
-                }
-                if let Some(first) = self.joined(&back, h_seq, r, side, j, false) {
-                    best = Some((
-                        v,
-                        Joint {
-                            bridge: Some((j, y)),
-                            ..first
-                        },
-                    ));
-                }
-            }
-            if let Some((_, joint)) = best {
-                return Some(joint);
             }
         }
         None
+    }
+
+    /// Two joints at once for held segment `j`, a backward segment whose own start is wrong
+    /// too (the block before it is left out as well): `e` meets (or starts on) its carrier
+    /// `he` where the tool touches both, and an earlier held segment joins the carrier before
+    /// that point ([`Self::joined`], for an arc within the programmed sweep). The segment
+    /// then carries the path between the two (the floor of a pocket narrower than the tool,
+    /// between a wall left out and the wall `e` follows).
+    fn bridged(&self, j: usize, he: &Elem, e: &Elem, seq: u32, r: f64, side: i8) -> Option<Joint> {
+        let h_seq = self.held.iter().nth(j)?.seg.source.seq;
+        // A tangent transition: `e` starts on the carrier, where no intersection is reliable.
+        let on_carrier = match *he {
+            Elem::Line { a, b } => (e.start() - a).cross(b - a).abs() <= 1e-9 * a.dist(b),
+            Elem::Arc { a, c, .. } => {
+                (e.start().dist(c) - a.dist(c)).abs() <= 1e-9 * (1.0 + c.len())
+            }
+        };
+        let mut points: heapless::Vec<V2, 3> = intersections(he, e).into_iter().collect();
+        if on_carrier {
+            let _ = points.push(e.start());
+        }
+        let mut best: Option<(f64, Joint)> = None;
+        for y in points {
+            let Some(v) = before_start(e, y) else {
+                continue;
+            };
+            let ey = e.with_start(y);
+            if best.as_ref().is_some_and(|b| b.0 <= v)
+                || !self.touches(h_seq, seq, y, r)
+                || !self.touches(seq, h_seq, y, r)
+                || !self.within(seq, &ey)
+                || !self.clear_point(y, r, side)
+                || !self.clear(&ey, r, side)
+            {
+                continue;
+            }
+            // The carrier up to `y`: as long as the element (a line), or over its sweep.
+            let back = match *he {
+                Elem::Line { a, b } => Elem::Line {
+                    a: y - (b - a),
+                    b: y,
+                },
+                Elem::Arc { c, ccw, .. } => Elem::Arc {
+                    a: turned(y, c, if ccw { -he.sweep() } else { he.sweep() }),
+                    b: y,
+                    c,
+                    ccw,
+                },
+            };
+            if let Some(first) = self.joined(&back, h_seq, r, side, j, false) {
+                let joint = Joint {
+                    bridge: Some((j, y)),
+                    ..first
+                };
+                best = Some((v, joint));
+            }
+        }
+        best.map(|(_, joint)| joint)
+    }
+
+    /// Whether the tool at `x` touches (R from it, tool radius `r`) the element of block
+    /// `seq`, or of a block left out between it and `other` that continues it on the same
+    /// line or circle (together they are one element).
+    fn touches(&self, seq: u32, other: u32, x: V2, r: f64) -> bool {
+        let Some(own) = self.own(seq).map(|p| p.elem) else {
+            return false;
+        };
+        let (lo, hi) = if seq.wrapping_sub(other) as i32 <= 0 {
+            (seq, other)
+        } else {
+            (other.wrapping_add(1), seq.wrapping_add(1))
+        };
+        self.programmed.iter().any(|p| {
+            p.source.seq.wrapping_sub(lo) < hi.wrapping_sub(lo)
+                && (p.source.seq == seq || same_carrier(&p.elem, &own))
+                && dist_point(&p.elem, x) <= r + 1e-6
+        })
+    }
+
+    /// Whether `path` (on the equidistant of block `seq`) stays within the element's span: a
+    /// circle's equidistant is the edge only over the circle's own span; lengthened further,
+    /// it runs round the far side, away from the part.
+    fn within(&self, seq: u32, path: &Elem) -> bool {
+        match (self.own(seq).map(|p| p.elem), *path) {
+            (Some(own @ Elem::Arc { c, .. }), Elem::Arc { c: pc, .. }) if c == pc => {
+                path.sweep() <= own.sweep() + 1e-9
+            }
+            _ => true,
+        }
     }
 
     /// Masking where the path leaves the contour (deselection, or anything not checked): a
