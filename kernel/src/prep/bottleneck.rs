@@ -73,6 +73,29 @@ struct Held {
     bb: [f64; 4],
 }
 
+impl Held {
+    /// Masking: the segment now ends at `to` (and starts at `from`), along its carrier. A
+    /// backward arc turns round to its element's direction with it; a backward segment so
+    /// joined runs forwards now. Measured again.
+    fn rejoined(&mut self, plane: Plane, from: Option<V2>, to: V2, own: Option<&Elem>) {
+        if let Some(f) = from {
+            self.seg.from = at(plane, &self.seg.from, f);
+        }
+        self.seg.to = at(plane, &self.seg.to, to);
+        if let (true, Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: o, .. })) =
+            (self.backwards, &mut self.seg.shape, own)
+        {
+            *ccw = *o;
+        }
+        self.piece = PathPiece::plain(elem_in(&self.seg, plane));
+        self.bb = self.piece.bbox(self.r);
+        self.backwards = self
+            .piece
+            .elem()
+            .is_some_and(|e| runs_backwards(self.seg.role, &e, own, self.r, self.side));
+    }
+}
+
 /// Where masking joins the path: held segment `at` ends at `x` and what follows it is left
 /// out. With `bridge`, held segment `bridge.0` (one that ran backwards) comes back along
 /// its equidistant from `x` to `bridge.1`, and the new segment starts there; otherwise the
@@ -714,33 +737,12 @@ impl Bottleneck {
             .and_then(|h| self.own(h.seg.source.seq))
             .map(|p| p.elem);
         if let Some(h) = self.held.back_mut() {
-            h.seg.to = at(plane, &h.seg.to, x);
-            // A backward arc joined along its carrier turns round with it.
-            if let (true, Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: own, .. })) =
-                (h.backwards, &mut h.seg.shape, own)
-            {
-                *ccw = own;
-            }
-            h.piece = PathPiece::plain(elem_in(&h.seg, plane));
-            h.bb = h.piece.bbox(h.r);
-            // A backward line joined along its equidistant runs forwards now.
-            h.backwards = h
-                .piece
-                .elem()
-                .is_some_and(|e| runs_backwards(h.seg.role, &e, own.as_ref(), h.r, h.side));
+            h.rejoined(plane, None, x, own.as_ref());
         }
         let mut start = x;
         if let Some((mut h, y)) = bridge {
-            h.seg.from = at(plane, &h.seg.from, x);
-            h.seg.to = at(plane, &h.seg.to, y);
-            if let (Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: own, .. })) =
-                (&mut h.seg.shape, self.own(h.seg.source.seq).map(|p| p.elem))
-            {
-                *ccw = own;
-            }
-            h.piece = PathPiece::plain(elem_in(&h.seg, plane));
-            h.bb = h.piece.bbox(h.r);
-            h.backwards = false;
+            let own = self.own(h.seg.source.seq).map(|p| p.elem);
+            h.rejoined(plane, Some(x), y, own.as_ref());
             h.after_gap = false;
             let _ = self.held.push_back(h);
             start = y;
