@@ -21,9 +21,23 @@ const USAGE: &str = "usage: hmi-bridge [--instance NAME] [--machine FILE] [--por
 
 /// The `host:port` in a log the bridge wrote: it announces `http://HOST:PORT/` on its
 /// first line (with `--port 0`, whatever port it got). For those who start it and read its
-/// log: `softnc run --hmi`, the tests.
+/// log: `softnc run --hmi`, the tests. `None` until the address is written in full (up to
+/// its `/`): a reader may catch the line half written.
 pub fn address_in(log: &str) -> Option<&str> {
-    log.split("http://").nth(1)?.split('/').next()
+    let (addr, _) = log.split("http://").nth(1)?.split_once('/')?;
+    Some(addr)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn address_only_when_written_in_full() {
+        let line = "hmi-bridge: instance 'a': http://127.0.0.1:8123/ (token)\n";
+        assert_eq!(super::address_in(line), Some("127.0.0.1:8123"));
+        for cut in 0..line.find(":8123/").unwrap() + 6 {
+            assert_eq!(super::address_in(&line[..cut]), None, "{}", &line[..cut]);
+        }
+    }
 }
 
 pub fn main(args: Vec<String>) -> ExitCode {
