@@ -147,6 +147,8 @@ pub struct Interpreter<'a> {
     finished: bool,
     /// The block text where the last `skip_to` stopped.
     last_skip: (usize, usize),
+    /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
+    plain_path: bool,
     /// The block handed out last, built in place (it is not moved through every layer). Its
     /// `modal` is the interpreter's modal state: it changes only when a block is complete.
     block: Block,
@@ -210,6 +212,7 @@ impl<'a> Interpreter<'a> {
             loop_passes: 0,
             finished: false,
             last_skip: (0, 0),
+            plain_path: true,
             block: Block::new(0, 0, None, state),
         }
     }
@@ -246,6 +249,14 @@ impl<'a> Interpreter<'a> {
     /// The position after the last block handed out.
     pub fn position(&self) -> Pos {
         self.cur
+    }
+
+    /// The same interpreter with every block read by the full word loop (tests compare the
+    /// two ways of reading a plain motion block).
+    #[doc(hidden)]
+    pub fn without_plain_path(mut self) -> Self {
+        self.plain_path = false;
+        self
     }
 
     fn alarm(&self, f: Fault) -> Alarm {
@@ -368,6 +379,9 @@ impl<'a> Interpreter<'a> {
         if self.d.variables && c.peek() == Some(b'$') {
             return self.control(c).map(|()| false);
         }
+        if self.plain_path && self.plain(c, block_col) {
+            return Ok(true);
+        }
         let mut words = Words::default();
         self.block.words.clear();
         self.words(&mut c, &mut words)?;
@@ -376,6 +390,130 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         self.build(&words, block_col)
+    }
+
+    /// The common block — at most one motion G code (not polar), axis and centre words with
+    /// their numbers written out, nothing else — read and built in one pass, without the
+    /// word loop's collection and the general build. For anything else, and for anything an
+    /// alarm would come from, it returns false with the block untouched, and the full path
+    /// reads the block from the same place: both ways give the same block (tested below).
+    #[inline]
+    fn plain(&mut self, mut c: Cursor, block_col: usize) -> bool {
+        if self.work_limited {
+            return false;
+        }
+        let d = self.d;
+        let mut mode = self.block.modal.motion;
+        // X Y Z I J K; bit k of `seen`: word k written, bit 6: a G code.
+        let mut vals = [Val {
+            value: 0.0,
+            at: 0,
+            has_point: false,
+        }; 6];
+        let mut seen = 0u8;
+        loop {
+            c.skip_blanks();
+            let Some(ch) = c.peek() else { break };
+            // Upper-cased by clearing bit 5: only 'x' and 'X' give 'X' (and so on).
+            let k = match ch & 0xDF {
+                b'X' => 0,
+                b'Y' => 1,
+                b'Z' => 2,
+                b'I' => 3,
+                b'J' => 4,
+                b'K' => 5,
+                b'G' => 6,
+                _ => return false,
+            };
+            if seen & (1 << k) != 0 {
+                return false;
+            }
+            seen |= 1 << k;
+            let at = c.i;
+            let Some((n, next)) = number::parse(c.b, at + 1) else {
+                return false;
+            };
+            if next > c.end || n.value.abs() > MAX_VALUE {
+                return false;
+            }
+            c.i = next;
+            if k == 6 {
+                let v = n.value;
+                if !((0.0..1000.0).contains(&v) && v as u16 as f64 == v) {
+                    return false;
+                }
+                match d.gcode(v as u16) {
+                    Some(GCodeDef {
+                        effect: GEffect::Motion(m),
+                        forbidden_with_trc: false,
+                        ..
+                    }) => mode = *m,
+                    _ => return false,
+                }
+            } else {
+                vals[k] = Val::new(n, at);
+            }
+        }
+        let programmed = seen & 7;
+        let arc = mode.is_arc();
+        if mode.is_polar() || programmed == 0 || (seen & 0x38 != 0) != arc {
+            return false;
+        }
+        let modal = &self.block.modal;
+        if mode != MotionMode::Rapid && modal.feed <= 0.0 {
+            return false;
+        }
+        let offset = self.md.zero_offsets.get(modal.work_offset);
+        let start = self.cur;
+        let mut end = start;
+        for i in 0..3 {
+            if programmed & (1 << i) != 0 {
+                if !self.md.has_axis(i) {
+                    return false;
+                }
+                end[i] = self.axis_target(vals[i], i, modal, start[i], offset[i]);
+                if !in_range(end[i]) {
+                    return false;
+                }
+            }
+        }
+        let plane = modal.plane;
+        let mut centre = end;
+        if arc {
+            let mut off = [0.0; 3];
+            for i in 0..3 {
+                if seen & (8 << i) != 0 {
+                    if !plane.contains(i) {
+                        return false;
+                    }
+                    off[i] = self.length(vals[3 + i], modal.units);
+                }
+            }
+            let tol = self.md.program.arc_endpoint_tolerance;
+            let ccw = mode == MotionMode::ArcCcw;
+            match arc::centre(start, end, plane, ccw, CentreSpec::Offsets(off), tol) {
+                Ok(c) => centre = c,
+                Err(_) => return false,
+            }
+        }
+        // Nothing fails from here on.
+        let col = column(self.src, self.blk_line_start, block_col);
+        reset(&mut self.block, self.blk_line, col, self.blk_number);
+        let blk = &mut self.block;
+        blk.words.clear();
+        blk.modal.motion = mode;
+        self.vars.tool_length = blk.modal.length;
+        self.vars.tool_radius = blk.modal.radius;
+        blk.motion = Some(Motion {
+            kind: mode.kind(),
+            plane,
+            start,
+            end,
+            center: centre,
+            programmed,
+        });
+        self.cur = end;
+        true
     }
 
     /// Collects the words of a block.
@@ -745,6 +883,17 @@ impl<'a> Interpreter<'a> {
             x * 25.4
         } else {
             x
+        }
+    }
+
+    /// Where axis `i` goes for its word `a`: in mm, a diameter halved, absolute (plus the zero
+    /// offset) or incremental.
+    #[inline(always)]
+    fn axis_target(&self, a: Val, i: usize, new: &ModalState, start: f64, offset: f64) -> f64 {
+        let v = self.length(a, new.units) * if i == 0 && new.diameter { 0.5 } else { 1.0 };
+        match new.distance {
+            Distance::Absolute => v + offset,
+            Distance::Incremental => start + v,
         }
     }
 
@@ -1177,12 +1326,8 @@ impl<'a> Interpreter<'a> {
 
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
-                let v = self.length(*a, units) * diameter_factor(i);
-                end[i] = match new.distance {
-                    Distance::Absolute => v + offset[i],
-                    Distance::Incremental => start[i] + v,
-                };
-                if !end[i].is_finite() || end[i].abs() > 1e9 {
+                end[i] = self.axis_target(*a, i, new, start[i], offset[i]);
+                if !in_range(end[i]) {
                     return Err(fault(AlarmCode::BadNumber, a.at, "coordinate out of range"));
                 }
             }
@@ -1515,6 +1660,12 @@ impl<'a> Interpreter<'a> {
 /// typing error, and keeping values bounded keeps every later computation finite.
 pub const MAX_VALUE: f64 = 1e9;
 
+/// A coordinate the control takes (bounded like the words, with room for offsets).
+#[inline(always)]
+fn in_range(x: f64) -> bool {
+    x.is_finite() && x.abs() <= 1e9
+}
+
 fn checked(v: Val) -> R<Val> {
     if v.value.is_finite() && v.value.abs() <= MAX_VALUE {
         Ok(v)
@@ -1600,5 +1751,132 @@ fn int_value(v: f64, at: impl Offset, what: &str) -> R<u32> {
             at,
             format!("{what} must be a whole number, not {v}"),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Every block and the alarm that ends a program, read with and without the plain path.
+    fn both(
+        src: &str,
+        md: &MachineData,
+        tools: &ToolTable,
+    ) -> [Vec<Result<(Block, Pos), Alarm>>; 2] {
+        let run = |mut it: Interpreter| {
+            let mut got = Vec::new();
+            loop {
+                match it.next_block() {
+                    Ok(Some(b)) => {
+                        let b = b.clone();
+                        got.push(Ok((b, it.position())));
+                    }
+                    Ok(None) => break,
+                    Err(a) => {
+                        got.push(Err(a));
+                        break;
+                    }
+                }
+            }
+            got
+        };
+        [
+            run(Interpreter::new("p", src, md, tools)),
+            run(Interpreter::new("p", src, md, tools).without_plain_path()),
+        ]
+    }
+
+    /// Words near the plain block's edges: what it takes, and what must send a block to the
+    /// full path (other words, comments, doubled words, odd G codes, numbers out of range,
+    /// expressions, lower case, no blank between words).
+    fn word() -> impl Strategy<Value = String> {
+        let num = prop_oneof![
+            (-300i32..300, 0u32..10000).prop_map(|(i, f)| format!("{i}.{f:04}")),
+            (-300i32..300).prop_map(|i| format!("{i}")),
+            Just("2000000000".to_string()),
+            Just("-.5".to_string()),
+            Just("1.".to_string()),
+            Just("".to_string()),
+            Just("=5".to_string()),
+            Just("0000000000000000012.5".to_string()),
+        ];
+        let letter = prop_oneof![
+            8 => prop::sample::select(vec!["X", "Y", "Z", "I", "J", "K", "x", "y", "i"]),
+            1 => prop::sample::select(vec!["F", "R", "M", "S", "D", "A", "U", "N", "P", "T"]),
+        ];
+        prop_oneof![
+            8 => (letter, num).prop_map(|(l, n)| format!("{l}{n}")),
+            3 => prop::sample::select(vec![0u32, 1, 2, 3, 1, 2, 3, 4, 17, 18, 19, 40, 41, 42, 90,
+                91, 20, 21, 70, 71, 10, 12, 25, 26, 110, 141, 999, 1000])
+                .prop_map(|g| format!("G{g}")),
+            1 => prop::sample::select(vec!["G1.5", "g01", "(c)", ";c", "X[1+2]", "$IF", "@714"])
+                .prop_map(str::to_string),
+        ]
+    }
+
+    fn line() -> impl Strategy<Value = String> {
+        (
+            prop::collection::vec(
+                (word(), prop::sample::select(vec![" ", "", "  ", "\t"])),
+                0..6,
+            ),
+            prop::option::of(0u32..100),
+        )
+            .prop_map(|(words, n)| {
+                let mut l = n.map(|n| format!("N{n} ")).unwrap_or_default();
+                for (w, sep) in words {
+                    l.push_str(&w);
+                    l.push_str(sep);
+                }
+                l
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(600))]
+        /// The plain path is a shortcut, not a second interpreter: blocks, positions and
+        /// alarms are the same with it and without it, in every dialect.
+        #[test]
+        fn plain_path_reads_as_the_word_loop(
+            lines in prop::collection::vec(line(), 1..12),
+            header in prop::sample::select(vec!["G1 F500", "G90 F100 G17", "G91 G1 F100", "G18 F10", "G0", "G70 F1", "G2 F7", "G12 F100", "G26 X100 Y100 Z100 F9"]),
+            dialect in prop::sample::select(vec!["siemens-840c", "isg", "fanuc", "siemens-808d"]),
+            diameter in any::<bool>(),
+        ) {
+            let mut set = vec![format!("dialect={dialect}")];
+            if diameter {
+                set.push("program.diameter_programming=true".into());
+            }
+            let md = MachineData::load(None, &set).unwrap();
+            let tools = ToolTable::builtin();
+            let src = format!("{header}\n{}\nM30\n", lines.join("\n"));
+            let [fast, full] = both(&src, &md, &tools);
+            prop_assert_eq!(fast, full, "{}", src);
+        }
+    }
+
+    #[test]
+    fn plain_blocks_take_the_plain_path() {
+        // Guards the test above against a plain path that never runs: the serpentine's
+        // blocks are all plain, and reading them that way gives the same blocks.
+        let md = MachineData::default();
+        let tools = ToolTable::builtin();
+        let src = "G1 F100\nG1 X10 Y0\nG2 X10 Y-20 I0 J-10\ng1 x0 y-20\nG3 X0 Y-40 I0.0 J-10.0\n";
+        let mut it = Interpreter::new("p", src, &md, &tools);
+        it.next_block().unwrap();
+        let mut plain = 0;
+        for _ in 0..4 {
+            let mut probe = it.clone();
+            let (start, end) = probe.next_segment().unwrap();
+            if probe.plain(Cursor::new(probe.src, start, end), start) {
+                plain += 1;
+            }
+            let mut full = it.clone().without_plain_path();
+            let b = full.next_block().unwrap().unwrap().clone();
+            assert_eq!(it.next_block().unwrap().unwrap(), &b);
+        }
+        assert_eq!(plain, 4);
     }
 }
