@@ -398,7 +398,7 @@ impl<'a> Interpreter<'a> {
     /// alarm would come from, it returns false with the block untouched, and the full path
     /// reads the block from the same place: both ways give the same block (tested below).
     #[inline]
-    fn plain(&mut self, mut c: Cursor, block_col: usize) -> bool {
+    fn plain(&mut self, c: Cursor, block_col: usize) -> bool {
         if self.work_limited {
             return false;
         }
@@ -411,9 +411,16 @@ impl<'a> Interpreter<'a> {
             has_point: false,
         }; 6];
         let mut seen = 0u8;
-        loop {
-            c.skip_blanks();
-            let Some(ch) = c.peek() else { break };
+        // The block's text alone: a number cannot run past its end.
+        let Some(text) = c.b.get(..c.end) else {
+            return false;
+        };
+        let mut i = c.i;
+        while let Some(&ch) = text.get(i) {
+            if matches!(ch, b' ' | b'\t' | b'\r') {
+                i += 1;
+                continue;
+            }
             // Upper-cased by clearing bit 5: only 'x' and 'X' give 'X' (and so on).
             let k = match ch & 0xDF {
                 b'X' => 0,
@@ -429,14 +436,14 @@ impl<'a> Interpreter<'a> {
                 return false;
             }
             seen |= 1 << k;
-            let at = c.i;
-            let Some((n, next)) = number::parse(c.b, at + 1) else {
+            let at = i;
+            let Some((n, next)) = number::parse(text, at + 1) else {
                 return false;
             };
-            if next > c.end || n.value.abs() > MAX_VALUE {
+            if n.value.abs() > MAX_VALUE {
                 return false;
             }
-            c.i = next;
+            i = next;
             if k == 6 {
                 let v = n.value;
                 if !((0.0..1000.0).contains(&v) && v as u16 as f64 == v) {

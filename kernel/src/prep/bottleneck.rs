@@ -286,7 +286,7 @@ impl Bottleneck {
     /// the last element's.
     pub fn push<const N: usize>(
         &mut self,
-        seg: Segment,
+        mut seg: Segment,
         reaction: Reaction,
         out: &mut heapless::Deque<Segment, N>,
     ) -> Result<Option<Gouge>, Gouge> {
@@ -312,7 +312,6 @@ impl Bottleneck {
             let _ = out.push_back(seg);
             return Ok(None);
         }
-        let mut seg = seg;
         let mut warned = None;
         let own = self.own(seg.source.seq);
         let (r, side) = own
@@ -785,25 +784,24 @@ impl Bottleneck {
         let Some(seq) = self.held.front().map(|h| h.seg.source.seq) else {
             return Ok(());
         };
-        while self.held.front().is_some_and(|h| h.seg.source.seq == seq) {
-            if let Some(h) = self.held.pop_front() {
-                // Masking: a segment left over from what should have been left out (a gap
-                // not closed, or a piece that runs backwards, away from the part) never goes
-                // out.
-                if h.after_gap || h.backwards {
-                    return Err(Gouge {
-                        path: h.seg.source,
-                        element: h.seg.source,
-                        distance: 0.0,
-                        radius: h.r,
-                        unjoined: true,
-                    });
-                }
-                if mask {
-                    self.check(&h)?;
-                }
-                let _ = out.push_back(h.seg);
+        // Read in place and copied once, into `out` (a held record is large).
+        while let Some(h) = self.held.front().filter(|h| h.seg.source.seq == seq) {
+            // Masking: a segment left over from what should have been left out (a gap not
+            // closed, or a piece that runs backwards, away from the part) never goes out.
+            if h.after_gap || h.backwards {
+                return Err(Gouge {
+                    path: h.seg.source,
+                    element: h.seg.source,
+                    distance: 0.0,
+                    radius: h.r,
+                    unjoined: true,
+                });
             }
+            if mask {
+                self.check(h)?;
+            }
+            let _ = out.push_back(h.seg);
+            self.held.pop_front();
         }
         self.blocks = self.blocks.saturating_sub(1);
         Ok(())
