@@ -140,6 +140,7 @@ impl PathPiece {
 
     /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
     /// its radius, beyond rounding: the distance there and the tool radius.
+    #[inline]
     fn too_close(&self, other: &Elem, fence: &Fence, r: f64) -> Option<(f64, f64)> {
         match self {
             PathPiece::Plain(m) => too_close(m, other, fence, r).map(|d| (d, r)),
@@ -871,6 +872,7 @@ impl Bottleneck {
 /// The distance from a path element to a programmed one when it is below the tool radius
 /// (beyond rounding). The cheap test by the element's ends settles most pairs that share a
 /// corner; the rest get the exact distance.
+#[inline]
 fn too_close(path: &Measured, elem: &Elem, fence: &Fence, r: f64) -> Option<f64> {
     let limit = r - gouge_tol(&path.e);
     if clear_by_ends_of(path, elem, fence, limit) {

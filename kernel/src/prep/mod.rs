@@ -214,7 +214,17 @@ impl<'a> Preparation<'a> {
 
     /// A gouge the window found: a warning, or the end of preparation (true) with the path
     /// still held dropped (docs/trc.md).
+    #[inline]
     fn on_gouge(&mut self, found: Result<Option<Gouge>, Gouge>) -> bool {
+        // Nothing found (the common case) costs one test here.
+        match found {
+            Ok(None) => false,
+            found => self.gouge_found(found),
+        }
+    }
+
+    #[inline(never)]
+    fn gouge_found(&mut self, found: Result<Option<Gouge>, Gouge>) -> bool {
         match found {
             Ok(None) => false,
             Ok(Some(g)) => {
