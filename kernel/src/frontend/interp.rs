@@ -322,10 +322,7 @@ impl<'a> Interpreter<'a> {
         while matches!(b.get(i), Some(b' ' | b'\t' | b'\r')) {
             i += 1;
         }
-        if !matches!(
-            b.get(i).map(|c| c & 0xDF),
-            Some(b'G' | b'I'..=b'K' | b'X'..=b'Z')
-        ) {
+        if b.get(i).is_none_or(|&c| PLAIN_BYTE[c as usize] > 6) {
             return false;
         }
         self.blk_line = self.line;
@@ -449,24 +446,17 @@ impl<'a> Interpreter<'a> {
         let text = c.b.get(..c.end)?;
         let mut i = c.i;
         while let Some(&ch) = text.get(i) {
-            if matches!(ch, b' ' | b'\t' | b'\r') {
-                i += 1;
-                continue;
+            let k = PLAIN_BYTE[ch as usize];
+            if k > 6 {
+                match k {
+                    BLANK => {
+                        i += 1;
+                        continue;
+                    }
+                    LINE_FEED => break,
+                    _ => return None,
+                }
             }
-            if ch == b'\n' {
-                break;
-            }
-            // Upper-cased by clearing bit 5: only 'x' and 'X' give 'X' (and so on).
-            let k = match ch & 0xDF {
-                b'X' => 0,
-                b'Y' => 1,
-                b'Z' => 2,
-                b'I' => 3,
-                b'J' => 4,
-                b'K' => 5,
-                b'G' => 6,
-                _ => return None,
-            };
             if seen & (1 << k) != 0 {
                 return None;
             }
@@ -491,7 +481,7 @@ impl<'a> Interpreter<'a> {
                     _ => return None,
                 }
             } else {
-                vals[k] = Val::new(n, at);
+                vals[k as usize] = Val::new(n, at);
             }
         }
         let programmed = seen & 7;
@@ -1699,6 +1689,27 @@ impl<'a> Interpreter<'a> {
 /// Largest magnitude of any programmed value (mm, mm/min, s, ...): beyond it a value is a
 /// typing error, and keeping values bounded keeps every later computation finite.
 pub const MAX_VALUE: f64 = 1e9;
+
+/// What a byte is to [`Interpreter::plain`]: 0..=5 the words X Y Z I J K (either case),
+/// 6 G, or one of the marks below; one table lookup instead of a chain of tests per byte.
+const BLANK: u8 = 7;
+const LINE_FEED: u8 = 8;
+const OTHER: u8 = 9;
+static PLAIN_BYTE: [u8; 256] = {
+    let mut t = [OTHER; 256];
+    let words = *b"XYZIJKG";
+    let mut k = 0;
+    while k < words.len() {
+        t[words[k] as usize] = k as u8;
+        t[words[k].to_ascii_lowercase() as usize] = k as u8;
+        k += 1;
+    }
+    t[b' ' as usize] = BLANK;
+    t[b'\t' as usize] = BLANK;
+    t[b'\r' as usize] = BLANK;
+    t[b'\n' as usize] = LINE_FEED;
+    t
+};
 
 /// A coordinate the control takes (bounded like the words, with room for offsets).
 #[inline(always)]
