@@ -439,6 +439,23 @@ impl Compensator {
         self.masking = b.modal.masking;
         let new_d = side_sign(b.modal.trc) * b.modal.radius;
 
+        // The common block: a contour element while compensation is on and the block asks
+        // nothing of it (no G40/G41/G42, no deselection waiting for a plane move, no radius
+        // change or ramp) — where the decisions below lead, without taking them one by one.
+        if let Some(m) = motion {
+            if self.mode == Mode::On
+                && b.trc.is_none()
+                && self.exit_armed.is_none()
+                && self.ramp_from.is_none()
+                && (new_d - self.d).abs() <= EPS
+                && m.moves_in_plane(EPS)
+            {
+                let d = self.d;
+                self.element(tag, m, d, d, out)?;
+                return self.end_of_block(b, out);
+            }
+        }
+
         // What the block asks of the compensation.
         let method = b.approach.unwrap_or(b.modal.selection);
         let mut select: Option<SelectionPolicy> = None;
@@ -1017,22 +1034,28 @@ impl Compensator {
             self.pieces(tag, &en.pieces, w, out);
             start = en.start;
         } else if let Some(p) = self.pending.take() {
-            let c = if std::mem::take(&mut self.switching) {
-                corner::side_change(&p.carrier, &o_start)
+            // Borrowed where it was built (a corner with its pieces is large).
+            let found = if std::mem::take(&mut self.switching) {
+                Ok(corner::side_change(&p.carrier, &o_start))
             } else {
-                match corner::corner(&p.carrier, &o_start, e.start(), d0, &settings) {
-                    Ok(c) => c,
-                    // Masking: the tool does not reach this corner; the path leaves a gap
-                    // from one normal position to the other, which the bottleneck window
-                    // closes where the equidistants meet further out (or raises the alarm).
-                    Err(_) if self.masking => corner::Corner {
+                corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
+            };
+            let gap;
+            let c = match &found {
+                Ok(c) => c,
+                // Masking: the tool does not reach this corner; the path leaves a gap
+                // from one normal position to the other, which the bottleneck window
+                // closes where the equidistants meet further out (or raises the alarm).
+                Err(_) if self.masking => {
+                    gap = corner::Corner {
                         end1: p.carrier.end(),
                         start2: o_start.start(),
                         pieces: heapless::Vec::new(),
                         kind: corner::CornerKind::Inner,
-                    },
-                    Err(x) => return Err(Self::corner_fault(tag, x)),
+                    };
+                    &gap
                 }
+                Err(x) => return Err(Self::corner_fault(tag, *x)),
             };
             self.emit_pending(&p, c.end1, out)?;
             self.flush_held(out);
