@@ -393,6 +393,66 @@ fn isg_masking_leaves_out_a_step_split_into_blocks_on_one_line() {
         .all(|s| block(s) != 45 || s.role == Role::Corner));
 }
 
+/// A transition circle left out with a backward run, then cut short by a joint. N30 runs
+/// up-left to (0, 45), N40 1 mm up: its equidistant x = 10 starts where it meets N30's,
+/// (10, 46.62…), above its own end (10, 46), so it runs backwards. N45 turns left on a
+/// clockwise r 5 about (0, 51), smaller than the tool on its inside (G42, R 10, G26); N50 goes
+/// up x = −5. The transition circle about N40's end (0, 46), from (10, 46) to (0, 56), comes
+/// closer than R to N45's end (−5, 51) past φ ≈ 65.7° (where cos φ − sin φ = −½), so it is
+/// left out with the run. The path: N30's equidistant, lengthened to meet that circle, the
+/// circle (still counter-clockwise) to where it meets N50's equidistant x = 5 at φ = 60°,
+/// (5, 46 + 5√3), then x = 5. (Found by the cavalier oracle in tests/gouge.rs: before, a
+/// left-out transition circle offered no joint, and the masking ended with 3021.)
+#[test]
+fn isg_masking_cuts_a_left_out_transition_circle_short() {
+    let src = "N10 G17 G90 G00 X40 Y-20 D1\nN15 G141 G26\nN20 G42 G01 X15 Y0 F1000\nN30 X0 Y45\nN40 Y46\nN45 G02 X-5 Y51 I0 J5\nN50 G01 Y100\nN60 G40 X-30 Y120\nN70 M30\n";
+    let (items, alarm) = run_isg(src);
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Without masking the circle smaller than the tool is the alarm.
+    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ArcRadiusTooSmall, 6))
+    );
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    assert!(segs
+        .iter()
+        .all(|s| block(s) != 40 && (block(s) != 45 || s.role == Role::Corner)));
+    // N30's equidistant: (15, 0) + 10·n + t·u, u = (−1, 3)/√10, n = (3, 1)/√10 (right of u).
+    // It meets |p − (0, 46)| = 10 at the smaller root of |q + t·u|² = 100, q = its start
+    // − (0, 46).
+    let s10 = 10f64.sqrt();
+    let (u, n) = ([-1.0 / s10, 3.0 / s10], [3.0 / s10, 1.0 / s10]);
+    let p0 = [15.0 + 10.0 * n[0], 10.0 * n[1]];
+    let q = [p0[0], p0[1] - 46.0];
+    let b = q[0] * u[0] + q[1] * u[1];
+    let c = q[0] * q[0] + q[1] * q[1] - 100.0;
+    let t = -b - (b * b - c).sqrt();
+    let (bx, by) = (p0[0] + t * u[0], p0[1] + t * u[1]);
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, bx, by);
+    let (corner, center) = transition_circle(&segs);
+    assert_eq!(block(corner), 45);
+    at(center, 0.0, 46.0);
+    at(corner.from, bx, by);
+    let j = 46.0 + 5.0 * 3f64.sqrt();
+    at(corner.to, 5.0, j);
+    let Shape::Arc { ccw, .. } = corner.shape else {
+        unreachable!()
+    };
+    assert!(
+        ccw,
+        "counter-clockwise round N40's end, as the corner was built"
+    );
+    let n50 = segs
+        .iter()
+        .find(|s| block(s) == 50 && s.role == Role::Contour)
+        .unwrap();
+    at(n50.from, 5.0, j);
+    at(n50.to, 5.0, 100.0);
+}
+
 /// A pocket narrower than the tool with a shallow wall before it: N30 east along Y0, N40 2 mm
 /// down, N50 east along Y−2 for 18 mm, N60 up the far wall X68 (G41, R 10, G26). N40's
 /// equidistant x = 60 runs backwards (down from the transition circle, up to the floor's

@@ -82,9 +82,12 @@ impl Held {
             self.seg.from = at(plane, &self.seg.from, f);
         }
         self.seg.to = at(plane, &self.seg.to, to);
-        if let (true, Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: o, .. })) =
-            (self.backwards, &mut self.seg.shape, own)
-        {
+        // (An inserted piece keeps its direction: it never ran against an element.)
+        if let (true, Shape::Arc { ccw, .. }, Some(Elem::Arc { ccw: o, .. })) = (
+            self.backwards && self.seg.role == Role::Contour,
+            &mut self.seg.shape,
+            own,
+        ) {
             *ccw = *o;
         }
         self.piece = PathPiece::plain(elem_in(&self.seg, plane));
@@ -666,7 +669,9 @@ impl Bottleneck {
     /// wrong); nothing for an arc that runs backwards or a circle the tool does not fit.
     fn carrier(&self, h: &Held) -> Option<Elem> {
         let e = h.piece.elem()?;
-        if !h.backwards {
+        // An inserted piece (a transition circle or line) is left out only for coming too
+        // close inside a backward run's loop: a join may still cut it short.
+        if !h.backwards || h.seg.role != Role::Contour {
             return Some(e);
         }
         match (e, self.own(h.seg.source.seq)?.elem) {
