@@ -918,8 +918,9 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
 /// without a gouge.
 ///
 /// The gouges are checked in full. The alarms are a known gap (docs/trc.md, "Masking: how
-/// the path joins, and known gaps"): of 7 108 such contours, 4 end in alarm 3021, where the
-/// window finds no joint that keeps the tool clear and touches the contour (5 before a
+/// the path joins, and known gaps"): of 7 108 such contours, 1 ends in alarm 3021, where the
+/// window finds no joint that keeps the tool clear and touches the contour (4 before a
+/// joint's new segment had to clear only the elements up to its own block; 5 before a
 /// left-out transition circle could be cut short by a joint; 6 before a
 /// crossing whose cut comes too close gave way to a clear joint; 17 before a
 /// backward segment could be bridged between two joints; 37 before segments inside a
@@ -984,7 +985,7 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     );
     assert_eq!(exists, 7108);
     assert!(
-        alarms.len() <= 4,
+        alarms.len() <= 1,
         "{} of {exists} raise an alarm; the first:\n{}",
         alarms.len(),
         alarms[0]
@@ -998,7 +999,7 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
 /// (D′) Where softnc's masking does get through, its path is the oracle's: every end and
 /// midpoint of a softnc piece lies on cavalier's offset and every vertex and segment midpoint
 /// of cavalier's lies on softnc's path, within cavalier's own 1e-5 mm. Known exceptions
-/// (docs/trc.md): 3 of the 7 111 compared paths, 13 to 23 nm apart (20 of 6 140, up to
+/// (docs/trc.md): 3 of the 7 114 compared paths, 13 to 23 nm apart (20 of 6 140, up to
 /// 10.5 mm apart, before the window's joints had to touch the contour). The count is
 /// pinned: more is a regression, fewer an improvement to write down here.
 #[test]
@@ -1040,7 +1041,7 @@ fn masked_paths_follow_the_oracle() {
         }
         compared += 1;
     }
-    assert_eq!(compared, 7111);
+    assert_eq!(compared, 7114);
     assert!(
         differ.len() <= 3,
         "{} of {compared} differ:\n{}",
