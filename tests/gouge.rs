@@ -911,31 +911,48 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
     out
 }
 
+/// Whether an offset path visits the contour's elements in program order, as masking can: it
+/// leaves blocks out and joins later ones, never goes back to an earlier block. Each piece
+/// touches (is R from, at its midpoint, within cavalier's 1e-5 mm) its own element, or the
+/// two around a vertex it turns about, and some choice of them must never decrease.
+/// cavalier offsets the contour as a whole: where the contour crosses itself its path may go
+/// round a later part first, which no control that runs the blocks in order can do.
+fn in_program_order(path: &[Piece], contour: &[Piece], r: f64) -> bool {
+    let mut at = 0;
+    for p in path {
+        let m = p.at(0.5);
+        let Some(k) = (at..contour.len()).find(|&k| (point_dist(m, &contour[k]) - r).abs() <= 1e-5)
+        else {
+            return false;
+        };
+        at = k;
+    }
+    true
+}
+
 /// (D) Masking against an independent oracle: where cavalier_contours' offset (which trims
 /// what comes closer than R, globally) is one piece from the first normal position to the
-/// last and clears the contour, a gouge-free path exists, and softnc with ISG masking (G141,
-/// G26 transition circles, a 64-block window) must prepare the contour without an alarm and
-/// without a gouge.
+/// last, clears the contour and visits its blocks in program order, a gouge-free masked path
+/// exists, and softnc with ISG masking (G141, G26 transition circles, a 64-block window) must
+/// prepare the contour without an alarm and without a gouge.
 ///
-/// The gouges are checked in full. The alarms are a known gap (docs/trc.md, "Masking: how
-/// the path joins, and known gaps"): of 7 108 such contours, 1 ends in alarm 3021, where the
-/// window finds no joint that keeps the tool clear and touches the contour (4 before a
-/// joint's new segment had to clear only the elements up to its own block; 5 before a
-/// left-out transition circle could be cut short by a joint; 6 before a
-/// crossing whose cut comes too close gave way to a clear joint; 17 before a
-/// backward segment could be bridged between two joints; 37 before segments inside a
-/// backward run's loop were left out with it, backward arcs joined along their circles and
-/// blocks on one line counted as one element; 974 before it joined past
-/// backward runs of lines and arcs, circles smaller than the tool and corners whose
-/// equidistants do not meet; 1 344 before it lengthened a line past a step shorter than its
-/// trim). The goal is none; the count is pinned until then: more is a regression, fewer an
-/// improvement to write down here.
+/// Both are checked in full (docs/trc.md, "Masking: how the path joins, and known gaps"): of
+/// 7 107 such contours none ends in an alarm. History of the alarms: 1 344 at first; 974
+/// after joins past backward runs of lines and arcs, circles smaller than the tool and
+/// corners whose equidistants do not meet; 37 after a line was lengthened past a step
+/// shorter than its trim; 17 after segments inside a backward run's loop were left out with
+/// it, backward arcs joined along their circles and blocks on one line counted as one
+/// element; 6 after a backward segment could be bridged between two joints; 5 after a
+/// crossing whose cut comes too close gave way to a clear joint; 4 after a left-out
+/// transition circle could be cut short by a joint; 1 after a joint's new segment had to
+/// clear only the elements up to its own block; 0 once the oracle's paths that go round a
+/// later part of a self-crossing contour first were no longer counted (one contour, pinned).
 #[test]
 fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     let md = isg_masking();
     let mut rng = Rng(0x452821e638d01377);
     let (mut exists, mut masked) = (0, 0);
-    let (mut alarms, mut gouges) = (Vec::new(), Vec::new());
+    let (mut alarms, mut gouges, mut out_of_order) = (Vec::new(), Vec::new(), Vec::new());
     for k in 0..CASES / 10 {
         let case = make_case(&mut rng, k % 2 == 0);
         let Some(pieces) = cavalier_offset(&case) else {
@@ -958,6 +975,10 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
         }
         // Clear at this test's precision, with a margin for cavalier's own 1e-5 fuzz.
         if min_dist(&pieces, &case.pieces) < case.r - 1e-7 {
+            continue;
+        }
+        if !in_program_order(&pieces, &case.pieces, case.r) {
+            out_of_order.push(k);
             continue;
         }
         exists += 1;
@@ -983,9 +1004,12 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
         gouges.len(),
         gouges[0]
     );
-    assert_eq!(exists, 7108);
+    // One contour crosses itself (a later line runs across line 4): cavalier's path goes
+    // round the later blocks 8 and 9 before block 5, and no path in program order exists.
+    assert_eq!(out_of_order, [3496]);
+    assert_eq!(exists, 7107);
     assert!(
-        alarms.len() <= 1,
+        alarms.is_empty(),
         "{} of {exists} raise an alarm; the first:\n{}",
         alarms.len(),
         alarms[0]
