@@ -512,7 +512,7 @@ impl Bottleneck {
                     || !self.within(seq, &ex)
                     || !self.clear_point(x, r, side)
                     || !self.clear(&hx, r, side)
-                    || !self.clear_up_to(&ex, r, side, seq)
+                    || !self.clear_before(&ex, r, side, seq)
                 {
                     continue;
                 }
@@ -564,7 +564,7 @@ impl Bottleneck {
                 || !self.touches(seq, h_seq, y, r)
                 || !self.within(seq, &ey)
                 || !self.clear_point(y, r, side)
-                || !self.clear_up_to(&ey, r, side, seq)
+                || !self.clear_before(&ey, r, side, seq)
             {
                 continue;
             }
@@ -719,15 +719,17 @@ impl Bottleneck {
             .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
     }
 
-    /// [`Self::clear`] against the elements up to block `seq`: what comes after belongs to
-    /// the next joints and cuts (and every segment is checked in full when it leaves).
-    fn clear_up_to(&self, path: &Elem, r: f64, side: i8, seq: u32) -> bool {
+    /// [`Self::clear`] against the elements before block `seq`: its own element and what
+    /// comes after belong to the next joints and cuts (a corner piece of block `seq` may run
+    /// on past where a later joint cuts it), and every segment is checked in full when it
+    /// leaves.
+    fn clear_before(&self, path: &Elem, r: f64, side: i8, seq: u32) -> bool {
         let bb = bbox(path, r);
         let path = Measured::new(*path);
         self.programmed
             .iter()
             .filter(|p| {
-                p.side == side && p.source.seq.wrapping_sub(seq) as i32 <= 0 && overlap(&p.bb, &bb)
+                p.side == side && (p.source.seq.wrapping_sub(seq) as i32) < 0 && overlap(&p.bb, &bb)
             })
             .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
     }
