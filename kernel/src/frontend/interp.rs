@@ -425,9 +425,9 @@ impl<'a> Interpreter<'a> {
     /// The common block — at most one motion G code (not polar), axis and centre words with
     /// their numbers written out, nothing else — read and built in one pass, without the
     /// word loop's collection and the general build. For anything else, and for anything an
-    /// alarm would come from, it returns false with the block untouched, and the full path
+    /// alarm would come from, it returns `None` with the block untouched, and the full path
     /// reads the block from the same place: both ways give the same block (tested below).
-    /// Returns where it stopped: the end of the cursor's text or a line feed.
+    /// Otherwise it returns where it stopped: the end of the cursor's text or a line feed.
     #[inline]
     fn plain(&mut self, c: Cursor, block_col: usize) -> Option<usize> {
         if self.work_limited {
