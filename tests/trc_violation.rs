@@ -349,13 +349,15 @@ fn masked_step(rise: &str) -> Vec<Prepared> {
 /// An ISG program with G141 (line 2): prepared without an alarm; with G140 instead, a
 /// contour violation (11.12) at line 5.
 fn masked(src: &str) -> Vec<Prepared> {
+    masked_else(src, AlarmCode::ContourViolation, 5)
+}
+
+/// As [`masked`], with G140 ending in alarm `code` at `line`.
+fn masked_else(src: &str, code: AlarmCode, line: u32) -> Vec<Prepared> {
     let (items, alarm) = run_isg(src);
     assert!(alarm.is_none(), "{alarm:?}");
     let (_, alarm) = run_isg(&src.replace("G141", "G140"));
-    assert_eq!(
-        alarm.map(|a| (a.code, a.line)),
-        Some((AlarmCode::ContourViolation, 5))
-    );
+    assert_eq!(alarm.map(|a| (a.code, a.line)), Some((code, line)));
     items
 }
 
@@ -406,14 +408,8 @@ fn isg_masking_leaves_out_a_step_split_into_blocks_on_one_line() {
 #[test]
 fn isg_masking_cuts_a_left_out_transition_circle_short() {
     let src = "N10 G17 G90 G00 X40 Y-20 D1\nN15 G141 G26\nN20 G42 G01 X15 Y0 F1000\nN30 X0 Y45\nN40 Y46\nN45 G02 X-5 Y51 I0 J5\nN50 G01 Y100\nN60 G40 X-30 Y120\nN70 M30\n";
-    let (items, alarm) = run_isg(src);
-    assert!(alarm.is_none(), "{alarm:?}");
     // Without masking the circle smaller than the tool is the alarm.
-    let (_, alarm) = run_isg(&src.replace("G141", "G140"));
-    assert_eq!(
-        alarm.map(|a| (a.code, a.line)),
-        Some((AlarmCode::ArcRadiusTooSmall, 6))
-    );
+    let items = masked_else(src, AlarmCode::ArcRadiusTooSmall, 6);
     let segs = segments(&items);
     let block = |s: &Segment| s.source.number.unwrap().value;
     assert!(segs

@@ -322,7 +322,7 @@ impl<'a> Interpreter<'a> {
         while matches!(b.get(i), Some(b' ' | b'\t' | b'\r')) {
             i += 1;
         }
-        if b.get(i).is_none_or(|&c| PLAIN_BYTE[c as usize] > 6) {
+        if b.get(i).is_none_or(|&c| PLAIN_BYTE[c as usize] > G_WORD) {
             return false;
         }
         self.blk_line = self.line;
@@ -435,7 +435,7 @@ impl<'a> Interpreter<'a> {
         }
         let d = self.d;
         let mut mode = self.block.modal.motion;
-        // X Y Z I J K; bit k of `seen`: word k written, bit 6: a G code.
+        // X Y Z I J K; bit k of `seen`: word k written, bit `G_WORD`: a G code.
         let mut vals = [Val {
             value: 0.0,
             at: 0,
@@ -447,7 +447,7 @@ impl<'a> Interpreter<'a> {
         let mut i = c.i;
         while let Some(&ch) = text.get(i) {
             let k = PLAIN_BYTE[ch as usize];
-            if k > 6 {
+            if k > G_WORD {
                 match k {
                     BLANK => {
                         i += 1;
@@ -467,7 +467,7 @@ impl<'a> Interpreter<'a> {
                 return None;
             }
             i = next;
-            if k == 6 {
+            if k == G_WORD {
                 let v = n.value;
                 if !((0.0..1000.0).contains(&v) && v as u16 as f64 == v) {
                     return None;
@@ -1691,7 +1691,8 @@ impl<'a> Interpreter<'a> {
 pub const MAX_VALUE: f64 = 1e9;
 
 /// What a byte is to [`Interpreter::plain`]: 0..=5 the words X Y Z I J K (either case),
-/// 6 G, or one of the marks below; one table lookup instead of a chain of tests per byte.
+/// `G_WORD`, or one of the marks below; one table lookup instead of a chain of tests per byte.
+const G_WORD: u8 = 6;
 const BLANK: u8 = 7;
 const LINE_FEED: u8 = 8;
 const OTHER: u8 = 9;

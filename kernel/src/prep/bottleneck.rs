@@ -711,12 +711,7 @@ impl Bottleneck {
     /// Whether the tool circle along `path` keeps clear of every programmed element of its
     /// side, its own included.
     fn clear(&self, path: &Elem, r: f64, side: i8) -> bool {
-        let bb = bbox(path, r);
-        let path = Measured::new(*path);
-        self.programmed
-            .iter()
-            .filter(|p| p.side == side && overlap(&p.bb, &bb))
-            .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
+        self.clear_of(path, r, side, |_| true)
     }
 
     /// [`Self::clear`] against the elements before block `seq`: its own element and what
@@ -724,13 +719,19 @@ impl Bottleneck {
     /// on past where a later joint cuts it), and every segment is checked in full when it
     /// leaves.
     fn clear_before(&self, path: &Elem, r: f64, side: i8, seq: u32) -> bool {
+        self.clear_of(path, r, side, |p| {
+            (p.source.seq.wrapping_sub(seq) as i32) < 0
+        })
+    }
+
+    /// Whether the tool circle along `path` keeps clear of the programmed elements of its side
+    /// that `among` takes.
+    fn clear_of(&self, path: &Elem, r: f64, side: i8, among: impl Fn(&Programmed) -> bool) -> bool {
         let bb = bbox(path, r);
         let path = Measured::new(*path);
         self.programmed
             .iter()
-            .filter(|p| {
-                p.side == side && (p.source.seq.wrapping_sub(seq) as i32) < 0 && overlap(&p.bb, &bb)
-            })
+            .filter(|p| p.side == side && among(p) && overlap(&p.bb, &bb))
             .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
     }
 
