@@ -71,6 +71,12 @@ impl Piece {
 
 /// Exact distance from a point to a piece.
 fn point_dist(p: P, q: &Piece) -> f64 {
+    nearest(p, q).0
+}
+
+/// Exact distance from a point to a piece, and where along the piece (0 to 1) the nearest
+/// point lies.
+fn nearest(p: P, q: &Piece) -> (f64, f64) {
     match *q {
         Piece::Seg(a, b) => {
             let d = sub(b, a);
@@ -80,19 +86,20 @@ fn point_dist(p: P, q: &Piece) -> f64 {
             } else {
                 (dot(sub(p, a), d) / l).clamp(0.0, 1.0)
             };
-            norm(sub(p, add(a, mul(d, t))))
+            (norm(sub(p, add(a, mul(d, t)))), t)
         }
         Piece::Arc { c, r, a0, sw } => {
             // Angle of p seen from the centre, relative to the start, in the sweep's sense.
             let v = sub(p, c);
-            let ends = norm(sub(p, q.at(0.0))).min(norm(sub(p, q.at(1.0))));
+            let (d0, d1) = (norm(sub(p, q.at(0.0))), norm(sub(p, q.at(1.0))));
+            let ends = if d0 <= d1 { (d0, 0.0) } else { (d1, 1.0) };
             if norm(v) == 0.0 {
-                return r;
+                return (r, 0.0);
             }
             let mut rel = (v[1].atan2(v[0]) - a0) * sw.signum();
             rel = rel.rem_euclid(std::f64::consts::TAU);
-            if rel <= sw.abs() {
-                (norm(v) - r).abs().min(ends)
+            if rel <= sw.abs() && (norm(v) - r).abs() <= ends.0 {
+                ((norm(v) - r).abs(), rel / sw.abs())
             } else {
                 ends
             }
@@ -911,21 +918,29 @@ fn cavalier_pieces(pl: &cavalier_contours::polyline::Polyline<f64>) -> Vec<Piece
     out
 }
 
-/// Whether an offset path visits the contour's elements in program order, as masking can: it
-/// leaves blocks out and joins later ones, never goes back to an earlier block. Each piece
-/// touches (is R from, at its midpoint, within cavalier's 1e-5 mm) its own element, or the
-/// two around a vertex it turns about, and some choice of them must never decrease.
-/// cavalier offsets the contour as a whole: where the contour crosses itself its path may go
-/// round a later part first, which no control that runs the blocks in order can do.
+/// Whether an offset path visits the contour in program order, as masking can: it leaves
+/// blocks out and joins later ones, never goes back to an earlier block. Each piece touches
+/// the contour (is R from it, at its midpoint, within cavalier's 1e-5 mm) at a place along
+/// it: element k at its nearest point t (0 to 1) is k + t, so a vertex is one place, the end
+/// of one element and the start of the next. Some choice of these places must never
+/// decrease. cavalier offsets the contour as a whole: where the contour crosses itself its
+/// path may go round a later part first, and round a tiny element it may turn about the
+/// element's end before its start, which no control that runs the blocks in order can do.
 fn in_program_order(path: &[Piece], contour: &[Piece], r: f64) -> bool {
-    let mut at = 0;
+    let mut at = 0.0;
     for p in path {
         let m = p.at(0.5);
-        let Some(k) = (at..contour.len()).find(|&k| (point_dist(m, &contour[k]) - r).abs() <= 1e-5)
-        else {
+        let place = (0..contour.len())
+            .filter_map(|k| {
+                let (d, t) = nearest(m, &contour[k]);
+                ((d - r).abs() <= 1e-5).then_some(k as f64 + t)
+            })
+            .filter(|&x| x >= at - 1e-9)
+            .min_by(f64::total_cmp);
+        let Some(x) = place else {
             return false;
         };
-        at = k;
+        at = x;
     }
     true
 }
@@ -937,19 +952,23 @@ fn in_program_order(path: &[Piece], contour: &[Piece], r: f64) -> bool {
 /// prepare the contour without an alarm and without a gouge.
 ///
 /// Both are checked in full on all 10^5 contours (docs/trc.md, "Masking: how the path joins,
-/// and known gaps"): of the 70 514 with a masked path, 11 end in alarm 3021 (the count is
-/// pinned: more is a regression, fewer an improvement to write down here); 11 more contours
-/// have an oracle path out of program order. History of the alarms on the first 10 000
-/// contours (7 108, then 7 107 with a path): 1 344 at first; 974
-/// after joins past backward runs of lines and arcs, circles smaller than the tool and
-/// corners whose equidistants do not meet; 37 after a line was lengthened past a step
-/// shorter than its trim; 17 after segments inside a backward run's loop were left out with
-/// it, backward arcs joined along their circles and blocks on one line counted as one
+/// and known gaps"): none of the 70 513 with a masked path ends in an alarm; 12 more contours
+/// have an oracle path out of program order, and each of them crosses itself (asserted).
+/// History of the alarms on the first 10 000 contours (7 108, then 7 107 with a path): 1 344
+/// at first; 974 after joins past backward runs of lines and arcs, circles smaller than the
+/// tool and corners whose equidistants do not meet; 37 after a line was lengthened past a
+/// step shorter than its trim; 17 after segments inside a backward run's loop were left out
+/// with it, backward arcs joined along their circles and blocks on one line counted as one
 /// element; 6 after a backward segment could be bridged between two joints; 5 after a
 /// crossing whose cut comes too close gave way to a clear joint; 4 after a left-out
 /// transition circle could be cut short by a joint; 1 after a joint's new segment had to
 /// clear only the elements before its own block; 0 once the oracle's paths that go round a
 /// later part of a self-crossing contour first were no longer counted (one contour there).
+/// On all 10^5 (70 514 with a path): 13, then 11 (the rule before last); 6 after a joint into
+/// a segment that follows a backward run became a bridge; 2 after a backward arc at the end
+/// joined the retract along its circle; 1 after the segment after a gap could be bridged; 0
+/// once a path that turns about a tiny element's end before its start (on a contour that
+/// crosses itself there) counted as out of program order.
 #[test]
 fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     let md = isg_masking();
@@ -981,6 +1000,15 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
             continue;
         }
         if !in_program_order(&pieces, &case.pieces, case.r) {
+            // Only a contour that crosses itself can make cavalier go round a later part
+            // first (or round a vertex early).
+            let n = case.pieces.len();
+            assert!(
+                (0..n).any(|i| (i + 2..n).any(|j| crosses(&case.pieces[i], &case.pieces[j]))),
+                "case {k}: the oracle's path is out of program order on a contour that does \
+                 not cross itself\n{}",
+                case.program
+            );
             out_of_order.push(k);
             continue;
         }
@@ -1009,12 +1037,13 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
     );
     // Contour 3496 crosses itself (a later line runs across line 4): cavalier's path goes
     // round the later blocks 8 and 9 before block 5, and no path in program order exists
-    // (docs/trc.md). The other 10 are told by the same rule, not analysed one by one.
-    assert_eq!(out_of_order.len(), 11, "{out_of_order:?}");
-    assert!(out_of_order.contains(&3496));
-    assert_eq!(exists, 70_514);
+    // (docs/trc.md). 71243 has a spike of two lines and an arc of radius 0.38 whose lines
+    // cross: cavalier's path turns about the arc's end before its start.
+    assert_eq!(out_of_order.len(), 12, "{out_of_order:?}");
+    assert!(out_of_order.contains(&3496) && out_of_order.contains(&71243));
+    assert_eq!(exists, 70_513);
     assert!(
-        alarms.len() <= 11,
+        alarms.is_empty(),
         "{} of {exists} raise an alarm; the first:\n{}",
         alarms.len(),
         alarms[0]
@@ -1027,16 +1056,17 @@ fn masking_cuts_without_an_alarm_where_a_gouge_free_path_exists() {
 
 /// (D′) Where softnc's masking does get through, its path is the oracle's: every end and
 /// midpoint of a softnc piece lies on cavalier's offset and every vertex and segment midpoint
-/// of cavalier's lies on softnc's path, within cavalier's own 1e-5 mm. Known exceptions
-/// (docs/trc.md): 3 of the 7 114 compared paths, 13 to 23 nm apart (20 of 6 140, up to
-/// 10.5 mm apart, before the window's joints had to touch the contour). The count is
-/// pinned: more is a regression, fewer an improvement to write down here.
+/// of cavalier's lies on softnc's path, within cavalier's own 1e-5 mm, on all 10^5 contours.
+/// Known exceptions (docs/trc.md): 41 of the 70 581 compared paths, 10 to 23 nm apart (on
+/// the first 10 000 contours 3 of 7 114; 20 of 6 140, up to 10.5 mm apart, before the
+/// window's joints had to touch the contour). The count is pinned, and none may be more than
+/// 30 nm apart: more is a regression, fewer an improvement to write down here.
 #[test]
 fn masked_paths_follow_the_oracle() {
     let md = isg_masking();
     let mut rng = Rng(0x452821e638d01377);
     let (mut compared, mut differ) = (0, Vec::new());
-    for k in 0..CASES / 10 {
+    for k in 0..CASES {
         let case = make_case(&mut rng, k % 2 == 0);
         let Some(oracle) = cavalier_offset(&case) else {
             continue;
@@ -1063,19 +1093,23 @@ fn masked_paths_follow_the_oracle() {
         // The oracle's ends are the first and last normal positions; softnc's path between
         // the selection and deselection starts and ends there too.
         if worst.0 > 1e-5 {
-            differ.push(format!(
-                "case {k}: {:.6} mm apart at {:?}",
-                worst.0, worst.1
+            differ.push((
+                worst.0,
+                format!("case {k}: {:.6} mm apart at {:?}", worst.0, worst.1),
             ));
         }
         compared += 1;
     }
-    assert_eq!(compared, 7114);
+    let list = differ
+        .iter()
+        .map(|d| d.1.as_str())
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_eq!(compared, 70_581);
     assert!(
-        differ.len() <= 3,
-        "{} of {compared} differ:\n{}",
+        differ.len() <= 41 && differ.iter().all(|d| d.0 <= 3e-5),
+        "{} of {compared} differ:\n{list}",
         differ.len(),
-        differ.join("\n")
     );
 }
 

@@ -481,6 +481,51 @@ fn isg_masking_bridges_the_floor_of_a_pocket_narrower_than_the_tool() {
     at(n60.to, 58.0, 40.0);
 }
 
+/// A concave arc at the end of the contour that runs backwards: N30 east along Y0 to (50, 0),
+/// N35 1 mm down, N40 counter-clockwise r 30 about (50, 29) from (50, −1) to −65° (the tool
+/// inside, G41, R 10, G26), then M30 with compensation on (11.5.2: N40 ends in its normal
+/// position) or a G40 retract. N30→N35 is an outer corner: the transition circle about
+/// (50, 0). N35's equidistant x = 60 meets N40's, the circle r 20 about (50, 29), at
+/// y = 29 − √300, −60° on it, past N40's end at −65°: N35 and N40 both run backwards, and no
+/// later element comes to join them. The path joins N40's circle over its programmed sweep:
+/// the transition circle x² + y² = 10² (about (50, 0)) meets x² + (y − 29)² = 20² at
+/// y = 541/58, x = √(10² − y²); from there N40 runs counter-clockwise, as programmed, to its
+/// normal position (50 + 20 cos 65°, 29 − 20 sin 65°). (Found by the cavalier oracle in
+/// tests/gouge.rs: before, a last arc that ran backwards joined nothing, and at M30 a run
+/// still held was not joined at all: 3021 both ways.)
+#[test]
+fn isg_masking_joins_a_last_arc_that_runs_backwards_along_its_circle() {
+    let phi = 65f64.to_radians();
+    let (ex, ey) = (50.0 + 30.0 * phi.cos(), 29.0 - 30.0 * phi.sin());
+    let head = format!("N10 G17 G90 G00 X-20 Y20 D1\nN15 G141 G26\nN20 G41 G01 X0 Y0 F1000\nN30 X50\nN35 Y-1\nN40 G03 X{ex:.12} Y{ey:.12} I0 J30\n");
+    let y: f64 = 541.0 / 58.0;
+    let x = 50.0 + (100.0 - y * y).sqrt();
+    for end in ["N60 M30\n", "N50 G01 G40 X80 Y20\nN60 M30\n"] {
+        let items = masked(&format!("{head}{end}"));
+        let segs = segments(&items);
+        let block = |s: &Segment| s.source.number.unwrap().value;
+        let (corner, center) = transition_circle(&segs);
+        assert_eq!(block(corner), 35);
+        at(center, 50.0, 0.0);
+        at(corner.from, 50.0, 10.0);
+        at(corner.to, x, y);
+        assert!(segs
+            .iter()
+            .all(|s| block(s) != 35 || s.role == Role::Corner));
+        let n40: Vec<_> = segs.iter().filter(|s| block(s) == 40).collect();
+        assert_eq!(n40.len(), 1, "{n40:?}");
+        at(n40[0].from, x, y);
+        let Shape::Arc { center, ccw, .. } = n40[0].shape else {
+            panic!("{:?}", n40[0]);
+        };
+        assert!(ccw, "as programmed");
+        at(center, 50.0, 29.0);
+        if end == "N60 M30\n" {
+            at(n40[0].to, 50.0 + 20.0 * phi.cos(), 29.0 - 20.0 * phi.sin());
+        }
+    }
+}
+
 /// The path's one transition circle and its centre.
 fn transition_circle<'a>(segs: &[&'a Segment]) -> (&'a Segment, [f64; 3]) {
     let corner = *segs.iter().find(|s| s.role == Role::Corner).unwrap();

@@ -298,9 +298,6 @@ impl Bottleneck {
         let depth = self.depth(reaction);
         if !checked || depth == 0 {
             // Compensation starts or ends here (or nothing is checked): the window starts anew.
-            if reaction == Reaction::Mask {
-                self.close_before_exit();
-            }
             self.flush(out, reaction == Reaction::Mask)?;
             if !checked {
                 // Elements before this segment's block belong to an earlier compensation; the
@@ -494,10 +491,18 @@ impl Bottleneck {
         upto: usize,
         bridge: bool,
     ) -> Option<Joint> {
-        for (j, h) in self.held.iter().enumerate().take(upto).rev() {
+        // The segment after the first unclosed gap starts wrong: it may only be bridged.
+        let gap = usize::from(bridge && upto == self.before_gap() && upto < self.held.len());
+        for (j, h) in self.held.iter().enumerate().take(upto + gap).rev() {
             let Some(he) = self.carrier(h) else {
                 continue;
             };
+            if j == upto {
+                if let Some(joint) = self.bridged(j, &he, e, seq, r, side) {
+                    return Some(joint);
+                }
+                continue;
+            }
             let h_seq = h.seg.source.seq;
             let mut best: Option<(f64, V2)> = None;
             for x in intersections(&he, e) {
@@ -519,6 +524,16 @@ impl Bottleneck {
                 best = Some((u + v, x));
             }
             if let Some((_, x)) = best {
+                // A backward run still held before this segment: its start, where that run
+                // ends, is wrong too, so it must be bridged from an earlier joint.
+                if bridge && self.held.iter().take(j).any(|h| h.backwards) {
+                    if let Some(first) = self.joined_back(j, &he, x, h_seq, r, side) {
+                        return Some(Joint {
+                            bridge: Some((j, x)),
+                            ..first
+                        });
+                    }
+                }
                 return Some(Joint {
                     at: j,
                     x,
@@ -568,20 +583,7 @@ impl Bottleneck {
             {
                 continue;
             }
-            // The carrier up to `y`: as long as the element (a line), or over its sweep.
-            let back = match *he {
-                Elem::Line { a, b } => Elem::Line {
-                    a: y - (b - a),
-                    b: y,
-                },
-                Elem::Arc { c, ccw, .. } => Elem::Arc {
-                    a: turned(y, c, if ccw { -he.sweep() } else { he.sweep() }),
-                    b: y,
-                    c,
-                    ccw,
-                },
-            };
-            if let Some(first) = self.joined(&back, h_seq, r, side, j, false) {
+            if let Some(first) = self.joined_back(j, he, y, h_seq, r, side) {
                 let joint = Joint {
                     bridge: Some((j, y)),
                     ..first
@@ -590,6 +592,21 @@ impl Bottleneck {
             }
         }
         best.map(|(_, joint)| joint)
+    }
+
+    /// Where an earlier held segment than `j` joins `he`, the carrier of held segment `j`
+    /// (block `h_seq`), lengthened back from `y`: as long as the element (a line), or over
+    /// its sweep (an arc within the programmed sweep).
+    fn joined_back(
+        &self,
+        j: usize,
+        he: &Elem,
+        y: V2,
+        h_seq: u32,
+        r: f64,
+        side: i8,
+    ) -> Option<Joint> {
+        self.joined(&ending_at(he, y), h_seq, r, side, j, false)
     }
 
     /// Whether the tool at `x` touches (R from it, tool radius `r`) the element of block
@@ -623,9 +640,10 @@ impl Bottleneck {
         }
     }
 
-    /// Masking where the path leaves the contour (deselection, or anything not checked): a
-    /// backward run still held has no later element to join; the last segment ends where the
-    /// retract starts, so the path joins into it, lengthened back before its start if need be.
+    /// Masking where the path leaves the contour (deselection, anything not checked, or the
+    /// program's end with compensation on): a backward run still held has no later element
+    /// to join; the last segment ends where the retract starts (or in the normal position),
+    /// so the path joins into it, lengthened back before its start if need be.
     fn close_before_exit(&mut self) {
         let Some(last) = self.held.iter().rposition(|h| h.backwards) else {
             return;
@@ -636,19 +654,31 @@ impl Bottleneck {
         let Some(mut e) = h.piece.elem() else {
             return;
         };
-        // The last line itself runs backwards: what counts is its end, the retract's start;
-        // the path comes to it along the equidistant in the programmed direction.
-        if let (true, Elem::Line { b, .. }) = (h.backwards, e) {
-            if let Some(Elem::Line { a: pa, b: pb }) = self.own(h.seg.source.seq).map(|p| p.elem) {
-                e = Elem::Line {
-                    a: b - (pb - pa),
-                    b,
-                };
+        // The last segment itself runs backwards: what counts is its end, the retract's
+        // start; the path comes to it along the equidistant in the programmed direction (an
+        // arc the tool fits, over the programmed sweep, turned round).
+        let own = self.own(h.seg.source.seq).map(|p| p.elem);
+        let mut turn = None;
+        if h.backwards {
+            match (e, own) {
+                (Elem::Line { b, .. }, Some(o @ Elem::Line { .. })) => e = ending_at(&o, b),
+                (Elem::Arc { b, c, .. }, Some(o @ Elem::Arc { c: oc, ccw, .. }))
+                    if h.seg.role == Role::Contour
+                        && c == oc
+                        && !(ccw == (h.side > 0) && o.radius() <= h.r + 1e-9) =>
+                {
+                    e = ending_at(&o, b);
+                    turn = Some(ccw);
+                }
+                _ => {}
             }
         }
         let upto = (last + 1).min(self.held.len() - 1).min(self.before_gap());
         if let Some(joint) = self.joined(&e, h.seg.source.seq, h.r, h.side, upto, true) {
             let mut seg = h.seg;
+            if let (Some(o), Shape::Arc { ccw, .. }) = (turn, &mut seg.shape) {
+                *ccw = o;
+            }
             self.cut_loop(joint, &mut seg);
             let piece = PathPiece::plain(self.elem(&seg));
             let _ = self.held.push_back(Held {
@@ -782,13 +812,16 @@ impl Bottleneck {
         self.last_seq = None;
     }
 
-    /// Everything held goes on (end of compensation or of the program); under masking each
-    /// segment is checked on its way out.
+    /// Everything held goes on (end of compensation or of the program); under masking a run
+    /// still held joins the last segment first, and each segment is checked on its way out.
     pub fn flush<const N: usize>(
         &mut self,
         out: &mut heapless::Deque<Segment, N>,
         mask: bool,
     ) -> Result<(), Gouge> {
+        if mask {
+            self.close_before_exit();
+        }
         while !self.held.is_empty() {
             self.release_block(out, mask)?;
         }
@@ -1056,6 +1089,23 @@ fn runs_backwards(role: Role, path: &Elem, own: Option<&Elem>, r: f64, side: i8)
 fn turned(p: V2, c: V2, phi: f64) -> V2 {
     let (u, (sn, cs)) = (p - c, (libm::sin(phi), libm::cos(phi)));
     c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs)
+}
+
+/// The element like `like` (a line of its direction and length, or an arc about its centre,
+/// of its direction and sweep) that ends at `y`, a point of its line or circle.
+fn ending_at(like: &Elem, y: V2) -> Elem {
+    match *like {
+        Elem::Line { a, b } => Elem::Line {
+            a: y - (b - a),
+            b: y,
+        },
+        Elem::Arc { c, ccw, .. } => Elem::Arc {
+            a: turned(y, c, if ccw { -like.sweep() } else { like.sweep() }),
+            b: y,
+            c,
+            ccw,
+        },
+    }
 }
 
 /// Whether two elements lie on one line, or on one circle (to rounding).
