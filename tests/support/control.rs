@@ -70,7 +70,19 @@ impl Scope {
 
 impl Drop for Scope {
     fn drop(&mut self) {
-        let _ = self.0.remove_when_unused();
+        // A child killed a moment ago may still be seen half-gone by iceoryx2 (its dead
+        // node's resources not yet removable): try again for a while before giving up.
+        for _ in 0..50 {
+            if self
+                .0
+                .remove_when_unused()
+                .is_ok_and(|left| left.is_empty())
+            {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+        eprintln!("{:?} left in shared memory", self.0.files());
     }
 }
 

@@ -481,7 +481,9 @@ impl Bottleneck {
     /// parallel meet far from the part). The latest such segment: as little of the contour
     /// as possible is left out; of its meeting points, the one that lengthens least. With
     /// `bridge`, a backward segment that offers no such point may be bridged
-    /// ([`Self::bridged`]).
+    /// ([`Self::bridged`]), and so may the segment after the first unclosed gap (`upto`
+    /// itself then); a joint that would leave a backward run held before its segment
+    /// becomes a bridge of that segment if an earlier one joins it.
     fn joined(
         &self,
         e: &Elem,
