@@ -526,6 +526,52 @@ fn isg_masking_joins_a_last_arc_that_runs_backwards_along_its_circle() {
     }
 }
 
+/// A joint into a segment that follows a backward run is a bridge. G42, R 10: N30 north up
+/// x = 1 to (1, 0), N40 1 mm west, N50 north up the y axis to (0, 40), N60 back down to
+/// (4, 25), N70 east along Y25. N30→N40 is an outer corner: the transition circle about
+/// (1, 0) from (11, 0) to (1, 10). N40's equidistant y = 10 meets N50's x = 10 at (10, 10),
+/// east of where it starts: it runs backwards. N50 runs into a slot 4 mm wide at most with
+/// N60 and is cut back far below its start: it runs backwards too, and so does N60. N70's
+/// equidistant y = 15 meets N50's line x = 10 at (10, 15); joined there alone, N50 would
+/// still start where N40's backward run ends. So the transition circle must meet N50's line
+/// first: (10 − 1)² + y² = 10², y = √19. The path: the circle from (11, 0) to (10, √19), N50
+/// up to (10, 15), N70 east; N40 and N60 left out. (Found by the cavalier oracle in
+/// tests/gouge.rs: before, the joint at (10, 15) was taken and N40 stayed, 3021.) The window
+/// must hold N40 until N70 comes: 8 blocks.
+#[test]
+fn isg_masking_bridges_a_segment_that_follows_a_backward_run() {
+    let src = "N10 G17 G90 G00 X20 Y-40 D1\nN15 G141 G26\nN20 G42 G01 X1 Y-30 F1000\nN30 Y0\nN40 X0\nN50 Y40\nN60 X4 Y25\nN70 X40\nN80 G40 X60 Y40\nN90 M30\n";
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
+    let md = MachineData::load(Some(&path), &["trc.bottleneck_window=8".to_string()]).unwrap();
+    let (items, alarm) = run_with(src, &md);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let (_, alarm) = run_with(&src.replace("G141", "G140"), &md);
+    assert_eq!(
+        alarm.map(|a| (a.code, a.line)),
+        Some((AlarmCode::ContourViolation, 5))
+    );
+    let segs = segments(&items);
+    let block = |s: &Segment| s.source.number.unwrap().value;
+    let y = 19f64.sqrt();
+    let n30 = segs.iter().rfind(|s| block(s) == 30).unwrap();
+    at(n30.to, 11.0, 0.0);
+    let (corner, center) = transition_circle(&segs);
+    assert_eq!(block(corner), 40);
+    at(center, 1.0, 0.0);
+    at(corner.from, 11.0, 0.0);
+    at(corner.to, 10.0, y);
+    assert!(segs
+        .iter()
+        .all(|s| block(s) != 60 && (block(s) != 40 || s.role == Role::Corner)));
+    let n50: Vec<_> = segs.iter().filter(|s| block(s) == 50).collect();
+    assert_eq!(n50.len(), 1, "{n50:?}");
+    at(n50[0].from, 10.0, y);
+    at(n50[0].to, 10.0, 15.0);
+    let n70 = segs.iter().find(|s| block(s) == 70).unwrap();
+    at(n70.from, 10.0, 15.0);
+    at(n70.to, 40.0, 15.0);
+}
+
 /// The path's one transition circle and its centre.
 fn transition_circle<'a>(segs: &[&'a Segment]) -> (&'a Segment, [f64; 3]) {
     let corner = *segs.iter().find(|s| s.role == Role::Corner).unwrap();
