@@ -536,20 +536,37 @@ fn isg_masking_joins_a_last_arc_that_runs_backwards_along_its_circle() {
 /// still start where N40's backward run ends. So the transition circle must meet N50's line
 /// first: (10 − 1)² + y² = 10², y = √19. The path: the circle from (11, 0) to (10, √19), N50
 /// up to (10, 15), N70 east; N40 and N60 left out. (Found by the cavalier oracle in
-/// tests/gouge.rs: before, the joint at (10, 15) was taken and N40 stayed, 3021.) The window
-/// must hold N40 until N70 comes: 8 blocks.
+/// tests/gouge.rs: before, the joint at (10, 15) was taken and N40 stayed, 3021.)
 #[test]
 fn isg_masking_bridges_a_segment_that_follows_a_backward_run() {
-    let src = "N10 G17 G90 G00 X20 Y-40 D1\nN15 G141 G26\nN20 G42 G01 X1 Y-30 F1000\nN30 Y0\nN40 X0\nN50 Y40\nN60 X4 Y25\nN70 X40\nN80 G40 X60 Y40\nN90 M30\n";
+    bridged_up_x10("N40 X0", AlarmCode::ContourViolation);
+}
+
+/// The segment after a gap is bridged the same way. N40 of the test above is a clockwise arc
+/// instead, from (1, 0) to (0, 0) about (½, ½), r √½, smaller than the tool on its inside:
+/// left out, its equidistant turned inside out (r 10 − √½ about (½, ½)) never meets N50's
+/// x = 10, 9.5 from the centre, and the compensator leaves a gap before N50. The transition
+/// circle about (1, 0) (N30 turns left onto the arc) meets N50's line at (10, √19) as above,
+/// and the path is the same. (Found by the cavalier oracle: before, the segment after a gap
+/// could only be joined from before it, 3021.)
+#[test]
+fn isg_masking_bridges_the_segment_after_a_gap() {
+    bridged_up_x10(
+        "N40 G02 X0 Y0 I-0.5 J0.5\nN50 G01",
+        AlarmCode::ArcRadiusTooSmall,
+    );
+}
+
+/// The program of the two tests above with `n40` (G140 ends in `g140` at N40), masked over
+/// 8 blocks (N40 is held until N70 comes): the path up x = 10 from (10, √19) to (10, 15).
+fn bridged_up_x10(n40: &str, g140: AlarmCode) {
+    let src = format!("N10 G17 G90 G00 X20 Y-40 D1\nN15 G141 G26\nN20 G42 G01 X1 Y-30 F1000\nN30 Y0\n{n40}\nN50 G01 Y40\nN60 X4 Y25\nN70 X40\nN80 G40 X60 Y40\nN90 M30\n");
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
     let md = MachineData::load(Some(&path), &["trc.bottleneck_window=8".to_string()]).unwrap();
-    let (items, alarm) = run_with(src, &md);
+    let (items, alarm) = run_with(&src, &md);
     assert!(alarm.is_none(), "{alarm:?}");
     let (_, alarm) = run_with(&src.replace("G141", "G140"), &md);
-    assert_eq!(
-        alarm.map(|a| (a.code, a.line)),
-        Some((AlarmCode::ContourViolation, 5))
-    );
+    assert_eq!(alarm.map(|a| (a.code, a.line)), Some((g140, 5)));
     let segs = segments(&items);
     let block = |s: &Segment| s.source.number.unwrap().value;
     let y = 19f64.sqrt();
