@@ -219,25 +219,22 @@ impl<'a> Preparation<'a> {
         // Nothing found (the common case) costs one test here.
         match found {
             Ok(None) => false,
-            found => self.gouge_found(found),
+            Ok(Some(g)) => self.gouge_found(&g, false),
+            Err(g) => self.gouge_found(&g, true),
         }
     }
 
+    /// A gouge found: a warning, or (`stop`) the end of preparation.
     #[inline(never)]
-    fn gouge_found(&mut self, found: Result<Option<Gouge>, Gouge>) -> bool {
-        match found {
-            Ok(None) => false,
-            Ok(Some(g)) => {
-                let w = self.gouge_alarm(&g);
-                let _ = self.ready.push_back(Prepared::Warning(w));
-                false
-            }
-            Err(g) => {
-                self.stop_with(self.gouge_alarm(&g));
-                self.bottleneck.discard();
-                true
-            }
+    fn gouge_found(&mut self, g: &Gouge, stop: bool) -> bool {
+        let alarm = self.gouge_alarm(g);
+        if stop {
+            self.stop_with(alarm);
+            self.bottleneck.discard();
+        } else {
+            let _ = self.ready.push_back(Prepared::Warning(alarm));
         }
+        stop
     }
 
     /// Preparation ends with `alarm`, once the path before it is out.
