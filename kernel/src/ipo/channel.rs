@@ -118,9 +118,14 @@ struct Gate {
 
 impl Gate {
     /// Outputs what waits for the start of segment `no` (all of it for `None`: the end), as
-    /// much as fits in this cycle; true when all of it is out.
+    /// much as fits in this cycle; true when all of it is out. Nothing goes out while the
+    /// channel waits for NC start: what follows a program stop (M00 before M30 at the same
+    /// S point, say) belongs to blocks after it.
     fn drain(&mut self, no: Option<u64>, out: &mut heapless::Vec<Event, MAX_EVENTS>) -> bool {
         while let Some(w) = self.waiting.front() {
+            if self.halted {
+                return false;
+            }
             if no.is_some_and(|n| w.tag > n) {
                 return true;
             }
@@ -146,7 +151,7 @@ impl Gate {
             }
             let _ = out.push(e);
         }
-        true
+        !self.halted
     }
 
     /// At the start of segment `no`: what waits for it goes out; true when the segment may

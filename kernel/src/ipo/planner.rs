@@ -138,6 +138,8 @@ pub struct Planner {
     /// The block of the segment finished last, and how many of its segments are finished.
     finished: Option<(u32, u32)>,
     last_role: crate::segment::Role,
+    /// Segments that ended at speed with nothing after them (see [`Planner::dead_stops`]).
+    dead_stops: u64,
 }
 
 /// Where the path is on the program (an NC stop's interruption point).
@@ -174,6 +176,7 @@ impl Planner {
             source: None,
             finished: None,
             last_role: crate::segment::Role::Uncompensated,
+            dead_stops: 0,
         }
     }
 
@@ -203,6 +206,13 @@ impl Planner {
                 0.0
             },
         })
+    }
+
+    /// How often the path ended at speed because the last queued segment could not brake
+    /// to rest on its length: a step in speed at the drives. The lookahead is built so that
+    /// this never happens; tests hold it to 0.
+    pub fn dead_stops(&self) -> u64 {
+        self.dead_stops
     }
 
     /// Segments that can still be queued.
@@ -462,7 +472,13 @@ impl Planner {
             self.run = None;
             self.offset = 0.0;
             self.done = 0.0;
-            if w == 0.0 {
+            // Nothing follows a segment planned to hand over at speed only where the plan
+            // could not brake in time: the path ends here all the same, so it is at rest
+            // (a path speed is never shown without motion), counted as a dead stop.
+            if w != 0.0 && self.queue.is_empty() {
+                self.dead_stops += 1;
+            }
+            if w == 0.0 || self.queue.is_empty() {
                 self.v = 0.0;
                 self.a = 0.0;
                 // This cycle is the first on the end point; the next motion starts with the

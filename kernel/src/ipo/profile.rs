@@ -238,6 +238,10 @@ pub fn cubic_root(p: f64, q: f64) -> f64 {
     x.max(0.0)
 }
 
+/// Relative rounding allowance on a segment's length: a plan that overruns it by no more
+/// than this fits (the planner ends the segment where the plan crosses its length).
+pub const FIT: f64 = 1e-9;
+
 /// The plan for one segment of length `len` entered at (v0, a0): as fast as `vmax` allows,
 /// ending at `ve` with acceleration 0 where the length allows it. Returns the profile and the
 /// velocity it really ends at: lower than `ve` where the segment is too short to accelerate
@@ -249,7 +253,11 @@ pub fn plan(v0: f64, a0: f64, len: f64, vmax: f64, ve: f64, d: Dynamics) -> (Pro
     let mut prof = Profile::new(v0, a0);
     let direct = |w: f64| change_distance(v0, a0, w, d);
     let vr = v0 + a0 * a0.abs() / (2.0 * d.j);
-    if direct(ve) > len {
+    // The lookahead enters a segment at the speed `reach` allows to the last bit, so the
+    // change to `ve` may come out longer than `len` by rounding: that still fits. (Taken as
+    // too short, the end speed below would be the far root of a distance that is not
+    // monotone in it: a stop from v0 needs less room than slowing to v0/3 with a = 0.)
+    if direct(ve) > len * (1.0 + FIT) {
         if vr < 0.0 || direct(vr) >= len {
             let w = vr.max(0.0);
             prof.push(&change(v0, a0, w, d));
@@ -296,10 +304,13 @@ pub fn plan(v0: f64, a0: f64, len: f64, vmax: f64, ve: f64, d: Dynamics) -> (Pro
     };
     prof.push(&change(v0, a0, vm, d));
     let down = change(vm, 0.0, ve, d);
-    if vm > 0.0 {
-        let rest = len - prof.distance() - distance(vm, 0.0, &down);
+    let rest = len - prof.distance() - distance(vm, 0.0, &down);
+    // A rest within the rounding allowance is no cruise: where the changes alone cover the
+    // length, vm is ve plus rounding, and that rest at that speed would be a crawl of
+    // invisible steps (a path speed without motion).
+    if vm > 0.0 && rest > FIT * len.max(1.0) {
         prof.push(&[Phase {
-            t: rest.max(0.0) / vm,
+            t: rest / vm,
             j: 0.0,
         }]);
     }
@@ -362,6 +373,40 @@ mod tests {
         assert!((s - 10.0).abs() < 1e-12 && v.abs() < 1e-12);
     }
 
+    #[test]
+    fn a_segment_entered_at_its_reach_speed_ends_at_rest() {
+        // The lookahead's numbers from a 0.25 mm step at F2000 (a = 2000, j = 37 500): the
+        // last segment before an alarm entered 6.8e-15 above reach(0, 0.25). That is a fit,
+        // not a segment too short to brake (which ended at 492 mm/min with nothing after it).
+        let d = Dynamics {
+            a: 2000.0,
+            j: 37_500.0,
+        };
+        let v0 = 796.9939268869651 / 60.0;
+        assert!(v0 > reach(0.0, 0.25, d));
+        let (p, w) = plan(v0, -5.7e-14, 0.25, 2000.0 / 60.0, 0.0, d);
+        assert_eq!(w, 0.0);
+        assert!((p.distance() - 0.25).abs() < 0.25 * FIT);
+        assert!(p.end_velocity().abs() < 1e-12);
+        // A 0.8 mm Z move entered from a collinear rapid at reach(0, 0.8) (a = 1500,
+        // j = 30 000): the changes alone cover the length, and what is left is rounding. A
+        // cruise over that rest at the speed the bisection finds (rounding above 0) took
+        // 6 ms of setpoints that did not move at 3.5e-13 mm/s.
+        let d = Dynamics {
+            a: 1500.0,
+            j: 30_000.0,
+        };
+        let (len, v0) = (7.999999999999972e-1, 2.6777318003286723e1);
+        let (p, w) = plan(v0, -8.640199666842818e-12, len, 100.0, 0.0, d);
+        assert_eq!(w, 0.0);
+        let t_stop: f64 = change(v0, 0.0, 0.0, d).iter().map(|ph| ph.t).sum();
+        assert!(
+            p.duration() < t_stop + 1e-6,
+            "{} s, the stop {t_stop} s",
+            p.duration()
+        );
+    }
+
     fn check_limits(p: &Profile, d: Dynamics) {
         let n = 400;
         for k in 0..=n {
@@ -398,6 +443,23 @@ mod tests {
                     prop_assert!(v <= vmax.max(v0).max(w) * (1.0 + 1e-9) + 1e-9);
                 }
             }
+        }
+
+        #[test]
+        fn entered_at_reach_speed_a_plan_stops_on_the_length_without_crawling(
+            len in 1e-4..100.0f64, ulps in -8i32..8, a0 in prop_oneof![Just(0.0), -1e-12..1e-12f64],
+        ) {
+            // Within rounding of the speed the backward pass allows: the plan ends at rest on
+            // the segment's end (to the allowance) and takes no longer than the stop alone
+            // plus one cycle: no cruise of invisible steps at a speed of rounding size.
+            let v = reach(0.0, len, D);
+            let v0 = v * (1.0 + f64::from(ulps) * f64::EPSILON);
+            let (p, w) = plan(v0, a0, len, v0 * 2.0, 0.0, D);
+            prop_assert_eq!(w, 0.0);
+            prop_assert!((p.distance() - len).abs() <= len.max(1.0) * FIT, "{} of {}", p.distance(), len);
+            let stop = change(v0, a0, 0.0, D);
+            let t_stop: f64 = stop.iter().map(|ph| ph.t).sum();
+            prop_assert!(p.duration() <= t_stop + 1e-3, "{} s, the stop takes {} s", p.duration(), t_stop);
         }
 
         #[test]
