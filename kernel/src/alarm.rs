@@ -62,6 +62,14 @@ pub enum AlarmCode {
     /// ISG inner-corner selection (G238) impossible: contour not closed, first block not
     /// linear, no inner corner at the selection point, or a radius/side change while active.
     InnerCornerSelection,
+    /// Block preparation ended without finishing the program (an internal error): the path
+    /// stops where the prepared part ends.
+    PreparationFailed,
+    /// `softnc simulate`: the machine time reached `simulate.max_machine_time`.
+    SimulationTimeLimit,
+    /// `softnc simulate`: the path stood still with nothing happening for
+    /// `simulate.max_rest_time` (a program that would wait for ever).
+    NoProgress,
 }
 
 impl AlarmCode {
@@ -92,6 +100,9 @@ impl AlarmCode {
             AlarmCode::ArcRadiusTooSmall => 10758,
             AlarmCode::RadiusChangeNotLinear => 10760,
             AlarmCode::InnerCornerSelection => 10762,
+            AlarmCode::PreparationFailed => 1011,
+            AlarmCode::SimulationTimeLimit => 90001,
+            AlarmCode::NoProgress => 90002,
         }
     }
 }

@@ -4,7 +4,7 @@
 use crate::frontend::block::{BlockNo, Plane, Pos};
 
 /// Where a segment comes from in the program.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Source {
     pub number: Option<BlockNo>,
     /// 1-based line and column of the block's first character.

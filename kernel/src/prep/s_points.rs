@@ -49,6 +49,18 @@ pub enum Prepared {
     Warning(crate::alarm::Alarm),
 }
 
+impl Prepared {
+    /// The line of the block the record comes from.
+    pub fn line(&self) -> u32 {
+        match self {
+            Prepared::Segment(s) => s.source.line,
+            Prepared::Aux(a) => a.source.line,
+            Prepared::Stop(s) | Prepared::End(s) => s.source.line,
+            Prepared::Warning(w) => w.line,
+        }
+    }
+}
+
 /// Auxiliary words and stops waiting for their S point.
 #[derive(Clone, Debug)]
 enum Waiting {

@@ -170,7 +170,10 @@ pub fn run(opts: ServeOptions) -> ExitCode {
             ExitCode::from(2)
         }
     };
-    let _ = ipo.join();
+    let code = match ipo.join() {
+        Ok(()) => code,
+        Err(_) => fail("the IPO thread failed (internal error): the kernel ends"),
+    };
     while let Some(g) = shared.garbage.pop() {
         drop(g);
     }
@@ -253,12 +256,13 @@ fn ipo_thread(
     shared: &Shared,
     ready: crossbeam::channel::Sender<Result<String, String>>,
 ) {
+    // However this thread ends (a panic included), the control thread learns it and ends.
+    let _done = Done(&shared.done);
     let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
     let mut bus = match IceBus::open(instance, cycle_ns) {
         Ok(b) => b,
         Err(e) => {
             let _ = ready.send(Err(e.to_string()));
-            shared.done.store(true, Ordering::Release);
             return;
         }
     };
@@ -295,7 +299,15 @@ fn ipo_thread(
     if let Some(g) = cyclic.take_released().or(released) {
         let _ = shared.garbage.push(g);
     }
-    shared.done.store(true, Ordering::Release);
+}
+
+/// Sets its flag when dropped.
+struct Done<'a>(&'a AtomicBool);
+
+impl Drop for Done<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
 }
 
 /// Sends a command to the IPO thread and waits for its answer.

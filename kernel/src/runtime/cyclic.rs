@@ -43,6 +43,9 @@ pub mod alarm {
             700_001 => "PLC: software limit switch",
             700_002..=799_999 => "PLC alarm",
             3021 => "contour violation with tool radius compensation",
+            1011 => {
+                "internal error in block preparation: the path stopped where the prepared part ends"
+            }
             _ => "program alarm (see the program's diagnostics)",
         }
     }

@@ -24,8 +24,9 @@ use crate::ipo::channel::Input;
 use crate::ipo::{AxisLimits, Entry};
 use crate::prep::{Preparation, Prepared};
 use crate::{MachineData, ToolTable};
+use crossbeam::channel::Sender;
 use crossbeam::queue::ArrayQueue;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::time::Duration;
 
 /// Records the queue holds between the threads.
@@ -43,8 +44,13 @@ pub struct Handover {
     pub queue: ArrayQueue<Input>,
     /// Set by the preparation thread when it has pushed its last record (or gave up).
     pub finished: AtomicBool,
+    /// Set (before `finished`) when the preparation thread failed instead of finishing the
+    /// program: what it pushed is followed by alarm 1011, not by the program's end.
+    pub failed: AtomicBool,
     /// Set by the consumer to make the preparation thread stop early.
     pub cancel: AtomicBool,
+    /// Line of the last record prepared: where a failed preparation stopped.
+    line: AtomicU32,
 }
 
 impl Default for Handover {
@@ -52,19 +58,66 @@ impl Default for Handover {
         Handover {
             queue: ArrayQueue::new(QUEUE),
             finished: AtomicBool::new(false),
+            failed: AtomicBool::new(false),
             cancel: AtomicBool::new(false),
+            line: AtomicU32::new(0),
         }
     }
 }
 
 impl Handover {
-    /// The next record, `Input::Done` once the preparation thread has ended (in any way)
-    /// and everything it pushed is taken; `None` while it is still at work.
+    /// The next record; once the preparation thread has ended and everything it pushed is
+    /// taken, `Input::Done` (or alarm 1011 if it failed); `None` while it is still at work.
     pub fn pop(&self) -> Option<Input> {
         self.queue.pop().or_else(|| {
-            (self.finished.load(Ordering::Acquire) && self.queue.is_empty()).then_some(Input::Done)
+            if !(self.finished.load(Ordering::Acquire) && self.queue.is_empty()) {
+                return None;
+            }
+            if !self.failed.load(Ordering::Acquire) {
+                return Some(Input::Done);
+            }
+            Some(Input::Alarm {
+                code: crate::AlarmCode::PreparationFailed.number(),
+                source: crate::segment::Source {
+                    number: None,
+                    line: self.line().max(1),
+                    col: 1,
+                    seq: 0,
+                },
+            })
         })
     }
+
+    /// Line of the last record prepared (0: none yet).
+    pub fn line(&self) -> u32 {
+        self.line.load(Ordering::Relaxed)
+    }
+}
+
+/// Runs the preparation thread's `work`. However it ends, the hand-over is marked finished,
+/// so a waiting consumer never waits for ever; a panic (an internal error) is reported as
+/// alarm 1011 and marks it failed, so the channel stops with the alarm instead of taking the
+/// prepared part for the whole program.
+fn guarded(hand: &Handover, name: &str, reports: &Sender<Report>, work: impl FnOnce()) {
+    if let Err(panic) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        let _ = reports.send(Report::Alarm(Alarm {
+            code: crate::AlarmCode::PreparationFailed,
+            program: name.to_string(),
+            line: hand.line().max(1),
+            col: 1,
+            block: None,
+            message: format!(
+                "block preparation failed after this line (internal error: {what}); the path stops where the prepared part ends"
+            ),
+        }));
+        hand.failed.store(true, Ordering::Release);
+    }
+    hand.finished.store(true, Ordering::Release);
 }
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
@@ -157,7 +210,7 @@ fn to_input(
 
 /// The preparation thread's work: the start position to `start` first, then every record,
 /// ready for the channel, into the queue in program order; `Input::Done` last (the caller's
-/// [`FinishGuard`] marks the hand-over finished). `delay` slows it down (a test hook).
+/// [`guarded`] marks the hand-over finished). `delay` slows it down (a test hook).
 fn prepare_into(
     job: Job<'_>,
     start: &crossbeam::channel::Sender<crate::frontend::block::Pos>,
@@ -214,6 +267,9 @@ fn feed(
                 Err(a) => Err(a),
             },
         };
+        if let Ok(p) = &item {
+            hand.line.store(p.line(), Ordering::Relaxed);
+        }
         let Some(input) = to_input(item, name, lim, &mut report) else {
             continue;
         };
@@ -243,8 +299,9 @@ pub fn with_preparation<R>(
             .name("preparation".into())
             .stack_size(PREP_STACK)
             .spawn_scoped(scope, move || {
-                let _guard = FinishGuard(hand);
-                prepare_into(job, &start_tx, lim, hand, &report_tx, delay);
+                guarded(hand, job.name, &report_tx, || {
+                    prepare_into(job, &start_tx, lim, hand, &report_tx, delay)
+                });
             })?;
         // The machine stands where the program starts.
         let start = start_rx.recv().unwrap_or([0.0; 3]);
@@ -267,9 +324,10 @@ pub struct Spawned {
     pub thread: std::thread::JoinHandle<()>,
 }
 
-/// A preparation thread of its own, with its hand-over and report channel; `work` fills
-/// them (the hand-over is marked finished however the thread ends).
+/// A preparation thread of its own for program `name`, with its hand-over and report
+/// channel; `work` fills them (see [`guarded`] for how the thread may end).
 fn spawn_owned(
+    name: String,
     work: impl FnOnce(&Handover, &crossbeam::channel::Sender<Report>) + Send + 'static,
 ) -> std::io::Result<(
     std::sync::Arc<Handover>,
@@ -282,10 +340,7 @@ fn spawn_owned(
     let thread = std::thread::Builder::new()
         .name("preparation".into())
         .stack_size(PREP_STACK)
-        .spawn(move || {
-            let _guard = FinishGuard(&h);
-            work(&h, &report_tx);
-        })?;
+        .spawn(move || guarded(&h, &name, &report_tx, || work(&h, &report_tx)))?;
     Ok((hand, reports, thread))
 }
 
@@ -299,7 +354,7 @@ pub fn spawn_preparation(
     at: Option<crate::frontend::block::Pos>,
 ) -> std::io::Result<Spawned> {
     let (start_tx, start_rx) = crossbeam::channel::bounded(1);
-    let (hand, reports, thread) = spawn_owned(move |hand, reports| {
+    let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
         let lim = AxisLimits::new(&md);
         let job = Job {
             name: &name,
@@ -334,7 +389,7 @@ pub fn spawn_resume(
     axes: crate::frontend::block::Pos,
 ) -> std::io::Result<Result<Spawned, Alarm>> {
     let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<(), Alarm>>(1);
-    let (hand, reports, thread) = spawn_owned(move |hand, reports| {
+    let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
         let lim = AxisLimits::new(&md);
         let resume = || Preparation::resume(&name, &source, &md, &tools, start, at, axes);
         // The whole rest is checked first: a violation anywhere after the interruption
@@ -398,14 +453,4 @@ pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Ve
     }
     inputs.push(Input::Done);
     (start, inputs, reports)
-}
-
-/// Marks the hand-over finished when the preparation thread ends in any way (a panic
-/// included), so a waiting consumer does not wait forever.
-struct FinishGuard<'a>(&'a Handover);
-
-impl Drop for FinishGuard<'_> {
-    fn drop(&mut self) {
-        self.0.finished.store(true, Ordering::Release);
-    }
 }
