@@ -252,6 +252,17 @@ impl HmiData {
     }
 }
 
+/// `softnc simulate`, which no operator watches: where a run that would not end is ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulateData {
+    /// Machine time after which the path brakes and the run stops with alarm 90001, s.
+    pub max_machine_time: f64,
+    /// Machine time the path may stand still with nothing happening (no motion, no output,
+    /// no state change) before the run stops with alarm 90002, s.
+    pub max_rest_time: f64,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisData {
@@ -297,6 +308,7 @@ pub struct MachineData {
     pub ipo: IpoData,
     pub plc: PlcData,
     pub hmi: HmiData,
+    pub simulate: SimulateData,
     pub axes: Axes,
 }
 
@@ -392,7 +404,37 @@ impl MachineData {
         Ok(md)
     }
 
+    /// Every value within its range, section by section (docs/machine-data.md): the first
+    /// one that is not, as (key, reason).
     fn validate(&self) -> Result<(), (String, String)> {
+        self.validate_hmi()?;
+        self.validate_program()?;
+        self.validate_trc()?;
+        for (name, off) in [
+            ("G54", self.zero_offsets.g54),
+            ("G55", self.zero_offsets.g55),
+            ("G56", self.zero_offsets.g56),
+            ("G57", self.zero_offsets.g57),
+        ] {
+            for (i, v) in off.iter().enumerate() {
+                range(&format!("zero_offsets.{name}[{i}]"), *v, -1e6, 1e6)?;
+            }
+        }
+        whole("ipo.cycle_us", self.ipo.cycle_us, 125, 100_000)?;
+        self.validate_plc()?;
+        let sim = &self.simulate;
+        range(
+            "simulate.max_machine_time",
+            sim.max_machine_time,
+            0.001,
+            1e7,
+        )?;
+        range("simulate.max_rest_time", sim.max_rest_time, 0.001, 1e6)?;
+        self.validate_ipo()?;
+        self.validate_axes()
+    }
+
+    fn validate_hmi(&self) -> Result<(), (String, String)> {
         for (key, v) in [
             ("hmi.max_radius", self.hmi.max_radius),
             ("hmi.max_wear", self.hmi.max_wear),
@@ -410,16 +452,10 @@ impl MachineData {
         if self.hmi.port == 0 {
             return Err(("hmi.port".into(), "0: expected a TCP port (1–65535)".into()));
         }
-        fn range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), (String, String)> {
-            if v.is_finite() && v >= lo && v <= hi {
-                Ok(())
-            } else {
-                Err((
-                    key.into(),
-                    format!("{v} is outside the allowed range {lo} ..= {hi}"),
-                ))
-            }
-        }
+        Ok(())
+    }
+
+    fn validate_program(&self) -> Result<(), (String, String)> {
         let p = &self.program;
         range(
             "program.least_input_increment_mm",
@@ -445,77 +481,30 @@ impl MachineData {
                 "must be at least 1".into(),
             ));
         }
+        Ok(())
+    }
+
+    fn validate_trc(&self) -> Result<(), (String, String)> {
         let t = &self.trc;
         range("trc.suppression_distance", t.suppression_distance, 0.0, 1.0)?;
-        if !(1..=8).contains(&t.max_blocks_outside_plane) {
-            return Err((
-                "trc.max_blocks_outside_plane".into(),
-                format!(
-                    "{} is outside the allowed range 1 ..= 8",
-                    t.max_blocks_outside_plane
-                ),
-            ));
-        }
+        whole(
+            "trc.max_blocks_outside_plane",
+            t.max_blocks_outside_plane,
+            1,
+            8,
+        )?;
         range("trc.feed_adaption_rmin", t.feed_adaption_rmin, 0.0, 1000.0)?;
-        if t.bottleneck_window > 64 {
-            return Err((
-                "trc.bottleneck_window".into(),
-                format!(
-                    "{} is outside the allowed range 0 ..= 64",
-                    t.bottleneck_window
-                ),
-            ));
-        }
-        for (name, off) in [
-            ("G54", self.zero_offsets.g54),
-            ("G55", self.zero_offsets.g55),
-            ("G56", self.zero_offsets.g56),
-            ("G57", self.zero_offsets.g57),
-        ] {
-            for (i, v) in off.iter().enumerate() {
-                range(&format!("zero_offsets.{name}[{i}]"), *v, -1e6, 1e6)?;
-            }
-        }
-        if !(125..=100_000).contains(&self.ipo.cycle_us) {
-            return Err((
-                "ipo.cycle_us".into(),
-                format!(
-                    "{} is outside the allowed range 125 ..= 100000",
-                    self.ipo.cycle_us
-                ),
-            ));
-        }
+        whole("trc.bottleneck_window", t.bottleneck_window, 0, 64)
+    }
+
+    fn validate_plc(&self) -> Result<(), (String, String)> {
         let plc = &self.plc;
-        if !(2..=10_000).contains(&plc.watchdog_cycles) {
-            return Err((
-                "plc.watchdog_cycles".into(),
-                format!(
-                    "{} is outside the allowed range 2 ..= 10000",
-                    plc.watchdog_cycles
-                ),
-            ));
-        }
+        whole("plc.watchdog_cycles", plc.watchdog_cycles, 2, 10_000)?;
         // The discrete position loop x += T·kv·(s − x) needs kv·T well below 1.
         let kv_max = 0.5e6 / f64::from(self.ipo.cycle_us);
         range("plc.kv", plc.kv, 0.1, kv_max)?;
-        if plc.dead_time_cycles > 100 {
-            return Err((
-                "plc.dead_time_cycles".into(),
-                format!(
-                    "{} is outside the allowed range 0 ..= 100",
-                    plc.dead_time_cycles
-                ),
-            ));
-        }
-        if plc.tool_change_ms > 600_000 {
-            return Err((
-                "plc.tool_change_ms".into(),
-                format!(
-                    "{} is outside the allowed range 0 ..= 600000",
-                    plc.tool_change_ms
-                ),
-            ));
-        }
+        whole("plc.dead_time_cycles", plc.dead_time_cycles, 0, 100)?;
+        whole("plc.tool_change_ms", plc.tool_change_ms, 0, 600_000)?;
         range(
             "plc.spindle_acceleration",
             plc.spindle_acceleration,
@@ -533,15 +522,11 @@ impl MachineData {
                 ));
             }
         }
-        if !(1..=128).contains(&self.ipo.lookahead) {
-            return Err((
-                "ipo.lookahead".into(),
-                format!(
-                    "{} is outside the allowed range 1 ..= 128",
-                    self.ipo.lookahead
-                ),
-            ));
-        }
+        Ok(())
+    }
+
+    fn validate_ipo(&self) -> Result<(), (String, String)> {
+        whole("ipo.lookahead", self.ipo.lookahead, 1, 128)?;
         for w in &self.ipo.wait_for_ack {
             let b = w.as_bytes();
             if b.len() < 2
@@ -554,6 +539,11 @@ impl MachineData {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// At least one axis, each within its ranges, and the initial plane's two axes.
+    fn validate_axes(&self) -> Result<(), (String, String)> {
         let mut any = false;
         for (i, name) in ["X", "Y", "Z"].iter().enumerate() {
             if let Some(a) = self.axes.get(i) {
@@ -576,7 +566,7 @@ impl MachineData {
         if !any {
             return Err(("axes".into(), "at least one axis must be configured".into()));
         }
-        let plane_axes = match p.initial_plane {
+        let plane_axes = match self.program.initial_plane {
             PlaneName::Xy => [0, 1],
             PlaneName::Zx => [2, 0],
             PlaneName::Yz => [1, 2],
@@ -598,6 +588,30 @@ impl MachineData {
     /// Whether axis 0..3 (X, Y, Z) exists on this machine.
     pub fn has_axis(&self, axis: usize) -> bool {
         self.axes.get(axis).is_some()
+    }
+}
+
+/// `v` within `lo ..= hi`, or (key, reason).
+fn range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), (String, String)> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err((
+            key.into(),
+            format!("{v} is outside the allowed range {lo} ..= {hi}"),
+        ))
+    }
+}
+
+/// A whole number `v` within `lo ..= hi`, or (key, reason).
+fn whole(key: &str, v: u32, lo: u32, hi: u32) -> Result<(), (String, String)> {
+    if (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err((
+            key.into(),
+            format!("{v} is outside the allowed range {lo} ..= {hi}"),
+        ))
     }
 }
 

@@ -12,10 +12,11 @@
 //! stop is followed by NC start in the next cycle, and an auxiliary function that waits for
 //! an acknowledgement is acknowledged `ack_cycles` cycles after it was output.
 
-use crate::alarm::Alarm;
+use crate::alarm::{Alarm, AlarmCode};
 use crate::ipo::channel::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::runtime::{with_preparation, Handover, Job, Report};
+use crate::segment::Source;
 use crate::{MachineData, ToolTable};
 use std::io::Write;
 use std::time::Duration;
@@ -27,7 +28,8 @@ pub struct Options {
     /// Path override, 0–1.2.
     pub override_: f64,
     pub single_block: bool,
-    /// Simulated time limit, cycles (a program that waits forever at override 0, say).
+    /// The caller's budget, cycles: the rows stop after this many, wherever the path is
+    /// (`timed_out`). Machine data `simulate.*` ends a run with an alarm instead.
     pub max_cycles: u64,
     /// Test hook: preparation sleeps this long per record.
     pub prep_delay: Duration,
@@ -39,7 +41,7 @@ impl Default for Options {
             ack_cycles: 1,
             override_: 1.0,
             single_block: false,
-            max_cycles: 100_000_000,
+            max_cycles: u64::MAX,
             prep_delay: Duration::ZERO,
         }
     }
@@ -59,6 +61,8 @@ pub struct Summary {
     pub warnings: Vec<Alarm>,
     /// The run hit `max_cycles`.
     pub timed_out: bool,
+    /// Segments that ended at speed with nothing after them (the planner's dead stops).
+    pub dead_stops: u64,
 }
 
 /// Where a long simulation is: told every [`PROGRESS_CYCLES`] cycles.
@@ -102,7 +106,7 @@ pub fn run_with_progress(
         at: None,
     };
     let (result, reports) = with_preparation(job, opts.prep_delay, |start, hand| {
-        ipo_loop(md, start, hand, opts, out, progress)
+        ipo_loop(name, md, start, hand, opts, out, progress)
     })?;
     let mut summary = result?;
     for r in reports {
@@ -114,7 +118,58 @@ pub fn run_with_progress(
     Ok(summary)
 }
 
+/// Where a run that would not end is ended (machine data `simulate`), in cycles.
+struct Limits {
+    cycles: u64,
+    rest: u64,
+}
+
+impl Limits {
+    fn new(md: &MachineData) -> Self {
+        let cycle_s = f64::from(md.ipo.cycle_us) * 1e-6;
+        let cycles = |s: f64| ((s / cycle_s).ceil() as u64).max(1);
+        Limits {
+            cycles: cycles(md.simulate.max_machine_time),
+            rest: cycles(md.simulate.max_rest_time),
+        }
+    }
+
+    /// The alarm due after `k + 1` cycles of which the last `still` stood still.
+    fn due(&self, k: u64, still: u64) -> Option<AlarmCode> {
+        if k + 1 >= self.cycles {
+            Some(AlarmCode::SimulationTimeLimit)
+        } else if still >= self.rest {
+            Some(AlarmCode::NoProgress)
+        } else {
+            None
+        }
+    }
+}
+
+/// The alarm a simulation limit raised at the block of `at`.
+fn limit_alarm(code: AlarmCode, at: Option<Source>, name: &str, md: &MachineData) -> Alarm {
+    let message = match code {
+        AlarmCode::SimulationTimeLimit => format!(
+            "simulation ended at the machine-time limit of {} s (machine data simulate.max_machine_time): the path braked and stopped here",
+            md.simulate.max_machine_time
+        ),
+        _ => format!(
+            "simulation ended: the path stood still with nothing happening for {} s (machine data simulate.max_rest_time); the program waits here for something that does not come",
+            md.simulate.max_rest_time
+        ),
+    };
+    Alarm {
+        code,
+        program: name.to_string(),
+        line: at.map_or(1, |s| s.line.max(1)),
+        col: at.map_or(1, |s| s.col.max(1)),
+        block: at.and_then(|s| s.number).map(|n| n.to_string()),
+        message,
+    }
+}
+
 fn ipo_loop(
+    name: &str,
     md: &MachineData,
     start: crate::frontend::block::Pos,
     hand: &Handover,
@@ -134,6 +189,9 @@ fn ipo_loop(
     writeln!(w, "cycle,time,X,Y,Z,v_path,block,events")?;
     let mut line = String::with_capacity(256);
     ch.start();
+    let limits = Limits::new(md);
+    // Cycles in a row the path stood still with nothing happening.
+    let mut still: u64 = 0;
     let mut k: u64 = 0;
     loop {
         // Take what preparation has, up to the lookahead; wait for it (simulated time stands
@@ -149,7 +207,25 @@ fn ipo_loop(
             acks.pop_front();
             ch.ack();
         }
+        let before = sp.pos;
         ch.cycle(k, &mut sp);
+        still = if sp.pos == before && sp.events.is_empty() {
+            still + 1
+        } else {
+            0
+        };
+        if !ch.has_alarm() {
+            if let Some(code) = limits.due(k, still) {
+                // The path brakes on its contour and the channel stops with the alarm.
+                ch.fault();
+                let source = sp.source.unwrap_or_default();
+                let _ = sp.events.push(Event::Alarm {
+                    code: code.number(),
+                    source,
+                });
+                summary.alarms.push(limit_alarm(code, sp.source, name, md));
+            }
+        }
         for e in &sp.events {
             if let Event::Aux { .. } = e {
                 summary.aux += 1;
@@ -183,6 +259,7 @@ fn ipo_loop(
     w.flush()?;
     summary.cycles = k + 1;
     summary.segments = ch.planner().pushed();
+    summary.dead_stops = ch.planner().dead_stops();
     summary.end_state = Some(sp.state);
     Ok(summary)
 }
