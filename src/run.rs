@@ -13,7 +13,7 @@ use std::io::Write;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, ExitCode, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -232,11 +232,15 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
         }
     };
 
-    let interrupted = Arc::new(AtomicBool::new(false));
+    // Ctrl-C: NC stop; a second one ends the processes without waiting for the kernel.
+    let interrupts = Arc::new(AtomicU32::new(0));
     {
-        let i = interrupted.clone();
-        let _ = ctrlc::set_handler(move || i.store(true, Ordering::SeqCst));
+        let i = interrupts.clone();
+        let _ = ctrlc::set_handler(move || {
+            i.fetch_add(1, Ordering::SeqCst);
+        });
     }
+    let interrupted = || interrupts.load(Ordering::SeqCst) > 0;
 
     let node = instance.node("softnc-run").map_err(|e| e.to_string())?;
     let hmi = Hmi {
@@ -291,7 +295,10 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
         if last.plc_alive != 0 {
             break;
         }
-        if t0.elapsed() > Duration::from_secs(20) || interrupted.load(Ordering::SeqCst) {
+        if interrupted() {
+            return Err("interrupted before NC start".into());
+        }
+        if t0.elapsed() > Duration::from_secs(20) {
             return Err("plc-sim did not come up".into());
         }
         std::thread::sleep(Duration::from_millis(5));
@@ -301,74 +308,19 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
         return Err(format!("NC start refused: {}", r.message()));
     }
 
-    let total_lines = o.source.lines().count().max(1) as u32;
     let cycle_s = f64::from(o.md.ipo.cycle_us) * 1e-6;
-    let mut first_cycle: Option<u64> = None;
-    let mut shown = Instant::now() - Duration::from_secs(1);
-    let mut stop_sent = false;
-    let mut alarm = 0u32;
-    let outcome;
-    loop {
-        if let Err(e) = check_children(&mut children) {
-            outcome = Err(e);
-            break;
-        }
-        while let Ok(Some(s)) = hmi.status.receive() {
-            last = *s.payload();
-            if last.state == state::ACTIVE && first_cycle.is_none() {
-                first_cycle = Some(last.cycle);
-            }
-        }
-        if last.alarm != 0 && alarm == 0 {
-            alarm = last.alarm;
-            if !o.quiet {
-                eprintln!("\ralarm {} at line {}              ", last.alarm, last.line);
-            }
-        }
-        if interrupted.load(Ordering::SeqCst) && !stop_sent {
-            stop_sent = true;
-            eprintln!("\rinterrupted: NC stop, the axes brake …");
-            let _ = hmi.ask(Command::new(command::STOP), Duration::from_secs(2));
-        }
-        if !o.quiet && shown.elapsed() > Duration::from_millis(100) {
-            shown = Instant::now();
-            let frac = (f64::from(last.line) / f64::from(total_lines)).min(1.0);
-            let n = (frac * 30.0) as usize;
-            eprint!(
-                "\r[{}{}] line {:>5}/{total_lines}  {:<7}  X{:>9.3} Y{:>9.3} Z{:>9.3}  {:>7.0} mm/min",
-                "#".repeat(n),
-                " ".repeat(30 - n),
-                last.line,
-                state::name(last.state),
-                last.pos[0],
-                last.pos[1],
-                last.pos[2],
-                last.v_path * 60.0
-            );
-            let _ = std::io::stderr().flush();
-        }
-        match last.state {
-            state::END => {
-                outcome = Ok(true);
-                break;
-            }
-            state::STOPPED if last.alarm != 0 || stop_sent => {
-                outcome = Ok(false);
-                break;
-            }
-            _ => {}
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
+    let mut watch = Watch::new(&o);
+    let outcome = watch.run(&hmi, &mut children, &check_children, &interrupts, &mut last);
+    let (first_cycle, alarm) = (watch.first_cycle, watch.alarm);
     if !o.quiet {
         eprintln!();
     }
     let end_cycle = last.cycle;
     let mut outcome = outcome;
-    if let (Some(url), Ok(_), false) = (&hmi_url, &outcome, interrupted.load(Ordering::SeqCst)) {
+    if let (Some(url), Ok(_), false) = (&hmi_url, &outcome, interrupted()) {
         // The operator carries on at the page (load, start, offsets) until Ctrl-C.
         eprintln!("the program ended; the control stays up for the HMI at {url}: Ctrl-C ends it");
-        while !interrupted.load(Ordering::SeqCst) {
+        while !interrupted() {
             if let Err(e) = check_children(&mut children) {
                 outcome = Err(e);
                 break;
@@ -476,6 +428,125 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// How long the path may take to come to rest after NC stop before the run stops waiting
+/// for the kernel (braking from top speed takes well under a second on every shipped
+/// machine); plc-sim's watchdog brakes the axes of a kernel that is ended then.
+const REST_AFTER_STOP: Duration = Duration::from_secs(10);
+/// The kernel publishes its status every IPO cycle: silence this long means it hangs.
+const STATUS_SILENCE: Duration = Duration::from_secs(3);
+
+/// The program running: the progress line, the first alarm, Ctrl-C.
+struct Watch {
+    quiet: bool,
+    total_lines: u32,
+    /// The first cycle seen ACTIVE, and the first alarm.
+    first_cycle: Option<u64>,
+    alarm: u32,
+    /// When NC stop was sent for Ctrl-C.
+    stop_sent: Option<Instant>,
+    shown: Instant,
+    heard: Instant,
+}
+
+impl Watch {
+    fn new(o: &RunOptions<'_>) -> Self {
+        Watch {
+            quiet: o.quiet,
+            total_lines: o.source.lines().count().max(1) as u32,
+            first_cycle: None,
+            alarm: 0,
+            stop_sent: None,
+            shown: Instant::now() - Duration::from_secs(1),
+            heard: Instant::now(),
+        }
+    }
+
+    /// Follows the status until the program ends (`Ok(true)`), stops with an alarm or for
+    /// Ctrl-C (`Ok(false)`), or the control fails: a child ends, the kernel falls silent,
+    /// the path does not come to rest after NC stop, or a second Ctrl-C. Every way ends.
+    fn run(
+        &mut self,
+        hmi: &Hmi,
+        children: &mut Children,
+        check_children: &dyn Fn(&mut Children) -> Result<(), String>,
+        interrupts: &AtomicU32,
+        last: &mut KernelStatus,
+    ) -> Result<bool, String> {
+        loop {
+            check_children(children)?;
+            while let Ok(Some(s)) = hmi.status.receive() {
+                *last = *s.payload();
+                self.heard = Instant::now();
+                if last.state == state::ACTIVE && self.first_cycle.is_none() {
+                    self.first_cycle = Some(last.cycle);
+                }
+            }
+            if self.heard.elapsed() > STATUS_SILENCE {
+                return Err(format!(
+                    "nc-kernel published no status for {} s: it hangs; ending the processes",
+                    STATUS_SILENCE.as_secs()
+                ));
+            }
+            if last.alarm != 0 && self.alarm == 0 {
+                self.alarm = last.alarm;
+                if !self.quiet {
+                    eprintln!("\ralarm {} at line {}              ", last.alarm, last.line);
+                }
+            }
+            self.interrupt(hmi, interrupts)?;
+            self.progress(last);
+            match last.state {
+                state::END => return Ok(true),
+                state::STOPPED if last.alarm != 0 || self.stop_sent.is_some() => return Ok(false),
+                _ => {}
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// Ctrl-C: NC stop once; an error when the path does not come to rest in time or a
+    /// second Ctrl-C comes.
+    fn interrupt(&mut self, hmi: &Hmi, interrupts: &AtomicU32) -> Result<(), String> {
+        let n = interrupts.load(Ordering::SeqCst);
+        match self.stop_sent {
+            None if n > 0 => {
+                self.stop_sent = Some(Instant::now());
+                eprintln!("\rinterrupted: NC stop, the axes brake … (Ctrl-C again ends at once)");
+                let _ = hmi.ask(Command::new(command::STOP), Duration::from_secs(2));
+                Ok(())
+            }
+            Some(_) if n > 1 => Err("interrupted twice: ending the processes without waiting for the path to rest (plc-sim brakes the axes)".into()),
+            Some(t) if t.elapsed() > REST_AFTER_STOP => Err(format!(
+                "the path did not come to rest within {} s of NC stop: ending the processes (plc-sim brakes the axes)",
+                REST_AFTER_STOP.as_secs()
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    fn progress(&mut self, last: &KernelStatus) {
+        if self.quiet || self.shown.elapsed() <= Duration::from_millis(100) {
+            return;
+        }
+        self.shown = Instant::now();
+        let total = self.total_lines;
+        let frac = (f64::from(last.line) / f64::from(total)).min(1.0);
+        let n = (frac * 30.0) as usize;
+        eprint!(
+            "\r[{}{}] line {:>5}/{total}  {:<7}  X{:>9.3} Y{:>9.3} Z{:>9.3}  {:>7.0} mm/min",
+            "#".repeat(n),
+            " ".repeat(30 - n),
+            last.line,
+            state::name(last.state),
+            last.pos[0],
+            last.pos[1],
+            last.pos[2],
+            last.v_path * 60.0
+        );
+        let _ = std::io::stderr().flush();
+    }
 }
 
 /// The page's address, from the bridge's first line (it may have taken any free port).
