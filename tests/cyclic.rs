@@ -9,10 +9,13 @@ mod counting;
 #[path = "support/plc_mock.rs"]
 mod plc_mock;
 
+use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::ChannelState;
 use nc_kernel::runtime::cyclic::{alarm, Control, Refusal, Status};
+use nc_kernel::runtime::Handover;
 use nc_kernel::MachineData;
 use plc_mock::{state, Rig};
+use std::sync::Arc;
 
 #[global_allocator]
 static GLOBAL: counting::Counting = counting::Counting;
@@ -433,4 +436,115 @@ fn the_setpoint_at_rest_after_nc_stop_does_not_move() {
             }
         }
     }
+}
+
+/// N10's motion handed over, then nothing: the path waits at rest, ACTIVE, at X10.
+fn waiting_for_preparation(
+    md: &MachineData,
+    rig: &mut Rig,
+    text: &str,
+) -> (Arc<Handover>, Vec<Input>) {
+    for _ in 0..3 {
+        rig.step();
+    }
+    let (p, mut inputs) = plc_mock::fed(md, 1, text, rig.cyclic.setpoint().pos);
+    let hand = p.hand.clone();
+    rig.ask(Control::Load(p)).unwrap();
+    rig.ask(Control::Start).unwrap();
+    let Input::Motion(_) = inputs[0] else {
+        panic!("{:?}", inputs[0])
+    };
+    let _ = hand.queue.push(inputs.remove(0));
+    let rest = rig.run_until(5_000, |s| s.pos[0] == 10.0);
+    assert_eq!((state(&rest), rest.v_path), (ChannelState::Active, 0.0));
+    // Waiting is no alarm: preparation may be slow.
+    for _ in 0..500 {
+        let s = rig.step();
+        assert_eq!(
+            (state(&s), s.v_path, s.alarm),
+            (ChannelState::Active, 0.0, 0)
+        );
+    }
+    (hand, inputs)
+}
+
+/// An alarm from preparation that comes while the path waits for it (the lookahead ran
+/// dry) stops the channel at once, at rest where the prepared path ends.
+#[test]
+fn a_preparation_alarm_while_the_path_waits_stops_the_channel_with_it() {
+    let md = md();
+    let mut rig = Rig::new(&md, 20_000);
+    let text = "N10 G1 X10 F3000\nN20 X20 Q5\nM30\n";
+    let (h, inputs) = waiting_for_preparation(&md, &mut rig, text);
+    let Input::Alarm { code, .. } = inputs[0] else {
+        panic!("{:?}", inputs[0])
+    };
+    assert_eq!(code, 12050);
+    let _ = h.queue.push(inputs[0].clone());
+    let s = rig.run_until(3, |s| state(s) == ChannelState::Stopped);
+    assert_eq!((s.alarm, s.pos, s.v_path), (12050, [10.0, 0.0, 0.0], 0.0));
+    assert_eq!(rig.ask(Control::Start), Err(Refusal::Alarm(12050)));
+    assert_eq!(rig.ask(Control::Reset), Ok(()));
+    assert_eq!(state(&rig.step()), ChannelState::Reset);
+}
+
+/// NC stop while the path waits for preparation: STOPPED at once; NC start goes on when the
+/// rest arrives.
+#[test]
+fn nc_stop_while_the_path_waits_for_preparation_stops_it() {
+    let md = md();
+    let mut rig = Rig::new(&md, 20_000);
+    let (h, inputs) = waiting_for_preparation(&md, &mut rig, "N10 G1 X10 F3000\nN20 X20\nM30\n");
+    assert_eq!(rig.ask(Control::Stop), Ok(()));
+    let s = rig.run_until(2, |s| state(s) == ChannelState::Stopped);
+    assert_eq!((s.alarm, s.pos, s.v_path), (0, [10.0, 0.0, 0.0], 0.0));
+    for i in inputs {
+        let _ = h.queue.push(i);
+    }
+    assert_eq!(rig.ask(Control::Start), Ok(()));
+    let end = rig.run_until(5_000, |s| state(s) == ChannelState::End);
+    assert_eq!(end.pos, [20.0, 0.0, 0.0]);
+}
+
+/// A preparation thread that fails (panics) while the path waits: the channel stops with
+/// alarm 1011 at the end of what was prepared, not with the program's end.
+#[test]
+fn a_failed_preparation_thread_stops_the_channel_with_1011() {
+    let md = md();
+    let mut rig = Rig::new(&md, 20_000);
+    let (h, _) = waiting_for_preparation(&md, &mut rig, "N10 G1 X10 F3000\nN20 X20\nM30\n");
+    h.failed.store(true, std::sync::atomic::Ordering::Release);
+    h.finished.store(true, std::sync::atomic::Ordering::Release);
+    let s = rig.run_until(3, |s| state(s) == ChannelState::Stopped);
+    assert_eq!((s.alarm, s.pos, s.v_path), (1011, [10.0, 0.0, 0.0], 0.0));
+}
+
+/// The PLC falls silent while the path waits for its acknowledgement of M6: alarm 2000 one
+/// cycle after the watchdog time, and the channel stops (it was at rest already).
+#[test]
+fn plc_silence_while_the_path_waits_for_an_acknowledgement_stops_the_channel() {
+    let md = md();
+    let mut rig = Rig::new(&md, 20_000);
+    rig.plc.ack_after = None;
+    rig.load_and_start(&md, 1, "N1 G1 X10 F3000\nN2 M6 T2\nN3 X20\nM30\n");
+    rig.run_until(5_000, |s| s.aux_sent == 1);
+    for _ in 0..200 {
+        let s = rig.step();
+        assert_eq!(
+            (state(&s), s.pos, s.v_path),
+            (ChannelState::Active, [10.0, 0.0, 0.0], 0.0)
+        );
+    }
+    let c = rig.k;
+    rig.plc.alive = false;
+    let s = rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
+    assert_eq!(
+        (s.alarm, s.pos),
+        (alarm::PLC_SIGN_OF_LIFE, [10.0, 0.0, 0.0])
+    );
+    assert!(s.cycle <= c + WATCHDOG + 2, "{} after {c}", s.cycle);
+    // NC stop and reset still act.
+    assert_eq!(rig.ask(Control::Stop), Ok(()));
+    assert_eq!(rig.ask(Control::Reset), Ok(()));
+    assert_eq!(state(&rig.step()), ChannelState::Reset);
 }

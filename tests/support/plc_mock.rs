@@ -4,6 +4,7 @@
 //! so the allocation test can run it too.
 #![allow(dead_code)] // each test file uses a different part
 
+use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::runtime::cyclic::{
     AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status,
@@ -185,6 +186,28 @@ pub fn program(md: &MachineData, id: u32, text: &str, at: Option<[f64; 3]>) -> B
         hand,
         start,
     })
+}
+
+/// A program whose preparation the test plays: its channel and an empty hand-over, and the
+/// records preparation would hand over (its alarm included), for the test to push when it
+/// likes.
+pub fn fed(md: &MachineData, id: u32, text: &str, at: [f64; 3]) -> (Box<Program>, Vec<Input>) {
+    let tools = ToolTable::builtin();
+    let job = Job {
+        name: "test.mpf",
+        source: text,
+        md,
+        tools: &tools,
+        at: Some(at),
+    };
+    let (start, inputs, _) = prepare_all(job);
+    let program = Box::new(Program {
+        id,
+        channel: Box::new(Channel::new(md, start)),
+        hand: Arc::new(Handover::default()),
+        start,
+    });
+    (program, inputs)
 }
 
 pub fn state(s: &Status) -> ChannelState {
