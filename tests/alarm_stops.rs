@@ -524,3 +524,57 @@ fn a_program_stop_at_the_end_stops_and_nc_start_ends_the_program() {
         &rows[m0 + 1]
     );
 }
+
+/// Ctrl-C ends `softnc run` while the path waits for something that does not come soon (an
+/// M6 the PLC takes ten minutes for): NC stop, STOPPED at rest, the processes end, exit 1.
+#[test]
+fn ctrl_c_ends_softnc_run_while_the_path_waits() {
+    let inst = instance("ctrlcwait");
+    let _scope = Scope::new(&inst);
+    let prog = write(
+        "ctrlc-wait.mpf",
+        "N10 G1 X10 F3000\nN20 M6 T2\nN30 X20\nN40 M30\n",
+    );
+    let err = scratch("ctrlc-wait.err");
+    let mut run = std::process::Command::new(EXE)
+        .arg("run")
+        .arg(&prog)
+        .args([
+            "--md",
+            "plc.tool_change_ms=600000",
+            "--instance",
+            &inst,
+            "--svg",
+        ])
+        .arg(scratch("ctrlc-wait.svg"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::fs::File::create(&err).unwrap())
+        .spawn()
+        .unwrap();
+    // The progress line shows the path standing at X10 for the tool change.
+    let t = std::time::Instant::now();
+    loop {
+        let text = std::fs::read_to_string(&err).unwrap();
+        if text.contains("ACTIVE   X   10.000") && text.ends_with("0 mm/min") {
+            break;
+        }
+        assert!(run.try_wait().unwrap().is_none(), "run ended: {text}");
+        assert!(t.elapsed() < Duration::from_secs(60), "{text}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    unsafe {
+        libc::kill(run.id() as i32, libc::SIGINT);
+    }
+    let t = std::time::Instant::now();
+    let out = run.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        t.elapsed() < Duration::from_secs(30),
+        "{:?} to end",
+        t.elapsed()
+    );
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("stopped by the operator"), "{stdout}");
+    assert!(stdout.contains("shared memory files left: 0"), "{stdout}");
+}
