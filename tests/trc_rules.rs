@@ -816,3 +816,31 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         (AlarmCode::ContourViolation, Some("N40"))
     );
 }
+
+/// A full circle selected into (ISG G237 after G42, G25 corners, D2 = R 5) and run as
+/// programmed is a full circle on the tool path too: N40 cw about (−8.43, −8.64), radius
+/// √(8.43² + 8.64²), the tool inside (G42 on a cw arc), so radius R − 5, from the normal
+/// position at (0, 0) moved 5 mm towards the centre, and back to that point to the bit
+/// (two corners computed it; one ulp apart, the interpolator took it for an arc of no
+/// length and the circle was never cut).
+#[test]
+fn a_compensated_full_circle_ends_where_it_starts() {
+    let src = "N1 G17 G90 G0 X0 Y0 Z0\nN2 G1 F6000\nN10 D2 G1 X0 Y0\nN20 G42\nN30\nN40 G25 G237 G140 G2 X0 Y0 I-8.43 J-8.64\nN50\n";
+    let p = path("isg.toml", &["trc.bottleneck_window=3"], &[], src);
+    let n40 = of_block(&p, 40);
+    let circle = n40.iter().find(|s| s.role == Role::Contour).unwrap();
+    let big = (8.43f64 * 8.43 + 8.64 * 8.64).sqrt();
+    let k = (big - 5.0) / big;
+    at(
+        "N40 starts",
+        circle.from,
+        -8.43 + 8.43 * k,
+        -8.64 + 8.64 * k,
+    );
+    assert_eq!(circle.to, circle.from);
+    let len = nc_kernel::ipo::Piece::new(circle).unwrap().len;
+    assert!(
+        (len - std::f64::consts::TAU * (big - 5.0)).abs() < 1e-9,
+        "{len}"
+    );
+}

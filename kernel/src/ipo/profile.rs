@@ -238,8 +238,10 @@ pub fn cubic_root(p: f64, q: f64) -> f64 {
     x.max(0.0)
 }
 
-/// Relative rounding allowance on a segment's length: a plan that overruns it by no more
-/// than this fits (the planner ends the segment where the plan crosses its length).
+/// Rounding allowance on a segment's length, relative (absolute in mm below 1 mm, as the
+/// planner's test for a plan that ended on its segment's end): a plan that overruns the
+/// length by no more than this fits (the planner ends the segment where the plan crosses
+/// its length).
 pub const FIT: f64 = 1e-9;
 
 /// The plan for one segment of length `len` entered at (v0, a0): as fast as `vmax` allows,
@@ -257,7 +259,7 @@ pub fn plan(v0: f64, a0: f64, len: f64, vmax: f64, ve: f64, d: Dynamics) -> (Pro
     // change to `ve` may come out longer than `len` by rounding: that still fits. (Taken as
     // too short, the end speed below would be the far root of a distance that is not
     // monotone in it: a stop from v0 needs less room than slowing to v0/3 with a = 0.)
-    if direct(ve) > len * (1.0 + FIT) {
+    if direct(ve) > len + FIT * len.max(1.0) {
         if vr < 0.0 || direct(vr) >= len {
             let w = vr.max(0.0);
             prof.push(&change(v0, a0, w, d));
@@ -386,7 +388,7 @@ mod tests {
         assert!(v0 > reach(0.0, 0.25, d));
         let (p, w) = plan(v0, -5.7e-14, 0.25, 2000.0 / 60.0, 0.0, d);
         assert_eq!(w, 0.0);
-        assert!((p.distance() - 0.25).abs() < 0.25 * FIT);
+        assert!((p.distance() - 0.25).abs() < FIT);
         assert!(p.end_velocity().abs() < 1e-12);
         // A 0.8 mm Z move entered from a collinear rapid at reach(0, 0.8) (a = 1500,
         // j = 30 000): the changes alone cover the length, and what is left is rounding. A

@@ -1181,6 +1181,15 @@ impl Compensator {
                     self.piece(p.tag, Role::Contour, &second, rm, r1, wm, p.w1, out);
                     return Ok(());
                 }
+                // A full circle run as programmed ends where it starts, to the bit
+                // (Shape::Arc): its compensated ends come from two corners and may differ in
+                // the last place, which would read as an arc of no length.
+                let full = matches!(p.prog, Elem::Arc { a, b, .. } if a == b);
+                let end = if total.is_none() && full {
+                    p.start
+                } else {
+                    end
+                };
                 let r0 = p.start.dist(c);
                 let r1 = end.dist(c);
                 let e = Elem::Arc {
