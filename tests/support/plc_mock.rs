@@ -9,7 +9,7 @@ use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::runtime::cyclic::{
     AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status,
 };
-use nc_kernel::runtime::{prepare_all, Handover, Job, QUEUE};
+use nc_kernel::runtime::{prepare_all, Handover, Job, Report, QUEUE};
 use nc_kernel::{MachineData, ToolTable};
 use std::sync::Arc;
 
@@ -161,6 +161,29 @@ impl Rig {
 
 /// A program prepared completely up front (at most `QUEUE` records) with its channel.
 pub fn program(md: &MachineData, id: u32, text: &str, at: Option<[f64; 3]>) -> Box<Program> {
+    let (p, inputs, reports) = fed(md, id, text, at);
+    assert!(reports.is_empty(), "{reports:?}");
+    assert!(inputs.len() <= QUEUE, "{} records", inputs.len());
+    for i in inputs {
+        if p.hand.queue.push(i).is_err() {
+            unreachable!("the queue holds QUEUE records");
+        }
+    }
+    p.hand
+        .finished
+        .store(true, std::sync::atomic::Ordering::Release);
+    p
+}
+
+/// A program whose preparation the test plays: its channel and an empty hand-over, and the
+/// records preparation would hand over (its alarm included) with its reports, for the test
+/// to push when it likes.
+pub fn fed(
+    md: &MachineData,
+    id: u32,
+    text: &str,
+    at: Option<[f64; 3]>,
+) -> (Box<Program>, Vec<Input>, Vec<Report>) {
     let tools = ToolTable::builtin();
     let job = Job {
         name: "test.mpf",
@@ -170,44 +193,13 @@ pub fn program(md: &MachineData, id: u32, text: &str, at: Option<[f64; 3]>) -> B
         at,
     };
     let (start, inputs, reports) = prepare_all(job);
-    assert!(reports.is_empty(), "{reports:?}");
-    assert!(inputs.len() <= QUEUE, "{} records", inputs.len());
-    let hand = Arc::new(Handover::default());
-    for i in inputs {
-        if hand.queue.push(i).is_err() {
-            unreachable!("the queue holds QUEUE records");
-        }
-    }
-    hand.finished
-        .store(true, std::sync::atomic::Ordering::Release);
-    Box::new(Program {
-        id,
-        channel: Box::new(Channel::new(md, start)),
-        hand,
-        start,
-    })
-}
-
-/// A program whose preparation the test plays: its channel and an empty hand-over, and the
-/// records preparation would hand over (its alarm included), for the test to push when it
-/// likes.
-pub fn fed(md: &MachineData, id: u32, text: &str, at: [f64; 3]) -> (Box<Program>, Vec<Input>) {
-    let tools = ToolTable::builtin();
-    let job = Job {
-        name: "test.mpf",
-        source: text,
-        md,
-        tools: &tools,
-        at: Some(at),
-    };
-    let (start, inputs, _) = prepare_all(job);
     let program = Box::new(Program {
         id,
         channel: Box::new(Channel::new(md, start)),
         hand: Arc::new(Handover::default()),
         start,
     });
-    (program, inputs)
+    (program, inputs, reports)
 }
 
 pub fn state(s: &Status) -> ChannelState {
