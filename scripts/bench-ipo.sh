@@ -10,7 +10,7 @@ secs=${1:-60}
 rounds=${2:-6}
 per=$((secs / rounds))
 cd "$(dirname "$0")/.."
-cargo build --release -q -p nc-kernel --bin nc-kernel --example ipo_timing
+cargo build --release -q -p nc-runtime --bin nc-kernel --example ipo_timing
 echo "## machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "## IPO compute time per cycle (simulated clock)"
 ./target/release/examples/ipo_timing

@@ -591,7 +591,7 @@ fn main() -> ExitCode {
     // one `cargo run` builds everything the run needs.
     let mut args = std::env::args().skip(1);
     match args.next().as_deref() {
-        Some("nc-kernel") => return nc_kernel::process::main(args.collect()),
+        Some("nc-kernel") => return nc_runtime::process::main(args.collect()),
         Some("plc-sim") => return plc_sim::main(args.collect()),
         Some("hmi-bridge") => return hmi_bridge::main(args.collect()),
         _ => {}

@@ -9,10 +9,10 @@ mod counting;
 #[path = "support/plc_mock.rs"]
 mod plc_mock;
 
+use nc_kernel::cycle::{alarm, Control, Refusal, Status};
+use nc_kernel::handover::Handover;
 use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::ChannelState;
-use nc_kernel::runtime::cyclic::{alarm, Control, Refusal, Status};
-use nc_kernel::runtime::Handover;
 use nc_kernel::MachineData;
 use plc_mock::{state, Rig};
 use std::sync::Arc;

@@ -498,14 +498,14 @@ fn drive_fed(
 ) -> Vec<Row> {
     use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
     let tools = ToolTable::builtin();
-    let job = nc_kernel::runtime::Job {
+    let job = nc_kernel::handover::Job {
         name: "test.mpf",
         source: text,
         md,
         tools: &tools,
         at: None,
     };
-    let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
+    let (start, inputs, reports) = nc_kernel::handover::prepare_all(job);
     assert!(reports.is_empty());
     let mut it = inputs.into_iter();
     let mut pending = None;

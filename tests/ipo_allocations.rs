@@ -8,9 +8,9 @@
 #[path = "support/counting.rs"]
 mod counting;
 
+use nc_kernel::handover::{prepare_all, Job};
 use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
-use nc_kernel::runtime::{prepare_all, Job};
 use nc_kernel::{MachineData, ToolTable};
 
 #[global_allocator]

@@ -400,9 +400,8 @@ pub fn status_json(s: &Snapshot) -> Value {
     let Some(st) = s.status else {
         return json!({ "connected": false });
     };
-    let alarm = (st.alarm != 0).then(|| {
-        json!({ "number": st.alarm, "text": nc_kernel::runtime::cyclic::alarm::title(st.alarm) })
-    });
+    let alarm = (st.alarm != 0)
+        .then(|| json!({ "number": st.alarm, "text": nc_kernel::cycle::alarm::title(st.alarm) }));
     json!({
         "connected": s.connected(),
         "state": state::name(st.state),

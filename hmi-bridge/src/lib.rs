@@ -9,7 +9,7 @@ pub mod link;
 pub mod net;
 pub mod plot;
 
-use nc_kernel::process::args::{instance, machine, only_flags, value};
+use nc_runtime::process::args::{instance, machine, only_flags, value};
 use std::net::{IpAddr, SocketAddr};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};

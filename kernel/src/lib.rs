@@ -5,14 +5,14 @@
 //! sections it follows are cited where each rule lives.
 
 pub mod alarm;
+pub mod cycle;
 pub mod dialect;
 pub mod frontend;
+pub mod handover;
 pub mod ipo;
 pub(crate) mod json;
 pub mod machine_data;
 pub mod prep;
-pub mod process;
-pub mod runtime;
 pub mod segment;
 pub mod simulate;
 pub mod synthetic;

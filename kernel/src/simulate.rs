@@ -13,9 +13,9 @@
 //! an acknowledgement is acknowledged `ack_cycles` cycles after it was output.
 
 use crate::alarm::{Alarm, AlarmCode};
+use crate::handover::{with_preparation, Handover, Job, Report};
 use crate::ipo::channel::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
-use crate::runtime::{with_preparation, Handover, Job, Report};
 use crate::segment::Source;
 use crate::{MachineData, ToolTable};
 use std::io::Write;

@@ -7,7 +7,7 @@
 //! `wake_baseline --seconds S [--cycle-us C] [--priority P] [--receiver-priority P]
 //!  --histogram FILE` (FILE gets the receiver's histogram, in plc-sim's format).
 
-use nc_kernel::runtime::os::{now_ns, setup_cyclic_thread, sleep_until};
+use nc_runtime::os::{now_ns, setup_cyclic_thread, sleep_until};
 use std::io::{Read, Write};
 use std::process::{Command, ExitCode, Stdio};
 
@@ -98,7 +98,7 @@ fn receive(args: &[String]) -> Result<(), String> {
         lost += seq.saturating_sub(last + 1);
         last = seq;
     }
-    let text = nc_kernel::runtime::histogram_text(
+    let text = nc_runtime::histogram_text(
         "pipe wake-up latency (write to read)",
         &latency,
         &[("samples", samples), ("lost", lost), ("late", late)],

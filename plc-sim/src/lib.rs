@@ -14,9 +14,9 @@
 pub mod axis;
 
 use axis::Axis;
-use nc_kernel::process::args::{instance, machine, only_flags, priority, value};
-use nc_kernel::runtime::os::now_ns;
 use nc_kernel::MachineData;
+use nc_runtime::os::now_ns;
+use nc_runtime::process::args::{instance, machine, only_flags, priority, value};
 use softnc_protocol::iceoryx2::port::server::Server;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{state, ActualValues, AuxAck, AuxRequest, PlcSignals, SetpointMsg};
@@ -198,7 +198,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
 
     // SCHED_FIFO for the drive cycle, as a PLC's cyclic task runs: one below the kernel's
     // IPO thread (80) unless --priority says otherwise.
-    let (rt, _keep) = nc_kernel::runtime::os::setup_cyclic_thread(priority.unwrap_or(79), 1);
+    let (rt, _keep) = nc_runtime::os::setup_cyclic_thread(priority.unwrap_or(79), 1);
     eprintln!("plc-sim: {rt}");
     let mut axes: Option<[Axis; 3]> = None;
     let mut last: Option<SetpointMsg> = None;
@@ -447,7 +447,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
         latency.max() as f64 / 1000.0
     );
     if let Some(path) = value(&args, "--histogram") {
-        let text = nc_kernel::runtime::histogram_text(
+        let text = nc_runtime::histogram_text(
             "plc-sim setpoint latency (kernel send to plc-sim receive)",
             &latency,
             &[("samples", samples), ("lost", lost), ("late", late)],

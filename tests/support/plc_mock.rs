@@ -4,12 +4,10 @@
 //! so the allocation test can run it too.
 #![allow(dead_code)] // each test file uses a different part
 
+use nc_kernel::cycle::{AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status};
+use nc_kernel::handover::{prepare_all, Handover, Job, Report, QUEUE};
 use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
-use nc_kernel::runtime::cyclic::{
-    AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status,
-};
-use nc_kernel::runtime::{prepare_all, Handover, Job, Report, QUEUE};
 use nc_kernel::{MachineData, ToolTable};
 use std::sync::Arc;
 

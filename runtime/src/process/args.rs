@@ -39,7 +39,7 @@ pub fn instance(args: &[String]) -> Result<softnc_protocol::Instance, String> {
 }
 
 /// `--machine FILE` over the built-in machine data.
-pub fn machine(args: &[String]) -> Result<crate::MachineData, String> {
-    crate::MachineData::load(value(args, "--machine").map(std::path::Path::new), &[])
+pub fn machine(args: &[String]) -> Result<nc_kernel::MachineData, String> {
+    nc_kernel::MachineData::load(value(args, "--machine").map(std::path::Path::new), &[])
         .map_err(|e| e.to_string())
 }

@@ -7,8 +7,8 @@
 
 use hdrhistogram::Histogram;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
-use nc_kernel::runtime::os::now_ns;
 use nc_kernel::{MachineData, ToolTable};
+use nc_runtime::os::now_ns;
 
 fn main() {
     let blocks: usize = std::env::args()
@@ -18,14 +18,14 @@ fn main() {
     let tools = ToolTable::builtin();
     let text =
         nc_kernel::synthetic::compensated_program(blocks, nc_kernel::synthetic::Header::Softnc);
-    let job = nc_kernel::runtime::Job {
+    let job = nc_kernel::handover::Job {
         name: "bench",
         source: &text,
         md: &md,
         tools: &tools,
         at: None,
     };
-    let (start, inputs, reports) = nc_kernel::runtime::prepare_all(job);
+    let (start, inputs, reports) = nc_kernel::handover::prepare_all(job);
     assert!(
         reports.is_empty(),
         "the bench program prepares without alarms"

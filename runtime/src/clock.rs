@@ -8,7 +8,7 @@
 //! Skipped, the path pauses for the hold-up and every consumer still gets one setpoint per
 //! period.
 
-use super::os;
+use crate::os;
 
 /// When one cycle started.
 #[derive(Clone, Copy, Debug)]

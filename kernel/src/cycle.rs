@@ -13,8 +13,8 @@
 //! Nothing here allocates, frees or blocks; a new program arrives built and boxed, and the
 //! one it replaces goes back to the caller to be freed outside the IPO thread.
 
-use super::Handover;
 use crate::frontend::block::Pos;
+use crate::handover::Handover;
 use crate::ipo::channel::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::prep::AuxFunction;

@@ -2,9 +2,9 @@
 //! overwrite a slow subscriber's oldest sample, requests go out without waiting, and
 //! answers are polled.
 
-use crate::ipo::{ChannelState, Setpoint};
-use crate::runtime::cyclic::{AuxOut, Bus, PlcInput, Status};
-use crate::runtime::os;
+use crate::os;
+use nc_kernel::cycle::{AuxOut, Bus, PlcInput, Status};
+use nc_kernel::ipo::{ChannelState, Setpoint};
 use softnc_protocol::iceoryx2::node::Node;
 use softnc_protocol::iceoryx2::pending_response::PendingResponse;
 use softnc_protocol::iceoryx2::port::client::Client;

@@ -5,12 +5,12 @@
 //! Measured per cycle, into histograms allocated before the loop: the wake-up latency (how
 //! late after its deadline the thread ran) and the compute time of the cycle.
 
-use super::os::{self, RtReport};
-use super::{with_preparation, Handover, Job, Report};
-use crate::ipo::channel::Input;
-use crate::ipo::{Channel, ChannelState, Setpoint};
-use crate::{MachineData, ToolTable};
+use crate::os::{self, RtReport};
 use hdrhistogram::Histogram;
+use nc_kernel::handover::{with_preparation, Handover, Job, Report};
+use nc_kernel::ipo::channel::Input;
+use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
+use nc_kernel::{MachineData, ToolTable};
 use std::time::Duration;
 
 #[derive(Clone, Debug)]
@@ -100,7 +100,7 @@ pub fn run(
 
 fn ipo_thread(
     md: &MachineData,
-    start: crate::frontend::block::Pos,
+    start: nc_kernel::frontend::block::Pos,
     hand: &Handover,
     opts: &LiveOptions,
     cycle_ns: u64,
@@ -122,7 +122,7 @@ fn ipo_thread(
         .limit
         .map_or(u64::MAX, |d| (d.as_nanos() as u64 / cycle_ns).max(1));
     ch.start();
-    let mut clock = super::clock::CycleClock::new(cycle_ns);
+    let mut clock = crate::clock::CycleClock::new(cycle_ns);
     let mut k: u64 = 0;
     loop {
         let tick = clock.wait();

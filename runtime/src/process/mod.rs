@@ -14,8 +14,8 @@ mod serve;
 
 use args::value;
 
-use crate::runtime::live::{run, LiveOptions};
-use crate::runtime::Report;
+use crate::live::{run, LiveOptions};
+use nc_kernel::handover::Report;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -69,11 +69,11 @@ pub fn main(args: Vec<String>) -> ExitCode {
         Err(e) => return fail(e),
     };
     let tools = match value(&args, "--tools") {
-        Some(p) => match crate::ToolTable::load(std::path::Path::new(p)) {
+        Some(p) => match nc_kernel::ToolTable::load(std::path::Path::new(p)) {
             Ok(t) => t,
             Err(e) => return fail(e.to_string()),
         },
-        None => crate::ToolTable::builtin(),
+        None => nc_kernel::ToolTable::builtin(),
     };
     let mut tools = tools;
     for w in args.windows(2).filter(|w| w[0] == "--set") {
@@ -125,10 +125,10 @@ pub fn main(args: Vec<String>) -> ExitCode {
     let mut alarms = 0;
     for r in &stats.reports {
         match r {
-            Report::Warning(w) => eprintln!("{}", crate::alarm::render(w, &source)),
+            Report::Warning(w) => eprintln!("{}", nc_kernel::alarm::render(w, &source)),
             Report::Alarm(a) => {
                 alarms += 1;
-                eprintln!("{}", crate::alarm::render(a, &source));
+                eprintln!("{}", nc_kernel::alarm::render(a, &source));
             }
         }
     }
@@ -156,7 +156,7 @@ pub fn main(args: Vec<String>) -> ExitCode {
         stats.starved
     );
     if let Some(path) = value(&args, "--histogram") {
-        let text = crate::runtime::histogram_text("nc-kernel wake-up latency", &stats.wakeup, &[]);
+        let text = crate::histogram_text("nc-kernel wake-up latency", &stats.wakeup, &[]);
         if let Err(e) = std::fs::write(path, text) {
             return fail(format!("{path}: {e}"));
         }

@@ -13,12 +13,13 @@
 //! boxed, so the IPO thread never allocates or frees.
 
 use super::bus::IceBus;
-use crate::ipo::Channel;
-use crate::runtime::clock::CycleClock;
-use crate::runtime::cyclic::{Control, Cyclic, Program, Refusal};
-use crate::runtime::{os, spawn_preparation, Report};
-use crate::{MachineData, ToolTable};
+use crate::clock::CycleClock;
+use crate::os;
 use crossbeam::queue::ArrayQueue;
+use nc_kernel::cycle::{Control, Cyclic, Program, Refusal};
+use nc_kernel::handover::{spawn_preparation, Report};
+use nc_kernel::ipo::Channel;
+use nc_kernel::{MachineData, ToolTable};
 use softnc_protocol::iceoryx2::port::update_connections::UpdateConnections;
 use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
 use std::collections::HashMap;
@@ -43,9 +44,9 @@ struct Loaded {
     name: String,
     source: String,
     /// Where the axes stood when it was loaded (its interpretation starts there).
-    at: Option<crate::frontend::block::Pos>,
+    at: Option<nc_kernel::frontend::block::Pos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
-    live: crate::tools::LiveEdits,
+    live: nc_kernel::tools::LiveEdits,
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -115,7 +116,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
         }
     }
     let start = first.as_ref().map_or_else(
-        || crate::Interpreter::new("", "", &md, &tools).position(),
+        || nc_kernel::Interpreter::new("", "", &md, &tools).position(),
         |p| p.start,
     );
     let shared = Arc::new(Shared {
@@ -192,7 +193,7 @@ fn load(
     md: &MachineData,
     tools: &ToolTable,
     id: u32,
-    at: Option<crate::frontend::block::Pos>,
+    at: Option<nc_kernel::frontend::block::Pos>,
 ) -> Result<(Box<Program>, Loaded), String> {
     let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let (tools, live) = run_table(tools);
@@ -211,8 +212,8 @@ fn load(
 
 /// The table a program runs with: `tools` and a list of its own for edits made while it
 /// runs.
-fn run_table(tools: &ToolTable) -> (ToolTable, crate::tools::LiveEdits) {
-    let live = crate::tools::LiveEdits::default();
+fn run_table(tools: &ToolTable) -> (ToolTable, nc_kernel::tools::LiveEdits) {
+    let live = nc_kernel::tools::LiveEdits::default();
     let mut tools = tools.clone();
     tools.live = Some(live.clone());
     (tools, live)
@@ -222,13 +223,13 @@ impl Loaded {
     /// The program `s` prepares, with its channel at the program's start, and what this
     /// thread keeps of it.
     fn running(
-        s: crate::runtime::Spawned,
+        s: nc_kernel::handover::Spawned,
         md: &MachineData,
         id: u32,
         name: String,
         source: String,
-        at: Option<crate::frontend::block::Pos>,
-        live: crate::tools::LiveEdits,
+        at: Option<nc_kernel::frontend::block::Pos>,
+        live: nc_kernel::tools::LiveEdits,
     ) -> (Box<Program>, Loaded) {
         let program = Box::new(Program {
             id,
@@ -251,7 +252,7 @@ impl Loaded {
 fn ipo_thread(
     instance: &Instance,
     md: &MachineData,
-    start: crate::frontend::block::Pos,
+    start: nc_kernel::frontend::block::Pos,
     priority: i32,
     shared: &Shared,
     ready: crossbeam::channel::Sender<Result<String, String>>,
@@ -340,12 +341,12 @@ fn refusal_text(r: Refusal) -> (u32, String) {
         Refusal::NoProgram => (0, "no program is loaded (or it has ended): load one".into()),
         Refusal::Alarm(a) => (a, format!("alarm {a} stands: reset first")),
         Refusal::NoPlc => (
-            crate::runtime::cyclic::alarm::PLC_SIGN_OF_LIFE,
+            nc_kernel::cycle::alarm::PLC_SIGN_OF_LIFE,
             "no PLC: plc-sim is not running for this instance".into(),
         ),
         Refusal::DrivesNotReady => (0, "the drives are not ready (PLC)".into()),
         Refusal::EmergencyStop => (
-            crate::runtime::cyclic::alarm::EMERGENCY_STOP,
+            nc_kernel::cycle::alarm::EMERGENCY_STOP,
             "emergency stop is pressed: release it, then reset".into(),
         ),
         Refusal::StartsElsewhere { start, here } => (
@@ -470,7 +471,7 @@ fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
             s.alarm,
             s.cycle,
             s.line,
-            crate::runtime::cyclic::alarm::title(s.alarm),
+            nc_kernel::cycle::alarm::title(s.alarm),
             s.plc_cycle
         );
     }
@@ -484,7 +485,7 @@ fn print_reports(l: &Loaded) {
     for r in l.reports.try_iter() {
         match r {
             Report::Warning(w) | Report::Alarm(w) => {
-                eprintln!("{}", crate::alarm::render(&w, &l.source))
+                eprintln!("{}", nc_kernel::alarm::render(&w, &l.source))
             }
         }
     }
@@ -557,7 +558,7 @@ impl Desk<'_> {
         let wear = c.flag != 0;
         let what = if wear { "radius wear" } else { "radius" };
         let t = c.tool();
-        let name = crate::tools::offset_label(t, c.d);
+        let name = nc_kernel::tools::offset_label(t, c.d);
         let running = last.state == state::ACTIVE;
         if running && !self.md.hmi.edit_while_active {
             return Reply::new(
@@ -586,7 +587,7 @@ impl Desk<'_> {
         let version = shared_bump(self.shared);
         let when = if running {
             if let Some(l) = self.programs.get(&last.program) {
-                l.live.push(crate::tools::LiveEdit {
+                l.live.push(nc_kernel::tools::LiveEdit {
                     t,
                     d: c.d,
                     wear,
@@ -634,17 +635,17 @@ impl Desk<'_> {
         let Some(l) = self.programs.get(&last.program) else {
             return Reply::new(false, 0, "no program is loaded: load one");
         };
-        let Some(role) = crate::segment::Role::from_code(last.role) else {
+        let Some(role) = nc_kernel::segment::Role::from_code(last.role) else {
             return Reply::new(false, 0, "the stopped program has no segment to resume on");
         };
-        let at = crate::prep::Interruption {
+        let at = nc_kernel::prep::Interruption {
             seq: last.block_seq,
             role,
             nth: last.piece,
             along: last.along,
         };
         let (tools, live) = run_table(&self.tools);
-        let spawned = crate::runtime::spawn_resume(
+        let spawned = nc_kernel::handover::spawn_resume(
             l.name.clone(),
             l.source.clone(),
             self.md.clone(),
@@ -656,7 +657,7 @@ impl Desk<'_> {
         let s = match spawned {
             Ok(Ok(s)) => s,
             Ok(Err(alarm)) => {
-                let text = crate::alarm::render(&alarm, &l.source);
+                let text = nc_kernel::alarm::render(&alarm, &l.source);
                 eprintln!("{text}");
                 return Reply::new(
                     false,

@@ -1,4 +1,4 @@
-//! The kernel's threads (issue 5 c).
+//! The preparation thread and its hand-over to the IPO side.
 //!
 //! ```text
 //!  preparation thread                         IPO thread (cyclic, SCHED_FIFO)
@@ -13,11 +13,6 @@
 //! and, when preparation falls behind, the lookahead's braking (planner.rs) slows the path.
 //! Alarms and warnings carry text, so they go to the reporting side on their own channel:
 //! the IPO thread gets only their number and block, and never frees memory.
-
-pub mod clock;
-pub mod cyclic;
-pub mod live;
-pub mod os;
 
 use crate::alarm::Alarm;
 use crate::ipo::channel::Input;
@@ -118,28 +113,6 @@ fn guarded(hand: &Handover, name: &str, reports: &Sender<Report>, work: impl FnO
         hand.failed.store(true, Ordering::Release);
     }
     hand.finished.store(true, Ordering::Release);
-}
-
-/// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
-/// alike: `# title`, `# name value` comment lines, then "`<µs> <count>`" per 1 µs bucket.
-pub fn histogram_text(
-    title: &str,
-    h: &hdrhistogram::Histogram<u64>,
-    extra: &[(&str, u64)],
-) -> String {
-    use std::fmt::Write;
-    let mut text = format!("# {title} histogram, µs\n");
-    for (k, v) in extra {
-        let _ = writeln!(text, "# {k} {v}");
-    }
-    let mut buckets = std::collections::BTreeMap::<u64, u64>::new();
-    for v in h.iter_recorded() {
-        *buckets.entry(v.value_iterated_to() / 1000).or_default() += v.count_at_value();
-    }
-    for (us, n) in buckets {
-        let _ = writeln!(text, "{us:06} {n:06}");
-    }
-    text
 }
 
 /// What the preparation thread prepares.
