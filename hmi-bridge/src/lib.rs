@@ -28,18 +28,6 @@ pub fn address_in(log: &str) -> Option<&str> {
     Some(addr)
 }
 
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn address_only_when_written_in_full() {
-        let line = "hmi-bridge: instance 'a': http://127.0.0.1:8123/ (token)\n";
-        assert_eq!(super::address_in(line), Some("127.0.0.1:8123"));
-        for cut in 0..line.find(":8123/").unwrap() + 6 {
-            assert_eq!(super::address_in(&line[..cut]), None, "{}", &line[..cut]);
-        }
-    }
-}
-
 pub fn main(args: Vec<String>) -> ExitCode {
     match run(args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -124,4 +112,16 @@ fn run(args: Vec<String>) -> Result<(), String> {
     stop.store(true, Ordering::SeqCst);
     let _ = link_thread.join();
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn address_only_when_written_in_full() {
+        let line = "hmi-bridge: instance 'a': http://127.0.0.1:8123/ (token)\n";
+        assert_eq!(super::address_in(line), Some("127.0.0.1:8123"));
+        for cut in 0..line.find(":8123/").unwrap() + 6 {
+            assert_eq!(super::address_in(&line[..cut]), None, "{}", &line[..cut]);
+        }
+    }
 }
