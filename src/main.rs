@@ -1,10 +1,9 @@
 //! `softnc`: the user-facing command line of the softnc NC kernel.
 
 use clap::{Args, Parser, Subcommand};
-use nc_kernel::alarm::render;
-use nc_kernel::frontend::jsonl;
-use nc_kernel::prep::jsonl as prep_jsonl;
-use nc_kernel::prep::Prepared;
+use nc_kernel::jsonl;
+use nc_kernel::jsonl as prep_jsonl;
+use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
@@ -256,7 +255,7 @@ fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> ExitCode {
             }
             Err(alarm) => {
                 let _ = out.flush();
-                eprintln!("{}", render(&alarm, &l.source));
+                eprintln!("{}", alarm.render(&l.source));
                 return ExitCode::from(1);
             }
         }
@@ -307,7 +306,7 @@ fn path_jsonl(l: &Loaded, prep: &mut Preparation, mut out: BufWriter<Box<dyn Wri
             Ok(None) => break ExitCode::SUCCESS,
             Err(alarm) => {
                 let _ = prep_jsonl::write_alarm(&mut out, &alarm);
-                eprintln!("{}", render(&alarm, &l.source));
+                eprintln!("{}", alarm.render(&l.source));
                 break ExitCode::from(1);
             }
         }
@@ -325,7 +324,7 @@ fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> ExitCode {
         match item {
             Ok(s) => segments.push(s),
             Err(a) => {
-                eprintln!("{}", render(&a, &l.source));
+                eprintln!("{}", a.render(&l.source));
                 alarm = Some(a);
             }
         }
@@ -372,7 +371,7 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Exit
             Ok(None) => break,
             Err(alarm) => {
                 alarms += 1;
-                eprintln!("{}", render(&alarm, &l.source));
+                eprintln!("{}", alarm.render(&l.source));
                 break;
             }
         }
@@ -417,7 +416,7 @@ fn with_preparation<R>(l: &Loaded, f: impl FnOnce(&mut Preparation) -> R) -> R {
 
 /// A warning (an alarm the machine data lets pass) as a diagnostic.
 fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
-    render(w, source).replacen(": alarm ", ": warning ", 1)
+    w.render(source).replacen(": alarm ", ": warning ", 1)
 }
 
 fn bridge(b: &BridgeArgs) -> Result<hmi_bridge::client::Bridge, ExitCode> {
@@ -732,7 +731,7 @@ fn simulate(
         eprintln!("{}", render_warning(w, &l.source));
     }
     for a in &s.alarms {
-        eprintln!("{}", render(a, &l.source));
+        eprintln!("{}", a.render(&l.source));
     }
     eprintln!(
         "{}: {}: {} cycles ({:.3} s machine time), {} segments, {} auxiliary functions, top path speed {:.1} mm/min; simulated in {:.0} ms",

@@ -2,13 +2,12 @@
 //! contour, tool-centre path coloured by role, the tool circle at each block end, block labels
 //! and alarms, on a grid in the compensation plane (docs/path-format.md).
 
-use nc_kernel::alarm::Alarm;
-use nc_kernel::frontend::block::{Block, MotionKind, Plane, Pos, TrcSide};
-use nc_kernel::machine_data::{MachineKind, ToolPost};
-use nc_kernel::segment::{Role, Segment, Shape};
-use nc_kernel::trc::cutting_edge::tip_vector;
-use nc_kernel::trc::geom::v2;
+use nc_kernel::geometry::tip_offset;
+use nc_kernel::Alarm;
+use nc_kernel::{Block, MotionKind, Plane, Pos, TrcSide};
 use nc_kernel::{Interpreter, MachineData, ToolTable};
+use nc_kernel::{MachineKind, ToolPost};
+use nc_kernel::{Role, Segment, Shape};
 use std::f64::consts::TAU;
 use svg::node::element::path::Data;
 use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text, Title};
@@ -130,11 +129,11 @@ impl<'a> Picture<'a> {
                 let names = ["X", "Y", "Z"];
                 // A turning tool's path is its tip P: the nose centre is P minus the cutting
                 // edge position's vector.
-                let v = block.map_or(v2(0.0, 0.0), |b| {
-                    tip_vector(b.modal.edge, b.modal.radius, self.plane)
+                let v = block.map_or([0.0, 0.0], |b| {
+                    tip_offset(b.modal.edge, b.modal.radius, self.plane)
                 });
                 let p = self.uv(s.to);
-                let c = (p.0 - v.x, p.1 - v.y);
+                let c = (p.0 - v[0], p.1 - v[1]);
                 let tip = format!(
                     "{}: {} {}{} {}{}, R{}",
                     s.source
@@ -545,7 +544,7 @@ impl<'a> Picture<'a> {
     fn turning_tips(&self) -> bool {
         self.blocks
             .iter()
-            .any(|b| tip_vector(b.modal.edge, b.modal.radius, self.plane) != v2(0.0, 0.0))
+            .any(|b| tip_offset(b.modal.edge, b.modal.radius, self.plane) != [0.0, 0.0])
     }
 
     fn legend(&self, y: f64) -> Group {

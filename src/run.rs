@@ -5,7 +5,7 @@
 //! and actual path. Ctrl-C: NC stop, the axes brake, the children end, the instance's shared
 //! memory is removed.
 
-use nc_kernel::segment::Segment;
+use nc_kernel::Segment;
 use nc_kernel::{MachineData, Preparation, ToolTable};
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};

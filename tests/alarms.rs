@@ -5,8 +5,8 @@
 //! The last tests run the `softnc` binary end to end: exit status, the diagnostic on stderr
 //! and machine data errors.
 
-use nc_kernel::frontend::{FeedAdaption, MotionMode};
 use nc_kernel::{interpret, Alarm, AlarmCode, Block, MachineData, ToolTable};
+use nc_kernel::{FeedAdaption, MotionMode};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

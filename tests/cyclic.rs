@@ -11,8 +11,8 @@ mod plc_mock;
 
 use nc_kernel::cycle::{alarm, Control, Refusal, Status};
 use nc_kernel::handover::Handover;
-use nc_kernel::ipo::channel::Input;
 use nc_kernel::ipo::ChannelState;
+use nc_kernel::ipo::Input;
 use nc_kernel::MachineData;
 use plc_mock::{state, Rig};
 use std::sync::Arc;

@@ -12,7 +12,6 @@
 //!
 //! The coverage-guided counterpart is the cargo-fuzz target in fuzz/ (fuzz/README.md).
 
-use nc_kernel::alarm::render;
 use nc_kernel::{interpret, Alarm, MachineData, ToolTable};
 use proptest::prelude::*;
 use std::collections::HashMap;
@@ -118,7 +117,7 @@ fn check_alarm(a: &Alarm, src: &str) -> Result<(), TestCaseError> {
         a
     );
     // Rendering the diagnostic works.
-    let shown = render(a, src);
+    let shown = a.render(src);
     prop_assert!(shown.starts_with("fuzz.nc:"));
     Ok(())
 }

@@ -10,8 +10,8 @@
 #[path = "support/soup.rs"]
 mod soup;
 
-use nc_kernel::prep::Prepared;
-use nc_kernel::segment::Role;
+use nc_kernel::Prepared;
+use nc_kernel::Role;
 use nc_kernel::{MachineData, Preparation, ToolTable};
 use soup::{program, Rng};
 use std::path::Path;

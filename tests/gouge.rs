@@ -13,8 +13,8 @@
 //! The bottleneck window is 64 blocks, longer than any contour here, so softnc sees all of
 //! it. The distance functions below are this file's own.
 
-use nc_kernel::segment::{Role, Shape};
 use nc_kernel::{MachineData, ToolTable};
+use nc_kernel::{Role, Shape};
 
 type P = [f64; 2];
 

@@ -9,7 +9,7 @@
 mod counting;
 
 use nc_kernel::handover::{prepare_all, Job};
-use nc_kernel::ipo::channel::Input;
+use nc_kernel::ipo::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::{MachineData, ToolTable};
 

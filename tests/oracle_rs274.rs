@@ -9,8 +9,8 @@
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set (CI sets it after installing linuxcnc-uspace), where a missing oracle fails.
 
-use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 use std::process::Command;
 
 const TOL: f64 = 2e-4;
@@ -394,10 +394,25 @@ fn run_rs274_zx(ngc: &str, tag: &str) -> Vec<Mv> {
     moves
 }
 
+/// LinuxCNC's tool orientation (G41.1/G42.1 `L`) for a cutting edge position: LinuxCNC
+/// numbers the positions seen in front of the centre, so L is the position with X mirrored
+/// (measured with rs274: docs/turning.md).
+fn linuxcnc_orientation(edge: u8) -> u8 {
+    match edge {
+        1 => 4,
+        2 => 3,
+        3 => 2,
+        4 => 1,
+        6 => 8,
+        8 => 6,
+        e => e,
+    }
+}
+
 /// Turning (issue 8): a turned profile — OD, taper, convex and concave radii, a face with a
 /// convex corner — in diameter programming (808D DIAMON; rs274 G7), G42, nose radius 0.8,
 /// for every cutting edge position: the tip path agrees with rs274 (`G42.1 D1.6 L<k>`, L =
-/// the position with X mirrored, `cutting_edge::linuxcnc_orientation`) in the contour
+/// the position with X mirrored, `linuxcnc_orientation`) in the contour
 /// interior to 2e-4 mm, as (Z, X-radius).
 #[test]
 fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
@@ -414,7 +429,7 @@ fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
     )
     .unwrap();
     for edge in 1..=9u8 {
-        let l = nc_kernel::trc::cutting_edge::linuxcnc_orientation(edge);
+        let l = linuxcnc_orientation(edge);
         let mpf = format!(
             "N10 G18 G90 DIAMON T1 D1 G0 X30 Z5\nN20 G1 F100 G450\nN30 G42 X10 Z2\n{}G40 X50\nM30\n",
             body.replace("{R}", "CR=")

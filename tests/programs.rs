@@ -5,8 +5,8 @@
 //! coordinate system in mm ([X, Y, Z], all zero offsets 0 in the shipped config); on the 808D
 //! lathe X is programmed as a diameter and expected here as the radius (diameter / 2).
 
-use nc_kernel::frontend::block::{CornerPolicy, MotionKind, Plane, SelectionPolicy, TrcSide};
 use nc_kernel::{AlarmCode, Block, MachineData, ToolTable};
+use nc_kernel::{CornerPolicy, MotionKind, Plane, SelectionPolicy, TrcSide};
 use std::path::PathBuf;
 
 const TOL: f64 = 1e-9;

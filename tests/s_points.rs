@@ -4,10 +4,10 @@
 //! from (0,0) ends in the normal position (50,50) + 10·(−1,1)/√2 = S1; N30 runs down X50, its
 //! equidistant is x = 60, so it starts at (60,50).
 
-use nc_kernel::machine_data::AuxOutput;
-use nc_kernel::prep::{Prepared, Stop};
-use nc_kernel::segment::Role;
+use nc_kernel::AuxOutput;
+use nc_kernel::Role;
 use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_kernel::{Prepared, Stop};
 use std::path::PathBuf;
 
 fn program(file: &str) -> String {

@@ -15,8 +15,8 @@ use cavalier_contours::polyline::{seg_midpoint, PlineSource, PlineSourceMut, Pol
 mod common;
 
 use common::*;
-use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::PathBuf;

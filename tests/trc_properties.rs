@@ -12,8 +12,8 @@
 mod common;
 
 use common::*;
-use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use std::f64::consts::TAU;

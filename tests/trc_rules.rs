@@ -4,8 +4,8 @@
 //! arithmetic is in the comments) or with the small vector helpers below, never copied from
 //! softnc's output. Tolerance 1e-9 mm unless stated.
 
-use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, AlarmCode, MachineData, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 use std::path::PathBuf;
 
 const TOL: f64 = 1e-9;
@@ -740,8 +740,8 @@ fn program_end_with_trc_active_11_5_1() {
 /// reposition move goes to the new midpoint, and N40 goes on from there.
 #[test]
 fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
-    use nc_kernel::prep::{Interruption, Prepared};
     use nc_kernel::Preparation;
+    use nc_kernel::{Interruption, Prepared};
     let src = program("siemens-840c", "11_15_workpiece.mpf");
     let md = machine("siemens-840c.toml", &[]);
     let old = tools(&[]);

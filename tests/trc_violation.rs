@@ -1,9 +1,9 @@
 //! Contour violation (840C 11.12) with both machine-data reactions, and an arc lengthened
 //! past a full turn at an obtuse circle transition (11.14). Expected positions by hand.
 
-use nc_kernel::prep::Prepared;
-use nc_kernel::segment::{Role, Segment, Shape};
+use nc_kernel::Prepared;
 use nc_kernel::{AlarmCode, MachineData, Preparation, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 
 fn run(src: &str, md: &[&str]) -> (Vec<Prepared>, Option<nc_kernel::Alarm>) {
     let over: Vec<String> = md.iter().map(|s| s.to_string()).collect();

@@ -6,8 +6,8 @@
 //! cutting edge position k (840C, behind the centre of rotation, in (Z, X)) is
 //! 1 (+R,+R) 2 (−R,+R) 3 (−R,−R) 4 (+R,−R) 5 (+R,0) 6 (0,+R) 7 (−R,0) 8 (0,−R) 9 (0,0).
 
-use nc_kernel::segment::{Role, Segment, Shape};
 use nc_kernel::{prepare, MachineData, ToolTable};
+use nc_kernel::{Role, Segment, Shape};
 
 const R: f64 = 0.8;
 

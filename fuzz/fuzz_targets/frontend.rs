@@ -10,7 +10,6 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use nc_kernel::alarm::render;
 use nc_kernel::{Interpreter, MachineData, ToolTable};
 use std::sync::OnceLock;
 
@@ -92,7 +91,7 @@ fuzz_target!(|data: &[u8]| {
                     "alarm outside the program text ({} lines; line width {width:?}): {a}",
                     src.split('\n').count()
                 );
-                let _ = render(&a, &src);
+                let _ = a.render(&src);
                 break;
             }
         }

@@ -192,7 +192,7 @@ impl Api {
         // same edit on a copy of the kernel's last table (unless the message was cut short).
         let limit = self.md.hmi.offset_limit(b.wear);
         let t = b.t.filter(|&t| t != 0);
-        nc_kernel::tools::check_edit(b.wear, b.radius, limit)
+        nc_kernel::check_edit(b.wear, b.radius, limit)
             .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         let snap = self.link.snapshot();
         if let Some(table) = snap.tools.as_ref().filter(|m| m.truncated == 0) {

@@ -2,10 +2,10 @@
 //! tool-centre path (from preparation, with the kernel's current tool table), as polylines
 //! in the program's plane, arcs sampled finely enough to look round.
 
-use nc_kernel::frontend::block::{MotionKind, Plane};
-use nc_kernel::prep::Prepared;
-use nc_kernel::segment::Curve;
+use nc_kernel::geometry::Curve;
+use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable};
+use nc_kernel::{MotionKind, Plane};
 use softnc_protocol::ToolTableMsg;
 
 /// Points kept at most per picture: longer programs are thinned.
@@ -101,7 +101,7 @@ pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Pl
             Ok(Some(_)) => continue,
             Ok(None) => break,
             Err(e) => {
-                out.alarm = Some(nc_kernel::alarm::render(&e, source));
+                out.alarm = Some(e.render(source));
                 break;
             }
         };

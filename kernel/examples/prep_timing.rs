@@ -1,7 +1,7 @@
 //! Wall-clock timing of block preparation on the 1 M-block serpentine of the prep bench:
-//! `prep_timing [WINDOW] [RUNS]` prints min and median of RUNS runs (default 3, 7) for the
-//! front alone (interpretation and compensation, nothing after them), one thread, and the
-//! front in a thread of its own. Made for comparing two builds on a noisy machine: copy
+//! `prep_timing [WINDOW] [RUNS]` prints min and median of RUNS runs (default 3, 7) with the
+//! bottleneck window off (interpretation and compensation, the nearest to the front alone),
+//! and with WINDOW in one thread and with the front in a thread of its own. Made for comparing two builds on a noisy machine: copy
 //! each build's binary aside and alternate single runs of the two (`prep_timing 3 1`), so
 //! that both see the same neighbours (docs/benchmarks.md).
 use nc_kernel::synthetic::{compensated_program, Header};
@@ -24,19 +24,9 @@ fn main() {
     let text = compensated_program(1_000_000, Header::Softnc);
     let md = MachineData::load(None, &[format!("trc.bottleneck_window={window}")]).unwrap();
     let tools = ToolTable::builtin();
-    time("front alone", runs, || {
-        let interp = nc_kernel::Interpreter::new("b", &text, &md, &tools);
-        let mut front = nc_kernel::prep::front::Front::new("b", interp, &md);
-        let mut out = nc_kernel::trc::Out::new();
-        let mut n = 0usize;
-        while let nc_kernel::prep::front::Step::Block(b) = front.step(&mut out) {
-            std::hint::black_box(b.element);
-            while let Some(s) = out.pop_front() {
-                std::hint::black_box(s);
-                n += 1;
-            }
-        }
-        n
+    let off = MachineData::load(None, &["trc.bottleneck_window=0".to_string()]).unwrap();
+    time("window 0 one thread", runs, || {
+        drain(Preparation::new("b", &text, &off, &tools))
     });
     time(&format!("window {window} one thread"), runs, || {
         drain(Preparation::new("b", &text, &md, &tools))

@@ -124,6 +124,12 @@ impl Alarm {
     pub fn number(&self) -> u32 {
         self.code.number()
     }
+
+    /// The alarm as a compiler diagnostic: the message, then the offending line of `source`
+    /// with a caret under the column (docs/alarms.md).
+    pub fn render(&self, source: &str) -> String {
+        render(self, source)
+    }
 }
 
 impl fmt::Display for Alarm {
@@ -147,7 +153,7 @@ impl std::error::Error for Alarm {}
 
 /// Renders an alarm like a compiler diagnostic, with the offending source line and a caret
 /// under the column.
-pub fn render(alarm: &Alarm, source: &str) -> String {
+pub(crate) fn render(alarm: &Alarm, source: &str) -> String {
     let mut out = alarm.to_string();
     if let Some(text) = source.lines().nth(alarm.line.saturating_sub(1) as usize) {
         let text = text.trim_end_matches('\r');

@@ -15,7 +15,7 @@
 
 use crate::frontend::block::Pos;
 use crate::handover::Handover;
-use crate::ipo::channel::Input;
+use crate::ipo::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::prep::AuxFunction;
 use crate::MachineData;
@@ -89,7 +89,7 @@ pub struct Status {
     /// The cycle in which the PLC's sign of life last arrived.
     pub plc_cycle: u64,
     /// Where the path is on the program.
-    pub progress: Option<crate::ipo::planner::Progress>,
+    pub progress: Option<crate::ipo::Progress>,
 }
 
 /// The IPO thread's transport. Every method returns at once.

@@ -15,7 +15,7 @@
 //! the IPO thread gets only their number and block, and never frees memory.
 
 use crate::alarm::Alarm;
-use crate::ipo::channel::Input;
+use crate::ipo::Input;
 use crate::ipo::{AxisLimits, Entry};
 use crate::prep::{Preparation, Prepared};
 use crate::{MachineData, ToolTable};

@@ -1,27 +1,48 @@
-//! nc-kernel: the softnc NC kernel library.
+//! nc-kernel: the portable core of softnc, a soft NC kernel. No OS beyond std: the runtime
+//! around it (clock, real-time threads, shared memory, processes) is the crate nc-runtime.
 //!
-//! Data flows one way: [`frontend`] (part program → interpreted blocks) → block preparation →
-//! interpolation → IPC. Each stage is named after the NC concept it implements; the manual
-//! sections it follows are cited where each rule lives.
+//! A part program flows one way:
+//!
+//! ```text
+//! text ─► Interpreter (front end, one dialect table per control) ─► Block
+//!      ─► Preparation (tool length and radius compensation, bottleneck window,
+//!         auxiliary functions at S points) ─► Prepared: Segment, AuxFunction, Stop
+//!      ─► handover (the preparation thread, a lock-free queue) ─► ipo::Channel
+//!         (lookahead, jerk-limited profiles, channel states) ─► Setpoint per IPO cycle
+//! ```
+//!
+//! [`cycle::Cyclic`] is one IPO cycle of the kernel with its PLC and HMI around it, over a
+//! [`cycle::Bus`]; [`simulate`] runs the same channel on a simulated clock. Each stage is
+//! named after the NC concept it implements, and the manual sections it follows are cited
+//! where each rule lives (docs/ARCHITECTURE.md).
 
-pub mod alarm;
+mod alarm;
 pub mod cycle;
-pub mod dialect;
-pub mod frontend;
+mod dialect;
+mod frontend;
+pub mod geometry;
 pub mod handover;
 pub mod ipo;
-pub(crate) mod json;
-pub mod machine_data;
-pub mod prep;
-pub mod segment;
+mod json;
+pub mod jsonl;
+mod machine_data;
+mod prep;
+mod segment;
 pub mod simulate;
 pub mod synthetic;
-pub mod tools;
-pub mod trc;
+mod tools;
+mod trc;
 
 pub use alarm::{Alarm, AlarmCode};
-pub use frontend::{interpret, Block, Interpreter};
-pub use machine_data::MachineData;
-pub use prep::{prepare, Preparation};
+pub use frontend::{
+    interpret, AuxWord, Block, BlockNo, CornerPolicy, Distance, FeedAdaption, Interpreter,
+    ModalState, Motion, MotionKind, MotionMode, Plane, Pos, ProgramStop, SelectionPolicy, TrcSide,
+    AXIS_NAMES,
+};
+pub use machine_data::{
+    AuxOutput, CornerModeSetting, DecimalInput, DialectName, MachineData, MachineDataError,
+    MachineKind, PlaneName, ToolPost, Units, ViolationReaction, BUILTIN_DEFAULTS,
+};
+pub use prep::{prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop};
 pub use segment::{Role, Segment, Shape, Source};
-pub use tools::{ToolOffset, ToolTable};
+pub use tools::{check_edit, offset_label, LiveEdit, LiveEdits, ToolOffset, ToolTable};

@@ -2,7 +2,7 @@
 //! simulated clock (issue 5 e, f). One CSV row per IPO cycle:
 //! `cycle,time,X,Y,Z,v_path,block,events`.
 //!
-//! Preparation runs in its own thread and hands ready [`Entry`](crate::ipo::planner::Entry)s (limits computed there)
+//! Preparation runs in its own thread and hands ready [`Entry`](crate::ipo::Entry)s (limits computed there)
 //! over a bounded queue. The simulated IPO never runs ahead of it: before each cycle it takes
 //! records until the lookahead is full or the program is through, waiting for them if
 //! needed. So the setpoints depend on the program and the machine data only, never on how
@@ -14,7 +14,7 @@
 
 use crate::alarm::{Alarm, AlarmCode};
 use crate::handover::{with_preparation, Handover, Job, Report};
-use crate::ipo::channel::Input;
+use crate::ipo::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::segment::Source;
 use crate::{MachineData, ToolTable};

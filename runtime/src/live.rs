@@ -8,7 +8,7 @@
 use crate::os::{self, RtReport};
 use hdrhistogram::Histogram;
 use nc_kernel::handover::{with_preparation, Handover, Job, Report};
-use nc_kernel::ipo::channel::Input;
+use nc_kernel::ipo::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::{MachineData, ToolTable};
 use std::time::Duration;
@@ -100,7 +100,7 @@ pub fn run(
 
 fn ipo_thread(
     md: &MachineData,
-    start: nc_kernel::frontend::block::Pos,
+    start: nc_kernel::Pos,
     hand: &Handover,
     opts: &LiveOptions,
     cycle_ns: u64,

@@ -6,7 +6,7 @@
 
 use nc_kernel::cycle::{AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status};
 use nc_kernel::handover::{prepare_all, Handover, Job, Report, QUEUE};
-use nc_kernel::ipo::channel::Input;
+use nc_kernel::ipo::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::{MachineData, ToolTable};
 use std::sync::Arc;

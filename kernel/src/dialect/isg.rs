@@ -73,7 +73,6 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: true,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
-    plane_code_forbidden_with_trc: false,
     d0_deselects: false,
     m18_stops: false,
     initial_motion: MotionMode::Rapid,

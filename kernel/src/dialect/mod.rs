@@ -156,8 +156,6 @@ pub struct Dialect {
     pub dwell: DwellWords,
     /// Alarm for TRC selection/deselection in a circular block.
     pub trc_not_linear: AlarmCode,
-    /// Any plane G code under TRC is an alarm (840C 11.4), not only an actual change.
-    pub plane_code_forbidden_with_trc: bool,
     /// D0 deselects TRC (840C 11.5: "D0 corresponds to TRC deselection").
     pub d0_deselects: bool,
     /// M18 is a programmed stop at block end (840C 11.10 lists it with M00/M01/M02/M30).

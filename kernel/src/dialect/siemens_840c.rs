@@ -78,7 +78,6 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
-    plane_code_forbidden_with_trc: true,
     d0_deselects: true,
     m18_stops: true,
     initial_motion: MotionMode::Rapid,

@@ -45,11 +45,6 @@ impl<'a> Cursor<'a> {
         }
     }
 
-    #[inline]
-    pub fn at_end(&self) -> bool {
-        self.i >= self.end
-    }
-
     /// Upper-cased ASCII letter at the cursor.
     #[inline]
     pub fn letter(&self) -> Option<u8> {

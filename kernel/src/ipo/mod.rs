@@ -10,13 +10,14 @@
 //!
 //! Everything the IPO thread runs works in place: no allocation, no lock (docs/ipo.md).
 
-pub mod channel;
-pub mod limits;
-pub mod path;
-pub mod planner;
-pub mod profile;
+mod channel;
+mod limits;
+mod path;
+mod planner;
+mod profile;
 
-pub use channel::{Channel, ChannelState, Event, Setpoint};
-pub use limits::AxisLimits;
+pub use channel::{Channel, ChannelState, Event, Input, Setpoint, MAX_EVENTS};
+pub use limits::{AxisLimits, SegmentLimits};
 pub use path::Piece;
-pub use planner::{Entry, Planner};
+pub use planner::{Entry, Planner, Progress, Sample, MAX_LOOKAHEAD};
+pub use profile::Dynamics;

@@ -91,6 +91,7 @@ impl Profile {
         self.s[self.n]
     }
 
+    #[cfg(test)]
     pub fn end_velocity(&self) -> f64 {
         self.v[self.n]
     }

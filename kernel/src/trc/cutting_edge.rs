@@ -44,20 +44,6 @@ pub fn tip_vector(edge: u8, r: f64, plane: Plane) -> V2 {
     v2(z, x)
 }
 
-/// LinuxCNC's tool orientation (G41.1/G42.1 `L`) for a cutting edge position: the same tip
-/// with X mirrored (measured: docs/turning.md).
-pub fn linuxcnc_orientation(edge: u8) -> u8 {
-    match edge {
-        1 => 4,
-        2 => 3,
-        3 => 2,
-        4 => 1,
-        6 => 8,
-        8 => 6,
-        e => e,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,11 +59,12 @@ mod tests {
                 6 | 8 => assert!(az == 0.0 && ax == 0.8),
                 _ => assert!(az == 0.0 && ax == 0.0),
             }
-            // Mirroring X twice is the identity, and keeps Z.
-            let l = linuxcnc_orientation(e);
-            assert_eq!(linuxcnc_orientation(l), e);
-            let m = tip_vector(l, 0.8, Plane::ZX);
-            assert!(m.x == v.x && m.y == -v.y, "{e} ↔ L{l}");
+        }
+        // Mirrored about Z (a tool in front of the centre, LinuxCNC's numbering): 1 ↔ 4,
+        // 2 ↔ 3, 6 ↔ 8; 5, 7 and 9 stay.
+        for (e, m) in [(1, 4), (2, 3), (6, 8), (5, 5), (7, 7), (9, 9)] {
+            let (v, w) = (tip_vector(e, 0.8, Plane::ZX), tip_vector(m, 0.8, Plane::ZX));
+            assert!(w.x == v.x && w.y == -v.y, "{e} ↔ {m}");
         }
         assert_eq!(tip_vector(3, 0.8, Plane::XY), v2(0.0, 0.0));
     }

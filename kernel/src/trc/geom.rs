@@ -71,9 +71,11 @@ impl V2 {
     pub fn left(self) -> V2 {
         v2(-self.y, self.x)
     }
+    #[cfg(test)]
     pub fn angle(self) -> f64 {
         libm::atan2(self.y, self.x)
     }
+    #[cfg(test)]
     pub fn from_angle(a: f64) -> V2 {
         v2(libm::cos(a), libm::sin(a))
     }
@@ -136,13 +138,6 @@ impl Elem {
     pub fn tangent_end(&self) -> V2 {
         self.tangent_at(self.end())
     }
-    /// Length of the element (arc length for arcs).
-    pub fn length(&self) -> f64 {
-        match *self {
-            Elem::Line { a, b } => a.dist(b),
-            Elem::Arc { .. } => self.sweep() * self.radius(),
-        }
-    }
     /// Swept angle of an arc, in (0, 2π]; 0 for a line.
     pub fn sweep(&self) -> f64 {
         match *self {
@@ -184,10 +179,7 @@ impl Elem {
             }
         }
     }
-    /// The normal position: the point at `d` left of the element's start (or end).
-    pub fn normal_start(&self, d: f64) -> V2 {
-        self.start() + self.tangent_start().left() * d
-    }
+    /// The normal position: the point at `d` left of the element's end.
     pub fn normal_end(&self, d: f64) -> V2 {
         self.end() + self.tangent_end().left() * d
     }
@@ -202,42 +194,6 @@ impl Elem {
         match *self {
             Elem::Line { a, .. } => Elem::Line { a, b: p },
             Elem::Arc { a, c, ccw, .. } => Elem::Arc { a, b: p, c, ccw },
-        }
-    }
-    /// The element run backwards.
-    pub fn reversed(&self) -> Elem {
-        match *self {
-            Elem::Line { a, b } => Elem::Line { a: b, b: a },
-            Elem::Arc { a, b, c, ccw } => Elem::Arc {
-                a: b,
-                b: a,
-                c,
-                ccw: !ccw,
-            },
-        }
-    }
-    /// Position of `p` (a point on the element's line or circle) along the element, as a
-    /// length from the start: negative before the start, beyond `length()` after the end.
-    /// For arcs the angle is measured in the direction of travel from the start; points up
-    /// to half a turn behind the start come out negative unless the arc reaches them.
-    pub fn param(&self, p: V2) -> f64 {
-        match *self {
-            Elem::Line { a, b } => (p - a).dot((b - a).unit()),
-            Elem::Arc { a, c, ccw, .. } => {
-                let r = a.dist(c);
-                let mut t = libm::atan2((a - c).cross(p - c), (a - c).dot(p - c));
-                if !ccw {
-                    t = -t;
-                }
-                // t in (−π, π]; points past half a turn from the start are "ahead" when
-                // the arc is long enough to reach them.
-                let s = self.sweep();
-                if t < 0.0 && t + std::f64::consts::TAU <= s + ANGLE_EPS && s > std::f64::consts::PI
-                {
-                    t += std::f64::consts::TAU;
-                }
-                t * r
-            }
         }
     }
 }
@@ -328,6 +284,47 @@ pub fn intersections(e1: &Elem, e2: &Elem) -> heapless::Vec<V2, 2> {
         | (Elem::Arc { a: s, c, .. }, Elem::Line { a, b }) => line_circle(a, b - a, c, s.dist(c)),
         (Elem::Arc { a: s1, c: c1, .. }, Elem::Arc { a: s2, c: c2, .. }) => {
             circle_circle(c1, s1.dist(c1), c2, s2.dist(c2))
+        }
+    }
+}
+
+/// Helpers the tests below use.
+#[cfg(test)]
+impl Elem {
+    /// The element run backwards.
+    pub fn reversed(&self) -> Elem {
+        match *self {
+            Elem::Line { a, b } => Elem::Line { a: b, b: a },
+            Elem::Arc { a, b, c, ccw } => Elem::Arc {
+                a: b,
+                b: a,
+                c,
+                ccw: !ccw,
+            },
+        }
+    }
+    /// Position of `p` (a point on the element's line or circle) along the element, as a
+    /// length from the start: negative before the start, beyond its length after the end.
+    /// For arcs the angle is measured in the direction of travel from the start; points up
+    /// to half a turn behind the start come out negative unless the arc reaches them.
+    pub fn param(&self, p: V2) -> f64 {
+        match *self {
+            Elem::Line { a, b } => (p - a).dot((b - a).unit()),
+            Elem::Arc { a, c, ccw, .. } => {
+                let r = a.dist(c);
+                let mut t = libm::atan2((a - c).cross(p - c), (a - c).dot(p - c));
+                if !ccw {
+                    t = -t;
+                }
+                // t in (−π, π]; points past half a turn from the start are "ahead" when
+                // the arc is long enough to reach them.
+                let s = self.sweep();
+                if t < 0.0 && t + std::f64::consts::TAU <= s + ANGLE_EPS && s > std::f64::consts::PI
+                {
+                    t += std::f64::consts::TAU;
+                }
+                t * r
+            }
         }
     }
 }
@@ -722,6 +719,7 @@ fn at_least(p: &Measured, q: V2, limit: f64) -> bool {
 /// turn: the ray from the centre misses the arc), and both ends are at least `limit` from
 /// `path`. Rounding is covered by a margin of a few 1e-14 of the coordinates (far below the
 /// gouge tolerance, so that a tangent neighbour at exactly R still passes).
+#[cfg(test)]
 pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
     clear_by_ends_of(&Measured::new(*path), other, &Fence::new(other), limit)
 }

@@ -379,10 +379,6 @@ impl Compensator {
         self.closing = last;
     }
 
-    pub fn is_active(&self) -> bool {
-        self.mode != Mode::Off
-    }
-
     /// True while blocks wait for the next element (their segments are not out yet).
     pub fn holds_back(&self) -> bool {
         self.pending.is_some() || self.selection.is_some() || !self.held.is_empty()

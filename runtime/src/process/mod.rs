@@ -125,10 +125,10 @@ pub fn main(args: Vec<String>) -> ExitCode {
     let mut alarms = 0;
     for r in &stats.reports {
         match r {
-            Report::Warning(w) => eprintln!("{}", nc_kernel::alarm::render(w, &source)),
+            Report::Warning(w) => eprintln!("{}", w.render(&source)),
             Report::Alarm(a) => {
                 alarms += 1;
-                eprintln!("{}", nc_kernel::alarm::render(a, &source));
+                eprintln!("{}", a.render(&source));
             }
         }
     }

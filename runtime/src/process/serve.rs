@@ -44,9 +44,9 @@ struct Loaded {
     name: String,
     source: String,
     /// Where the axes stood when it was loaded (its interpretation starts there).
-    at: Option<nc_kernel::frontend::block::Pos>,
+    at: Option<nc_kernel::Pos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
-    live: nc_kernel::tools::LiveEdits,
+    live: nc_kernel::LiveEdits,
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -193,7 +193,7 @@ fn load(
     md: &MachineData,
     tools: &ToolTable,
     id: u32,
-    at: Option<nc_kernel::frontend::block::Pos>,
+    at: Option<nc_kernel::Pos>,
 ) -> Result<(Box<Program>, Loaded), String> {
     let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let (tools, live) = run_table(tools);
@@ -212,8 +212,8 @@ fn load(
 
 /// The table a program runs with: `tools` and a list of its own for edits made while it
 /// runs.
-fn run_table(tools: &ToolTable) -> (ToolTable, nc_kernel::tools::LiveEdits) {
-    let live = nc_kernel::tools::LiveEdits::default();
+fn run_table(tools: &ToolTable) -> (ToolTable, nc_kernel::LiveEdits) {
+    let live = nc_kernel::LiveEdits::default();
     let mut tools = tools.clone();
     tools.live = Some(live.clone());
     (tools, live)
@@ -228,8 +228,8 @@ impl Loaded {
         id: u32,
         name: String,
         source: String,
-        at: Option<nc_kernel::frontend::block::Pos>,
-        live: nc_kernel::tools::LiveEdits,
+        at: Option<nc_kernel::Pos>,
+        live: nc_kernel::LiveEdits,
     ) -> (Box<Program>, Loaded) {
         let program = Box::new(Program {
             id,
@@ -252,7 +252,7 @@ impl Loaded {
 fn ipo_thread(
     instance: &Instance,
     md: &MachineData,
-    start: nc_kernel::frontend::block::Pos,
+    start: nc_kernel::Pos,
     priority: i32,
     shared: &Shared,
     ready: crossbeam::channel::Sender<Result<String, String>>,
@@ -485,7 +485,7 @@ fn print_reports(l: &Loaded) {
     for r in l.reports.try_iter() {
         match r {
             Report::Warning(w) | Report::Alarm(w) => {
-                eprintln!("{}", nc_kernel::alarm::render(&w, &l.source))
+                eprintln!("{}", w.render(&l.source))
             }
         }
     }
@@ -558,7 +558,7 @@ impl Desk<'_> {
         let wear = c.flag != 0;
         let what = if wear { "radius wear" } else { "radius" };
         let t = c.tool();
-        let name = nc_kernel::tools::offset_label(t, c.d);
+        let name = nc_kernel::offset_label(t, c.d);
         let running = last.state == state::ACTIVE;
         if running && !self.md.hmi.edit_while_active {
             return Reply::new(
@@ -587,7 +587,7 @@ impl Desk<'_> {
         let version = shared_bump(self.shared);
         let when = if running {
             if let Some(l) = self.programs.get(&last.program) {
-                l.live.push(nc_kernel::tools::LiveEdit {
+                l.live.push(nc_kernel::LiveEdit {
                     t,
                     d: c.d,
                     wear,
@@ -635,10 +635,10 @@ impl Desk<'_> {
         let Some(l) = self.programs.get(&last.program) else {
             return Reply::new(false, 0, "no program is loaded: load one");
         };
-        let Some(role) = nc_kernel::segment::Role::from_code(last.role) else {
+        let Some(role) = nc_kernel::Role::from_code(last.role) else {
             return Reply::new(false, 0, "the stopped program has no segment to resume on");
         };
-        let at = nc_kernel::prep::Interruption {
+        let at = nc_kernel::Interruption {
             seq: last.block_seq,
             role,
             nth: last.piece,
@@ -657,7 +657,7 @@ impl Desk<'_> {
         let s = match spawned {
             Ok(Ok(s)) => s,
             Ok(Err(alarm)) => {
-                let text = nc_kernel::alarm::render(&alarm, &l.source);
+                let text = alarm.render(&l.source);
                 eprintln!("{text}");
                 return Reply::new(
                     false,
