@@ -121,6 +121,23 @@ pub struct Alarm {
 }
 
 impl Alarm {
+    /// Alarm `code` at block `at` of `program`: its line, column and N word.
+    pub fn at(
+        code: AlarmCode,
+        program: &str,
+        at: &crate::segment::Source,
+        message: impl Into<String>,
+    ) -> Alarm {
+        Alarm {
+            code,
+            program: program.to_string(),
+            line: at.line,
+            col: at.col,
+            block: at.number.map(|n| n.to_string()),
+            message: message.into(),
+        }
+    }
+
     pub fn number(&self) -> u32 {
         self.code.number()
     }

@@ -156,17 +156,15 @@ fn to_input(
         Ok(Prepared::Segment(s)) => match Entry::new(&s, lim) {
             Ok(e) => e.map(Input::Motion),
             Err(axis) => alarm(
-                Alarm {
-                    code: crate::AlarmCode::UnknownAddress,
-                    program: name.to_string(),
-                    line: s.source.line,
-                    col: s.source.col,
-                    block: s.source.number.map(|n| n.to_string()),
-                    message: format!(
+                Alarm::at(
+                    crate::AlarmCode::UnknownAddress,
+                    name,
+                    &s.source,
+                    format!(
                         "the path moves axis {} which has no machine data",
                         crate::frontend::block::AXIS_NAMES[axis]
                     ),
-                },
+                ),
                 report,
             ),
         },

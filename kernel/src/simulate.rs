@@ -158,14 +158,12 @@ fn limit_alarm(code: AlarmCode, at: Option<Source>, name: &str, md: &MachineData
             md.simulate.max_rest_time
         ),
     };
-    Alarm {
-        code,
-        program: name.to_string(),
-        line: at.map_or(1, |s| s.line.max(1)),
-        col: at.map_or(1, |s| s.col.max(1)),
-        block: at.and_then(|s| s.number).map(|n| n.to_string()),
-        message,
-    }
+    let at = at.unwrap_or(Source {
+        line: 1,
+        col: 1,
+        ..Source::default()
+    });
+    Alarm::at(code, name, &at, message)
 }
 
 fn ipo_loop(

@@ -375,14 +375,7 @@ fn recv_soon<T>(rx: &Receiver<T>) -> Result<T, crossbeam::channel::RecvError> {
 const SPIN: u32 = 20_000;
 
 fn alarm(name: &str, f: TrcFault) -> Alarm {
-    Alarm {
-        code: f.code,
-        program: name.to_string(),
-        line: f.source.line,
-        col: f.source.col,
-        block: f.source.number.map(|n| n.to_string()),
-        message: f.message,
-    }
+    Alarm::at(f.code, name, &f.source, f.message)
 }
 
 /// A G41/G42 block under ISG's inner-corner selection (G238).

@@ -260,28 +260,22 @@ impl<'a> Preparation<'a> {
             s.number
                 .map_or_else(|| format!("line {}", s.line), |n| n.to_string())
         };
-        Alarm {
-            code: AlarmCode::ContourViolation,
-            program: self.name.to_string(),
-            line: g.path.line,
-            col: g.path.col,
-            block: g.path.number.map(|n| n.to_string()),
-            message: if g.unjoined {
-                format!(
+        let message = if g.unjoined {
+            format!(
                     "contour violation: contour masking finds no gouge-free way past {} within the window: the tool (radius {:.4}) does not fit (840C 11.12, ISG G141)",
                     name(&g.path),
                     g.radius
                 )
-            } else {
-                format!(
+        } else {
+            format!(
                     "contour violation: the tool path of {} comes within {:.4} mm of the contour of {} (tool radius {:.4}): a bottleneck narrower than the tool (840C 11.12)",
                     name(&g.path),
                     g.distance,
                     name(&g.element),
                     g.radius
                 )
-            },
-        }
+        };
+        Alarm::at(AlarmCode::ContourViolation, self.name, &g.path, message)
     }
 
     /// With both queues empty: releases what waits for the current point, or reads and
@@ -357,15 +351,12 @@ impl<'a> Preparation<'a> {
                 self.done = true;
                 self.ended = true;
                 self.out.clear();
-                return Err(Alarm {
-                    code: AlarmCode::TooManyWords,
-                    program: self.name.to_string(),
-                    line: source.line,
-                    col: source.col,
-                    block: source.number.map(|n| n.to_string()),
-                    message: "too many blocks with auxiliary functions wait for their S point"
-                        .into(),
-                });
+                return Err(Alarm::at(
+                    AlarmCode::TooManyWords,
+                    self.name,
+                    &source,
+                    "too many blocks with auxiliary functions wait for their S point",
+                ));
             }
             if let Some(a) = fault.map(|a| *a) {
                 // The path still in the bottleneck window has not been checked against the
