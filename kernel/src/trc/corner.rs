@@ -124,83 +124,139 @@ pub fn corner(
         return Ok(out);
     }
     if kind == CornerKind::Inner {
+        // 840C 11.1: inner corners always get the intersection of the equidistants.
         let x = nearest_intersection(o1, o2, p1, p2).ok_or(CornerError::NoIntersection)?;
-        out.end1 = x;
-        out.start2 = x;
+        meet(&mut out, x);
         return Ok(out);
     }
-    let gap = p1.dist(p2);
-    let circle_transition = o1.is_arc() || o2.is_arc();
-    if gap < s.suppression {
-        // 11.14: too short for intermediate blocks: approach the intersection.
-        if let Some(x) = nearest_intersection(o1, o2, p1, p2) {
-            out.end1 = x;
-            out.start2 = x;
+    let g = Outer {
+        o1,
+        o2,
+        c,
+        d,
+        a,
+        t1,
+        t2,
+    };
+    if p1.dist(p2) < s.suppression {
+        g.suppressed(&mut out);
+        return Ok(out);
+    }
+    match s.outer {
+        OuterCorner::Circle => g.circle(&mut out),
+        OuterCorner::IntersectionBlocks { cap } => g.intersection_blocks(&mut out, cap, s),
+        OuterCorner::Intersection { limit } => g.intersection_limited(&mut out, limit),
+        OuterCorner::FanucC => g.fanuc_c(&mut out),
+        OuterCorner::LinearTransition => linear_transition(&mut out, o1, o2, a, d),
+    }
+    Ok(out)
+}
+
+/// Both elements end at `x`, with no block between them.
+fn meet(out: &mut Corner, x: V2) {
+    out.end1 = x;
+    out.start2 = x;
+}
+
+/// An outer corner: the equidistants `o1` (ending at P1 in direction `t1`) and `o2`
+/// (starting at P2 in direction `t2`) about the programmed corner `c`, tool offset `d`,
+/// change of direction `a`.
+struct Outer<'a> {
+    o1: &'a Elem,
+    o2: &'a Elem,
+    c: V2,
+    d: f64,
+    a: f64,
+    t1: V2,
+    t2: V2,
+}
+
+impl Outer<'_> {
+    fn p1(&self) -> V2 {
+        self.o1.end()
+    }
+
+    fn p2(&self) -> V2 {
+        self.o2.start()
+    }
+
+    /// 840C 11.14: normal positions too close for intermediate blocks approach the
+    /// intersection; a line between them where there is none.
+    fn suppressed(&self, out: &mut Corner) {
+        let (p1, p2) = (self.p1(), self.p2());
+        if let Some(x) = nearest_intersection(self.o1, self.o2, p1, p2) {
+            meet(out, x);
         } else {
-            push(&mut out, Elem::Line { a: p1, b: p2 });
+            push(out, Elem::Line { a: p1, b: p2 });
         }
-        return Ok(out);
     }
-    let circle = |out: &mut Corner| {
+
+    /// 840C/808D G450, ISG G26 (840C 11.1): an arc of radius |R| about the corner from P1
+    /// to P2.
+    fn circle(&self, out: &mut Corner) {
         push(
             out,
             Elem::Arc {
-                a: p1,
-                b: p2,
-                c,
-                ccw: d < 0.0,
+                a: self.p1(),
+                b: self.p2(),
+                c: self.c,
+                ccw: self.d < 0.0,
             },
         )
-    };
-    match s.outer {
-        OuterCorner::Circle => circle(&mut out),
-        OuterCorner::IntersectionBlocks { cap } => {
-            if circle_transition && o1.is_arc() && o2.is_arc() && gap < 2.0 * s.suppression {
-                // 11.14: switch from intersection to transition circle at arc/arc.
-                circle(&mut out);
-            } else if !circle_transition && a.abs() <= FRAC_PI_2 + ANGLE_EPS {
-                let x = tangent_point(p1, t1, p2, t2);
-                out.end1 = x;
-                out.start2 = x;
-            } else if a.abs() <= cap {
-                let x = tangent_point(p1, t1, p2, t2);
-                push(&mut out, Elem::Line { a: p1, b: x });
-                push(&mut out, Elem::Line { a: x, b: p2 });
-            } else {
-                let e = d.abs() * libm::tan(cap / 2.0);
-                let (pa, pb) = (p1 + t1 * e, p2 - t2 * e);
-                push(&mut out, Elem::Line { a: p1, b: pa });
-                push(&mut out, Elem::Line { a: pa, b: pb });
-                push(&mut out, Elem::Line { a: pb, b: p2 });
-            }
-        }
-        OuterCorner::Intersection { limit } => {
-            let x = if a.abs() > limit {
-                None
-            } else {
-                outer_intersection(o1, o2, p1, p2)
-            };
-            match x {
-                Some(x) => {
-                    out.end1 = x;
-                    out.start2 = x;
-                }
-                None => circle(&mut out),
-            }
-        }
-        OuterCorner::FanucC if a.abs() <= FRAC_PI_2 + ANGLE_EPS => {
-            if let Some(x) = outer_intersection(o1, o2, p1, p2) {
-                out.end1 = x;
-                out.start2 = x;
-            } else {
-                linear_transition(&mut out, o1, o2, a, d);
-            }
-        }
-        OuterCorner::FanucC | OuterCorner::LinearTransition => {
-            linear_transition(&mut out, o1, o2, a, d)
+    }
+
+    /// 840C G451 (11.1, 11.4, 11.14; docs/trc.md): line/line up to 90° meets at T; other
+    /// corners get P1→T→P2, and beyond `cap` the tangents are cut off at the extension they
+    /// have at `cap` (P1→A→B→P2). Arc/arc closer than twice the 11.14 distance takes the
+    /// circle.
+    fn intersection_blocks(&self, out: &mut Corner, cap: f64, s: &CornerSettings) {
+        let (p1, p2, t1, t2) = (self.p1(), self.p2(), self.t1, self.t2);
+        let arcs = self.o1.is_arc() || self.o2.is_arc();
+        if arcs && self.o1.is_arc() && self.o2.is_arc() && p1.dist(p2) < 2.0 * s.suppression {
+            // 11.14: switch from intersection to transition circle at arc/arc.
+            self.circle(out);
+        } else if !arcs && self.a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+            meet(out, tangent_point(p1, t1, p2, t2));
+        } else if self.a.abs() <= cap {
+            let x = tangent_point(p1, t1, p2, t2);
+            push(out, Elem::Line { a: p1, b: x });
+            push(out, Elem::Line { a: x, b: p2 });
+        } else {
+            let e = self.d.abs() * libm::tan(cap / 2.0);
+            let (pa, pb) = (p1 + t1 * e, p2 - t2 * e);
+            push(out, Elem::Line { a: p1, b: pa });
+            push(out, Elem::Line { a: pa, b: pb });
+            push(out, Elem::Line { a: pb, b: p2 });
         }
     }
-    Ok(out)
+
+    /// 808D/840D G451: the intersection of the equidistants themselves up to `limit`;
+    /// above it, or where they do not meet, the transition circle.
+    fn intersection_limited(&self, out: &mut Corner, limit: f64) {
+        let x = if self.a.abs() > limit {
+            None
+        } else {
+            outer_intersection(self.o1, self.o2, self.p1(), self.p2())
+        };
+        match x {
+            Some(x) => meet(out, x),
+            None => self.circle(out),
+        }
+    }
+
+    /// Fanuc C, offset mode: obtuse outer corners meet at the intersection of the
+    /// equidistants (the tangent construction where circles do not meet), acute ones get
+    /// the linear transition with the extension |R|.
+    fn fanuc_c(&self, out: &mut Corner) {
+        let (o1, o2) = (self.o1, self.o2);
+        if self.a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+            if let Some(x) = outer_intersection(o1, o2, self.p1(), self.p2()) {
+                meet(out, x);
+                return;
+            }
+        }
+        linear_transition(out, o1, o2, self.a, self.d);
+    }
 }
 
 /// Fanuc C, "change in the offset direction in the offset mode" (003; Fanuc operator's
@@ -216,6 +272,18 @@ pub fn side_change(o1: &Elem, o2: &Elem) -> Corner {
         start2: x,
         pieces: heapless::Vec::new(),
         kind: CornerKind::Tangent,
+    }
+}
+
+/// ISG contour masking where the equidistants `o1` and `o2` do not meet: the path leaves a
+/// gap from one normal position to the other, which the bottleneck window closes where the
+/// equidistants meet further out (prep/bottleneck.rs).
+pub fn gap(o1: &Elem, o2: &Elem) -> Corner {
+    Corner {
+        end1: o1.end(),
+        start2: o2.start(),
+        pieces: heapless::Vec::new(),
+        kind: CornerKind::Inner,
     }
 }
 

@@ -322,6 +322,96 @@ fn side_sign(side: TrcSide) -> f64 {
     }
 }
 
+/// The block moves in the plane or programs an axis of it, even without a path (840C 11.3,
+/// 11.6.2).
+fn has_plane_axis(motion: Option<&Motion>) -> bool {
+    motion.is_some_and(|m| {
+        m.moves_in_plane(EPS)
+            || m.programmed & ((1 << m.plane.abscissa) | (1 << m.plane.ordinate)) != 0
+    })
+}
+
+/// What a block's G40/G41/G42 asks of the compensation: a deselection, a selection, or both
+/// (a restart: deselect at the last point, select at the programmed one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Request {
+    deselect: Option<SelectionPolicy>,
+    select: Option<SelectionPolicy>,
+}
+
+impl Request {
+    const NONE: Request = Request {
+        deselect: None,
+        select: None,
+    };
+
+    fn select(m: SelectionPolicy) -> Request {
+        Request {
+            deselect: None,
+            select: Some(m),
+        }
+    }
+
+    fn deselect(m: SelectionPolicy) -> Request {
+        Request {
+            deselect: Some(m),
+            select: None,
+        }
+    }
+
+    fn restart(m: SelectionPolicy) -> Request {
+        Request {
+            deselect: Some(m),
+            select: Some(m),
+        }
+    }
+
+    fn is_none(self) -> bool {
+        self.deselect.is_none() && self.select.is_none()
+    }
+}
+
+/// Alarm 3021 for an element the trimmed equidistant runs backwards on (840C 11.12).
+#[cold]
+fn too_large(source: Source) -> Fault {
+    fault(
+        AlarmCode::ContourViolation,
+        source,
+        "contour violation: the tool radius is too large for this element (840C 11.12)",
+    )
+}
+
+/// Alarm 10762 for an inner-corner selection without a path (TF5200 "Selecting inside
+/// corner of TRC"): `en` is the contour's last element, from the block at `last`.
+#[cold]
+fn inner_corner_fault(x: InnerCornerError, sel: &Selection, en: &Elem, last: Source) -> Fault {
+    let (source, msg) = match x {
+        InnerCornerError::NotClosed => (
+            last,
+            format!(
+                "G238: the contour is not closed: its last block before G40 ends at ({}, {}), not at the approach block's end point ({}, {})",
+                num4(en.end().x),
+                num4(en.end().y),
+                num4(sel.q.x),
+                num4(sel.q.y)
+            ),
+        ),
+        InnerCornerError::FirstNotLinear => (
+            sel.tag.source,
+            "G238: the first contour block after the approach block must be a straight line".to_string(),
+        ),
+        InnerCornerError::NotInner => (
+            sel.tag.source,
+            "G238: the corner from the contour's last to its first block is not an inner corner on the tool side".to_string(),
+        ),
+        InnerCornerError::NoIntersection => (
+            sel.tag.source,
+            "G238: the tool does not fit into the inner corner at the approach block's end point".to_string(),
+        ),
+    };
+    fault(AlarmCode::InnerCornerSelection, source, msg)
+}
+
 impl Compensator {
     /// `max_outside`: blocks allowed outside the plane between two plane blocks (11.11);
     /// `suppression`: the 11.14 distance.
@@ -409,15 +499,30 @@ impl Compensator {
         motion: Option<&Motion>,
         out: &mut Out,
     ) -> Result<(), Fault> {
+        let tag = self.begin(b, motion);
+        let new_d = side_sign(b.modal.trc) * b.modal.radius;
+        match motion {
+            Some(m) if self.continues_contour(b, m, new_d) => {
+                let d = self.d;
+                self.element(tag, m, d, d, out)?;
+            }
+            _ => self.decide(b, tag, motion, new_d, out)?,
+        }
+        self.end_of_block(b, out)
+    }
+
+    /// Counts the block and takes its modal settings: the tag its segments carry, the corner
+    /// policy and masking; with compensation off, the plane and the tool position.
+    #[inline]
+    fn begin(&mut self, b: &Block, motion: Option<&Motion>) -> Tag {
         self.seq = self.seq.wrapping_add(1);
-        let source = Source {
-            number: b.number,
-            line: b.line,
-            col: b.col,
-            seq: self.seq,
-        };
         let tag = Tag {
-            source,
+            source: Source {
+                number: b.number,
+                line: b.line,
+                col: b.col,
+                seq: self.seq,
+            },
             feed: b.modal.feed,
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
             exact_stop: b.exact_stop || b.modal.exact_stop,
@@ -433,212 +538,255 @@ impl Compensator {
         }
         self.corner = b.modal.corner;
         self.masking = b.modal.masking;
-        let new_d = side_sign(b.modal.trc) * b.modal.radius;
+        tag
+    }
 
-        // The common block: a contour element while compensation is on and the block asks
-        // nothing of it (no G40/G41/G42, no deselection waiting for a plane move, no radius
-        // change or ramp) — where the decisions below lead, without taking them one by one.
-        if let Some(m) = motion {
-            if self.mode == Mode::On
-                && b.trc.is_none()
-                && self.exit_armed.is_none()
-                && self.ramp_from.is_none()
-                && (new_d - self.d).abs() <= EPS
-                && m.moves_in_plane(EPS)
-            {
-                let d = self.d;
-                self.element(tag, m, d, d, out)?;
-                return self.end_of_block(b, out);
-            }
-        }
+    /// The common block: a contour element while compensation is on and the block asks
+    /// nothing of it (no G40/G41/G42, no deselection waiting for a plane move, no radius
+    /// change or ramp) — where [`Self::decide`] leads, without taking its decisions one by one.
+    #[inline]
+    fn continues_contour(&self, b: &Block, m: &Motion, new_d: f64) -> bool {
+        self.mode == Mode::On
+            && b.trc.is_none()
+            && self.exit_armed.is_none()
+            && self.ramp_from.is_none()
+            && (new_d - self.d).abs() <= EPS
+            && m.moves_in_plane(EPS)
+    }
 
-        // What the block asks of the compensation.
-        let method = b.approach.unwrap_or(b.modal.selection);
-        let mut select: Option<SelectionPolicy> = None;
-        let mut deselect: Option<SelectionPolicy> = None;
-        match (self.mode, b.trc) {
-            (Mode::Off, Some(TrcSide::Left | TrcSide::Right)) if b.modal.trc != TrcSide::Off => {
-                select = Some(method)
-            }
-            (Mode::Armed, Some(TrcSide::Off)) => {
-                // Deselected before it ever took effect.
-                self.mode = Mode::Off;
-            }
-            (Mode::Armed, Some(_)) => select = Some(method),
-            (Mode::On, Some(TrcSide::Off)) => deselect = Some(method),
-            // A repetition (11.6.1): ignored unless a method comes with it, or the control
-            // restarts on every repetition.
-            (Mode::On, Some(side))
-                if side == self.side
-                    && (b.approach.is_some() || self.rules.repeat == RepeatRule::Restart) =>
-            {
-                let m = match self.rules.repeat {
-                    RepeatRule::Restart => b.approach.unwrap_or(SelectionPolicy::NormalPosition),
-                    RepeatRule::IgnoreWithoutApproach => method,
-                };
-                deselect = Some(m);
-                select = Some(m);
-            }
-            (Mode::On, Some(side)) if side == self.side => {}
-            (Mode::On, Some(_)) if self.inner_exit.is_some() => {
-                return Err(fault(
-                    AlarmCode::InnerCornerSelection,
-                    source,
-                    "G238: the compensation side cannot change while selection at an inner corner is active",
-                ));
-            }
-            (Mode::On, Some(side))
-                if self.rules.side_change == SideChange::Intersection && b.approach.is_none() =>
-            {
-                // The new side takes effect with the next element, without deselecting.
-                self.side = side;
-                self.d = new_d;
-                self.switching = true;
-            }
-            (Mode::On, Some(_)) => {
-                let fixed = match self.rules.side_change {
-                    SideChange::Reselect(m) => m,
-                    SideChange::Intersection => None,
-                };
-                let m = b.approach.or(fixed).unwrap_or(b.modal.selection);
-                deselect = Some(m);
-                select = Some(m);
-            }
-            _ => {}
+    /// Any other block: what it asks of the compensation (deselection, selection, a side or
+    /// radius change), then the path for the mode the compensation is in.
+    fn decide(
+        &mut self,
+        b: &Block,
+        tag: Tag,
+        motion: Option<&Motion>,
+        new_d: f64,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        let mut req = self.request(b, tag.source, new_d)?;
+        if req.deselect.is_none() {
+            req.deselect = self.armed_exit_due(motion);
         }
-        if deselect.is_none() {
-            if let Some(m) = self.exit_armed {
-                if motion.is_some_and(|m| m.moves_in_plane(EPS)) {
-                    deselect = Some(m);
-                }
-            }
-        }
-
-        // A radius change while active (840C 11.7, 808D, ISG). `d1` is the radius the next
-        // element ends with; it starts with `self.d`.
-        let mut d1 = self.d;
-        if self.mode == Mode::On
-            && deselect.is_none()
-            && select.is_none()
-            && (new_d - self.d).abs() > EPS
-        {
-            if self.inner_exit.is_some() {
-                return Err(fault(
-                    AlarmCode::InnerCornerSelection,
-                    source,
-                    "G238: the tool radius cannot change while selection at an inner corner is active",
-                ));
-            }
-            match self.rules.radius_change {
-                RadiusChange::InBlockLinear | RadiusChange::InBlock => {
-                    d1 = new_d;
-                }
-                RadiusChange::NextLinear => {
-                    self.ramp_from.get_or_insert(self.d);
-                    self.d = new_d;
-                    d1 = new_d;
-                }
-            }
-        }
-
-        let plane_axes = motion.map_or(0, |m| {
-            m.programmed & ((1 << m.plane.abscissa) | (1 << m.plane.ordinate))
-        });
+        let d1 = self.radius_change(req, tag.source, new_d)?;
         let in_plane = motion.is_some_and(|m| m.moves_in_plane(EPS));
-        // An axis of the plane programmed, even without a path (840C 11.3, 11.6.2).
-        let has_plane = in_plane || plane_axes != 0;
-
-        // Deselection.
-        if let Some(policy) = deselect {
-            if has_plane || self.rules.no_plane_move == NoPlaneMove::OffsetOnly || select.is_some()
-            {
-                self.exit(tag, motion, policy, select.is_some(), out)?;
-                if select.is_none() {
-                    self.side = TrcSide::Off;
-                    self.d = 0.0;
-                    self.mode = Mode::Off;
-                    self.exit_armed = None;
-                    if !has_plane {
-                        // Fanuc: the G40 block itself moves back by the offset.
-                        if let Some(m) = motion {
-                            self.uncompensated(tag, m, out);
-                        }
-                    }
-                    return self.end_of_block(b, out);
-                }
-            } else {
-                self.exit_armed = Some(policy);
-                if let Some(m) = motion {
-                    self.outside(tag, m, out)?;
-                }
-                return self.end_of_block(b, out);
+        let has_plane = has_plane_axis(motion);
+        if let Some(policy) = req.deselect {
+            // 840C 11.5.2: a deselection without an axis of the plane waits for one.
+            if !has_plane && self.rules.no_plane_move == NoPlaneMove::Wait && req.select.is_none() {
+                return self.arm_exit(tag, motion, policy, out);
+            }
+            self.exit(tag, motion, policy, req.select.is_some(), out)?;
+            if req.select.is_none() {
+                self.deselected(tag, motion, has_plane, out);
+                return Ok(());
             }
         }
-
-        // Selection.
-        if let Some(policy) = select {
-            self.side = b.modal.trc;
-            self.d = new_d;
-            self.ramp_from = None;
-            self.exit_armed = None;
-            self.method = policy;
-            if !has_plane && self.rules.no_plane_move == NoPlaneMove::Wait && deselect.is_none() {
-                self.mode = Mode::Armed;
+        if let Some(policy) = req.select {
+            return self.select(b, tag, motion, policy, req.deselect.is_some(), out);
+        }
+        match self.mode {
+            Mode::Armed => self.armed(tag, motion, has_plane, out),
+            Mode::Off => {
                 if let Some(m) = motion {
                     self.uncompensated(tag, m, out);
                 }
-                return self.end_of_block(b, out);
+                Ok(())
             }
-            return self
-                .start_selection(tag, motion, policy, out)
-                .and_then(|()| self.end_of_block(b, out));
+            Mode::On => self.active(b, tag, motion, in_plane, d1, out),
         }
-        if self.mode == Mode::Armed {
-            match motion {
-                Some(m) if has_plane => {
-                    let policy = self.method;
-                    self.start_selection(tag, Some(m), policy, out)?;
-                }
-                Some(m) => self.uncompensated(tag, m, out),
-                None => {}
-            }
-            return self.end_of_block(b, out);
-        }
+    }
 
-        // Off: the programmed path.
-        if self.mode == Mode::Off {
+    /// What the block's G40/G41/G42 asks, given the mode the compensation is in.
+    fn request(&mut self, b: &Block, source: Source, new_d: f64) -> Result<Request, Fault> {
+        let method = b.approach.unwrap_or(b.modal.selection);
+        let Some(side) = b.trc else {
+            return Ok(Request::NONE);
+        };
+        Ok(match self.mode {
+            Mode::Off if side != TrcSide::Off && b.modal.trc != TrcSide::Off => {
+                Request::select(method)
+            }
+            Mode::Off => Request::NONE,
+            Mode::Armed if side == TrcSide::Off => {
+                // Deselected before it ever took effect.
+                self.mode = Mode::Off;
+                Request::NONE
+            }
+            Mode::Armed => Request::select(method),
+            Mode::On if side == TrcSide::Off => Request::deselect(method),
+            Mode::On if side == self.side => self.repetition(b, method),
+            Mode::On => self.side_change(b, side, source, new_d)?,
+        })
+    }
+
+    /// G41/G42 repeated on the active side: ignored unless a method comes with it (840C
+    /// 11.6.1), or the compensation starts anew on every repetition (808D, Fanuc).
+    fn repetition(&self, b: &Block, method: SelectionPolicy) -> Request {
+        match (self.rules.repeat, b.approach) {
+            (RepeatRule::Restart, a) => {
+                Request::restart(a.unwrap_or(SelectionPolicy::NormalPosition))
+            }
+            (RepeatRule::IgnoreWithoutApproach, Some(_)) => Request::restart(method),
+            (RepeatRule::IgnoreWithoutApproach, None) => Request::NONE,
+        }
+    }
+
+    /// G41↔G42 while active: deselect at the last point and reselect (840C 11.6.2, 808D,
+    /// ISG), or Fanuc C's switch where the equidistants meet, with the next element.
+    fn side_change(
+        &mut self,
+        b: &Block,
+        side: TrcSide,
+        source: Source,
+        new_d: f64,
+    ) -> Result<Request, Fault> {
+        if self.inner_exit.is_some() {
+            // TF5200 error 90127: not permitted while the contour must close in its corner.
+            return Err(fault(
+                AlarmCode::InnerCornerSelection,
+                source,
+                "G238: the compensation side cannot change while selection at an inner corner is active",
+            ));
+        }
+        let fixed = match self.rules.side_change {
+            SideChange::Intersection if b.approach.is_none() => {
+                // Fanuc C: no deselection; the new side takes effect with the next element.
+                self.side = side;
+                self.d = new_d;
+                self.switching = true;
+                return Ok(Request::NONE);
+            }
+            SideChange::Reselect(m) => m,
+            SideChange::Intersection => None,
+        };
+        Ok(Request::restart(
+            b.approach.or(fixed).unwrap_or(b.modal.selection),
+        ))
+    }
+
+    /// A G40 armed without a plane move takes effect with the next plane move (840C 11.5.2).
+    #[inline]
+    fn armed_exit_due(&self, motion: Option<&Motion>) -> Option<SelectionPolicy> {
+        self.exit_armed
+            .filter(|_| motion.is_some_and(|m| m.moves_in_plane(EPS)))
+    }
+
+    /// A radius change while active (840C 11.7, 808D, ISG): the radius the next element
+    /// ends with (it starts with `self.d`).
+    fn radius_change(&mut self, req: Request, source: Source, new_d: f64) -> Result<f64, Fault> {
+        if self.mode != Mode::On || !req.is_none() || (new_d - self.d).abs() <= EPS {
+            return Ok(self.d);
+        }
+        if self.inner_exit.is_some() {
+            // TF5200 error 90127, as for the side.
+            return Err(fault(
+                AlarmCode::InnerCornerSelection,
+                source,
+                "G238: the tool radius cannot change while selection at an inner corner is active",
+            ));
+        }
+        if self.rules.radius_change == RadiusChange::NextLinear {
+            // ISG (002): the block keeps the old radius; the next linear block ramps.
+            self.ramp_from.get_or_insert(self.d);
+            self.d = new_d;
+        }
+        Ok(new_d)
+    }
+
+    /// A deselection without an axis of the plane: armed for the next plane move; a move
+    /// along the tool axis waits behind the last element (840C 11.5.2, 11.11).
+    fn arm_exit(
+        &mut self,
+        tag: Tag,
+        motion: Option<&Motion>,
+        policy: SelectionPolicy,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        self.exit_armed = Some(policy);
+        match motion {
+            Some(m) => self.outside(tag, m, out),
+            None => Ok(()),
+        }
+    }
+
+    /// The compensation is off after the deselection block; without a plane axis that block
+    /// moves back by the offset (Fanuc C cancel).
+    fn deselected(&mut self, tag: Tag, motion: Option<&Motion>, has_plane: bool, out: &mut Out) {
+        self.side = TrcSide::Off;
+        self.d = 0.0;
+        self.mode = Mode::Off;
+        self.exit_armed = None;
+        if !has_plane {
             if let Some(m) = motion {
                 self.uncompensated(tag, m, out);
             }
-            return self.end_of_block(b, out);
         }
+    }
 
-        // Active: a contour element or a block outside the plane.
+    /// G41/G42 selects with `policy`. Without an axis of the plane the selection waits for
+    /// the next plane move (840C 11.5.2), unless the block reselects after a deselection
+    /// (`restart`: it starts at the last point, 11.6).
+    fn select(
+        &mut self,
+        b: &Block,
+        tag: Tag,
+        motion: Option<&Motion>,
+        policy: SelectionPolicy,
+        restart: bool,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        self.side = b.modal.trc;
+        self.d = side_sign(b.modal.trc) * b.modal.radius;
+        self.ramp_from = None;
+        self.exit_armed = None;
+        self.method = policy;
+        if !has_plane_axis(motion) && self.rules.no_plane_move == NoPlaneMove::Wait && !restart {
+            self.mode = Mode::Armed;
+            if let Some(m) = motion {
+                self.uncompensated(tag, m, out);
+            }
+            return Ok(());
+        }
+        self.start_selection(tag, motion, policy, out)
+    }
+
+    /// Selected, no plane move yet: the first block with an axis of the plane starts the
+    /// compensation; moves before it run uncompensated (840C 11.5.2).
+    fn armed(
+        &mut self,
+        tag: Tag,
+        motion: Option<&Motion>,
+        has_plane: bool,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        match motion {
+            Some(m) if has_plane => {
+                let policy = self.method;
+                self.start_selection(tag, Some(m), policy, out)
+            }
+            Some(m) => {
+                self.uncompensated(tag, m, out);
+                Ok(())
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// Active: a contour element with the radii it starts and ends with, or a block outside
+    /// the plane (840C 11.11).
+    fn active(
+        &mut self,
+        b: &Block,
+        tag: Tag,
+        motion: Option<&Motion>,
+        in_plane: bool,
+        d1: f64,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
         match motion {
             Some(m) if in_plane => {
-                let (mut e0, mut e1) = (self.d, d1);
-                if let Some(old) = self.ramp_from {
-                    if m.kind.is_arc() {
-                        return Err(fault(
-                            AlarmCode::RadiusChangeNotLinear,
-                            tag.source,
-                            "the tool radius can only change with a linear block; program a straight move after the change",
-                        ));
-                    }
-                    e0 = old;
-                    e1 = self.d;
-                    self.ramp_from = None;
-                }
-                if (e1 - e0).abs() > EPS
-                    && m.kind.is_arc()
-                    && self.rules.radius_change == RadiusChange::InBlockLinear
-                {
-                    return Err(fault(
-                        AlarmCode::RadiusChangeNotLinear,
-                        tag.source,
-                        "the offset number can only be changed in linear blocks (840C 11.7)",
-                    ));
-                }
+                let (e0, e1) = self.element_radii(tag, m, d1)?;
                 self.element(tag, m, e0, e1, out)?;
                 self.d = e1;
             }
@@ -649,7 +797,36 @@ impl Compensator {
                 }
             }
         }
-        self.end_of_block(b, out)
+        Ok(())
+    }
+
+    /// The radii an element starts and ends with: ISG ramps a change over the next linear
+    /// block (002), the 840C changes the offset number in linear blocks only (11.7).
+    fn element_radii(&mut self, tag: Tag, m: &Motion, d1: f64) -> Result<(f64, f64), Fault> {
+        let (mut e0, mut e1) = (self.d, d1);
+        if let Some(old) = self.ramp_from {
+            if m.kind.is_arc() {
+                return Err(fault(
+                    AlarmCode::RadiusChangeNotLinear,
+                    tag.source,
+                    "the tool radius can only change with a linear block; program a straight move after the change",
+                ));
+            }
+            e0 = old;
+            e1 = self.d;
+            self.ramp_from = None;
+        }
+        if (e1 - e0).abs() > EPS
+            && m.kind.is_arc()
+            && self.rules.radius_change == RadiusChange::InBlockLinear
+        {
+            return Err(fault(
+                AlarmCode::RadiusChangeNotLinear,
+                tag.source,
+                "the offset number can only be changed in linear blocks (840C 11.7)",
+            ));
+        }
+        Ok((e0, e1))
     }
 
     /// Program end (M02/M30): TRC ends with the last element in its normal position
@@ -915,6 +1092,7 @@ impl Compensator {
     }
 
     /// A selection: the block `motion` (may be without plane move) starts the compensation.
+    /// Its path waits for the first contour element ([`Self::enter`]).
     fn start_selection(
         &mut self,
         tag: Tag,
@@ -933,38 +1111,19 @@ impl Compensator {
             }
             None => (self.tool, self.tool_w, self.tool_w, None, false),
         };
-        if policy == SelectionPolicy::Perpendicular || arc {
-            if arc && policy != SelectionPolicy::Perpendicular {
-                match self.rules.armed_arc {
-                    ArmedArc::Alarm(code) => return Err(fault(
-                        code,
-                        tag.source,
-                        "tool radius compensation can only be selected in a straight (G0/G1) block",
-                    )),
-                    ArmedArc::Perpendicular => {}
-                }
+        if arc && policy != SelectionPolicy::Perpendicular {
+            // 840C 11.3, 808D, Fanuc 026: selection in straight blocks only; ISG leads onto
+            // a circle perpendicularly instead (docs/trc.md).
+            if let ArmedArc::Alarm(code) = self.rules.armed_arc {
+                return Err(fault(
+                    code,
+                    tag.source,
+                    "tool radius compensation can only be selected in a straight (G0/G1) block",
+                ));
             }
-            // The block itself is the first contour element; a perpendicular block leads in.
-            let Some(m) = motion.filter(|m| m.moves_in_plane(EPS)) else {
-                self.mode = Mode::Armed;
-                self.method = SelectionPolicy::Perpendicular;
-                return Ok(());
-            };
-            let e = self.elem_of(m);
-            let o = self.offset(tag, &e, self.d)?;
-            let from = self.tool;
-            let w = self.tool_w;
-            self.line(tag, Role::Approach, from, o.start(), w, w, out);
-            self.pending = Some(Pending {
-                tag,
-                prog: e,
-                start: o.start(),
-                d1: self.d,
-                carrier: o,
-                w0,
-                w1,
-            });
-            return Ok(());
+        }
+        if policy == SelectionPolicy::Perpendicular || arc {
+            return self.select_perpendicular(tag, motion, w0, w1, out);
         }
         self.selection = Some(Selection {
             tag,
@@ -974,6 +1133,39 @@ impl Compensator {
             w0,
             w1,
             policy,
+        });
+        Ok(())
+    }
+
+    /// ISG perpendicular selection (TF5200 G237): the selection block itself is the first
+    /// contour element, and a perpendicular block leads from the tool onto its normal
+    /// position. Without a plane move it waits for one.
+    fn select_perpendicular(
+        &mut self,
+        tag: Tag,
+        motion: Option<&Motion>,
+        w0: f64,
+        w1: f64,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        let Some(m) = motion.filter(|m| m.moves_in_plane(EPS)) else {
+            self.mode = Mode::Armed;
+            self.method = SelectionPolicy::Perpendicular;
+            return Ok(());
+        };
+        let e = self.elem_of(m);
+        let o = self.offset(tag, &e, self.d)?;
+        let from = self.tool;
+        let w = self.tool_w;
+        self.line(tag, Role::Approach, from, o.start(), w, w, out);
+        self.pending = Some(Pending {
+            tag,
+            prog: e,
+            start: o.start(),
+            d1: self.d,
+            carrier: o,
+            w0,
+            w1,
         });
         Ok(())
     }
@@ -992,75 +1184,21 @@ impl Compensator {
         self.last_element = Some((e, d0.abs().min(d1.abs())));
         let (_, w0) = split(&m.start, self.plane);
         let (_, w1) = split(&m.end, self.plane);
-        // With a radius change the start corner is built with the old radius and the end
-        // corner with the new one; the path joins the two (840C 11.7).
+        // 840C 11.7: the start corner is built with the old radius, the end corner with the
+        // new one; the path joins the two.
         let o_start = self.carrier(tag, &e, d0)?;
         let o_end = if d1 == d0 {
             o_start
         } else {
             self.carrier(tag, &e, d1)?
         };
-        let settings = self.settings();
-        let start;
-        if let Some(sel) = self.selection.take() {
-            // A side change before the first element: the selection goes to the new side.
-            self.switching = false;
-            let en = if sel.policy == SelectionPolicy::InnerCorner {
-                let en = self.inner_corner_entry(&sel, &e, &o_start, d0, &settings)?;
-                self.inner_exit = Some(en.start);
-                en
-            } else {
-                selection::entry(
-                    sel.from, sel.q, sel.dir, &e, &o_start, d0, sel.policy, &settings,
-                )
-                .map_err(|x| Self::corner_fault(tag, x))?
-            };
-            self.piece(
-                sel.tag,
-                Role::Approach,
-                &en.path,
-                0.0,
-                0.0,
-                sel.w0,
-                sel.w1,
-                out,
-            );
-            self.flush_held(out);
-            let w = self.tool_w;
-            self.pieces(tag, &en.pieces, w, out);
-            start = en.start;
+        let start = if let Some(sel) = self.selection.take() {
+            self.enter(tag, &sel, &e, &o_start, d0, out)?
         } else if let Some(p) = self.pending.take() {
-            // Borrowed where it was built (a corner with its pieces is large).
-            let found = if std::mem::take(&mut self.switching) {
-                Ok(corner::side_change(&p.carrier, &o_start))
-            } else {
-                corner::corner(&p.carrier, &o_start, e.start(), d0, &settings)
-            };
-            let gap;
-            let c = match &found {
-                Ok(c) => c,
-                // Masking: the tool does not reach this corner; the path leaves a gap
-                // from one normal position to the other, which the bottleneck window
-                // closes where the equidistants meet further out (or raises the alarm).
-                Err(_) if self.masking => {
-                    gap = corner::Corner {
-                        end1: p.carrier.end(),
-                        start2: o_start.start(),
-                        pieces: heapless::Vec::new(),
-                        kind: corner::CornerKind::Inner,
-                    };
-                    &gap
-                }
-                Err(x) => return Err(Self::corner_fault(tag, *x)),
-            };
-            self.emit_pending(&p, c.end1, out)?;
-            self.flush_held(out);
-            let w = self.tool_w;
-            self.pieces(tag, &c.pieces, w, out);
-            start = c.start2;
+            self.turn(tag, &p, &e, &o_start, d0, out)?
         } else {
-            start = o_start.start();
-        }
+            o_start.start()
+        };
         self.pending = Some(Pending {
             tag,
             prog: e,
@@ -1071,6 +1209,82 @@ impl Compensator {
             w1,
         });
         Ok(())
+    }
+
+    /// The selection block meets the first contour element `e` (equidistant `o1`): its path
+    /// under the selection method (840C 11.2, 11.3; ISG; Fanuc start-up), and where the
+    /// element's compensated path starts.
+    fn enter(
+        &mut self,
+        tag: Tag,
+        sel: &Selection,
+        e: &Elem,
+        o1: &Elem,
+        d: f64,
+        out: &mut Out,
+    ) -> Result<V2, Fault> {
+        // A side change before the first element: the selection goes to the new side.
+        self.switching = false;
+        let settings = self.settings();
+        let en = if sel.policy == SelectionPolicy::InnerCorner {
+            let en = self.inner_corner_entry(sel, e, o1, d, &settings)?;
+            self.inner_exit = Some(en.start);
+            en
+        } else {
+            selection::entry(sel.from, sel.q, sel.dir, e, o1, d, sel.policy, &settings)
+                .map_err(|x| Self::corner_fault(tag, x))?
+        };
+        self.piece(
+            sel.tag,
+            Role::Approach,
+            &en.path,
+            0.0,
+            0.0,
+            sel.w0,
+            sel.w1,
+            out,
+        );
+        self.flush_held(out);
+        let w = self.tool_w;
+        self.pieces(tag, &en.pieces, w, out);
+        Ok(en.start)
+    }
+
+    /// The pending element `p` meets the next element `e` (equidistant `o2`) at a corner
+    /// (840C 11.1, 11.4): `p` goes out up to it, the held blocks and the inserted pieces
+    /// after it; returns where `e`'s compensated path starts.
+    #[inline]
+    fn turn(
+        &mut self,
+        tag: Tag,
+        p: &Pending,
+        e: &Elem,
+        o2: &Elem,
+        d: f64,
+        out: &mut Out,
+    ) -> Result<V2, Fault> {
+        // Borrowed where it was built (a corner with its pieces is large).
+        let found = if std::mem::take(&mut self.switching) {
+            Ok(corner::side_change(&p.carrier, o2))
+        } else {
+            corner::corner(&p.carrier, o2, e.start(), d, &self.settings())
+        };
+        let gap;
+        let c = match &found {
+            Ok(c) => c,
+            // ISG masking: the tool does not reach this corner; the bottleneck window closes
+            // the gap where the equidistants meet further out (or raises the alarm).
+            Err(_) if self.masking => {
+                gap = corner::gap(&p.carrier, o2);
+                &gap
+            }
+            Err(x) => return Err(Self::corner_fault(tag, *x)),
+        };
+        self.emit_pending(p, c.end1, out)?;
+        self.flush_held(out);
+        let w = self.tool_w;
+        self.pieces(tag, &c.pieces, w, out);
+        Ok(c.start2)
     }
 
     /// ISG G238: the entry at the closed contour's inner corner (TF5200; docs/trc.md).
@@ -1090,124 +1304,139 @@ impl Compensator {
             ));
         };
         let en = self.elem_of(&m);
-        selection::inner_corner(sel.from, sel.q, e1, o1, &en, d, settings).map_err(|x| {
-            let (source, msg) = match x {
-                InnerCornerError::NotClosed => (
-                    last,
-                    format!(
-                        "G238: the contour is not closed: its last block before G40 ends at ({}, {}), not at the approach block's end point ({}, {})",
-                        num4(en.end().x), num4(en.end().y), num4(sel.q.x), num4(sel.q.y)
-                    ),
-                ),
-                InnerCornerError::FirstNotLinear => (
-                    sel.tag.source,
-                    "G238: the first contour block after the approach block must be a straight line".to_string(),
-                ),
-                InnerCornerError::NotInner => (
-                    sel.tag.source,
-                    "G238: the corner from the contour's last to its first block is not an inner corner on the tool side".to_string(),
-                ),
-                InnerCornerError::NoIntersection => (
-                    sel.tag.source,
-                    "G238: the tool does not fit into the inner corner at the approach block's end point".to_string(),
-                ),
-            };
-            fault(AlarmCode::InnerCornerSelection, source, msg)
+        selection::inner_corner(sel.from, sel.q, e1, o1, &en, d, settings)
+            .map_err(|x| inner_corner_fault(x, sel, &en, last))
+    }
+
+    /// Emits the pending element from its start to `end`; a trimmed element must still run
+    /// forwards (840C 11.12).
+    fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
+        match p.prog {
+            Elem::Line { a, b } => self.emit_line(p, a, b, end, out),
+            Elem::Arc { .. } => self.emit_arc(p, end, out),
+        }
+    }
+
+    /// 840C 11.12: a line (programmed from `a` to `b`) whose trimmed equidistant runs
+    /// backwards is a contour violation.
+    #[inline]
+    fn emit_line(
+        &mut self,
+        p: &Pending,
+        a: V2,
+        b: V2,
+        end: V2,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        if violation::line_reverses(a, b, p.start, end) {
+            self.violation(too_large(p.tag.source))?;
+        }
+        self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
+        Ok(())
+    }
+
+    /// An arc along its carrier from the pending start to `end`: checked for running
+    /// backwards (840C 11.12), in two pieces past a full turn (11.14), a full circle closed
+    /// to the bit, its feed adapted (ISG G11).
+    #[inline]
+    fn emit_arc(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
+        // The carrier's centre and sense: the programmed ones, but for a circle turned inside
+        // out under masking (`carrier`).
+        let Elem::Arc { c, ccw, .. } = p.carrier else {
+            return Ok(());
+        };
+        let (total, ccw) = self.arc_sweep(p, end, ccw)?;
+        if let Some(s) = total.filter(|s| *s >= std::f64::consts::TAU - 1e-9) {
+            self.emit_past_full_turn(p, end, c, ccw, s, out);
+            return Ok(());
+        }
+        // A full circle run as programmed ends where it starts, to the bit (Shape::Arc): its
+        // compensated ends come from two corners and may differ in the last place, which
+        // would read as an arc of no length.
+        let full = matches!(p.prog, Elem::Arc { a, b, .. } if a == b);
+        let end = if total.is_none() && full {
+            p.start
+        } else {
+            end
+        };
+        let r0 = p.start.dist(c);
+        let r1 = end.dist(c);
+        let e = Elem::Arc {
+            a: p.start,
+            b: end,
+            c,
+            ccw,
+        };
+        let tag = self.contour_feed(p, r0, r1);
+        self.piece(tag, Role::Contour, &e, r0, r1, p.w0, p.w1, out);
+        Ok(())
+    }
+
+    /// How far the pending arc turns once its ends moved to `p.start` and `end`, and its
+    /// sense: `None` for the programmed sweep. An arc that runs backwards is a contour
+    /// violation (840C 11.12); masking leaves it out (prep/bottleneck.rs), so it goes there
+    /// the short way back, not as the rest of the circle.
+    #[inline]
+    fn arc_sweep(&mut self, p: &Pending, end: V2, ccw: bool) -> Result<(Option<f64>, bool), Fault> {
+        Ok(match violation::arc_travel(&p.carrier, p.start, end) {
+            violation::ArcTravel::Programmed => (None, ccw),
+            violation::ArcTravel::Changed(s) => (Some(s), ccw),
+            violation::ArcTravel::Reversed => {
+                self.violation(too_large(p.tag.source))?;
+                (None, ccw ^ self.masking)
+            }
         })
     }
 
-    /// Emits the pending element from its start to `end`, checking that it still runs
-    /// forwards (a trimmed element that reverses is a contour violation, 11.12).
-    fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
-        let violation = || {
-            fault(
-                AlarmCode::ContourViolation,
-                p.tag.source,
-                "contour violation: the tool radius is too large for this element (840C 11.12)",
-            )
+    /// 840C 11.14: an arc a corner lengthened past a full turn is traversed in full (the
+    /// 840C only the part above 360°), as two arcs of half the sweep `s` each: an arc from
+    /// its end points alone would turn only the rest.
+    fn emit_past_full_turn(
+        &mut self,
+        p: &Pending,
+        end: V2,
+        c: V2,
+        ccw: bool,
+        s: f64,
+        out: &mut Out,
+    ) {
+        let r0 = p.start.dist(c);
+        let r1 = end.dist(c);
+        let u = p.start - c;
+        let half = if ccw { s / 2.0 } else { -s / 2.0 };
+        let (sn, cs) = (libm::sin(half), libm::cos(half));
+        let rm = 0.5 * (r0 + r1);
+        let mid = c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs) * (rm / r0.max(EPS));
+        let first = Elem::Arc {
+            a: p.start,
+            b: mid,
+            c,
+            ccw,
         };
-        match p.prog {
-            Elem::Line { a, b } => {
-                if violation::line_reverses(a, b, p.start, end) {
-                    self.violation(violation())?;
-                }
-                self.line(p.tag, Role::Contour, p.start, end, p.w0, p.w1, out);
-            }
-            Elem::Arc { .. } => {
-                // The carrier's centre and sense: the programmed ones, but for a circle
-                // turned inside out under masking (`carrier`).
-                let Elem::Arc { c, mut ccw, .. } = p.carrier else {
-                    return Ok(());
-                };
-                let total = match violation::arc_travel(&p.carrier, p.start, end) {
-                    violation::ArcTravel::Programmed => None,
-                    violation::ArcTravel::Changed(s) => Some(s),
-                    violation::ArcTravel::Reversed => {
-                        self.violation(violation())?;
-                        // Masking leaves it out (prep/bottleneck.rs): it goes there as the short
-                        // way back, not as the rest of the circle.
-                        ccw ^= self.masking;
-                        None
-                    }
-                };
-                if let Some(s) = total.filter(|s| *s >= std::f64::consts::TAU - 1e-9) {
-                    // Lengthened past a full turn (11.14): traversed in full, as two arcs, each
-                    // under a turn (an arc from its end points alone would turn only the rest).
-                    let r0 = p.start.dist(c);
-                    let r1 = end.dist(c);
-                    let u = p.start - c;
-                    let half = if ccw { s / 2.0 } else { -s / 2.0 };
-                    let (sn, cs) = (libm::sin(half), libm::cos(half));
-                    let rm = 0.5 * (r0 + r1);
-                    let mid = c + v2(u.x * cs - u.y * sn, u.x * sn + u.y * cs) * (rm / r0.max(EPS));
-                    let first = Elem::Arc {
-                        a: p.start,
-                        b: mid,
-                        c,
-                        ccw,
-                    };
-                    let second = Elem::Arc {
-                        a: mid,
-                        b: end,
-                        c,
-                        ccw,
-                    };
-                    let wm = 0.5 * (p.w0 + p.w1);
-                    self.piece(p.tag, Role::Contour, &first, r0, rm, p.w0, wm, out);
-                    self.piece(p.tag, Role::Contour, &second, rm, r1, wm, p.w1, out);
-                    return Ok(());
-                }
-                // A full circle run as programmed ends where it starts, to the bit
-                // (Shape::Arc): its compensated ends come from two corners and may differ in
-                // the last place, which would read as an arc of no length.
-                let full = matches!(p.prog, Elem::Arc { a, b, .. } if a == b);
-                let end = if total.is_none() && full {
-                    p.start
-                } else {
-                    end
-                };
-                let r0 = p.start.dist(c);
-                let r1 = end.dist(c);
-                let e = Elem::Arc {
-                    a: p.start,
-                    b: end,
-                    c,
-                    ccw,
-                };
-                // ISG G11: the programmed feed acts at the contour: the centre moves faster
-                // outside an arc and slower inside (TF5200 G10/G11); arcs below the minimum
-                // radius keep the programmed feed (#TANGFEED RMIN).
-                let mut tag = p.tag;
-                if tag.adapt {
-                    let rp = p.prog.radius();
-                    if rp >= self.feed_rmin && rp > EPS {
-                        tag.feed *= 0.5 * (r0 + r1) / rp;
-                    }
-                }
-                self.piece(tag, Role::Contour, &e, r0, r1, p.w0, p.w1, out);
+        let second = Elem::Arc {
+            a: mid,
+            b: end,
+            c,
+            ccw,
+        };
+        let wm = 0.5 * (p.w0 + p.w1);
+        self.piece(p.tag, Role::Contour, &first, r0, rm, p.w0, wm, out);
+        self.piece(p.tag, Role::Contour, &second, rm, r1, wm, p.w1, out);
+    }
+
+    /// ISG G11 (TF5200 G10/G11): the programmed feed acts at the contour, so the centre of a
+    /// tool on an arc of centre radii `r0`..`r1` moves faster outside it and slower inside;
+    /// arcs below the minimum radius keep the programmed feed (#TANGFEED RMIN).
+    #[inline]
+    fn contour_feed(&self, p: &Pending, r0: f64, r1: f64) -> Tag {
+        let mut tag = p.tag;
+        if tag.adapt {
+            let rp = p.prog.radius();
+            if rp >= self.feed_rmin && rp > EPS {
+                tag.feed *= 0.5 * (r0 + r1) / rp;
             }
         }
-        Ok(())
+        tag
     }
 
     /// Ends the compensation at the deselection block (`m`; `None` or no plane move: by the
@@ -1221,16 +1450,14 @@ impl Compensator {
         reselect: bool,
         out: &mut Out,
     ) -> Result<(), Fault> {
-        if let Some(m) = m {
-            if m.kind.is_arc() && !reselect {
-                return Err(fault(
-                    self.rules.not_linear,
-                    tag.source,
-                    "tool radius compensation can only be deselected in a straight (G0/G1) block",
-                ));
-            }
+        if m.is_some_and(|m| m.kind.is_arc()) && !reselect {
+            // 840C 11.5, 808D, Fanuc 026: deselection in straight blocks only.
+            return Err(fault(
+                self.rules.not_linear,
+                tag.source,
+                "tool radius compensation can only be deselected in a straight (G0/G1) block",
+            ));
         }
-        let settings = self.settings();
         self.switching = false;
         // Deselected right after selecting: the selection block goes to its point.
         if self.flush_selection(out) {
@@ -1241,20 +1468,7 @@ impl Compensator {
             return Ok(());
         };
         if let (SelectionPolicy::InnerCorner, Some(x)) = (policy, self.inner_exit.take()) {
-            // G238: the contour ends where it began, in the inner corner, and the
-            // deselection block leaves from there straight to its programmed point.
-            self.emit_pending(&p, x, out)?;
-            self.flush_held(out);
-            let (f, w1) = match m.filter(|m| m.moves_in_plane(EPS)) {
-                Some(m) => split(&m.end, self.plane),
-                None => (
-                    p.prog.end(),
-                    m.map_or(p.w1, |m| split(&m.end, self.plane).1),
-                ),
-            };
-            let (from, w) = (self.tool, self.tool_w);
-            self.line(tag, Role::Retract, from, f, w, w1, out);
-            return Ok(());
+            return self.exit_at_inner_corner(tag, m, &p, x, out);
         }
         let (f, dir, w1) = match m {
             Some(m) => {
@@ -1265,7 +1479,7 @@ impl Compensator {
             }
             None => (p.prog.end(), None, p.w1),
         };
-        let x = deselection::exit(&p.prog, &p.carrier, f, dir, p.d1, policy, &settings)
+        let x = deselection::exit(&p.prog, &p.carrier, f, dir, p.d1, policy, &self.settings())
             .map_err(|x| Self::corner_fault(tag, x))?;
         self.emit_pending(&p, x.end, out)?;
         self.flush_held(out);
@@ -1275,16 +1489,53 @@ impl Compensator {
             // The reselecting block starts at the last point; it becomes the selection block.
             return Ok(());
         }
-        if m.is_some_and(|m| m.moves_in_plane(EPS)) {
-            let w = self.tool_w;
-            self.piece(tag, Role::Retract, &x.path, 0.0, 0.0, w, w1, out);
-        } else {
-            // No plane move: back to the programmed point by the offset only.
-            let (from, w) = (self.tool, self.tool_w);
-            let to = p.prog.end();
-            self.line(tag, Role::Retract, from, to, w, w1, out);
-        }
+        self.retract(tag, m, &p, &x.path, w1, out);
         Ok(())
+    }
+
+    /// ISG G238: the contour ends where it began, in the inner corner `x`, and the
+    /// deselection block leaves from there straight to its programmed point (TF5200).
+    fn exit_at_inner_corner(
+        &mut self,
+        tag: Tag,
+        m: Option<&Motion>,
+        p: &Pending,
+        x: V2,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
+        self.emit_pending(p, x, out)?;
+        self.flush_held(out);
+        let (f, w1) = match m.filter(|m| m.moves_in_plane(EPS)) {
+            Some(m) => split(&m.end, self.plane),
+            None => (
+                p.prog.end(),
+                m.map_or(p.w1, |m| split(&m.end, self.plane).1),
+            ),
+        };
+        let (from, w) = (self.tool, self.tool_w);
+        self.line(tag, Role::Retract, from, f, w, w1, out);
+        Ok(())
+    }
+
+    /// The deselection block's own move (role `retract`) along `path` to its programmed
+    /// point; without a plane move back to the last element's end by the offset only
+    /// (840C 11.5.2, Fanuc C cancel).
+    fn retract(
+        &mut self,
+        tag: Tag,
+        m: Option<&Motion>,
+        p: &Pending,
+        path: &Elem,
+        w1: f64,
+        out: &mut Out,
+    ) {
+        let w = self.tool_w;
+        if m.is_some_and(|m| m.moves_in_plane(EPS)) {
+            self.piece(tag, Role::Retract, path, 0.0, 0.0, w, w1, out);
+        } else {
+            let from = self.tool;
+            self.line(tag, Role::Retract, from, p.prog.end(), w, w1, out);
+        }
     }
 }
 
