@@ -262,7 +262,7 @@ impl<'a> Preparation<'a> {
         };
         let message = if g.unjoined {
             format!(
-                    "contour violation: contour masking finds no gouge-free way past {} within the window: the tool (radius {:.4}) does not fit (840C 11.12, ISG G141)",
+                    "contour violation: contour masking finds no gouge-free way past {} within the window: the tool (radius {:.4}) does not fit (840C 11.12)",
                     name(&g.path),
                     g.radius
                 )

@@ -389,7 +389,7 @@ fn inner_corner_fault(x: InnerCornerError, sel: &Selection, en: &Elem, last: Sou
         InnerCornerError::NotClosed => (
             last,
             format!(
-                "G238: the contour is not closed: its last block before G40 ends at ({}, {}), not at the approach block's end point ({}, {})",
+                "selection at an inner corner: the contour is not closed: its last block before the deselection ends at ({}, {}), not at the approach block's end point ({}, {})",
                 num4(en.end().x),
                 num4(en.end().y),
                 num4(sel.q.x),
@@ -398,15 +398,15 @@ fn inner_corner_fault(x: InnerCornerError, sel: &Selection, en: &Elem, last: Sou
         ),
         InnerCornerError::FirstNotLinear => (
             sel.tag.source,
-            "G238: the first contour block after the approach block must be a straight line".to_string(),
+            "selection at an inner corner: the first contour block after the approach block must be a straight line".to_string(),
         ),
         InnerCornerError::NotInner => (
             sel.tag.source,
-            "G238: the corner from the contour's last to its first block is not an inner corner on the tool side".to_string(),
+            "selection at an inner corner: the corner from the contour's last to its first block is not an inner corner on the tool side".to_string(),
         ),
         InnerCornerError::NoIntersection => (
             sel.tag.source,
-            "G238: the tool does not fit into the inner corner at the approach block's end point".to_string(),
+            "selection at an inner corner: the tool does not fit into the inner corner at the approach block's end point".to_string(),
         ),
     };
     fault(AlarmCode::InnerCornerSelection, source, msg)
@@ -646,7 +646,7 @@ impl Compensator {
             return Err(fault(
                 AlarmCode::InnerCornerSelection,
                 source,
-                "G238: the compensation side cannot change while selection at an inner corner is active",
+                "selection at an inner corner: the compensation side cannot change while it is active",
             ));
         }
         let fixed = match self.rules.side_change {
@@ -683,7 +683,7 @@ impl Compensator {
             return Err(fault(
                 AlarmCode::InnerCornerSelection,
                 source,
-                "G238: the tool radius cannot change while selection at an inner corner is active",
+                "selection at an inner corner: the tool radius cannot change while it is active",
             ));
         }
         if self.rules.radius_change == RadiusChange::NextLinear {
@@ -1118,7 +1118,7 @@ impl Compensator {
                 return Err(fault(
                     code,
                     tag.source,
-                    "tool radius compensation can only be selected in a straight (G0/G1) block",
+                    "tool radius compensation can only be selected in a straight block (rapid traverse or linear interpolation)",
                 ));
             }
         }
@@ -1300,7 +1300,7 @@ impl Compensator {
             return Err(fault(
                 AlarmCode::InnerCornerSelection,
                 sel.tag.source,
-                "G238: no G40 follows: selection at an inner corner needs a closed contour ended by G40",
+                "selection at an inner corner: no deselection follows; the contour must be closed and ended by a deselection",
             ));
         };
         let en = self.elem_of(&m);
@@ -1455,7 +1455,7 @@ impl Compensator {
             return Err(fault(
                 self.rules.not_linear,
                 tag.source,
-                "tool radius compensation can only be deselected in a straight (G0/G1) block",
+                "tool radius compensation can only be deselected in a straight block (rapid traverse or linear interpolation)",
             ));
         }
         self.switching = false;
