@@ -345,3 +345,254 @@ fn outer_intersection(o1: &Elem, o2: &Elem, p1: V2, p2: V2) -> Option<V2> {
             fx.total_cmp(&fy)
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trc::geom::v2;
+    use std::f64::consts::SQRT_2;
+
+    fn close(a: V2, b: V2) -> bool {
+        a.dist(b) < 1e-12
+    }
+
+    fn line(a: V2, b: V2) -> Elem {
+        Elem::Line { a, b }
+    }
+
+    fn settings(outer: OuterCorner) -> CornerSettings {
+        CornerSettings {
+            outer,
+            suppression: 0.0,
+        }
+    }
+
+    const CAP_150: f64 = 150.0 * PI / 180.0;
+
+    /// The tool left (d = +2) of a line east from (0,0) to (10,0): its equidistant y = 2.
+    fn east() -> Elem {
+        line(v2(0.0, 2.0), v2(10.0, 2.0))
+    }
+
+    /// Then south from (10,0) to (10,−10): left of south is east, x = 12 (P2 = (12,0)).
+    fn south() -> Elem {
+        line(v2(12.0, 0.0), v2(12.0, -10.0))
+    }
+
+    fn assert_pieces(c: &Corner, want: &[Elem]) {
+        assert_eq!(c.pieces.len(), want.len(), "{c:?}");
+        for (p, w) in c.pieces.iter().zip(want) {
+            assert!(
+                close(p.start(), w.start()) && close(p.end(), w.end()) && p.is_arc() == w.is_arc(),
+                "{p:?} != {w:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_turn_towards_the_tool_is_inner_away_from_it_or_back_outer() {
+        let (e, n, w) = (v2(1.0, 0.0), v2(0.0, 1.0), v2(-1.0, 0.0));
+        // East → north turns left by 90°: the tool on the left is inside the turn.
+        assert_eq!(classify(e, n, 2.0).0, CornerKind::Inner);
+        assert!((classify(e, n, 2.0).1 - FRAC_PI_2).abs() < 1e-15);
+        // The tool on the right (d < 0) is outside it.
+        assert_eq!(classify(e, n, -2.0).0, CornerKind::Outer);
+        // Straight on: tangent; back the way it came: outer on either side.
+        assert_eq!(classify(e, e, 2.0).0, CornerKind::Tangent);
+        assert_eq!(classify(e, w, 2.0).0, CornerKind::Outer);
+        assert_eq!(classify(e, w, -2.0).0, CornerKind::Outer);
+    }
+
+    /// 840C 11.1, G450: the outer corner east → south with the tool left at R 2. P1 = (10,2),
+    /// P2 = (12,0); the transition circle runs clockwise (a right turn) about the programmed
+    /// corner C = (10,0), radius |P1 − C| = |P2 − C| = 2.
+    #[test]
+    fn an_outer_corner_gets_a_transition_circle_about_the_programmed_corner() {
+        let c = corner(
+            &east(),
+            &south(),
+            v2(10.0, 0.0),
+            2.0,
+            &settings(OuterCorner::Circle),
+        );
+        let c = c.unwrap();
+        assert_eq!(c.kind, CornerKind::Outer);
+        assert!(close(c.end1, v2(10.0, 2.0)) && close(c.start2, v2(12.0, 0.0)));
+        assert_eq!(
+            c.pieces.as_slice(),
+            &[Elem::Arc {
+                a: v2(10.0, 2.0),
+                b: v2(12.0, 0.0),
+                c: v2(10.0, 0.0),
+                ccw: false,
+            }]
+        );
+        assert_eq!(c.pieces[0].radius(), 2.0);
+    }
+
+    /// 840C 11.1: east → north turns left, towards the tool (R 2, left): the equidistants
+    /// y = 2 and x = 8 (left of north is west) meet at (8, 2), whatever the outer policy.
+    #[test]
+    fn an_inner_corner_meets_at_the_intersection_of_the_equidistants() {
+        let north = line(v2(8.0, 0.0), v2(8.0, 10.0));
+        for outer in [
+            OuterCorner::Circle,
+            OuterCorner::IntersectionBlocks { cap: CAP_150 },
+            OuterCorner::Intersection { limit: FRAC_PI_2 },
+            OuterCorner::FanucC,
+            OuterCorner::LinearTransition,
+        ] {
+            let c = corner(&east(), &north, v2(10.0, 0.0), 2.0, &settings(outer)).unwrap();
+            assert_eq!(c.kind, CornerKind::Inner);
+            assert!(c.pieces.is_empty());
+            assert!(
+                close(c.end1, v2(8.0, 2.0)) && close(c.start2, v2(8.0, 2.0)),
+                "{c:?}"
+            );
+        }
+    }
+
+    /// 840C 11.12: after y = 2 the equidistant turns left (inner) onto a circle of radius 1
+    /// about (7,0), starting at (8,0) heading north; it never reaches above y = 1, so the
+    /// equidistants do not meet: the tool does not fit.
+    #[test]
+    fn an_inner_corner_whose_equidistants_miss_each_other_has_no_path() {
+        let arc = Elem::Arc {
+            a: v2(8.0, 0.0),
+            b: v2(6.0, 0.0),
+            c: v2(7.0, 0.0),
+            ccw: true,
+        };
+        let c = corner(
+            &east(),
+            &arc,
+            v2(10.0, 0.0),
+            2.0,
+            &settings(OuterCorner::Circle),
+        );
+        assert_eq!(c, Err(CornerError::NoIntersection));
+    }
+
+    /// 840C G451 (docs/trc.md): a line/line corner of 90° meets where the equidistants
+    /// y = 2 and x = 12 cross, (12, 2), with no block.
+    #[test]
+    fn intersection_840c_meets_at_t_up_to_ninety_degrees() {
+        let s = settings(OuterCorner::IntersectionBlocks { cap: CAP_150 });
+        let c = corner(&east(), &south(), v2(10.0, 0.0), 2.0, &s).unwrap();
+        assert!(c.pieces.is_empty());
+        assert!(
+            close(c.end1, v2(12.0, 2.0)) && close(c.start2, v2(12.0, 2.0)),
+            "{c:?}"
+        );
+    }
+
+    /// 840C G451, 135° (the 11.10 corner): east, then south-west from (10,0) to (0,−10).
+    /// Left of (−1,−1)/√2 is (1,−1)/√2, so P2 = (10 + √2, −√2). The tangent through P2
+    /// along (−1,−1) meets y = 2 where −√2 − s = 2, s = −(2 + √2): T = (12 + 2√2, 2).
+    /// Two intermediate blocks P1 → T → P2.
+    #[test]
+    fn intersection_840c_inserts_two_blocks_through_t_beyond_ninety_degrees() {
+        let p2 = v2(10.0 + SQRT_2, -SQRT_2);
+        let sw = line(p2, v2(SQRT_2, -10.0 - SQRT_2));
+        let s = settings(OuterCorner::IntersectionBlocks { cap: CAP_150 });
+        let c = corner(&east(), &sw, v2(10.0, 0.0), 2.0, &s).unwrap();
+        let t = v2(12.0 + 2.0 * SQRT_2, 2.0);
+        assert_pieces(&c, &[line(v2(10.0, 2.0), t), line(t, p2)]);
+        assert!(close(c.end1, v2(10.0, 2.0)) && close(c.start2, p2));
+    }
+
+    /// 840C G451 beyond the 150° cap: a reversal east → west. P1 = (10,2); left of west is
+    /// south, P2 = (10,−2). The tangents are cut at e = R·tan 75° = 2(2 + √3):
+    /// A = P1 + e·(1,0) = (14 + 2√3, 2), B = P2 − e·(−1,0) = (14 + 2√3, −2).
+    #[test]
+    fn intersection_840c_cuts_the_tangents_off_beyond_its_cap() {
+        let west = line(v2(10.0, -2.0), v2(0.0, -2.0));
+        let s = settings(OuterCorner::IntersectionBlocks { cap: CAP_150 });
+        let c = corner(&east(), &west, v2(10.0, 0.0), 2.0, &s).unwrap();
+        let x = 14.0 + 2.0 * 3f64.sqrt();
+        let (a, b) = (v2(x, 2.0), v2(x, -2.0));
+        assert_pieces(
+            &c,
+            &[line(v2(10.0, 2.0), a), line(a, b), line(b, v2(10.0, -2.0))],
+        );
+    }
+
+    /// 808D G451: the 90° corner meets at (12, 2) under a 100° limit, and takes the
+    /// transition circle under an 80° one.
+    #[test]
+    fn intersection_808d_takes_the_circle_above_its_limit() {
+        let lim = |deg: f64| {
+            settings(OuterCorner::Intersection {
+                limit: deg * PI / 180.0,
+            })
+        };
+        let c = corner(&east(), &south(), v2(10.0, 0.0), 2.0, &lim(100.0)).unwrap();
+        assert!(c.pieces.is_empty() && close(c.end1, v2(12.0, 2.0)));
+        let c = corner(&east(), &south(), v2(10.0, 0.0), 2.0, &lim(80.0)).unwrap();
+        assert!(c.pieces.len() == 1 && c.pieces[0].is_arc() && close(c.end1, v2(10.0, 2.0)));
+    }
+
+    /// ISG G25 (TF5200 table, LIN-LIN): obtuse, the lines meet at T = (12, 2) with no block;
+    /// acute (the reversal), A = P1 + R·t1 = (12, 2) and B = P2 − R·t2 = (12, −2): the
+    /// extensions join the lines, and one block A → B is inserted. Fanuc C does the same at
+    /// the acute corner and meets at the intersection at the obtuse one.
+    #[test]
+    fn linear_transition_extends_lines_by_the_radius_at_acute_corners() {
+        let west = line(v2(10.0, -2.0), v2(0.0, -2.0));
+        for outer in [OuterCorner::LinearTransition, OuterCorner::FanucC] {
+            let s = settings(outer);
+            let c = corner(&east(), &south(), v2(10.0, 0.0), 2.0, &s).unwrap();
+            assert!(c.pieces.is_empty() && close(c.end1, v2(12.0, 2.0)), "{c:?}");
+            assert!(close(c.start2, v2(12.0, 2.0)));
+            let c = corner(&east(), &west, v2(10.0, 0.0), 2.0, &s).unwrap();
+            assert_pieces(&c, &[line(v2(12.0, 2.0), v2(12.0, -2.0))]);
+            assert!(close(c.end1, v2(12.0, 2.0)) && close(c.start2, v2(12.0, -2.0)));
+        }
+    }
+
+    /// 840C 11.14: east, then to (20,−1), a right turn by a = atan(1/10). P1P2 = 2R·sin(a/2)
+    /// ≈ 0.2 < 0.5: the elements meet at the intersection R·tan(a/2) beyond P1, where
+    /// tan(a/2) = sin a / (1 + cos a) = 1 / (√101 + 10). Without suppression, the circle.
+    #[test]
+    fn normal_positions_closer_than_the_suppression_distance_meet_at_the_intersection() {
+        let r = 101f64.sqrt();
+        // Left of (10,−1)/√101 is (1,10)/√101: P2 = (10,0) + 2·(1,10)/√101.
+        let p2 = v2(10.0 + 2.0 / r, 20.0 / r);
+        let next = line(p2, p2 + v2(10.0, -1.0));
+        let s = CornerSettings {
+            outer: OuterCorner::Circle,
+            suppression: 0.5,
+        };
+        let c = corner(&east(), &next, v2(10.0, 0.0), 2.0, &s).unwrap();
+        let x = v2(10.0 + 2.0 / (r + 10.0), 2.0);
+        assert!(c.pieces.is_empty(), "{c:?}");
+        assert!(close(c.end1, x) && close(c.start2, x), "{c:?}");
+        let c = corner(
+            &east(),
+            &next,
+            v2(10.0, 0.0),
+            2.0,
+            &settings(OuterCorner::Circle),
+        );
+        assert!(c.unwrap().pieces[0].is_arc());
+    }
+
+    /// Fanuc C side change: the old side's equidistant of east (left, y = 2) and the new
+    /// side's of north from (10,0) (right, x = 12) cross at (12, 2). Where they are parallel
+    /// (east again, right side: y = −2), the path goes to the normal position (10, −2).
+    #[test]
+    fn a_side_change_switches_where_the_old_and_new_equidistants_meet() {
+        let north_right = line(v2(12.0, 0.0), v2(12.0, 10.0));
+        let c = side_change(&east(), &north_right);
+        assert!(
+            close(c.end1, v2(12.0, 2.0)) && close(c.start2, v2(12.0, 2.0)),
+            "{c:?}"
+        );
+        let east_right = line(v2(10.0, -2.0), v2(20.0, -2.0));
+        let c = side_change(&east(), &east_right);
+        assert!(
+            close(c.end1, v2(10.0, -2.0)) && c.pieces.is_empty(),
+            "{c:?}"
+        );
+    }
+}

@@ -71,3 +71,116 @@ pub fn exit(
         _ => Ok(normal),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trc::corner::OuterCorner;
+    use crate::trc::geom::v2;
+    use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
+
+    fn close(a: V2, b: V2) -> bool {
+        a.dist(b) < 1e-12
+    }
+
+    const CIRCLE: CornerSettings = CornerSettings {
+        outer: OuterCorner::Circle,
+        suppression: 0.0,
+    };
+
+    /// The last element: east from (0,0) to (10,0); the tool left at R 2 on y = 2, its
+    /// normal end position P1 = (10, 2).
+    fn last() -> (Elem, Elem) {
+        (
+            Elem::Line {
+                a: v2(0.0, 0.0),
+                b: v2(10.0, 0.0),
+            },
+            Elem::Line {
+                a: v2(0.0, 2.0),
+                b: v2(10.0, 2.0),
+            },
+        )
+    }
+
+    fn leave(f: V2, dir: Option<V2>, policy: SelectionPolicy) -> Exit {
+        let (en, on) = last();
+        exit(&en, &on, f, dir, 2.0, policy, &CIRCLE).unwrap()
+    }
+
+    /// 840C G456, 808D G40 ("the normal end position ... independently of the start
+    /// angle"), Fanuc cancel, ISG G138: the last element ends at P1 = (10, 2) and the
+    /// deselection block runs from there to its programmed point. So does every method
+    /// for a deselection without a plane move (no direction).
+    #[test]
+    fn the_normal_position_method_ends_at_p1() {
+        let f = v2(20.0, -10.0);
+        let down = Some(v2(FRAC_1_SQRT_2, -FRAC_1_SQRT_2));
+        for (dir, p) in [
+            (down, SelectionPolicy::NormalPosition),
+            (down, SelectionPolicy::Direct),
+            (None, SelectionPolicy::Compensated),
+            (None, SelectionPolicy::Indirect),
+        ] {
+            let x = leave(f, dir, p);
+            assert!(close(x.end, v2(10.0, 2.0)) && x.pieces.is_empty(), "{p:?}");
+            assert_eq!(x.path, Elem::Line { a: x.end, b: f });
+        }
+    }
+
+    /// 840C G455 (11.5) at α < 180°: the deselection block runs south-east from (10,0) to
+    /// (20,−10), a right turn away from the tool: outer. Its equidistant starts at
+    /// q + R·left(dir) = (10,0) + 2·(1,1)/√2 = (10 + √2, √2); the transition circle about
+    /// (10,0) runs clockwise from P1 = (10,2) to there, and the block from there to (20,−10).
+    #[test]
+    fn the_compensated_method_takes_the_corner_mode_at_an_outer_angle() {
+        let f = v2(20.0, -10.0);
+        let x = leave(
+            f,
+            Some(v2(FRAC_1_SQRT_2, -FRAC_1_SQRT_2)),
+            SelectionPolicy::Compensated,
+        );
+        let b = v2(10.0 + SQRT_2, SQRT_2);
+        assert!(close(x.end, v2(10.0, 2.0)), "{x:?}");
+        let Elem::Arc { a, b: e, c, ccw } = x.pieces[0] else {
+            panic!("{x:?}")
+        };
+        assert!(close(a, v2(10.0, 2.0)) && close(e, b) && close(c, v2(10.0, 0.0)) && !ccw);
+        assert!(close(x.path.start(), b) && x.path.end() == f);
+    }
+
+    /// Leaving north-east for (20,10) turns left, towards the tool (inner): G455 ends at P1
+    /// (11.5, α ≥ 180°). ISG G139 ends where y = 2 meets the deselection block's equidistant
+    /// through (10,0) + 2·(−1,1)/√2 = (10 − √2, √2) along (1,1): √2 + s = 2, s = 2 − √2,
+    /// x = 12 − 2√2.
+    #[test]
+    fn at_an_inner_angle_compensated_ends_at_p1_and_indirect_at_the_intersection() {
+        let f = v2(20.0, 10.0);
+        let ne = Some(v2(FRAC_1_SQRT_2, FRAC_1_SQRT_2));
+        let x = leave(f, ne, SelectionPolicy::Compensated);
+        assert!(close(x.end, v2(10.0, 2.0)) && x.pieces.is_empty(), "{x:?}");
+        let x = leave(f, ne, SelectionPolicy::Indirect);
+        let i = v2(12.0 - 2.0 * SQRT_2, 2.0);
+        assert!(
+            close(x.end, i) && close(x.path.start(), i) && x.pieces.is_empty(),
+            "{x:?}"
+        );
+    }
+
+    /// ISG G05: from P1 = (10,2) an arc tangent to the last direction (1,0) there, to
+    /// (12,4). Its centre lies on the normal x = 10 at (10, 2 + ρ) with
+    /// ρ² = 2² + (2 + ρ − 4)², ρ = 2: about (10,4), counter-clockwise.
+    #[test]
+    fn the_tangential_method_leaves_on_an_arc() {
+        let x = leave(
+            v2(12.0, 4.0),
+            Some(v2(1.0, 0.0)),
+            SelectionPolicy::Tangential,
+        );
+        let Elem::Arc { a, b, c, ccw } = x.path else {
+            panic!("{x:?}")
+        };
+        assert!(close(a, v2(10.0, 2.0)) && close(b, v2(12.0, 4.0)));
+        assert!(close(c, v2(10.0, 4.0)) && ccw, "{x:?}");
+    }
+}

@@ -1567,3 +1567,343 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         exact_stop: tag.exact_stop,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frontend::Interpreter;
+    use crate::machine_data::MachineData;
+    use crate::tools::ToolTable;
+
+    fn machine(dialect: &str) -> MachineData {
+        MachineData::load(None, &[format!("dialect={dialect}")]).unwrap()
+    }
+
+    fn compensator(dialect: &str) -> Compensator {
+        let rules = crate::dialect::Dialect::get(machine(dialect).dialect).trc;
+        Compensator::new(rules, 3, 0.0, [0.0; 3], Plane::XY)
+    }
+
+    /// A block under the dialect's initial modal state, with the tool radius 10 on `side`,
+    /// programming `trc` (G40/G41/G42) and `approach`.
+    fn block(
+        dialect: &str,
+        side: TrcSide,
+        trc: Option<TrcSide>,
+        approach: Option<SelectionPolicy>,
+    ) -> Block {
+        let (md, tools) = (machine(dialect), ToolTable::builtin());
+        let mut modal = *Interpreter::new("t", "", &md, &tools).state();
+        modal.trc = side;
+        modal.radius = 10.0;
+        let mut b = Block::new(1, 1, None, modal);
+        b.trc = trc;
+        b.approach = approach;
+        b
+    }
+
+    /// Compensation on, left of the contour at R 10.
+    fn active_left(dialect: &str) -> Compensator {
+        let mut c = compensator(dialect);
+        c.mode = Mode::On;
+        c.side = TrcSide::Left;
+        c.d = 10.0;
+        c
+    }
+
+    fn source() -> Source {
+        Source {
+            number: None,
+            line: 1,
+            col: 1,
+            seq: 1,
+        }
+    }
+
+    fn tag(feed: f64, adapt: bool) -> Tag {
+        Tag {
+            source: source(),
+            feed,
+            rapid: false,
+            exact_stop: false,
+            adapt,
+        }
+    }
+
+    fn segments(out: &mut Out) -> Vec<Segment> {
+        std::iter::from_fn(|| out.pop_front()).collect()
+    }
+
+    fn close(a: Pos, b: Pos) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12)
+    }
+
+    /// 840C 11.6.1: G41 repeated on the active side is ignored, unless G455/G456 comes with
+    /// it: then deselect and reselect with that method. 808D restarts in the normal
+    /// position on every repetition.
+    #[test]
+    fn a_repetition_is_ignored_unless_a_method_comes_with_it_or_the_control_restarts() {
+        let g41 = Some(TrcSide::Left);
+        let b = block("siemens-840c", TrcSide::Left, g41, None);
+        let r = active_left("siemens-840c").request(&b, source(), 10.0);
+        assert_eq!(r.unwrap(), Request::NONE);
+        let compensated = Some(SelectionPolicy::Compensated);
+        let b = block("siemens-840c", TrcSide::Left, g41, compensated);
+        let r = active_left("siemens-840c").request(&b, source(), 10.0);
+        assert_eq!(r.unwrap(), Request::restart(SelectionPolicy::Compensated));
+        let b = block("siemens-808d", TrcSide::Left, g41, None);
+        let r = active_left("siemens-808d").request(&b, source(), 10.0);
+        assert_eq!(
+            r.unwrap(),
+            Request::restart(SelectionPolicy::NormalPosition)
+        );
+    }
+
+    /// 840C 11.6.2: G42 after G41 without a method deselects and reselects in the normal
+    /// position. Fanuc C changes the side in offset mode without either: the next element
+    /// switches (d = −10). Under an inner-corner selection the side may not change (TF5200).
+    #[test]
+    fn a_side_change_reselects_on_the_840c_and_switches_in_place_on_fanuc() {
+        let g42 = Some(TrcSide::Right);
+        let b = block("siemens-840c", TrcSide::Right, g42, None);
+        let r = active_left("siemens-840c").request(&b, source(), -10.0);
+        assert_eq!(
+            r.unwrap(),
+            Request::restart(SelectionPolicy::NormalPosition)
+        );
+        let mut c = active_left("fanuc");
+        let b = block("fanuc", TrcSide::Right, g42, None);
+        assert_eq!(c.request(&b, source(), -10.0).unwrap(), Request::NONE);
+        assert!(c.switching && c.side == TrcSide::Right && c.d == -10.0);
+        let mut c = active_left("isg");
+        c.inner_exit = Some(v2(0.0, 0.0));
+        let b = block("isg", TrcSide::Right, g42, None);
+        let f = c.request(&b, source(), -10.0).unwrap_err();
+        assert_eq!(f.code, AlarmCode::InnerCornerSelection);
+    }
+
+    /// 840C 11.5.2: G40 before the armed selection ever met a plane move deselects it;
+    /// G41 with compensation off selects with the modal method.
+    #[test]
+    fn g40_disarms_a_waiting_selection_and_g41_selects_with_the_modal_method() {
+        let mut c = compensator("siemens-840c");
+        c.mode = Mode::Armed;
+        let b = block("siemens-840c", TrcSide::Off, Some(TrcSide::Off), None);
+        assert_eq!(c.request(&b, source(), 0.0).unwrap(), Request::NONE);
+        assert_eq!(c.mode, Mode::Off);
+        let b = block("siemens-840c", TrcSide::Left, Some(TrcSide::Left), None);
+        let r = c.request(&b, source(), 10.0).unwrap();
+        assert_eq!(r, Request::select(SelectionPolicy::Compensated));
+    }
+
+    /// 840C 11.7: a new offset in a circle is refused; in a line the element starts with the
+    /// old radius and ends with the new one. ISG (002) ramps a change over the next linear
+    /// block, and refuses a circle there.
+    #[test]
+    fn a_radius_change_goes_over_a_line_and_never_over_a_circle_where_the_control_says_so() {
+        let arc = Motion {
+            kind: MotionKind::ArcCcw,
+            plane: Plane::XY,
+            start: [10.0, 0.0, 0.0],
+            end: [0.0, 10.0, 0.0],
+            center: [0.0; 3],
+            programmed: 3,
+        };
+        let line = Motion {
+            kind: MotionKind::Linear,
+            ..arc
+        };
+        let t = tag(100.0, false);
+        let mut c = active_left("siemens-840c");
+        let f = c.element_radii(t, &arc, 5.0).unwrap_err();
+        assert_eq!(f.code, AlarmCode::RadiusChangeNotLinear);
+        assert_eq!(c.element_radii(t, &line, 5.0).unwrap(), (10.0, 5.0));
+        // ISG: the block with the change kept 10 and set the ramp; the next line runs 10 → 5.
+        let mut c = active_left("isg");
+        c.ramp_from = Some(10.0);
+        c.d = 5.0;
+        let f = c.element_radii(t, &arc, 5.0).unwrap_err();
+        assert_eq!(f.code, AlarmCode::RadiusChangeNotLinear);
+        assert_eq!(c.element_radii(t, &line, 5.0).unwrap(), (10.0, 5.0));
+        assert_eq!(c.ramp_from, None);
+    }
+
+    /// 840C 11.11: up to three blocks outside the plane wait behind the pending element; the
+    /// fourth is alarm 3021, or a warning under `violation_reaction = warn`.
+    #[test]
+    fn the_fourth_block_outside_the_plane_is_a_contour_violation() {
+        for warn in [false, true] {
+            let mut c = active_left("siemens-840c");
+            c.warn_on_violation(warn);
+            c.pending = Some(Pending {
+                tag: tag(100.0, false),
+                prog: Elem::Line {
+                    a: v2(0.0, 0.0),
+                    b: v2(10.0, 0.0),
+                },
+                start: v2(0.0, 10.0),
+                d1: 10.0,
+                carrier: Elem::Line {
+                    a: v2(0.0, 10.0),
+                    b: v2(10.0, 10.0),
+                },
+                w0: 0.0,
+                w1: 0.0,
+            });
+            for _ in 0..3 {
+                c.count_outside(tag(100.0, false)).unwrap();
+            }
+            let fourth = c.count_outside(tag(100.0, false));
+            assert_eq!(fourth.is_err(), !warn);
+            assert_eq!(c.take_warning().is_some(), warn);
+        }
+    }
+
+    /// 840C 11.5.2 and 11.11, through `block`: N40 G40 has no axis of the plane and waits;
+    /// N50 Z5 waits behind N30 and runs at its end; N60 deselects. N20 selects north to
+    /// (0,10) with G455 and G450, N30 runs east (tool left, R 10): a right turn, so the
+    /// selection block's equidistant x = −10 ends at (−10, 10) and the transition circle
+    /// about (0,10) belongs to N30, to P2 = (0, 20). N60 goes on east: tangent, so N30
+    /// ends in its normal position (40, 20) and N60 runs from there to (60, 10).
+    #[test]
+    fn a_deselection_without_a_plane_axis_waits_for_the_next_plane_move() {
+        let text = "N10 G0 X0 Y0\nN20 G41 G450 D1 G1 X0 Y10 F100\nN30 X40\nN40 G40\nN50 Z5\nN60 X60\nN70 M30\n";
+        let (md, tools) = (machine("siemens-840c"), ToolTable::builtin());
+        let mut interp = Interpreter::new("t", text, &md, &tools);
+        let mut c = compensator("siemens-840c");
+        let mut out = Out::new();
+        while let Some(b) = interp.next_block().unwrap() {
+            c.block(b, b.motion.as_ref(), &mut out).unwrap();
+        }
+        let got: Vec<_> = segments(&mut out)
+            .into_iter()
+            .map(|s| (s.source.line, s.role, s.from, s.to))
+            .collect();
+        let want = [
+            (1, Role::Uncompensated, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+            (2, Role::Approach, [0.0, 0.0, 0.0], [-10.0, 10.0, 0.0]),
+            (3, Role::Corner, [-10.0, 10.0, 0.0], [0.0, 20.0, 0.0]),
+            (3, Role::Contour, [0.0, 20.0, 0.0], [40.0, 20.0, 0.0]),
+            (5, Role::Contour, [40.0, 20.0, 0.0], [40.0, 20.0, 5.0]),
+            (6, Role::Retract, [40.0, 20.0, 5.0], [60.0, 10.0, 5.0]),
+        ];
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(g.0 == w.0 && g.1 == w.1, "{g:?} != {w:?}");
+            assert!(close(g.2, w.2) && close(g.3, w.3), "{g:?} != {w:?}");
+        }
+    }
+
+    /// 840C 11.14 (the seed's caution): a full circle r 10 about the origin, counter-
+    /// clockwise from (10,0), the tool outside (R 2, right: radius 12), its end moved on by
+    /// 30° to (6√3, 6) by the next corner: 390° in all, out as two arcs of 195°. The middle
+    /// is (12,0) turned by 195°: (−12·cos 15°, −12·sin 15°) = (−3(√6 + √2), −3(√6 − √2)).
+    #[test]
+    fn an_arc_lengthened_past_a_full_turn_goes_out_in_two_halves() {
+        let mut c = active_left("siemens-840c");
+        let start = v2(12.0, 0.0);
+        let end = v2(6.0 * 3f64.sqrt(), 6.0);
+        let p = Pending {
+            tag: tag(100.0, false),
+            prog: Elem::Arc {
+                a: v2(10.0, 0.0),
+                b: v2(10.0, 0.0),
+                c: v2(0.0, 0.0),
+                ccw: true,
+            },
+            start,
+            d1: -2.0,
+            carrier: Elem::Arc {
+                a: start,
+                b: start,
+                c: v2(0.0, 0.0),
+                ccw: true,
+            },
+            w0: 0.0,
+            w1: 4.0,
+        };
+        let mut out = Out::new();
+        c.emit_pending(&p, end, &mut out).unwrap();
+        let s = segments(&mut out);
+        let (r6, r2) = (6f64.sqrt(), 2f64.sqrt());
+        let mid = [-3.0 * (r6 + r2), -3.0 * (r6 - r2), 2.0];
+        assert_eq!(s.len(), 2, "{s:?}");
+        assert!(
+            close(s[0].from, [12.0, 0.0, 0.0]) && close(s[0].to, mid),
+            "{s:?}"
+        );
+        assert!(
+            close(s[1].from, mid) && close(s[1].to, [end.x, end.y, 4.0]),
+            "{s:?}"
+        );
+        for seg in &s {
+            let Shape::Arc { ccw, r0, r1, .. } = seg.shape else {
+                panic!("{seg:?}")
+            };
+            assert!(ccw && (r0 - 12.0).abs() < 1e-12 && (r1 - 12.0).abs() < 1e-12);
+        }
+        // The same end reached without the extra turn (moved back by 30° instead) is one
+        // arc of 330°.
+        let back = v2(6.0 * 3f64.sqrt(), -6.0);
+        c.emit_pending(&p, back, &mut out).unwrap();
+        assert_eq!(segments(&mut out).len(), 1);
+    }
+
+    /// ISG G11 (TF5200): on a programmed arc of radius 20 the centre of a tool outside it
+    /// (radius 30) runs at F·30/20, inside (radius 10) at F·10/20, on a spiral at the mean
+    /// of its radii; an arc below the minimum radius (25) keeps F. Transition pieces go round
+    /// a corner of radius 0 taken as the minimum radius 5: F·(5 + 10)/5 with R 10.
+    #[test]
+    fn adapted_feed_scales_the_centre_feed_by_the_radius_ratio() {
+        let mut c = active_left("isg");
+        let p = Pending {
+            tag: tag(1000.0, true),
+            prog: Elem::Arc {
+                a: v2(20.0, 0.0),
+                b: v2(0.0, 20.0),
+                c: v2(0.0, 0.0),
+                ccw: true,
+            },
+            start: v2(30.0, 0.0),
+            d1: -10.0,
+            carrier: Elem::Arc {
+                a: v2(30.0, 0.0),
+                b: v2(0.0, 30.0),
+                c: v2(0.0, 0.0),
+                ccw: true,
+            },
+            w0: 0.0,
+            w1: 0.0,
+        };
+        assert_eq!(c.contour_feed(&p, 30.0, 30.0).feed, 1500.0);
+        assert_eq!(c.contour_feed(&p, 10.0, 10.0).feed, 500.0);
+        // A radius changing over the block (808D): the mean of 30 and 34, F·32/20.
+        assert_eq!(c.contour_feed(&p, 30.0, 34.0).feed, 1600.0);
+        c.set_feed_adaption_rmin(25.0);
+        assert_eq!(c.contour_feed(&p, 30.0, 30.0).feed, 1000.0);
+        c.set_feed_adaption_rmin(5.0);
+        let mut out = Out::new();
+        let corner = Elem::Arc {
+            a: v2(0.0, 10.0),
+            b: v2(10.0, 0.0),
+            c: v2(0.0, 0.0),
+            ccw: false,
+        };
+        let lead = Elem::Line {
+            a: v2(10.0, 0.0),
+            b: v2(20.0, 0.0),
+        };
+        c.pieces(tag(1000.0, true), &[corner, lead], 0.0, &mut out);
+        let s = segments(&mut out);
+        assert_eq!((s[0].role, s[0].feed), (Role::Corner, 3000.0));
+        assert_eq!((s[1].role, s[1].feed), (Role::Intermediate, 3000.0));
+    }
+
+    #[test]
+    fn message_coordinates_drop_trailing_zeros() {
+        assert_eq!(num4(12.345_67), "12.3457");
+        assert_eq!(num4(-3.0), "-3");
+        assert_eq!(num4(-0.0), "0");
+        assert_eq!(num4(0.5), "0.5");
+    }
+}

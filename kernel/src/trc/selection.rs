@@ -142,3 +142,205 @@ pub fn tangent_arc(a: V2, b: V2, t: V2, at_end: bool) -> Elem {
     let ccw = (p - c).left().dot(t) > 0.0;
     Elem::Arc { a, b, c, ccw }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trc::corner::OuterCorner;
+    use crate::trc::geom::v2;
+    use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
+
+    fn close(a: V2, b: V2) -> bool {
+        a.dist(b) < 1e-12
+    }
+
+    const CIRCLE: CornerSettings = CornerSettings {
+        outer: OuterCorner::Circle,
+        suppression: 0.0,
+    };
+
+    /// The first contour element: east from (0,0) to (10,0); the tool left at R 2 runs on
+    /// y = 2 from P2 = (0, 2).
+    fn first() -> (Elem, Elem) {
+        (
+            Elem::Line {
+                a: v2(0.0, 0.0),
+                b: v2(10.0, 0.0),
+            },
+            Elem::Line {
+                a: v2(0.0, 2.0),
+                b: v2(10.0, 2.0),
+            },
+        )
+    }
+
+    /// 840C G456, 808D, Fanuc start-up, ISG G138/G239: straight from the tool to P2,
+    /// whatever the angle.
+    #[test]
+    fn the_normal_position_method_runs_straight_to_p2() {
+        let (e1, o1) = first();
+        let ne = Some(v2(FRAC_1_SQRT_2, FRAC_1_SQRT_2));
+        for p in [
+            SelectionPolicy::NormalPosition,
+            SelectionPolicy::OffsetVector,
+            SelectionPolicy::Direct,
+            SelectionPolicy::WithoutBlock,
+        ] {
+            let en = entry(
+                v2(-20.0, -10.0),
+                v2(0.0, 0.0),
+                ne,
+                &e1,
+                &o1,
+                2.0,
+                p,
+                &CIRCLE,
+            )
+            .unwrap();
+            assert!(
+                close(en.start, v2(0.0, 2.0)) && en.pieces.is_empty(),
+                "{p:?}"
+            );
+            assert_eq!(en.path.end(), en.start);
+            assert_eq!(en.path.start(), v2(-20.0, -10.0));
+        }
+    }
+
+    /// 840C G455 (11.2, 11.3) at α < 180°: the selection block runs north-east from
+    /// (−10,−10) to (0,0), then east, a right turn away from the tool (left): outer. Its
+    /// equidistant ends at q + R·left(dir) = (−√2, √2), and the transition circle about
+    /// (0,0) runs clockwise from there to P2 = (0, 2).
+    #[test]
+    fn the_compensated_method_takes_the_corner_mode_at_an_outer_angle() {
+        let (e1, o1) = first();
+        let ne = Some(v2(FRAC_1_SQRT_2, FRAC_1_SQRT_2));
+        let en = entry(
+            v2(-10.0, -10.0),
+            v2(0.0, 0.0),
+            ne,
+            &e1,
+            &o1,
+            2.0,
+            SelectionPolicy::Compensated,
+            &CIRCLE,
+        )
+        .unwrap();
+        let a = v2(-SQRT_2, SQRT_2);
+        assert!(close(en.path.end(), a), "{en:?}");
+        assert_eq!(en.pieces.len(), 1);
+        let Elem::Arc { a: s, b, c, ccw } = en.pieces[0] else {
+            panic!("{en:?}")
+        };
+        assert!(close(s, a) && close(b, v2(0.0, 2.0)) && close(c, v2(0.0, 0.0)) && !ccw);
+        assert!(close(en.start, v2(0.0, 2.0)));
+    }
+
+    /// 840C 11.3 at α ≥ 180°: coming south-east from (−10,10), the turn onto east is towards
+    /// the tool (inner): G455 goes to the normal position P2 = (0, 2). ISG G139 instead ends
+    /// where the selection block's equidistant, through q + R·left(dir) = (√2, √2) along
+    /// (1,−1), meets y = 2: √2 − s = 2, s = √2 − 2, x = 2√2 − 2.
+    #[test]
+    fn at_an_inner_angle_compensated_goes_to_p2_and_indirect_to_the_intersection() {
+        let (e1, o1) = first();
+        let se = Some(v2(FRAC_1_SQRT_2, -FRAC_1_SQRT_2));
+        let from = v2(-10.0, 10.0);
+        let q = v2(0.0, 0.0);
+        let en = entry(
+            from,
+            q,
+            se,
+            &e1,
+            &o1,
+            2.0,
+            SelectionPolicy::Compensated,
+            &CIRCLE,
+        );
+        let en = en.unwrap();
+        assert!(
+            close(en.start, v2(0.0, 2.0)) && en.pieces.is_empty(),
+            "{en:?}"
+        );
+        let en = entry(
+            from,
+            q,
+            se,
+            &e1,
+            &o1,
+            2.0,
+            SelectionPolicy::Indirect,
+            &CIRCLE,
+        )
+        .unwrap();
+        let x = v2(2.0 * SQRT_2 - 2.0, 2.0);
+        assert!(close(en.start, x) && close(en.path.end(), x) && en.pieces.is_empty());
+    }
+
+    /// ISG G05: from (−2,0) an arc tangent to the first element's direction (1,0) at
+    /// P2 = (0,2). Its centre lies on the normal x = 0 at (0, 2 − ρ) with ρ² = 4 + (2 − ρ)²,
+    /// ρ = 2: about (0,0), clockwise (at the top of the circle it runs east).
+    #[test]
+    fn the_tangential_method_arcs_onto_p2() {
+        let (e1, o1) = first();
+        let dir = Some(v2(1.0, 0.0));
+        let from = v2(-2.0, 0.0);
+        let en = entry(
+            from,
+            v2(0.0, 0.0),
+            dir,
+            &e1,
+            &o1,
+            2.0,
+            SelectionPolicy::Tangential,
+            &CIRCLE,
+        );
+        let en = en.unwrap();
+        let Elem::Arc { a, b, c, ccw } = en.path else {
+            panic!("{en:?}")
+        };
+        assert!(close(a, from) && close(b, v2(0.0, 2.0)) && close(c, v2(0.0, 0.0)) && !ccw);
+    }
+
+    /// ISG G238 (TF5200): the contour closes at q = (0,0), its last block coming south from
+    /// (0,10), its first going east. South → east turns left, towards the tool (left, R 2):
+    /// inner. The equidistants x = 2 (left of south is east) and y = 2 cross at (2, 2),
+    /// where the approach block goes straight.
+    #[test]
+    fn the_inner_corner_method_enters_where_the_last_and_first_equidistants_cross() {
+        let (e1, o1) = first();
+        let last = Elem::Line {
+            a: v2(0.0, 10.0),
+            b: v2(0.0, 0.0),
+        };
+        let from = v2(-5.0, -5.0);
+        let q = v2(0.0, 0.0);
+        let en = inner_corner(from, q, &e1, &o1, &last, 2.0, &CIRCLE).unwrap();
+        assert!(
+            close(en.start, v2(2.0, 2.0)) && en.pieces.is_empty(),
+            "{en:?}"
+        );
+        assert_eq!(en.path.start(), from);
+        // Not closed: the last block ends 1 mm off q.
+        let open = Elem::Line {
+            a: v2(0.0, 10.0),
+            b: v2(0.0, 1.0),
+        };
+        let e = inner_corner(from, q, &e1, &o1, &open, 2.0, &CIRCLE);
+        assert_eq!(e, Err(InnerCornerError::NotClosed));
+        // The tool on the right (d = −2): the same turn is an outer corner.
+        let o1r = Elem::Line {
+            a: v2(0.0, -2.0),
+            b: v2(10.0, -2.0),
+        };
+        let e = inner_corner(from, q, &e1, &o1r, &last, -2.0, &CIRCLE);
+        assert_eq!(e, Err(InnerCornerError::NotInner));
+        // A circle as the first element.
+        let arc = Elem::Arc {
+            a: q,
+            b: v2(10.0, 0.0),
+            c: v2(5.0, 0.0),
+            ccw: true,
+        };
+        let e = inner_corner(from, q, &arc, &o1, &last, 2.0, &CIRCLE);
+        assert_eq!(e, Err(InnerCornerError::FirstNotLinear));
+    }
+}

@@ -55,3 +55,96 @@ pub fn arc_travel(prog: &Elem, start: V2, end: V2) -> ArcTravel {
         ArcTravel::Changed(total)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trc::geom::v2;
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_6, TAU};
+
+    /// A line from (0,0) to (10,0) whose equidistant y = 2 was trimmed: forwards from x = 2
+    /// to x = 8, backwards from 8 to 2; back by 1e-8 mm is within the 1e-7 mm allowance
+    /// (the test compares (1e-8·10)² = 1e-14 with 1e-14·10² = 1e-12), by 1e-6 mm it is not;
+    /// a move across the line does not run backwards.
+    #[test]
+    fn a_trimmed_line_reverses_when_its_ends_swap_places() {
+        let (a, b) = (v2(0.0, 0.0), v2(10.0, 0.0));
+        assert!(!line_reverses(a, b, v2(2.0, 2.0), v2(8.0, 2.0)));
+        assert!(line_reverses(a, b, v2(8.0, 2.0), v2(2.0, 2.0)));
+        assert!(!line_reverses(a, b, v2(5.0, 2.0), v2(5.0 - 1e-8, 2.0)));
+        assert!(line_reverses(a, b, v2(5.0, 2.0), v2(5.0 - 1e-6, 2.0)));
+        assert!(!line_reverses(a, b, v2(5.0, 2.0), v2(5.0, -2.0)));
+    }
+
+    /// The point at `deg` degrees on the circle of radius `r` about the origin.
+    fn at(r: f64, deg: f64) -> V2 {
+        let t = deg.to_radians();
+        v2(r * libm::cos(t), r * libm::sin(t))
+    }
+
+    fn changed(t: ArcTravel) -> f64 {
+        match t {
+            ArcTravel::Changed(s) => s,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A counter-clockwise quarter circle r 10 from 0° to 90° about the origin, and its
+    /// equidistant at r 12 cut at other angles.
+    #[test]
+    fn an_arc_turns_its_programmed_sweep_less_what_the_start_lost_plus_what_the_end_gained() {
+        let q = Elem::Arc {
+            a: at(10.0, 0.0),
+            b: at(10.0, 90.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        // Ends on their radii (at 0° and 90°, r 12): the programmed sweep, no atan2.
+        assert_eq!(
+            arc_travel(&q, at(12.0, 0.0), at(12.0, 90.0)),
+            ArcTravel::Programmed
+        );
+        // Start trimmed to 30°: 90° − 30° = 60°.
+        let s = changed(arc_travel(&q, at(12.0, 30.0), at(12.0, 90.0)));
+        assert!((s - FRAC_PI_3).abs() < 1e-12, "{s}");
+        // End lengthened to 120°: 90° + 30°.
+        let s = changed(arc_travel(&q, at(12.0, 0.0), at(12.0, 120.0)));
+        assert!((s - (FRAC_PI_2 + FRAC_PI_6)).abs() < 1e-12, "{s}");
+        // Start trimmed to 60°, end to 30°: 90° − 60° − 60° = −30°, backwards (11.12).
+        let t = arc_travel(&q, at(12.0, 60.0), at(12.0, 30.0));
+        assert_eq!(t, ArcTravel::Reversed);
+    }
+
+    /// Clockwise, angles count the other way: the quarter from 90° down to 0°, its end
+    /// lengthened to −30°, turns 90° + 30° = 120°.
+    #[test]
+    fn a_clockwise_arc_gains_where_its_end_moves_on_clockwise() {
+        let q = Elem::Arc {
+            a: at(10.0, 90.0),
+            b: at(10.0, 0.0),
+            c: v2(0.0, 0.0),
+            ccw: false,
+        };
+        let s = changed(arc_travel(&q, at(10.0, 90.0), at(10.0, -30.0)));
+        assert!((s - 2.0 * FRAC_PI_3).abs() < 1e-12, "{s}");
+    }
+
+    /// A full circle (start = end at 0°) runs as programmed while its ends stay; its end
+    /// moved on to 30° makes it 360° + 30° (11.14: lengthened past a full turn); its start
+    /// moved on to 30° leaves 330°.
+    #[test]
+    fn a_full_circle_keeps_its_turn_or_goes_past_it() {
+        let full = Elem::Arc {
+            a: at(10.0, 0.0),
+            b: at(10.0, 0.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        let t = arc_travel(&full, at(10.0, 0.0), at(10.0, 0.0));
+        assert_eq!(t, ArcTravel::Programmed);
+        let s = changed(arc_travel(&full, at(10.0, 0.0), at(10.0, 30.0)));
+        assert!((s - (TAU + FRAC_PI_6)).abs() < 1e-12, "{s}");
+        let s = changed(arc_travel(&full, at(10.0, 30.0), at(10.0, 0.0)));
+        assert!((s - (TAU - FRAC_PI_6)).abs() < 1e-12, "{s}");
+    }
+}
