@@ -4,8 +4,10 @@
 //! true when its absolute value is at least 0.5.
 
 use super::block::BlockNo;
-use super::expr::{self, ExprError, Variables};
+use super::expr;
+use super::fault::{fault, R};
 use super::lexer::Cursor;
+use super::variables::Variables;
 use crate::alarm::AlarmCode;
 
 /// A statement as read. Byte offsets point at the `$`.
@@ -104,12 +106,8 @@ pub fn for_continues(v: f64, end: f64, step: f64) -> bool {
     }
 }
 
-fn syntax(at: usize, m: impl Into<String>) -> ExprError {
-    ExprError {
-        at,
-        code: AlarmCode::Syntax,
-        message: m.into(),
-    }
+fn syntax(at: usize, m: impl Into<String>) -> Box<super::fault::Fault> {
+    fault(AlarmCode::Syntax, at, m)
 }
 
 fn keyword(c: &mut Cursor) -> String {
@@ -121,7 +119,7 @@ fn keyword(c: &mut Cursor) -> String {
 }
 
 /// After a statement only a comment may follow.
-fn end_of_statement(c: &mut Cursor) -> Result<(), ExprError> {
+fn end_of_statement(c: &mut Cursor) -> R<()> {
     loop {
         c.skip_blanks();
         match c.peek() {
@@ -141,7 +139,7 @@ fn end_of_statement(c: &mut Cursor) -> Result<(), ExprError> {
     }
 }
 
-fn expect(c: &mut Cursor, ch: u8, what: &str) -> Result<(), ExprError> {
+fn expect(c: &mut Cursor, ch: u8, what: &str) -> R<()> {
     c.skip_blanks();
     if c.peek() == Some(ch) {
         c.i += 1;
@@ -152,7 +150,7 @@ fn expect(c: &mut Cursor, ch: u8, what: &str) -> Result<(), ExprError> {
 }
 
 /// Parses a statement; the cursor stands on the `$`.
-pub fn parse(c: &mut Cursor, vars: &Variables) -> Result<ControlStmt, ExprError> {
+pub fn parse(c: &mut Cursor, vars: &Variables) -> R<ControlStmt> {
     let at = c.i;
     c.i += 1;
     let kw = keyword(c);
@@ -206,11 +204,11 @@ pub fn parse(c: &mut Cursor, vars: &Variables) -> Result<ControlStmt, ExprError>
         "ENDIF" => ControlStmt::EndIf { at },
         "" => return Err(syntax(at, "$ must be followed by a keyword")),
         other => {
-            return Err(ExprError {
+            return Err(fault(
+                AlarmCode::NotSupported,
                 at,
-                code: AlarmCode::NotSupported,
-                message: format!("${other} is not supported by softnc"),
-            })
+                format!("${other} is not supported by softnc"),
+            ))
         }
     };
     end_of_statement(c)?;
@@ -241,23 +239,28 @@ fn skip_prefix(c: &mut Cursor) {
     }
 }
 
-/// Reads `N<digits>` at the cursor, if there is an N. Errors: (alarm, message).
-pub fn read_block_number(c: &mut Cursor) -> Result<Option<BlockNo>, (AlarmCode, &'static str)> {
+/// Reads `N<digits>` at the cursor, if there is an N; a fault points at the N.
+pub fn read_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
     if c.letter() != Some(b'N') {
         return Ok(None);
     }
+    let at = c.i;
     c.i += 1;
     let ds = c.i;
     let mut v: u64 = 0;
     while let Some(ch @ b'0'..=b'9') = c.peek() {
         v = v * 10 + (ch - b'0') as u64;
         if v > u32::MAX as u64 {
-            return Err((AlarmCode::BadNumber, "block number too large"));
+            return Err(fault(AlarmCode::BadNumber, at, "block number too large"));
         }
         c.i += 1;
     }
     if c.i == ds {
-        return Err((AlarmCode::Syntax, "N must be followed by the block number"));
+        return Err(fault(
+            AlarmCode::Syntax,
+            at,
+            "N must be followed by the block number",
+        ));
     }
     // At least one digit was read (checked above).
     let digits =
@@ -287,12 +290,7 @@ pub fn keyword_of(src: &[u8], start: usize, end: usize) -> Option<String> {
 }
 
 /// Evaluates the condition of a `$ELSEIF` block. Returns the value and the `$` offset.
-pub fn elseif_condition(
-    src: &[u8],
-    start: usize,
-    end: usize,
-    vars: &Variables,
-) -> Result<(f64, usize), ExprError> {
+pub fn elseif_condition(src: &[u8], start: usize, end: usize, vars: &Variables) -> R<(f64, usize)> {
     let mut c = Cursor::new(src, start, end);
     skip_prefix(&mut c);
     let at = c.i;

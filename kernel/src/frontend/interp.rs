@@ -5,12 +5,15 @@
 use super::arc::{self, ArcError, CentreSpec};
 use super::block::*;
 use super::control::{self, ControlStmt, Frame};
-use super::expr::{self, Variables, Written};
+use super::expr;
+use super::fault::{fault, Fault, Offset, R};
 use super::lexer::{column, find_byte, Cursor};
 use super::number::{self, Number};
+use super::variables::{Variables, Written};
 use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::{Dialect, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::machine_data::{DecimalInput, MachineData, PlaneName, Units};
+use crate::segment::Source;
 use crate::tools::ToolTable;
 use crate::trc::SideChange;
 
@@ -83,40 +86,6 @@ enum Next {
     /// A one-letter address: read its value.
     Address(u8),
 }
-
-/// An alarm position before it is turned into line:column.
-struct Fault {
-    code: AlarmCode,
-    at: usize,
-    message: String,
-}
-
-/// Byte offsets come as usize (cursor) or u32 (stored words).
-trait Offset {
-    fn offset(self) -> usize;
-}
-impl Offset for usize {
-    fn offset(self) -> usize {
-        self
-    }
-}
-impl Offset for u32 {
-    fn offset(self) -> usize {
-        self as usize
-    }
-}
-
-/// Boxed, so that the `Result`s on the hot path stay small; it is built only on an alarm.
-#[cold]
-fn fault(code: AlarmCode, at: impl Offset, message: impl Into<String>) -> Box<Fault> {
-    Box::new(Fault {
-        code,
-        at: at.offset(),
-        message: message.into(),
-    })
-}
-
-type R<T> = Result<T, Box<Fault>>;
 
 /// Streams interpreted blocks out of one part program.
 #[derive(Clone)]
@@ -259,15 +228,18 @@ impl<'a> Interpreter<'a> {
         self
     }
 
+    /// The one place a fault becomes an alarm: at the block being interpreted, the column
+    /// counted from the fault's byte offset.
+    #[cold]
     fn alarm(&self, f: Fault) -> Alarm {
-        Alarm {
-            code: f.code,
-            program: self.name.to_string(),
+        let source = Source {
+            number: self.blk_number,
             line: self.blk_line,
             col: column(self.src, self.blk_line_start, f.at),
-            block: self.blk_number.map(|n| n.to_string()),
-            message: f.message,
-        }
+            // Not read by `Alarm::at`: a block that fails has no place in execution order.
+            seq: 0,
+        };
+        Alarm::at(f.code, self.name, &source, f.message)
     }
 
     /// Next block's text: `(start, end)`; advances past its terminator.
@@ -351,15 +323,12 @@ impl<'a> Interpreter<'a> {
             let Some((start, end)) = self.next_segment() else {
                 self.finished = true;
                 if let Some(f) = self.frames.last() {
+                    // The alarm points at the statement left open.
                     let (line, line_start, at) = f.origin();
-                    return Err(Alarm {
-                        code: AlarmCode::ControlNesting,
-                        program: self.name.to_string(),
-                        line,
-                        col: column(self.src, line_start, at),
-                        block: None,
-                        message: format!("{} is not closed by {}", f.opener(), f.closer()),
-                    });
+                    let message = format!("{} is not closed by {}", f.opener(), f.closer());
+                    (self.blk_line, self.blk_line_start, self.blk_number) =
+                        (line, line_start, None);
+                    return Err(self.alarm(*fault(AlarmCode::ControlNesting, at, message)));
                 }
                 return Ok(false);
             };
@@ -402,9 +371,7 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         let block_col = c.i;
-        let at = c.i;
-        self.blk_number =
-            control::read_block_number(&mut c).map_err(|(code, msg)| fault(code, at, msg))?;
+        self.blk_number = control::read_block_number(&mut c)?;
         c.skip_blanks();
         if self.d.variables && c.peek() == Some(b'$') {
             return self.control(c).map(|()| false);
@@ -792,12 +759,8 @@ impl<'a> Interpreter<'a> {
                     ));
                 }
                 c.i += 1;
-                let value =
-                    expr::eval(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
-                let written = self
-                    .vars
-                    .set(&name, value)
-                    .map_err(|m| fault(AlarmCode::UndefinedName, at, m))?;
+                let value = expr::eval(c, &self.vars)?;
+                let written = self.vars.set(&name, value, at)?;
                 if written == Written::ToolRadius {
                     w.radius_written = Some(at as u32);
                 }
@@ -869,8 +832,7 @@ impl<'a> Interpreter<'a> {
                 (Some(b'-' | b'+'), Some(b'0'..=b'9' | b'.'))
             )
         {
-            let v =
-                expr::eval_operand(c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+            let v = expr::eval_operand(c, &self.vars)?;
             return checked(Val {
                 value: v,
                 at: at as u32,
@@ -1488,8 +1450,7 @@ impl<'a> Interpreter<'a> {
 
     /// `$FOR`, `$IF`, `$WHILE` and their closing statements (ISG).
     fn control(&mut self, mut c: Cursor) -> R<()> {
-        let stmt =
-            control::parse(&mut c, &self.vars).map_err(|e| fault(e.code, e.at, e.message))?;
+        let stmt = control::parse(&mut c, &self.vars)?;
         let origin = (self.blk_line, self.blk_line_start, c.i);
         match stmt {
             ControlStmt::For {
@@ -1507,9 +1468,7 @@ impl<'a> Interpreter<'a> {
                         "$FOR with step 0 would never end",
                     ));
                 }
-                self.vars
-                    .set(&var, start)
-                    .map_err(|m| fault(AlarmCode::UndefinedName, var_at, m))?;
+                self.vars.set(&var, start, var_at)?;
                 if control::for_continues(start, end, step) {
                     // The first pass counts against the program's loop budget too.
                     self.loop_passes = self.loop_passes.saturating_add(1);
@@ -1533,7 +1492,8 @@ impl<'a> Interpreter<'a> {
                     origin,
                 }) => {
                     let v = self.vars.get(&var).unwrap_or(end) + step;
-                    let _ = self.vars.set(&var, v);
+                    // It was written at the $FOR already, so it is a program variable.
+                    let _ = self.vars.set(&var, v, origin.2);
                     if control::for_continues(v, end, step) {
                         self.next_pass(at)?;
                         (self.pos, self.line, self.line_start) = body;
@@ -1568,8 +1528,11 @@ impl<'a> Interpreter<'a> {
             ControlStmt::EndWhile { at } => match self.frames.pop() {
                 Some(Frame::While { cond, body, origin }) => {
                     let mut cc = Cursor::new(self.src, cond.0, cond.1);
-                    let v = expr::eval(&mut cc, &self.vars)
-                        .map_err(|e| fault(e.code, at, e.message))?;
+                    // A fault in the condition points at the $ENDWHILE that evaluates it.
+                    let v = expr::eval(&mut cc, &self.vars).map_err(|mut f| {
+                        f.at = at;
+                        f
+                    })?;
                     if expr::truthy(v) {
                         self.next_pass(at)?;
                         (self.pos, self.line, self.line_start) = body;
@@ -1592,8 +1555,8 @@ impl<'a> Interpreter<'a> {
                         _ => {
                             // The $ELSEIF line was consumed by skip_to; evaluate its condition.
                             let (s, e) = self.last_skip;
-                            let (cond, cat) = control::elseif_condition(self.src, s, e, &self.vars)
-                                .map_err(|e| fault(e.code, e.at, e.message))?;
+                            let (cond, cat) =
+                                control::elseif_condition(self.src, s, e, &self.vars)?;
                             taken = expr::truthy(cond);
                             at_kw = cat;
                         }

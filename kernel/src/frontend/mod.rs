@@ -5,10 +5,12 @@ mod arc;
 pub mod block;
 mod control;
 pub mod expr;
+mod fault;
 mod interp;
 pub mod jsonl;
 mod lexer;
 pub mod number;
+mod variables;
 
 pub use block::*;
 pub use interp::Interpreter;
