@@ -3,17 +3,22 @@
 
 mod arc;
 pub mod block;
-mod control;
+mod block_text;
+mod build;
 pub mod expr;
 mod fault;
-mod interp;
+mod interpreter;
 pub mod jsonl;
 mod lexer;
 pub mod number;
+mod plain;
+mod statements;
 mod variables;
+mod word_loop;
+mod words;
 
 pub use block::*;
-pub use interp::Interpreter;
+pub use interpreter::Interpreter;
 
 use crate::alarm::Alarm;
 use crate::machine_data::MachineData;
@@ -35,4 +40,11 @@ impl Iterator for Interpreter<'_> {
     fn next(&mut self) -> Option<Self::Item> {
         self.next_block().map(|b| b.cloned()).transpose()
     }
+}
+
+/// A program interpreted in a dialect with its built-in machine data and the shipped tools.
+#[cfg(test)]
+fn run(dialect: &str, src: &str) -> Result<Vec<Block>, Alarm> {
+    let md = MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
+    interpret("p", src, &md, &ToolTable::builtin())
 }
