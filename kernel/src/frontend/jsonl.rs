@@ -2,6 +2,7 @@
 //! Written by hand: it is on the path of million-block programs, and the format is small.
 
 use super::block::*;
+use crate::dialect::work_offset_name;
 use crate::json::{num, string};
 use crate::machine_data::Units;
 use std::io::{self, Write};
@@ -72,7 +73,7 @@ fn modal(out: &mut impl Write, s: &ModalState) -> io::Result<()> {
     num(out, s.spindle)?;
     write!(
         out,
-        ",\"trc\":\"{}\",\"corner\":\"{}\",\"selection\":\"{}\",\"feed_adaption\":\"{}\",\"masking\":{},\"exact_stop\":{},\"work_offset\":{},\"diameter\":{},\"tool\":",
+        ",\"trc\":\"{}\",\"corner\":\"{}\",\"selection\":\"{}\",\"feed_adaption\":\"{}\",\"masking\":{},\"exact_stop\":{},\"work_offset\":",
         s.trc.name(),
         s.corner.name(),
         s.selection.name(),
@@ -82,15 +83,12 @@ fn modal(out: &mut impl Write, s: &ModalState) -> io::Result<()> {
         },
         s.masking,
         s.exact_stop,
-        match s.work_offset {
-            0 => "null",
-            1 => "\"G54\"",
-            2 => "\"G55\"",
-            3 => "\"G56\"",
-            _ => "\"G57\"",
-        },
-        s.diameter
     )?;
+    match work_offset_name(s.work_offset) {
+        Some(name) => write!(out, "\"{name}\"")?,
+        None => out.write_all(b"null")?,
+    }
+    write!(out, ",\"diameter\":{},\"tool\":", s.diameter)?;
     match s.tool {
         Some(t) => write!(out, "{t}")?,
         None => out.write_all(b"null")?,

@@ -12,7 +12,7 @@ use super::interpreter::Interpreter;
 use super::lexer::{column, Cursor};
 use super::number;
 use super::words::{Val, MAX_VALUE};
-use crate::dialect::{GCodeDef, GEffect};
+use crate::dialect::{GCodeDef, GEffect, G_CODES};
 
 /// What a byte is to [`Interpreter::plain`]: 0..=5 the words X Y Z I J K (either case),
 /// `G_WORD`, or one of the marks below; one table lookup instead of a chain of tests per byte.
@@ -170,7 +170,7 @@ impl Interpreter<'_> {
     /// The motion mode of a G number, if it is a motion code allowed with TRC.
     #[inline(always)]
     fn plain_motion(&self, v: f64) -> Option<MotionMode> {
-        if !((0.0..1000.0).contains(&v) && v as u16 as f64 == v) {
+        if !((0.0..G_CODES as f64).contains(&v) && v as u16 as f64 == v) {
             return None;
         }
         match self.d.gcode(v as u16) {

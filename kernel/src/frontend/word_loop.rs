@@ -12,7 +12,7 @@ use super::lexer::Cursor;
 use super::number;
 use super::words::*;
 use crate::alarm::AlarmCode;
-use crate::dialect::RadiusWord;
+use crate::dialect::{GEffect, RadiusWord, G_CODES};
 
 /// How the word loop goes on after [`Interpreter::special`].
 enum Next {
@@ -55,7 +55,7 @@ impl Interpreter<'_> {
         match letter {
             b'G' => {
                 let code = int_value(v.value, at, "G code")?;
-                if code >= 1000 {
+                if code as usize >= G_CODES {
                     return Err(fault(
                         AlarmCode::UnknownGCode,
                         at,
@@ -152,10 +152,10 @@ impl Interpreter<'_> {
 
     /// What starts with no letter: an `@` command, a bare dwell time, or a syntax error.
     fn not_a_letter(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
-        if self.d.at_commands && ch == b'@' {
+        if !self.d.at_commands.is_empty() && ch == b'@' {
             return at_command(c, w, at);
         }
-        if self.d.dwell.bare_seconds && w.bare.is_none() && matches!(w.g.last(), Some((4, _))) {
+        if self.d.dwell.bare_seconds && w.bare.is_none() && self.after_dwell_code(w) {
             if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
                 c.i = next;
                 w.bare = Some(Val::new(n, at));
@@ -171,6 +171,13 @@ impl Interpreter<'_> {
             at,
             format!("unexpected character '{shown}'"),
         ))
+    }
+
+    /// The last G code read is the dwell (ISG `G04 3.0`: a bare number is its time).
+    fn after_dwell_code(&self, w: &Words) -> bool {
+        w.g.last()
+            .and_then(|&(code, _)| self.d.gcode(code))
+            .is_some_and(|def| def.effect == GEffect::Dwell)
     }
 
     /// The multi-letter words of the dialect (`LF`, `CR=`, `DIAMON`/`DIAMOF`, `V.` variable
@@ -314,7 +321,7 @@ fn starts_operand(c: &Cursor) -> bool {
     )
 }
 
-/// 840C `@` command: its number (docs/dialects.md, "840C @714").
+/// An `@` command: its number (docs/dialects.md, "840C @714").
 fn at_command(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
     c.i += 1;
     let (n, next) = number::parse(c.b, c.i)

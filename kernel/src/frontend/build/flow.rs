@@ -7,56 +7,56 @@ use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::words::{Val, Words};
 use crate::alarm::AlarmCode;
+use crate::dialect::{AtEffect, MEffect};
 use crate::machine_data::DecimalInput;
 
 impl Interpreter<'_> {
-    /// Step 3: `@` commands; with TRC active they are forbidden (840C 11.4).
+    /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC
+    /// is active (840C 11.4).
     #[inline(always)]
     pub(super) fn at_commands(&mut self, w: &Words) -> R<()> {
         for &(code, at) in &w.at_codes {
-            if code != 714 {
+            let Some(def) = self.d.at_command(code) else {
                 return Err(fault(
                     AlarmCode::NotSupported,
                     at,
                     format!("@{code} is not supported by softnc"),
                 ));
+            };
+            if def.forbidden_with_trc && self.block.modal.trc != TrcSide::Off {
+                return Err(self.forbidden_with_trc(&format!("@{code}"), at));
             }
-            if self.block.modal.trc != TrcSide::Off {
-                return Err(fault(
-                    AlarmCode::ForbiddenWithTrc,
-                    at,
-                    "@714 may not be programmed while TRC (G41/G42) is active; deselect TRC first",
-                ));
+            match def.effect {
+                AtEffect::PreprocessStop => self.block.preprocess_stop = true,
             }
-            self.block.preprocess_stop = true;
         }
         Ok(())
     }
 
-    /// Step 7: the program-flow M functions; two different ones in a block are an alarm.
+    /// Step 7: the M functions the dialect's table knows; the others are auxiliary
+    /// functions, handed on as written.
     #[inline(always)]
     pub(super) fn program_stops(&mut self, w: &Words) -> R<()> {
-        let blk = &mut self.block;
         for m in &w.m {
-            let stop = match m.value {
-                0.0 => Some(ProgramStop::Stop),
-                1.0 => Some(ProgramStop::OptionalStop),
-                2.0 => Some(ProgramStop::End),
-                30.0 => Some(ProgramStop::EndRewind),
-                v if v == 18.0 && self.d.m18_stops => Some(ProgramStop::StopAtEnd),
-                _ => None,
-            };
-            if let Some(s) = stop {
-                if blk.stop.is_some_and(|prev| prev != s) {
-                    return Err(fault(
-                        AlarmCode::SameGroupTwice,
-                        m.at,
-                        "two program-flow M functions in one block",
-                    ));
-                }
-                blk.stop = Some(s);
+            match self.d.mcode(m.value).map(|def| def.effect) {
+                Some(MEffect::Stop(s)) => self.program_stop(s, m.at)?,
+                None => {}
             }
         }
+        Ok(())
+    }
+
+    /// A program stop at block end; two different ones in a block are an alarm.
+    fn program_stop(&mut self, s: ProgramStop, at: u32) -> R<()> {
+        let blk = &mut self.block;
+        if blk.stop.is_some_and(|prev| prev != s) {
+            return Err(fault(
+                AlarmCode::SameGroupTwice,
+                at,
+                "two program-flow M functions in one block",
+            ));
+        }
+        blk.stop = Some(s);
         Ok(())
     }
 

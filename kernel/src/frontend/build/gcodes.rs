@@ -4,7 +4,7 @@
 //! block's motion: selection and deselection only in a linear block.
 
 use super::super::block::*;
-use super::super::fault::{fault, Fault, R};
+use super::super::fault::{fault, Fault, Offset, R};
 use super::super::interpreter::Interpreter;
 use super::super::words::Words;
 use crate::alarm::AlarmCode;
@@ -81,13 +81,24 @@ impl Interpreter<'_> {
             ));
         }
         if def.forbidden_with_trc {
-            return Err(fault(
-                AlarmCode::ForbiddenWithTrc,
-                at,
-                format!("G{code} may not be programmed while TRC (G41/G42) is active; deselect TRC first"),
-            ));
+            return Err(self.forbidden_with_trc(&format!("G{code}"), at));
         }
         Ok(())
+    }
+
+    /// `what` (a code as written) may not stand in a block while TRC is active.
+    #[cold]
+    pub(super) fn forbidden_with_trc(&self, what: &str, at: impl Offset) -> Box<Fault> {
+        let trc_on = self
+            .d
+            .codes_of(&[GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)]);
+        fault(
+            AlarmCode::ForbiddenWithTrc,
+            at,
+            format!(
+                "{what} may not be programmed while TRC ({trc_on}) is active; deselect TRC first"
+            ),
+        )
     }
 
     /// Step 4: the G codes' effects, on the modal state `new` or on the block.
@@ -136,8 +147,8 @@ impl Interpreter<'_> {
         }
     }
 
-    /// Step 9: G40/G41/G42 only in a G0/G1 block (840C 11.3/11.5, Fanuc 026). Fanuc changes
-    /// sides in offset mode in any block, circles included (no new start-up).
+    /// Step 9: TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026).
+    /// Fanuc changes sides in offset mode in any block, circles included (no new start-up).
     #[inline(always)]
     pub(super) fn trc_in_linear_block(&self, new: &ModalState, trc_at: Option<u32>) -> R<()> {
         let d = self.d;
@@ -149,18 +160,28 @@ impl Interpreter<'_> {
             && new.trc != old_trc;
         if let (Some(_), Some(at)) = (blk.trc, trc_at) {
             let arc = new.motion.is_arc();
-            if arc
-                && !fanuc_side_change
-                && (blk.motion.is_some() || d.trc_not_linear == AlarmCode::FanucTrcNotLinear)
-            {
-                return Err(fault(
-                    d.trc_not_linear,
-                    at,
-                    "tool radius compensation can only be selected or deselected in a G0/G1 block",
-                ));
+            if arc && !fanuc_side_change && (blk.motion.is_some() || d.trc_codes_need_linear_mode) {
+                return Err(self.trc_not_linear(at));
             }
         }
         Ok(())
+    }
+}
+
+impl Interpreter<'_> {
+    #[cold]
+    fn trc_not_linear(&self, at: u32) -> Box<Fault> {
+        let linear = self.d.codes_of(&[
+            GEffect::Motion(MotionMode::Rapid),
+            GEffect::Motion(MotionMode::Linear),
+        ]);
+        fault(
+            self.d.trc_not_linear,
+            at,
+            format!(
+                "tool radius compensation can only be selected or deselected in a {linear} block"
+            ),
+        )
     }
 }
 
