@@ -1,6 +1,6 @@
 //! The variable store: the program's own variables and the system variables the front end
-//! binds to its state. Today these are the ISG ones (TF5200 "variables": V.P., V.L., V.S. and
-//! the V.G. tool values); each language's variables get their own namespace here.
+//! binds to its state — the ISG ones (TF5200 "variables": V.P., V.L., V.S. and the V.G. tool
+//! values). Each language's variables are a namespace of this store.
 
 use super::fault::{fault, R};
 use crate::alarm::AlarmCode;

@@ -1,7 +1,7 @@
 //! Motion in the block build: the end point from the axis words (units, diameter, absolute
-//! or incremental, zero offset), polar coordinates about the pole (880 4.2.5), the arc
-//! centre from I J K or a radius ([`arc`](super::super::arc)), the feed a motion needs, and
-//! the 840C working area limitation G25/G26 that every end point must keep.
+//! or incremental, zero offset), polar coordinates about the pole (880 4.2.5), the arc centre
+//! from I J K or a radius ([`arc`]), the feed a motion needs, and the 840C working area
+//! limitation G25/G26 that every end point must keep.
 
 use super::super::arc::{self, ArcError, CentreSpec};
 use super::super::block::*;

@@ -1,6 +1,6 @@
 //! Statements: what a control's programming language adds to the word address format —
-//! control flow (conditions, loops), variable assignments, and in time subprogram calls.
-//! Each language has its own module; a block that is a statement is run here and produces no
+//! control flow (conditions, loops) and variable assignments. Each language has its own
+//! module; a block that is a statement is run here and produces no
 //! block of its own, while an assignment may stand among a block's words.
 //!
 //! - [`isg`]: ISG `$IF`/`$ELSEIF`/`$ELSE`/`$ENDIF`, `$FOR`, `$WHILE`, `V.` assignments.
