@@ -1,12 +1,17 @@
 //! Fanuc-style milling control with cutter compensation C (seed 003).
 
-use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use super::{
+    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+};
 use crate::alarm::AlarmCode;
-use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::frontend::block::{
+    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+};
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
+use MEffect::*;
 
 static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
@@ -35,14 +40,22 @@ static GCODES: &[GCodeDef] = &[
     g(92, Unsupported("coordinate system setting G92")),
 ];
 
+static MCODES: &[MCodeDef] = &[
+    m(0, Stop(ProgramStop::Stop)),
+    m(1, Stop(ProgramStop::OptionalStop)),
+    m(2, Stop(ProgramStop::End)),
+    m(30, Stop(ProgramStop::EndRewind)),
+];
+
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Fanuc,
     gcodes: GCODES,
+    mcodes: MCODES,
     semicolon: Semicolon::EndOfBlock,
     radius_word: RadiusWord::R,
     lf_block_end: false,
     variables: false,
-    at_commands: false,
+    at_commands: &[],
     polar_words: false,
     diameter_words: false,
     o_numbers: true,
@@ -55,8 +68,8 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: false,
     },
     trc_not_linear: AlarmCode::FanucTrcNotLinear,
+    trc_codes_need_linear_mode: true,
     d0_deselects: false,
-    m18_stops: false,
     initial_motion: MotionMode::Linear,
     initial_corner_intersection: CornerPolicy::ExtendedIntersection,
     initial_selection: SelectionPolicy::OffsetVector,

@@ -1,14 +1,17 @@
 //! ISG kernel / Beckhoff TwinCAT CNC (seed 002; TF5200 programming manual).
 
-use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use super::{
+    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
+use MEffect::*;
 
 static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
@@ -53,14 +56,22 @@ static GCODES: &[GCodeDef] = &[
     g(360, ExactStopModal(true)),
 ];
 
+static MCODES: &[MCodeDef] = &[
+    m(0, Stop(ProgramStop::Stop)),
+    m(1, Stop(ProgramStop::OptionalStop)),
+    m(2, Stop(ProgramStop::End)),
+    m(30, Stop(ProgramStop::EndRewind)),
+];
+
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Isg,
     gcodes: GCODES,
+    mcodes: MCODES,
     semicolon: Semicolon::Comment,
     radius_word: RadiusWord::R,
     lf_block_end: false,
     variables: true,
-    at_commands: false,
+    at_commands: &[],
     polar_words: false,
     diameter_words: false,
     o_numbers: false,
@@ -73,8 +84,8 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: true,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    trc_codes_need_linear_mode: false,
     d0_deselects: false,
-    m18_stops: false,
     initial_motion: MotionMode::Rapid,
     initial_corner_intersection: CornerPolicy::LinearTransition,
     initial_selection: SelectionPolicy::Indirect,

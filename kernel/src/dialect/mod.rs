@@ -1,6 +1,7 @@
-//! Dialects: one table per control, mapping its G codes onto dialect-free effects and
-//! policies, plus the handful of lexical rules in which the controls differ. Nothing outside
-//! this module knows a G number.
+//! Dialects: one table per control, mapping its G codes, M functions and `@` commands onto
+//! dialect-free effects and policies, plus the handful of lexical rules in which the controls
+//! differ. Nothing outside this module knows a G, M or `@` number: the front end looks codes
+//! up here, and the names softnc's outputs give to a stop or a zero offset come from here.
 
 mod fanuc;
 mod isg;
@@ -9,11 +10,14 @@ mod siemens_840c;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
 use std::sync::OnceLock;
+
+/// G numbers run from 0 to `G_CODES - 1` in every dialect; the tables are indexed by them.
+pub const G_CODES: usize = 1000;
 
 /// What a G code does, independent of its number.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,6 +103,41 @@ pub(crate) const fn g_no_trc(code: u16, effect: GEffect) -> GCodeDef {
     }
 }
 
+/// What an M function does, independent of its number. Only the functions the front end acts
+/// on have a row; every other M word is an auxiliary function, handed on as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MEffect {
+    /// A program-flow function acting at block end (840C 11.10).
+    Stop(ProgramStop),
+}
+
+/// One row of a dialect's M-function table.
+#[derive(Clone, Copy, Debug)]
+pub struct MCodeDef {
+    pub code: u16,
+    pub effect: MEffect,
+}
+
+pub(crate) const fn m(code: u16, effect: MEffect) -> MCodeDef {
+    MCodeDef { code, effect }
+}
+
+/// What an `@` command does, independent of its number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtEffect {
+    /// Stop decoding until the block buffer is empty (840C @714).
+    PreprocessStop,
+}
+
+/// One row of a dialect's `@`-command table.
+#[derive(Clone, Copy, Debug)]
+pub struct AtCommandDef {
+    pub code: u32,
+    pub effect: AtEffect,
+    /// Not allowed while TRC is active (840C 11.4).
+    pub forbidden_with_trc: bool,
+}
+
 /// What `;` means.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Semicolon {
@@ -141,8 +180,10 @@ pub struct Dialect {
     pub lf_block_end: bool,
     /// ISG: V.P./V.L./V.G. variables, `[…]` expressions, `$FOR`/`$IF`/`$WHILE`.
     pub variables: bool,
-    /// 840C `@` commands (@714).
-    pub at_commands: bool,
+    /// The M functions the front end acts on.
+    pub mcodes: &'static [MCodeDef],
+    /// `@` commands (840C); empty where `@` starts no word.
+    pub at_commands: &'static [AtCommandDef],
     /// 880/840C polar coordinates: A (angle), U or B (radius).
     pub polar_words: bool,
     /// 808D `DIAMON`/`DIAMOF`.
@@ -156,10 +197,11 @@ pub struct Dialect {
     pub dwell: DwellWords,
     /// Alarm for TRC selection/deselection in a circular block.
     pub trc_not_linear: AlarmCode,
+    /// G40/G41/G42 in circular mode is refused even in a block that moves nothing (Fanuc
+    /// 026); elsewhere only in a block that moves on a circle.
+    pub trc_codes_need_linear_mode: bool,
     /// D0 deselects TRC (840C 11.5: "D0 corresponds to TRC deselection").
     pub d0_deselects: bool,
-    /// M18 is a programmed stop at block end (840C 11.10 lists it with M00/M01/M02/M30).
-    pub m18_stops: bool,
     pub initial_motion: MotionMode,
     pub initial_corner_intersection: CornerPolicy,
     pub initial_selection: SelectionPolicy,
@@ -188,8 +230,8 @@ impl Dialect {
         }
     }
 
-    fn index(&self) -> &'static [u16; 1000] {
-        static INDEX: [OnceLock<Box<[u16; 1000]>>; 4] = [
+    fn index(&self) -> &'static [u16; G_CODES] {
+        static INDEX: [OnceLock<Box<[u16; G_CODES]>>; 4] = [
             OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
@@ -202,7 +244,7 @@ impl Dialect {
             DialectName::Siemens808D => 3,
         };
         INDEX[i].get_or_init(|| {
-            let mut t = Box::new([0u16; 1000]);
+            let mut t = Box::new([0u16; G_CODES]);
             for (k, def) in self.gcodes.iter().enumerate() {
                 t[def.code as usize] = k as u16 + 1;
             }
@@ -212,6 +254,52 @@ impl Dialect {
 
     pub(crate) fn same_group(a: GEffect, b: GEffect) -> bool {
         a.group() == b.group()
+    }
+
+    /// The row of the M function with value `value`, if the front end acts on it.
+    #[inline]
+    pub fn mcode(&self, value: f64) -> Option<&'static MCodeDef> {
+        self.mcodes.iter().find(|def| def.code as f64 == value)
+    }
+
+    /// The row of `@` command `code`.
+    pub fn at_command(&self, code: u32) -> Option<&'static AtCommandDef> {
+        self.at_commands.iter().find(|def| def.code == code)
+    }
+
+    /// The G codes of `effects` as a program writes them, for messages: `G41/G42`.
+    #[cold]
+    pub fn codes_of(&self, effects: &[GEffect]) -> String {
+        let codes: Vec<String> = effects
+            .iter()
+            .filter_map(|e| self.gcodes.iter().find(|def| def.effect == *e))
+            .map(|def| format!("G{}", def.code))
+            .collect();
+        codes.join("/")
+    }
+}
+
+/// The name softnc's outputs give a program stop (`"stop": "M30"`): the M function that
+/// programs it, the same in every dialect.
+pub fn stop_name(stop: ProgramStop) -> &'static str {
+    match stop {
+        ProgramStop::Stop => "M0",
+        ProgramStop::OptionalStop => "M1",
+        ProgramStop::StopAtEnd => "M18",
+        ProgramStop::End => "M2",
+        ProgramStop::EndRewind => "M30",
+    }
+}
+
+/// The name softnc's outputs give a settable zero offset 1..=4 (`"work_offset": "G54"`), or
+/// `None` for none.
+pub fn work_offset_name(index: u8) -> Option<&'static str> {
+    match index {
+        0 => None,
+        1 => Some("G54"),
+        2 => Some("G55"),
+        3 => Some("G56"),
+        _ => Some("G57"),
     }
 }
 
@@ -260,5 +348,45 @@ mod tests {
             i.gcode(25).unwrap().effect,
             GEffect::Corner(CornerPolicy::LinearTransition)
         );
+    }
+
+    #[test]
+    fn m_functions_and_at_commands_per_dialect() {
+        let c = Dialect::get(DialectName::Siemens840C);
+        let i = Dialect::get(DialectName::Isg);
+        let stop = |d: &Dialect, v: f64| d.mcode(v).map(|def| def.effect);
+        assert_eq!(stop(c, 18.0), Some(MEffect::Stop(ProgramStop::StopAtEnd)));
+        assert_eq!(stop(i, 18.0), None);
+        assert_eq!(stop(i, 30.0), Some(MEffect::Stop(ProgramStop::EndRewind)));
+        assert_eq!(stop(i, 3.0), None);
+        assert_eq!(stop(i, 0.5), None);
+        let at = c.at_command(714).unwrap();
+        assert_eq!(
+            (at.effect, at.forbidden_with_trc),
+            (AtEffect::PreprocessStop, true)
+        );
+        assert!(c.at_command(715).is_none() && i.at_commands.is_empty());
+        // Every stop a table maps to is named after the M function that programs it.
+        for name in [
+            DialectName::Siemens840C,
+            DialectName::Isg,
+            DialectName::Fanuc,
+            DialectName::Siemens808D,
+        ] {
+            for def in Dialect::get(name).mcodes {
+                let MEffect::Stop(s) = def.effect;
+                assert_eq!(stop_name(s), format!("M{}", def.code));
+            }
+        }
+    }
+
+    #[test]
+    fn codes_for_messages_come_from_the_table() {
+        let f = Dialect::get(DialectName::Fanuc);
+        let trc = [GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)];
+        assert_eq!(f.codes_of(&trc), "G41/G42");
+        assert_eq!(f.codes_of(&[GEffect::Dwell]), "G4");
+        assert_eq!(work_offset_name(0), None);
+        assert_eq!(work_offset_name(2), Some("G55"));
     }
 }

@@ -1,12 +1,17 @@
 //! SINUMERIK 808D turning (seed 004).
 
-use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use super::{
+    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+};
 use crate::alarm::AlarmCode;
-use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::frontend::block::{
+    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+};
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
+use MEffect::*;
 
 /// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
 pub const G451_LIMIT_DEG: f64 = 100.0;
@@ -46,14 +51,22 @@ static GCODES: &[GCodeDef] = &[
     g(710, Units(Units::Mm)),
 ];
 
+static MCODES: &[MCodeDef] = &[
+    m(0, Stop(ProgramStop::Stop)),
+    m(1, Stop(ProgramStop::OptionalStop)),
+    m(2, Stop(ProgramStop::End)),
+    m(30, Stop(ProgramStop::EndRewind)),
+];
+
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Siemens808D,
     gcodes: GCODES,
+    mcodes: MCODES,
     semicolon: Semicolon::Comment,
     radius_word: RadiusWord::CrEquals,
     lf_block_end: false,
     variables: false,
-    at_commands: false,
+    at_commands: &[],
     polar_words: false,
     diameter_words: true,
     o_numbers: false,
@@ -66,8 +79,8 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    trc_codes_need_linear_mode: false,
     d0_deselects: false,
-    m18_stops: false,
     initial_motion: MotionMode::Rapid,
     initial_corner_intersection: CornerPolicy::IntersectionLimited {
         limit_deg: G451_LIMIT_DEG,

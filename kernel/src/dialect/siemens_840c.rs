@@ -1,12 +1,18 @@
 //! SINUMERIK 840C (seed 000; polar coordinates as in the 880/840C programming guide 4.2.5).
 
-use super::{g, g_no_trc, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
+use super::{
+    g, g_no_trc, m, AtCommandDef, AtEffect, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef,
+    MEffect, RadiusWord, Semicolon,
+};
 use crate::alarm::AlarmCode;
-use crate::frontend::block::{CornerPolicy, Distance, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::frontend::block::{
+    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+};
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
+use MEffect::*;
 
 /// 840C G451: beyond this change of direction the tangent extension is cut off and three
 /// intermediate blocks are inserted. The excerpt gives no number; 150° keeps the two blocks
@@ -58,14 +64,32 @@ static GCODES: &[GCodeDef] = &[
     g(456, Approach(SelectionPolicy::NormalPosition)),
 ];
 
+static MCODES: &[MCodeDef] = &[
+    m(0, Stop(ProgramStop::Stop)),
+    m(1, Stop(ProgramStop::OptionalStop)),
+    m(2, Stop(ProgramStop::End)),
+    // 11.10 lists M18 with M00/M01/M02/M30: a programmed stop at block end.
+    m(18, Stop(ProgramStop::StopAtEnd)),
+    m(30, Stop(ProgramStop::EndRewind)),
+];
+
+/// 11.4 lists @714 among the functions TRC forbids. Its meaning, "stop decoding until the
+/// buffer is empty", is unconfirmed (docs/dialects.md).
+static AT_COMMANDS: &[AtCommandDef] = &[AtCommandDef {
+    code: 714,
+    effect: AtEffect::PreprocessStop,
+    forbidden_with_trc: true,
+}];
+
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Siemens840C,
     gcodes: GCODES,
+    mcodes: MCODES,
     semicolon: Semicolon::Comment,
     radius_word: RadiusWord::CrEquals,
     lf_block_end: true,
     variables: false,
-    at_commands: true,
+    at_commands: AT_COMMANDS,
     polar_words: true,
     diameter_words: false,
     o_numbers: false,
@@ -78,8 +102,8 @@ pub static DIALECT: Dialect = Dialect {
         bare_seconds: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
+    trc_codes_need_linear_mode: false,
     d0_deselects: true,
-    m18_stops: true,
     initial_motion: MotionMode::Rapid,
     initial_corner_intersection: CornerPolicy::Intersection,
     initial_selection: SelectionPolicy::Compensated,

@@ -43,64 +43,110 @@ pub fn centre(
     tol: f64,
 ) -> Result<Pos, ArcError> {
     let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
-    let (sx, sy) = (start[a], start[o]);
-    let (ex, ey) = (end[a], end[o]);
-    let (dx, dy) = (ex - sx, ey - sy);
-    let chord = libm::sqrt(dx * dx + dy * dy);
+    let chord = Chord::new((start[a], start[o]), (end[a], end[o]));
+    let (cx, cy) = match spec {
+        CentreSpec::Offsets(off) => chord.by_offsets(off[a], off[o], tol)?,
+        CentreSpec::Radius(r) => chord.by_radius(r, ccw, tol)?,
+    };
     let mut c = start;
-    match spec {
-        CentreSpec::Offsets(off) => {
-            let (cx, cy) = (sx + off[a], sy + off[o]);
-            let r0 = len(sx - cx, sy - cy);
-            let r1 = len(ex - cx, ey - cy);
-            if r0 <= 1e-9 {
-                return Err(ArcError::ZeroRadius);
-            }
-            if (r0 - r1).abs() > tol {
-                return Err(ArcError::EndPointOff {
-                    r_start: r0,
-                    r_end: r1,
-                });
-            }
-            if chord <= 1e-12 || r0 == r1 {
-                c[a] = cx;
-                c[o] = cy;
-            } else {
-                // Project onto the bisector: m + ((c - m)·n) n, n the unit normal of the chord.
-                let (mx, my) = (sx + 0.5 * dx, sy + 0.5 * dy);
-                let (nx, ny) = (-dy / chord, dx / chord);
-                let t = (cx - mx) * nx + (cy - my) * ny;
-                c[a] = mx + t * nx;
-                c[o] = my + t * ny;
-            }
-        }
-        CentreSpec::Radius(r) => {
-            if chord <= 1e-12 {
-                return Err(ArcError::FullCircleByRadius);
-            }
-            let half = 0.5 * chord;
-            let rr = r.abs();
-            let h2 = rr * rr - half * half;
-            let h = if h2 >= 0.0 {
-                libm::sqrt(h2)
-            } else if half - rr <= tol {
-                0.0
-            } else {
-                return Err(ArcError::RadiusTooSmall {
-                    radius: r,
-                    half_chord: half,
-                });
-            };
-            // Left normal of the chord; a counter-clockwise arc up to a half circle has its
-            // centre on the left, a clockwise one on the right; a negative radius swaps it.
-            let (nx, ny) = (-dy / chord, dx / chord);
-            let left = ccw == (r > 0.0);
-            let s = if left { h } else { -h };
-            c[a] = sx + 0.5 * dx + s * nx;
-            c[o] = sy + 0.5 * dy + s * ny;
+    c[a] = cx;
+    c[o] = cy;
+    Ok(c)
+}
+
+/// The chord from the start to the end point, in plane coordinates.
+#[derive(Clone, Copy)]
+struct Chord {
+    sx: f64,
+    sy: f64,
+    ex: f64,
+    ey: f64,
+    dx: f64,
+    dy: f64,
+    len: f64,
+}
+
+impl Chord {
+    fn new((sx, sy): (f64, f64), (ex, ey): (f64, f64)) -> Chord {
+        let (dx, dy) = (ex - sx, ey - sy);
+        let len = libm::sqrt(dx * dx + dy * dy);
+        Chord {
+            sx,
+            sy,
+            ex,
+            ey,
+            dx,
+            dy,
+            len,
         }
     }
-    Ok(c)
+
+    /// The centre at offsets (i, j) from the start, moved onto the chord's bisector.
+    fn by_offsets(&self, i: f64, j: f64, tol: f64) -> Result<(f64, f64), ArcError> {
+        let Chord {
+            sx,
+            sy,
+            ex,
+            ey,
+            dx,
+            dy,
+            len: chord,
+        } = *self;
+        let (cx, cy) = (sx + i, sy + j);
+        let r0 = len(sx - cx, sy - cy);
+        let r1 = len(ex - cx, ey - cy);
+        if r0 <= 1e-9 {
+            return Err(ArcError::ZeroRadius);
+        }
+        if (r0 - r1).abs() > tol {
+            return Err(ArcError::EndPointOff {
+                r_start: r0,
+                r_end: r1,
+            });
+        }
+        if chord <= 1e-12 || r0 == r1 {
+            return Ok((cx, cy));
+        }
+        // Project onto the bisector: m + ((c - m)·n) n, n the unit normal of the chord.
+        let (mx, my) = (sx + 0.5 * dx, sy + 0.5 * dy);
+        let (nx, ny) = (-dy / chord, dx / chord);
+        let t = (cx - mx) * nx + (cy - my) * ny;
+        Ok((mx + t * nx, my + t * ny))
+    }
+
+    /// The centre of the arc of radius `r` (negative: the one longer than a half circle).
+    fn by_radius(&self, r: f64, ccw: bool, tol: f64) -> Result<(f64, f64), ArcError> {
+        let Chord {
+            sx,
+            sy,
+            dx,
+            dy,
+            len: chord,
+            ..
+        } = *self;
+        if chord <= 1e-12 {
+            return Err(ArcError::FullCircleByRadius);
+        }
+        let half = 0.5 * chord;
+        let rr = r.abs();
+        let h2 = rr * rr - half * half;
+        let h = if h2 >= 0.0 {
+            libm::sqrt(h2)
+        } else if half - rr <= tol {
+            0.0
+        } else {
+            return Err(ArcError::RadiusTooSmall {
+                radius: r,
+                half_chord: half,
+            });
+        };
+        // Left normal of the chord; a counter-clockwise arc up to a half circle has its
+        // centre on the left, a clockwise one on the right; a negative radius swaps it.
+        let (nx, ny) = (-dy / chord, dx / chord);
+        let left = ccw == (r > 0.0);
+        let s = if left { h } else { -h };
+        Ok((sx + 0.5 * dx + s * nx, sy + 0.5 * dy + s * ny))
+    }
 }
 
 #[cfg(test)]

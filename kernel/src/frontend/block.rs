@@ -323,14 +323,9 @@ pub enum ProgramStop {
 }
 
 impl ProgramStop {
+    /// The M function that programs it, as softnc's outputs name the stop.
     pub fn code(self) -> &'static str {
-        match self {
-            ProgramStop::Stop => "M0",
-            ProgramStop::OptionalStop => "M1",
-            ProgramStop::StopAtEnd => "M18",
-            ProgramStop::End => "M2",
-            ProgramStop::EndRewind => "M30",
-        }
+        crate::dialect::stop_name(self)
     }
     pub fn ends_program(self) -> bool {
         matches!(self, ProgramStop::End | ProgramStop::EndRewind)

@@ -1,89 +1,17 @@
-//! ISG arithmetic expressions and variables (seed 002, TF5200 "calculation operations").
+//! ISG arithmetic expressions (seed 002, TF5200 "calculation operations"), evaluated against
+//! the [`Variables`] store.
 //!
 //! Grouping with `[ ]` as ISG writes it, and with `( )` where a parenthesis cannot be a
 //! comment (right after an operator or a function name). Angles are in degrees. A condition
 //! is true when its absolute value is at least 0.5 (TF5200 `$IF`).
 
+use super::fault::{fault, R};
 use super::lexer::Cursor;
+use super::variables::Variables;
 use crate::alarm::AlarmCode;
-use std::collections::HashMap;
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct ExprError {
-    pub at: usize,
-    pub code: AlarmCode,
-    pub message: String,
-}
-
-fn err(at: usize, code: AlarmCode, message: impl Into<String>) -> ExprError {
-    ExprError {
-        at,
-        code,
-        message: message.into(),
-    }
-}
 
 /// Nesting depth beyond which an expression is refused (keeps the recursion bounded).
 const MAX_DEPTH: u32 = 64;
-
-/// Program variables (V.P., V.L., V.S.) and the system variables the front end binds.
-#[derive(Clone, Debug, Default)]
-pub struct Variables {
-    values: HashMap<String, f64>,
-    /// V.G.WZ_AKT.R: the active tool radius.
-    pub tool_radius: f64,
-    /// V.G.WZ_AKT.L: the active tool length.
-    pub tool_length: f64,
-}
-
-/// Result of writing a variable.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Written {
-    Program,
-    ToolRadius,
-}
-
-pub const TOOL_RADIUS: &str = "V.G.WZ_AKT.R";
-const TOOL_RADIUS_SHORT: &str = "V.G.WZR";
-const TOOL_LENGTH: &str = "V.G.WZ_AKT.L";
-
-impl Variables {
-    pub fn get(&self, name: &str) -> Option<f64> {
-        match name {
-            TOOL_RADIUS | TOOL_RADIUS_SHORT => Some(self.tool_radius),
-            TOOL_LENGTH => Some(self.tool_length),
-            _ => self.values.get(name).copied(),
-        }
-    }
-
-    /// Writes a variable. V.P./V.L./V.S. are created on first write (TF5200 allows this for
-    /// V.P./V.S.; softnc extends it to V.L.); of the V.G. variables only the tool radius is
-    /// writable.
-    pub fn set(&mut self, name: &str, value: f64) -> Result<Written, String> {
-        match name {
-            TOOL_RADIUS | TOOL_RADIUS_SHORT => {
-                self.tool_radius = value;
-                Ok(Written::ToolRadius)
-            }
-            _ if is_program_var(name) => {
-                self.values.insert(name.to_string(), value);
-                Ok(Written::Program)
-            }
-            _ if name.starts_with("V.G.") => {
-                Err(format!("system variable {name} is read-only or unknown"))
-            }
-            _ => Err(format!(
-                "{name} is not a variable name (V.P., V.L., V.S. or V.G.)"
-            )),
-        }
-    }
-}
-
-fn is_program_var(name: &str) -> bool {
-    ["V.P.", "V.L.", "V.S."]
-        .iter()
-        .any(|p| name.len() > p.len() && name.starts_with(p))
-}
 
 /// True if a variable reference starts at the cursor (`V.`).
 pub fn at_variable(c: &Cursor) -> bool {
@@ -95,12 +23,12 @@ pub fn truthy(v: f64) -> bool {
 }
 
 /// Evaluates a full expression (comparisons and logic included).
-pub fn eval(c: &mut Cursor, vars: &Variables) -> Result<f64, ExprError> {
+pub fn eval(c: &mut Cursor, vars: &Variables) -> R<f64> {
     Parser { vars, depth: 0 }.or(c)
 }
 
 /// Evaluates one operand (`X[...]`, `X SIN[...]`, `XV.P.A`, `X-V.P.A`): a signed primary.
-pub fn eval_operand(c: &mut Cursor, vars: &Variables) -> Result<f64, ExprError> {
+pub fn eval_operand(c: &mut Cursor, vars: &Variables) -> R<f64> {
     Parser { vars, depth: 0 }.unary(c)
 }
 
@@ -110,16 +38,20 @@ struct Parser<'v> {
 }
 
 impl Parser<'_> {
-    fn enter(&mut self, c: &Cursor) -> Result<(), ExprError> {
+    fn enter(&mut self, c: &Cursor) -> R<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            Err(err(c.i, AlarmCode::Syntax, "expression nested too deeply"))
+            Err(fault(
+                AlarmCode::Syntax,
+                c.i,
+                "expression nested too deeply",
+            ))
         } else {
             Ok(())
         }
     }
 
-    fn or(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn or(&mut self, c: &mut Cursor) -> R<f64> {
         let mut v = self.and(c)?;
         loop {
             c.skip_blanks();
@@ -133,7 +65,7 @@ impl Parser<'_> {
         }
     }
 
-    fn and(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn and(&mut self, c: &mut Cursor) -> R<f64> {
         let mut v = self.cmp(c)?;
         loop {
             c.skip_blanks();
@@ -149,7 +81,7 @@ impl Parser<'_> {
         }
     }
 
-    fn cmp(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn cmp(&mut self, c: &mut Cursor) -> R<f64> {
         let l = self.add(c)?;
         c.skip_blanks();
         let op: &[u8] = match (c.peek(), c.peek_at(1)) {
@@ -175,7 +107,7 @@ impl Parser<'_> {
         Ok(t as u8 as f64)
     }
 
-    fn add(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn add(&mut self, c: &mut Cursor) -> R<f64> {
         let mut v = self.mul(c)?;
         loop {
             c.skip_blanks();
@@ -195,7 +127,7 @@ impl Parser<'_> {
         }
     }
 
-    fn mul(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn mul(&mut self, c: &mut Cursor) -> R<f64> {
         let mut v = self.unary(c)?;
         loop {
             c.skip_blanks();
@@ -210,7 +142,7 @@ impl Parser<'_> {
                     c.i += 1;
                     let r = self.unary(c)?;
                     if r == 0.0 {
-                        return Err(err(at, AlarmCode::Arithmetic, "division by zero"));
+                        return Err(fault(AlarmCode::Arithmetic, at, "division by zero"));
                     }
                     v = finite(v / r, at, "quotient")?;
                 }
@@ -218,7 +150,7 @@ impl Parser<'_> {
                     c.i += 3;
                     let r = self.unary(c)?;
                     if r == 0.0 {
-                        return Err(err(at, AlarmCode::Arithmetic, "MOD by zero"));
+                        return Err(fault(AlarmCode::Arithmetic, at, "MOD by zero"));
                     }
                     v %= r;
                 }
@@ -227,7 +159,7 @@ impl Parser<'_> {
         }
     }
 
-    fn unary(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn unary(&mut self, c: &mut Cursor) -> R<f64> {
         self.enter(c)?;
         c.skip_blanks();
         let v = match c.peek() {
@@ -253,7 +185,7 @@ impl Parser<'_> {
         Ok(v)
     }
 
-    fn power(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn power(&mut self, c: &mut Cursor) -> R<f64> {
         let base = self.primary(c)?;
         c.skip_blanks();
         if c.peek() == Some(b'*') && c.peek_at(1) == Some(b'*') {
@@ -266,16 +198,16 @@ impl Parser<'_> {
         Ok(base)
     }
 
-    fn group(&mut self, c: &mut Cursor, open: u8) -> Result<f64, ExprError> {
+    fn group(&mut self, c: &mut Cursor, open: u8) -> R<f64> {
         let close = if open == b'[' { b']' } else { b')' };
         let at = c.i;
         c.i += 1;
         let v = self.or(c)?;
         c.skip_blanks();
         if c.peek() != Some(close) {
-            return Err(err(
-                at,
+            return Err(fault(
                 AlarmCode::Syntax,
+                at,
                 format!("'{}' is not closed", open as char),
             ));
         }
@@ -283,7 +215,7 @@ impl Parser<'_> {
         Ok(v)
     }
 
-    fn primary(&mut self, c: &mut Cursor) -> Result<f64, ExprError> {
+    fn primary(&mut self, c: &mut Cursor) -> R<f64> {
         c.skip_blanks();
         let at = c.i;
         match c.peek() {
@@ -292,16 +224,16 @@ impl Parser<'_> {
             Some(ch) if ch.is_ascii_digit() || ch == b'.' => {
                 let (n, next) = super::number::parse(c.b, c.i)
                     .filter(|(_, next)| *next <= c.end)
-                    .ok_or_else(|| err(at, AlarmCode::BadNumber, "bad number"))?;
+                    .ok_or_else(|| fault(AlarmCode::BadNumber, at, "bad number"))?;
                 c.i = next;
                 Ok(n.value)
             }
             Some(_) if at_variable(c) => {
                 let name = c.name();
                 self.vars.get(&name).ok_or_else(|| {
-                    err(
-                        at,
+                    fault(
                         AlarmCode::UndefinedName,
+                        at,
                         format!("variable {name} is read before it is defined"),
                     )
                 })
@@ -309,9 +241,9 @@ impl Parser<'_> {
             Some(ch) if ch.is_ascii_alphabetic() => {
                 let name = c.name();
                 let f = func(&name).ok_or_else(|| {
-                    err(
-                        at,
+                    fault(
                         AlarmCode::Syntax,
+                        at,
                         format!("unknown function or name `{name}`"),
                     )
                 })?;
@@ -321,19 +253,19 @@ impl Parser<'_> {
                         let arg = self.group(c, open)?;
                         apply(f, arg, at)
                     }
-                    _ => Err(err(
-                        c.i,
+                    _ => Err(fault(
                         AlarmCode::Syntax,
+                        c.i,
                         format!("{name} needs an argument in [ ]"),
                     )),
                 }
             }
-            Some(ch) => Err(err(
-                at,
+            Some(ch) => Err(fault(
                 AlarmCode::Syntax,
+                at,
                 format!("unexpected '{}' in expression", ch as char),
             )),
-            None => Err(err(at, AlarmCode::Syntax, "expression expected")),
+            None => Err(fault(AlarmCode::Syntax, at, "expression expected")),
         }
     }
 }
@@ -376,28 +308,28 @@ fn func(name: &str) -> Option<Func> {
     })
 }
 
-fn finite(v: f64, at: usize, what: &str) -> Result<f64, ExprError> {
+fn finite(v: f64, at: usize, what: &str) -> R<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(err(
-            at,
+        Err(fault(
             AlarmCode::Arithmetic,
+            at,
             format!("{what}: result is not a finite number"),
         ))
     }
 }
 
-fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
+fn apply(f: Func, x: f64, at: usize) -> R<f64> {
     let rad = x.to_radians();
     let v = match f {
         Func::Sin => libm::sin(rad),
         Func::Cos => libm::cos(rad),
         Func::Tan => libm::tan(rad),
         Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => {
-            return Err(err(
-                at,
+            return Err(fault(
                 AlarmCode::Arithmetic,
+                at,
                 format!("argument {x} outside -1..1"),
             ))
         }
@@ -405,9 +337,9 @@ fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
         Func::Acos => libm::acos(x).to_degrees(),
         Func::Atan => libm::atan(x).to_degrees(),
         Func::Sqrt if x < 0.0 => {
-            return Err(err(
-                at,
+            return Err(fault(
                 AlarmCode::Arithmetic,
+                at,
                 format!("square root of {x}"),
             ))
         }
@@ -419,7 +351,11 @@ fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
         Func::Round => libm::round(x),
         Func::Exp => libm::exp(x),
         Func::Ln if x <= 0.0 => {
-            return Err(err(at, AlarmCode::Arithmetic, format!("logarithm of {x}")))
+            return Err(fault(
+                AlarmCode::Arithmetic,
+                at,
+                format!("logarithm of {x}"),
+            ))
         }
         Func::Ln => libm::log(x),
     };
@@ -430,9 +366,9 @@ fn apply(f: Func, x: f64, at: usize) -> Result<f64, ExprError> {
 mod tests {
     use super::*;
 
-    fn ev(s: &str) -> Result<f64, ExprError> {
+    fn ev(s: &str) -> R<f64> {
         let mut vars = Variables::default();
-        vars.set("V.P.A", 2.0).unwrap();
+        vars.set("V.P.A", 2.0, 0).unwrap();
         vars.tool_radius = 10.0;
         let mut c = Cursor::new(s.as_bytes(), 0, s.len());
         eval(&mut c, &vars)

@@ -2,6 +2,7 @@
 //! Written by hand: it is on the path of million-block programs, and the format is small.
 
 use super::block::*;
+use crate::dialect::work_offset_name;
 use crate::json::{num, string};
 use crate::machine_data::Units;
 use std::io::{self, Write};
@@ -20,24 +21,39 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
     out.write_all(b",\"motion\":")?;
     match &b.motion {
         None => out.write_all(b"null")?,
-        Some(m) => {
-            write!(
-                out,
-                "{{\"type\":\"{}\",\"plane\":\"{}\",\"start\":",
-                m.kind.name(),
-                m.plane.name()
-            )?;
-            pos(out, &m.start)?;
-            out.write_all(b",\"end\":")?;
-            pos(out, &m.end)?;
-            if m.kind.is_arc() {
-                out.write_all(b",\"center\":")?;
-                pos(out, &m.center)?;
-            }
-            out.write_all(b"}")?;
-        }
+        Some(m) => motion(out, m)?,
     }
-    let s = &b.modal;
+    modal(out, &b.modal)?;
+    out.write_all(b",\"words\":[")?;
+    for (i, w) in b.words.iter().enumerate() {
+        if i > 0 {
+            out.write_all(b",")?;
+        }
+        write!(out, "\"{w}\"")?;
+    }
+    out.write_all(b"]")?;
+    programmed(out, b)?;
+    out.write_all(b"}\n")
+}
+
+fn motion(out: &mut impl Write, m: &Motion) -> io::Result<()> {
+    write!(
+        out,
+        "{{\"type\":\"{}\",\"plane\":\"{}\",\"start\":",
+        m.kind.name(),
+        m.plane.name()
+    )?;
+    pos(out, &m.start)?;
+    out.write_all(b",\"end\":")?;
+    pos(out, &m.end)?;
+    if m.kind.is_arc() {
+        out.write_all(b",\"center\":")?;
+        pos(out, &m.center)?;
+    }
+    out.write_all(b"}")
+}
+
+fn modal(out: &mut impl Write, s: &ModalState) -> io::Result<()> {
     write!(
         out,
         ",\"modal\":{{\"motion\":\"{}\",\"plane\":\"{}\",\"distance\":\"{}\",\"units\":\"{}\",\"feed\":",
@@ -57,7 +73,7 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
     num(out, s.spindle)?;
     write!(
         out,
-        ",\"trc\":\"{}\",\"corner\":\"{}\",\"selection\":\"{}\",\"feed_adaption\":\"{}\",\"masking\":{},\"exact_stop\":{},\"work_offset\":{},\"diameter\":{},\"tool\":",
+        ",\"trc\":\"{}\",\"corner\":\"{}\",\"selection\":\"{}\",\"feed_adaption\":\"{}\",\"masking\":{},\"exact_stop\":{},\"work_offset\":",
         s.trc.name(),
         s.corner.name(),
         s.selection.name(),
@@ -67,15 +83,12 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
         },
         s.masking,
         s.exact_stop,
-        match s.work_offset {
-            0 => "null",
-            1 => "\"G54\"",
-            2 => "\"G55\"",
-            3 => "\"G56\"",
-            _ => "\"G57\"",
-        },
-        s.diameter
     )?;
+    match work_offset_name(s.work_offset) {
+        Some(name) => write!(out, "\"{name}\"")?,
+        None => out.write_all(b"null")?,
+    }
+    write!(out, ",\"diameter\":{},\"tool\":", s.diameter)?;
     match s.tool {
         Some(t) => write!(out, "{t}")?,
         None => out.write_all(b"null")?,
@@ -84,14 +97,11 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
     num(out, s.radius)?;
     out.write_all(b",\"length\":")?;
     num(out, s.length)?;
-    out.write_all(b"},\"words\":[")?;
-    for (i, w) in b.words.iter().enumerate() {
-        if i > 0 {
-            out.write_all(b",")?;
-        }
-        write!(out, "\"{w}\"")?;
-    }
-    out.write_all(b"]")?;
+    out.write_all(b"}")
+}
+
+/// What the block programmed besides motion and words; each key only when present.
+fn programmed(out: &mut impl Write, b: &Block) -> io::Result<()> {
     if let Some(t) = b.trc {
         write!(out, ",\"trc_programmed\":\"{}\"", t.name())?;
     }
@@ -117,5 +127,5 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
     if b.preprocess_stop {
         out.write_all(b",\"preprocess_stop\":true")?;
     }
-    out.write_all(b"}\n")
+    Ok(())
 }

@@ -1,0 +1,173 @@
+//! Program flow in the block build: the program-flow M functions (stop, optional stop, end),
+//! the `@` commands (840C preprocessing stop) and the dwell, whose time the dialect's dwell
+//! addresses carry instead of a position.
+
+use super::super::block::*;
+use super::super::fault::{fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::words::{Val, Words};
+use crate::alarm::AlarmCode;
+use crate::dialect::{AtEffect, MEffect};
+use crate::machine_data::DecimalInput;
+
+impl Interpreter<'_> {
+    /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC
+    /// is active (840C 11.4).
+    #[inline(always)]
+    pub(super) fn at_commands(&mut self, w: &Words) -> R<()> {
+        for &(code, at) in &w.at_codes {
+            let Some(def) = self.d.at_command(code) else {
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    format!("@{code} is not supported by softnc"),
+                ));
+            };
+            if def.forbidden_with_trc && self.block.modal.trc != TrcSide::Off {
+                return Err(self.forbidden_with_trc(&format!("@{code}"), at));
+            }
+            match def.effect {
+                AtEffect::PreprocessStop => self.block.preprocess_stop = true,
+            }
+        }
+        Ok(())
+    }
+
+    /// Step 7: the M functions the dialect's table knows; the others are auxiliary
+    /// functions, handed on as written.
+    #[inline(always)]
+    pub(super) fn program_stops(&mut self, w: &Words) -> R<()> {
+        for m in &w.m {
+            match self.d.mcode(m.value).map(|def| def.effect) {
+                Some(MEffect::Stop(s)) => self.program_stop(s, m.at)?,
+                None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// A program stop at block end; two different ones in a block are an alarm.
+    fn program_stop(&mut self, s: ProgramStop, at: u32) -> R<()> {
+        let blk = &mut self.block;
+        if blk.stop.is_some_and(|prev| prev != s) {
+            return Err(fault(
+                AlarmCode::SameGroupTwice,
+                at,
+                "two program-flow M functions in one block",
+            ));
+        }
+        blk.stop = Some(s);
+        Ok(())
+    }
+
+    /// Step 8: a dwell block (G code `code`): its time, and no axis moves.
+    pub(super) fn dwell(&mut self, w: &Words, code: u16, block_col: usize) -> R<()> {
+        let secs = self.dwell_time(w).ok_or_else(|| {
+            fault(
+                AlarmCode::MissingValue,
+                block_col,
+                format!("G{code} needs a dwell time"),
+            )
+        })?;
+        if secs.value < 0.0 || secs.value > 1e6 {
+            return Err(fault(
+                AlarmCode::BadNumber,
+                secs.at,
+                "dwell time out of range",
+            ));
+        }
+        let axis_used_as_time = self.d.dwell.x_seconds && w.axis[0].is_some();
+        for (i, a) in w.axis.iter().enumerate() {
+            if let (Some(a), false) = (a, i == 0 && axis_used_as_time) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    a.at,
+                    format!("a dwell block (G{code}) cannot move axes"),
+                ));
+            }
+        }
+        self.block.dwell = Some(secs.value);
+        Ok(())
+    }
+
+    /// The dwell time in seconds from the first of the dialect's dwell addresses written:
+    /// X, F, P (milliseconds) or a bare number (docs/dialects.md, "Lexical rules").
+    fn dwell_time(&self, w: &Words) -> Option<Val> {
+        let dwell = self.d.dwell;
+        if let (true, Some(mut x)) = (dwell.x_seconds, w.axis[0]) {
+            // Fanuc increment input: X1000 without a decimal point is 1000 ms.
+            if self.d.decimal_switch
+                && !x.has_point
+                && self.md.program.decimal_input == DecimalInput::Increment
+            {
+                x.value *= 0.001;
+            }
+            Some(x)
+        } else if let (true, Some(f)) = (dwell.f_seconds, w.f) {
+            Some(f)
+        } else if let (true, Some(p)) = (dwell.p_millis, w.p) {
+            Some(Val {
+                value: p.value / 1000.0,
+                at: p.at,
+                has_point: true,
+            })
+        } else {
+            w.bare
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::run;
+    use super::*;
+
+    fn stops(dialect: &str, src: &str) -> Vec<Option<ProgramStop>> {
+        run(dialect, src).unwrap().iter().map(|b| b.stop).collect()
+    }
+
+    #[test]
+    fn program_stops_act_per_dialect() {
+        // 840C 11.10 lists M18 with M00/M01/M02/M30; elsewhere it is a plain M word.
+        let src = "M0\nM1\nM18\nM3\nM2\n";
+        let c840 = [
+            Some(ProgramStop::Stop),
+            Some(ProgramStop::OptionalStop),
+            Some(ProgramStop::StopAtEnd),
+            None,
+            Some(ProgramStop::End),
+        ];
+        assert_eq!(stops("siemens-840c", src), c840);
+        assert_eq!(stops("isg", src)[2], None);
+        // Nothing after M30 is read.
+        assert_eq!(stops("fanuc", "M30\nQ\n"), [Some(ProgramStop::EndRewind)]);
+        let a = run("isg", "M0 M30\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::SameGroupTwice, 4));
+        assert!(run("isg", "M0 M0\n").is_ok());
+    }
+
+    #[test]
+    fn dwell_times_come_from_the_dialects_words() {
+        let dwell = |d: &str, src: &str| run(d, src).unwrap()[0].dwell;
+        assert_eq!(dwell("siemens-840c", "G4 F2.5\n"), Some(2.5));
+        assert_eq!(dwell("isg", "G04 3.0\n"), Some(3.0));
+        assert_eq!(dwell("fanuc", "G4 P500\n"), Some(0.5));
+        let a = run("siemens-840c", "G4 X1 Y2\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::Syntax, 7));
+        assert_eq!(a.message, "a dwell block (G4) cannot move axes");
+        let a = run("siemens-840c", "G04\n").unwrap_err();
+        assert_eq!(
+            (a.code, a.message.as_str()),
+            (AlarmCode::MissingValue, "G4 needs a dwell time")
+        );
+    }
+
+    #[test]
+    fn at_714_stops_preprocessing() {
+        assert!(run("siemens-840c", "@714\n").unwrap()[0].preprocess_stop);
+        let a = run("siemens-840c", "@715\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::NotSupported);
+        let a = run("siemens-840c", "G41 D1 G1 X0 Y0 F100\nX10 @714\n").unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::ForbiddenWithTrc, 2, 5));
+    }
+}

@@ -1,0 +1,231 @@
+//! G codes in the block build: each looked up in the dialect's table, checked (one code per
+//! modal group, the codes TRC forbids, codes softnc does not implement), then applied as its
+//! dialect-free effect to the modal state or the block. Also the TRC rule that needs the
+//! block's motion: selection and deselection only in a linear block.
+
+use super::super::block::*;
+use super::super::fault::{fault, Fault, Offset, R};
+use super::super::interpreter::Interpreter;
+use super::super::words::Words;
+use crate::alarm::AlarmCode;
+use crate::dialect::{Dialect, GCodeDef, GEffect};
+use crate::trc::SideChange;
+
+/// A block's G codes as their table rows (not copies: the common block has one or two), with
+/// the offsets of their words.
+pub(super) type Codes = heapless::Vec<(&'static GCodeDef, u32), 16>;
+
+/// What a block's G codes ask of the block beyond its modal state.
+pub(super) struct BlockCodes {
+    /// The dwell code's number, as written.
+    pub dwell: Option<u16>,
+    /// 840C G25 (false) / G26 (true): the axis words are working-area limits.
+    pub working_area: Option<bool>,
+    /// Where a G40/G41/G42 was written.
+    pub trc_at: Option<u32>,
+}
+
+impl Interpreter<'_> {
+    /// Step 2: every G code looked up and checked against the others and the active TRC.
+    #[inline(always)]
+    pub(super) fn g_codes(&self, w: &Words) -> R<Codes> {
+        let mut codes = Codes::new();
+        for &(code, at) in &w.g {
+            let def = self.d.gcode(code).ok_or_else(|| self.unknown_g(code, at))?;
+            if let Some((other, _)) = codes
+                .iter()
+                .find(|(e, _)| Dialect::same_group(e.effect, def.effect))
+            {
+                return Err(fault(
+                    AlarmCode::SameGroupTwice,
+                    at,
+                    format!("G{code} and G{} belong to the same group", other.code),
+                ));
+            }
+            self.check_with_trc(def, at)?;
+            if let GEffect::Unsupported(what) = def.effect {
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    format!("{what} is not supported by softnc"),
+                ));
+            }
+            let _ = codes.push((def, at));
+        }
+        Ok(codes)
+    }
+
+    #[cold]
+    fn unknown_g(&self, code: u16, at: u32) -> Box<Fault> {
+        fault(
+            AlarmCode::UnknownGCode,
+            at,
+            format!("G{code} is not a {} G code", self.d.name.as_str()),
+        )
+    }
+
+    /// With TRC active, no plane change (alarm 10755) and none of the codes the dialect
+    /// forbids (840C 11.4, alarm 10754).
+    #[inline(always)]
+    fn check_with_trc(&self, def: &GCodeDef, at: u32) -> R<()> {
+        let old = &self.block.modal;
+        if old.trc == TrcSide::Off {
+            return Ok(());
+        }
+        let code = def.code;
+        if matches!(def.effect, GEffect::Plane(p) if p != old.plane) {
+            return Err(fault(
+                AlarmCode::PlaneChangeWithTrc,
+                at,
+                format!("G{code}: the plane cannot be changed while TRC is active"),
+            ));
+        }
+        if def.forbidden_with_trc {
+            return Err(self.forbidden_with_trc(&format!("G{code}"), at));
+        }
+        Ok(())
+    }
+
+    /// `what` (a code as written) may not stand in a block while TRC is active.
+    #[cold]
+    pub(super) fn forbidden_with_trc(&self, what: &str, at: impl Offset) -> Box<Fault> {
+        let trc_on = self
+            .d
+            .codes_of(&[GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)]);
+        fault(
+            AlarmCode::ForbiddenWithTrc,
+            at,
+            format!(
+                "{what} may not be programmed while TRC ({trc_on}) is active; deselect TRC first"
+            ),
+        )
+    }
+
+    /// Step 4: the G codes' effects, on the modal state `new` or on the block.
+    #[inline(always)]
+    pub(super) fn g_effects(&mut self, codes: &Codes, new: &mut ModalState) -> R<BlockCodes> {
+        let mut g = BlockCodes {
+            dwell: None,
+            working_area: None,
+            trc_at: None,
+        };
+        let blk = &mut self.block;
+        for &(&GCodeDef { code, effect, .. }, at) in codes {
+            match effect {
+                GEffect::Motion(m) => new.motion = m,
+                GEffect::Dwell => g.dwell = Some(code),
+                GEffect::ExactStopBlock => blk.exact_stop = true,
+                GEffect::ExactStopModal(on) => new.exact_stop = on,
+                // A change while TRC is active was refused in step 2.
+                GEffect::Plane(p) => new.plane = p,
+                GEffect::Units(u) => new.units = u,
+                GEffect::Distance(x) => new.distance = x,
+                GEffect::Trc(side) => {
+                    blk.trc = Some(side);
+                    new.trc = side;
+                    g.trc_at = Some(at);
+                }
+                GEffect::Corner(cp) => new.corner = cp,
+                GEffect::Approach(sp) => blk.approach = Some(sp),
+                GEffect::Selection(sp) => new.selection = selection(&blk.modal, sp, code, at)?,
+                GEffect::FeedAdaption(fa) => new.feed_adaption = fa,
+                GEffect::Masking(on) => new.masking = on,
+                GEffect::WorkOffset(i) => new.work_offset = i,
+                GEffect::WorkingArea { max } => g.working_area = Some(max),
+                GEffect::PoleHere => new.pole = self.cur,
+                GEffect::Unsupported(_) => {}
+            }
+        }
+        Ok(g)
+    }
+
+    /// Step 4, words that switch a modal state: 808D `DIAMON`/`DIAMOF`.
+    #[inline(always)]
+    pub(super) fn diameter_switch(&self, w: &Words, new: &mut ModalState) {
+        if let Some(on) = w.diameter {
+            new.diameter = on;
+        }
+    }
+
+    /// Step 9: TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026).
+    /// Fanuc changes sides in offset mode in any block, circles included (no new start-up).
+    #[inline(always)]
+    pub(super) fn trc_in_linear_block(&self, new: &ModalState, trc_at: Option<u32>) -> R<()> {
+        let d = self.d;
+        let blk = &self.block;
+        let old_trc = blk.modal.trc;
+        let fanuc_side_change = d.trc.side_change == SideChange::Intersection
+            && old_trc != TrcSide::Off
+            && new.trc != TrcSide::Off
+            && new.trc != old_trc;
+        if let (Some(_), Some(at)) = (blk.trc, trc_at) {
+            let arc = new.motion.is_arc();
+            if arc && !fanuc_side_change && (blk.motion.is_some() || d.trc_codes_need_linear_mode) {
+                return Err(self.trc_not_linear(at));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Interpreter<'_> {
+    #[cold]
+    fn trc_not_linear(&self, at: u32) -> Box<Fault> {
+        let linear = self.d.codes_of(&[
+            GEffect::Motion(MotionMode::Rapid),
+            GEffect::Motion(MotionMode::Linear),
+        ]);
+        fault(
+            self.d.trc_not_linear,
+            at,
+            format!(
+                "tool radius compensation can only be selected or deselected in a {linear} block"
+            ),
+        )
+    }
+}
+
+/// A modal selection method; ISG inner-corner selection cannot be switched on while TRC is
+/// active (TF5200 G238).
+fn selection(old: &ModalState, sp: SelectionPolicy, code: u16, at: u32) -> R<SelectionPolicy> {
+    if sp == SelectionPolicy::InnerCorner && old.trc != TrcSide::Off && old.selection != sp {
+        return Err(fault(
+            AlarmCode::ForbiddenWithTrc,
+            at,
+            format!("G{code}: inner-corner selection cannot be switched on while TRC is active"),
+        ));
+    }
+    Ok(sp)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::run;
+    use super::*;
+
+    #[test]
+    fn one_code_per_group_and_the_codes_trc_forbids() {
+        let a = run("isg", "G0 G1\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::SameGroupTwice, 4));
+        assert_eq!(a.message, "G1 and G0 belong to the same group");
+        let trc = "G41 D1 G1 X0 Y0 F100\n";
+        let a = run("siemens-840c", &format!("{trc}G18\n")).unwrap_err();
+        assert_eq!(a.code, AlarmCode::PlaneChangeWithTrc);
+        // 840C 11.4: G17 is forbidden with TRC even when it keeps the plane.
+        let a = run("siemens-840c", &format!("{trc}G17\n")).unwrap_err();
+        assert_eq!(a.code, AlarmCode::ForbiddenWithTrc);
+        assert!(run("isg", &format!("{trc}G17\n")).is_ok());
+        let a = run("siemens-840c", "G16\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::NotSupported);
+    }
+
+    #[test]
+    fn trc_codes_only_in_linear_blocks() {
+        let a = run("siemens-840c", "G2 G41 D1 X10 Y0 I5 F100\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::TrcSelectionNotLinear, 4));
+        // Fanuc 026: also in circular mode without a motion.
+        let a = run("fanuc", "G2 F100\nG41 D1\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::FanucTrcNotLinear);
+        assert!(run("isg", "G2 F100\nG41 D1\n").is_ok());
+    }
+}

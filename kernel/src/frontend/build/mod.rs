@@ -1,0 +1,115 @@
+//! The block build: a block's collected words become the interpreted block, step by step in
+//! the order in which the control executes a block's functions — the way RS274/NGC lists its
+//! order of execution — so that a rule that depends on an earlier one (the feed on the units,
+//! the motion on the plane and the zero offset, a TRC check on the motion) finds it done.
+//! [`Interpreter::build`] is that order; each step lives in the module of its concern:
+//! [`gcodes`] (modal groups and their effects), [`technology`] (F S T D), [`flow`] (program
+//! stops, `@` commands, dwell) and [`motion`] (end point, polar coordinates, arcs, working
+//! area).
+
+mod flow;
+mod gcodes;
+mod motion;
+mod technology;
+
+pub(super) use motion::{in_range, WorkingArea};
+
+use super::block::{Block, BlockNo, ModalState};
+use super::fault::R;
+use super::interpreter::Interpreter;
+use super::lexer::column;
+use super::words::Words;
+
+impl Interpreter<'_> {
+    /// Turns a block's collected words into the block, in the order of execution.
+    #[inline]
+    pub(in crate::frontend) fn build(&mut self, w: &Words, block_col: usize) -> R<bool> {
+        // 1. The block at its place in the text, nothing programmed yet.
+        self.begin(w, block_col);
+        // 2. G codes looked up and checked against each other and the active TRC (840C 11.4).
+        let codes = self.g_codes(w)?;
+        // 3. @ commands (840C 11.4).
+        self.at_commands(w)?;
+        // 4. The G codes' effects, and modal switches written as words (808D DIAMON).
+        let mut new = self.block.modal;
+        let g = self.g_effects(&codes, &mut new)?;
+        self.diameter_switch(w, &mut new);
+        // 5. Feed and spindle speed; a dwell block's F is its time.
+        if g.dwell.is_none() {
+            self.feed(w, &mut new)?;
+        }
+        self.spindle(&mut new, block_col)?;
+        // 6. Tool and tool offset (840C 11.5: D0 deselects).
+        self.tool_offset(w, &mut new, block_col)?;
+        // 7. Program-flow M functions, acting at block end (840C 11.10).
+        self.program_stops(w)?;
+        // 8. The axis words: a dwell time, the working area's limits, or the motion.
+        match (g.dwell, g.working_area) {
+            (Some(code), _) => self.dwell(w, code, block_col)?,
+            (None, Some(max)) => self.working_area(w, max, new.units),
+            (None, None) => self.motion(w, &mut new, block_col)?,
+        }
+        // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026).
+        self.trc_in_linear_block(&new, g.trc_at)?;
+        // 10. The block done: position, program end (880 4.2.5: the pole), modal state.
+        self.finish(new);
+        Ok(true)
+    }
+
+    /// Step 1: the block at its source position with nothing programmed; its words (read
+    /// already) and modal state (still the one before the block) stay.
+    #[inline(always)]
+    fn begin(&mut self, w: &Words, block_col: usize) {
+        let col = column(self.src, self.blk_line_start, block_col);
+        reset(&mut self.block, self.blk_line, col, self.blk_number);
+        self.block.calculation = w.calculation;
+    }
+
+    /// Step 10: the position moves to the motion's end; M02/M30 end the program and reset
+    /// the pole to the zero offset; the new modal state is the block's.
+    #[inline(always)]
+    fn finish(&mut self, mut new: ModalState) {
+        let blk = &mut self.block;
+        if let Some(m) = &blk.motion {
+            self.cur = m.end;
+        }
+        if blk.stop.is_some_and(|s| s.ends_program()) {
+            new.pole = self.md.zero_offsets.get(new.work_offset);
+            self.finished = true;
+        }
+        blk.modal = new;
+    }
+}
+
+/// Clears everything of `b` but its auxiliary words (collected already) and its modal state
+/// (still the state before the block). Destructures, so that a new field is not forgotten.
+pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>) {
+    let Block {
+        line: b_line,
+        col: b_col,
+        number: b_number,
+        motion,
+        modal: _,
+        words: _,
+        trc,
+        approach,
+        exact_stop,
+        dwell,
+        stop,
+        offset_changed,
+        calculation,
+        preprocess_stop,
+    } = b;
+    *b_line = line;
+    *b_col = col;
+    *b_number = number;
+    *motion = None;
+    *trc = None;
+    *approach = None;
+    *exact_stop = false;
+    *dwell = None;
+    *stop = None;
+    *offset_changed = false;
+    *calculation = false;
+    *preprocess_stop = false;
+}

@@ -1,0 +1,474 @@
+//! Motion in the block build: the end point from the axis words (units, diameter, absolute
+//! or incremental, zero offset), polar coordinates about the pole (880 4.2.5), the arc centre
+//! from I J K or a radius ([`arc`]), the feed a motion needs, and the 840C working area
+//! limitation G25/G26 that every end point must keep.
+
+use super::super::arc::{self, ArcError, CentreSpec};
+use super::super::block::*;
+use super::super::fault::{fault, Fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::words::{Val, Words};
+use crate::alarm::AlarmCode;
+use crate::machine_data::{DecimalInput, Units};
+
+/// 840C G25/G26: the working area limitation, in the basic coordinate system.
+#[derive(Clone, Debug)]
+pub struct WorkingArea {
+    pub min: Pos,
+    pub max: Pos,
+    /// A limit has been programmed (saves the check on every block otherwise).
+    pub limited: bool,
+}
+
+impl Default for WorkingArea {
+    fn default() -> Self {
+        WorkingArea {
+            min: [f64::NEG_INFINITY; 3],
+            max: [f64::INFINITY; 3],
+            limited: false,
+        }
+    }
+}
+
+/// A coordinate the control takes (bounded like the words, with room for offsets).
+#[inline(always)]
+pub fn in_range(x: f64) -> bool {
+    x.is_finite() && x.abs() <= 1e9
+}
+
+impl Interpreter<'_> {
+    /// A length value in mm: decimal-input switch, inch conversion.
+    pub(in crate::frontend) fn length(&self, v: Val, units: Units) -> f64 {
+        let mut x = v.value;
+        if self.d.decimal_switch
+            && !v.has_point
+            && self.md.program.decimal_input == DecimalInput::Increment
+        {
+            x *= match units {
+                Units::Mm => self.md.program.least_input_increment_mm,
+                Units::Inch => self.md.program.least_input_increment_inch,
+            };
+        }
+        if units == Units::Inch {
+            x * 25.4
+        } else {
+            x
+        }
+    }
+
+    /// Where axis `i` goes for its word `a`: in mm, a diameter halved, absolute (plus the zero
+    /// offset) or incremental.
+    #[inline(always)]
+    pub(in crate::frontend) fn axis_target(
+        &self,
+        a: Val,
+        i: usize,
+        new: &ModalState,
+        start: f64,
+        offset: f64,
+    ) -> f64 {
+        let v = self.length(a, new.units) * if i == 0 && new.diameter { 0.5 } else { 1.0 };
+        match new.distance {
+            Distance::Absolute => v + offset,
+            Distance::Incremental => start + v,
+        }
+    }
+
+    /// Step 8: the block's motion, if it has one (written in place: `Motion` is large).
+    pub(super) fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
+        let programmed = self.programmed_axes(w)?;
+        if new.motion.is_polar() {
+            self.polar(w, new, programmed, block_col)
+        } else {
+            self.cartesian(w, new, programmed, block_col)
+        }
+    }
+
+    /// The axes written, as bits (X = 1, Y = 2, Z = 4); each must exist on the machine.
+    fn programmed_axes(&self, w: &Words) -> R<u8> {
+        let mut programmed = 0u8;
+        for (i, a) in w.axis.iter().enumerate() {
+            if let Some(a) = a {
+                if !self.md.has_axis(i) {
+                    return Err(fault(
+                        AlarmCode::UnknownAddress,
+                        a.at,
+                        format!("axis {} is not configured on this machine", AXIS_NAMES[i]),
+                    ));
+                }
+                programmed |= 1 << i;
+            }
+        }
+        Ok(programmed)
+    }
+
+    /// A line or an arc to the axis words' end point.
+    fn cartesian(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        programmed: u8,
+        block_col: usize,
+    ) -> R<()> {
+        let start = self.cur;
+        let end = self.end_point(w, new, start)?;
+        let arc = new.motion.is_arc();
+        let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
+        if has_centre && !arc {
+            let at = w
+                .centre
+                .iter()
+                .flatten()
+                .map(|v| v.pos())
+                .chain(w.radius.map(Val::pos))
+                .next()
+                .unwrap_or(block_col);
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                "circle parameters without a circular motion",
+            ));
+        }
+        if programmed == 0 && !(arc && has_centre) {
+            return Ok(());
+        }
+        feed_programmed(new, block_col)?;
+        let centre = if arc {
+            self.arc_centre(w, new, start, end, block_col)?
+        } else {
+            end
+        };
+        self.set_motion(new, start, end, centre, programmed, block_col)
+    }
+
+    /// The end point of the axis words; the axes not written stay where they are.
+    fn end_point(&self, w: &Words, new: &ModalState, start: Pos) -> R<Pos> {
+        let offset = self.md.zero_offsets.get(new.work_offset);
+        let mut end = start;
+        for (i, a) in w.axis.iter().enumerate() {
+            if let Some(a) = a {
+                end[i] = self.axis_target(*a, i, new, start[i], offset[i]);
+                if !in_range(end[i]) {
+                    return Err(fault(AlarmCode::BadNumber, a.at, "coordinate out of range"));
+                }
+            }
+        }
+        Ok(end)
+    }
+
+    /// The centre of an arc from `start` to `end`, from I J K in the plane or a radius.
+    fn arc_centre(
+        &self,
+        w: &Words,
+        new: &ModalState,
+        start: Pos,
+        end: Pos,
+        block_col: usize,
+    ) -> R<Pos> {
+        let plane = new.plane;
+        for (i, v) in w.centre.iter().enumerate() {
+            if let (Some(v), false) = (v, plane.contains(i)) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    v.at,
+                    format!(
+                        "{} is not a centre coordinate in the {} plane",
+                        ['I', 'J', 'K'][i],
+                        plane.name()
+                    ),
+                ));
+            }
+        }
+        let spec = self.centre_spec(w, new.units, block_col)?;
+        let at = w
+            .radius
+            .map(Val::pos)
+            .or_else(|| w.centre.iter().flatten().next().map(|v| v.pos()))
+            .unwrap_or(block_col);
+        let tol = self.md.program.arc_endpoint_tolerance;
+        let ccw = new.motion == MotionMode::ArcCcw;
+        arc::centre(start, end, plane, ccw, spec, tol).map_err(|e| arc_fault(e, tol, at))
+    }
+
+    /// How the block gives the circle: centre offsets or a radius, one of them.
+    fn centre_spec(&self, w: &Words, units: Units, block_col: usize) -> R<CentreSpec> {
+        match (w.radius, w.centre.iter().any(Option::is_some)) {
+            (Some(r), false) => Ok(CentreSpec::Radius(self.length(r, units))),
+            (None, true) => {
+                let mut off = [0.0; 3];
+                for (i, v) in w.centre.iter().enumerate() {
+                    if let Some(v) = v {
+                        off[i] = self.length(*v, units);
+                    }
+                }
+                Ok(CentreSpec::Offsets(off))
+            }
+            (Some(r), true) => Err(fault(
+                AlarmCode::Syntax,
+                r.at,
+                "a circle takes either a centre or a radius, not both",
+            )),
+            (None, false) => Err(fault(
+                AlarmCode::MissingValue,
+                block_col,
+                "a circle needs its centre (I, J, K) or its radius",
+            )),
+        }
+    }
+
+    /// 880 4.2.5: plane-axis words give the pole, A the angle, U or B the radius, the normal
+    /// axis moves as written; a polar circle is centred on the pole.
+    fn polar(
+        &mut self,
+        w: &Words,
+        new: &mut ModalState,
+        programmed: u8,
+        block_col: usize,
+    ) -> R<()> {
+        self.pole(w, new);
+        let start = self.cur;
+        let normal = new.plane.normal as usize;
+        let mut end = start;
+        if let Some(a) = w.axis[normal] {
+            let offset = self.md.zero_offsets.get(new.work_offset);
+            let v = self.length(a, new.units);
+            end[normal] = match new.distance {
+                Distance::Absolute => v + offset[normal],
+                Distance::Incremental => start[normal] + v,
+            };
+        }
+        if w.angle.is_none() && w.polar_radius.is_none() && w.axis[normal].is_none() {
+            return Ok(());
+        }
+        let (pa, po) = (new.plane.abscissa as usize, new.plane.ordinate as usize);
+        let (r, angle) = self.polar_target(w, new, start, block_col)?;
+        end[pa] = new.pole[pa] + r * libm::cos(angle);
+        end[po] = new.pole[po] + r * libm::sin(angle);
+        let mut centre = start;
+        centre[pa] = new.pole[pa];
+        centre[po] = new.pole[po];
+        feed_programmed(new, block_col)?;
+        let centre = if new.motion.is_arc() { centre } else { end };
+        self.set_motion(new, start, end, centre, programmed, block_col)
+    }
+
+    /// The pole from the plane-axis words: absolute plus the zero offset, or added to the
+    /// last pole (880 4.2.5).
+    fn pole(&self, w: &Words, new: &mut ModalState) {
+        let offset = self.md.zero_offsets.get(new.work_offset);
+        let (pa, po) = (new.plane.abscissa as usize, new.plane.ordinate as usize);
+        for i in [pa, po] {
+            if let Some(a) = w.axis[i] {
+                let factor = if i == 0 && new.diameter { 0.5 } else { 1.0 };
+                let v = self.length(a, new.units) * factor;
+                new.pole[i] = match new.distance {
+                    Distance::Absolute => v + offset[i],
+                    Distance::Incremental => new.pole[i] + v,
+                };
+            }
+        }
+    }
+
+    /// Radius and angle (radians) of the polar end point about the pole. A or U/B not
+    /// written keep the start point's; a circle keeps the start radius.
+    fn polar_target(
+        &self,
+        w: &Words,
+        new: &ModalState,
+        start: Pos,
+        block_col: usize,
+    ) -> R<(f64, f64)> {
+        let (pa, po) = (new.plane.abscissa as usize, new.plane.ordinate as usize);
+        let (rx, ry) = (start[pa] - new.pole[pa], start[po] - new.pole[po]);
+        let r_now = libm::hypot(rx, ry);
+        let ang_now = libm::atan2(ry, rx).to_degrees();
+        let ang = match w.angle {
+            Some(a) if new.distance == Distance::Incremental => ang_now + a.value,
+            Some(a) => a.value,
+            None => ang_now,
+        };
+        let r = match w.polar_radius {
+            Some(u) => {
+                let r = self.length(u, new.units);
+                if r < 0.0 {
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        u.at,
+                        "the polar radius U/B is written without sign",
+                    ));
+                }
+                r
+            }
+            None => r_now,
+        };
+        if new.motion.is_arc() {
+            self.polar_circle(w, r, r_now, block_col)?;
+            return Ok((r_now, ang.to_radians()));
+        }
+        Ok((r, ang.to_radians()))
+    }
+
+    /// A polar circle: its start off the pole, a written radius equal to the start radius.
+    fn polar_circle(&self, w: &Words, r: f64, r_now: f64, block_col: usize) -> R<()> {
+        if r_now <= 1e-9 {
+            return Err(fault(
+                AlarmCode::ArcEndPoint,
+                block_col,
+                "polar circle: the start point lies on the pole",
+            ));
+        }
+        if (r - r_now).abs() > self.md.program.arc_endpoint_tolerance {
+            return Err(fault(
+                AlarmCode::ArcEndPoint,
+                w.polar_radius.map_or(block_col, Val::pos),
+                format!("polar circle: radius {r:.4} differs from the start radius {r_now:.4}"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The motion, once its end point is checked against the working area.
+    #[inline(always)]
+    fn set_motion(
+        &mut self,
+        new: &ModalState,
+        start: Pos,
+        end: Pos,
+        centre: Pos,
+        programmed: u8,
+        block_col: usize,
+    ) -> R<()> {
+        self.check_area(&end, block_col)?;
+        self.block.motion = Some(Motion {
+            kind: new.motion.kind(),
+            plane: new.plane,
+            start,
+            end,
+            center: centre,
+            programmed,
+        });
+        Ok(())
+    }
+
+    /// Step 8, 840C G25 (min) / G26 (max): the axis words are limits, in mm without zero
+    /// offset (docs/dialects.md, "Working area G25/G26").
+    pub(super) fn working_area(&mut self, w: &Words, max: bool, units: Units) {
+        self.area.limited = true;
+        for (i, a) in w.axis.iter().enumerate() {
+            if let Some(a) = a {
+                let v = self.length(*a, units);
+                if max {
+                    self.area.max[i] = v;
+                } else {
+                    self.area.min[i] = v;
+                }
+            }
+        }
+    }
+
+    /// 840C G25/G26: end points must stay inside the working area.
+    fn check_area(&self, p: &Pos, at: usize) -> R<()> {
+        let area = &self.area;
+        if !area.limited {
+            return Ok(());
+        }
+        for i in 0..3 {
+            if p[i] < area.min[i] || p[i] > area.max[i] {
+                return Err(fault(
+                    AlarmCode::WorkingArea,
+                    at,
+                    format!(
+                        "{} {:.4} lies outside the working area limitation {} .. {}",
+                        AXIS_NAMES[i], p[i], area.min[i], area.max[i]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A feed motion needs a feed.
+fn feed_programmed(new: &ModalState, block_col: usize) -> R<()> {
+    let feed_needed = !matches!(new.motion, MotionMode::Rapid | MotionMode::PolarRapid);
+    if feed_needed && new.feed <= 0.0 {
+        return Err(fault(
+            AlarmCode::NoFeed,
+            block_col,
+            "no feed programmed (F)",
+        ));
+    }
+    Ok(())
+}
+
+/// Why no circle fits, as the alarm at `at`.
+#[cold]
+fn arc_fault(e: ArcError, tol: f64, at: usize) -> Box<Fault> {
+    let msg = match e {
+        ArcError::EndPointOff { r_start, r_end } => format!(
+            "end point not on the circle: start radius {r_start:.4}, end radius {r_end:.4} (tolerance {tol})"
+        ),
+        ArcError::ZeroRadius => "the centre lies on the start point".to_string(),
+        ArcError::FullCircleByRadius => {
+            "a full circle cannot be programmed with a radius; give the centre".to_string()
+        }
+        ArcError::RadiusTooSmall { radius, half_chord } => format!(
+            "radius {:.4} is smaller than half the distance to the end point ({half_chord:.4})",
+            radius.abs()
+        ),
+    };
+    fault(AlarmCode::ArcEndPoint, at, msg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::run;
+    use super::*;
+
+    fn end(b: &Block) -> Pos {
+        b.motion.unwrap().end
+    }
+
+    #[test]
+    fn working_area_bounds_end_points() {
+        // G25/G26 move nothing; an end point outside is alarm 10630.
+        let b = run(
+            "siemens-840c",
+            "G25 X-10 Y-10\nG26 X10 Y10\nG1 X10 Y-10 F100\n",
+        )
+        .unwrap();
+        assert_eq!((b[0].motion, b[1].motion), (None, None));
+        assert_eq!(end(&b[2]), [10.0, -10.0, 0.0]);
+        let a = run("siemens-840c", "G26 X10\nG1 X10.5 F100\n").unwrap_err();
+        assert_eq!((a.code, a.line), (AlarmCode::WorkingArea, 2));
+    }
+
+    #[test]
+    fn polar_end_points_lie_about_the_pole() {
+        // Pole (10, 0); radius 5 at 90°: (10, 5). Then G91 A90 about the same pole: (5, 0).
+        let b = run("siemens-840c", "G11 X10 Y0 F100\nA90 U5\nG91 A90\n").unwrap();
+        assert_eq!(b[0].motion, None);
+        let p = end(&b[1]);
+        assert!(
+            (p[0] - 10.0).abs() < 1e-12 && (p[1] - 5.0).abs() < 1e-12,
+            "{p:?}"
+        );
+        let p = end(&b[2]);
+        assert!((p[0] - 5.0).abs() < 1e-12 && p[1].abs() < 1e-12, "{p:?}");
+        // A polar circle keeps its start radius.
+        let a = run("siemens-840c", "G1 X10 F100\nG13 X0 Y0 A90 U4\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::ArcEndPoint);
+    }
+
+    #[test]
+    fn arcs_need_a_centre_or_a_radius_in_the_plane() {
+        let a = run("isg", "G2 X10 Y0 F100\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::MissingValue);
+        let a = run("isg", "G2 X10 Y0 I5 R5 F100\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::Syntax, 14));
+        let a = run("isg", "G2 X10 Y0 K5 F100\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::Syntax, 11));
+        let a = run("isg", "G1 X10 I5 F100\n").unwrap_err();
+        assert_eq!(a.message, "circle parameters without a circular motion");
+    }
+}

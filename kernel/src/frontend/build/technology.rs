@@ -1,0 +1,149 @@
+//! Technology words in the block build: the feed F, the spindle speed S, the tool T and its
+//! offset D (radius, length, cutting edge from the tool table), and the ISG variables that
+//! mirror the active tool (V.G.WZ_AKT.R/L).
+
+use super::super::block::*;
+use super::super::fault::{fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::words::{int_value, Words};
+use crate::alarm::AlarmCode;
+use crate::machine_data::Units;
+
+impl Interpreter<'_> {
+    /// Step 5: the feed, in mm/min (inch per minute converted).
+    #[inline(always)]
+    pub(super) fn feed(&self, w: &Words, new: &mut ModalState) -> R<()> {
+        if let Some(f) = w.f {
+            if f.value <= 0.0 || !f.value.is_finite() {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    f.at,
+                    "the feed F must be positive",
+                ));
+            }
+            let scale = if new.units == Units::Inch { 25.4 } else { 1.0 };
+            new.feed = f.value * scale;
+        }
+        Ok(())
+    }
+
+    /// Step 5: the spindle speed, from the S words collected into the block.
+    #[inline(always)]
+    pub(super) fn spindle(&self, new: &mut ModalState, block_col: usize) -> R<()> {
+        for a in &self.block.words {
+            if a.address == b'S' {
+                if a.value < 0.0 {
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        block_col,
+                        "the spindle speed S must not be negative",
+                    ));
+                }
+                new.spindle = a.value;
+            }
+        }
+        Ok(())
+    }
+
+    /// Step 6: the tool and its offset. A written tool radius (ISG) overrides the table's.
+    #[inline(always)]
+    pub(super) fn tool_offset(
+        &mut self,
+        w: &Words,
+        new: &mut ModalState,
+        block_col: usize,
+    ) -> R<()> {
+        if let Some(t) = w.t {
+            new.tool = Some(int_value(t.value, t.at, "T")?);
+            self.block.offset_changed = true;
+        }
+        if let Some((dn, at)) = self.d_number(w, new, block_col)? {
+            if dn == 0 {
+                self.no_offset(new);
+            } else {
+                self.offset(dn, at, new)?;
+            }
+            self.block.offset_changed = true;
+        }
+        self.vars.tool_length = new.length;
+        if w.radius_written.is_some() {
+            new.radius = self.vars.tool_radius;
+            self.block.offset_changed = true;
+        }
+        self.vars.tool_radius = new.radius;
+        Ok(())
+    }
+
+    /// The D number to look up, with where it points: the D word, or on controls with
+    /// cutting edges per tool the active D again under a new T (docs/dialects.md, "Tools on
+    /// the 808D").
+    fn d_number(&self, w: &Words, new: &ModalState, block_col: usize) -> R<Option<(u32, usize)>> {
+        Ok(match w.d {
+            Some(v) => Some((int_value(v.value, v.at, "D")?, v.pos())),
+            None if self.d.tool_edges && w.t.is_some() && new.d != 0 => Some((new.d, block_col)),
+            None => None,
+        })
+    }
+
+    /// D0: no offset; on the 840C it also deselects TRC (840C 11.5).
+    fn no_offset(&mut self, new: &mut ModalState) {
+        new.d = 0;
+        new.radius = 0.0;
+        new.length = 0.0;
+        new.edge = 0;
+        let blk = &mut self.block;
+        if self.d.d0_deselects && blk.modal.trc != TrcSide::Off && blk.trc.is_none() {
+            blk.trc = Some(TrcSide::Off);
+            new.trc = TrcSide::Off;
+        }
+    }
+
+    /// Offset `dn` from the tool table (under the active tool where tools have edges).
+    fn offset(&self, dn: u32, at: usize, new: &mut ModalState) -> R<()> {
+        let tool = if self.d.tool_edges { new.tool } else { None };
+        let (radius, length, edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
+            let what = crate::tools::offset_label(tool, dn);
+            fault(
+                AlarmCode::UnknownOffset,
+                at,
+                format!("tool offset {what} is not in the tool table"),
+            )
+        })?;
+        new.d = dn;
+        new.radius = radius;
+        new.length = length;
+        new.edge = edge.unwrap_or(0);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::run;
+    use super::*;
+
+    #[test]
+    fn feed_in_inch_is_converted_and_spindle_speed_kept() {
+        let b = run("siemens-840c", "G70 F10 S1200\n").unwrap();
+        assert_eq!((b[0].modal.feed, b[0].modal.spindle), (254.0, 1200.0));
+        let a = run("siemens-840c", "N5 S-1\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::BadNumber, 1));
+    }
+
+    #[test]
+    fn d0_deselects_trc_on_the_840c_only() {
+        let src = "G41 D1 G1 X0 Y0 F100\nD0\n";
+        let b = run("siemens-840c", src).unwrap();
+        assert_eq!(
+            (b[1].trc, b[1].modal.trc),
+            (Some(TrcSide::Off), TrcSide::Off)
+        );
+        assert_eq!((b[1].modal.radius, b[1].modal.length), (0.0, 0.0));
+        let b = run("isg", src).unwrap();
+        assert_eq!((b[1].trc, b[1].modal.trc), (None, TrcSide::Left));
+        // D1 from the shipped table: radius 10, length 100.
+        assert_eq!((b[0].modal.radius, b[0].modal.length), (10.0, 100.0));
+        let a = run("isg", "D99\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::UnknownOffset);
+    }
+}

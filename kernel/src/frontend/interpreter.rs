@@ -1,0 +1,260 @@
+//! The interpreter: reads a program block by block, keeps the modal state and the current
+//! position, and hands out interpreted [`Block`]s. It streams: nothing is read ahead except
+//! to skip the body of a false `$IF` or a finished loop, and loops jump back in the text.
+//!
+//! One block goes: its text ([`block_text`](super::block_text)), then either a statement of
+//! the dialect's language ([`statements`](super::statements)), the plain-block fast path
+//! ([`plain`](super::plain)), or the word loop ([`word_loop`](super::word_loop)) and the block
+//! build ([`build`](super::build)).
+
+use super::block::*;
+use super::block_text::read_block_number;
+use super::build::WorkingArea;
+use super::fault::{fault, Fault, R};
+use super::lexer::{column, Cursor};
+use super::statements::isg::Structures;
+use super::variables::Variables;
+use super::words::Words;
+use crate::alarm::{Alarm, AlarmCode};
+use crate::dialect::Dialect;
+use crate::machine_data::{CornerModeSetting, MachineData, PlaneName};
+use crate::segment::Source;
+use crate::tools::ToolTable;
+
+/// Streams interpreted blocks out of one part program.
+#[derive(Clone)]
+pub struct Interpreter<'a> {
+    pub(super) name: &'a str,
+    pub(super) src: &'a [u8],
+    pub(super) d: &'static Dialect,
+    pub(super) md: &'a MachineData,
+    pub(super) tools: &'a ToolTable,
+    /// Start of the next block's text.
+    pub(super) pos: usize,
+    /// Line number and line start of `pos`.
+    pub(super) line: u32,
+    pub(super) line_start: usize,
+    /// Line, line start and number of the block being interpreted (for alarms).
+    pub(super) blk_line: u32,
+    pub(super) blk_line_start: usize,
+    pub(super) blk_number: Option<BlockNo>,
+    /// The position after the last block.
+    pub(super) cur: Pos,
+    pub(super) vars: Variables,
+    /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
+    pub(super) structures: Structures,
+    /// 840C G25/G26.
+    pub(super) area: WorkingArea,
+    pub(super) finished: bool,
+    /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
+    pub(super) plain_path: bool,
+    /// The block handed out last, built in place (it is not moved through every layer). Its
+    /// `modal` is the interpreter's modal state: it changes only when a block is complete.
+    pub(super) block: Block,
+}
+
+impl<'a> Interpreter<'a> {
+    /// `name` is how alarms name the program (usually its path).
+    pub fn new(name: &'a str, source: &'a str, md: &'a MachineData, tools: &'a ToolTable) -> Self {
+        let d = Dialect::get(md.dialect);
+        Interpreter {
+            name,
+            src: source.as_bytes(),
+            d,
+            md,
+            tools,
+            pos: 0,
+            line: 1,
+            line_start: 0,
+            blk_line: 1,
+            blk_line_start: 0,
+            blk_number: None,
+            cur: [0.0; 3],
+            vars: Variables::default(),
+            structures: Structures::default(),
+            area: WorkingArea::default(),
+            finished: false,
+            plain_path: true,
+            block: Block::new(0, 0, None, initial_state(d, md)),
+        }
+    }
+
+    /// The next interpreted block, borrowed: the fast way to stream a program. `Ok(None)` at
+    /// the end; after an alarm the interpreter stays finished.
+    #[inline]
+    pub fn next_block(&mut self) -> Result<Option<&Block>, Alarm> {
+        if self.step()? {
+            Ok(Some(&self.block))
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// The last block handed out (what `next_block` returned).
+    pub fn current(&self) -> &Block {
+        &self.block
+    }
+
+    /// The modal state after the last block handed out.
+    pub fn state(&self) -> &ModalState {
+        &self.block.modal
+    }
+
+    /// The same interpreter with the axes standing at `p` (machine coordinates) before the
+    /// first block: a kernel loads a program where the last one left the axes, as a control
+    /// does (the first motion starts from there).
+    pub fn starting_at(mut self, p: Pos) -> Self {
+        self.cur = p;
+        self
+    }
+
+    /// The position after the last block handed out.
+    pub fn position(&self) -> Pos {
+        self.cur
+    }
+
+    /// The same interpreter with every block read by the full word loop (tests compare the
+    /// two ways of reading a plain motion block).
+    #[doc(hidden)]
+    pub fn without_plain_path(mut self) -> Self {
+        self.plain_path = false;
+        self
+    }
+
+    /// The one place a fault becomes an alarm: at the block being interpreted, the column
+    /// counted from the fault's byte offset.
+    #[cold]
+    fn alarm(&self, f: Fault) -> Alarm {
+        let source = Source {
+            number: self.blk_number,
+            line: self.blk_line,
+            col: column(self.src, self.blk_line_start, f.at),
+            // Not read by `Alarm::at`: a block that fails has no place in execution order.
+            seq: 0,
+        };
+        Alarm::at(f.code, self.name, &source, f.message)
+    }
+
+    /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
+    #[inline]
+    fn step(&mut self) -> Result<bool, Alarm> {
+        loop {
+            if self.finished {
+                return Ok(false);
+            }
+            if self.plain_path && self.plain_line() {
+                return Ok(true);
+            }
+            let Some((start, end)) = self.next_segment() else {
+                self.finished = true;
+                return match self.unclosed() {
+                    Some(f) => Err(self.alarm(*f)),
+                    None => Ok(false),
+                };
+            };
+            self.blk_number = None;
+            match self.segment(start, end) {
+                Ok(true) => return Ok(true),
+                Ok(false) => continue,
+                Err(f) => {
+                    self.finished = true;
+                    return Err(self.alarm(*f));
+                }
+            }
+        }
+    }
+
+    /// At the end of the text: a control structure still open, as a fault at its opening
+    /// statement (which becomes the block the alarm names).
+    #[cold]
+    fn unclosed(&mut self) -> Option<Box<Fault>> {
+        let f = self.structures.innermost()?;
+        let (line, line_start, at) = f.origin();
+        let message = format!("{} is not closed by {}", f.opener(), f.closer());
+        (self.blk_line, self.blk_line_start, self.blk_number) = (line, line_start, None);
+        Some(fault(AlarmCode::ControlNesting, at, message))
+    }
+
+    /// One block's text: what stands before the words, the block number, then a statement,
+    /// a plain block or the words and the build.
+    #[inline]
+    fn segment(&mut self, start: usize, end: usize) -> R<bool> {
+        let mut c = Cursor::new(self.src, start, end);
+        if !self.block_start(&mut c) {
+            return Ok(false);
+        }
+        let block_col = c.i;
+        self.blk_number = read_block_number(&mut c)?;
+        c.skip_blanks();
+        if self.is_statement(&c) {
+            return self.statement(c).map(|()| false);
+        }
+        if self.plain_path && self.plain(c, block_col).is_some() {
+            return Ok(true);
+        }
+        let mut words = Words::default();
+        self.block.words.clear();
+        self.words(&mut c, &mut words)?;
+        if self.blk_number.is_none() && words.is_empty() && self.block.words.is_empty() {
+            // A line holding only a comment is no block.
+            return Ok(false);
+        }
+        self.build(&words, block_col)
+    }
+}
+
+/// The modal state at program start: the dialect's initial codes and the machine data.
+fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
+    let plane = match md.program.initial_plane {
+        PlaneName::Xy => Plane::XY,
+        PlaneName::Zx => Plane::ZX,
+        PlaneName::Yz => Plane::YZ,
+    };
+    let corner = match md.trc.corner_mode {
+        CornerModeSetting::TransitionCircle => CornerPolicy::TransitionCircle,
+        CornerModeSetting::Intersection => d.initial_corner_intersection,
+    };
+    ModalState {
+        motion: d.initial_motion,
+        plane,
+        distance: Distance::Absolute,
+        units: md.program.units,
+        feed: 0.0,
+        spindle: 0.0,
+        trc: TrcSide::Off,
+        corner,
+        selection: d.initial_selection,
+        feed_adaption: FeedAdaption::Centre,
+        masking: false,
+        exact_stop: false,
+        work_offset: 0,
+        diameter: md.program.diameter_programming,
+        tool: None,
+        d: 0,
+        radius: 0.0,
+        length: 0.0,
+        edge: 0,
+        pole: [0.0; 3],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::run;
+    use crate::alarm::AlarmCode;
+
+    #[test]
+    fn a_fault_becomes_an_alarm_at_its_block_in_characters() {
+        // N10 (é) Q5: Q is the 9th character, the 10th byte.
+        let a = run("siemens-840c", "G1 F100\nN10 (é) Q5\n").unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::UnknownAddress, 2, 9));
+        assert_eq!(a.block.as_deref(), Some("N10"));
+    }
+
+    #[test]
+    fn a_structure_left_open_is_an_alarm_at_its_opening() {
+        let a = run("isg", "N5 X1\nN10 $FOR V.P.A = 0,1,1\nN20 X2\n").unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::ControlNesting, 2, 5));
+        assert_eq!(a.block, None);
+    }
+}
