@@ -60,7 +60,7 @@ enum Command {
         /// Write the setpoints to FILE instead of standard output.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
-        /// Path override in percent (0–120).
+        /// Path override in percent (above 0, at most 120).
         #[arg(long = "override", value_name = "PERCENT", default_value_t = 100.0)]
         override_percent: f64,
         /// Single-block mode: stop at every S point (the simulation presses NC start again).
@@ -672,18 +672,19 @@ fn simulate(
     ack_cycles: u64,
 ) -> ExitCode {
     // 0 % holds the path forever: a simulation would never end.
-    if !(override_percent > 0.0 && override_percent <= 120.0) {
+    let Some(override_) = nc_kernel::cycle::Override::from_percent(override_percent) else {
         return fail(format!(
-            "--override {override_percent}: expected a percentage above 0 and up to 120"
+            "--override {override_percent}: expected a percentage {}",
+            nc_kernel::cycle::Override::RANGE
         ));
-    }
+    };
     let l = match load(input) {
         Ok(l) => l,
         Err(code) => return code,
     };
     let opts = nc_kernel::simulate::Options {
         ack_cycles,
-        override_: override_percent / 100.0,
+        override_: override_.fraction(),
         single_block,
         ..Default::default()
     };

@@ -3,7 +3,7 @@
 //! answers are polled.
 
 use crate::os;
-use nc_kernel::cycle::{AuxOut, Bus, PlcInput, Status};
+use nc_kernel::cycle::{AuxOut, Bus, ChannelAlarm, PlcInput, Status};
 use nc_kernel::ipo::{ChannelState, Setpoint};
 use softnc_protocol::iceoryx2::node::Node;
 use softnc_protocol::iceoryx2::pending_response::PendingResponse;
@@ -116,7 +116,7 @@ impl Bus for IceBus {
             read_in_disable: s.read_in_disable != 0,
             drives_ready: s.drives_ready != 0,
             emergency_stop: s.emergency_stop != 0,
-            alarm: s.alarm,
+            alarm: ChannelAlarm::new(s.alarm),
         })
     }
 
@@ -172,11 +172,11 @@ impl Bus for IceBus {
         }
     }
 
-    fn acks(&mut self, f: &mut dyn FnMut(u64, u32)) {
+    fn acks(&mut self, f: &mut dyn FnMut(u64, Option<ChannelAlarm>)) {
         let mut i = 0;
         while i < self.pending.len() {
             let answered = match self.pending[i].1.receive() {
-                Ok(Some(r)) => Some(r.payload().alarm),
+                Ok(Some(r)) => Some(ChannelAlarm::new(r.payload().alarm)),
                 _ => None,
             };
             if let Some(alarm) = answered {
@@ -199,7 +199,7 @@ impl Bus for IceBus {
             pos: st.pos,
             v_path: st.v_path,
             override_: st.override_,
-            alarm: st.alarm,
+            alarm: ChannelAlarm::wire(st.alarm),
             aux_sent: st.aux_sent,
             aux_acked: st.aux_acked,
             tools_version: self.tools_version,

@@ -16,7 +16,7 @@ use super::bus::IceBus;
 use crate::clock::CycleClock;
 use crate::os;
 use crossbeam::queue::ArrayQueue;
-use nc_kernel::cycle::{Control, Cyclic, Program, Refusal};
+use nc_kernel::cycle::{alarm, ChannelAlarm, Control, Cyclic, Override, Program, Refusal};
 use nc_kernel::handover::{spawn_preparation, Report};
 use nc_kernel::ipo::Channel;
 use nc_kernel::{MachineData, ToolTable};
@@ -339,14 +339,14 @@ fn refusal_text(r: Refusal) -> (u32, String) {
             format!("the channel is {}: this needs NC stop, at rest", s.name()),
         ),
         Refusal::NoProgram => (0, "no program is loaded (or it has ended): load one".into()),
-        Refusal::Alarm(a) => (a, format!("alarm {a} stands: reset first")),
+        Refusal::Alarm(a) => (a.number(), format!("alarm {a} stands: reset first")),
         Refusal::NoPlc => (
-            nc_kernel::cycle::alarm::PLC_SIGN_OF_LIFE,
+            alarm::PLC_SIGN_OF_LIFE.number(),
             "no PLC: plc-sim is not running for this instance".into(),
         ),
         Refusal::DrivesNotReady => (0, "the drives are not ready (PLC)".into()),
         Refusal::EmergencyStop => (
-            nc_kernel::cycle::alarm::EMERGENCY_STOP,
+            alarm::EMERGENCY_STOP.number(),
             "emergency stop is pressed: release it, then reset".into(),
         ),
         Refusal::StartsElsewhere { start, here } => (
@@ -358,7 +358,7 @@ fn refusal_text(r: Refusal) -> (u32, String) {
             ),
         ),
         Refusal::Ending => (0, "the kernel is ending".into()),
-        Refusal::BadOverride => (0, "override must be above 0 and at most 1.2 (120 %)".into()),
+        Refusal::BadOverride => (0, format!("override must be {}", Override::RANGE)),
     }
 }
 
@@ -465,13 +465,12 @@ fn control(
 
 /// Tells the user about a new alarm or state; returns `s` as the new last status.
 fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
-    if s.alarm != last.alarm && s.alarm != 0 {
+    if let Some(a) = ChannelAlarm::new(s.alarm).filter(|_| s.alarm != last.alarm) {
         eprintln!(
-            "nc-kernel: alarm {} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
-            s.alarm,
+            "nc-kernel: alarm {a} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
             s.cycle,
             s.line,
-            nc_kernel::cycle::alarm::title(s.alarm),
+            a.title(),
             s.plc_cycle
         );
     }
