@@ -8,7 +8,9 @@
 use nc_kernel::Segment;
 use nc_kernel::{MachineData, Preparation, ToolTable};
 use softnc_protocol::iceoryx2::prelude::ipc;
-use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
+use softnc_protocol::{
+    command, newest, receive_each, state, Command, Instance, KernelStatus, Reply,
+};
 use std::io::Write;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
@@ -82,7 +84,7 @@ fn wait_for(c: &mut Child, limit: Duration) -> Option<std::process::ExitStatus> 
 
 struct Hmi {
     client: softnc_protocol::iceoryx2::port::client::Client<ipc::Service, Command, (), Reply, ()>,
-    status: softnc_protocol::iceoryx2::port::subscriber::Subscriber<ipc::Service, KernelStatus, ()>,
+    status: softnc_protocol::Sub<KernelStatus>,
     _node: softnc_protocol::iceoryx2::node::Node<ipc::Service>,
 }
 
@@ -289,9 +291,7 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     let t0 = Instant::now();
     loop {
         check_children(&mut children)?;
-        while let Ok(Some(s)) = hmi.status.receive() {
-            last = *s.payload();
-        }
+        last = newest(&hmi.status).unwrap_or(last);
         if last.plc_alive != 0 {
             break;
         }
@@ -325,9 +325,7 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
                 outcome = Err(e);
                 break;
             }
-            while let Ok(Some(s)) = hmi.status.receive() {
-                last = *s.payload();
-            }
+            last = newest(&hmi.status).unwrap_or(last);
             std::thread::sleep(Duration::from_millis(20));
         }
     }
@@ -476,13 +474,13 @@ impl Watch {
     ) -> Result<bool, String> {
         loop {
             check_children(children)?;
-            while let Ok(Some(s)) = hmi.status.receive() {
-                *last = *s.payload();
+            receive_each(&hmi.status, |s| {
+                *last = s;
                 self.heard = Instant::now();
-                if last.state == state::ACTIVE && self.first_cycle.is_none() {
-                    self.first_cycle = Some(last.cycle);
+                if s.state == state::ACTIVE && self.first_cycle.is_none() {
+                    self.first_cycle = Some(s.cycle);
                 }
-            }
+            });
             if self.heard.elapsed() > STATUS_SILENCE {
                 return Err(format!(
                     "nc-kernel published no status for {} s: it hangs; ending the processes",

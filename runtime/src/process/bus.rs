@@ -10,11 +10,10 @@ use softnc_protocol::iceoryx2::pending_response::PendingResponse;
 use softnc_protocol::iceoryx2::port::client::Client;
 use softnc_protocol::iceoryx2::port::notifier::Notifier;
 use softnc_protocol::iceoryx2::port::publisher::Publisher;
-use softnc_protocol::iceoryx2::port::subscriber::Subscriber;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
-    state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
-    SetpointMsg, AUX_WORDS,
+    newest, state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
+    SetpointMsg, Sub, AUX_WORDS,
 };
 
 type Pending = PendingResponse<ipc::Service, AuxRequest, (), AuxAck, ()>;
@@ -25,7 +24,7 @@ pub struct IceBus {
     wake: Notifier<ipc::Service>,
     aux: Client<ipc::Service, AuxRequest, (), AuxAck, ()>,
     pending: heapless::Vec<(u64, Pending), 32>,
-    signals: Subscriber<ipc::Service, PlcSignals, ()>,
+    signals: Sub<PlcSignals>,
     status: Publisher<ipc::Service, KernelStatus, ()>,
     _node: Node<ipc::Service>,
     seq: u64,
@@ -107,11 +106,7 @@ impl IceBus {
 
 impl Bus for IceBus {
     fn plc(&mut self) -> Option<PlcInput> {
-        let mut newest = None;
-        while let Ok(Some(s)) = self.signals.receive() {
-            newest = Some(*s.payload());
-        }
-        newest.map(|s| PlcInput {
+        newest(&self.signals).map(|s| PlcInput {
             feed_hold: s.feed_hold != 0,
             read_in_disable: s.read_in_disable != 0,
             drives_ready: s.drives_ready != 0,

@@ -21,7 +21,7 @@ use nc_kernel::handover::{spawn_preparation, Report};
 use nc_kernel::ipo::Channel;
 use nc_kernel::{MachineData, ToolTable};
 use softnc_protocol::iceoryx2::port::update_connections::UpdateConnections;
-use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
+use softnc_protocol::{command, receive_each, state, Command, Instance, KernelStatus, Reply};
 use std::collections::HashMap;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -419,9 +419,7 @@ fn control(
         while let Ok(Some(req)) = server.receive() {
             let c: Command = *req.payload();
             // The newest status first: a program loads where the axes stand now.
-            while let Ok(Some(s)) = status.receive() {
-                last = report_status(*s.payload(), &last);
-            }
+            receive_each(&status, |s| last = report_status(s, &last));
             let mut reply = desk.handle(&c, &last);
             // The new table goes out before the reply: who reads after the reply reads it.
             let version = shared.tools_version.load(Ordering::Acquire);
@@ -432,9 +430,7 @@ fn control(
             reply.tools_version = version;
             let _ = req.send_copy(reply);
         }
-        while let Ok(Some(s)) = status.receive() {
-            last = report_status(*s.payload(), &last);
-        }
+        receive_each(&status, |s| last = report_status(s, &last));
         // NC start once the PLC is there (--start).
         if want_start && last.plc_alive != 0 {
             match ask(shared, Control::Start) {
