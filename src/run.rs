@@ -7,6 +7,7 @@
 
 use nc_kernel::Segment;
 use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_runtime::Failure;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
     command, newest, receive_each, state, Command, Instance, KernelStatus, Reply,
@@ -14,7 +15,7 @@ use softnc_protocol::{
 use std::io::Write;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ExitCode, Stdio};
+use std::process::{Child, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -111,17 +112,16 @@ impl Hmi {
     }
 }
 
-pub fn run(o: RunOptions<'_>) -> ExitCode {
-    match run_inner(o) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
+/// Runs the program on the control: `Ok` when it ran to its end; an alarm or Ctrl-C stop it
+/// (the summary says so); a control that fails is an error.
+pub fn run(o: RunOptions<'_>) -> Result<(), Failure> {
+    match run_inner(o)? {
+        true => Ok(()),
+        false => Err(Failure::Reported),
     }
 }
 
-fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
+fn run_inner(o: RunOptions<'_>) -> Result<bool, String> {
     let instance_name = o
         .instance
         .clone()
@@ -421,11 +421,7 @@ fn run_inner(o: RunOptions<'_>) -> Result<ExitCode, String> {
     svg::save(&svg_path, &pic.render()).map_err(|e| format!("{}: {e}", svg_path.display()))?;
     println!("picture: {}", svg_path.display());
     drop(temp);
-    Ok(if finished {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    Ok(finished)
 }
 
 /// How long the path may take to come to rest after NC stop before the run stops waiting

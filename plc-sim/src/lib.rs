@@ -11,24 +11,23 @@
 //! `--estop-at C`, `--feed-hold C:N`, `--read-in-disable C:N`, `--drives-off-at C` act at
 //! kernel cycle C (for N cycles).
 
+pub mod args;
 pub mod axis;
 
+pub use args::PlcArgs;
+
+use args::Window;
 use axis::Axis;
 use nc_kernel::MachineData;
 use nc_runtime::os::now_ns;
-use nc_runtime::process::args::{instance, machine, only_flags, priority, value};
+use nc_runtime::Failure;
 use softnc_protocol::iceoryx2::port::server::Server;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{state, ActualValues, AuxAck, AuxRequest, PlcSignals, SetpointMsg};
 use std::io::Write;
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
-
-const USAGE: &str = "usage: plc-sim --instance NAME [--machine FILE] [--trace FILE]
-               [--estop-at CYCLE] [--feed-hold CYCLE:CYCLES] [--read-in-disable CYCLE:CYCLES]
-               [--drives-off-at CYCLE] [--priority P] [--histogram FILE]";
 
 /// PLC alarms (the 840D's range for user PLC alarms starts at 700000).
 mod plc_alarm {
@@ -40,47 +39,18 @@ mod plc_alarm {
 
 struct Script {
     estop_at: Option<u64>,
-    feed_hold: Option<(u64, u64)>,
-    read_in_disable: Option<(u64, u64)>,
+    feed_hold: Option<Window>,
+    read_in_disable: Option<Window>,
     drives_off_at: Option<u64>,
 }
 
-fn within(w: Option<(u64, u64)>, c: u64) -> bool {
-    w.is_some_and(|(from, n)| c >= from && c < from + n)
+fn within(w: Option<Window>, c: u64) -> bool {
+    w.is_some_and(|w| w.contains(c))
 }
 
-/// The plc-sim process with its arguments (after the program name).
-pub fn main(args: Vec<String>) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("plc-sim: error: {e}");
-            ExitCode::from(2)
-        }
-    }
-}
-
-fn cycle_arg(args: &[String], flag: &str) -> Result<Option<u64>, String> {
-    value(args, flag)
-        .map(|v| {
-            v.parse::<u64>()
-                .map_err(|_| format!("{flag} {v}: expected a cycle number"))
-        })
-        .transpose()
-}
-
-fn window_arg(args: &[String], flag: &str) -> Result<Option<(u64, u64)>, String> {
-    value(args, flag)
-        .map(|v| {
-            let (a, b) = v
-                .split_once(':')
-                .ok_or_else(|| format!("{flag} {v}: expected CYCLE:CYCLES"))?;
-            match (a.parse::<u64>(), b.parse::<u64>()) {
-                (Ok(a), Ok(b)) => Ok((a, b)),
-                _ => Err(format!("{flag} {v}: expected CYCLE:CYCLES")),
-            }
-        })
-        .transpose()
+/// The plc-sim process.
+pub fn main(args: PlcArgs) -> Result<(), Failure> {
+    run(args).map_err(Failure::Error)
 }
 
 struct Pending {
@@ -96,35 +66,19 @@ struct Pending {
     text: String,
 }
 
-fn run(args: Vec<String>) -> Result<(), String> {
-    if args.iter().any(|a| a == "--help" || a == "-h") {
-        eprintln!("{USAGE}");
-        return Ok(());
-    }
-    let known = [
-        "--instance",
-        "--machine",
-        "--trace",
-        "--estop-at",
-        "--feed-hold",
-        "--read-in-disable",
-        "--drives-off-at",
-        "--priority",
-        "--histogram",
-    ];
-    only_flags(&args, &known, USAGE)?;
-    let instance = instance(&args)?;
-    let md = machine(&args)?;
+fn run(args: PlcArgs) -> Result<(), String> {
+    let instance = args.control.instance.clone();
+    let md = nc_runtime::process::args::machine(args.control.machine.as_deref())?;
     let script = Script {
-        estop_at: cycle_arg(&args, "--estop-at")?,
-        feed_hold: window_arg(&args, "--feed-hold")?,
-        read_in_disable: window_arg(&args, "--read-in-disable")?,
-        drives_off_at: cycle_arg(&args, "--drives-off-at")?,
+        estop_at: args.estop_at,
+        feed_hold: args.feed_hold,
+        read_in_disable: args.read_in_disable,
+        drives_off_at: args.drives_off_at,
     };
-    let priority = priority(&args)?;
-    let mut trace = match value(&args, "--trace") {
+    let priority = args.priority;
+    let mut trace = match &args.trace {
         Some(p) => Some(std::io::BufWriter::new(
-            std::fs::File::create(p).map_err(|e| format!("{p}: {e}"))?,
+            std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?,
         )),
         None => None,
     };
@@ -198,7 +152,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
 
     // SCHED_FIFO for the drive cycle, as a PLC's cyclic task runs: one below the kernel's
     // IPO thread (80) unless --priority says otherwise.
-    let (rt, _keep) = nc_runtime::os::setup_cyclic_thread(priority.unwrap_or(79), 1);
+    let (rt, _keep) = nc_runtime::os::setup_cyclic_thread(priority, 1);
     eprintln!("plc-sim: {rt}");
     let mut axes: Option<[Axis; 3]> = None;
     let mut last: Option<SetpointMsg> = None;
@@ -446,13 +400,13 @@ fn run(args: Vec<String>) -> Result<(), String> {
         q(0.999),
         latency.max() as f64 / 1000.0
     );
-    if let Some(path) = value(&args, "--histogram") {
+    if let Some(path) = &args.histogram {
         let text = nc_runtime::histogram_text(
             "plc-sim setpoint latency (kernel send to plc-sim receive)",
             &latency,
             &[("samples", samples), ("lost", lost), ("late", late)],
         );
-        std::fs::write(path, text).map_err(|e| format!("{path}: {e}"))?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
 }
