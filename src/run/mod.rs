@@ -99,28 +99,36 @@ impl Drop for Files {
     }
 }
 
-/// Children that are killed if the run ends early (an error, a panic).
+/// The run's processes, by role.
 struct Children(Vec<(&'static str, Child)>);
 
-impl Drop for Children {
-    fn drop(&mut self) {
+impl Children {
+    /// Ends every one still running at once: SIGTERM (a process that ends by it leaves
+    /// nothing in shared memory, one killed while it opens its services may), and SIGKILL
+    /// for what has not ended after `grace`.
+    fn stop_all(&mut self, grace: Duration) {
         for (_, c) in &mut self.0 {
             if let Ok(None) = c.try_wait() {
-                let _ = c.kill();
-                let _ = c.wait();
+                terminate(c);
+            }
+        }
+        let t = Instant::now();
+        for (_, c) in &mut self.0 {
+            while let Ok(None) = c.try_wait() {
+                if t.elapsed() > grace {
+                    let _ = c.kill();
+                    let _ = c.wait();
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(10));
             }
         }
     }
-}
 
-impl Children {
     /// Ends `role` with SIGTERM, killing it after 10 s; how it ended (`None`: no status).
     fn end(&mut self, role: &'static str) -> Option<(&'static str, Option<ExitStatus>)> {
         let (_, c) = self.0.iter_mut().find(|(r, _)| *r == role)?;
-        // SAFETY: kill(2) on our own child's pid.
-        unsafe {
-            libc::kill(c.id() as i32, libc::SIGTERM);
-        }
+        terminate(c);
         let t = Instant::now();
         let status = loop {
             if let Ok(Some(s)) = c.try_wait() {
@@ -133,6 +141,13 @@ impl Children {
             std::thread::sleep(Duration::from_millis(10));
         };
         Some((role, status))
+    }
+}
+
+fn terminate(c: &Child) {
+    // SAFETY: kill(2) on our own child's pid, not yet reaped.
+    unsafe {
+        libc::kill(c.id() as i32, libc::SIGTERM);
     }
 }
 
@@ -263,10 +278,20 @@ fn claim(name: &str) -> Result<Instance, String> {
 struct Supervisor<'a> {
     o: &'a RunOptions<'a>,
     instance: Instance,
-    // Before the files: the children are ended before their logs are removed.
+    // Before the files: the logs are removed after the children have ended.
     children: Children,
     files: Files,
     interrupts: Arc<AtomicU32>,
+}
+
+impl Drop for Supervisor<'_> {
+    fn drop(&mut self) {
+        // A run that gives up on the control (an error, a panic) ends its processes here,
+        // and takes what they left in shared memory with them (after an orderly end there is
+        // nothing left).
+        self.children.stop_all(Duration::from_secs(2));
+        let _ = self.instance.remove_when_unused();
+    }
 }
 
 impl Supervisor<'_> {
