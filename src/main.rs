@@ -5,6 +5,7 @@ use nc_kernel::jsonl;
 use nc_kernel::jsonl as prep_jsonl;
 use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
+use nc_runtime::Failure;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -60,7 +61,7 @@ enum Command {
         /// Write the setpoints to FILE instead of standard output.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
-        /// Path override in percent (0–120).
+        /// Path override in percent (above 0, at most 120).
         #[arg(long = "override", value_name = "PERCENT", default_value_t = 100.0)]
         override_percent: f64,
         /// Single-block mode: stop at every S point (the simulation presses NC start again).
@@ -137,6 +138,27 @@ enum Command {
         #[arg(long, value_name = "NAME")]
         instance: String,
     },
+    // The control's processes (docs/ipc.md, docs/hmi.md): `softnc run` starts itself in
+    // these roles. Their arguments and help are the processes' own.
+    #[command(hide = true)]
+    NcKernel(nc_runtime::process::KernelArgs),
+    #[command(hide = true)]
+    PlcSim(plc_sim::PlcArgs),
+    #[command(hide = true)]
+    HmiBridge(hmi_bridge::BridgeArgs),
+}
+
+impl Command {
+    /// The process of the control this command runs as, if it is one: its messages carry
+    /// the name, as they share a log with the others.
+    fn process(&self) -> Option<&'static str> {
+        match self {
+            Command::NcKernel(_) => Some("nc-kernel"),
+            Command::PlcSim(_) => Some("plc-sim"),
+            Command::HmiBridge(_) => Some("hmi-bridge"),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -205,12 +227,12 @@ struct Loaded {
     tools: ToolTable,
 }
 
-fn fail(msg: impl std::fmt::Display) -> ExitCode {
-    eprintln!("error: {msg}");
-    ExitCode::from(2)
+/// A usage or configuration error (exit status 2).
+fn fail(msg: impl std::fmt::Display) -> Failure {
+    Failure::Error(msg.to_string())
 }
 
-fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
+fn load(a: &ProgramArgs) -> Result<Loaded, Failure> {
     let md = MachineData::load(a.machine.as_deref(), &a.md).map_err(fail)?;
     let mut tools = match &a.tools {
         Some(p) => ToolTable::load(p).map_err(fail)?,
@@ -233,40 +255,24 @@ fn load(a: &ProgramArgs) -> Result<Loaded, ExitCode> {
     })
 }
 
-fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> ExitCode {
-    let l = match load(input) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
-    let sink: Box<dyn Write> = match output {
-        Some(p) => match std::fs::File::create(p) {
-            Ok(f) => Box::new(f),
-            Err(e) => return fail(format!("{}: {e}", p.display())),
-        },
-        None => Box::new(std::io::stdout().lock()),
-    };
-    let mut out = BufWriter::with_capacity(1 << 16, sink);
+fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> Result<(), Failure> {
+    let l = load(input)?;
+    let mut out = open_output(output)?;
+    let writing = |e: std::io::Error| fail(format!("writing output: {e}"));
     for item in Interpreter::new(&l.name, &l.source, &l.md, &l.tools) {
         match item {
-            Ok(block) => {
-                if let Err(e) = jsonl::write_block(&mut out, &block) {
-                    return fail(format!("writing output: {e}"));
-                }
-            }
+            Ok(block) => jsonl::write_block(&mut out, &block).map_err(writing)?,
             Err(alarm) => {
                 let _ = out.flush();
                 eprintln!("{}", alarm.render(&l.source));
-                return ExitCode::from(1);
+                return Err(Failure::Reported);
             }
         }
     }
-    if let Err(e) = out.flush() {
-        return fail(format!("writing output: {e}"));
-    }
-    ExitCode::SUCCESS
+    out.flush().map_err(writing)
 }
 
-fn open_output(output: Option<&PathBuf>) -> Result<BufWriter<Box<dyn Write>>, ExitCode> {
+fn open_output(output: Option<&PathBuf>) -> Result<BufWriter<Box<dyn Write>>, Failure> {
     let sink: Box<dyn Write> = match output {
         Some(p) => match std::fs::File::create(p) {
             Ok(f) => Box::new(f),
@@ -277,47 +283,42 @@ fn open_output(output: Option<&PathBuf>) -> Result<BufWriter<Box<dyn Write>>, Ex
     Ok(BufWriter::with_capacity(1 << 16, sink))
 }
 
-fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> ExitCode {
-    let l = match load(input) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
-    let out = match open_output(output) {
-        Ok(o) => o,
-        Err(code) => return code,
-    };
+fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> Result<(), Failure> {
+    let l = load(input)?;
+    let out = open_output(output)?;
     if format == Format::Svg {
         return path_svg(&l, out);
     }
     with_preparation(&l, |prep| path_jsonl(&l, prep, out))
 }
 
-fn path_jsonl(l: &Loaded, prep: &mut Preparation, mut out: BufWriter<Box<dyn Write>>) -> ExitCode {
-    let code = loop {
+fn path_jsonl(
+    l: &Loaded,
+    prep: &mut Preparation,
+    mut out: BufWriter<Box<dyn Write>>,
+) -> Result<(), Failure> {
+    let writing = |e: std::io::Error| fail(format!("writing output: {e}"));
+    let outcome = loop {
         match prep.next_item() {
             Ok(Some(item)) => {
                 if let Prepared::Warning(w) = &item {
                     eprintln!("{}", render_warning(w, &l.source));
                 }
-                if let Err(e) = prep_jsonl::write_prepared(&mut out, &item) {
-                    return fail(format!("writing output: {e}"));
-                }
+                prep_jsonl::write_prepared(&mut out, &item).map_err(writing)?;
             }
-            Ok(None) => break ExitCode::SUCCESS,
+            Ok(None) => break Ok(()),
             Err(alarm) => {
                 let _ = prep_jsonl::write_alarm(&mut out, &alarm);
                 eprintln!("{}", alarm.render(&l.source));
-                break ExitCode::from(1);
+                break Err(Failure::Reported);
             }
         }
     };
-    if let Err(e) = out.flush() {
-        return fail(format!("writing output: {e}"));
-    }
-    code
+    out.flush().map_err(writing)?;
+    outcome
 }
 
-fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> ExitCode {
+fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> Result<(), Failure> {
     let mut segments = Vec::new();
     let mut alarm = None;
     for item in Preparation::new(&l.name, &l.source, &l.md, &l.tools) {
@@ -337,26 +338,22 @@ fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> ExitCode {
         &segments,
         alarm.as_ref(),
     );
-    if let Err(e) = svg::write(&mut out, &pic.render()).and_then(|()| out.flush()) {
-        return fail(format!("writing output: {e}"));
-    }
-    if alarm.is_some() {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
+    svg::write(&mut out, &pic.render())
+        .and_then(|()| out.flush())
+        .map_err(|e| fail(format!("writing output: {e}")))?;
+    match alarm {
+        Some(_) => Err(Failure::Reported),
+        None => Ok(()),
     }
 }
 
-fn check(input: &ProgramArgs) -> ExitCode {
-    let l = match load(input) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
+fn check(input: &ProgramArgs) -> Result<(), Failure> {
+    let l = load(input)?;
     let t0 = std::time::Instant::now();
     with_preparation(&l, |prep| check_run(&l, prep, t0))
 }
 
-fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> ExitCode {
+fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Result<(), Failure> {
     let mut segments = 0u64;
     let mut alarms = 0u32;
     let mut warnings = 0u32;
@@ -393,9 +390,9 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Exit
         if alarms == 1 { "" } else { "s" }
     );
     if alarms == 0 {
-        ExitCode::SUCCESS
+        Ok(())
     } else {
-        ExitCode::from(1)
+        Err(Failure::Reported)
     }
 }
 
@@ -419,14 +416,11 @@ fn render_warning(w: &nc_kernel::Alarm, source: &str) -> String {
     w.render(source).replacen(": alarm ", ": warning ", 1)
 }
 
-fn bridge(b: &BridgeArgs) -> Result<hmi_bridge::client::Bridge, ExitCode> {
+fn bridge(b: &BridgeArgs) -> Result<hmi_bridge::client::Bridge, Failure> {
     let addr = match &b.bridge {
         Some(a) => a.clone(),
         None => {
-            let md = MachineData::load(b.machine.as_deref(), &[]).map_err(|e| {
-                eprintln!("softnc: error: {e}");
-                ExitCode::from(2)
-            })?;
+            let md = MachineData::load(b.machine.as_deref(), &[]).map_err(fail)?;
             format!("127.0.0.1:{}", md.hmi.port)
         }
     };
@@ -437,50 +431,37 @@ fn bridge(b: &BridgeArgs) -> Result<hmi_bridge::client::Bridge, ExitCode> {
     Ok(hmi_bridge::client::Bridge::new(addr, token))
 }
 
-/// Prints the bridge's answer: the message on success, the refusal on stderr (exit 1).
-fn report(r: Result<hmi_bridge::client::Answer, String>) -> ExitCode {
-    match r {
-        Ok(a) if (200..300).contains(&a.status) => {
-            let j = a.json();
-            println!("{}", j["message"].as_str().unwrap_or("done"));
-            ExitCode::SUCCESS
-        }
-        Ok(a) => {
-            let j = a.json();
-            eprintln!(
-                "softnc: refused ({}): {}",
-                a.status,
-                j["error"].as_str().unwrap_or(a.body.as_str())
-            );
-            ExitCode::FAILURE
-        }
-        Err(e) => {
-            eprintln!("softnc: error: {e}");
-            ExitCode::from(2)
-        }
+/// The bridge's answer: its message printed on success; a refusal fails the command
+/// (exit 1), a bridge out of reach is an error (exit 2).
+fn report(r: Result<hmi_bridge::client::Answer, String>) -> Result<(), Failure> {
+    let a = r?;
+    let j = a.json();
+    if (200..300).contains(&a.status) {
+        println!("{}", j["message"].as_str().unwrap_or("done"));
+        return Ok(());
     }
+    Err(Failure::Failed(format!(
+        "refused ({}): {}",
+        a.status,
+        j["error"].as_str().unwrap_or(a.body.as_str())
+    )))
 }
 
-fn simple(b: &BridgeArgs, path: &str) -> ExitCode {
-    match bridge(b) {
-        Ok(br) => report(br.post(path, &serde_json::json!({}))),
-        Err(code) => code,
-    }
+fn simple(b: &BridgeArgs, path: &str) -> Result<(), Failure> {
+    report(bridge(b)?.post(path, &serde_json::json!({})))
 }
 
-fn offset(b: &BridgeArgs, d: &str, value: f64, wear: bool) -> ExitCode {
-    let Some((t, n)) = offset_name(d) else {
-        eprintln!("softnc: error: {d}: expected an offset like D1, or T1D2 for a tool's edge");
-        return ExitCode::from(2);
-    };
+fn offset(b: &BridgeArgs, d: &str, value: f64, wear: bool) -> Result<(), Failure> {
+    let (t, n) = offset_name(d).ok_or_else(|| {
+        fail(format!(
+            "{d}: expected an offset like D1, or T1D2 for a tool's edge"
+        ))
+    })?;
     let mut body = serde_json::json!({ "d": n, "radius": value, "wear": wear });
     if let Some(t) = t {
         body["t"] = t.into();
     }
-    match bridge(b) {
-        Ok(br) => report(br.post("/api/offset", &body)),
-        Err(code) => code,
-    }
+    report(bridge(b)?.post("/api/offset", &body))
 }
 
 /// "D1" → (None, 1); "T1D2", "T1 D2", "t1d2" → (Some(1), 2). Numbers from 1.
@@ -497,23 +478,19 @@ fn offset_name(s: &str) -> Option<(Option<u32>, u32)> {
     Some((t, number(rest.strip_prefix(['D', 'd'])?)?))
 }
 
-fn status(b: &BridgeArgs, json: bool) -> ExitCode {
-    let br = match bridge(b) {
-        Ok(br) => br,
-        Err(code) => return code,
-    };
-    let a = match br.get("/api/status") {
+fn status(b: &BridgeArgs, json: bool) -> Result<(), Failure> {
+    let a = match bridge(b)?.get("/api/status") {
         Ok(a) if a.status == 200 => a,
         other => return report(other),
     };
     let s = a.json();
     if json {
         println!("{s}");
-        return ExitCode::SUCCESS;
+        return Ok(());
     }
     if s["connected"] != serde_json::Value::Bool(true) {
         println!("kernel: not running (hmi-bridge has no status from it)");
-        return ExitCode::FAILURE;
+        return Err(Failure::Reported);
     }
     let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
     let pos = &s["pos"];
@@ -554,61 +531,46 @@ fn status(b: &BridgeArgs, json: bool) -> ExitCode {
             a.get("text").and_then(|t| t.as_str()).unwrap_or("")
         );
     }
-    ExitCode::SUCCESS
+    Ok(())
 }
 
-fn clean(name: &str) -> ExitCode {
-    let inst = match softnc_protocol::Instance::new(name) {
-        Ok(i) => i,
-        Err(e) => {
-            eprintln!("softnc: error: {e}");
-            return ExitCode::from(2);
-        }
-    };
+fn clean(name: &str) -> Result<(), Failure> {
+    let inst = softnc_protocol::Instance::new(name).map_err(fail)?;
     let before = inst.files().len();
-    match inst.remove_when_unused() {
-        Ok(left) if left.is_empty() => {
-            println!("instance '{name}': {before} file(s) removed, none left");
-            ExitCode::SUCCESS
-        }
-        Ok(left) => {
-            eprintln!("softnc: error: instance '{name}': could not remove:");
-            for f in left {
-                eprintln!("  {}", f.display());
-            }
-            ExitCode::FAILURE
-        }
-        Err(e) => {
-            eprintln!("softnc: error: {e}");
-            ExitCode::FAILURE
-        }
+    let left = inst
+        .remove_when_unused()
+        .map_err(|e| Failure::Failed(e.to_string()))?;
+    if !left.is_empty() {
+        let files: Vec<String> = left.iter().map(|f| format!("  {}", f.display())).collect();
+        return Err(Failure::Failed(format!(
+            "instance '{name}': could not remove:\n{}",
+            files.join("\n")
+        )));
     }
+    println!("instance '{name}': {before} file(s) removed, none left");
+    Ok(())
 }
 
 fn main() -> ExitCode {
-    // One executable for the whole control: `softnc run` starts itself in these roles, so
-    // one `cargo run` builds everything the run needs.
-    let mut args = std::env::args().skip(1);
-    match args.next().as_deref() {
-        Some("nc-kernel") => return nc_runtime::process::main(args.collect()),
-        Some("plc-sim") => return plc_sim::main(args.collect()),
-        Some("hmi-bridge") => return hmi_bridge::main(args.collect()),
-        _ => {}
-    }
     let cli = Cli::parse();
-    match &cli.command {
-        Command::Parse { input, output } => parse(input, output.as_ref()),
+    let process = cli.command.process();
+    nc_runtime::exit(process, dispatch(cli.command))
+}
+
+fn dispatch(command: Command) -> Result<(), Failure> {
+    match command {
+        Command::Parse { input, output } => parse(&input, output.as_ref()),
         Command::Path {
             input,
             format,
             output,
-        } => path(input, *format, output.as_ref()),
-        Command::Check { input } => check(input),
-        Command::Clean { instance } => clean(instance),
-        Command::Status { bridge, json } => status(bridge, *json),
-        Command::Start { bridge } => simple(bridge, "/api/start"),
-        Command::Stop { bridge } => simple(bridge, "/api/stop"),
-        Command::Reset { bridge } => simple(bridge, "/api/reset"),
+        } => path(&input, format, output.as_ref()),
+        Command::Check { input } => check(&input),
+        Command::Clean { instance } => clean(&instance),
+        Command::Status { bridge, json } => status(&bridge, json),
+        Command::Start { bridge } => simple(&bridge, "/api/start"),
+        Command::Stop { bridge } => simple(&bridge, "/api/stop"),
+        Command::Reset { bridge } => simple(&bridge, "/api/reset"),
         Command::Offset {
             action:
                 OffsetAction::Set {
@@ -617,7 +579,7 @@ fn main() -> ExitCode {
                     wear,
                     bridge,
                 },
-        } => offset(bridge, d, *radius, *wear),
+        } => offset(&bridge, &d, radius, wear),
         Command::Run {
             input,
             instance,
@@ -628,10 +590,7 @@ fn main() -> ExitCode {
             hmi,
             hmi_port,
         } => {
-            let l = match load(input) {
-                Ok(l) => l,
-                Err(code) => return code,
-            };
+            let l = load(&input)?;
             run::run(run::RunOptions {
                 name: &l.name,
                 source: &l.source,
@@ -640,12 +599,12 @@ fn main() -> ExitCode {
                 tools: &l.tools,
                 tools_file: input.tools.as_deref(),
                 set: &input.set,
-                instance: instance.clone(),
-                trace: trace.clone(),
-                svg: svg.clone(),
-                plc_args: plc,
-                quiet: *quiet,
-                hmi: hmi.then_some(*hmi_port),
+                instance,
+                trace,
+                svg,
+                plc_args: &plc,
+                quiet,
+                hmi: hmi.then_some(hmi_port),
             })
         }
         Command::Simulate {
@@ -655,12 +614,17 @@ fn main() -> ExitCode {
             single_block,
             ack_cycles,
         } => simulate(
-            input,
+            &input,
             output.as_ref(),
-            *override_percent,
-            *single_block,
-            *ack_cycles,
+            override_percent,
+            single_block,
+            ack_cycles,
         ),
+        // One executable for the whole control: `softnc run` starts itself in these roles,
+        // so one `cargo run` builds everything the run needs.
+        Command::NcKernel(args) => nc_runtime::process::main(args),
+        Command::PlcSim(args) => plc_sim::main(args),
+        Command::HmiBridge(args) => hmi_bridge::main(args),
     }
 }
 
@@ -670,28 +634,26 @@ fn simulate(
     override_percent: f64,
     single_block: bool,
     ack_cycles: u64,
-) -> ExitCode {
+) -> Result<(), Failure> {
     // 0 % holds the path forever: a simulation would never end.
-    if !(override_percent > 0.0 && override_percent <= 120.0) {
-        return fail(format!(
-            "--override {override_percent}: expected a percentage above 0 and up to 120"
-        ));
-    }
-    let l = match load(input) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
+    let override_ =
+        nc_kernel::cycle::Override::from_percent(override_percent).ok_or_else(|| {
+            fail(format!(
+                "--override {override_percent}: expected a percentage {}",
+                nc_kernel::cycle::Override::RANGE
+            ))
+        })?;
+    let l = load(input)?;
     let opts = nc_kernel::simulate::Options {
         ack_cycles,
-        override_: override_percent / 100.0,
+        override_: override_.fraction(),
         single_block,
         ..Default::default()
     };
     let mut out: Box<dyn Write> = match output {
-        Some(p) => match std::fs::File::create(p) {
-            Ok(f) => Box::new(f),
-            Err(e) => return fail(format!("{}: {e}", p.display())),
-        },
+        Some(p) => {
+            Box::new(std::fs::File::create(p).map_err(|e| fail(format!("{}: {e}", p.display())))?)
+        }
         None => Box::new(std::io::stdout().lock()),
     };
     let t0 = std::time::Instant::now();
@@ -723,10 +685,7 @@ fn simulate(
     if tty && shown != t0 {
         eprint!("\r{}\r", " ".repeat(60));
     }
-    let s = match r {
-        Ok(s) => s,
-        Err(e) => return fail(format!("writing setpoints: {e}")),
-    };
+    let s = r.map_err(|e| fail(format!("writing setpoints: {e}")))?;
     for w in &s.warnings {
         eprintln!("{}", render_warning(w, &l.source));
     }
@@ -745,16 +704,15 @@ fn simulate(
         t0.elapsed().as_secs_f64() * 1e3
     );
     if s.timed_out {
-        eprintln!(
-            "error: the simulation stopped after {} cycles without reaching the end",
+        return Err(Failure::Failed(format!(
+            "the simulation stopped after {} cycles without reaching the end",
             s.cycles
-        );
-        return ExitCode::from(1);
+        )));
     }
     if s.alarms.is_empty() {
-        ExitCode::SUCCESS
+        Ok(())
     } else {
-        ExitCode::from(1)
+        Err(Failure::Reported)
     }
 }
 

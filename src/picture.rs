@@ -2,9 +2,9 @@
 //! contour, tool-centre path coloured by role, the tool circle at each block end, block labels
 //! and alarms, on a grid in the compensation plane (docs/path-format.md).
 
-use nc_kernel::geometry::tip_offset;
+use nc_kernel::geometry::{tip_offset, Curve, Fineness};
 use nc_kernel::Alarm;
-use nc_kernel::{Block, MotionKind, Plane, Pos, TrcSide};
+use nc_kernel::{Block, MotionKind, Plane, Pos, TrcSide, AXIS_NAMES};
 use nc_kernel::{Interpreter, MachineData, ToolTable};
 use nc_kernel::{MachineKind, ToolPost};
 use nc_kernel::{Role, Segment, Shape};
@@ -32,6 +32,12 @@ const CORNER: &str = "#d4650a";
 const UNCOMP: &str = "#6e7781";
 const ALARM: &str = "#cf222e";
 const ACTUAL: &str = "#8250df";
+
+/// Points on an arc for the bounding box and for arcs that change radius: every 2.5°.
+const FINE: Fineness = Fineness {
+    max_angle: TAU / 144.0,
+    max_length: f64::INFINITY,
+};
 
 /// What the picture shows, gathered before drawing.
 pub struct Picture<'a> {
@@ -152,26 +158,27 @@ impl<'a> Picture<'a> {
         out
     }
 
+    /// A segment's arc in the picture's plane, if it is one.
+    fn arc(&self, s: &Segment) -> Option<Curve> {
+        match s.shape {
+            Shape::Arc { plane, .. } if plane == self.plane => Curve::new(s),
+            _ => None,
+        }
+    }
+
     /// Points along a segment in the plane, for the bounding box and radius-changing arcs.
     fn sample(&self, s: &Segment) -> Vec<(f64, f64)> {
-        match s.shape {
-            Shape::Arc {
-                center,
-                center_end,
-                ccw,
-                r0,
-                r1,
-                plane,
-            } if plane == self.plane => arc_points(
-                (self.uv(center), self.uv(center_end)),
-                self.uv(s.from),
-                self.uv(s.to),
-                ccw,
-                r0,
-                r1,
-            ),
-            _ => vec![self.uv(s.from), self.uv(s.to)],
-        }
+        self.polyline(self.arc(s).as_ref(), s.from, s.to)
+    }
+
+    /// The ends of a piece and, for an arc, the points between them.
+    fn polyline(&self, arc: Option<&Curve>, from: Pos, to: Pos) -> Vec<(f64, f64)> {
+        let inner = arc.into_iter().flat_map(|c| c.interior(FINE));
+        std::iter::once(from)
+            .chain(inner)
+            .chain(std::iter::once(to))
+            .map(|p| self.uv(p))
+            .collect()
     }
 
     fn programmed_elements(&self) -> Vec<ProgElem> {
@@ -179,15 +186,13 @@ impl<'a> Picture<'a> {
             .iter()
             .filter_map(|b| {
                 let m = b.motion?;
-                let from = self.uv(m.start);
-                let to = self.uv(m.end);
-                let arc = (m.kind.is_arc() && m.plane == self.plane).then(|| {
-                    let c = self.uv(m.center);
-                    (c, m.kind == MotionKind::ArcCcw)
-                });
+                let arc = (m.kind.is_arc() && m.plane == self.plane)
+                    .then(|| Curve::of_motion(&m))
+                    .flatten();
                 Some(ProgElem {
-                    from,
-                    to,
+                    from: self.uv(m.start),
+                    to: self.uv(m.end),
+                    points: self.polyline(arc.as_ref(), m.start, m.end),
                     arc,
                     rapid: m.kind == MotionKind::Rapid,
                     line: b.line,
@@ -207,8 +212,8 @@ impl<'a> Picture<'a> {
         // World bounding box over everything drawn.
         let mut bb = Bbox::default();
         for e in &prog {
-            for p in e.sample() {
-                bb.add(p);
+            for p in &e.points {
+                bb.add(*p);
             }
         }
         for s in self.segments {
@@ -331,7 +336,7 @@ impl<'a> Picture<'a> {
         let sub = format!(
             "{} · plane {} · {} blocks · {} segments · {}",
             self.md.dialect.as_str(),
-            plane_name(self.plane),
+            self.plane.name(),
             self.blocks.len(),
             self.segments.len(),
             tools
@@ -365,15 +370,17 @@ impl<'a> Picture<'a> {
             let (from, to) = (v.px(self.uv(s.from)), v.px(self.uv(s.to)));
             let mut d = Data::new().move_to((from.0 as f32, from.1 as f32));
             let mut zero = (from.0 - to.0).hypot(from.1 - to.1) < 1e-3;
-            match s.shape {
-                Shape::Arc {
-                    center,
-                    center_end,
-                    ccw,
-                    r0,
-                    r1,
-                    plane,
-                } if plane == self.plane => {
+            match (s.shape, self.arc(s)) {
+                (
+                    Shape::Arc {
+                        center,
+                        center_end,
+                        r0,
+                        r1,
+                        ..
+                    },
+                    Some(arc),
+                ) => {
                     zero = false;
                     if (r0 - r1).abs() > 1e-12 || center != center_end {
                         for p in self.sample(s).into_iter().skip(1) {
@@ -381,7 +388,7 @@ impl<'a> Picture<'a> {
                             d = d.line_to((x as f32, y as f32));
                         }
                     } else {
-                        d = arc_data(d, v, self.uv(center), self.uv(s.from), self.uv(s.to), ccw);
+                        d = arc_data(d, v, &arc, self.uv(s.to));
                     }
                 }
                 _ => d = d.line_to((to.0 as f32, to.1 as f32)),
@@ -458,7 +465,7 @@ impl<'a> Picture<'a> {
             }
         }
         for e in self.programmed_elements() {
-            let pts = e.sample();
+            let pts = e.points;
             let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
                 continue;
             };
@@ -675,22 +682,12 @@ fn widest_gap(mut dirs: Vec<f64>) -> f64 {
 struct ProgElem {
     from: (f64, f64),
     to: (f64, f64),
-    /// Centre and direction (ccw) for an arc in the picture's plane.
-    arc: Option<((f64, f64), bool)>,
+    /// Its points from `from` to `to` (an arc sampled).
+    points: Vec<(f64, f64)>,
+    /// The element as an arc in the picture's plane.
+    arc: Option<Curve>,
     rapid: bool,
     line: u32,
-}
-
-impl ProgElem {
-    fn sample(&self) -> Vec<(f64, f64)> {
-        match self.arc {
-            Some((c, ccw)) => {
-                let r = (self.from.0 - c.0).hypot(self.from.1 - c.1);
-                arc_points((c, c), self.from, self.to, ccw, r, r)
-            }
-            None => vec![self.from, self.to],
-        }
-    }
 }
 
 fn programmed_group(v: &View, prog: &[ProgElem], alarm_line: Option<u32>) -> Group {
@@ -705,8 +702,8 @@ fn programmed_group(v: &View, prog: &[ProgElem], alarm_line: Option<u32>) -> Gro
             continue;
         }
         let d = Data::new().move_to((from.0 as f32, from.1 as f32));
-        let d = match e.arc {
-            Some((c, ccw)) => arc_data(d, v, c, e.from, e.to, ccw),
+        let d = match &e.arc {
+            Some(arc) => arc_data(d, v, arc, e.to),
             None => d.line_to((to.0 as f32, to.1 as f32)),
         };
         let mut p = Path::new().set("d", d);
@@ -789,9 +786,8 @@ fn grid(v: &View, plane: Plane, w: f64, h: f64) -> Group {
             );
         o += step;
     }
-    let names = ["X", "Y", "Z"];
     g.add(
-        Text::new(format!("{} [mm]", names[plane.abscissa as usize]))
+        Text::new(format!("{} [mm]", AXIS_NAMES[plane.abscissa as usize]))
             .set("x", rd(x1))
             .set("y", rd(y0 + 28.0))
             .set("text-anchor", "end")
@@ -799,7 +795,7 @@ fn grid(v: &View, plane: Plane, w: f64, h: f64) -> Group {
             .set("font-size", 11),
     )
     .add(
-        Text::new(format!("{} [mm]", names[plane.ordinate as usize]))
+        Text::new(format!("{} [mm]", AXIS_NAMES[plane.ordinate as usize]))
             .set("x", rd(x0 - 6.0))
             .set("y", rd(y1 - 8.0))
             .set("text-anchor", "end")
@@ -861,58 +857,32 @@ impl Bbox {
     }
 }
 
-/// Points along an arc about `c` every 2.5°, its radius going from `r0` to `r1`.
-/// Points along an arc whose radius goes from r0 to r1 and whose centre moves from `c` to
-/// `c1` (a turning tool's cutting edge changing over the block).
-fn arc_points(
-    (c, c1): ((f64, f64), (f64, f64)),
-    from: (f64, f64),
-    to: (f64, f64),
-    ccw: bool,
-    r0: f64,
-    r1: f64,
-) -> Vec<(f64, f64)> {
-    let d = (c1.0 - c.0, c1.1 - c.1);
-    let (a0, sweep) = arc_sweep(c, from, (to.0 - d.0, to.1 - d.1), ccw);
-    let n = ((sweep.abs() / TAU * 144.0).ceil() as usize).max(2);
-    (0..=n)
-        .map(|k| {
-            let t = k as f64 / n as f64;
-            let r = r0 + (r1 - r0) * t;
-            let a = a0 + sweep * t;
-            (c.0 + d.0 * t + r * a.cos(), c.1 + d.1 * t + r * a.sin())
-        })
-        .collect()
-}
-
-/// Start angle and signed sweep (ccw positive) of an arc; equal end points are a full circle.
-fn arc_sweep(c: (f64, f64), from: (f64, f64), to: (f64, f64), ccw: bool) -> (f64, f64) {
-    let a0 = (from.1 - c.1).atan2(from.0 - c.0);
-    let a1 = (to.1 - c.1).atan2(to.0 - c.0);
-    let full = (from.0 - to.0).hypot(from.1 - to.1) < 1e-9;
-    let mut s = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
-    if full || s == 0.0 {
-        s = TAU;
-    }
-    (a0, if ccw { s } else { -s })
-}
-
-/// SVG arc commands for a constant-radius arc; a full circle is drawn as two halves.
-fn arc_data(d: Data, v: &View, c: (f64, f64), from: (f64, f64), to: (f64, f64), ccw: bool) -> Data {
-    let (a0, sweep) = arc_sweep(c, from, to, ccw);
-    let r = (from.0 - c.0).hypot(from.1 - c.1);
-    let rp = (r * v.scale) as f32;
+/// SVG arc commands for a constant-radius arc ending at `to`; a full circle is drawn as two
+/// halves.
+fn arc_data(d: Data, v: &View, arc: &Curve, to: (f64, f64)) -> Data {
+    let &Curve::Arc {
+        c0, r0, th0, sweep, ..
+    } = arc
+    else {
+        let (x, y) = v.px(to);
+        return d.line_to((x as f32, y as f32));
+    };
+    let rp = (r0 * v.scale) as f32;
     // The screen's y axis points down: a counter-clockwise arc in the plane has SVG sweep 0
     // (1 where the view is mirrored).
-    let flag = if ccw != v.mirrored { 0.0 } else { 1.0 };
+    let flag = if (sweep > 0.0) != v.mirrored {
+        0.0
+    } else {
+        1.0
+    };
     let mut d = d;
     let pieces = if sweep.abs() > 0.999 * TAU { 2 } else { 1 };
     for k in 1..=pieces {
-        let a = a0 + sweep * k as f64 / pieces as f64;
+        let a = th0 + sweep * k as f64 / pieces as f64;
         let end = if k == pieces {
             to
         } else {
-            (c.0 + r * a.cos(), c.1 + r * a.sin())
+            (c0[0] + r0 * a.cos(), c0[1] + r0 * a.sin())
         };
         let (x, y) = v.px(end);
         let large = if (sweep / pieces as f64).abs() > std::f64::consts::PI {
@@ -934,15 +904,6 @@ fn role_style(s: &Segment) -> (&'static str, f64, Option<&'static str>) {
         Role::Approach | Role::Retract => (APPROACH, 2.2, None),
         Role::Corner | Role::Intermediate => (CORNER, 2.2, None),
         Role::Uncompensated => (UNCOMP, 1.4, None),
-    }
-}
-
-fn plane_name(p: Plane) -> &'static str {
-    match p {
-        Plane::XY => "G17 XY",
-        Plane::ZX => "G18 ZX",
-        Plane::YZ => "G19 YZ",
-        _ => "?",
     }
 }
 
@@ -978,16 +939,6 @@ fn rd(v: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sweep_of_quarter_and_full_circles() {
-        let (a0, s) = arc_sweep((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), true);
-        assert!(a0.abs() < 1e-12 && (s - TAU / 4.0).abs() < 1e-12);
-        let (_, s) = arc_sweep((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), false);
-        assert!((s + 3.0 * TAU / 4.0).abs() < 1e-12);
-        let (_, s) = arc_sweep((0.0, 0.0), (1.0, 0.0), (1.0, 0.0), false);
-        assert!((s + TAU).abs() < 1e-12);
-    }
 
     #[test]
     fn grid_steps_are_round() {

@@ -9,7 +9,7 @@ mod counting;
 #[path = "support/plc_mock.rs"]
 mod plc_mock;
 
-use nc_kernel::cycle::{alarm, Control, Refusal, Status};
+use nc_kernel::cycle::{alarm, ChannelAlarm, Control, Refusal, Status};
 use nc_kernel::handover::Handover;
 use nc_kernel::ipo::ChannelState;
 use nc_kernel::ipo::Input;
@@ -62,8 +62,8 @@ fn plc_silence_raises_2000_one_cycle_after_the_watchdog_time_and_the_path_brakes
     let c = at_speed(&mut rig);
     // The PLC's last sign of life arrives in cycle c - 1.
     rig.plc.alive = false;
-    let a = rig.run_until(1_000, |s| s.alarm != 0);
-    assert_eq!(a.alarm, alarm::PLC_SIGN_OF_LIFE);
+    let a = rig.run_until(1_000, |s| s.alarm.is_some());
+    assert_eq!(a.alarm, Some(alarm::PLC_SIGN_OF_LIFE));
     assert_eq!(a.cycle, (c - 1) + WATCHDOG + 1);
     assert_eq!(a.plc_cycle, c - 1);
     assert!(!a.plc_alive);
@@ -92,7 +92,7 @@ fn plc_silence_raises_2000_one_cycle_after_the_watchdog_time_and_the_path_brakes
     rig.step();
     assert_eq!(rig.ask(Control::Reset), Ok(()));
     let s = rig.step();
-    assert_eq!((state(&s), s.alarm), (ChannelState::Reset, 0));
+    assert_eq!((state(&s), s.alarm), (ChannelState::Reset, None));
 }
 
 #[test]
@@ -103,7 +103,7 @@ fn an_idle_kernel_without_plc_raises_nothing() {
     rig.plc.alive = false;
     for _ in 0..500 {
         let s = rig.step();
-        assert_eq!(s.alarm, 0);
+        assert_eq!(s.alarm, None);
     }
     assert!(!rig.cyclic.status().plc_alive);
     rig.ask(Control::Load(plc_mock::program(
@@ -140,7 +140,7 @@ fn feed_hold_brakes_to_rest_and_its_release_resumes_the_program() {
     let s = rig.step();
     assert_eq!(state(&s), ChannelState::Active);
     let end = rig.run_until(10_000, |s| state(s) == ChannelState::End);
-    assert_eq!(end.alarm, 0);
+    assert_eq!(end.alarm, None);
     assert_eq!(end.pos, [200.0, 0.0, 0.0]);
     on_x_axis(rig.since(c));
     assert!(rig.since(r + 1)[0].v_path > 0.0);
@@ -198,12 +198,12 @@ fn read_in_disable_rests_at_the_first_reachable_block_end() {
     for _ in 0..500 {
         let s = rig.step();
         assert_eq!((s.pos, s.v_path), (rest.pos, 0.0));
-        assert_eq!(s.alarm, 0);
+        assert_eq!(s.alarm, None);
     }
     rig.plc.signals.read_in_disable = false;
     let end = rig.run_until(10_000, |s| state(s) == ChannelState::End);
     assert_eq!(end.pos, [30.0, 0.0, 0.0]);
-    assert_eq!(end.alarm, 0);
+    assert_eq!(end.alarm, None);
 }
 
 #[test]
@@ -214,7 +214,7 @@ fn drives_lost_while_moving_raise_21612_and_the_path_brakes() {
     let c = at_speed(&mut rig);
     rig.plc.signals.drives_ready = false;
     let a = rig.step();
-    assert_eq!((a.cycle, a.alarm), (c, alarm::DRIVES_NOT_READY));
+    assert_eq!((a.cycle, a.alarm), (c, Some(alarm::DRIVES_NOT_READY)));
     assert!(a.v_path < V);
     rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
     brakes(rig.since(c));
@@ -226,7 +226,7 @@ fn drives_lost_while_moving_raise_21612_and_the_path_brakes() {
         Err(Refusal::Alarm(alarm::DRIVES_NOT_READY))
     );
     rig.ask(Control::Reset).unwrap();
-    assert_eq!(rig.step().alarm, 0);
+    assert_eq!(rig.step().alarm, None);
 }
 
 #[test]
@@ -237,7 +237,7 @@ fn emergency_stop_raises_3000_brakes_and_blocks_start_and_reset_while_pressed() 
     let c = at_speed(&mut rig);
     rig.plc.signals.emergency_stop = true;
     let a = rig.step();
-    assert_eq!((a.cycle, a.alarm), (c, alarm::EMERGENCY_STOP));
+    assert_eq!((a.cycle, a.alarm), (c, Some(alarm::EMERGENCY_STOP)));
     rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
     brakes(rig.since(c));
     on_x_axis(rig.since(c));
@@ -247,7 +247,7 @@ fn emergency_stop_raises_3000_brakes_and_blocks_start_and_reset_while_pressed() 
     rig.step();
     assert_eq!(rig.ask(Control::Reset), Ok(()));
     let s = rig.step();
-    assert_eq!((state(&s), s.alarm), (ChannelState::Reset, 0));
+    assert_eq!((state(&s), s.alarm), (ChannelState::Reset, None));
 }
 
 /// M6 waits for its acknowledgement (ipo.wait_for_ack); M8 does not.
@@ -314,7 +314,7 @@ fn requests_the_plc_cannot_take_go_out_later_in_order() {
     let words: Vec<_> = rig.plc.requests.iter().map(|r| r.word).collect();
     assert_eq!(words, [(b'M', 8.0), (b'M', 6.0)]);
     assert_eq!(end.pos, [30.0, 0.0, 0.0]);
-    assert_eq!((end.aux_sent, end.aux_acked, end.alarm), (2, 2, 0));
+    assert_eq!((end.aux_sent, end.aux_acked, end.alarm), (2, 2, None));
 }
 
 #[test]
@@ -392,7 +392,7 @@ fn the_cycle_does_not_touch_the_allocator() {
         rig.ask(Control::Start).unwrap();
         rig.run_until(1_000, |s| s.v_path > 0.0);
         rig.plc.alive = false;
-        rig.run_until(1_000, |s| s.alarm == alarm::PLC_SIGN_OF_LIFE);
+        rig.run_until(1_000, |s| s.alarm == Some(alarm::PLC_SIGN_OF_LIFE));
         rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
         rig.plc.alive = true;
         rig.step();
@@ -462,7 +462,7 @@ fn waiting_for_preparation(
         let s = rig.step();
         assert_eq!(
             (state(&s), s.v_path, s.alarm),
-            (ChannelState::Active, 0.0, 0)
+            (ChannelState::Active, 0.0, None)
         );
     }
     (hand, inputs)
@@ -482,8 +482,14 @@ fn a_preparation_alarm_while_the_path_waits_stops_the_channel_with_it() {
     assert_eq!(code, 12050);
     let _ = h.queue.push(inputs[0].clone());
     let s = rig.run_until(3, |s| state(s) == ChannelState::Stopped);
-    assert_eq!((s.alarm, s.pos, s.v_path), (12050, [10.0, 0.0, 0.0], 0.0));
-    assert_eq!(rig.ask(Control::Start), Err(Refusal::Alarm(12050)));
+    assert_eq!(
+        (s.alarm.map(ChannelAlarm::number), s.pos, s.v_path),
+        (Some(12050), [10.0, 0.0, 0.0], 0.0)
+    );
+    assert_eq!(
+        rig.ask(Control::Start),
+        Err(Refusal::Alarm(ChannelAlarm::new(12050).unwrap()))
+    );
     assert_eq!(rig.ask(Control::Reset), Ok(()));
     assert_eq!(state(&rig.step()), ChannelState::Reset);
 }
@@ -497,7 +503,7 @@ fn nc_stop_while_the_path_waits_for_preparation_stops_it() {
     let (h, inputs) = waiting_for_preparation(&md, &mut rig, "N10 G1 X10 F3000\nN20 X20\nM30\n");
     assert_eq!(rig.ask(Control::Stop), Ok(()));
     let s = rig.run_until(2, |s| state(s) == ChannelState::Stopped);
-    assert_eq!((s.alarm, s.pos, s.v_path), (0, [10.0, 0.0, 0.0], 0.0));
+    assert_eq!((s.alarm, s.pos, s.v_path), (None, [10.0, 0.0, 0.0], 0.0));
     for i in inputs {
         let _ = h.queue.push(i);
     }
@@ -516,7 +522,10 @@ fn a_failed_preparation_thread_stops_the_channel_with_1011() {
     h.failed.store(true, std::sync::atomic::Ordering::Release);
     h.finished.store(true, std::sync::atomic::Ordering::Release);
     let s = rig.run_until(3, |s| state(s) == ChannelState::Stopped);
-    assert_eq!((s.alarm, s.pos, s.v_path), (1011, [10.0, 0.0, 0.0], 0.0));
+    assert_eq!(
+        (s.alarm.map(ChannelAlarm::number), s.pos, s.v_path),
+        (Some(1011), [10.0, 0.0, 0.0], 0.0)
+    );
 }
 
 /// The PLC falls silent while the path waits for its acknowledgement of M6: alarm 2000 one
@@ -540,7 +549,7 @@ fn plc_silence_while_the_path_waits_for_an_acknowledgement_stops_the_channel() {
     let s = rig.run_until(1_000, |s| state(s) == ChannelState::Stopped);
     assert_eq!(
         (s.alarm, s.pos),
-        (alarm::PLC_SIGN_OF_LIFE, [10.0, 0.0, 0.0])
+        (Some(alarm::PLC_SIGN_OF_LIFE), [10.0, 0.0, 0.0])
     );
     assert!(s.cycle <= c + WATCHDOG + 2, "{} after {c}", s.cycle);
     // NC stop and reset still act.

@@ -5,6 +5,7 @@
 use crate::link::{Link, Snapshot};
 use crate::net::{Request, Response};
 use crate::plot;
+use nc_kernel::cycle::{ChannelAlarm, Override};
 use nc_kernel::MachineData;
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -118,15 +119,15 @@ impl Api {
                 self.command(c)
             }
             "/api/override" if post => {
-                let b: Override = body(req)?;
-                if !(b.percent.is_finite() && b.percent > 0.0 && b.percent <= 120.0) {
-                    return Err(refuse(
+                let b: OverrideBody = body(req)?;
+                let o = Override::from_percent(b.percent).ok_or_else(|| {
+                    refuse(
                         422,
-                        format!("override {} %: expected above 0 and at most 120", b.percent),
-                    ));
-                }
+                        format!("override {} %: expected {}", b.percent, Override::RANGE),
+                    )
+                })?;
                 let mut c = Command::new(command::OVERRIDE);
-                c.value = b.percent / 100.0;
+                c.value = o.fraction();
                 self.command(c)
             }
             "/api/load" if post => {
@@ -179,8 +180,8 @@ impl Api {
             ))
         } else {
             let mut v = json!({ "error": r.message(), "tools_version": version });
-            if r.alarm != 0 {
-                v["alarm"] = json!(r.alarm);
+            if let Some(a) = ChannelAlarm::new(r.alarm) {
+                v["alarm"] = json!(a.number());
             }
             // The kernel refused: the request is fine, the control's state is not.
             Ok((409, v))
@@ -349,7 +350,7 @@ struct SingleBlock {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct Override {
+struct OverrideBody {
     percent: f64,
 }
 
@@ -400,8 +401,8 @@ pub fn status_json(s: &Snapshot) -> Value {
     let Some(st) = s.status else {
         return json!({ "connected": false });
     };
-    let alarm = (st.alarm != 0)
-        .then(|| json!({ "number": st.alarm, "text": nc_kernel::cycle::alarm::title(st.alarm) }));
+    let alarm =
+        ChannelAlarm::new(st.alarm).map(|a| json!({ "number": a.number(), "text": a.title() }));
     json!({
         "connected": s.connected(),
         "state": state::name(st.state),
@@ -422,7 +423,7 @@ pub fn status_json(s: &Snapshot) -> Value {
         "following_error": s.actual.map(|a| a.following_error),
         "spindle_rpm": s.actual.map(|a| a.spindle_rpm),
         "tool": s.actual.map(|a| a.tool),
-        "plc_alarm": s.actual.map(|a| a.plc_alarm).filter(|a| *a != 0),
+        "plc_alarm": s.actual.and_then(|a| ChannelAlarm::new(a.plc_alarm)).map(ChannelAlarm::number),
     })
 }
 

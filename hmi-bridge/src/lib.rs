@@ -9,15 +9,35 @@ pub mod link;
 pub mod net;
 pub mod plot;
 
-use nc_runtime::process::args::{instance, machine, only_flags, value};
+use nc_runtime::process::args::{machine, ControlArgs};
+use nc_runtime::Failure;
 use std::net::{IpAddr, SocketAddr};
-use std::process::ExitCode;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-const USAGE: &str = "usage: hmi-bridge [--instance NAME] [--machine FILE] [--port PORT (0: any)]
-                  [--listen ADDRESS[:PORT] --token TOKEN] [--programs DIR]
-  The token may also come from the environment variable SOFTNC_HMI_TOKEN.";
+/// The operator's side of a softnc control: an HTTP JSON API, a live status stream and a
+/// web page (docs/hmi.md). It listens on 127.0.0.1; another address needs a token, which
+/// every request then carries.
+#[derive(clap::Parser, Debug)]
+#[command(name = "hmi-bridge")]
+pub struct BridgeArgs {
+    #[command(flatten)]
+    pub control: ControlArgs,
+    /// The TCP port (0: any free one, printed) [default: machine data hmi.port].
+    #[arg(long, value_name = "PORT")]
+    pub port: Option<u16>,
+    /// Listen on another address than 127.0.0.1; needs --token.
+    #[arg(long, value_name = "ADDRESS[:PORT]")]
+    pub listen: Option<String>,
+    /// The token every request must carry, at least 12 characters (or the environment
+    /// variable SOFTNC_HMI_TOKEN).
+    #[arg(long, value_name = "TOKEN")]
+    pub token: Option<String>,
+    /// The folder the page offers programs from.
+    #[arg(long, value_name = "DIR", default_value = "programs")]
+    pub programs: PathBuf,
+}
 
 /// The `host:port` in a log the bridge wrote: it announces `http://HOST:PORT/` on its
 /// first line (with `--port 0`, whatever port it got). For those who start it and read its
@@ -28,40 +48,13 @@ pub fn address_in(log: &str) -> Option<&str> {
     Some(addr)
 }
 
-pub fn main(args: Vec<String>) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("hmi-bridge: error: {e}");
-            ExitCode::from(2)
-        }
-    }
-}
-
-fn run(args: Vec<String>) -> Result<(), String> {
-    if args.iter().any(|a| a == "--help" || a == "-h") {
-        eprintln!("{USAGE}");
-        return Ok(());
-    }
-    let known = [
-        "--instance",
-        "--machine",
-        "--port",
-        "--listen",
-        "--token",
-        "--programs",
-    ];
-    only_flags(&args, &known, USAGE)?;
-    let instance = instance(&args)?;
-    let md = machine(&args)?;
-    let port = match value(&args, "--port") {
-        // 0: any free port (tests); the address taken is printed.
-        Some(p) => p
-            .parse::<u16>()
-            .map_err(|_| format!("--port {p}: expected a TCP port (0–65535)"))?,
-        None => md.hmi.port,
-    };
-    let addr = match value(&args, "--listen") {
+/// The hmi-bridge process.
+pub fn main(args: BridgeArgs) -> Result<(), Failure> {
+    let instance = args.control.instance;
+    let md = machine(args.control.machine.as_deref())?;
+    // 0: any free port (tests); the address taken is printed.
+    let port = args.port.unwrap_or(md.hmi.port);
+    let addr = match &args.listen {
         None => SocketAddr::from(([127, 0, 0, 1], port)),
         Some(a) => a
             .parse::<SocketAddr>()
@@ -70,22 +63,19 @@ fn run(args: Vec<String>) -> Result<(), String> {
                 format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:8640")
             })?,
     };
-    let token = value(&args, "--token")
-        .map(str::to_string)
+    let token = args
+        .token
         .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())
         .filter(|t| !t.is_empty());
     if !addr.ip().is_loopback() && token.is_none() {
-        return Err(format!(
+        return Err(Failure::Error(format!(
             "listening on {addr} lets other machines command the control: give --token (or SOFTNC_HMI_TOKEN)"
-        ));
+        )));
     }
     if token.as_ref().is_some_and(|t| t.len() < 12) {
         return Err("the token is too short: use at least 12 characters".into());
     }
-    let programs = value(&args, "--programs").map_or_else(
-        || std::path::PathBuf::from("programs"),
-        std::path::PathBuf::from,
-    );
+    let programs = args.programs;
 
     let stop = Arc::new(AtomicBool::new(false));
     {

@@ -7,7 +7,7 @@
 use crossbeam::channel::{Receiver, Sender, TrySendError};
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
-    command, ActualValues, Command, Instance, KernelStatus, Reply, ToolTableMsg,
+    command, newest, ActualValues, Command, Instance, KernelStatus, Reply, ToolTableMsg,
 };
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -171,16 +171,12 @@ fn serve(
     let mut known_program = 0u32;
     let mut last_push = Instant::now();
     let drain = |snap: &mut Snapshot, last_status: &mut Option<Instant>| {
-        while let Ok(Some(s)) = status.receive() {
-            snap.status = Some(*s.payload());
+        if let Some(s) = newest(&status) {
+            snap.status = Some(s);
             *last_status = Some(Instant::now());
         }
-        while let Ok(Some(a)) = actuals.receive() {
-            snap.actual = Some(*a.payload());
-        }
-        while let Ok(Some(t)) = tools.receive() {
-            snap.tools = Some(*t.payload());
-        }
+        snap.actual = newest(&actuals).or(snap.actual);
+        snap.tools = newest(&tools).or(snap.tools);
         snap.status_age = last_status.map(|t| t.elapsed());
     };
     while !stop.load(Ordering::Relaxed) {

@@ -1,3 +1,8 @@
+use clap::Parser;
+
 fn main() -> std::process::ExitCode {
-    hmi_bridge::main(std::env::args().skip(1).collect())
+    nc_runtime::exit(
+        Some("hmi-bridge"),
+        hmi_bridge::main(hmi_bridge::BridgeArgs::parse()),
+    )
 }

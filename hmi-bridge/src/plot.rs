@@ -2,10 +2,10 @@
 //! tool-centre path (from preparation, with the kernel's current tool table), as polylines
 //! in the program's plane, arcs sampled finely enough to look round.
 
-use nc_kernel::geometry::Curve;
+use nc_kernel::geometry::{Curve, Fineness};
 use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable};
-use nc_kernel::{MotionKind, Plane};
+use nc_kernel::{MotionKind, Plane, Pos};
 use softnc_protocol::ToolTableMsg;
 
 /// Points kept at most per picture: longer programs are thinned.
@@ -47,6 +47,12 @@ pub fn table(m: &ToolTableMsg) -> ToolTable {
 /// Names of the axes by index.
 const AXES: [&str; 3] = ["X", "Y", "Z"];
 
+/// Arcs as chords of at most 2° and at most 1 mm: round on any screen.
+const FINE: Fineness = Fineness {
+    max_angle: std::f64::consts::PI / 90.0,
+    max_length: 1.0,
+};
+
 /// The picture is drawn in the plane of the program's first feed move (where the contour
 /// is: a turned part in G18 is a Z/X picture); moves in other planes are drawn projected
 /// onto it.
@@ -67,30 +73,15 @@ pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Pl
             flush(&mut out.programmed, &mut line);
             continue;
         }
-        let p0 = [m.start[a], m.start[o]];
-        if line.last() != Some(&p0) {
-            flush(&mut out.programmed, &mut line);
-            line.push(p0);
-        }
-        if m.kind.is_arc() {
-            let c = [m.center[a], m.center[o]];
-            let r = ((p0[0] - c[0]).powi(2) + (p0[1] - c[1]).powi(2)).sqrt();
-            let t0 = (p0[1] - c[1]).atan2(p0[0] - c[0]);
-            let t1 = (m.end[o] - c[1]).atan2(m.end[a] - c[0]);
-            let ccw = m.kind == MotionKind::ArcCcw;
-            let mut sweep = t1 - t0;
-            if ccw && sweep <= 0.0 {
-                sweep += std::f64::consts::TAU;
-            } else if !ccw && sweep >= 0.0 {
-                sweep -= std::f64::consts::TAU;
-            }
-            let n = arc_steps(r, sweep);
-            for k in 1..n {
-                let t = t0 + sweep * k as f64 / n as f64;
-                line.push([c[0] + r * t.cos(), c[1] + r * t.sin()]);
-            }
-        }
-        line.push([m.end[a], m.end[o]]);
+        let curve = Curve::of_motion(m);
+        piece(
+            &mut out.programmed,
+            &mut line,
+            (a, o),
+            curve,
+            m.start,
+            m.end,
+        );
     }
     flush(&mut out.programmed, &mut line);
 
@@ -110,19 +101,7 @@ pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Pl
             continue;
         }
         let Some(c) = Curve::new(&seg) else { continue };
-        let p0 = [seg.from[a], seg.from[o]];
-        if line.last() != Some(&p0) {
-            flush(&mut out.path, &mut line);
-            line.push(p0);
-        }
-        let n = match c {
-            Curve::Line { .. } => 1,
-            Curve::Arc { r0, dr, sweep, .. } => arc_steps(r0.max(r0 + dr), sweep),
-        };
-        for k in 1..=n {
-            let p = c.point(k as f64 / n as f64);
-            line.push([p[a], p[o]]);
-        }
+        piece(&mut out.path, &mut line, (a, o), Some(c), seg.from, seg.to);
     }
     flush(&mut out.path, &mut line);
     thin(&mut out.programmed);
@@ -145,11 +124,25 @@ fn contour_plane(name: &str, source: &str, md: &MachineData, tools: &ToolTable) 
     start
 }
 
-/// Steps for an arc: chords of at most 2° and at most 1 mm.
-fn arc_steps(r: f64, sweep: f64) -> usize {
-    let by_angle = sweep.abs() / 2f64.to_radians();
-    let by_length = (sweep.abs() * r).abs();
-    (by_angle.max(by_length).ceil() as usize).clamp(2, 720)
+/// Adds one piece from `from` to `to` (along `curve`, sampled) to the polyline in `line`,
+/// which is flushed to `to` first when the piece does not start where it ends.
+fn piece(
+    to: &mut Vec<Vec<[f64; 2]>>,
+    line: &mut Vec<[f64; 2]>,
+    (a, o): (usize, usize),
+    curve: Option<Curve>,
+    from: Pos,
+    end: Pos,
+) {
+    let p0 = [from[a], from[o]];
+    if line.last() != Some(&p0) {
+        flush(to, line);
+        line.push(p0);
+    }
+    for p in curve.into_iter().flat_map(|c| c.interior(FINE)) {
+        line.push([p[a], p[o]]);
+    }
+    line.push([end[a], end[o]]);
 }
 
 fn flush(to: &mut Vec<Vec<[f64; 2]>>, line: &mut Vec<[f64; 2]>) {

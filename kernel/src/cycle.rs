@@ -19,35 +19,113 @@ use crate::ipo::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
 use crate::prep::AuxFunction;
 use crate::MachineData;
+use std::num::NonZeroU32;
 use std::sync::Arc;
 
-/// Alarms of the interface between NC and PLC (docs/alarms.md), numbered as on an 840D.
-pub mod alarm {
-    /// The PLC's sign of life stayed away for `plc.watchdog_cycles` cycles.
-    pub const PLC_SIGN_OF_LIFE: u32 = 2000;
-    /// Emergency stop from the PLC.
-    pub const EMERGENCY_STOP: u32 = 3000;
-    /// Auxiliary functions could not be handed to the PLC (its request queue stayed full).
-    pub const AUX_NOT_DELIVERED: u32 = 2011;
-    /// The drives dropped their ready signal while the path moved.
-    pub const DRIVES_NOT_READY: u32 = 21612;
+/// An alarm standing on the channel: one of the program's (from preparation or the path),
+/// of the interface to the PLC ([`alarm`]) or raised by the PLC itself. On the wire (crate
+/// softnc-protocol) it is its number, 0 for none; here "none" is `Option::None`, so no
+/// number 0 can stand for an alarm.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ChannelAlarm(NonZeroU32);
 
-    /// What an alarm number stands for, in a few words (docs/alarms.md has the reactions).
-    pub fn title(a: u32) -> &'static str {
-        match a {
-            PLC_SIGN_OF_LIFE => "PLC sign of life lost: the path brakes",
-            EMERGENCY_STOP => "emergency stop: the path brakes on its contour, reset after release",
-            AUX_NOT_DELIVERED => "auxiliary functions could not be handed to the PLC",
-            DRIVES_NOT_READY => "drives not ready while the path moved",
-            700_000 => "PLC: no setpoints, the axes were braked (watchdog)",
-            700_001 => "PLC: software limit switch",
-            700_002..=799_999 => "PLC alarm",
-            3021 => "contour violation with tool radius compensation",
-            1011 => {
-                "internal error in block preparation: the path stopped where the prepared part ends"
-            }
-            _ => "program alarm (see the program's diagnostics)",
+impl ChannelAlarm {
+    /// The alarm with this number; `None` for 0, the wire's "no alarm".
+    pub const fn new(number: u32) -> Option<ChannelAlarm> {
+        match NonZeroU32::new(number) {
+            Some(n) => Some(ChannelAlarm(n)),
+            None => None,
         }
+    }
+
+    /// A number known to be one (the constants below).
+    const fn known(number: u32) -> ChannelAlarm {
+        match ChannelAlarm::new(number) {
+            Some(a) => a,
+            None => panic!("alarm numbers start at 1"),
+        }
+    }
+
+    pub const fn number(self) -> u32 {
+        self.0.get()
+    }
+
+    /// The number as the wire carries it: 0 for none.
+    pub fn wire(a: Option<ChannelAlarm>) -> u32 {
+        a.map_or(0, ChannelAlarm::number)
+    }
+
+    /// What the alarm stands for, in a few words (docs/alarms.md has the reactions).
+    pub fn title(self) -> &'static str {
+        match self {
+            alarm::PLC_SIGN_OF_LIFE => "PLC sign of life lost: the path brakes",
+            alarm::EMERGENCY_STOP => {
+                "emergency stop: the path brakes on its contour, reset after release"
+            }
+            alarm::AUX_NOT_DELIVERED => "auxiliary functions could not be handed to the PLC",
+            alarm::DRIVES_NOT_READY => "drives not ready while the path moved",
+            alarm::PLC_WATCHDOG => "PLC: no setpoints, the axes were braked (watchdog)",
+            alarm::PLC_SOFTWARE_LIMIT => "PLC: software limit switch",
+            _ => match self.number() {
+                700_002..=799_999 => "PLC alarm",
+                3021 => "contour violation with tool radius compensation",
+                1011 => {
+                    "internal error in block preparation: the path stopped where the prepared part ends"
+                }
+                _ => "program alarm (see the program's diagnostics)",
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for ChannelAlarm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.number().fmt(f)
+    }
+}
+
+/// Alarms of the interface between NC and PLC (docs/alarms.md), numbered as on an 840D, and
+/// those the simulated PLC raises (the 840D's range for user PLC alarms starts at 700000).
+pub mod alarm {
+    use super::ChannelAlarm;
+
+    /// The PLC's sign of life stayed away for `plc.watchdog_cycles` cycles.
+    pub const PLC_SIGN_OF_LIFE: ChannelAlarm = ChannelAlarm::known(2000);
+    /// Emergency stop from the PLC.
+    pub const EMERGENCY_STOP: ChannelAlarm = ChannelAlarm::known(3000);
+    /// Auxiliary functions could not be handed to the PLC (its request queue stayed full).
+    pub const AUX_NOT_DELIVERED: ChannelAlarm = ChannelAlarm::known(2011);
+    /// The drives dropped their ready signal while the path moved.
+    pub const DRIVES_NOT_READY: ChannelAlarm = ChannelAlarm::known(21612);
+    /// The PLC's setpoint watchdog: setpoints missing for `plc.watchdog_cycles`, the axes
+    /// were braked.
+    pub const PLC_WATCHDOG: ChannelAlarm = ChannelAlarm::known(700_000);
+    /// A setpoint beyond a software limit switch: the PLC stopped the axis at the limit.
+    pub const PLC_SOFTWARE_LIMIT: ChannelAlarm = ChannelAlarm::known(700_001);
+}
+
+/// A path override an operator may set: above 0 (0 would hold the path for ever) and at
+/// most 120 %. The one definition of the range for the kernel, its HMI and the command line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Override(f64);
+
+impl Override {
+    pub const MAX_PERCENT: f64 = 120.0;
+    /// The range in words, for messages.
+    pub const RANGE: &'static str = "above 0 and at most 120 %";
+
+    /// From a fraction (1.0 is 100 %), as the kernel takes it.
+    pub fn from_fraction(f: f64) -> Option<Override> {
+        (f > 0.0 && f <= Self::MAX_PERCENT / 100.0).then_some(Override(f))
+    }
+
+    /// From a percentage, as an operator gives it.
+    pub fn from_percent(p: f64) -> Option<Override> {
+        (p > 0.0 && p <= Self::MAX_PERCENT).then(|| Override(p / 100.0))
+    }
+
+    pub fn fraction(self) -> f64 {
+        self.0
     }
 }
 
@@ -58,8 +136,8 @@ pub struct PlcInput {
     pub read_in_disable: bool,
     pub drives_ready: bool,
     pub emergency_stop: bool,
-    /// A PLC alarm standing (0: none).
-    pub alarm: u32,
+    /// A PLC alarm standing.
+    pub alarm: Option<ChannelAlarm>,
 }
 
 /// An auxiliary-function request as it goes to the PLC.
@@ -81,7 +159,7 @@ pub struct Status {
     pub pos: Pos,
     pub v_path: f64,
     pub override_: f64,
-    pub alarm: u32,
+    pub alarm: Option<ChannelAlarm>,
     pub aux_sent: u32,
     pub aux_acked: u32,
     pub single_block: bool,
@@ -100,8 +178,9 @@ pub trait Bus {
     fn setpoint(&mut self, sp: &Setpoint);
     /// Sends an auxiliary-function request; false when it cannot be sent now.
     fn aux(&mut self, out: &AuxOut<'_>) -> bool;
-    /// Calls `f(id, plc_alarm)` for each acknowledgement that arrived.
-    fn acks(&mut self, f: &mut dyn FnMut(u64, u32));
+    /// Calls `f(id, plc_alarm)` for each acknowledgement that arrived: done, or refused
+    /// with a PLC alarm.
+    fn acks(&mut self, f: &mut dyn FnMut(u64, Option<ChannelAlarm>));
     fn status(&mut self, st: &Status);
 }
 
@@ -140,7 +219,7 @@ pub enum Refusal {
     NotStopped(ChannelState),
     NoProgram,
     /// An alarm stands: reset first.
-    Alarm(u32),
+    Alarm(ChannelAlarm),
     NoPlc,
     DrivesNotReady,
     EmergencyStop,
@@ -167,8 +246,8 @@ pub struct Cyclic {
     plc: PlcInput,
     plc_seen: Option<u64>,
     feed_held: bool,
-    /// The first alarm standing (0: none).
-    alarm: u32,
+    /// The first alarm standing.
+    alarm: Option<ChannelAlarm>,
     override_: f64,
     single_block: bool,
     aux_next: u64,
@@ -196,7 +275,7 @@ impl Cyclic {
             plc: PlcInput::default(),
             plc_seen: None,
             feed_held: false,
-            alarm: 0,
+            alarm: None,
             override_: 1.0,
             single_block: false,
             aux_next: 1,
@@ -280,11 +359,9 @@ impl Cyclic {
                 Ok(())
             }
             Control::Override(f) => {
-                if !(f.is_finite() && f > 0.0 && f <= 1.2) {
-                    return Err(Refusal::BadOverride);
-                }
-                self.override_ = f;
-                self.channel().set_override(f);
+                let f = Override::from_fraction(f).ok_or(Refusal::BadOverride)?;
+                self.override_ = f.fraction();
+                self.channel().set_override(f.fraction());
                 Ok(())
             }
             Control::Load(p) => {
@@ -297,7 +374,7 @@ impl Cyclic {
                     self.released = Some(p);
                     return Err(r);
                 }
-                self.alarm = 0;
+                self.alarm = None;
                 self.install(p);
                 Ok(())
             }
@@ -331,8 +408,8 @@ impl Cyclic {
     fn start_refusal(&self) -> Option<Refusal> {
         if self.plc.emergency_stop {
             Some(Refusal::EmergencyStop)
-        } else if self.alarm != 0 {
-            Some(Refusal::Alarm(self.alarm))
+        } else if let Some(a) = self.alarm {
+            Some(Refusal::Alarm(a))
         } else if !self.plc_alive() {
             Some(Refusal::NoPlc)
         } else if !self.plc.drives_ready {
@@ -372,7 +449,7 @@ impl Cyclic {
 
     fn reset_now(&mut self) {
         self.reset_pending = false;
-        self.alarm = 0;
+        self.alarm = None;
         self.feed_held = false;
         self.in_flight.clear();
         self.outbox.clear();
@@ -397,9 +474,9 @@ impl Cyclic {
     }
 
     /// Raises an alarm from outside the program (the first one stays shown).
-    fn fault(&mut self, code: u32) {
-        if self.alarm == 0 {
-            self.alarm = code;
+    fn fault(&mut self, a: ChannelAlarm) {
+        if self.alarm.is_none() {
+            self.alarm = Some(a);
         }
         self.channel().fault();
     }
@@ -441,8 +518,8 @@ impl Cyclic {
             if s.emergency_stop && !was.emergency_stop {
                 self.fault(alarm::EMERGENCY_STOP);
             }
-            if s.alarm != 0 && s.alarm != was.alarm {
-                self.fault(s.alarm);
+            if let Some(a) = s.alarm.filter(|_| s.alarm != was.alarm) {
+                self.fault(a);
             }
             if was.drives_ready && !s.drives_ready && moving {
                 self.fault(alarm::DRIVES_NOT_READY);
@@ -457,7 +534,7 @@ impl Cyclic {
             if !s.feed_hold && was.feed_hold && self.feed_held {
                 self.feed_held = false;
                 // Only the stop feed hold made is undone: not a program stop or an alarm.
-                if self.alarm == 0 && !self.channel().waits_for_start() {
+                if self.alarm.is_none() && !self.channel().waits_for_start() {
                     self.channel().start();
                 }
             }
@@ -465,14 +542,15 @@ impl Cyclic {
             // Sign-of-life watchdog: only while a program is loaded and not at its end, so an
             // idle kernel waiting for its PLC raises nothing.
             let running = matches!(self.state(), ChannelState::Active | ChannelState::Stopped);
-            if k.saturating_sub(seen) > self.watchdog && running && self.alarm == 0 {
+            if k.saturating_sub(seen) > self.watchdog && running && self.alarm.is_none() {
                 self.fault(alarm::PLC_SIGN_OF_LIFE);
             }
         }
     }
 
     fn acknowledgements(&mut self, bus: &mut impl Bus) {
-        let mut acked: heapless::Vec<(u64, u32), AUX_IN_FLIGHT> = heapless::Vec::new();
+        let mut acked: heapless::Vec<(u64, Option<ChannelAlarm>), AUX_IN_FLIGHT> =
+            heapless::Vec::new();
         bus.acks(&mut |id, plc_alarm| {
             let _ = acked.push((id, plc_alarm));
         });
@@ -494,8 +572,8 @@ impl Cyclic {
                 continue;
             };
             self.aux_acked += 1;
-            if plc_alarm != 0 {
-                self.fault(plc_alarm);
+            if let Some(a) = plc_alarm {
+                self.fault(a);
             } else if wait {
                 self.channel().ack();
             }
@@ -524,7 +602,9 @@ impl Cyclic {
                         self.fault(alarm::AUX_NOT_DELIVERED);
                     }
                 }
-                Event::Alarm { code, .. } if self.alarm == 0 => self.alarm = *code,
+                Event::Alarm { code, .. } if self.alarm.is_none() => {
+                    self.alarm = ChannelAlarm::new(*code);
+                }
                 _ => {}
             }
         }
@@ -568,5 +648,35 @@ impl Cyclic {
                 None => None,
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_override_range_is_the_same_in_percent_and_as_a_fraction() {
+        for p in [0.5, 1.0, 80.0, 100.0, 120.0] {
+            let o = Override::from_percent(p).unwrap();
+            assert_eq!(Override::from_fraction(o.fraction()), Some(o), "{p} %");
+        }
+        for p in [0.0, -1.0, 120.000_001, f64::NAN, f64::INFINITY] {
+            assert_eq!(Override::from_percent(p), None, "{p} %");
+            assert_eq!(Override::from_fraction(p / 100.0), None, "{p} %");
+        }
+    }
+
+    #[test]
+    fn no_alarm_is_none_on_the_wire_zero() {
+        assert_eq!(ChannelAlarm::new(0), None);
+        assert_eq!(ChannelAlarm::wire(None), 0);
+        let a = ChannelAlarm::new(3021).unwrap();
+        assert_eq!((a.number(), ChannelAlarm::wire(Some(a))), (3021, 3021));
+        assert_eq!(ChannelAlarm::new(2000), Some(alarm::PLC_SIGN_OF_LIFE));
+        assert_eq!(
+            alarm::PLC_WATCHDOG.title(),
+            ChannelAlarm::new(700_000).unwrap().title()
+        );
     }
 }

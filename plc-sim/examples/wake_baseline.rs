@@ -7,56 +7,62 @@
 //! `wake_baseline --seconds S [--cycle-us C] [--priority P] [--receiver-priority P]
 //!  --histogram FILE` (FILE gets the receiver's histogram, in plc-sim's format).
 
+use clap::Parser;
 use nc_runtime::os::{now_ns, setup_cyclic_thread, sleep_until};
+use nc_runtime::Failure;
 use std::io::{Read, Write};
+use std::path::PathBuf;
 use std::process::{Command, ExitCode, Stdio};
 
-fn value<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
-    args.windows(2)
-        .find(|w| w[0] == flag)
-        .map(|w| w[1].as_str())
-}
-
-fn number(args: &[String], flag: &str, default: u64) -> Result<u64, String> {
-    value(args, flag).map_or(Ok(default), |v| {
-        v.parse()
-            .map_err(|_| format!("{flag} {v}: expected a whole number"))
-    })
+/// A pipe's wake-up latency between two processes, the baseline of the setpoint latency.
+#[derive(Parser, Debug)]
+#[command(name = "wake_baseline")]
+struct Args {
+    /// Seconds to send for.
+    #[arg(long, default_value_t = 10)]
+    seconds: u64,
+    /// The cycle, µs.
+    #[arg(long = "cycle-us", default_value_t = 1000)]
+    cycle_us: u64,
+    /// The sender's SCHED_FIFO priority (the receiver's with --receive).
+    #[arg(long, value_parser = nc_runtime::process::args::priority)]
+    priority: Option<i32>,
+    /// The receiver's SCHED_FIFO priority.
+    #[arg(long, default_value_t = 79, value_parser = nc_runtime::process::args::priority)]
+    receiver_priority: i32,
+    /// Where the receiver writes its histogram.
+    #[arg(long, value_name = "FILE")]
+    histogram: PathBuf,
+    /// Be the receiver (the sender starts it so).
+    #[arg(long, hide = true)]
+    receive: bool,
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let r = if args.iter().any(|a| a == "--receive") {
+    let args = Args::parse();
+    let r = if args.receive {
         receive(&args)
     } else {
         send(&args)
     };
-    match r {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("wake_baseline: error: {e}");
-            ExitCode::from(2)
-        }
-    }
+    nc_runtime::exit(Some("wake_baseline"), r.map_err(Failure::Error))
 }
 
-fn send(args: &[String]) -> Result<(), String> {
-    let seconds = number(args, "--seconds", 10)?;
-    let cycle_ns = number(args, "--cycle-us", 1000)? * 1000;
-    let prio = number(args, "--priority", 80)? as i32;
-    let rprio = number(args, "--receiver-priority", 79)? as i32;
-    let hist = value(args, "--histogram").ok_or("--histogram FILE is needed")?;
+fn send(args: &Args) -> Result<(), String> {
+    let cycle_ns = args.cycle_us * 1000;
+    let rprio = args.receiver_priority;
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
         .args(["--receive", "--priority", &rprio.to_string()])
-        .args(["--histogram", hist])
+        .arg("--histogram")
+        .arg(&args.histogram)
         .stdin(Stdio::piped())
         .spawn()
         .map_err(|e| format!("cannot start the receiver: {e}"))?;
     let mut pipe = child.stdin.take().ok_or("no pipe to the receiver")?;
-    let (rt, _keep) = setup_cyclic_thread(prio, 1);
+    let (rt, _keep) = setup_cyclic_thread(args.priority.unwrap_or(80), 1);
     eprintln!("wake_baseline sender: {rt}");
-    let cycles = seconds * 1_000_000_000 / cycle_ns;
+    let cycles = args.seconds * 1_000_000_000 / cycle_ns;
     let t0 = now_ns() + 100 * cycle_ns;
     for k in 0..cycles {
         sleep_until(t0 + k * cycle_ns);
@@ -75,10 +81,9 @@ fn send(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
-fn receive(args: &[String]) -> Result<(), String> {
-    let prio = number(args, "--priority", 79)? as i32;
-    let hist = value(args, "--histogram").ok_or("--histogram FILE is needed")?;
-    let (rt, _keep) = setup_cyclic_thread(prio, 1);
+fn receive(args: &Args) -> Result<(), String> {
+    let hist = &args.histogram;
+    let (rt, _keep) = setup_cyclic_thread(args.priority.unwrap_or(79), 1);
     eprintln!("wake_baseline receiver: {rt}");
     let mut latency = hdrhistogram::Histogram::<u64>::new_with_bounds(1, 10_000_000_000, 3)
         .map_err(|e| e.to_string())?;
@@ -103,5 +108,5 @@ fn receive(args: &[String]) -> Result<(), String> {
         &latency,
         &[("samples", samples), ("lost", lost), ("late", late)],
     );
-    std::fs::write(hist, text).map_err(|e| format!("{hist}: {e}"))
+    std::fs::write(hist, text).map_err(|e| format!("{}: {e}", hist.display()))
 }

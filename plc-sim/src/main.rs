@@ -1,5 +1,7 @@
 //! plc-sim: the simulated PLC and axes (src/lib.rs).
 
+use clap::Parser;
+
 fn main() -> std::process::ExitCode {
-    plc_sim::main(std::env::args().skip(1).collect())
+    nc_runtime::exit(Some("plc-sim"), plc_sim::main(plc_sim::PlcArgs::parse()))
 }

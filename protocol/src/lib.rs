@@ -7,4 +7,4 @@ pub mod services;
 
 pub use iceoryx2;
 pub use payload::*;
-pub use services::{abi, Instance, IpcError, DEFAULT_INSTANCE};
+pub use services::{abi, newest, receive_each, Instance, IpcError, Sub, DEFAULT_INSTANCE};

@@ -35,6 +35,24 @@ pub const DEFAULT_INSTANCE: &str = "softnc";
 pub type PubSub<T> = publish_subscribe::PortFactory<ipc::Service, T, ()>;
 pub type ReqRes<Q, A> = request_response::PortFactory<ipc::Service, Q, (), A, ()>;
 pub type Events = event::PortFactory<ipc::Service>;
+/// A subscriber to one of an instance's publish-subscribe services.
+pub type Sub<T> = iceoryx2::port::subscriber::Subscriber<ipc::Service, T, ()>;
+
+/// Hands every sample that arrived since the last call to `f`, oldest first. A receive
+/// error ends the round like an empty queue: the next call tries again.
+pub fn receive_each<T: ZeroCopySend + fmt::Debug + Copy>(sub: &Sub<T>, mut f: impl FnMut(T)) {
+    while let Ok(Some(s)) = sub.receive() {
+        f(*s.payload());
+    }
+}
+
+/// The newest sample that arrived since the last call, if any (the older ones are passed
+/// over).
+pub fn newest<T: ZeroCopySend + fmt::Debug + Copy>(sub: &Sub<T>) -> Option<T> {
+    let mut last = None;
+    receive_each(sub, |s| last = Some(s));
+    last
+}
 
 /// This build's ABI: the protocol version and a hash over every payload's name, size and
 /// alignment.

@@ -6,14 +6,18 @@
 //! - [`CycleClock`]: the IPO cycle's clock on absolute deadlines;
 //! - [`live`]: the kernel alone on the live clock (the latency bench);
 //! - [`process`]: the nc-kernel process of the control over iceoryx2, and the arguments of
-//!   the control's processes.
+//!   the control's processes;
+//! - [`Failure`] and [`exit`]: how every softnc program ends without success, and its exit
+//!   status.
 
 mod clock;
+mod failure;
 pub mod live;
 pub mod os;
 pub mod process;
 
 pub use clock::{CycleClock, Tick};
+pub use failure::{exit, Failure};
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
 /// alike: `# title`, `# name value` comment lines, then "`<µs> <count>`" per 1 µs bucket.

@@ -4,7 +4,9 @@
 //! so the allocation test can run it too.
 #![allow(dead_code)] // each test file uses a different part
 
-use nc_kernel::cycle::{AuxOut, Bus, Control, Cyclic, PlcInput, Program, Refusal, Status};
+use nc_kernel::cycle::{
+    AuxOut, Bus, ChannelAlarm, Control, Cyclic, PlcInput, Program, Refusal, Status,
+};
 use nc_kernel::handover::{prepare_all, Handover, Job, Report, QUEUE};
 use nc_kernel::ipo::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
@@ -80,11 +82,11 @@ impl Bus for MockPlc {
         }
         true
     }
-    fn acks(&mut self, f: &mut dyn FnMut(u64, u32)) {
+    fn acks(&mut self, f: &mut dyn FnMut(u64, Option<ChannelAlarm>)) {
         let now = self.now;
         self.due.retain(|&(at, id)| {
             if at < now {
-                f(id, 0);
+                f(id, None);
                 false
             } else {
                 true

@@ -3,18 +3,17 @@
 //! answers are polled.
 
 use crate::os;
-use nc_kernel::cycle::{AuxOut, Bus, PlcInput, Status};
+use nc_kernel::cycle::{AuxOut, Bus, ChannelAlarm, PlcInput, Status};
 use nc_kernel::ipo::{ChannelState, Setpoint};
 use softnc_protocol::iceoryx2::node::Node;
 use softnc_protocol::iceoryx2::pending_response::PendingResponse;
 use softnc_protocol::iceoryx2::port::client::Client;
 use softnc_protocol::iceoryx2::port::notifier::Notifier;
 use softnc_protocol::iceoryx2::port::publisher::Publisher;
-use softnc_protocol::iceoryx2::port::subscriber::Subscriber;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
-    state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
-    SetpointMsg, AUX_WORDS,
+    newest, state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
+    SetpointMsg, Sub, AUX_WORDS,
 };
 
 type Pending = PendingResponse<ipc::Service, AuxRequest, (), AuxAck, ()>;
@@ -25,7 +24,7 @@ pub struct IceBus {
     wake: Notifier<ipc::Service>,
     aux: Client<ipc::Service, AuxRequest, (), AuxAck, ()>,
     pending: heapless::Vec<(u64, Pending), 32>,
-    signals: Subscriber<ipc::Service, PlcSignals, ()>,
+    signals: Sub<PlcSignals>,
     status: Publisher<ipc::Service, KernelStatus, ()>,
     _node: Node<ipc::Service>,
     seq: u64,
@@ -107,16 +106,12 @@ impl IceBus {
 
 impl Bus for IceBus {
     fn plc(&mut self) -> Option<PlcInput> {
-        let mut newest = None;
-        while let Ok(Some(s)) = self.signals.receive() {
-            newest = Some(*s.payload());
-        }
-        newest.map(|s| PlcInput {
+        newest(&self.signals).map(|s| PlcInput {
             feed_hold: s.feed_hold != 0,
             read_in_disable: s.read_in_disable != 0,
             drives_ready: s.drives_ready != 0,
             emergency_stop: s.emergency_stop != 0,
-            alarm: s.alarm,
+            alarm: ChannelAlarm::new(s.alarm),
         })
     }
 
@@ -172,11 +167,11 @@ impl Bus for IceBus {
         }
     }
 
-    fn acks(&mut self, f: &mut dyn FnMut(u64, u32)) {
+    fn acks(&mut self, f: &mut dyn FnMut(u64, Option<ChannelAlarm>)) {
         let mut i = 0;
         while i < self.pending.len() {
             let answered = match self.pending[i].1.receive() {
-                Ok(Some(r)) => Some(r.payload().alarm),
+                Ok(Some(r)) => Some(ChannelAlarm::new(r.payload().alarm)),
                 _ => None,
             };
             if let Some(alarm) = answered {
@@ -199,7 +194,7 @@ impl Bus for IceBus {
             pos: st.pos,
             v_path: st.v_path,
             override_: st.override_,
-            alarm: st.alarm,
+            alarm: ChannelAlarm::wire(st.alarm),
             aux_sent: st.aux_sent,
             aux_acked: st.aux_acked,
             tools_version: self.tools_version,

@@ -6,122 +6,53 @@
 //!
 //! `nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P]`: the
 //! program alone, no PLC (auxiliary functions acknowledged at once), with the IPO thread's
-//! wake-up latency and compute time (the latency benchmark).
+//! wake-up latency and compute time (the latency benchmark). The arguments: [`KernelArgs`].
 
 pub mod args;
 mod bus;
 mod serve;
 
-use args::value;
+pub use args::KernelArgs;
 
-use crate::live::{run, LiveOptions};
+use crate::live::{run, LiveOptions, LiveStats};
+use crate::Failure;
 use nc_kernel::handover::Report;
-use std::process::ExitCode;
+use std::path::Path;
 use std::time::Duration;
 
-const USAGE: &str = "usage: nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE] [--set Dn=R]... [--priority P]
-       nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P] [--histogram FILE]";
-
-/// The nc-kernel process with its arguments (after the program name).
-pub fn main(args: Vec<String>) -> ExitCode {
-    if args.is_empty() || args.iter().any(|a| a == "--help" || a == "-h") {
-        eprintln!("{USAGE}");
-        return ExitCode::from(2);
-    }
-    let fail = |m: String| {
-        eprintln!("error: {m}");
-        ExitCode::from(2)
-    };
-    // Flags and their values; the one other argument is the program.
-    let with_value = [
-        "--instance",
-        "--machine",
-        "--tools",
-        "--seconds",
-        "--priority",
-        "--histogram",
-        "--set",
-    ];
-    let mut program = None;
-    let mut i = 0;
-    while i < args.len() {
-        let a = &args[i];
-        if with_value.contains(&a.as_str()) {
-            if i + 1 >= args.len() {
-                return fail(format!("{a} needs a value\n{USAGE}"));
-            }
-            i += 2;
-            continue;
-        }
-        if a.starts_with("--") && a != "--start" {
-            return fail(format!("unknown option {a}\n{USAGE}"));
-        }
-        if !a.starts_with("--") {
-            if program.is_some() {
-                return fail(format!("one program only\n{USAGE}"));
-            }
-            program = Some(a.clone());
-        }
-        i += 1;
-    }
-    let md = match args::machine(&args) {
-        Ok(md) => md,
-        Err(e) => return fail(e),
-    };
-    let tools = match value(&args, "--tools") {
-        Some(p) => match nc_kernel::ToolTable::load(std::path::Path::new(p)) {
-            Ok(t) => t,
-            Err(e) => return fail(e.to_string()),
-        },
-        None => nc_kernel::ToolTable::builtin(),
-    };
-    let mut tools = tools;
-    for w in args.windows(2).filter(|w| w[0] == "--set") {
-        if let Err(e) = tools.apply_set(&w[1]) {
-            return fail(e);
-        }
-    }
-    let mut opts = LiveOptions {
-        announce: true,
-        ..Default::default()
-    };
-    if let Some(s) = value(&args, "--seconds") {
-        match s.parse::<f64>() {
-            Ok(x) if x > 0.0 && x.is_finite() => opts.limit = Some(Duration::from_secs_f64(x)),
-            _ => return fail(format!("--seconds {s}: expected a positive number")),
-        }
-    }
-    match args::priority(&args) {
-        Ok(Some(p)) => opts.priority = p,
-        Ok(None) => {}
-        Err(e) => return fail(e),
-    }
-    if let Some(instance) = value(&args, "--instance") {
+/// The nc-kernel process.
+pub fn main(args: KernelArgs) -> Result<(), Failure> {
+    let md = args::machine(args.machine.as_deref())?;
+    let tools = args.tool_table()?;
+    if let Some(instance) = args.instance {
         return serve::run(serve::ServeOptions {
-            instance: instance.to_string(),
-            program,
-            start: args.iter().any(|a| a == "--start"),
+            instance,
+            program: args.program.map(|p| p.display().to_string()),
+            start: args.start,
             md,
             tools,
-            tools_path: value(&args, "--tools").map(std::path::PathBuf::from),
-            priority: opts.priority,
+            tools_path: args.tools,
+            priority: args.priority,
         });
     }
-    let Some(program) = program else {
-        return fail(format!("no program given\n{USAGE}"));
+    let Some(program) = &args.program else {
+        return Err(
+            "no program given (or --instance NAME to run as a process of the control)".into(),
+        );
     };
-    let program = &program;
-    let source = match std::fs::read_to_string(program) {
-        Ok(s) => s,
-        Err(e) => return fail(format!("{program}: {e}")),
+    let opts = LiveOptions {
+        announce: true,
+        priority: args.priority,
+        limit: args.seconds.map(Duration::from_secs_f64),
+        ..Default::default()
     };
+    let name = program.display().to_string();
+    let source = std::fs::read_to_string(program).map_err(|e| format!("{name}: {e}"))?;
     let mut setpoints = 0u64;
-    let stats = match run(program, &source, &md, &tools, &opts, &mut |_sp| {
+    let stats = run(&name, &source, &md, &tools, &opts, &mut |_sp| {
         setpoints += 1
-    }) {
-        Ok(s) => s,
-        Err(e) => return fail(format!("cannot start the kernel's threads: {e}")),
-    };
+    })
+    .map_err(|e| format!("cannot start the kernel's threads: {e}"))?;
     let mut alarms = 0;
     for r in &stats.reports {
         match r {
@@ -132,6 +63,17 @@ pub fn main(args: Vec<String>) -> ExitCode {
             }
         }
     }
+    print_latency(&name, setpoints, &stats);
+    if let Some(path) = &args.histogram {
+        write_histogram(path, &stats)?;
+    }
+    if alarms > 0 {
+        return Err(Failure::Reported);
+    }
+    Ok(())
+}
+
+fn print_latency(program: &str, setpoints: u64, stats: &LiveStats) {
     let q = |h: &hdrhistogram::Histogram<u64>, p: f64| h.value_at_quantile(p) as f64 / 1000.0;
     println!(
         "{program}: {} after {} cycles ({setpoints} setpoints); {}",
@@ -155,15 +97,9 @@ pub fn main(args: Vec<String>) -> ExitCode {
         stats.skipped,
         stats.starved
     );
-    if let Some(path) = value(&args, "--histogram") {
-        let text = crate::histogram_text("nc-kernel wake-up latency", &stats.wakeup, &[]);
-        if let Err(e) = std::fs::write(path, text) {
-            return fail(format!("{path}: {e}"));
-        }
-    }
-    if alarms > 0 {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    }
+}
+
+fn write_histogram(path: &Path, stats: &LiveStats) -> Result<(), Failure> {
+    let text = crate::histogram_text("nc-kernel wake-up latency", &stats.wakeup, &[]);
+    std::fs::write(path, text).map_err(|e| Failure::Error(format!("{}: {e}", path.display())))
 }

@@ -15,21 +15,21 @@
 use super::bus::IceBus;
 use crate::clock::CycleClock;
 use crate::os;
+use crate::Failure;
 use crossbeam::queue::ArrayQueue;
-use nc_kernel::cycle::{Control, Cyclic, Program, Refusal};
+use nc_kernel::cycle::{alarm, ChannelAlarm, Control, Cyclic, Override, Program, Refusal};
 use nc_kernel::handover::{spawn_preparation, Report};
 use nc_kernel::ipo::Channel;
 use nc_kernel::{MachineData, ToolTable};
 use softnc_protocol::iceoryx2::port::update_connections::UpdateConnections;
-use softnc_protocol::{command, state, Command, Instance, KernelStatus, Reply};
+use softnc_protocol::{command, receive_each, state, Command, Instance, KernelStatus, Reply};
 use std::collections::HashMap;
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub struct ServeOptions {
-    pub instance: String,
+    pub instance: Instance,
     pub program: Option<String>,
     pub start: bool,
     pub md: MachineData,
@@ -73,16 +73,8 @@ struct Desk<'a> {
     changed_in_stop: bool,
 }
 
-fn fail(m: impl std::fmt::Display) -> ExitCode {
-    eprintln!("nc-kernel: error: {m}");
-    ExitCode::from(2)
-}
-
-pub fn run(opts: ServeOptions) -> ExitCode {
-    let instance = match Instance::new(&opts.instance) {
-        Ok(i) => i,
-        Err(e) => return fail(e),
-    };
+pub fn run(opts: ServeOptions) -> Result<(), Failure> {
+    let instance = opts.instance;
     let (cleaned, _) = instance.cleanup_dead_nodes();
     if cleaned > 0 {
         eprintln!(
@@ -94,9 +86,8 @@ pub fn run(opts: ServeOptions) -> ExitCode {
     {
         let term = term.clone();
         // SIGINT and SIGTERM: brake, then end (ctrlc's "termination" feature).
-        if let Err(e) = ctrlc::set_handler(move || term.store(true, Ordering::SeqCst)) {
-            return fail(format!("cannot install the signal handler: {e}"));
-        }
+        ctrlc::set_handler(move || term.store(true, Ordering::SeqCst))
+            .map_err(|e| format!("cannot install the signal handler: {e}"))?;
     }
     let md = Arc::new(opts.md);
     let tools = opts.tools;
@@ -106,14 +97,10 @@ pub fn run(opts: ServeOptions) -> ExitCode {
     // stand where an empty program would start.
     let mut first = None;
     if let Some(path) = &opts.program {
-        match load(path, &md, &tools, next_id, None) {
-            Ok((p, l)) => {
-                programs.insert(next_id, l);
-                first = Some(p);
-                next_id += 1;
-            }
-            Err(e) => return fail(e),
-        }
+        let (p, l) = load(path, &md, &tools, next_id, None)?;
+        programs.insert(next_id, l);
+        first = Some(p);
+        next_id += 1;
     }
     let start = first.as_ref().map_or_else(
         || nc_kernel::Interpreter::new("", "", &md, &tools).position(),
@@ -126,33 +113,7 @@ pub fn run(opts: ServeOptions) -> ExitCode {
         done: AtomicBool::new(false),
         tools_version: std::sync::atomic::AtomicU32::new(1),
     });
-    let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<String, String>>(1);
-    let ipo = {
-        let (shared, md, instance) = (shared.clone(), md.clone(), instance.clone());
-        let priority = opts.priority;
-        std::thread::Builder::new()
-            .name("ipo".into())
-            .spawn(move || ipo_thread(&instance, &md, start, priority, &shared, ready_tx))
-    };
-    let ipo = match ipo {
-        Ok(t) => t,
-        Err(e) => return fail(format!("cannot start the IPO thread: {e}")),
-    };
-    match ready_rx.recv() {
-        Ok(Ok(rt)) => eprintln!(
-            "nc-kernel: instance '{}' ready; IPO cycle {} µs; {rt}",
-            instance.name(),
-            md.ipo.cycle_us
-        ),
-        Ok(Err(e)) => {
-            let _ = ipo.join();
-            return fail(e);
-        }
-        Err(_) => {
-            let _ = ipo.join();
-            return fail("the IPO thread ended before it was ready");
-        }
-    }
+    let ipo = start_ipo(&instance, &md, start, opts.priority, &shared)?;
     let mut desk = Desk {
         shared: &shared,
         md: &md,
@@ -162,19 +123,12 @@ pub fn run(opts: ServeOptions) -> ExitCode {
         next_id,
         changed_in_stop: false,
     };
-    let code = match control(&instance, &mut desk, first, opts.start, &term) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("nc-kernel: error: {e}");
-            // The IPO thread brakes and ends.
-            let _ = shared.ctrl.push(Control::Shutdown);
-            ExitCode::from(2)
-        }
-    };
-    let code = match ipo.join() {
-        Ok(()) => code,
-        Err(_) => fail("the IPO thread failed (internal error): the kernel ends"),
-    };
+    let outcome = control(&instance, &mut desk, first, opts.start, &term);
+    if outcome.is_err() {
+        // The IPO thread brakes and ends.
+        let _ = shared.ctrl.push(Control::Shutdown);
+    }
+    let joined = ipo.join();
     while let Some(g) = shared.garbage.pop() {
         drop(g);
     }
@@ -183,7 +137,46 @@ pub fn run(opts: ServeOptions) -> ExitCode {
             let _ = t.join();
         }
     }
-    code
+    outcome?;
+    joined.map_err(|_| {
+        Failure::Error("the IPO thread failed (internal error): the kernel ends".into())
+    })
+}
+
+/// Starts the IPO thread and waits until its ports are open and its scheduling is set.
+fn start_ipo(
+    instance: &Instance,
+    md: &Arc<MachineData>,
+    start: nc_kernel::Pos,
+    priority: i32,
+    shared: &Arc<Shared>,
+) -> Result<std::thread::JoinHandle<()>, String> {
+    let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<String, String>>(1);
+    let ipo = {
+        let (shared, md, instance) = (shared.clone(), md.clone(), instance.clone());
+        std::thread::Builder::new()
+            .name("ipo".into())
+            .spawn(move || ipo_thread(&instance, &md, start, priority, &shared, ready_tx))
+            .map_err(|e| format!("cannot start the IPO thread: {e}"))?
+    };
+    match ready_rx.recv() {
+        Ok(Ok(rt)) => {
+            eprintln!(
+                "nc-kernel: instance '{}' ready; IPO cycle {} µs; {rt}",
+                instance.name(),
+                md.ipo.cycle_us
+            );
+            Ok(ipo)
+        }
+        Ok(Err(e)) => {
+            let _ = ipo.join();
+            Err(e)
+        }
+        Err(_) => {
+            let _ = ipo.join();
+            Err("the IPO thread ended before it was ready".into())
+        }
+    }
 }
 
 /// Reads and starts preparing a program with the axes at `at` (`None`: the machine zero);
@@ -339,14 +332,14 @@ fn refusal_text(r: Refusal) -> (u32, String) {
             format!("the channel is {}: this needs NC stop, at rest", s.name()),
         ),
         Refusal::NoProgram => (0, "no program is loaded (or it has ended): load one".into()),
-        Refusal::Alarm(a) => (a, format!("alarm {a} stands: reset first")),
+        Refusal::Alarm(a) => (a.number(), format!("alarm {a} stands: reset first")),
         Refusal::NoPlc => (
-            nc_kernel::cycle::alarm::PLC_SIGN_OF_LIFE,
+            alarm::PLC_SIGN_OF_LIFE.number(),
             "no PLC: plc-sim is not running for this instance".into(),
         ),
         Refusal::DrivesNotReady => (0, "the drives are not ready (PLC)".into()),
         Refusal::EmergencyStop => (
-            nc_kernel::cycle::alarm::EMERGENCY_STOP,
+            alarm::EMERGENCY_STOP.number(),
             "emergency stop is pressed: release it, then reset".into(),
         ),
         Refusal::StartsElsewhere { start, here } => (
@@ -358,7 +351,7 @@ fn refusal_text(r: Refusal) -> (u32, String) {
             ),
         ),
         Refusal::Ending => (0, "the kernel is ending".into()),
-        Refusal::BadOverride => (0, "override must be above 0 and at most 1.2 (120 %)".into()),
+        Refusal::BadOverride => (0, format!("override must be {}", Override::RANGE)),
     }
 }
 
@@ -419,9 +412,7 @@ fn control(
         while let Ok(Some(req)) = server.receive() {
             let c: Command = *req.payload();
             // The newest status first: a program loads where the axes stand now.
-            while let Ok(Some(s)) = status.receive() {
-                last = report_status(*s.payload(), &last);
-            }
+            receive_each(&status, |s| last = report_status(s, &last));
             let mut reply = desk.handle(&c, &last);
             // The new table goes out before the reply: who reads after the reply reads it.
             let version = shared.tools_version.load(Ordering::Acquire);
@@ -432,9 +423,7 @@ fn control(
             reply.tools_version = version;
             let _ = req.send_copy(reply);
         }
-        while let Ok(Some(s)) = status.receive() {
-            last = report_status(*s.payload(), &last);
-        }
+        receive_each(&status, |s| last = report_status(s, &last));
         // NC start once the PLC is there (--start).
         if want_start && last.plc_alive != 0 {
             match ask(shared, Control::Start) {
@@ -465,13 +454,12 @@ fn control(
 
 /// Tells the user about a new alarm or state; returns `s` as the new last status.
 fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
-    if s.alarm != last.alarm && s.alarm != 0 {
+    if let Some(a) = ChannelAlarm::new(s.alarm).filter(|_| s.alarm != last.alarm) {
         eprintln!(
-            "nc-kernel: alarm {} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
-            s.alarm,
+            "nc-kernel: alarm {a} at cycle {} (line {}): {}; PLC sign of life last at cycle {}",
             s.cycle,
             s.line,
-            nc_kernel::cycle::alarm::title(s.alarm),
+            a.title(),
             s.plc_cycle
         );
     }

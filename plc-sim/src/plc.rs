@@ -1,0 +1,476 @@
+//! The simulated PLC as a state machine: what it does when a setpoint arrives, when a cycle
+//! passes without one, when an auxiliary-function request arrives and as time passes, apart
+//! from the transport and the clock.
+//!
+//! ```text
+//!  setpoint ─► Plc::setpoint: sequence gaps, watchdog acknowledgement, scripted inputs,
+//!              software limits, one drive cycle, spindle ramp ─► trace row, actual values
+//!  no setpoint for a cycle ─► Plc::silence: watchdog count, braking ─► trace row
+//!  aux request ─► Plc::request: tool, spindle, when it is done
+//!  time ─► Plc::acknowledge_due ─► acknowledgements; Plc::signal ─► PLC interface signals
+//! ```
+//!
+//! The transport is a [`Transport`]: iceoryx2 and a CSV file in the process (ice.rs), a mock
+//! on a mock clock in tests/plc.rs.
+
+use crate::args::Window;
+use crate::axis::Axis;
+use nc_kernel::cycle::{alarm, ChannelAlarm, PlcInput};
+use nc_kernel::MachineData;
+use softnc_protocol::{state, AuxRequest, SetpointMsg};
+use std::time::Duration;
+
+/// plc-sim's side of the world: what it receives, what it sends and the clock. Every method
+/// returns at once except [`wait`](Transport::wait).
+pub trait Transport {
+    /// The clock, ns.
+    fn now_ns(&mut self) -> u64;
+    /// Waits up to `timeout` for the kernel's setpoint event; whether it came.
+    fn wait(&mut self, timeout: Duration) -> bool;
+    /// The next setpoint that arrived, oldest first.
+    fn setpoint(&mut self) -> Option<SetpointMsg>;
+    /// The next auxiliary-function request that arrived, with the ticket its
+    /// acknowledgement goes back with.
+    fn request(&mut self) -> Option<(u64, AuxRequest)>;
+    /// Acknowledges the request of `ticket` (the kernel's request `id`): done.
+    fn ack(&mut self, ticket: u64, id: u64);
+    /// The PLC interface signals, with the last setpoint cycle consumed (the sign of life).
+    fn signals(&mut self, echo_cycle: u64, s: &PlcInput);
+    fn actuals(&mut self, a: &Actual);
+    /// A row of the trace.
+    fn row(&mut self, r: &Row<'_>);
+    /// A line for the operator.
+    fn log(&mut self, line: &str);
+}
+
+/// The axes' actual values after a drive cycle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Actual {
+    /// The setpoint cycle these follow.
+    pub cycle: u64,
+    pub pos: [f64; 3],
+    /// Setpoint − actual position per axis, mm.
+    pub following_error: [f64; 3],
+    pub spindle_rpm: f64,
+    /// The tool in the spindle.
+    pub tool: u32,
+    /// Auxiliary functions acknowledged so far.
+    pub aux_acked: u32,
+    pub alarm: Option<ChannelAlarm>,
+}
+
+/// One row of the trace: a drive cycle, or a braking cycle of the watchdog (`seq` 0).
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a> {
+    /// Since the PLC started, s.
+    pub time: f64,
+    pub cycle: u64,
+    pub seq: u64,
+    pub setpoint: [f64; 3],
+    pub actual: [f64; 3],
+    pub following_error: [f64; 3],
+    /// mm/s.
+    pub v_path: f64,
+    pub line: u32,
+    /// `state::*` of the kernel.
+    pub state: u8,
+    /// What happened since the last row, `;`-separated.
+    pub events: &'a str,
+}
+
+/// Inputs as from a machine's control panel, at kernel cycles (for tests and
+/// demonstrations).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Script {
+    pub estop_at: Option<u64>,
+    pub feed_hold: Option<Window>,
+    pub read_in_disable: Option<Window>,
+    pub drives_off_at: Option<u64>,
+}
+
+/// What plc-sim counts of the setpoint stream.
+pub struct Stats {
+    pub samples: u64,
+    /// Setpoints missing from the sequence.
+    pub lost: u64,
+    /// Setpoints consumed after their cycle's deadline.
+    pub late: u64,
+    pub aux_acked: u32,
+    /// One-way latency from the kernel's send to the receipt here, ns.
+    pub latency: hdrhistogram::Histogram<u64>,
+}
+
+impl Stats {
+    fn new() -> Stats {
+        Stats {
+            samples: 0,
+            lost: 0,
+            late: 0,
+            aux_acked: 0,
+            latency: hdrhistogram::Histogram::new_with_bounds(1, 10_000_000_000, 3)
+                .expect("constant histogram bounds are valid"),
+        }
+    }
+
+    /// One line for the end of a run.
+    pub fn summary(&self) -> String {
+        let q = |p: f64| self.latency.value_at_quantile(p) as f64 / 1000.0;
+        format!(
+            "{} setpoints, {} lost, {} after their deadline, {} aux functions acknowledged; latency µs p50 {:.1} p99 {:.1} p99.9 {:.1} max {:.1}",
+            self.samples,
+            self.lost,
+            self.late,
+            self.aux_acked,
+            q(0.5),
+            q(0.99),
+            q(0.999),
+            self.latency.max() as f64 / 1000.0
+        )
+    }
+
+    /// The latency histogram in cyclictest's format.
+    pub fn histogram(&self) -> String {
+        nc_runtime::histogram_text(
+            "plc-sim setpoint latency (kernel send to plc-sim receive)",
+            &self.latency,
+            &[
+                ("samples", self.samples),
+                ("lost", self.lost),
+                ("late", self.late),
+            ],
+        )
+    }
+}
+
+/// A request waiting for its time.
+struct Pending {
+    due_ns: u64,
+    ticket: u64,
+    id: u64,
+    text: String,
+}
+
+/// The simulated PLC with its drives and spindle.
+pub struct Plc {
+    md: MachineData,
+    cycle: Duration,
+    /// The cycle, s.
+    t: f64,
+    watchdog: u64,
+    script: Script,
+    start_ns: u64,
+    axes: Option<[Axis; 3]>,
+    last: Option<SetpointMsg>,
+    /// Own cycles (waits that timed out) since the last setpoint: the watchdog counts these,
+    /// not wall time, so a hold-up of the whole machine is not taken for a dead kernel.
+    missed: u64,
+    braking: bool,
+    alarm: Option<ChannelAlarm>,
+    estop: bool,
+    drives_ready: bool,
+    pending: Vec<Pending>,
+    tool: u32,
+    spindle_rpm: f64,
+    spindle_target: f64,
+    /// Since the last trace row.
+    events: String,
+    stats: Stats,
+}
+
+impl Plc {
+    /// The PLC of machine `md`, started at `start_ns` on the transport's clock.
+    pub fn new(md: &MachineData, script: Script, start_ns: u64) -> Plc {
+        let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
+        Plc {
+            md: md.clone(),
+            cycle: Duration::from_nanos(cycle_ns),
+            t: cycle_ns as f64 * 1e-9,
+            watchdog: u64::from(md.plc.watchdog_cycles),
+            script,
+            start_ns,
+            axes: None,
+            last: None,
+            missed: 0,
+            braking: false,
+            alarm: None,
+            estop: false,
+            drives_ready: true,
+            pending: Vec::new(),
+            tool: 0,
+            spindle_rpm: 0.0,
+            spindle_target: 0.0,
+            events: String::new(),
+            stats: Stats::new(),
+        }
+    }
+
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// One PLC cycle: woken by the kernel's setpoint event or after one cycle without it,
+    /// it drives the axes with every setpoint that came (or counts a silent cycle), takes the
+    /// new requests, acknowledges those whose time has come and sends its signals.
+    pub fn cycle(&mut self, io: &mut impl Transport) {
+        let event = io.wait(self.cycle);
+        let mut got = false;
+        while let Some(sp) = io.setpoint() {
+            let now = io.now_ns();
+            self.setpoint(&sp, now, io);
+            got = true;
+        }
+        if !got && !event {
+            let now = io.now_ns();
+            self.silence(now, io);
+        }
+        while let Some((ticket, req)) = io.request() {
+            let now = io.now_ns();
+            self.request(ticket, &req, now);
+        }
+        let now = io.now_ns();
+        self.acknowledge_due(now, io);
+        self.signal(io);
+    }
+
+    /// A setpoint arrives at `now`: one drive cycle.
+    pub fn setpoint(&mut self, sp: &SetpointMsg, now: u64, io: &mut impl Transport) {
+        self.count(sp, now);
+        self.missed = 0;
+        if self.braking && sp.state == state::RESET {
+            self.acknowledge_watchdog();
+        }
+        self.scripted_inputs(sp.cycle);
+        let (actual, following_error) = self.drive(sp.pos);
+        let ds = self.md.plc.spindle_acceleration * self.t;
+        self.spindle_rpm += (self.spindle_target - self.spindle_rpm).clamp(-ds, ds);
+        io.row(&Row {
+            time: self.since_start(now),
+            cycle: sp.cycle,
+            seq: sp.seq,
+            setpoint: sp.pos,
+            actual,
+            following_error,
+            v_path: sp.v_path,
+            line: sp.line,
+            state: sp.state,
+            events: &self.events,
+        });
+        self.events.clear();
+        io.actuals(&Actual {
+            cycle: sp.cycle,
+            pos: actual,
+            following_error,
+            spindle_rpm: self.spindle_rpm,
+            tool: self.tool,
+            aux_acked: self.stats.aux_acked,
+            alarm: self.alarm,
+        });
+        self.last = Some(*sp);
+    }
+
+    /// Latency, lateness and gaps in the sequence (a new kernel counts from 1 again).
+    fn count(&mut self, sp: &SetpointMsg, now: u64) {
+        self.stats.samples += 1;
+        let _ = self
+            .stats
+            .latency
+            .record(now.saturating_sub(sp.sent_ns).max(1));
+        if now > sp.deadline_ns {
+            self.stats.late += 1;
+        }
+        if let Some(l) = self.last.filter(|l| sp.seq > l.seq + 1) {
+            let n = sp.seq - l.seq - 1;
+            self.stats.lost += n;
+            self.events.push_str(&format!("lost {n};"));
+        }
+    }
+
+    /// The kernel was reset (or restarted): the watchdog alarm is acknowledged, and the
+    /// drives follow the setpoints again from where they stand.
+    fn acknowledge_watchdog(&mut self) {
+        self.braking = false;
+        if self.alarm == Some(alarm::PLC_WATCHDOG) {
+            self.alarm = None;
+        }
+        self.axes = None;
+        self.events.push_str("watchdog acknowledged;");
+    }
+
+    /// The control panel's inputs due at kernel cycle `cycle`: at or after it, so a PLC that
+    /// connects late still acts.
+    fn scripted_inputs(&mut self, cycle: u64) {
+        if self.script.estop_at.is_some_and(|c| cycle >= c) && !self.estop {
+            self.estop = true;
+            self.events.push_str("emergency stop;");
+        }
+        if self.script.drives_off_at.is_some_and(|c| cycle >= c) && self.drives_ready {
+            self.drives_ready = false;
+            self.events.push_str("drives off;");
+        }
+    }
+
+    /// One drive cycle towards `pos` within the software limits (braking instead while the
+    /// watchdog holds): the positions measured and the following errors.
+    fn drive(&mut self, pos: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let (target, limited) = limit(&self.md, pos);
+        if limited && self.alarm.is_none() {
+            self.alarm = Some(alarm::PLC_SOFTWARE_LIMIT);
+            self.events.push_str("software limit;");
+        }
+        let ax = self
+            .axes
+            .get_or_insert_with(|| new_axes(&self.md, self.t, target));
+        let mut actual = [0.0; 3];
+        for i in 0..3 {
+            actual[i] = if self.braking {
+                ax[i].brake()
+            } else {
+                ax[i].step(target[i])
+            };
+        }
+        let fe = [
+            ax[0].following_error,
+            ax[1].following_error,
+            ax[2].following_error,
+        ];
+        (actual, fe)
+    }
+
+    /// A cycle passes without a setpoint: after `plc.watchdog_cycles` of them every axis
+    /// brakes at its acceleration limit, with PLC alarm 700000.
+    pub fn silence(&mut self, now: u64, io: &mut impl Transport) {
+        let (Some(ax), Some(l)) = (self.axes.as_mut(), self.last) else {
+            return;
+        };
+        self.missed += 1;
+        if self.missed >= self.watchdog && !self.braking {
+            self.braking = true;
+            self.alarm.get_or_insert(alarm::PLC_WATCHDOG);
+            let missed = self.missed;
+            self.events
+                .push_str(&format!("watchdog: no setpoint for {missed} cycles;"));
+            io.log(&format!(
+                "alarm {}: no setpoint for {missed} cycles after cycle {}: braking the axes",
+                alarm::PLC_WATCHDOG,
+                l.cycle
+            ));
+        }
+        if !self.braking {
+            return;
+        }
+        let actual = [ax[0].brake(), ax[1].brake(), ax[2].brake()];
+        io.row(&Row {
+            time: self.since_start(now),
+            cycle: l.cycle + self.missed,
+            seq: 0,
+            setpoint: l.pos,
+            actual,
+            following_error: [0.0; 3],
+            v_path: 0.0,
+            line: l.line,
+            state: l.state,
+            events: &self.events,
+        });
+        self.events.clear();
+    }
+
+    /// An auxiliary-function request arrives at `now`: T takes the tool, M5 stops the
+    /// spindle, M3/M4 turn it at the programmed S (or the last one). It is done when M6 has
+    /// taken `plc.tool_change_ms` and the spindle is at speed; anything else at once.
+    pub fn request(&mut self, ticket: u64, r: &AuxRequest, now: u64) {
+        let mut wait_ns = 0u64;
+        let mut text = String::new();
+        for w in r.words() {
+            text.push_str(&format!("{}{} ", w.address as char, w.value));
+            match (w.address, w.value as i64) {
+                (b'M', 6) => {
+                    wait_ns = wait_ns.max(u64::from(self.md.plc.tool_change_ms) * 1_000_000)
+                }
+                (b'T', n) => self.tool = n.max(0) as u32,
+                (b'M', 5) => self.spindle_target = 0.0,
+                _ => {}
+            }
+        }
+        let s_word = r
+            .words()
+            .iter()
+            .find(|w| w.address == b'S')
+            .map(|w| w.value);
+        let turns = r
+            .words()
+            .iter()
+            .any(|w| w.address == b'M' && (w.value == 3.0 || w.value == 4.0));
+        if turns {
+            let target = s_word.unwrap_or(self.spindle_target.abs());
+            self.spindle_target = target;
+            let ramp = (target - self.spindle_rpm).abs() / self.md.plc.spindle_acceleration;
+            wait_ns = wait_ns.max((ramp * 1e9) as u64);
+        } else if let Some(s) = s_word.filter(|_| self.spindle_rpm != 0.0) {
+            self.spindle_target = s;
+        }
+        self.pending.push(Pending {
+            due_ns: now + wait_ns,
+            ticket,
+            id: r.id,
+            text: text.trim_end().to_string(),
+        });
+    }
+
+    /// Time has come to `now`: the requests that are done are acknowledged.
+    pub fn acknowledge_due(&mut self, now: u64, io: &mut impl Transport) {
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.pending[i].due_ns <= now {
+                let p = self.pending.swap_remove(i);
+                io.ack(p.ticket, p.id);
+                self.stats.aux_acked += 1;
+                self.events.push_str(&format!("ack {};", p.text));
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// The interface signals and the sign of life, sent every PLC cycle.
+    pub fn signal(&mut self, io: &mut impl Transport) {
+        let c = self.last.map_or(0, |l| l.cycle);
+        let within = |w: Option<Window>| w.is_some_and(|w| w.contains(c));
+        let s = PlcInput {
+            feed_hold: within(self.script.feed_hold),
+            read_in_disable: within(self.script.read_in_disable),
+            drives_ready: self.drives_ready && !self.braking,
+            emergency_stop: self.estop,
+            alarm: self.alarm,
+        };
+        io.signals(c, &s);
+    }
+
+    fn since_start(&self, now: u64) -> f64 {
+        now.saturating_sub(self.start_ns) as f64 * 1e-9
+    }
+}
+
+fn new_axes(md: &MachineData, t: f64, at: [f64; 3]) -> [Axis; 3] {
+    let mk = |i: usize| {
+        let (v, a) = md
+            .axes
+            .get(i)
+            .map_or((1.0, 1.0), |d| (d.max_velocity / 60.0, d.max_acceleration));
+        Axis::new(md.plc.kv, t, v, a, md.plc.dead_time_cycles as usize, at[i])
+    };
+    [mk(0), mk(1), mk(2)]
+}
+
+/// The setpoint within the software limit switches, and whether it had to be cut.
+fn limit(md: &MachineData, p: [f64; 3]) -> ([f64; 3], bool) {
+    let mut out = p;
+    let mut cut = false;
+    for i in 0..3 {
+        let (lo, hi) = (md.plc.software_limit_min[i], md.plc.software_limit_max[i]);
+        if p[i] < lo || p[i] > hi {
+            out[i] = p[i].clamp(lo, hi);
+            cut = true;
+        }
+    }
+    (out, cut)
+}
