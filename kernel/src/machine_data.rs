@@ -535,7 +535,9 @@ impl MachineData {
             {
                 return Err((
                     "ipo.wait_for_ack".into(),
-                    format!("{w:?} is not an auxiliary function like \"M6\" (M, H, S or T and a number)"),
+                    format!(
+                        "{w:?} is not an auxiliary function: an address M, H, S or T and a number"
+                    ),
                 ));
             }
         }
