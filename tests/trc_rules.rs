@@ -844,3 +844,39 @@ fn a_compensated_full_circle_ends_where_it_starts() {
         "{len}"
     );
 }
+
+/// ISG G05 tangential approach and retract are arcs (TF5200): their records carry their own
+/// radius as r0 = r1 (docs/path-format.md), the distance of both ends from the centre. N305
+/// of wzkg25 (G41, R 10) runs from (0, 0) to N310's normal position (20, 30) (N315 goes
+/// east), tangent to east there: the centre lies on x = 20 with 20² + y² = (30 − y)², so
+/// y = 25/3 and the radius 65/3.
+#[test]
+fn isg_g05_approach_and_retract_arcs_carry_their_radius() {
+    let p = path("isg.toml", &[], &[], &program("isg", "wzkg25.nc"));
+    let arcs: Vec<&Segment> = p
+        .iter()
+        .filter(|s| matches!(s.role, Role::Approach | Role::Retract) && s.is_arc())
+        .collect();
+    assert_eq!(arcs.len(), 2);
+    for s in arcs {
+        let Shape::Arc { center, r0, r1, .. } = s.shape else {
+            unreachable!()
+        };
+        let d = |q: [f64; 3]| (q[0] - center[0]).hypot(q[1] - center[1]);
+        assert!(
+            (r0 - d(s.from)).abs() < TOL && (r1 - d(s.to)).abs() < TOL,
+            "{s:?}"
+        );
+    }
+    let n305 = of_block(&p, 305)[0];
+    at(
+        "N305 centre",
+        match n305.shape {
+            Shape::Arc { center, .. } => center,
+            Shape::Line => unreachable!(),
+        },
+        20.0,
+        25.0 / 3.0,
+    );
+    assert!(matches!(n305.shape, Shape::Arc { r0, .. } if (r0 - 65.0 / 3.0).abs() < TOL));
+}

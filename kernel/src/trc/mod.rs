@@ -1234,16 +1234,9 @@ impl Compensator {
             selection::entry(sel.from, sel.q, sel.dir, e, o1, d, sel.policy, &settings)
                 .map_err(|x| Self::corner_fault(tag, x))?
         };
-        self.piece(
-            sel.tag,
-            Role::Approach,
-            &en.path,
-            0.0,
-            0.0,
-            sel.w0,
-            sel.w1,
-            out,
-        );
+        // A tangential approach (ISG G05) is an arc: its radius is its own.
+        let r = en.path.radius();
+        self.piece(sel.tag, Role::Approach, &en.path, r, r, sel.w0, sel.w1, out);
         self.flush_held(out);
         let w = self.tool_w;
         self.pieces(tag, &en.pieces, w, out);
@@ -1531,7 +1524,8 @@ impl Compensator {
     ) {
         let w = self.tool_w;
         if m.is_some_and(|m| m.moves_in_plane(EPS)) {
-            self.piece(tag, Role::Retract, path, 0.0, 0.0, w, w1, out);
+            let r = path.radius();
+            self.piece(tag, Role::Retract, path, r, r, w, w1, out);
         } else {
             let from = self.tool;
             self.line(tag, Role::Retract, from, p.prog.end(), w, w1, out);
