@@ -1,13 +1,13 @@
-//! hmi-bridge: the operator's side of a softnc control (issue 7, docs/hmi.md). It talks to
+//! hmi-bridge: the operator's side of a softnc control (docs/hmi.md). It talks to
 //! the kernel over iceoryx2 (link.rs) and serves an HTTP JSON API, a Server-Sent-Events
 //! status stream and one web page (api.rs, page.html) on 127.0.0.1. Another address needs
 //! `--listen` and a token that every request then carries.
 
-pub mod api;
+mod api;
 pub mod client;
-pub mod link;
-pub mod net;
-pub mod plot;
+mod link;
+mod net;
+mod plot;
 
 use nc_runtime::process::args::{machine, ControlArgs};
 use nc_runtime::Failure;

@@ -78,10 +78,6 @@ impl Link {
         }
         rx
     }
-
-    pub fn subscribers(&self) -> usize {
-        self.subscribers.lock().map(|s| s.len()).unwrap_or(0)
-    }
 }
 
 /// Starts the link thread; returns when its ports are open (or why they could not be).

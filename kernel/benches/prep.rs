@@ -2,8 +2,8 @@
 //! (docs/benchmarks.md). Run: `cargo bench -p nc-kernel --bench prep`.
 //!
 //! - `compensate_1M_<dialect>`: parse + interpretation + tool length and radius
-//!   compensation, bottleneck window off (issue 3).
-//! - `bottleneck_1M_window_<n>`: the same with the bottleneck check over n blocks (issue 4).
+//!   compensation, bottleneck window off.
+//! - `bottleneck_1M_window_<n>`: the same with the bottleneck check over n blocks.
 //! - `..._threaded`: the same with the interpreter in a thread of its own
 //!   (`Preparation::threaded`): two cores busy.
 

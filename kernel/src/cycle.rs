@@ -1,4 +1,4 @@
-//! The kernel's cycle with the PLC and the HMI around it (issue 6): what one IPO cycle does
+//! The kernel's cycle with the PLC and the HMI around it: what one IPO cycle does
 //! between waking up and sleeping again, apart from the clock and the transport.
 //!
 //! ```text

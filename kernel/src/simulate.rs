@@ -1,5 +1,5 @@
 //! `softnc simulate`: the kernel's preparation thread, queue and channel run against a
-//! simulated clock (issue 5 e, f). One CSV row per IPO cycle:
+//! simulated clock. One CSV row per IPO cycle:
 //! `cycle,time,X,Y,Z,v_path,block,events`.
 //!
 //! Preparation runs in its own thread and hands ready [`Entry`](crate::ipo::Entry)s (limits computed there)

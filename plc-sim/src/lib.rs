@@ -15,7 +15,7 @@
 //! kernel cycle C (for N cycles).
 
 pub mod args;
-pub mod axis;
+mod axis;
 mod ice;
 pub mod plc;
 mod trace;

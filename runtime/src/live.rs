@@ -134,7 +134,7 @@ fn ipo_thread(
             starved += 1;
         }
         while ch.acks_due() > 0 {
-            // No PLC in this process yet (issue 6): acknowledged at once.
+            // No PLC in this process: acknowledged at once.
             ch.ack();
         }
         ch.cycle(k, &mut sp);

@@ -162,6 +162,16 @@ pub fn setup_cyclic_thread(_priority: i32, _slack_ns: u64) -> (RtReport, Option<
     )
 }
 
+/// Asks the process `pid` to end (SIGTERM): a child of this process, not yet reaped, so the
+/// pid is still its own.
+#[cfg(unix)]
+pub fn terminate(pid: u32) {
+    // SAFETY: kill(2) takes any pid and signal number; it touches no memory of ours.
+    unsafe {
+        libc::kill(pid as libc::pid_t, libc::SIGTERM);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

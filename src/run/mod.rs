@@ -145,10 +145,7 @@ impl Children {
 }
 
 fn terminate(c: &Child) {
-    // SAFETY: kill(2) on our own child's pid, not yet reaped.
-    unsafe {
-        libc::kill(c.id() as i32, libc::SIGTERM);
-    }
+    nc_runtime::os::terminate(c.id());
 }
 
 /// The run's side of the kernel, as an HMI's: commands and status.

@@ -1,4 +1,4 @@
-//! The channel (issue 5 d): its states around the planner, and the auxiliary functions,
+//! The channel: its states around the planner, and the auxiliary functions,
 //! program stops and the program end output at their S points.
 //!
 //! RESET → ACTIVE (NC start) → STOPPED (NC stop: braking on the path, then holding;

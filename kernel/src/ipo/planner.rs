@@ -1,4 +1,4 @@
-//! Lookahead and interpolation (issue 5 a, b).
+//! Lookahead and interpolation.
 //!
 //! The planner holds up to `lookahead` prepared segments. Each segment's end speed is bounded
 //! by the corner to the next one ([`AxisLimits::corner`]), by both segments' speeds, and by

@@ -1,4 +1,4 @@
-//! nc-kernel as a process of the control (issue 6): the IPO thread runs the cycle with the
+//! nc-kernel as a process of the control: the IPO thread runs the cycle with the
 //! PLC over iceoryx2, this (control) thread answers HMI commands, loads programs and tells
 //! the user about alarms.
 //!
