@@ -33,24 +33,10 @@ impl Curve {
     /// line, or an arc about its centre in its plane, a helix where the normal axis moves.
     /// `None` for an arc with an end on its centre.
     pub fn of_motion(m: &Motion) -> Option<Curve> {
-        let shape = if m.kind.is_arc() {
-            let (a, o) = (m.plane.abscissa as usize, m.plane.ordinate as usize);
-            let r = (m.start[a] - m.center[a]).hypot(m.start[o] - m.center[o]);
-            Shape::Arc {
-                center: m.center,
-                center_end: m.center,
-                ccw: m.kind == MotionKind::ArcCcw,
-                r0: r,
-                r1: r,
-                plane: m.plane,
-            }
-        } else {
-            Shape::Line
-        };
         Curve::new(&Segment {
             source: Source::default(),
             role: Role::Contour,
-            shape,
+            shape: Shape::of_motion(m),
             from: m.start,
             to: m.end,
             feed: 0.0,

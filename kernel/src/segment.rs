@@ -1,7 +1,7 @@
 //! Segments: what block preparation hands to interpolation. One segment is one straight or
 //! circular piece of the tool path, tagged with the block it belongs to and why it exists.
 
-use crate::frontend::block::{BlockNo, Plane, Pos};
+use crate::frontend::block::{BlockNo, Motion, MotionKind, Plane, Pos};
 
 /// Where a segment comes from in the program.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -99,6 +99,27 @@ pub struct Segment {
     /// Exact stop at the end (G09 of the block, or the modal G60/G61; inserted blocks take
     /// the next block's, 840C 11.10).
     pub exact_stop: bool,
+}
+
+impl Shape {
+    /// A programmed motion's shape: a line, or an arc about its centre whose radius is the
+    /// start point's distance from it.
+    pub fn of_motion(m: &Motion) -> Shape {
+        if !m.kind.is_arc() {
+            return Shape::Line;
+        }
+        let (a, o) = (m.plane.abscissa as usize, m.plane.ordinate as usize);
+        let (da, d_o) = (m.start[a] - m.center[a], m.start[o] - m.center[o]);
+        let r = (da * da + d_o * d_o).sqrt();
+        Shape::Arc {
+            center: m.center,
+            center_end: m.center,
+            ccw: m.kind == MotionKind::ArcCcw,
+            r0: r,
+            r1: r,
+            plane: m.plane,
+        }
+    }
 }
 
 impl Segment {

@@ -75,36 +75,12 @@ pub fn exit(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::trc::corner::OuterCorner;
+    use crate::trc::fixtures::{close, east, CIRCLE};
     use crate::trc::geom::v2;
     use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
 
-    fn close(a: V2, b: V2) -> bool {
-        a.dist(b) < 1e-12
-    }
-
-    const CIRCLE: CornerSettings = CornerSettings {
-        outer: OuterCorner::Circle,
-        suppression: 0.0,
-    };
-
-    /// The last element: east from (0,0) to (10,0); the tool left at R 2 on y = 2, its
-    /// normal end position P1 = (10, 2).
-    fn last() -> (Elem, Elem) {
-        (
-            Elem::Line {
-                a: v2(0.0, 0.0),
-                b: v2(10.0, 0.0),
-            },
-            Elem::Line {
-                a: v2(0.0, 2.0),
-                b: v2(10.0, 2.0),
-            },
-        )
-    }
-
     fn leave(f: V2, dir: Option<V2>, policy: SelectionPolicy) -> Exit {
-        let (en, on) = last();
+        let (en, on) = east();
         exit(&en, &on, f, dir, 2.0, policy, &CIRCLE).unwrap()
     }
 

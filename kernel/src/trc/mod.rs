@@ -1535,21 +1535,7 @@ impl Compensator {
 
 /// An uncompensated motion as a segment.
 fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
-    let shape = if m.kind.is_arc() {
-        let (a, _) = split(&m.start, m.plane);
-        let (c, _) = split(&m.center, m.plane);
-        let r = a.dist(c);
-        Shape::Arc {
-            center: m.center,
-            center_end: m.center,
-            ccw: m.kind == MotionKind::ArcCcw,
-            r0: r,
-            r1: r,
-            plane: m.plane,
-        }
-    } else {
-        Shape::Line
-    };
+    let shape = Shape::of_motion(m);
     Segment {
         source: tag.source,
         role,
@@ -1559,6 +1545,37 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         feed: tag.feed,
         rapid: tag.rapid,
         exact_stop: tag.exact_stop,
+    }
+}
+
+/// What the compensation's unit tests share: the east line from (0, 0) to (10, 0) with the
+/// tool left of it at R 2, and corners taken as transition circles.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::corner::{CornerSettings, OuterCorner};
+    use super::geom::{v2, Elem, V2};
+
+    pub fn close(a: V2, b: V2) -> bool {
+        a.dist(b) < 1e-12
+    }
+
+    pub const CIRCLE: CornerSettings = CornerSettings {
+        outer: OuterCorner::Circle,
+        suppression: 0.0,
+    };
+
+    /// The element east from (0, 0) to (10, 0), and its equidistant on y = 2.
+    pub fn east() -> (Elem, Elem) {
+        (
+            Elem::Line {
+                a: v2(0.0, 0.0),
+                b: v2(10.0, 0.0),
+            },
+            Elem::Line {
+                a: v2(0.0, 2.0),
+                b: v2(10.0, 2.0),
+            },
+        )
     }
 }
 

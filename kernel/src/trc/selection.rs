@@ -146,39 +146,15 @@ pub fn tangent_arc(a: V2, b: V2, t: V2, at_end: bool) -> Elem {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::trc::corner::OuterCorner;
+    use crate::trc::fixtures::{close, east, CIRCLE};
     use crate::trc::geom::v2;
     use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
-
-    fn close(a: V2, b: V2) -> bool {
-        a.dist(b) < 1e-12
-    }
-
-    const CIRCLE: CornerSettings = CornerSettings {
-        outer: OuterCorner::Circle,
-        suppression: 0.0,
-    };
-
-    /// The first contour element: east from (0,0) to (10,0); the tool left at R 2 runs on
-    /// y = 2 from P2 = (0, 2).
-    fn first() -> (Elem, Elem) {
-        (
-            Elem::Line {
-                a: v2(0.0, 0.0),
-                b: v2(10.0, 0.0),
-            },
-            Elem::Line {
-                a: v2(0.0, 2.0),
-                b: v2(10.0, 2.0),
-            },
-        )
-    }
 
     /// 840C G456, 808D, Fanuc start-up, ISG G138/G239: straight from the tool to P2,
     /// whatever the angle.
     #[test]
     fn the_normal_position_method_runs_straight_to_p2() {
-        let (e1, o1) = first();
+        let (e1, o1) = east();
         let ne = Some(v2(FRAC_1_SQRT_2, FRAC_1_SQRT_2));
         for p in [
             SelectionPolicy::NormalPosition,
@@ -212,7 +188,7 @@ mod tests {
     /// (0,0) runs clockwise from there to P2 = (0, 2).
     #[test]
     fn the_compensated_method_takes_the_corner_mode_at_an_outer_angle() {
-        let (e1, o1) = first();
+        let (e1, o1) = east();
         let ne = Some(v2(FRAC_1_SQRT_2, FRAC_1_SQRT_2));
         let en = entry(
             v2(-10.0, -10.0),
@@ -241,7 +217,7 @@ mod tests {
     /// (1,−1), meets y = 2: √2 − s = 2, s = √2 − 2, x = 2√2 − 2.
     #[test]
     fn at_an_inner_angle_compensated_goes_to_p2_and_indirect_to_the_intersection() {
-        let (e1, o1) = first();
+        let (e1, o1) = east();
         let se = Some(v2(FRAC_1_SQRT_2, -FRAC_1_SQRT_2));
         let from = v2(-10.0, 10.0);
         let q = v2(0.0, 0.0);
@@ -280,7 +256,7 @@ mod tests {
     /// ρ = 2: about (0,0), clockwise (at the top of the circle it runs east).
     #[test]
     fn the_tangential_method_arcs_onto_p2() {
-        let (e1, o1) = first();
+        let (e1, o1) = east();
         let dir = Some(v2(1.0, 0.0));
         let from = v2(-2.0, 0.0);
         let en = entry(
@@ -306,7 +282,7 @@ mod tests {
     /// where the approach block goes straight.
     #[test]
     fn the_inner_corner_method_enters_where_the_last_and_first_equidistants_cross() {
-        let (e1, o1) = first();
+        let (e1, o1) = east();
         let last = Elem::Line {
             a: v2(0.0, 10.0),
             b: v2(0.0, 0.0),
