@@ -4,7 +4,7 @@ use clap::{Args, Parser, Subcommand};
 use nc_kernel::jsonl;
 use nc_kernel::jsonl as prep_jsonl;
 use nc_kernel::Prepared;
-use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
+use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable, WholeMode};
 use nc_runtime::Failure;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
@@ -289,7 +289,7 @@ fn path(input: &ProgramArgs, format: Format, output: Option<&PathBuf>) -> Result
     if format == Format::Svg {
         return path_svg(&l, out);
     }
-    with_preparation(&l, |prep| path_jsonl(&l, prep, out))
+    with_preparation(&l, WholeMode::Reaction, |prep| path_jsonl(&l, prep, out))
 }
 
 fn path_jsonl(
@@ -321,7 +321,8 @@ fn path_jsonl(
 fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> Result<(), Failure> {
     let mut segments = Vec::new();
     let mut alarm = None;
-    for item in Preparation::new(&l.name, &l.source, &l.md, &l.tools) {
+    let prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
+    for item in checked(prep, &l.md, WholeMode::Reaction) {
         match item {
             Ok(s) => segments.push(s),
             Err(a) => {
@@ -350,7 +351,7 @@ fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> Result<(), Failur
 fn check(input: &ProgramArgs) -> Result<(), Failure> {
     let l = load(input)?;
     let t0 = std::time::Instant::now();
-    with_preparation(&l, |prep| check_run(&l, prep, t0))
+    with_preparation(&l, WholeMode::Collect, |prep| check_run(&l, prep, t0))
 }
 
 fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Result<(), Failure> {
@@ -358,7 +359,14 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
     let mut alarms = 0u32;
     let mut warnings = 0u32;
     loop {
-        match prep.next_item() {
+        let item = prep.next_item();
+        // What the whole-program check found goes on record where it was found.
+        let end = !matches!(item, Ok(Some(_)));
+        for v in prep.take_violations(end) {
+            alarms += 1;
+            eprintln!("{}", v.render(&l.source));
+        }
+        match item {
             Ok(Some(Prepared::Segment(_))) => segments += 1,
             Ok(Some(Prepared::Warning(w))) => {
                 warnings += 1;
@@ -396,18 +404,30 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
     }
 }
 
-/// Runs `f` on the program's preparation: for a long program on a machine with a second
-/// core, with the interpreter in a thread of its own (the same output, sooner).
-fn with_preparation<R>(l: &Loaded, f: impl FnOnce(&mut Preparation) -> R) -> R {
+/// Runs `f` on the program's preparation, with the whole-program check in `whole` mode when
+/// the machine data asks for it: for a long program on a machine with a second core, with
+/// the interpreter in a thread of its own (the same output, sooner).
+fn with_preparation<R>(l: &Loaded, whole: WholeMode, f: impl FnOnce(&mut Preparation) -> R) -> R {
     const LONG: usize = 256 * 1024;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     if l.source.len() >= LONG && cores >= 2 {
         std::thread::scope(|s| {
-            let mut prep = Preparation::threaded(s, &l.name, &l.source, &l.md, &l.tools);
+            let prep = Preparation::threaded(s, &l.name, &l.source, &l.md, &l.tools);
+            let mut prep = checked(prep, &l.md, whole);
             f(&mut prep)
         })
     } else {
-        f(&mut Preparation::new(&l.name, &l.source, &l.md, &l.tools))
+        let prep = Preparation::new(&l.name, &l.source, &l.md, &l.tools);
+        f(&mut checked(prep, &l.md, whole))
+    }
+}
+
+/// `prep` with the whole-program check in `mode`, where the machine data asks for it.
+fn checked<'a>(prep: Preparation<'a>, md: &MachineData, mode: WholeMode) -> Preparation<'a> {
+    if md.trc.whole_program_check {
+        prep.checking_whole(mode)
+    } else {
+        prep
     }
 }
 

@@ -345,14 +345,16 @@ fn make_case(rng: &mut Rng, lines_only: bool) -> Case {
     }
 }
 
+/// The shipped 840C machine data as it is: the 64-block window and the whole-program check.
 fn machine() -> MachineData {
-    MachineData::load(None, &["trc.bottleneck_window=64".to_string()]).unwrap()
+    MachineData::load(None, &[]).unwrap()
 }
 
-/// The ISG kernel with contour masking (G141) over a 64-block window.
+/// The shipped ISG machine data as it is (contour masking, G141, over the 64-block window,
+/// the whole-program check on the masked path).
 fn isg_masking() -> MachineData {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/isg.toml");
-    MachineData::load(Some(&path), &["trc.bottleneck_window=64".to_string()]).unwrap()
+    MachineData::load(Some(&path), &[]).unwrap()
 }
 
 /// The same contour as an ISG program with G141: transition circles (G26) for the 840C's
@@ -366,15 +368,28 @@ fn with_masking(case: &Case) -> Case {
     }
 }
 
-/// softnc's path as pieces, approach and retract left out.
+/// softnc's path as pieces, approach and retract left out: what the kernel's channel takes
+/// (with the whole-program check ahead of it when the machine data asks for it).
 fn softnc_pieces(case: &Case, md: &MachineData) -> (Vec<Piece>, bool) {
     let mut tools = ToolTable::builtin();
     tools.set_radius(1, case.r).unwrap();
     let mut out = Vec::new();
-    let mut prep = nc_kernel::Preparation::new("gouge", &case.program, md, &tools);
+    let mut path = nc_kernel::handover::Gated::of_job(nc_kernel::handover::Job {
+        name: "gouge",
+        source: &case.program,
+        md,
+        tools: &tools,
+        at: None,
+    });
     let mut alarm = false;
     loop {
-        match prep.next_segment() {
+        let next = match path.next_item() {
+            Some(Ok(nc_kernel::Prepared::Segment(s))) => Ok(Some(s)),
+            Some(Ok(_)) => continue,
+            Some(Err(a)) => Err(a),
+            None => Ok(None),
+        };
+        match next {
             Ok(Some(s)) => {
                 if !matches!(s.role, Role::Contour | Role::Corner | Role::Intermediate) {
                     continue;
@@ -735,6 +750,53 @@ fn softnc_never_puts_out_a_gouge() {
         alarms > CASES / 20 && alarms < CASES - CASES / 20,
         "{alarms} alarms"
     );
+}
+
+/// The whole-program check is the first line of defence: with the controls' own shallow
+/// windows (the 840C's 3 blocks; ISG's masking over 3), which let gouging segments out on
+/// contours whose bottleneck lies further away, nothing that gouges goes out.
+#[test]
+fn the_whole_check_keeps_gouges_in_with_the_controls_own_windows() {
+    let own = |config: Option<&str>, window: &str| {
+        let path = config.map(|c| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(c));
+        MachineData::load(
+            path.as_deref(),
+            &[format!("trc.bottleneck_window={window}")],
+        )
+        .unwrap()
+    };
+    let unchecked = |md: &MachineData| {
+        let mut md = md.clone();
+        md.trc.whole_program_check = false;
+        md
+    };
+    for (config, window, masking) in [(None, "3", false), (Some("config/isg.toml"), "0", true)] {
+        let md = own(config, window);
+        let bare = unchecked(&md);
+        let mut rng = Rng(0x243f6a8885a308d3);
+        let (mut caught, mut n) = (0, 0);
+        for k in 0..CASES / 10 {
+            let case = make_case(&mut rng, k % 2 == 0);
+            if case.pieces.is_empty() {
+                continue;
+            }
+            let case = if masking { with_masking(&case) } else { case };
+            n += 1;
+            let (path, _) = softnc_pieces(&case, &md);
+            let d = min_dist(&path, &case.pieces);
+            assert!(
+                d >= case.r - 1e-9,
+                "{config:?} window {window}, case {k}: tool path within {d} of the contour, R = {}\n{}",
+                case.r,
+                case.program
+            );
+            // Without the check the shallow window lets some of them out.
+            let (bare_path, _) = softnc_pieces(&case, &bare);
+            caught += usize::from(min_dist(&bare_path, &case.pieces) < case.r - 1e-9);
+        }
+        assert!(caught > 0, "{config:?}: no gouge to catch in {n} cases");
+        eprintln!("{config:?} window {window}: {caught} of {n} contours gouge without the check");
+    }
 }
 
 /// (A) with ISG contour masking: loops are cut out instead of stopping, and what is put out

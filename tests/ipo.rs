@@ -386,6 +386,19 @@ fn md_for(dir: &str) -> Option<&'static str> {
     }
 }
 
+/// Machine data a sample runs with beyond its directory's file. Two ISG feature examples draw
+/// contours that touch themselves (the tool path of N50 of the feed example ends on N90's
+/// line; the two circles of the D change example overlap at one depth): the shipped deep
+/// check rightly refuses them, so they run with the ISG control's own checking.
+fn own_checking(rel: &str) -> &'static [&'static str] {
+    match rel {
+        "programs/isg/d_change.nc" | "programs/isg/g11_feed_adaption.nc" => {
+            &["trc.bottleneck_window=0", "trc.whole_program_check=false"]
+        }
+        _ => &[],
+    }
+}
+
 fn sample_programs() -> Vec<(String, PathBuf, Option<&'static str>)> {
     let mut out = Vec::new();
     let mut dirs: Vec<_> = std::fs::read_dir(root().join("programs"))
@@ -431,7 +444,7 @@ fn sample_programs_give_their_pinned_setpoint_hashes() {
     };
     let mut lines = Vec::new();
     for (rel, path, md_file) in sample_programs() {
-        let md = machine(md_file, &[]);
+        let md = machine(md_file, own_checking(&rel));
         let text = std::fs::read_to_string(&path).unwrap();
         let (b, s) = simulate_bytes(&md, &text, &opts);
         assert!(

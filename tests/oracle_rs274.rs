@@ -196,8 +196,14 @@ fn compare(
     let md = MachineData::load(None, &["trc.bottleneck_window=0".to_string()]).unwrap();
     let p = prepare(name, &mpf, &md, &tools)
         .unwrap_or_else(|a| panic!("{name}: softnc alarm {a}\n{mpf}"));
-    let theirs = run_rs274(&ngc, name);
-    let (ours, anchor) = interior(&p);
+    same_interior(name, &p, &ngc, &mpf);
+}
+
+/// softnc's path `p` of `mpf` and rs274's of `ngc` agree move by move between the first and
+/// the last contour segment: end points and arc centres to `TOL`.
+fn same_interior(name: &str, p: &[Segment], ngc: &str, mpf: &str) {
+    let theirs = run_rs274(ngc, name);
+    let (ours, anchor) = interior(p);
     let k = theirs
         .iter()
         .position(|m| near(m.end, anchor))
@@ -486,5 +492,37 @@ fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
                 _ => panic!("edge {edge}: move {i}: softnc {m:?}, rs274 {t:?}"),
             }
         }
+    }
+}
+
+/// The benchmark contours with a corner at every block (nc_kernel::synthetic) as rs274 cuts
+/// them, on the shipped machine data (bottleneck window 64, the whole-program check):
+/// the same tool-centre path, and no alarm.
+#[test]
+fn synthetic_corner_contours_match_rs274() {
+    if !rs274_present() {
+        return;
+    }
+    use nc_kernel::synthetic::{bars_program, roughing_program, Header};
+    let md = MachineData::load(None, &[]).unwrap();
+    let tools = ToolTable::builtin();
+    for (name, make) in [
+        ("roughing", roughing_program as fn(usize, Header) -> String),
+        ("bars", bars_program),
+    ] {
+        let (mpf, ngc) = (make(1200, Header::Softnc), make(1200, Header::Rs274));
+        let job = nc_kernel::handover::Job {
+            name,
+            source: &mpf,
+            md: &md,
+            tools: &tools,
+            at: None,
+        };
+        let (_, inputs, reports) = nc_kernel::handover::prepare_all(job);
+        assert!(reports.is_empty(), "{name}: {reports:?}");
+        assert!(inputs.len() > 1200, "{name}: {} records", inputs.len());
+        let p =
+            prepare(name, &mpf, &md, &tools).unwrap_or_else(|a| panic!("{name}: softnc alarm {a}"));
+        same_interior(name, &p, &ngc, &mpf);
     }
 }

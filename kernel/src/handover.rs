@@ -15,9 +15,11 @@
 //! the IPO thread gets only their number and block, and never frees memory.
 
 use crate::alarm::Alarm;
+use crate::checker::Checker;
+pub use crate::checker::Gated;
 use crate::ipo::Input;
 use crate::ipo::{AxisLimits, Entry};
-use crate::prep::{Preparation, Prepared};
+use crate::prep::{Preparation, Prepared, WholeMode};
 use crate::{MachineData, ToolTable};
 use crossbeam::channel::Sender;
 use crossbeam::queue::ArrayQueue;
@@ -190,16 +192,15 @@ fn prepare_into(
     reports: &crossbeam::channel::Sender<Report>,
     delay: Duration,
 ) {
-    let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
-    let _ = start.send(prep.start());
-    feed(prep, Vec::new(), job.name, lim, hand, reports, delay);
+    let path = Gated::of_job(job);
+    let _ = start.send(path.start());
+    feed(path, job.name, lim, hand, reports, delay);
 }
 
-/// Pushes `first`, then every record of `prep`, ready for the channel, into the queue in
-/// program order; `Input::Done` last.
+/// Pushes every record of `path`, ready for the channel, into the queue in program order;
+/// `Input::Done` last.
 fn feed(
-    mut prep: Preparation<'_>,
-    first: Vec<Prepared>,
+    mut path: Gated<'_>,
     name: &str,
     lim: &AxisLimits,
     hand: &Handover,
@@ -228,16 +229,7 @@ fn feed(
     let mut report = |r: Report| {
         let _ = reports.send(r);
     };
-    let mut first = first.into_iter();
-    loop {
-        let item = match first.next() {
-            Some(p) => Ok(p),
-            None => match prep.next_item() {
-                Ok(None) => break,
-                Ok(Some(p)) => Ok(p),
-                Err(a) => Err(a),
-            },
-        };
+    while let Some(item) = path.next_item() {
         if let Ok(p) = &item {
             hand.line.store(p.line(), Ordering::Relaxed);
         }
@@ -316,15 +308,17 @@ fn spawn_owned(
 }
 
 /// Starts preparing `source` in a thread of its own; it ends at the program's end or when
-/// the hand-over is cancelled.
+/// the hand-over is cancelled. With the whole-program check on, the program is checked up to
+/// `trc.check_at_load_blocks` blocks first: `Ok(Err(alarm))` for a violation there (the
+/// load is refused, nothing was queued); further on the check runs ahead of the path.
 pub fn spawn_preparation(
     name: String,
     source: String,
     md: MachineData,
     tools: ToolTable,
     at: Option<crate::frontend::block::Pos>,
-) -> std::io::Result<Spawned> {
-    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+) -> std::io::Result<Result<Spawned, Alarm>> {
+    let (ready_tx, ready_rx) = crossbeam::channel::bounded(1);
     let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
         let lim = AxisLimits::new(&md);
         let job = Job {
@@ -334,15 +328,58 @@ pub fn spawn_preparation(
             tools: &tools,
             at,
         };
-        prepare_into(job, &start_tx, &lim, hand, reports, Duration::ZERO);
+        let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
+        let mut checker = Checker::new(job);
+        let refused = checker
+            .as_mut()
+            .and_then(|c| c.ahead(u64::from(md.trc.check_at_load_blocks)));
+        if let Some(a) = refused {
+            let _ = ready_tx.send(Err(a));
+            return;
+        }
+        let _ = ready_tx.send(Ok(prep.start()));
+        let path = Gated::new(prep, Vec::new(), checker);
+        feed(path, &name, &lim, hand, reports, Duration::ZERO);
     })?;
-    let start = start_rx.recv().unwrap_or([0.0; 3]);
-    Ok(Spawned {
-        hand,
-        start,
-        reports,
-        thread,
-    })
+    Ok(answer(ready_rx.recv(), hand, reports, thread))
+}
+
+/// What a spawned preparation thread answered: its program ready at a start position, or
+/// the alarm that refused it (the thread joined then).
+fn answer(
+    ready: Result<Result<crate::frontend::block::Pos, Alarm>, crossbeam::channel::RecvError>,
+    hand: std::sync::Arc<Handover>,
+    reports: crossbeam::channel::Receiver<Report>,
+    thread: std::thread::JoinHandle<()>,
+) -> Result<Spawned, Alarm> {
+    match ready {
+        Ok(Ok(start)) => Ok(Spawned {
+            hand,
+            start,
+            reports,
+            thread,
+        }),
+        Ok(Err(a)) => {
+            let _ = thread.join();
+            Err(a)
+        }
+        // The thread ended without an answer (an internal error): its report says why.
+        Err(_) => {
+            let _ = thread.join();
+            let why = reports.try_iter().find_map(|r| match r {
+                Report::Alarm(a) => Some(a),
+                Report::Warning(_) => None,
+            });
+            Err(why.unwrap_or_else(|| Alarm {
+                code: crate::AlarmCode::PreparationFailed,
+                program: String::new(),
+                line: 1,
+                col: 1,
+                block: None,
+                message: "block preparation ended without an answer".into(),
+            }))
+        }
+    }
 }
 
 /// The rest of a program after an offset change in NC stop (prep/resume.rs), prepared in a
@@ -359,45 +396,35 @@ pub fn spawn_resume(
     at: crate::prep::Interruption,
     axes: crate::frontend::block::Pos,
 ) -> std::io::Result<Result<Spawned, Alarm>> {
-    let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<(), Alarm>>(1);
+    let (ready_tx, ready_rx) = crossbeam::channel::bounded(1);
     let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
         let lim = AxisLimits::new(&md);
         let resume = || Preparation::resume(&name, &source, &md, &tools, start, at, axes);
         // The whole rest is checked first: a violation anywhere after the interruption
         // refuses the start before anything moves, not when the path gets there.
         let check = || -> Result<(), Alarm> {
-            let mut r = resume()?;
-            while r.rest.next_item()?.is_some() {}
+            let r = resume()?;
+            let mut rest = if md.trc.whole_program_check {
+                r.rest.checking_whole(WholeMode::Stop)
+            } else {
+                r.rest
+            };
+            while rest.next_item()?.is_some() {}
             Ok(())
         };
         match check().and_then(|()| resume()) {
             Ok(r) => {
-                let _ = ready_tx.send(Ok(()));
-                feed(r.rest, r.first, &name, &lim, hand, reports, Duration::ZERO);
+                let _ = ready_tx.send(Ok(axes));
+                // The whole rest was checked above, with the whole-program check.
+                let path = Gated::new(r.rest, r.first, None);
+                feed(path, &name, &lim, hand, reports, Duration::ZERO);
             }
             Err(a) => {
                 let _ = ready_tx.send(Err(a));
             }
         }
     })?;
-    match ready_rx.recv() {
-        Ok(Ok(())) => Ok(Ok(Spawned {
-            hand,
-            start: axes,
-            reports,
-            thread,
-        })),
-        Ok(Err(a)) => {
-            let _ = thread.join();
-            Ok(Err(a))
-        }
-        Err(_) => {
-            let _ = thread.join();
-            Err(std::io::Error::other(
-                "the preparation thread ended without an answer",
-            ))
-        }
-    }
+    Ok(answer(ready_rx.recv(), hand, reports, thread))
 }
 
 /// The whole program as the channel takes it, prepared in this thread (tests, benchmarks):
@@ -405,15 +432,10 @@ pub fn spawn_resume(
 /// into the reports.
 pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Vec<Report>) {
     let lim = AxisLimits::new(job.md);
-    let mut prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
-    let start = prep.start();
+    let mut path = Gated::of_job(job);
+    let start = path.start();
     let (mut inputs, mut reports) = (Vec::new(), Vec::new());
-    loop {
-        let item = match prep.next_item() {
-            Ok(None) => break,
-            Ok(Some(p)) => Ok(p),
-            Err(a) => Err(a),
-        };
+    while let Some(item) = path.next_item() {
         let failed = item.is_err();
         if let Some(i) = to_input(item, job.name, &lim, &mut |r| reports.push(r)) {
             inputs.push(i);

@@ -17,6 +17,7 @@
 //! where each rule lives (docs/ARCHITECTURE.md).
 
 mod alarm;
+mod checker;
 pub mod cycle;
 mod dialect;
 mod frontend;
@@ -43,6 +44,8 @@ pub use machine_data::{
     AuxOutput, CornerModeSetting, DecimalInput, DialectName, MachineData, MachineDataError,
     MachineKind, PlaneName, ToolPost, Units, ViolationReaction, BUILTIN_DEFAULTS,
 };
-pub use prep::{prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop};
+pub use prep::{
+    prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,
+};
 pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{check_edit, offset_label, LiveEdit, LiveEdits, ToolOffset, ToolTable};

@@ -143,6 +143,13 @@ pub struct TrcData {
     /// Blocks over which the tool-centre path is checked for crossing itself (bottleneck
     /// detection beyond 11.12; 840D CDON, TNC M120); 0 = off (ISG: P-CHAN-00219 default).
     pub bottleneck_window: u32,
+    /// Every tool-centre segment of a compensation run checked against every programmed
+    /// element of the run before the path gets there (prep/whole.rs): `softnc check`, and a
+    /// checker that runs ahead of the path in the kernel and `softnc simulate`.
+    pub whole_program_check: bool,
+    /// A program is checked this far (blocks) before its load is answered: a violation
+    /// within it refuses the load; beyond it the check runs ahead of the path.
+    pub check_at_load_blocks: u32,
     /// ISG G11 feed adaption: arcs below this contour radius keep the programmed feed, and
     /// transition blocks at corners take it as their contour radius (TF5200 #TANGFEED RMIN).
     #[serde(default = "default_feed_rmin")]
@@ -494,7 +501,12 @@ impl MachineData {
             8,
         )?;
         range("trc.feed_adaption_rmin", t.feed_adaption_rmin, 0.0, 1000.0)?;
-        whole("trc.bottleneck_window", t.bottleneck_window, 0, 64)
+        whole(
+            "trc.bottleneck_window",
+            t.bottleneck_window,
+            0,
+            crate::prep::MAX_WINDOW as u32,
+        )
     }
 
     fn validate_plc(&self) -> Result<(), (String, String)> {

@@ -7,6 +7,10 @@
 ; not 15 mm: the printed block is rejected (circle end point error). Keeping N130 (the
 ; compensatory movement of TRC to X20 Y20) and the "full circle with radius 15" of N90,
 ; N140 here ends where it starts: G02 X20 Y20 I-15 (full circle about X5 Y20).
+; Its two circles (N90 with D100, N140 with D2) and the move between them overlap at one
+; depth: the shipped deep check (trc.bottleneck_window = 64, the whole-program check) refuses
+; it with alarm 3021 (N90 comes within reach of N130). It runs with the ISG control's own
+; checking: --md trc.bottleneck_window=0 --md trc.whole_program_check=false.
 %D_CHANGE
 N10 G90 F1000 (added: absolute dimensions, feed)
 N30 G0 D0 X0 Y0 Z0 G17 (X-Y-Plane)

@@ -1,5 +1,8 @@
 ; ISG feed adaption (G10/G11, TF5200 "Adapting feed of TRC"): with G11 the programmed feed acts
 ; at the contour. D2 = radius 5 (config/tools.toml); G26 circular transitions.
+; N90 runs back over the end of N50's arc (the contour touches itself): the shipped deep check
+; refuses it with alarm 3021; it runs with the ISG control's own checking:
+; --md trc.bottleneck_window=0 --md trc.whole_program_check=false.
 N10 G17 G90 G00 X-20 Y20 D2
 N20 G26 G11
 N30 G41 G01 X0 Y20 F600

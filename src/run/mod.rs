@@ -399,7 +399,7 @@ impl Supervisor<'_> {
 
     /// Loads the program (once the kernel answers), then gives NC start once plc-sim has
     /// been seen: the kernel's last status.
-    fn load_and_start(&mut self, hmi: &Hmi) -> Result<KernelStatus, String> {
+    fn load_and_start(&mut self, hmi: &Hmi) -> Result<KernelStatus, Failure> {
         let program = self.o.program;
         let path =
             std::fs::canonicalize(program).map_err(|e| format!("{}: {e}", program.display()))?;
@@ -410,11 +410,17 @@ impl Supervisor<'_> {
             match hmi.ask(load, Duration::from_millis(600)) {
                 Ok(r) => break r,
                 Err(_) if t.elapsed() < Duration::from_secs(20) => continue,
-                Err(e) => return Err(e),
+                Err(e) => return Err(e.into()),
             }
         };
         if r.ok == 0 {
-            return Err(format!("the kernel refused the program: {}", r.message()));
+            let why = format!("the kernel refused the program: {}", r.message());
+            // Refused with an alarm (the whole-program check): the program's fault.
+            return Err(if r.alarm != 0 {
+                Failure::Failed(why)
+            } else {
+                Failure::Error(why)
+            });
         }
         let mut last = KernelStatus::default();
         let t = Instant::now();
@@ -434,7 +440,7 @@ impl Supervisor<'_> {
         }
         let r = hmi.ask(Command::new(command::START), Duration::from_secs(5))?;
         if r.ok == 0 {
-            return Err(format!("NC start refused: {}", r.message()));
+            return Err(format!("NC start refused: {}", r.message()).into());
         }
         Ok(last)
     }

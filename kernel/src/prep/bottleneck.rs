@@ -27,10 +27,14 @@ use crate::trc::geom::{
 };
 
 /// Largest window, in blocks.
-pub const MAX_WINDOW: usize = 64;
-/// Segments held: a block puts out at most its contour segment and three inserted pieces.
-/// The queue the window releases into must take this many at once (a flush).
-pub const HELD: usize = 4 * MAX_WINDOW + 8;
+pub const MAX_WINDOW: usize = 512;
+
+/// Segments held for a window of `depth` blocks: a block puts out at most its contour
+/// segment and three inserted pieces. The queue the window releases into must take this
+/// many at once (a flush).
+pub fn held_for(depth: usize) -> usize {
+    4 * depth + 8
+}
 
 /// A gouge found: the path segment and the block of the programmed element it comes too
 /// close to.
@@ -112,7 +116,7 @@ struct Joint {
 
 /// A path segment as the window measures it.
 #[derive(Clone, Copy, Debug)]
-enum PathPiece {
+pub(super) enum PathPiece {
     /// A line or a circle.
     Plain(Measured),
     /// A path arc whose radius changes along it: checked by bisection.
@@ -126,6 +130,11 @@ impl PathPiece {
         e.map_or(PathPiece::Off, |e| PathPiece::Plain(Measured::new(e)))
     }
 
+    /// Segment `s`, an arc whose radius changes about the centre of its own element `own`.
+    pub(super) fn spiral(s: &Segment, plane: Plane, own: &Elem) -> PathPiece {
+        Spiral::new(s, plane, own).map_or(PathPiece::Off, PathPiece::Spiral)
+    }
+
     fn elem(&self) -> Option<Elem> {
         match *self {
             PathPiece::Plain(m) => Some(m.e),
@@ -133,7 +142,7 @@ impl PathPiece {
         }
     }
 
-    fn bbox(&self, r: f64) -> [f64; 4] {
+    pub(super) fn bbox(&self, r: f64) -> [f64; 4] {
         match self {
             PathPiece::Plain(m) => bbox(&m.e, r),
             PathPiece::Spiral(sp) => sp.bbox(),
@@ -144,7 +153,7 @@ impl PathPiece {
     /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
     /// its radius, beyond rounding: the distance there and the tool radius.
     #[inline]
-    fn too_close(&self, other: &Elem, fence: &Fence, r: f64) -> Option<(f64, f64)> {
+    pub(super) fn too_close(&self, other: &Elem, fence: &Fence, r: f64) -> Option<(f64, f64)> {
         match self {
             PathPiece::Plain(m) => too_close(m, other, fence, r).map(|d| (d, r)),
             PathPiece::Spiral(sp) => sp.too_close(other),
@@ -168,9 +177,11 @@ struct Programmed {
     side: i8,
 }
 
-/// Programmed elements kept: a path segment meets elements up to `window` blocks before
-/// and after its own.
-const PROGRAMMED: usize = 2 * MAX_WINDOW + 4;
+/// Programmed elements kept for a window of `depth` blocks: a path segment meets elements up
+/// to `depth` blocks before and after its own.
+fn programmed_for(depth: usize) -> usize {
+    2 * depth + 4
+}
 
 /// Distances below R by more than this are gouges (constructions are exact to ~1e-12 at
 /// part sizes; far from the origin the rounding of the coordinates themselves counts).
@@ -188,8 +199,9 @@ fn gouge_tol(e: &Elem) -> f64 {
 pub struct Bottleneck {
     window: usize,
     plane: Plane,
-    held: heapless::Deque<Held, HELD>,
-    programmed: heapless::Deque<Programmed, PROGRAMMED>,
+    /// Sized once for the window (masking's 3 at least): never grown on the per-block path.
+    held: std::collections::VecDeque<Held>,
+    programmed: std::collections::VecDeque<Programmed>,
     /// Distinct blocks among the held segments, and the last one's number.
     blocks: usize,
     last_seq: Option<u32>,
@@ -201,8 +213,10 @@ impl Bottleneck {
         Bottleneck {
             window: window.min(MAX_WINDOW),
             plane: Plane::XY,
-            held: heapless::Deque::new(),
-            programmed: heapless::Deque::new(),
+            held: std::collections::VecDeque::with_capacity(held_for(window.clamp(3, MAX_WINDOW))),
+            programmed: std::collections::VecDeque::with_capacity(programmed_for(
+                window.clamp(3, MAX_WINDOW),
+            )),
             blocks: 0,
             last_seq: None,
         }
@@ -256,10 +270,10 @@ impl Bottleneck {
             }
         }
         // A path segment meets elements up to `depth` blocks before and after its own.
-        while self.programmed.len() >= (2 * self.depth(reaction) + 2).min(PROGRAMMED) {
+        while self.programmed.len() >= 2 * self.depth(reaction) + 2 {
             self.programmed.pop_front();
         }
-        let _ = self.programmed.push_back(Programmed {
+        self.programmed.push_back(Programmed {
             source,
             elem,
             fence,
@@ -288,11 +302,11 @@ impl Bottleneck {
     /// Takes the next segment of the path; what may go on goes to `out`. Its tool radius and
     /// side are its block's element's (a segment comes out after its element went in), else
     /// the last element's.
-    pub fn push<const N: usize>(
+    pub fn push(
         &mut self,
         mut seg: Segment,
         reaction: Reaction,
-        out: &mut heapless::Deque<Segment, N>,
+        out: &mut std::collections::VecDeque<Segment>,
     ) -> Result<Option<Gouge>, Gouge> {
         let checked = matches!(seg.role, Role::Contour | Role::Corner | Role::Intermediate);
         let depth = self.depth(reaction);
@@ -310,7 +324,7 @@ impl Bottleneck {
                     self.programmed.pop_front();
                 }
             }
-            let _ = out.push_back(seg);
+            out.push_back(seg);
             return Ok(None);
         }
         let mut warned = None;
@@ -325,9 +339,7 @@ impl Bottleneck {
         let mut piece = match (self.elem(&seg), own) {
             (Some(e), _) => PathPiece::Plain(Measured::new(e)),
             // Masking cuts lines and circles only (ISG has no radius change over a circle).
-            (None, Some(o)) if !mask => {
-                Spiral::new(&seg, self.plane, &o).map_or(PathPiece::Off, PathPiece::Spiral)
-            }
+            (None, Some(o)) if !mask => PathPiece::spiral(&seg, self.plane, &o),
             (None, _) => PathPiece::Off,
         };
         if let (PathPiece::Plain(Measured { e, .. }), true) = (piece, mask) {
@@ -384,10 +396,10 @@ impl Bottleneck {
             self.blocks += 1;
             self.last_seq = Some(seg.source.seq);
         }
-        if self.held.is_full() {
+        if self.held.len() >= held_for(depth) {
             self.release_block(out, mask)?;
         }
-        let _ = self.held.push_back(Held {
+        self.held.push_back(Held {
             seg,
             piece,
             backwards,
@@ -437,8 +449,7 @@ impl Bottleneck {
     /// the point and the new element from it.
     fn cut_clear(&self, c: Joint, e: &Elem, r: f64, side: i8) -> bool {
         self.held
-            .iter()
-            .nth(c.at)
+            .get(c.at)
             .and_then(|h| h.piece.elem())
             .is_some_and(|he| {
                 self.clear(&he.with_end(c.x), r, side) && self.clear(&e.with_start(c.x), r, side)
@@ -558,7 +569,7 @@ impl Bottleneck {
     /// then carries the path between the two (the floor of a pocket narrower than the tool,
     /// between a wall left out and the wall `e` follows).
     fn bridged(&self, j: usize, he: &Elem, e: &Elem, seq: u32, r: f64, side: i8) -> Option<Joint> {
-        let h_seq = self.held.iter().nth(j)?.seg.source.seq;
+        let h_seq = self.held.get(j)?.seg.source.seq;
         // A tangent transition: `e` starts on the carrier, where no intersection is reliable.
         let on_carrier = match *he {
             Elem::Line { a, b } => (e.start() - a).cross(b - a).abs() <= 1e-9 * a.dist(b),
@@ -683,7 +694,7 @@ impl Bottleneck {
             }
             self.cut_loop(joint, &mut seg);
             let piece = PathPiece::plain(self.elem(&seg));
-            let _ = self.held.push_back(Held {
+            self.held.push_back(Held {
                 seg,
                 piece,
                 bb: piece.bbox(h.r),
@@ -779,7 +790,7 @@ impl Bottleneck {
     /// out (but a bridge), and `seg` starts where the joint says.
     fn cut_loop(&mut self, joint: Joint, seg: &mut Segment) {
         let Joint { at: i, x, bridge } = joint;
-        let bridge = bridge.and_then(|(k, y)| Some((*self.held.iter().nth(k)?, y)));
+        let bridge = bridge.and_then(|(k, y)| Some((*self.held.get(k)?, y)));
         while self.held.len() > i + 1 {
             self.held.pop_back();
         }
@@ -797,7 +808,7 @@ impl Bottleneck {
             let own = self.own(h.seg.source.seq).map(|p| p.elem);
             h.rejoined(plane, Some(x), y, own.as_ref());
             h.after_gap = false;
-            let _ = self.held.push_back(h);
+            self.held.push_back(h);
             start = y;
         }
         seg.from = at(plane, &seg.from, start);
@@ -816,9 +827,9 @@ impl Bottleneck {
 
     /// Everything held goes on (end of compensation or of the program); under masking a run
     /// still held joins the last segment first, and each segment is checked on its way out.
-    pub fn flush<const N: usize>(
+    pub fn flush(
         &mut self,
-        out: &mut heapless::Deque<Segment, N>,
+        out: &mut std::collections::VecDeque<Segment>,
         mask: bool,
     ) -> Result<(), Gouge> {
         if mask {
@@ -833,9 +844,9 @@ impl Bottleneck {
     }
 
     /// The oldest block's segments go on; under masking, after the distance check.
-    fn release_block<const N: usize>(
+    fn release_block(
         &mut self,
-        out: &mut heapless::Deque<Segment, N>,
+        out: &mut std::collections::VecDeque<Segment>,
         mask: bool,
     ) -> Result<(), Gouge> {
         let Some(seq) = self.held.front().map(|h| h.seg.source.seq) else {
@@ -857,7 +868,7 @@ impl Bottleneck {
             if mask {
                 self.check(h)?;
             }
-            let _ = out.push_back(h.seg);
+            out.push_back(h.seg);
             self.held.pop_front();
         }
         self.blocks = self.blocks.saturating_sub(1);
@@ -953,7 +964,7 @@ fn near(a: u32, b: u32) -> bool {
 /// (L = |P′| + |R′| at most), so an interval whose ends are high enough is clear, and a point
 /// below −tol is a gouge.
 #[derive(Clone, Copy, Debug)]
-struct Spiral {
+pub(super) struct Spiral {
     c: V2,
     r0: f64,
     dr: f64,
@@ -1178,7 +1189,7 @@ fn uv(p: &Pos, plane: Plane) -> V2 {
     v2(p[plane.abscissa as usize], p[plane.ordinate as usize])
 }
 
-fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
+pub(super) fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
     let (a, b) = (uv(&s.from, plane), uv(&s.to, plane));
     match s.shape {
         Shape::Line => (a.dist(b) > 1e-9).then_some(Elem::Line { a, b }),
@@ -1203,7 +1214,7 @@ fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
 
 /// Bounding box of an element in the plane, grown by `grow`: the whole circle for an arc
 /// (cheap, and enough for a pre-filter).
-fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
+pub(super) fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
     let b = match *e {
         Elem::Line { a, b } => [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)],
         Elem::Arc { a, c, .. } => {
@@ -1214,7 +1225,7 @@ fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
     [b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow]
 }
 
-fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
+pub(super) fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
     const TOL: f64 = 1e-7;
     p[0] <= q[2] + TOL && q[0] <= p[2] + TOL && p[1] <= q[3] + TOL && q[1] <= p[3] + TOL
 }
@@ -1247,7 +1258,7 @@ mod tests {
     /// circle, of the radius at each point, against it.
     fn spiral_against(third: Elem) -> Result<(), Gouge> {
         let mut b = Bottleneck::new(3);
-        let mut out: heapless::Deque<Segment, 64> = heapless::Deque::new();
+        let mut out = std::collections::VecDeque::new();
         let arc = Elem::Arc {
             a: v2(50.0, 0.0),
             b: v2(0.0, -50.0),

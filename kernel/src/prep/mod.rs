@@ -10,8 +10,9 @@ pub mod jsonl;
 pub mod resume;
 pub mod s_points;
 pub mod tool_tip;
+mod whole;
 
-pub use bottleneck::{Bottleneck, Gouge, Reaction};
+pub use bottleneck::{Bottleneck, Gouge, Reaction, MAX_WINDOW};
 pub use resume::{Interruption, Resumed};
 pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
 
@@ -35,7 +36,7 @@ pub struct Preparation<'a> {
     s_points: SPoints,
     bottleneck: Bottleneck,
     /// Segments the bottleneck window let go, in order (room for all it can hold).
-    released: heapless::Deque<Segment, { bottleneck::HELD + 8 }>,
+    released: std::collections::VecDeque<Segment>,
     /// ISG contour masking (G141) in the last block.
     masking: bool,
     /// The compensation holds back part of the path after the last block.
@@ -49,6 +50,38 @@ pub struct Preparation<'a> {
     tip: tool_tip::ToolTip,
     /// Where the program starts (the interpreter's initial position).
     start: crate::frontend::block::Pos,
+    /// The whole-program check, when asked for (it allocates as the run grows).
+    whole: Option<Box<whole::WholeCheck>>,
+    whole_mode: WholeMode,
+    /// Violations the whole-program check collected (`WholeMode::Collect`), and the run of
+    /// consecutive path blocks too close to one element that is still growing.
+    violations: Vec<Alarm>,
+    group: Option<Group>,
+    /// Preparation ended at a violation of the whole-program check.
+    whole_stopped: bool,
+}
+
+/// Consecutive path blocks too close to one element (collected as one alarm).
+#[derive(Clone, Copy, Debug)]
+struct Group {
+    first: Gouge,
+    last: Source,
+    closest: f64,
+}
+
+/// What the whole-program check does at a violation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WholeMode {
+    /// As the machine data's reaction says: alarm 3021 ends preparation (or, with
+    /// `trc.violation_reaction = warn`, a warning). The bottleneck window stays on.
+    Reaction,
+    /// Every violation is collected and preparation goes on (`softnc check`); the window is
+    /// left to masking, whose path it makes, since the whole check finds all it would.
+    Collect,
+    /// The first violation ends preparation; the window runs as without the check, so the
+    /// path is the one the machine will run: a checker that runs ahead of the path (the
+    /// kernel, `softnc simulate`).
+    Stop,
 }
 
 /// Where the compensated blocks come from: the front in this thread, or in its own.
@@ -112,14 +145,91 @@ impl<'a> Preparation<'a> {
             s_points: SPoints::new(start, md.trc.aux_output, md.program.optional_stop),
             ready: heapless::Deque::new(),
             bottleneck: Bottleneck::new(md.trc.bottleneck_window as usize),
-            released: heapless::Deque::new(),
+            released: std::collections::VecDeque::with_capacity(
+                bottleneck::held_for((md.trc.bottleneck_window as usize).clamp(3, MAX_WINDOW)) + 8,
+            ),
             masking: false,
             holds_back: false,
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
             tip: tool_tip::ToolTip::new(),
             start,
+            whole: None,
+            whole_mode: WholeMode::Reaction,
+            violations: Vec::new(),
+            group: None,
+            whole_stopped: false,
         }
+    }
+
+    /// With the whole-program check: every tool-centre segment of a compensation run
+    /// against every programmed element of the run (prep/whole.rs), reacting as `mode`
+    /// says.
+    pub fn checking_whole(mut self, mode: WholeMode) -> Self {
+        self.whole = Some(Box::new(whole::WholeCheck::new()));
+        self.whole_mode = mode;
+        self
+    }
+
+    /// Preparation ended at a violation of the whole-program check (not another alarm).
+    pub fn stopped_by_whole_check(&self) -> bool {
+        self.whole_stopped
+    }
+
+    /// The violations the whole-program check collected so far (`WholeMode::Collect`), one
+    /// alarm for each stretch of consecutive path blocks too close to one element; with
+    /// `end`, the stretch still growing too (at the end of preparation).
+    pub fn take_violations(&mut self, end: bool) -> Vec<Alarm> {
+        if end {
+            self.close_group();
+        }
+        std::mem::take(&mut self.violations)
+    }
+
+    /// A collected violation: it grows the stretch at hand (the next path block, the same
+    /// element) or starts a new one.
+    fn collect(&mut self, g: &Gouge) {
+        if let Some(k) = &mut self.group {
+            let next = g.path.seq.wrapping_sub(k.last.seq) <= 1;
+            if next && g.element.seq == k.first.element.seq {
+                k.last = g.path;
+                k.closest = k.closest.min(g.distance);
+                return;
+            }
+        }
+        self.close_group();
+        self.group = Some(Group {
+            first: *g,
+            last: g.path,
+            closest: g.distance,
+        });
+    }
+
+    fn close_group(&mut self) {
+        let Some(k) = self.group.take() else {
+            return;
+        };
+        let mut g = k.first;
+        g.distance = k.closest;
+        let mut alarm = self.gouge_alarm(&g);
+        if k.last.seq != g.path.seq {
+            let last = k
+                .last
+                .number
+                .map_or_else(|| format!("line {}", k.last.line), |n| n.to_string());
+            alarm.message =
+                alarm
+                    .message
+                    .replacen(" comes within", &format!(" to {last} comes within"), 1);
+        }
+        self.violations.push(alarm);
+    }
+
+    /// The window holds the path: always but for `softnc check`'s collecting check, which
+    /// finds every gouge the window would; there only where masking makes the path.
+    #[inline]
+    fn windowed(&self) -> bool {
+        self.whole_mode != WholeMode::Collect || self.masking || !self.bottleneck.is_empty()
     }
 
     /// Where the program starts: the position before its first motion.
@@ -183,7 +293,16 @@ impl<'a> Preparation<'a> {
     /// window has passed it).
     #[inline]
     fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
-        let seg = self.pop_centre_path()?;
+        let mut seg = self.pop_centre_path()?;
+        if let (Some(w), Some(s)) = (&mut self.whole, &seg) {
+            let mut gouges: heapless::Vec<Gouge, 1> = heapless::Vec::new();
+            w.segment(s, &mut |g| gouges.push(g).is_ok());
+            if let Some(g) = gouges.first() {
+                if self.whole_found(g) {
+                    seg = None;
+                }
+            }
+        }
         match seg {
             Some(mut s) if !self.tip.idle() => {
                 self.tip.shift(&mut s);
@@ -204,7 +323,7 @@ impl<'a> Preparation<'a> {
                 return Ok(None);
             };
             let reaction = self.reaction();
-            if self.bottleneck.bypass(reaction) {
+            if self.bottleneck.bypass(reaction) || !self.windowed() {
                 return Ok(Some(seg));
             }
             let found = self.bottleneck.push(seg, reaction, &mut self.released);
@@ -235,6 +354,52 @@ impl<'a> Preparation<'a> {
             let _ = self.ready.push_back(Prepared::Warning(alarm));
         }
         stop
+    }
+
+    /// A programmed element for the whole-program check: true when a violation it found
+    /// ends preparation (collecting, every segment it finds too close is on record).
+    #[inline]
+    fn whole_element(
+        &mut self,
+        source: Source,
+        element: Option<(crate::trc::geom::Elem, f64)>,
+        plane: crate::frontend::block::Plane,
+        side: i8,
+    ) -> bool {
+        let (Some(w), Some((e, r))) = (&mut self.whole, element) else {
+            return false;
+        };
+        w.set_plane(plane);
+        let collect = self.whole_mode == WholeMode::Collect;
+        let mut gouges = Vec::new();
+        w.element(source, e, r, side, &mut |g| {
+            gouges.push(g);
+            !collect
+        });
+        gouges.iter().any(|g| self.whole_found(g))
+    }
+
+    /// A violation the whole-program check found; true when preparation ends with it (the
+    /// segment at hand and what the window still holds do not go out).
+    #[inline(never)]
+    fn whole_found(&mut self, g: &Gouge) -> bool {
+        match (self.whole_mode, self.reaction()) {
+            (WholeMode::Collect, _) => {
+                self.collect(g);
+                false
+            }
+            (_, Reaction::Warn) => {
+                let _ = self.ready.push_back(Prepared::Warning(self.gouge_alarm(g)));
+                false
+            }
+            _ => {
+                self.whole_stopped = true;
+                self.stop_with(self.gouge_alarm(g));
+                self.released.clear();
+                self.bottleneck.discard();
+                true
+            }
+        }
     }
 
     /// Preparation ends with `alarm`, once the path before it is out.
@@ -367,6 +532,10 @@ impl<'a> Preparation<'a> {
             }
             self.masking = info.masking;
             self.bottleneck.set_plane(info.plane);
+            if self.whole_element(source, element, info.plane, info.side) {
+                continue;
+            }
+            // The window meets every element (masking may begin with the next block).
             if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
                 let found = self
                     .bottleneck

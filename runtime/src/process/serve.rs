@@ -97,7 +97,10 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
     // stand where an empty program would start.
     let mut first = None;
     if let Some(path) = &opts.program {
-        let (p, l) = load(path, &md, &tools, next_id, None)?;
+        let (p, l) = load(path, &md, &tools, next_id, None).map_err(|(a, m)| match a {
+            0 => Failure::Error(m),
+            _ => Failure::Failed(m),
+        })?;
         programs.insert(next_id, l);
         first = Some(p);
         next_id += 1;
@@ -181,17 +184,26 @@ fn start_ipo(
 
 /// Reads and starts preparing a program with the axes at `at` (`None`: the machine zero);
 /// the channel is built here, at the program's start.
+/// A refusal names the alarm (0: none) and says why; an alarm is rendered and also logged.
 fn load(
     path: &str,
     md: &MachineData,
     tools: &ToolTable,
     id: u32,
     at: Option<nc_kernel::Pos>,
-) -> Result<(Box<Program>, Loaded), String> {
-    let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+) -> Result<(Box<Program>, Loaded), (u32, String)> {
+    let source = std::fs::read_to_string(path).map_err(|e| (0, format!("{path}: {e}")))?;
     let (tools, live) = run_table(tools);
     let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools, at)
-        .map_err(|e| format!("cannot start the preparation thread: {e}"))?;
+        .map_err(|e| (0, format!("cannot start the preparation thread: {e}")))?
+        .map_err(|a| {
+            let text = a.render(&source);
+            eprintln!("{text}");
+            (
+                a.number(),
+                format!("program refused, nothing moved (the whole-program check): {text}"),
+            )
+        })?;
     Ok(Loaded::running(
         s,
         md,
@@ -526,7 +538,7 @@ impl Desk<'_> {
                         self.settle(id, r.is_ok(), last.program);
                         answer(r, &format!("program {path} loaded (number {id})"))
                     }
-                    Err(e) => Reply::new(false, 0, &e),
+                    Err((a, m)) => Reply::new(false, a, &m),
                 }
             }
             command::SET_OFFSET => self.set_offset(c, last),

@@ -1,0 +1,212 @@
+//! The whole-program check: a violation far from the segment that gouges — beyond any
+//! bottleneck window — refuses the program at load, before anything moves, naming both
+//! places; `softnc check` lists it the same way; a program longer than the load-time check
+//! stops before the compensation run it has not cleared; a compensation run with an alarm
+//! in it does not start.
+
+#[path = "support/control.rs"]
+mod control;
+
+use control::*;
+use nc_kernel::handover::{spawn_preparation, Gated, Job};
+use nc_kernel::simulate::{run, Options};
+use nc_kernel::{AlarmCode, MachineData, Prepared, Role, ToolTable};
+
+/// G41 with D1 (radius 10): line 4 runs along Y0 (the tool at Y10); then down, 200 blocks
+/// to the right along Y−30 (the first and last 40 mm long, the others 4 mm), up and back
+/// along Y18 (line 207, the tool at Y8): line 4's tool path comes within 8 mm of line 207's
+/// element, and line 207's within 8 mm of line 4's. No window of 64 blocks sees the pair.
+fn far_program() -> String {
+    let mut p = vec![
+        "G17 G90 G0 X-40 Y20 D1".to_string(),
+        "G1 F1000".into(),
+        "G41 X-20 Y0".into(),
+        "G1 X100 Y0".into(),
+        "G1 X100 Y-30".into(),
+        "G1 X140 Y-30".into(),
+    ];
+    let mut x = 140;
+    for _ in 0..198 {
+        x += 4;
+        p.push(format!("G1 X{x} Y-30"));
+    }
+    x += 40;
+    p.push(format!("G1 X{x} Y-30"));
+    p.push(format!("G1 X{x} Y18"));
+    p.push("G1 X0 Y18".into());
+    p.push("G40 G1 X-20 Y40".into());
+    p.push("M30".into());
+    p.join("\n") + "\n"
+}
+
+const FAR: u32 = 207;
+
+fn machine(over: &[&str]) -> MachineData {
+    let over: Vec<String> = over.iter().map(|s| s.to_string()).collect();
+    MachineData::load(None, &over).unwrap()
+}
+
+#[test]
+fn the_far_program_is_what_it_claims() {
+    let text = far_program();
+    assert_eq!(text.lines().nth(FAR as usize - 1), Some("G1 X0 Y18"));
+    // The shipped 64-block window alone lets it through: the pair is 203 blocks apart.
+    let md = machine(&["trc.whole_program_check=false"]);
+    let segs = nc_kernel::prepare("far", &text, &md, &ToolTable::builtin()).unwrap();
+    // Line 4's tool path along Y10, line 207's along Y8 (G41 going −X: the tool below).
+    let on = |line: u32| {
+        segs.iter()
+            .find(|s| s.source.line == line && s.role == Role::Contour)
+    };
+    let (a, b) = (on(4).unwrap(), on(FAR).unwrap());
+    assert_eq!((a.from[1], a.to[1]), (10.0, 10.0));
+    assert_eq!((b.from[1], b.to[1]), (8.0, 8.0));
+}
+
+#[test]
+fn a_violation_200_blocks_on_is_refused_at_load_with_both_lines() {
+    let md = machine(&[]);
+    let refused = spawn_preparation(
+        "far.mpf".into(),
+        far_program(),
+        md,
+        ToolTable::builtin(),
+        None,
+    )
+    .expect("thread");
+    // Refused: no hand-over exists, so nothing was queued for the IPO.
+    let Err(a) = refused else {
+        panic!("the kernel took the program")
+    };
+    assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 4), "{a}");
+    assert!(a.message.contains("line 207"), "{}", a.message);
+    assert!(a.message.contains("8.0000 mm"), "{}", a.message);
+}
+
+#[test]
+fn softnc_check_names_both_places() {
+    let prog = scratch("whole-far.mpf");
+    std::fs::write(&prog, far_program()).unwrap();
+    let out = std::process::Command::new(EXE)
+        .arg("check")
+        .arg(&prog)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("whole-far.mpf:4:1: alarm 3021")
+            && stderr.contains("of the contour of line 207"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("whole-far.mpf:207:1: alarm 3021")
+            && stderr.contains("of the contour of line 4 "),
+        "{stderr}"
+    );
+}
+
+/// `softnc run`: the kernel refuses the program at load; nothing moves (no setpoint left the
+/// start), and the processes end cleanly.
+#[test]
+fn softnc_run_refuses_the_far_program_before_any_motion() {
+    let inst = instance("wholefar");
+    let _scope = Scope::new(&inst);
+    let prog = scratch("whole-run.mpf");
+    std::fs::write(&prog, far_program()).unwrap();
+    let out = std::process::Command::new(EXE)
+        .arg("run")
+        .arg(&prog)
+        .args(["--quiet", "--instance", &inst])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
+    assert!(stderr.contains("nothing moved"), "{stderr}");
+    assert!(
+        stderr.contains("whole-run.mpf:4:1: alarm 3021") && stderr.contains("line 207"),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("IPO cycles"), "it ran: {stdout}");
+}
+
+/// Above `trc.check_at_load_blocks` the check runs ahead of the path: the moves before the
+/// compensation run go out, the run itself does not, and the alarm is the check's.
+#[test]
+fn a_long_program_stops_before_the_run_it_has_not_cleared() {
+    let md = machine(&["trc.check_at_load_blocks=2"]);
+    let tools = ToolTable::builtin();
+    let text = far_program();
+    let job = Job {
+        name: "far",
+        source: &text,
+        md: &md,
+        tools: &tools,
+        at: None,
+    };
+    let mut path = Gated::of_job(job);
+    let mut lines = Vec::new();
+    let alarm = loop {
+        match path.next_item() {
+            Some(Ok(Prepared::Segment(s))) => lines.push((s.source.line, s.role)),
+            Some(Ok(_)) => {}
+            Some(Err(a)) => break a,
+            None => panic!("no alarm; path {lines:?}"),
+        }
+    };
+    assert_eq!(lines, [(1, Role::Uncompensated)]);
+    assert_eq!((alarm.code, alarm.line), (AlarmCode::ContourViolation, 4));
+    // The same through the kernel's load: not refused (beyond the load-time check), and the
+    // simulated run stops at rest where the rapid move ends.
+    let spawned = spawn_preparation("far".into(), text.clone(), md.clone(), tools.clone(), None)
+        .expect("thread");
+    assert!(spawned.is_ok(), "refused at load");
+    let mut csv = Vec::new();
+    let s = run("far", &text, &md, &tools, &Options::default(), &mut csv).unwrap();
+    let alarms: Vec<(u32, u32)> = s.alarms.iter().map(|a| (a.number(), a.line)).collect();
+    assert_eq!(alarms, [(3021, 4)]);
+    // The last setpoint (cycle, time, X, Y, Z, ...): at rest where the rapid move ends.
+    let csv = String::from_utf8(csv).unwrap();
+    let last: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
+    let at: Vec<f64> = last[2..5].iter().map(|v| v.parse().unwrap()).collect();
+    assert_eq!(at, [-40.0, 20.0, 0.0], "{}", csv.lines().last().unwrap());
+}
+
+/// A compensation run with an alarm in it (here a circle smaller than the tool on the tool
+/// side, in its fourth block) does not start: what comes before the run goes out, then the
+/// alarm, with its own number and place.
+#[test]
+fn a_run_with_an_alarm_in_it_does_not_start() {
+    let text = "G17 G90 G0 X-30 Y0 D1\nG1 F1000\nG41 X0 Y0\nG1 X50 Y0\nG1 X50 Y20\n\
+                G3 X46 Y24 I-4 J0\nG1 X0 Y24\nG40 G1 X-30 Y40\nM30\n";
+    let md = machine(&[]);
+    let tools = ToolTable::builtin();
+    let bare = nc_kernel::prepare(
+        "small-arc",
+        text,
+        &machine(&["trc.whole_program_check=false"]),
+        &tools,
+    );
+    let a = bare.expect_err("the arc is smaller than the tool");
+    assert_eq!(a.line, 6);
+    let job = Job {
+        name: "small-arc",
+        source: text,
+        md: &md,
+        tools: &tools,
+        at: None,
+    };
+    let mut path = Gated::of_job(job);
+    let mut roles = Vec::new();
+    let alarm = loop {
+        match path.next_item() {
+            Some(Ok(Prepared::Segment(s))) => roles.push(s.role),
+            Some(Ok(_)) => {}
+            Some(Err(a)) => break a,
+            None => panic!("no alarm"),
+        }
+    };
+    assert_eq!(roles, [Role::Uncompensated]);
+    assert_eq!((alarm.code, alarm.line), (a.code, 6));
+}
