@@ -45,16 +45,22 @@ struct PathSegment {
     bb: [f64; 4],
 }
 
-/// Where the members of one kind lie: grid cells, and the large ones apart.
+/// Where the members of one kind lie: grid cells, and the large ones apart. A cell holds the
+/// head of a list threaded through `entries` (member, next entry): no allocation per cell.
 #[derive(Default)]
 struct Grid {
-    cells: HashMap<(i64, i64), Vec<u32>, Cells>,
+    cells: HashMap<(i64, i64), u32, Cells>,
+    entries: Vec<(u32, u32)>,
     large: Vec<u32>,
 }
+
+/// The end of a cell's list.
+const NONE: u32 = u32::MAX;
 
 impl Grid {
     fn clear(&mut self) {
         self.cells.clear();
+        self.entries.clear();
         self.large.clear();
     }
 
@@ -63,7 +69,10 @@ impl Grid {
             Some([x0, y0, x1, y1]) => {
                 for x in x0..=x1 {
                     for y in y0..=y1 {
-                        self.cells.entry((x, y)).or_default().push(i);
+                        let at = self.entries.len() as u32;
+                        let head = self.cells.entry((x, y)).or_insert(NONE);
+                        self.entries.push((i, *head));
+                        *head = at;
                     }
                 }
             }
@@ -94,10 +103,12 @@ impl Grid {
         };
         for x in x0..=x1 {
             for y in y0..=y1 {
-                if let Some(v) = self.cells.get(&(x, y)) {
-                    if v.iter().any(|&i| visit(i)) {
+                let mut at = self.cells.get(&(x, y)).copied().unwrap_or(NONE);
+                while let Some(&(i, next)) = self.entries.get(at as usize) {
+                    if visit(i) {
                         return true;
                     }
+                    at = next;
                 }
             }
         }
@@ -160,7 +171,7 @@ impl WholeCheck {
         found: &mut impl FnMut(Gouge) -> bool,
     ) {
         if self.cell == 0.0 {
-            self.cell = (4.0 * r.abs()).max(1.0);
+            self.cell = (8.0 * r.abs()).max(1.0);
         }
         self.last = Some((r, side));
         let e = Element {
@@ -258,7 +269,7 @@ impl WholeCheck {
         self.cell = 0.0;
         for e in keep {
             if self.cell == 0.0 {
-                self.cell = (4.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
+                self.cell = (8.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
             }
             let cells = self.cells(&e.bb);
             let i = self.elements.len() as u32;
