@@ -1,20 +1,22 @@
 #!/usr/bin/env bash
-# Whole-process comparison for docs/benchmarks.md (issue 3): `softnc check` and
-# `softnc path -o /dev/null` beside LinuxCNC's `rs274 -g`, on the same generated G41
-# serpentine (nc_kernel::synthetic::compensated_program), same machine, same run.
+# Whole-process comparison for docs/benchmarks.md: `softnc check` and `softnc path -o
+# /dev/null` beside LinuxCNC's `rs274 -g`, on the same generated G41 contour
+# (nc_kernel::synthetic), same machine, same run. SHAPE: g41 (the tangent serpentine),
+# roughing (roughing rows, a corner at every block) or bars (a row of bars, 90° corners).
 # The two files differ only in the header: softnc selects with `G41` and D1 (radius 10),
 # rs274 with `G41.1 D20` (a diameter there).
-# Needs Debian's linuxcnc-uspace (rs274). Usage: scripts/bench-prep.sh [BLOCKS] [RUNS]
+# Needs Debian's linuxcnc-uspace (rs274). Usage: scripts/bench-prep.sh [BLOCKS] [RUNS] [SHAPE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 blocks=${1:-200000}
 runs=${2:-7}
+shape=${3:-g41}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cargo build --release -q --bin softnc -p softnc
 cargo build --release -q -p nc-kernel --example gen_program
-./target/release/examples/gen_program "$blocks" --g41 > "$work/prog.mpf"
-./target/release/examples/gen_program "$blocks" --g41 --rs274 > "$work/prog.ngc"
+./target/release/examples/gen_program "$blocks" "--$shape" > "$work/prog.mpf"
+./target/release/examples/gen_program "$blocks" "--$shape" --rs274 > "$work/prog.ngc"
 command -v rs274 >/dev/null || { echo "rs274 not found: apt-get install linuxcnc-uspace" >&2; exit 1; }
 
 # Each must succeed on the whole program: a run that stops early would be fast for nothing.
@@ -24,16 +26,18 @@ grep -q "G41.1\|ENABLE_CUTTER\|STRAIGHT_FEED" "$work/rs274.out" || { echo "rs274
 echo "rs274: $(grep -c -E 'STRAIGHT_FEED|ARC_FEED' "$work/rs274.out") moves; softnc: $(./target/release/softnc path "$work/prog.mpf" | wc -l) segments"
 
 median() { sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-# softnc with the shipped machine data (bottleneck window 3) and with the window off.
-off="--md trc.bottleneck_window=0"
-labels=("softnc check" "softnc path -o /dev/null" "softnc check, window off" "softnc path, window off" "rs274 -g")
+# softnc with the shipped machine data (whole-program check, window 64), with the window
+# alone, and with no check at all.
+only="--md trc.whole_program_check=false"
+off="--md trc.whole_program_check=false --md trc.bottleneck_window=0"
+labels=("softnc check" "softnc path -o /dev/null" "softnc check, window 64 only" "softnc check, no check" "rs274 -g")
 cmds=("./target/release/softnc check $work/prog.mpf"
       "./target/release/softnc path $work/prog.mpf -o /dev/null"
+      "./target/release/softnc check $work/prog.mpf $only"
       "./target/release/softnc check $work/prog.mpf $off"
-      "./target/release/softnc path $work/prog.mpf -o /dev/null $off"
       "rs274 -g $work/prog.ngc")
 declare -A times
-echo "program: $blocks contour blocks, $(wc -c < "$work/prog.mpf") bytes; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "program: $shape, $blocks contour blocks, $(wc -c < "$work/prog.mpf") bytes; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
 # Interleaved rounds, so that a noisy neighbour hits all three alike.
 for _ in $(seq "$runs"); do
   for i in "${!cmds[@]}"; do
@@ -52,3 +56,11 @@ done
 for i in 0 1 2 3; do
   printf 'ratio: %-26s %.1fx faster than rs274 -g\n' "${labels[$i]}" "$(echo "${med[4]} / ${med[$i]}" | bc -l)"
 done
+# Memory: the whole-program check keeps the longest compensation run.
+if [ -x /usr/bin/time ]; then
+  for i in 0 3; do
+    /usr/bin/time -f '%M' -o "$work/rss" ${cmds[$i]} > /dev/null 2>&1
+    kb=$(tail -1 "$work/rss")
+    printf 'max RSS: %-26s %s KB\n' "${labels[$i]}" "$kb"
+  done
+fi

@@ -672,14 +672,25 @@ fn the_simulate_command_writes_the_same_rows_and_says_how_it_ended() {
         last.events.contains("alarm 3021") && last.v == 0.0,
         "{last:?}"
     );
-    // Exactly where the last segment prepared before the alarm ends.
+    // Exactly where the last segment the channel takes before the alarm ends: with the
+    // whole-program check the compensation run with the alarm in it does not start, so that
+    // is the end of the move to the first depth, before the selection.
     let text = std::fs::read_to_string(&alarm).unwrap();
     let md = machine(None, &[]);
     let tools = ToolTable::builtin();
-    let mut prep = nc_kernel::Preparation::new("a", &text, &md, &tools);
+    let mut path = nc_kernel::handover::Gated::of_job(nc_kernel::handover::Job {
+        name: "a",
+        source: &text,
+        md: &md,
+        tools: &tools,
+        at: None,
+    });
     let mut end = None;
-    while let Ok(Some(seg)) = prep.next_segment() {
-        end = Some(seg.to);
+    while let Some(Ok(p)) = path.next_item() {
+        if let nc_kernel::Prepared::Segment(seg) = p {
+            assert_eq!(seg.role, nc_kernel::Role::Uncompensated);
+            end = Some(seg.to);
+        }
     }
     assert_eq!(Some(last.pos), end);
     let _ = std::fs::remove_dir_all(&dir);

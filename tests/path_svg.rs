@@ -170,7 +170,7 @@ fn alarm_is_marked_and_exit_code_says_so() {
     let legend = group(&doc, "legend").expect("legend");
     assert!(legend
         .descendants()
-        .any(|n| text(n).starts_with("alarm 3021 at line 16:1 N45:")));
+        .any(|n| text(n).starts_with("alarm 3021 at line 18:1 N45:")));
 }
 
 #[test]

@@ -46,6 +46,20 @@ fn machine(over: &[&str]) -> MachineData {
     MachineData::load(None, &over).unwrap()
 }
 
+/// The segments (line, role) the kernel's channel gets before the alarm, and the alarm.
+fn up_to_the_alarm(job: Job) -> (Vec<(u32, Role)>, nc_kernel::Alarm) {
+    let mut path = Gated::of_job(job);
+    let mut lines = Vec::new();
+    loop {
+        match path.next_item() {
+            Some(Ok(Prepared::Segment(s))) => lines.push((s.source.line, s.role)),
+            Some(Ok(_)) => {}
+            Some(Err(a)) => return (lines, a),
+            None => panic!("no alarm; path {lines:?}"),
+        }
+    }
+}
+
 #[test]
 fn the_far_program_is_what_it_claims() {
     let text = far_program();
@@ -145,16 +159,7 @@ fn a_long_program_stops_before_the_run_it_has_not_cleared() {
         tools: &tools,
         at: None,
     };
-    let mut path = Gated::of_job(job);
-    let mut lines = Vec::new();
-    let alarm = loop {
-        match path.next_item() {
-            Some(Ok(Prepared::Segment(s))) => lines.push((s.source.line, s.role)),
-            Some(Ok(_)) => {}
-            Some(Err(a)) => break a,
-            None => panic!("no alarm; path {lines:?}"),
-        }
-    };
+    let (lines, alarm) = up_to_the_alarm(job);
     assert_eq!(lines, [(1, Role::Uncompensated)]);
     assert_eq!((alarm.code, alarm.line), (AlarmCode::ContourViolation, 4));
     // The same through the kernel's load: not refused (beyond the load-time check), and the
@@ -197,16 +202,7 @@ fn a_run_with_an_alarm_in_it_does_not_start() {
         tools: &tools,
         at: None,
     };
-    let mut path = Gated::of_job(job);
-    let mut roles = Vec::new();
-    let alarm = loop {
-        match path.next_item() {
-            Some(Ok(Prepared::Segment(s))) => roles.push(s.role),
-            Some(Ok(_)) => {}
-            Some(Err(a)) => break a,
-            None => panic!("no alarm"),
-        }
-    };
-    assert_eq!(roles, [Role::Uncompensated]);
+    let (lines, alarm) = up_to_the_alarm(job);
+    assert_eq!(lines, [(1, Role::Uncompensated)]);
     assert_eq!((alarm.code, alarm.line), (a.code, 6));
 }

@@ -6,10 +6,13 @@
 //! - `bottleneck_1M_window_<n>`: the same with the bottleneck check over n blocks.
 //! - `..._threaded`: the same with the interpreter in a thread of its own
 //!   (`Preparation::threaded`): two cores busy.
+//! - `corners/<contour>_1M_...`: the contours with a non-tangent corner at every block
+//!   (roughing rows, a row of bars; `synthetic`), with the window of 64 blocks (threaded or
+//!   not) and with the whole-program check as `softnc check` runs it (`WholeMode::Collect`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use nc_kernel::synthetic::{compensated_program, Header};
-use nc_kernel::{MachineData, Preparation, Shape, ToolTable};
+use nc_kernel::synthetic::{bars_program, compensated_program, roughing_program, Header};
+use nc_kernel::{MachineData, Preparation, Shape, ToolTable, WholeMode};
 use std::hint::black_box;
 
 const BLOCKS: usize = 1_000_000;
@@ -76,5 +79,37 @@ fn prep(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, prep);
+/// The whole-program check as `softnc check` runs it, interpreter threaded.
+fn run_checked(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
+    std::thread::scope(|s| {
+        let prep = Preparation::threaded(s, "bench", black_box(text), md, tools);
+        drain(prep.checking_whole(WholeMode::Collect))
+    })
+}
+
+fn corners(c: &mut Criterion) {
+    let tools = ToolTable::builtin();
+    let mut group = c.benchmark_group("corners");
+    group.throughput(Throughput::Elements(BLOCKS as u64));
+    group.sample_size(10);
+    group.measurement_time(std::time::Duration::from_secs(20));
+    let window = MachineData::load(None, &["trc.bottleneck_window=64".into()]).unwrap();
+    for (name, text) in [
+        ("roughing", roughing_program(BLOCKS, Header::Softnc)),
+        ("bars", bars_program(BLOCKS, Header::Softnc)),
+    ] {
+        group.bench_function(format!("{name}_1M_window_64"), |b| {
+            b.iter(|| black_box(run(&text, &window, &tools)))
+        });
+        group.bench_function(format!("{name}_1M_window_64_threaded"), |b| {
+            b.iter(|| black_box(run_threaded(&text, &window, &tools)))
+        });
+        group.bench_function(format!("{name}_1M_whole_check"), |b| {
+            b.iter(|| black_box(run_checked(&text, &window, &tools)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, prep, corners);
 criterion_main!(benches);

@@ -182,11 +182,7 @@ impl WholeCheck {
             bb: bbox(&elem, 0.0),
             side,
         };
-        let cells = self.cells(&e.bb);
-        let i = self.elements.len() as u32;
-        self.elements.push(e);
-        self.element_seen.push(0);
-        self.element_grid.insert(cells, i);
+        let (cells, i) = self.add_element(e);
         let stamp = self.next_stamp();
         let (segments, elements) = (&mut self.segments, &self.elements);
         let all = segments.len();
@@ -271,12 +267,18 @@ impl WholeCheck {
             if self.cell == 0.0 {
                 self.cell = (8.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
             }
-            let cells = self.cells(&e.bb);
-            let i = self.elements.len() as u32;
-            self.elements.push(e);
-            self.element_seen.push(0);
-            self.element_grid.insert(cells, i);
+            self.add_element(e);
         }
+    }
+
+    /// An element on record and in the grid: its cells and its index.
+    fn add_element(&mut self, e: Element) -> (Option<[i64; 4]>, u32) {
+        let cells = self.cells(&e.bb);
+        let i = self.elements.len() as u32;
+        self.elements.push(e);
+        self.element_seen.push(0);
+        self.element_grid.insert(cells, i);
+        (cells, i)
     }
 
     /// The grid cells a box covers; `None` for a box too large to list (or not finite).
