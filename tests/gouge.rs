@@ -725,6 +725,18 @@ fn clearance(offset: &[(Piece, usize, usize)], contour: &[Piece], built_on: bool
 
 const CASES: usize = 100_000;
 
+/// No piece of `path` comes closer than R − 1e-9 mm to the contour of `case` (`what` names
+/// the case in the message).
+fn assert_clear(path: &[Piece], case: &Case, what: &str) {
+    let d = min_dist(path, &case.pieces);
+    assert!(
+        d >= case.r - 1e-9,
+        "{what}: tool path within {d} of the contour, R = {}\n{}",
+        case.r,
+        case.program
+    );
+}
+
 #[test]
 fn softnc_never_puts_out_a_gouge() {
     let md = machine();
@@ -737,13 +749,7 @@ fn softnc_never_puts_out_a_gouge() {
         }
         let (path, alarm) = softnc_pieces(&case, &md);
         alarms += usize::from(alarm);
-        let d = min_dist(&path, &case.pieces);
-        assert!(
-            d >= case.r - 1e-9,
-            "case {k}: tool path within {d} of the contour, R = {}\n{}",
-            case.r,
-            case.program
-        );
+        assert_clear(&path, &case, &format!("case {k}"));
     }
     // The generator makes plenty of both kinds.
     assert!(
@@ -783,12 +789,10 @@ fn the_whole_check_keeps_gouges_in_with_the_controls_own_windows() {
             let case = if masking { with_masking(&case) } else { case };
             n += 1;
             let (path, _) = softnc_pieces(&case, &md);
-            let d = min_dist(&path, &case.pieces);
-            assert!(
-                d >= case.r - 1e-9,
-                "{config:?} window {window}, case {k}: tool path within {d} of the contour, R = {}\n{}",
-                case.r,
-                case.program
+            assert_clear(
+                &path,
+                &case,
+                &format!("{config:?} window {window}, case {k}"),
             );
             // Without the check the shallow window lets some of them out.
             let (bare_path, _) = softnc_pieces(&case, &bare);
@@ -816,13 +820,7 @@ fn masking_never_puts_out_a_gouge() {
         let (path, alarm) = softnc_pieces(&case, &md);
         n += 1;
         alarms += usize::from(alarm);
-        let d = min_dist(&path, &case.pieces);
-        assert!(
-            d >= case.r - 1e-9,
-            "case {k}: tool path within {d} of the contour, R = {}\n{}",
-            case.r,
-            case.program
-        );
+        assert_clear(&path, &case, &format!("case {k}"));
         // No detour: every end and midpoint of the path touches the contour (the edge of
         // what the tool may reach is R from the nearest element), within 1 µm: the
         // intersection of two nearly collinear equidistants is found to some 10 nm.

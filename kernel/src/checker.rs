@@ -38,6 +38,12 @@ impl<'a> Gated<'a> {
         Gated::new(prep, Vec::new(), Checker::new(job))
     }
 
+    /// Checks at most `blocks` blocks ahead of the path (less if the program ends first): the
+    /// violation found there, if any (none without a checker).
+    pub fn check_ahead(&mut self, blocks: u64) -> Option<Alarm> {
+        self.checker.as_mut().and_then(|c| c.ahead(blocks))
+    }
+
     /// Where the program starts: the position before its first motion.
     pub fn start(&self) -> crate::frontend::block::Pos {
         self.prep.start()
@@ -97,7 +103,7 @@ pub struct Checker<'a> {
 
 impl<'a> Checker<'a> {
     /// The checker for `job`, if its machine data asks for the whole-program check.
-    pub fn new(job: Job<'a>) -> Option<Self> {
+    fn new(job: Job<'a>) -> Option<Self> {
         job.md.trc.whole_program_check.then(|| Checker {
             prep: Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at)
                 .checking_whole(WholeMode::Stop),
@@ -109,7 +115,7 @@ impl<'a> Checker<'a> {
 
     /// Checks ahead until run `run` is met in full: the violation that stops the path
     /// before it, if one lies in it or before it.
-    pub fn clear(&mut self, run: u32) -> Result<(), Alarm> {
+    fn clear(&mut self, run: u32) -> Result<(), Alarm> {
         while self.cleared < run && self.violation.is_none() {
             self.step();
         }
@@ -121,7 +127,7 @@ impl<'a> Checker<'a> {
 
     /// Checks at most `blocks` blocks ahead (less if the program ends first): the
     /// violation found there, if any.
-    pub fn ahead(&mut self, blocks: u64) -> Option<Alarm> {
+    fn ahead(&mut self, blocks: u64) -> Option<Alarm> {
         while self.cleared < u32::MAX && self.violation.is_none() && self.prep.blocks() < blocks {
             self.step();
         }

@@ -15,7 +15,6 @@
 //! the IPO thread gets only their number and block, and never frees memory.
 
 use crate::alarm::Alarm;
-use crate::checker::Checker;
 pub use crate::checker::Gated;
 use crate::ipo::Input;
 use crate::ipo::{AxisLimits, Entry};
@@ -328,17 +327,12 @@ pub fn spawn_preparation(
             tools: &tools,
             at,
         };
-        let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
-        let mut checker = Checker::new(job);
-        let refused = checker
-            .as_mut()
-            .and_then(|c| c.ahead(u64::from(md.trc.check_at_load_blocks)));
-        if let Some(a) = refused {
+        let mut path = Gated::of_job(job);
+        if let Some(a) = path.check_ahead(u64::from(md.trc.check_at_load_blocks)) {
             let _ = ready_tx.send(Err(a));
             return;
         }
-        let _ = ready_tx.send(Ok(prep.start()));
-        let path = Gated::new(prep, Vec::new(), checker);
+        let _ = ready_tx.send(Ok(path.start()));
         feed(path, &name, &lim, hand, reports, Duration::ZERO);
     })?;
     Ok(answer(ready_rx.recv(), hand, reports, thread))
