@@ -80,8 +80,9 @@ enum Command {
         /// Instance name: the prefix of the services and shared memory (default: run-<pid>).
         #[arg(long, value_name = "NAME")]
         instance: Option<String>,
-        /// Keep plc-sim's CSV trace in FILE
-        /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`).
+        /// Keep plc-sim's CSV trace in FILE: setpoint, actual (A…) and following error (F…)
+        /// of every configured axis
+        /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events` on a mill).
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Write the picture to FILE (default: <program>.run.svg here).
@@ -422,8 +423,10 @@ fn with_preparation<R>(l: &Loaded, whole: WholeMode, f: impl FnOnce(&mut Prepara
     }
 }
 
-/// `prep` with the whole-program check in `mode`, where the machine data asks for it.
+/// `prep` with the machine's checks: the software limits, and the whole-program check in
+/// `mode` where the machine data asks for it.
 fn checked<'a>(prep: Preparation<'a>, md: &MachineData, mode: WholeMode) -> Preparation<'a> {
+    let prep = prep.with_soft_limits(md);
     if md.trc.whole_program_check {
         prep.checking_whole(mode)
     } else {
@@ -513,7 +516,6 @@ fn status(b: &BridgeArgs, json: bool) -> Result<(), Failure> {
         return Err(Failure::Reported);
     }
     let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
-    let pos = &s["pos"];
     println!(
         "{:<8} program {}  line {}",
         s["state"].as_str().unwrap_or("?"),
@@ -521,10 +523,8 @@ fn status(b: &BridgeArgs, json: bool) -> Result<(), Failure> {
         s["line"]
     );
     println!(
-        "X {:.3}  Y {:.3}  Z {:.3}  F {:.0} mm/min  override {:.0} %  single block {}",
-        f(&pos[0]),
-        f(&pos[1]),
-        f(&pos[2]),
+        "{}F {:.0} mm/min  override {:.0} %  single block {}",
+        axis_positions(&s),
         f(&s["feed_mm_min"]),
         f(&s["override_percent"]),
         if s["single_block"] == serde_json::Value::Bool(true) {
@@ -552,6 +552,27 @@ fn status(b: &BridgeArgs, json: bool) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// Each axis of the bridge's status with its position (`axes` names them in the order of
+/// `pos`): a rotary axis in degrees, a modulo one within 0…360°.
+fn axis_positions(s: &serde_json::Value) -> String {
+    let (Some(axes), Some(pos)) = (s["axes"].as_array(), s["pos"].as_array()) else {
+        return String::new();
+    };
+    let mut out = String::new();
+    for (a, p) in axes.iter().zip(pos) {
+        let p = p.as_f64().unwrap_or(f64::NAN);
+        let flag = |k: &str| a[k].as_bool().unwrap_or(false);
+        let (shown, unit) = match (flag("modulo"), flag("rotary")) {
+            (true, _) => (p.rem_euclid(360.0), "°"),
+            (false, true) => (p, "°"),
+            (false, false) => (p, ""),
+        };
+        let name = a["name"].as_str().unwrap_or("?");
+        out.push_str(&format!("{name} {shown:.3}{unit}  "));
+    }
+    out
 }
 
 fn clean(name: &str) -> Result<(), Failure> {
@@ -738,7 +759,7 @@ fn simulate(
 
 #[cfg(test)]
 mod tests {
-    use super::offset_name;
+    use super::{axis_positions, offset_name};
 
     #[test]
     fn offset_names() {
@@ -752,5 +773,23 @@ mod tests {
         ] {
             assert_eq!(offset_name(bad), None, "{bad}");
         }
+    }
+
+    #[test]
+    fn status_positions_by_axis_name() {
+        let s = serde_json::json!({
+            "axes": [
+                { "name": "X", "rotary": false, "modulo": false },
+                { "name": "Z", "rotary": false, "modulo": false },
+                { "name": "A", "rotary": true, "modulo": false },
+                { "name": "C", "rotary": true, "modulo": true },
+            ],
+            "pos": [1.0, -2.5, -30.0, -90.0],
+        });
+        assert_eq!(
+            axis_positions(&s),
+            "X 1.000  Z -2.500  A -30.000°  C 270.000°  "
+        );
+        assert_eq!(axis_positions(&serde_json::json!({})), "");
     }
 }

@@ -207,6 +207,11 @@ fn the_page_stops_edits_an_offset_and_resumes() {
         &json!(true),
         Duration::from_secs(10),
     );
+    b.wait(
+        "return [...document.querySelectorAll('span[data-axis]:not([id])')].map(e => e.textContent).join()",
+        &json!("X,Y,Z"),
+        Duration::from_secs(5),
+    );
     // On the top edge (N40): NC stop.
     st.watch(Duration::from_secs(60), |s| s["line"] == json!(5));
     b.click("#btn-stop");
@@ -257,4 +262,62 @@ fn the_page_stops_edits_an_offset_and_resumes() {
         Duration::from_secs(60),
     );
     assert!(std::fs::metadata(&shot).unwrap().len() > 10_000);
+}
+
+/// A lathe with a C axis (config/siemens-808d-c.toml): the page lists X, Z and C by name, C
+/// in degrees within one turn while the setpoint counts on past 360°, the plot in the Z/X
+/// plane; plc-sim's trace has X, Z and C columns and no Y.
+#[test]
+fn the_page_shows_a_lathes_axes_by_name() {
+    let (Some(chromium), Some(chromedriver)) = (which("chromium"), which("chromedriver")) else {
+        if std::env::var_os("SOFTNC_REQUIRE_BROWSER").is_some() {
+            panic!("chromium and chromedriver are required (SOFTNC_REQUIRE_BROWSER is set)");
+        }
+        eprintln!(
+            "skipped: chromium or chromedriver not installed (Debian: chromium chromium-driver)"
+        );
+        return;
+    };
+    let prog = scratch("lathe-c-hmi.mpf");
+    std::fs::write(
+        &prog,
+        "N10 G18 G90 G0 X62 Z2 C0\nN20 G91 C400\nN30 G90 G1 Z-20 F300\nM30\n",
+    )
+    .unwrap();
+    let md = root().join("config/siemens-808d-c.toml");
+    let md = ["--machine", md.to_str().unwrap()];
+    let mut st = station_with("browser-lathe", &md, Some(&prog), &md, &md);
+    let b = Browser::start(&chromium, &chromedriver);
+    b.call(
+        "POST",
+        "/url",
+        json!({ "url": format!("http://{}/", st.bridge.addr) }),
+    );
+    b.wait(
+        "return document.body.dataset.state",
+        &json!("END"),
+        Duration::from_secs(60),
+    );
+    b.wait(
+        "return [...document.querySelectorAll('span[data-axis]:not([id])')].map(e => e.textContent).join()",
+        &json!("X,Z,C"),
+        Duration::from_secs(5),
+    );
+    b.wait(
+        "return document.querySelector('#pos-C').textContent",
+        &json!("40.000°"),
+        Duration::from_secs(5),
+    );
+    b.wait(
+        "return document.querySelector('#plane').textContent",
+        &json!("Z → X ↑"),
+        Duration::from_secs(5),
+    );
+    let end = st.status();
+    assert_eq!(end["pos"][2], json!(400.0), "{end}");
+    let rows = st.trace();
+    let last = rows.last().unwrap();
+    assert_eq!(last.axes.iter().map(|(c, _)| *c).collect::<String>(), "XZC");
+    assert_eq!(last.axis('C').map(|c| c[0]), Some(400.0));
+    assert_eq!(last.sp[1], 0.0, "a lathe has no Y");
 }

@@ -447,7 +447,7 @@ fn waiting_for_preparation(
     for _ in 0..3 {
         rig.step();
     }
-    let (p, mut inputs, _) = plc_mock::fed(md, 1, text, Some(rig.cyclic.setpoint().pos));
+    let (p, mut inputs, _) = plc_mock::fed(md, 1, text, Some(rig.cyclic.setpoint().axes()));
     let hand = p.hand.clone();
     rig.ask(Control::Load(p)).unwrap();
     rig.ask(Control::Start).unwrap();

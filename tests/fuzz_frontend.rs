@@ -20,15 +20,23 @@ use std::sync::{Mutex, OnceLock};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-const DIALECTS: [&str; 4] = ["siemens-840c", "isg", "fanuc", "siemens-808d"];
+const DIALECTS: [&str; 6] = [
+    "siemens-840c",
+    "isg",
+    "fanuc",
+    "siemens-808d",
+    "fanuc-5axis",
+    "siemens-808d-c",
+];
 
 /// Seconds one interpretation may take before the watchdog calls it a hang.
 const HANG_SECS: u64 = 20;
 
 /// The shipped machine data of each dialect, with short loops. The 808D is the lathe (X and Z
-/// only, diameter programming), so unconfigured axes are exercised too.
-fn machines() -> &'static [MachineData; 4] {
-    static M: OnceLock<[MachineData; 4]> = OnceLock::new();
+/// only, diameter programming), so unconfigured axes are exercised too; the 5-axis mill and
+/// the lathe with C add rotary axes (modulo and not).
+fn machines() -> &'static [MachineData; 6] {
+    static M: OnceLock<[MachineData; 6]> = OnceLock::new();
     M.get_or_init(|| {
         DIALECTS.map(|d| {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -139,7 +147,8 @@ const VOCABULARY: &[&str] = &[
     // axis, centre, radius, polar
     "X-1.5", "X10", "X100", "X0", "X1.2.3", "X-", "X", "X99999999999999999999", "Y.5", "Y20",
     "Y-7", "Z-2", "Z5.", "I3", "I5", "J-4", "J0", "K1", "CR=", "CR=5", "CR=-5", "CR = 12.5", "R5",
-    "R-10", "A45", "A-90", "U10", "B5", "P500", "3.0",
+    "R-10", "A45", "A-90", "U10", "B5", "P500", "3.0", "A-30.", "C400.", "C-0.5", "C",
+    "A1e9", "C99999999",
     // technology and aux
     "F100", "F0", "F-5", "F.1", "S1000", "S-1", "H2", "T1", "T2", "D0", "D1", "D2", "D9", "M0",
     "M1", "M2", "M3", "M18", "M30", "DIAMON", "DIAMOF", "@714", "@66250", "@",
@@ -254,13 +263,13 @@ proptest! {
 
     /// Arbitrary bytes, read the way `softnc parse` reads a file.
     #[test]
-    fn random_bytes(which in 0..4usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+    fn random_bytes(which in 0..6usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
         check(which, &String::from_utf8_lossy(&bytes))?;
     }
 
     /// Printable ASCII and line ends: reaches deeper than raw bytes.
     #[test]
-    fn random_ascii(which in 0..4usize, src in "[ -~\t\r\n]{0,200}") {
+    fn random_ascii(which in 0..6usize, src in "[ -~\t\r\n]{0,200}") {
         check(which, &src)?;
     }
 
@@ -282,6 +291,16 @@ proptest! {
     #[test]
     fn token_soup_808d(src in soup()) {
         check(3, &src)?;
+    }
+
+    #[test]
+    fn token_soup_5axis(src in soup()) {
+        check(4, &src)?;
+    }
+
+    #[test]
+    fn token_soup_808d_c(src in soup()) {
+        check(5, &src)?;
     }
 
     #[test]

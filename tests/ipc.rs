@@ -164,6 +164,59 @@ fn softnc_run_runs_the_workpiece_to_m30() {
     }
 }
 
+/// `softnc run` on a lathe with a C axis: plc-sim drives X, Z and C (wire order X Z C) with
+/// their own machine data, its trace names them (no Y column), and the summary gives C's
+/// following error in degrees beside the linear axes' in mm.
+#[test]
+fn softnc_run_on_a_lathe_with_c_traces_its_axes_by_name() {
+    let inst = instance("lathec");
+    let (tr, svg) = (scratch("lathec.csv"), scratch("lathec.svg"));
+    let prog = scratch("lathec.mpf");
+    std::fs::write(
+        &prog,
+        "N10 G18 G90 G0 X62 Z2 C0\nN20 G1 Z-10 F600\nN30 G91 G0 C450\nN40 G90 G0 X80 Z20\nM30\n",
+    )
+    .unwrap();
+    let out = Proc::new(EXE)
+        .current_dir(root())
+        .arg("run")
+        .arg(&prog)
+        .args(["--machine", "config/siemens-808d-c.toml", "--quiet"])
+        .args(["--instance", &inst, "--trace"])
+        .arg(&tr)
+        .arg("--svg")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("rotary axes: max following error C "),
+        "{stdout}"
+    );
+    let header = std::fs::read_to_string(&tr).unwrap();
+    assert!(
+        header.starts_with("time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,v_path,"),
+        "{}",
+        header.lines().next().unwrap_or("")
+    );
+    let rows = trace(&tr);
+    assert_eq!(rows.last().unwrap().state, "END");
+    // At the end X is 40 (X80 a diameter) and C has counted on to 450° (shown 90°).
+    let last = rows.last().unwrap();
+    assert_eq!(last.sp, [40.0, 0.0, 20.0]);
+    assert_eq!(last.axis('C').map(|c| c[0]), Some(450.0));
+    assert!(rows.iter().all(|r| r.sp[1] == 0.0 && r.act[1] == 0.0));
+    // N30 (line 3): C turns at its rapid rate, its following error in degrees.
+    let turning = rows
+        .iter()
+        .filter(|r| r.line == 3)
+        .map(|r| r.axis('C').map_or(0.0, |c| c[2].abs()))
+        .fold(0.0, f64::max);
+    assert!(turning > 1.0, "C's following error {turning}°");
+}
+
 /// kill -9 of plc-sim: the kernel's watchdog raises alarm 2000 no later than N+1 cycles
 /// after the PLC's last sign of life, and the path brakes from that setpoint on. A new
 /// plc-sim, a reset, and the kernel runs a program again, from where the axes stopped.
@@ -557,7 +610,9 @@ fn two_instances_run_side_by_side_without_crosstalk() {
         } else {
             [0.0, 120.0, 0.0]
         };
-        assert_eq!(end.pos, want);
+        assert_eq!(end.axes.names().collect::<String>(), "XYZ");
+        assert_eq!(end.pos[..3], want);
+        assert!(end.pos[3..].iter().all(|&p| p == 0.0), "{:?}", end.pos);
         for s in &seen {
             let other = if i == 0 { s.pos[1] } else { s.pos[0] };
             assert_eq!(other, 0.0, "instance {name}: {s:?}");

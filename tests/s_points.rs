@@ -142,6 +142,7 @@ fn stops_act_at_block_end_and_aux_only_blocks_at_the_current_point() {
             ),
             Prepared::End(s) => format!("end {} S{}", s.code.code(), s.at),
             Prepared::Warning(a) => format!("warning {}", a.number()),
+            Prepared::Axes(_, s) => format!("axes {}", s.number.unwrap()),
         })
         .collect();
     // N1 does not move, so M8 is output at S0; H5 before N3 moves, M0 at N3's end (S1), M1

@@ -4,7 +4,7 @@
 //! arithmetic is in the comments) or with the small vector helpers below, never copied from
 //! softnc's output. Tolerance 1e-9 mm unless stated.
 
-use nc_kernel::{prepare, AlarmCode, MachineData, ToolTable};
+use nc_kernel::{prepare, AlarmCode, AxisPos, MachineData, ToolTable};
 use nc_kernel::{Role, Segment, Shape};
 use std::path::PathBuf;
 
@@ -776,7 +776,10 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         &new,
         None,
         Interruption::contour(seq, 0.5),
-        [mid_old, 65.0, -5.0 + 100.0],
+        AxisPos {
+            geo: [mid_old, 65.0, -5.0 + 100.0],
+            ..AxisPos::default()
+        },
     )
     .unwrap_or_else(|a| panic!("{a}"));
     let [Prepared::Segment(reposition), Prepared::Segment(remainder)] = r.first.as_slice() else {
@@ -816,7 +819,10 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         &huge,
         None,
         Interruption::contour(seq, 0.5),
-        [mid_old, 65.0, 95.0],
+        AxisPos {
+            geo: [mid_old, 65.0, 95.0],
+            ..AxisPos::default()
+        },
     )
     .err()
     .expect("alarm 3021");

@@ -9,7 +9,7 @@ use nc_kernel::cycle::{ChannelAlarm, Override};
 use nc_kernel::MachineData;
 use serde::Deserialize;
 use serde_json::{json, Value};
-use softnc_protocol::{command, state, Command};
+use softnc_protocol::{command, state, AxisList, Command, MAX_AXES};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -295,10 +295,9 @@ impl Api {
     fn plot(&self) -> Answer {
         let snap = self.link.snapshot();
         let (Some(path), Some(t)) = (snap.program_path, snap.tools) else {
-            return Ok((
-                200,
-                json!({ "axes": ["X", "Y"], "index": [0, 1], "programmed": [], "path": [] }),
-            ));
+            let empty = serde_json::to_value(plot::empty(&self.md))
+                .map_err(|e| refuse(500, e.to_string()))?;
+            return Ok((200, empty));
         };
         if let Ok(c) = self.plot_cache.lock() {
             if let Some((p, v, j)) = c.as_ref() {
@@ -396,13 +395,35 @@ fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
     a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-/// The status as the API and the event stream give it.
+/// The machine's axes as the status lists them: name, rotary (degrees), modulo (shown
+/// within 0…360°), in the order of `pos`, `actual` and `following_error`.
+fn axes_json(list: &AxisList) -> Value {
+    list.names()
+        .enumerate()
+        .map(|(n, c)| {
+            json!({
+                "name": c.to_string(),
+                "rotary": list.rotary(n),
+                "modulo": list.modulo(n),
+            })
+        })
+        .collect()
+}
+
+/// The first `count` positions of a wire array: one per configured axis.
+fn positions(p: &[f64; MAX_AXES], count: usize) -> &[f64] {
+    &p[..count.min(MAX_AXES)]
+}
+
+/// The status as the API and the event stream give it. Positions are arrays with one
+/// entry per configured axis, in the order `axes` names them (X Y Z on a mill).
 pub fn status_json(s: &Snapshot) -> Value {
     let Some(st) = s.status else {
         return json!({ "connected": false });
     };
     let alarm =
         ChannelAlarm::new(st.alarm).map(|a| json!({ "number": a.number(), "text": a.title() }));
+    let n = usize::from(st.axes.count);
     json!({
         "connected": s.connected(),
         "state": state::name(st.state),
@@ -410,7 +431,8 @@ pub fn status_json(s: &Snapshot) -> Value {
         "program": st.program,
         "program_path": s.program_path,
         "line": st.line,
-        "pos": st.pos,
+        "axes": axes_json(&st.axes),
+        "pos": positions(&st.pos, n),
         "feed_mm_min": st.v_path * 60.0,
         "override_percent": st.override_ * 100.0,
         "alarm": alarm,
@@ -419,8 +441,8 @@ pub fn status_json(s: &Snapshot) -> Value {
         "aux_sent": st.aux_sent,
         "aux_acked": st.aux_acked,
         "tools_version": st.tools_version,
-        "actual": s.actual.map(|a| a.pos),
-        "following_error": s.actual.map(|a| a.following_error),
+        "actual": s.actual.as_ref().map(|a| positions(&a.pos, n)),
+        "following_error": s.actual.as_ref().map(|a| positions(&a.following_error, n)),
         "spindle_rpm": s.actual.map(|a| a.spindle_rpm),
         "tool": s.actual.map(|a| a.tool),
         "plc_alarm": s.actual.and_then(|a| ChannelAlarm::new(a.plc_alarm)).map(ChannelAlarm::number),
@@ -429,4 +451,42 @@ pub fn status_json(s: &Snapshot) -> Value {
 
 pub fn status_text(s: &Snapshot) -> String {
     status_json(s).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use softnc_protocol::{ActualValues, KernelStatus};
+
+    /// A lathe with a C axis: three positions each, named by `axes`; C is rotary and modulo
+    /// (the page shows it within 0…360°), its position counted on past a turn.
+    #[test]
+    fn positions_come_with_their_axes_names() {
+        let mut st = KernelStatus::default();
+        st.axes.names[..3].copy_from_slice(b"XZC");
+        st.axes.count = 3;
+        st.axes.kinds = 1 << 2 | 1 << (8 + 2);
+        st.pos[..3].copy_from_slice(&[10.0, -5.0, 370.0]);
+        let mut a = ActualValues::default();
+        a.pos[..3].copy_from_slice(&[9.5, -4.5, 369.0]);
+        a.following_error[..3].copy_from_slice(&[0.5, -0.5, 1.0]);
+        let snap = Snapshot {
+            status: Some(st),
+            status_age: Some(std::time::Duration::ZERO),
+            actual: Some(a),
+            ..Default::default()
+        };
+        let j = status_json(&snap);
+        assert_eq!(
+            j["axes"],
+            json!([
+                { "name": "X", "rotary": false, "modulo": false },
+                { "name": "Z", "rotary": false, "modulo": false },
+                { "name": "C", "rotary": true, "modulo": true },
+            ])
+        );
+        assert_eq!(j["pos"], json!([10.0, -5.0, 370.0]));
+        assert_eq!(j["actual"], json!([9.5, -4.5, 369.0]));
+        assert_eq!(j["following_error"], json!([0.5, -0.5, 1.0]));
+    }
 }

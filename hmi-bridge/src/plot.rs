@@ -6,6 +6,7 @@ use nc_kernel::geometry::{Curve, Fineness};
 use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable};
 use nc_kernel::{MotionKind, Plane, Pos};
+use nc_runtime::WireAxes;
 use softnc_protocol::ToolTableMsg;
 
 /// Points kept at most per picture: longer programs are thinned.
@@ -15,9 +16,10 @@ const MAX_POINTS: usize = 100_000;
 pub struct Plot {
     /// Abscissa and ordinate of the plane: "X", "Y" (G17), "Z", "X" (G18), "Y", "Z" (G19).
     pub axes: [&'static str; 2],
-    /// The same as indices into a position (X 0, Y 1, Z 2): the page draws the actual
-    /// position with them.
-    pub index: [usize; 2],
+    /// The same as indices into the status's position arrays (the machine's configured
+    /// axes in its order: X 0, Z 1 on a lathe); `None` for an axis the machine does not
+    /// have. The page draws the actual position with them.
+    pub index: [Option<usize>; 2],
     pub programmed: Vec<Vec<[f64; 2]>>,
     pub path: Vec<Vec<[f64; 2]>>,
     /// Preparation's first alarm, rendered (the path ends there).
@@ -44,8 +46,29 @@ pub fn table(m: &ToolTableMsg) -> ToolTable {
     }
 }
 
-/// Names of the axes by index.
+/// Names of the geometry axes by index.
 const AXES: [&str; 3] = ["X", "Y", "Z"];
+
+/// Where geometry axis `i` (X 0, Y 1, Z 2) is in the status's position arrays.
+fn wire_index(md: &MachineData, i: usize) -> Option<usize> {
+    let name = AXES.get(i)?.chars().next()?;
+    WireAxes::new(md).list.index(name)
+}
+
+/// The plot of no program: nothing drawn, in the plane the machine starts in.
+pub fn empty(md: &MachineData) -> Plot {
+    let plane = contour_plane("", "", md, &ToolTable::default());
+    framed(md, plane)
+}
+
+fn framed(md: &MachineData, plane: Plane) -> Plot {
+    let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+    Plot {
+        axes: [AXES[a], AXES[o]],
+        index: [wire_index(md, a), wire_index(md, o)],
+        ..Default::default()
+    }
+}
 
 /// Arcs as chords of at most 2° and at most 1 mm: round on any screen.
 const FINE: Fineness = Fineness {
@@ -59,11 +82,7 @@ const FINE: Fineness = Fineness {
 pub fn plot(name: &str, source: &str, md: &MachineData, tools: &ToolTable) -> Plot {
     let plane = contour_plane(name, source, md, tools);
     let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
-    let mut out = Plot {
-        axes: [AXES[a], AXES[o]],
-        index: [a, o],
-        ..Default::default()
-    };
+    let mut out = framed(md, plane);
     let mut interp = Interpreter::new(name, source, md, tools);
     let mut line: Vec<[f64; 2]> = Vec::new();
     // Up to the first alarm: preparation below reports it.
@@ -183,7 +202,7 @@ mod tests {
         let text = "N10 G18 G90 G0 X50 Z10 D1\nN20 G1 G42 X20 Z0 F100\nN30 Z-10\nN40 X30 Z-20\nN50 G40 G0 X50 Z10\nM30\n";
         let md = MachineData::load(None, &[]).unwrap();
         let p = plot("t.mpf", text, &md, &ToolTable::builtin());
-        assert_eq!((p.axes, p.index), (["Z", "X"], [2, 0]));
+        assert_eq!((p.axes, p.index), (["Z", "X"], [Some(2), Some(0)]));
         assert!(p.alarm.is_none(), "{:?}", p.alarm);
         assert_eq!(
             p.programmed,
@@ -209,5 +228,20 @@ mod tests {
         for (got, want) in p.path[0].iter().zip(want) {
             assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9);
         }
+    }
+
+    /// A lathe (X and Z): Z is the second entry of its positions, and it has no Y.
+    #[test]
+    fn a_lathe_plots_z_and_x_at_their_wire_places() {
+        let md = MachineData::from_toml_str(
+            "dialect = \"siemens-808d\"\nmachine = \"turning\"\n[program]\ninitial_plane = \"zx\"\n\
+             [axes.X]\nmax_velocity = 6000\nmax_acceleration = 1500\nmax_jerk = 3e4\n\
+             [axes.Z]\nmax_velocity = 6000\nmax_acceleration = 1500\nmax_jerk = 3e4\n",
+            "lathe.toml",
+        )
+        .unwrap();
+        let p = empty(&md);
+        assert_eq!((p.axes, p.index), (["Z", "X"], [Some(1), Some(0)]));
+        assert_eq!(wire_index(&md, 1), None);
     }
 }

@@ -23,6 +23,8 @@ pub enum AlarmCode {
     PlaneChangeWithTrc,
     /// Working area limitation (840C G25/G26) violated.
     WorkingArea,
+    /// A prepared segment would take an axis past its software limit switch (840D 10720).
+    SoftwareLimit,
     /// Syntax error: a character or token that cannot start or continue a word.
     Syntax,
     /// An address (word letter) that the dialect does not know, or an axis the machine lacks.
@@ -81,6 +83,7 @@ impl AlarmCode {
             AlarmCode::ForbiddenWithTrc => 10754,
             AlarmCode::PlaneChangeWithTrc => 10755,
             AlarmCode::WorkingArea => 10630,
+            AlarmCode::SoftwareLimit => 10720,
             AlarmCode::Syntax => 12080,
             AlarmCode::UnknownAddress => 12050,
             AlarmCode::AddressTwice => 12040,

@@ -19,6 +19,9 @@ pub struct Gated<'a> {
     first: std::vec::IntoIter<Prepared>,
     checker: Option<Checker<'a>>,
     runs: Runs,
+    /// The load-time check refused the program: this alarm is the whole path.
+    refused: Option<Alarm>,
+    ended: bool,
 }
 
 impl<'a> Gated<'a> {
@@ -28,13 +31,25 @@ impl<'a> Gated<'a> {
             first: first.into_iter(),
             checker,
             runs: Runs::default(),
+            refused: None,
+            ended: false,
         }
+    }
+
+    /// As [`Gated::of_job`], checked at load as the kernel does (up to
+    /// `trc.check_at_load_blocks`): a violation there is the path's only record, an alarm
+    /// before anything moves (`softnc simulate`, tests).
+    pub fn of_job_checked(job: Job<'a>) -> Self {
+        let mut g = Gated::of_job(job);
+        g.refused = g.check_ahead(u64::from(job.md.trc.check_at_load_blocks));
+        g
     }
 
     /// The path of `job` as the kernel's channel takes it: its preparation, with the checker
     /// its machine data asks for.
     pub fn of_job(job: Job<'a>) -> Self {
-        let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at);
+        let prep = Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at)
+            .with_soft_limits(job.md);
         Gated::new(prep, Vec::new(), Checker::new(job))
     }
 
@@ -45,12 +60,19 @@ impl<'a> Gated<'a> {
     }
 
     /// Where the program starts: the position before its first motion.
-    pub fn start(&self) -> crate::frontend::block::Pos {
+    pub fn start(&self) -> crate::frontend::block::AxisPos {
         self.prep.start()
     }
 
     /// The next record of the path; `None` at its end.
     pub fn next_item(&mut self) -> Option<Result<Prepared, Alarm>> {
+        if self.ended {
+            return None;
+        }
+        if let Some(a) = self.refused.take() {
+            self.ended = true;
+            return Some(Err(a));
+        }
         let item = match self.first.next() {
             Some(p) => Ok(p),
             None => self.prep.next_item().transpose()?,
@@ -99,17 +121,33 @@ pub struct Checker<'a> {
     cleared: u32,
     /// A violation, and the run it lies in.
     violation: Option<(u32, Alarm)>,
+    /// The whole-program check is on (otherwise only software limits are checked ahead).
+    whole: bool,
 }
 
 impl<'a> Checker<'a> {
-    /// The checker for `job`, if its machine data asks for the whole-program check.
+    /// The checker for `job`, if its machine data asks for the whole-program check or has
+    /// software limits (a move past one is refused before motion as well).
     fn new(job: Job<'a>) -> Option<Self> {
-        job.md.trc.whole_program_check.then(|| Checker {
-            prep: Preparation::starting_at(job.name, job.source, job.md, job.tools, job.at)
-                .checking_whole(WholeMode::Stop),
-            runs: Runs::default(),
-            cleared: 0,
-            violation: None,
+        let md = job.md;
+        let limits = md
+            .axes
+            .configured()
+            .any(|(_, a)| a.software_limits.is_some());
+        (md.trc.whole_program_check || limits).then(|| {
+            let prep = Preparation::starting_at(job.name, job.source, md, job.tools, job.at)
+                .with_soft_limits(md);
+            Checker {
+                prep: if md.trc.whole_program_check {
+                    prep.checking_whole(WholeMode::Stop)
+                } else {
+                    prep
+                },
+                runs: Runs::default(),
+                cleared: 0,
+                violation: None,
+                whole: md.trc.whole_program_check,
+            }
         })
     }
 
@@ -147,7 +185,12 @@ impl<'a> Checker<'a> {
             // whole check has met the rest of the run, where an element may lie that a
             // segment already out reaches: the run is not cleared. (The window's own 3021
             // comes only after the segments it let go.)
-            Err(a) if self.prep.stopped_by_whole_check() || self.runs.inside => {
+            // A software limit is a violation wherever it lies: the path must not start a
+            // move it cannot finish.
+            Err(a)
+                if a.code == crate::AlarmCode::SoftwareLimit
+                    || (self.whole && (self.prep.stopped_by_whole_check() || self.runs.inside)) =>
+            {
                 self.violation = Some((self.runs.run, a));
             }
             // Outside a run an alarm ends preparation at the same place in the path that

@@ -13,7 +13,7 @@
 //! Nothing here allocates, frees or blocks; a new program arrives built and boxed, and the
 //! one it replaces goes back to the caller to be freed outside the IPO thread.
 
-use crate::frontend::block::Pos;
+use crate::frontend::block::{Additional, AxisPos, Pos, ADDITIONAL};
 use crate::handover::Handover;
 use crate::ipo::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint};
@@ -157,6 +157,8 @@ pub struct Status {
     pub state: Option<ChannelState>,
     pub line: u32,
     pub pos: Pos,
+    /// The additional axes.
+    pub add: Additional,
     pub v_path: f64,
     pub override_: f64,
     pub alarm: Option<ChannelAlarm>,
@@ -184,6 +186,16 @@ pub trait Bus {
     fn status(&mut self, st: &Status);
 }
 
+impl Status {
+    /// Every path axis.
+    pub fn axes(&self) -> AxisPos {
+        AxisPos {
+            geo: self.pos,
+            add: self.add,
+        }
+    }
+}
+
 /// A program ready to run: its channel (at the program's start position) and the queue its
 /// preparation thread fills.
 pub struct Program {
@@ -191,7 +203,7 @@ pub struct Program {
     pub channel: Box<Channel>,
     pub hand: Arc<Handover>,
     /// Where the program starts.
-    pub start: Pos,
+    pub start: AxisPos,
 }
 
 /// What an HMI asks.
@@ -223,10 +235,12 @@ pub enum Refusal {
     NoPlc,
     DrivesNotReady,
     EmergencyStop,
-    /// The program starts at `start`, the axes stand at `here`.
+    /// The program starts with axis `axis` (of [`crate::AXIS_NAMES`]) at `start`; it stands
+    /// at `here` (the first axis that differs).
     StartsElsewhere {
-        start: Pos,
-        here: Pos,
+        axis: usize,
+        start: f64,
+        here: f64,
     },
     BadOverride,
     /// The IPO thread has ended or does not answer.
@@ -265,7 +279,7 @@ pub struct Cyclic {
 
 impl Cyclic {
     /// Allocates everything the cycle uses; call before the real-time part starts.
-    pub fn new(md: &MachineData, start: Pos) -> Self {
+    pub fn new(md: &MachineData, start: AxisPos) -> Self {
         Cyclic {
             program: None,
             idle: Box::new(Channel::new(md, start)),
@@ -421,14 +435,14 @@ impl Cyclic {
 
     /// A program whose start is not where the axes stand (within 1 µm).
     fn starts_elsewhere(&self, p: &Program) -> Option<Refusal> {
-        let here = self.sp.pos;
-        let d = (0..3)
-            .map(|i| (p.start[i] - here[i]).abs())
-            .fold(0.0, f64::max);
-        (d > 1e-6).then_some(Refusal::StartsElsewhere {
-            start: p.start,
-            here,
-        })
+        let here = self.sp.axes();
+        (0..3 + ADDITIONAL)
+            .find(|&i| (p.start.axis(i) - here.axis(i)).abs() > 1e-6)
+            .map(|axis| Refusal::StartsElsewhere {
+                axis,
+                start: p.start.axis(axis),
+                here: here.axis(axis),
+            })
     }
 
     /// `p` becomes the running program with the operator's override and single-block
@@ -454,7 +468,7 @@ impl Cyclic {
         self.in_flight.clear();
         self.outbox.clear();
         self.pending = None;
-        let pos = self.sp.pos;
+        let pos = self.sp.axes();
         if let Some(p) = self.program.take() {
             // The preparation thread stops at its next record.
             p.hand
@@ -635,6 +649,7 @@ impl Cyclic {
             state: Some(self.sp.state),
             line: self.sp.source.map_or(0, |s| s.line),
             pos: self.sp.pos,
+            add: self.sp.add,
             v_path: self.sp.v_path,
             override_: self.override_,
             alarm: self.alarm,

@@ -124,60 +124,92 @@ pub struct Job<'a> {
     pub md: &'a MachineData,
     pub tools: &'a ToolTable,
     /// Where the axes stand before the first block (`None`: the machine zero).
-    pub at: Option<crate::frontend::block::Pos>,
+    pub at: Option<crate::frontend::block::AxisPos>,
 }
 
 /// Stack for the preparation thread: `Preparation` keeps its queues in place (no heap), and
 /// unoptimised builds copy it around.
 const PREP_STACK: usize = 32 << 20;
 
-/// One record from preparation as the channel takes it; `None` for what the channel does not
-/// see (a segment without length, a warning). Alarms and warnings go to `report` with their
-/// text; the channel gets the alarm's number and place.
-fn to_input(
-    item: Result<Prepared, Alarm>,
-    name: &str,
-    lim: &AxisLimits,
-    report: &mut dyn FnMut(Report),
-) -> Option<Input> {
-    let alarm = |a: Alarm, report: &mut dyn FnMut(Report)| {
-        let i = Input::Alarm {
-            code: a.number(),
-            source: crate::segment::Source {
-                number: None,
-                line: a.line,
-                col: a.col,
-                seq: 0,
-            },
-        };
-        report(Report::Alarm(a));
-        Some(i)
-    };
-    match item {
-        Ok(Prepared::Segment(s)) => match Entry::new(&s, lim) {
-            Ok(e) => e.map(Input::Motion),
-            Err(axis) => alarm(
-                Alarm::at(
-                    crate::AlarmCode::UnknownAddress,
-                    name,
-                    &s.source,
-                    format!(
-                        "the path moves axis {} which has no machine data",
-                        crate::frontend::block::AXIS_NAMES[axis]
-                    ),
-                ),
-                report,
-            ),
-        },
-        Ok(Prepared::Aux(a)) => Some(Input::Aux(a)),
-        Ok(Prepared::Stop(s)) => Some(Input::Stop(s)),
-        Ok(Prepared::End(s)) => Some(Input::End(s)),
-        Ok(Prepared::Warning(w)) => {
-            report(Report::Warning(w));
-            None
+/// Records from preparation as the channel takes them: each segment with the additional
+/// axes' move that came before it, or with them standing where the last move left them.
+struct ToInput<'l> {
+    lim: &'l AxisLimits,
+    axes: Option<crate::frontend::block::AxisMove>,
+    here: crate::frontend::block::Additional,
+}
+
+impl<'l> ToInput<'l> {
+    fn new(lim: &'l AxisLimits, start: &crate::frontend::block::AxisPos) -> Self {
+        ToInput {
+            lim,
+            axes: None,
+            here: start.add,
         }
-        Err(a) => alarm(a, report),
     }
+
+    /// One record; `None` for what the channel does not see (a segment without length, a
+    /// warning, the axes' move it takes with the next segment). Alarms and warnings go to
+    /// `report` with their text; the channel gets the alarm's number and place.
+    fn take(
+        &mut self,
+        item: Result<Prepared, Alarm>,
+        name: &str,
+        report: &mut dyn FnMut(Report),
+    ) -> Option<Input> {
+        match item {
+            Ok(Prepared::Segment(s)) => {
+                let axes = self.axes.take();
+                let e = Entry::new(&s, axes.as_ref(), &self.here, self.lim);
+                if let Some(m) = axes {
+                    self.here = m.to;
+                }
+                match e {
+                    Ok(e) => e.map(Input::Motion),
+                    Err(axis) => path_alarm(unknown_axis(name, &s.source, axis), report),
+                }
+            }
+            Ok(Prepared::Axes(m, _)) => {
+                self.axes = Some(m);
+                None
+            }
+            Ok(Prepared::Aux(a)) => Some(Input::Aux(a)),
+            Ok(Prepared::Stop(s)) => Some(Input::Stop(s)),
+            Ok(Prepared::End(s)) => Some(Input::End(s)),
+            Ok(Prepared::Warning(w)) => {
+                report(Report::Warning(w));
+                None
+            }
+            Err(a) => path_alarm(a, report),
+        }
+    }
+}
+
+fn unknown_axis(name: &str, at: &crate::segment::Source, axis: usize) -> Alarm {
+    Alarm::at(
+        crate::AlarmCode::UnknownAddress,
+        name,
+        at,
+        format!(
+            "the path moves axis {} which has no machine data",
+            crate::frontend::block::AXIS_NAMES[axis]
+        ),
+    )
+}
+
+/// An alarm to the user with its text, and to the channel as its number and place.
+fn path_alarm(a: Alarm, report: &mut dyn FnMut(Report)) -> Option<Input> {
+    let i = Input::Alarm {
+        code: a.number(),
+        source: crate::segment::Source {
+            number: None,
+            line: a.line,
+            col: a.col,
+            seq: 0,
+        },
+    };
+    report(Report::Alarm(a));
+    Some(i)
 }
 
 /// The preparation thread's work: the start position to `start` first, then every record,
@@ -185,13 +217,13 @@ fn to_input(
 /// [`guarded`] marks the hand-over finished). `delay` slows it down (a test hook).
 fn prepare_into(
     job: Job<'_>,
-    start: &crossbeam::channel::Sender<crate::frontend::block::Pos>,
+    start: &crossbeam::channel::Sender<crate::frontend::block::AxisPos>,
     lim: &AxisLimits,
     hand: &Handover,
     reports: &crossbeam::channel::Sender<Report>,
     delay: Duration,
 ) {
-    let path = Gated::of_job(job);
+    let path = Gated::of_job_checked(job);
     let _ = start.send(path.start());
     feed(path, job.name, lim, hand, reports, delay);
 }
@@ -228,11 +260,12 @@ fn feed(
     let mut report = |r: Report| {
         let _ = reports.send(r);
     };
+    let mut to_input = ToInput::new(lim, &path.start());
     while let Some(item) = path.next_item() {
         if let Ok(p) = &item {
             hand.line.store(p.line(), Ordering::Relaxed);
         }
-        let Some(input) = to_input(item, name, lim, &mut report) else {
+        let Some(input) = to_input.take(item, name, &mut report) else {
             continue;
         };
         let last = matches!(input, Input::Alarm { .. } | Input::End(_));
@@ -249,7 +282,7 @@ fn feed(
 pub fn with_preparation<R>(
     job: Job<'_>,
     delay: Duration,
-    consumer: impl FnOnce(crate::frontend::block::Pos, &Handover) -> R,
+    consumer: impl FnOnce(crate::frontend::block::AxisPos, &Handover) -> R,
 ) -> std::io::Result<(R, Vec<Report>)> {
     let lim = AxisLimits::new(job.md);
     let hand = Handover::default();
@@ -266,7 +299,7 @@ pub fn with_preparation<R>(
                 });
             })?;
         // The machine stands where the program starts.
-        let start = start_rx.recv().unwrap_or([0.0; 3]);
+        let start = start_rx.recv().unwrap_or_default();
         let r = consumer(start, hand);
         hand.cancel.store(true, Ordering::Relaxed);
         let _ = prep.join();
@@ -280,7 +313,7 @@ pub fn with_preparation<R>(
 pub struct Spawned {
     pub hand: std::sync::Arc<Handover>,
     /// Where the program starts.
-    pub start: crate::frontend::block::Pos,
+    pub start: crate::frontend::block::AxisPos,
     /// Alarms and warnings with their text, as preparation finds them.
     pub reports: crossbeam::channel::Receiver<Report>,
     pub thread: std::thread::JoinHandle<()>,
@@ -315,7 +348,7 @@ pub fn spawn_preparation(
     source: String,
     md: MachineData,
     tools: ToolTable,
-    at: Option<crate::frontend::block::Pos>,
+    at: Option<crate::frontend::block::AxisPos>,
 ) -> std::io::Result<Result<Spawned, Alarm>> {
     let (ready_tx, ready_rx) = crossbeam::channel::bounded(1);
     let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
@@ -341,7 +374,7 @@ pub fn spawn_preparation(
 /// What a spawned preparation thread answered: its program ready at a start position, or
 /// the alarm that refused it (the thread joined then).
 fn answer(
-    ready: Result<Result<crate::frontend::block::Pos, Alarm>, crossbeam::channel::RecvError>,
+    ready: Result<Result<crate::frontend::block::AxisPos, Alarm>, crossbeam::channel::RecvError>,
     hand: std::sync::Arc<Handover>,
     reports: crossbeam::channel::Receiver<Report>,
     thread: std::thread::JoinHandle<()>,
@@ -386,9 +419,9 @@ pub fn spawn_resume(
     source: String,
     md: MachineData,
     tools: ToolTable,
-    start: Option<crate::frontend::block::Pos>,
+    start: Option<crate::frontend::block::AxisPos>,
     at: crate::prep::Interruption,
-    axes: crate::frontend::block::Pos,
+    axes: crate::frontend::block::AxisPos,
 ) -> std::io::Result<Result<Spawned, Alarm>> {
     let (ready_tx, ready_rx) = crossbeam::channel::bounded(1);
     let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
@@ -424,14 +457,15 @@ pub fn spawn_resume(
 /// The whole program as the channel takes it, prepared in this thread (tests, benchmarks):
 /// the start position and the records, `Input::Done` last; alarms and warnings are dropped
 /// into the reports.
-pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::Pos, Vec<Input>, Vec<Report>) {
+pub fn prepare_all(job: Job<'_>) -> (crate::frontend::block::AxisPos, Vec<Input>, Vec<Report>) {
     let lim = AxisLimits::new(job.md);
-    let mut path = Gated::of_job(job);
+    let mut path = Gated::of_job_checked(job);
     let start = path.start();
     let (mut inputs, mut reports) = (Vec::new(), Vec::new());
+    let mut to_input = ToInput::new(&lim, &start);
     while let Some(item) = path.next_item() {
         let failed = item.is_err();
-        if let Some(i) = to_input(item, job.name, &lim, &mut |r| reports.push(r)) {
+        if let Some(i) = to_input.take(item, job.name, &mut |r| reports.push(r)) {
             inputs.push(i);
         }
         if failed {

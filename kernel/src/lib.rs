@@ -38,11 +38,12 @@ pub use alarm::{Alarm, AlarmCode};
 pub use frontend::{
     interpret, AuxWord, Block, BlockNo, CornerPolicy, Distance, FeedAdaption, Interpreter,
     ModalState, Motion, MotionKind, MotionMode, Plane, Pos, ProgramStop, SelectionPolicy, TrcSide,
-    AXIS_NAMES,
 };
+pub use frontend::{Additional, AxisPos};
 pub use machine_data::{
-    AuxOutput, CornerModeSetting, DecimalInput, DialectName, MachineData, MachineDataError,
-    MachineKind, PlaneName, ToolPost, Units, ViolationReaction, BUILTIN_DEFAULTS,
+    AuxOutput, AxisData, AxisKind, CornerModeSetting, DecimalInput, DialectName, MachineData,
+    MachineDataError, MachineKind, PlaneName, ToolPost, Units, ViolationReaction, ADDITIONAL,
+    AXIS_NAMES, BUILTIN_DEFAULTS, MAX_PATH_AXES,
 };
 pub use prep::{
     prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,

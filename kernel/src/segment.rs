@@ -93,7 +93,7 @@ pub struct Segment {
     pub shape: Shape,
     pub from: Pos,
     pub to: Pos,
-    /// Path feed, mm/min.
+    /// Path feed, mm/min (over every moving axis, docs/ipo.md).
     pub feed: f64,
     pub rapid: bool,
     /// Exact stop at the end (G09 of the block, or the modal G60/G61; inserted blocks take
@@ -272,4 +272,16 @@ impl Curve {
         d2[io] = 2.0 * dr * sweep * cs - r * sweep * sweep * sn;
         (d1, d2)
     }
+}
+#[cfg(test)]
+#[test]
+fn scratch_sizes() {
+    eprintln!(
+        "Segment {} Shape {} Source {} Motion {} Block {}",
+        std::mem::size_of::<Segment>(),
+        std::mem::size_of::<Shape>(),
+        std::mem::size_of::<Source>(),
+        std::mem::size_of::<Motion>(),
+        std::mem::size_of::<crate::frontend::block::Block>()
+    );
 }

@@ -169,7 +169,7 @@ fn limit_alarm(code: AlarmCode, at: Option<Source>, name: &str, md: &MachineData
 fn ipo_loop(
     name: &str,
     md: &MachineData,
-    start: crate::frontend::block::Pos,
+    start: crate::frontend::block::AxisPos,
     hand: &Handover,
     opts: &Options,
     out: &mut dyn Write,
@@ -184,7 +184,19 @@ fn ipo_loop(
     let mut acks: std::collections::VecDeque<u64> = std::collections::VecDeque::new();
     let cycle_us = u64::from(md.ipo.cycle_us);
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
-    writeln!(w, "cycle,time,X,Y,Z,v_path,block,events")?;
+    // X Y Z always, then the additional axes the machine has (continuous positions: a
+    // modulo axis's setpoint runs on past 360°).
+    let extra: Vec<usize> = md
+        .axes
+        .configured()
+        .map(|(i, _)| i)
+        .filter(|&i| i >= 3)
+        .collect();
+    let names: String = extra
+        .iter()
+        .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
+        .collect();
+    writeln!(w, "cycle,time,X,Y,Z{names},v_path,block,events")?;
     let mut line = String::with_capacity(256);
     ch.start();
     let limits = Limits::new(md);
@@ -205,9 +217,9 @@ fn ipo_loop(
             acks.pop_front();
             ch.ack();
         }
-        let before = sp.pos;
+        let before = sp.axes();
         ch.cycle(k, &mut sp);
-        still = if sp.pos == before && sp.events.is_empty() {
+        still = if sp.axes() == before && sp.events.is_empty() {
             still + 1
         } else {
             0
@@ -234,7 +246,7 @@ fn ipo_loop(
             acks.push_back(k + opts.ack_cycles.max(1));
         }
         summary.max_speed = summary.max_speed.max(sp.v_path * 60.0);
-        write_row(&mut line, &sp, cycle_us);
+        write_row(&mut line, &sp, &extra, cycle_us);
         w.write_all(line.as_bytes())?;
         match sp.state {
             ChannelState::End => break,
@@ -263,7 +275,7 @@ fn ipo_loop(
 }
 
 /// One CSV row; numbers in the shortest form that reads back to the same bits.
-fn write_row(line: &mut String, sp: &Setpoint, cycle_us: u64) {
+fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
     use std::fmt::Write as _;
     line.clear();
     let us = sp.cycle * cycle_us;
@@ -275,7 +287,13 @@ fn write_row(line: &mut String, sp: &Setpoint, cycle_us: u64) {
         us % 1_000_000
     );
     let mut buf = ryu::Buffer::new();
-    for x in sp.pos.iter().chain(std::iter::once(&(sp.v_path * 60.0))) {
+    let add = extra.iter().map(|&i| &sp.add[i - 3]);
+    for x in sp
+        .pos
+        .iter()
+        .chain(add)
+        .chain(std::iter::once(&(sp.v_path * 60.0)))
+    {
         line.push(',');
         // -0.0 prints as 0: the same place.
         let x = if *x == 0.0 { 0.0 } else { *x };

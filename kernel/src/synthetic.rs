@@ -85,6 +85,15 @@ pub enum Header {
 /// Tool radius the compensated program is made for (D1 in the shipped tool table).
 pub const COMPENSATED_RADIUS: f64 = 10.0;
 
+/// Machine data overrides that give X, Y and Z the travel of these programs: a long one runs
+/// kilometres beyond any machine's software limits (`--md` form).
+pub fn unlimited_travel() -> Vec<String> {
+    ["X", "Y", "Z"]
+        .iter()
+        .map(|a| format!("axes.{a}.software_limits=[-1e9, 1e9]"))
+        .collect()
+}
+
 /// The selection: a line to (-20, 0), from where the first contour block goes in +X.
 fn header(out: &mut String, header: Header) {
     match header {

@@ -13,8 +13,9 @@ use std::path::PathBuf;
 pub struct PlcArgs {
     #[command(flatten)]
     pub control: ControlArgs,
-    /// Write the CSV trace to FILE
-    /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`).
+    /// Write the CSV trace to FILE: setpoint, actual (A…) and following error (F…) of
+    /// every configured axis (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`
+    /// on a three-axis mill).
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
     /// Press emergency stop at kernel cycle CYCLE.

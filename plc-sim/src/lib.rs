@@ -16,6 +16,7 @@
 
 pub mod args;
 mod axis;
+mod drives;
 mod ice;
 pub mod plc;
 mod trace;
@@ -31,7 +32,12 @@ use std::sync::Arc;
 pub fn main(args: PlcArgs) -> Result<(), Failure> {
     let instance = &args.control.instance;
     let md = nc_runtime::process::args::machine(args.control.machine.as_deref())?;
-    let trace = args.trace.as_deref().map(trace::create).transpose()?;
+    let axes = nc_runtime::WireAxes::new(&md).list;
+    let trace = args
+        .trace
+        .as_deref()
+        .map(|p| trace::create(p, &axes))
+        .transpose()?;
     let term = Arc::new(AtomicBool::new(false));
     {
         let term = term.clone();
@@ -40,8 +46,9 @@ pub fn main(args: PlcArgs) -> Result<(), Failure> {
     }
     let mut io = ice::Ice::open(instance, trace)?;
     eprintln!(
-        "plc-sim: instance '{}' ready; kv {}/s, dead time {} cycles, watchdog {} cycles",
+        "plc-sim: instance '{}' ready; axes {}, kv {}/s, dead time {} cycles, watchdog {} cycles",
         instance.name(),
+        axes.names().collect::<String>(),
         md.plc.kv,
         md.plc.dead_time_cycles,
         md.plc.watchdog_cycles

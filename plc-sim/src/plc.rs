@@ -14,10 +14,11 @@
 //! on a mock clock in tests/plc.rs.
 
 use crate::args::Window;
-use crate::axis::Axis;
+use crate::drives::{Axes, DriveData, Drives};
 use nc_kernel::cycle::{alarm, ChannelAlarm, PlcInput};
 use nc_kernel::MachineData;
-use softnc_protocol::{state, AuxRequest, SetpointMsg};
+use nc_runtime::WireAxes;
+use softnc_protocol::{state, AuxRequest, AxisList, SetpointMsg, MAX_AXES};
 use std::time::Duration;
 
 /// plc-sim's side of the world: what it receives, what it sends and the clock. Every method
@@ -43,14 +44,15 @@ pub trait Transport {
     fn log(&mut self, line: &str);
 }
 
-/// The axes' actual values after a drive cycle.
+/// The axes' actual values after a drive cycle; positions in wire order (the machine's
+/// configured axes, [`Plc::axes`]), 0 past the count.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Actual {
     /// The setpoint cycle these follow.
     pub cycle: u64,
-    pub pos: [f64; 3],
-    /// Setpoint − actual position per axis, mm.
-    pub following_error: [f64; 3],
+    pub pos: Axes,
+    /// Setpoint − actual position per axis, mm (rotary: degrees).
+    pub following_error: Axes,
     pub spindle_rpm: f64,
     /// The tool in the spindle.
     pub tool: u32,
@@ -66,9 +68,11 @@ pub struct Row<'a> {
     pub time: f64,
     pub cycle: u64,
     pub seq: u64,
-    pub setpoint: [f64; 3],
-    pub actual: [f64; 3],
-    pub following_error: [f64; 3],
+    /// The configured axes: the entries of the position arrays that count.
+    pub axes: usize,
+    pub setpoint: Axes,
+    pub actual: Axes,
+    pub following_error: Axes,
     /// mm/s.
     pub v_path: f64,
     pub line: u32,
@@ -159,7 +163,12 @@ pub struct Plc {
     watchdog: u64,
     script: Script,
     start_ns: u64,
-    axes: Option<[Axis; 3]>,
+    wire: WireAxes,
+    drive_data: DriveData,
+    /// The position loops, started at the first setpoint (again after a watchdog reset).
+    drives: Option<Drives>,
+    /// A setpoint with another axis count than the machine data's has been reported.
+    told_axes: bool,
     last: Option<SetpointMsg>,
     /// Own cycles (waits that timed out) since the last setpoint: the watchdog counts these,
     /// not wall time, so a hold-up of the whole machine is not taken for a dead kernel.
@@ -181,6 +190,7 @@ impl Plc {
     /// The PLC of machine `md`, started at `start_ns` on the transport's clock.
     pub fn new(md: &MachineData, script: Script, start_ns: u64) -> Plc {
         let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
+        let wire = WireAxes::new(md);
         Plc {
             md: md.clone(),
             cycle: Duration::from_nanos(cycle_ns),
@@ -188,7 +198,10 @@ impl Plc {
             watchdog: u64::from(md.plc.watchdog_cycles),
             script,
             start_ns,
-            axes: None,
+            drive_data: DriveData::new(md, &wire),
+            wire,
+            drives: None,
+            told_axes: false,
             last: None,
             missed: 0,
             braking: false,
@@ -206,6 +219,11 @@ impl Plc {
 
     pub fn stats(&self) -> &Stats {
         &self.stats
+    }
+
+    /// The axes it drives, in the order of every position array (the kernel's wire order).
+    pub fn axes(&self) -> &AxisList {
+        &self.wire.list
     }
 
     /// One PLC cycle: woken by the kernel's setpoint event or after one cycle without it,
@@ -240,13 +258,15 @@ impl Plc {
             self.acknowledge_watchdog();
         }
         self.scripted_inputs(sp.cycle);
-        let (actual, following_error) = self.drive(sp.pos);
+        self.check_axes(sp, io);
+        let (actual, following_error) = self.drive(&sp.pos);
         let ds = self.md.plc.spindle_acceleration * self.t;
         self.spindle_rpm += (self.spindle_target - self.spindle_rpm).clamp(-ds, ds);
         io.row(&Row {
             time: self.since_start(now),
             cycle: sp.cycle,
             seq: sp.seq,
+            axes: self.drive_data.count,
             setpoint: sp.pos,
             actual,
             following_error,
@@ -292,7 +312,7 @@ impl Plc {
         if self.alarm == Some(alarm::PLC_WATCHDOG) {
             self.alarm = None;
         }
-        self.axes = None;
+        self.drives = None;
         self.events.push_str("watchdog acknowledged;");
     }
 
@@ -309,37 +329,44 @@ impl Plc {
         }
     }
 
+    /// A kernel whose machine data has another number of axes sends positions this PLC
+    /// maps to other axes: said once, and the PLC drives its own axes on.
+    fn check_axes(&mut self, sp: &SetpointMsg, io: &mut impl Transport) {
+        if usize::from(sp.axes) == self.drive_data.count || self.told_axes {
+            return;
+        }
+        self.told_axes = true;
+        let line = format!(
+            "the kernel sends {} axes, the machine data here has {} ({}): check --machine",
+            sp.axes,
+            self.drive_data.count,
+            self.wire.list.names().collect::<String>()
+        );
+        self.events.push_str("axis count differs;");
+        io.log(&line);
+    }
+
     /// One drive cycle towards `pos` within the software limits (braking instead while the
     /// watchdog holds): the positions measured and the following errors.
-    fn drive(&mut self, pos: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-        let (target, limited) = limit(&self.md, pos);
+    fn drive(&mut self, pos: &Axes) -> (Axes, Axes) {
+        let (target, limited) = self.drive_data.limit(pos);
         if limited && self.alarm.is_none() {
             self.alarm = Some(alarm::PLC_SOFTWARE_LIMIT);
             self.events.push_str("software limit;");
         }
-        let ax = self
-            .axes
-            .get_or_insert_with(|| new_axes(&self.md, self.t, target));
-        let mut actual = [0.0; 3];
-        for i in 0..3 {
-            actual[i] = if self.braking {
-                ax[i].brake()
-            } else {
-                ax[i].step(target[i])
-            };
+        let (data, t) = (&self.drive_data, self.t);
+        let drives = self.drives.get_or_insert_with(|| data.drives(t, &target));
+        if self.braking {
+            (drives.brake(), [0.0; MAX_AXES])
+        } else {
+            drives.step(&target)
         }
-        let fe = [
-            ax[0].following_error,
-            ax[1].following_error,
-            ax[2].following_error,
-        ];
-        (actual, fe)
     }
 
     /// A cycle passes without a setpoint: after `plc.watchdog_cycles` of them every axis
     /// brakes at its acceleration limit, with PLC alarm 700000.
     pub fn silence(&mut self, now: u64, io: &mut impl Transport) {
-        let (Some(ax), Some(l)) = (self.axes.as_mut(), self.last) else {
+        let (Some(drives), Some(l)) = (self.drives.as_mut(), self.last) else {
             return;
         };
         self.missed += 1;
@@ -358,14 +385,15 @@ impl Plc {
         if !self.braking {
             return;
         }
-        let actual = [ax[0].brake(), ax[1].brake(), ax[2].brake()];
+        let actual = drives.brake();
         io.row(&Row {
             time: self.since_start(now),
             cycle: l.cycle + self.missed,
             seq: 0,
+            axes: self.drive_data.count,
             setpoint: l.pos,
             actual,
-            following_error: [0.0; 3],
+            following_error: [0.0; MAX_AXES],
             v_path: 0.0,
             line: l.line,
             state: l.state,
@@ -448,29 +476,4 @@ impl Plc {
     fn since_start(&self, now: u64) -> f64 {
         now.saturating_sub(self.start_ns) as f64 * 1e-9
     }
-}
-
-fn new_axes(md: &MachineData, t: f64, at: [f64; 3]) -> [Axis; 3] {
-    let mk = |i: usize| {
-        let (v, a) = md
-            .axes
-            .get(i)
-            .map_or((1.0, 1.0), |d| (d.max_velocity / 60.0, d.max_acceleration));
-        Axis::new(md.plc.kv, t, v, a, md.plc.dead_time_cycles as usize, at[i])
-    };
-    [mk(0), mk(1), mk(2)]
-}
-
-/// The setpoint within the software limit switches, and whether it had to be cut.
-fn limit(md: &MachineData, p: [f64; 3]) -> ([f64; 3], bool) {
-    let mut out = p;
-    let mut cut = false;
-    for i in 0..3 {
-        let (lo, hi) = (md.plc.software_limit_min[i], md.plc.software_limit_max[i]);
-        if p[i] < lo || p[i] > hi {
-            out[i] = p[i].clamp(lo, hi);
-            cut = true;
-        }
-    }
-    (out, cut)
 }

@@ -1,42 +1,114 @@
 //! plc-sim's trace: one CSV row per drive cycle (docs/ipc.md).
+//!
+//! The columns name the machine's axes: the setpoint of each configured axis under its
+//! letter, its actual position under `A` and the letter, its following error under `F` and
+//! the letter, in the machine's order (wire order). A three-axis mill's header is
+//! `time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`; a lathe with a C axis
+//! has `X,Z,C,AX,AZ,AC,FX,FZ,FC` in their place. Readers find an axis by its column name.
 
 use crate::plc::Row;
-use softnc_protocol::state;
+use softnc_protocol::{state, AxisList};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-pub const HEADER: &str = "time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events";
+/// What a column of an axis holds, by its name's prefix.
+pub const SETPOINT: &str = "";
+pub const ACTUAL: &str = "A";
+pub const FOLLOWING_ERROR: &str = "F";
 
-/// A new trace file at `path`, its header written.
-pub fn create(path: &Path) -> Result<BufWriter<File>, String> {
+/// The header line of a machine with `axes`.
+pub fn header(axes: &AxisList) -> String {
+    let mut h = String::from("time,cycle,seq");
+    for prefix in [SETPOINT, ACTUAL, FOLLOWING_ERROR] {
+        for name in axes.names() {
+            h.push(',');
+            h.push_str(prefix);
+            h.push(name);
+        }
+    }
+    h.push_str(",v_path,line,state,events");
+    h
+}
+
+/// A new trace file at `path` for a machine with `axes`, its header written.
+pub fn create(path: &Path, axes: &AxisList) -> Result<BufWriter<File>, String> {
     let err = |e: std::io::Error| format!("{}: {e}", path.display());
     let mut w = BufWriter::new(File::create(path).map_err(err)?);
-    writeln!(w, "{HEADER}").map_err(err)?;
+    writeln!(w, "{}", header(axes)).map_err(err)?;
     Ok(w)
 }
 
-/// A row: setpoint, actual position, following error, path speed in mm/min.
+/// A row: setpoint, actual position, following error of every axis, path speed in mm/min.
+/// Writes straight into `w` (no allocation: it runs every drive cycle).
 pub fn write(w: &mut impl Write, r: &Row<'_>) -> std::io::Result<()> {
-    let (sp, act, fe) = (r.setpoint, r.actual, r.following_error);
+    write!(w, "{:.6},{},{}", r.time, r.cycle, r.seq)?;
+    for values in [&r.setpoint, &r.actual, &r.following_error] {
+        for v in values.iter().take(r.axes) {
+            write!(w, ",{v}")?;
+        }
+    }
     writeln!(
         w,
-        "{:.6},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-        r.time,
-        r.cycle,
-        r.seq,
-        sp[0],
-        sp[1],
-        sp[2],
-        act[0],
-        act[1],
-        act[2],
-        fe[0],
-        fe[1],
-        fe[2],
+        ",{},{},{},{}",
         r.v_path * 60.0,
         r.line,
         state::name(r.state),
         r.events.trim_end_matches(';')
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use softnc_protocol::MAX_AXES;
+
+    fn list(names: &str) -> AxisList {
+        let mut l = AxisList::default();
+        for (n, c) in names.bytes().enumerate() {
+            l.names[n] = c;
+        }
+        l.count = names.len() as u8;
+        l
+    }
+
+    #[test]
+    fn a_mill_keeps_its_columns_and_other_axes_are_named_after_their_letter() {
+        assert_eq!(
+            header(&list("XYZ")),
+            "time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events"
+        );
+        assert_eq!(
+            header(&list("XZC")),
+            "time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,v_path,line,state,events"
+        );
+    }
+
+    #[test]
+    fn a_row_has_one_value_per_configured_axis_and_column() {
+        let mut sp = [0.0; MAX_AXES];
+        sp[..3].copy_from_slice(&[1.5, -2.0, 370.25]);
+        let mut act = [9.0; MAX_AXES];
+        act[..3].copy_from_slice(&[1.0, -1.5, 370.0]);
+        let fe = [0.5; MAX_AXES];
+        let r = Row {
+            time: 0.001,
+            cycle: 7,
+            seq: 3,
+            axes: 3,
+            setpoint: sp,
+            actual: act,
+            following_error: fe,
+            v_path: 1.0,
+            line: 4,
+            state: state::ACTIVE,
+            events: "ack M3;",
+        };
+        let mut out = Vec::new();
+        write(&mut out, &r).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "0.001000,7,3,1.5,-2,370.25,1,-1.5,370,0.5,0.5,0.5,60,4,ACTIVE,ack M3\n"
+        );
+    }
 }

@@ -7,7 +7,7 @@ use nc_kernel::cycle::{alarm, PlcInput};
 use nc_kernel::MachineData;
 use plc_sim::args::Window;
 use plc_sim::plc::{Actual, Plc, Row, Script, Transport};
-use softnc_protocol::{state, AuxRequest, AuxWordMsg, SetpointMsg};
+use softnc_protocol::{state, AuxRequest, AuxWordMsg, SetpointMsg, MAX_AXES};
 use std::collections::VecDeque;
 use std::time::Duration;
 
@@ -18,7 +18,10 @@ const MS: u64 = 1_000_000;
 struct Kept {
     cycle: u64,
     seq: u64,
+    axes: usize,
+    /// The first three wire axes (X Y Z of the built-in mill).
     actual: [f64; 3],
+    following_error: [f64; MAX_AXES],
     events: String,
 }
 
@@ -63,7 +66,9 @@ impl Transport for Mock {
         self.rows.push(Kept {
             cycle: r.cycle,
             seq: r.seq,
-            actual: r.actual,
+            axes: r.axes,
+            actual: [r.actual[0], r.actual[1], r.actual[2]],
+            following_error: r.following_error,
             events: r.events.to_string(),
         });
     }
@@ -82,17 +87,27 @@ struct Rig {
 
 impl Rig {
     fn new(script: Script) -> Rig {
-        let md = MachineData::load(None, &[]).unwrap();
+        Rig::of(&MachineData::load(None, &[]).unwrap(), script)
+    }
+
+    fn of(md: &MachineData, script: Script) -> Rig {
         Rig {
-            plc: Plc::new(&md, script, 0),
+            plc: Plc::new(md, script, 0),
             io: Mock::default(),
             seq: 0,
             cycle: 0,
         }
     }
 
-    /// One PLC cycle with a setpoint at `pos` from a kernel in `st`.
+    /// One PLC cycle with a setpoint at X Y Z `pos` from a kernel in `st`.
     fn send(&mut self, pos: [f64; 3], st: u8) -> PlcInput {
+        let mut wire = [0.0; MAX_AXES];
+        wire[..3].copy_from_slice(&pos);
+        self.send_wire(wire, st)
+    }
+
+    /// One PLC cycle with a setpoint at `pos`, every configured axis in wire order.
+    fn send_wire(&mut self, pos: [f64; MAX_AXES], st: u8) -> PlcInput {
         self.seq += 1;
         self.cycle += 1;
         self.io.setpoints.push_back(SetpointMsg {
@@ -103,6 +118,7 @@ impl Rig {
             deadline_ns: self.io.now + 2 * MS,
             pos,
             state: st,
+            axes: self.plc.axes().count,
             ..Default::default()
         });
         self.step()
@@ -349,4 +365,89 @@ fn gaps_in_the_sequence_count_as_lost() {
     let h = &rig.plc.stats().latency;
     assert_eq!((rig.plc.stats().late, h.len()), (0, 6));
     assert!(h.equivalent(h.min(), MS) && h.equivalent(h.max(), MS));
+}
+
+/// A five-axis machine (X Y Z, A tilting between its end stops, C a modulo rotary table),
+/// each axis with machine data of its own.
+const FIVE_AXES: &str = "dialect = \"fanuc\"\n\
+    [axes.X]\nmax_velocity = 15000.0\nmax_acceleration = 3000.0\nmax_jerk = 6e4\n\
+    software_limits = [-500.0, 500.0]\n\
+    [axes.Y]\nmax_velocity = 15000.0\nmax_acceleration = 3000.0\nmax_jerk = 6e4\n\
+    software_limits = [-400.0, 400.0]\n\
+    [axes.Z]\nmax_velocity = 10000.0\nmax_acceleration = 2000.0\nmax_jerk = 5e4\n\
+    software_limits = [-450.0, 50.0]\n\
+    [axes.A]\nkind = \"rotary\"\nmax_velocity = 5400.0\nmax_acceleration = 600.0\n\
+    max_jerk = 12000.0\nsoftware_limits = [-120.0, 30.0]\n\
+    [axes.C]\nkind = \"rotary\"\nmodulo = true\nmax_velocity = 36000.0\n\
+    max_acceleration = 900.0\nmax_jerk = 15000.0\n";
+
+/// plc.kv of the built-in machine data, 1/s.
+const KV: f64 = 16.667;
+
+/// Every axis on a ramp of its own (mm/s, °/s in wire order X Y Z A C) for 2 s: each one's
+/// following error settles at its own v/kv, the actual position trails the setpoint by it
+/// (and by the one cycle of dead time), C counts on past 360° uncut; the trace row carries
+/// all five. Then A runs on towards +120°: PLC alarm 700001 as its setpoint passes its end
+/// stop at +30°, A comes to rest there, the other axes follow on.
+#[test]
+fn five_axes_follow_with_their_own_errors_and_a_stops_at_its_limit() {
+    let md = MachineData::from_toml_str(FIVE_AXES, "5ax.toml").unwrap();
+    let mut rig = Rig::of(&md, Script::default());
+    assert_eq!(rig.plc.axes().names().collect::<String>(), "XYZAC");
+    let mut v = [50.0, -20.0, 5.0, -30.0, 270.0];
+    let t = 0.001;
+    let mut sp = [0.0; MAX_AXES];
+    for k in 1..=2000 {
+        for n in 0..5 {
+            sp[n] = v[n] * t * k as f64;
+        }
+        assert_eq!(rig.send_wire(sp, state::ACTIVE).alarm, None, "cycle {k}");
+    }
+    let a = *rig.io.actuals.last().unwrap();
+    for n in 0..5 {
+        let fe = a.following_error[n];
+        assert!((fe - v[n] / KV).abs() < 1e-6, "axis {n}: {fe}");
+        let trails = sp[n] - v[n] * t - fe;
+        assert!((a.pos[n] - trails).abs() < 1e-9, "axis {n}: {:?}", a.pos);
+    }
+    assert!(a.pos[4] > 500.0, "C counts on: {}", a.pos[4]);
+    assert!(a.pos[5..].iter().all(|&p| p == 0.0), "{:?}", a.pos);
+    let row = rig.io.rows.last().unwrap();
+    assert_eq!(row.axes, 5);
+    assert_eq!(row.following_error, a.following_error);
+
+    // A from −60° up at 60°/s: its setpoint passes +30° 1.5 s on.
+    v[3] = 60.0;
+    let from = sp;
+    let mut alarm_at = None;
+    for k in 1..=3000 {
+        for n in 0..5 {
+            sp[n] = from[n] + v[n] * t * k as f64;
+        }
+        let s = rig.send_wire(sp, state::ACTIVE);
+        if s.alarm.is_some() && alarm_at.is_none() {
+            alarm_at = Some(k);
+            assert_eq!(s.alarm, Some(alarm::PLC_SOFTWARE_LIMIT));
+            assert!(rig
+                .io
+                .rows
+                .last()
+                .unwrap()
+                .events
+                .contains("software limit"));
+            assert!(
+                sp[3] > 30.0 && sp[3] - v[3] * t <= 30.0 + 1e-9,
+                "at A {}",
+                sp[3]
+            );
+        }
+    }
+    assert!(alarm_at.is_some(), "no alarm 700001");
+    let a = *rig.io.actuals.last().unwrap();
+    assert_eq!(a.alarm, Some(alarm::PLC_SOFTWARE_LIMIT));
+    assert!((a.pos[3] - 30.0).abs() < 1e-6, "A at {}", a.pos[3]);
+    assert!(a.following_error[3].abs() < 1e-6);
+    for n in [0, 1, 2, 4] {
+        assert!((a.following_error[n] - v[n] / KV).abs() < 1e-6, "axis {n}");
+    }
 }

@@ -22,6 +22,45 @@ pub mod state {
     }
 }
 
+/// Path axes a setpoint, the actual values and the status carry at most.
+pub const MAX_AXES: usize = 8;
+
+/// The machine's axes as the wire lists them: the configured path axes in the machine's
+/// order X Y Z U V W A B C (a lathe with C: X, Z, C), `count` of them; every position array
+/// of the payloads uses this order. Names are ASCII upper case, 0 past `count`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::AxisList")]
+pub struct AxisList {
+    pub names: [u8; MAX_AXES],
+    pub count: u8,
+    pub _pad: [u8; 5],
+    /// Bit i: axis i is rotary (degrees); bit 8 + i: a modulo axis (shown within 0…360°).
+    pub kinds: u16,
+}
+
+impl AxisList {
+    /// The configured axes' names, in wire order.
+    pub fn names(&self) -> impl Iterator<Item = char> + '_ {
+        self.names[..usize::from(self.count).min(MAX_AXES)]
+            .iter()
+            .map(|&b| b as char)
+    }
+
+    /// Where axis `name` is in the position arrays.
+    pub fn index(&self, name: char) -> Option<usize> {
+        self.names().position(|c| c == name)
+    }
+
+    pub fn rotary(&self, i: usize) -> bool {
+        i < MAX_AXES && self.kinds & (1 << i) != 0
+    }
+
+    pub fn modulo(&self, i: usize) -> bool {
+        i < MAX_AXES && self.kinds & (1 << (8 + i)) != 0
+    }
+}
+
 /// One IPO cycle's setpoint, kernel → PLC, every cycle.
 #[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
 #[repr(C)]
@@ -39,12 +78,16 @@ pub struct SetpointMsg {
     pub cycle_us: u32,
     /// Source line of the block being run (0: none).
     pub line: u32,
-    pub pos: [f64; 3],
+    /// Every configured axis in [`AxisList`] order (mm, or degrees counted on without
+    /// wrapping for a rotary axis); 0 past `axes`.
+    pub pos: [f64; MAX_AXES],
     /// Path speed, mm/s.
     pub v_path: f64,
     /// `state::*`.
     pub state: u8,
-    pub _pad: [u8; 7],
+    /// Configured axes: the entries of `pos` that count.
+    pub axes: u8,
+    pub _pad: [u8; 6],
 }
 
 /// Words an auxiliary-function request carries at most (the front end's limit).
@@ -122,9 +165,10 @@ pub struct ActualValues {
     pub seq: u64,
     /// The setpoint cycle these follow.
     pub cycle: u64,
-    pub pos: [f64; 3],
-    /// Setpoint − actual position per axis, mm.
-    pub following_error: [f64; 3],
+    /// Every configured axis in [`AxisList`] order.
+    pub pos: [f64; MAX_AXES],
+    /// Setpoint − actual position per axis, mm (degrees).
+    pub following_error: [f64; MAX_AXES],
     pub spindle_rpm: f64,
     /// The tool in the spindle.
     pub tool: u32,
@@ -144,7 +188,9 @@ pub struct KernelStatus {
     /// Changes with every program load (0: none loaded).
     pub program: u32,
     pub line: u32,
-    pub pos: [f64; 3],
+    /// Every configured axis in `axes` order (the setpoint).
+    pub pos: [f64; MAX_AXES],
+    pub axes: AxisList,
     pub v_path: f64,
     pub override_: f64,
     /// The first alarm standing (0: none).
@@ -366,7 +412,7 @@ fn as_text(bytes: &[u8], len: usize) -> &str {
 
 /// Size and alignment of every payload, in a fixed order: part of the ABI string, so a peer
 /// whose layout differs in any way is refused by name.
-pub fn layouts() -> [(&'static str, usize, usize); 11] {
+pub fn layouts() -> [(&'static str, usize, usize); 12] {
     use std::mem::{align_of, size_of};
     macro_rules! l {
         ($t:ty) => {
@@ -374,6 +420,7 @@ pub fn layouts() -> [(&'static str, usize, usize); 11] {
         };
     }
     [
+        l!(AxisList),
         l!(SetpointMsg),
         l!(AuxWordMsg),
         l!(AuxRequest),
@@ -407,14 +454,15 @@ mod tests {
         // up to.
         assert_eq!(
             std::mem::size_of::<SetpointMsg>(),
-            4 * 8 + 2 * 4 + 4 * 8 + 8
+            4 * 8 + 2 * 4 + MAX_AXES * 8 + 8 + 8
         );
+        assert_eq!(std::mem::size_of::<AxisList>(), MAX_AXES + 1 + 5 + 2);
         assert_eq!(std::mem::size_of::<AuxRequest>(), 16 + 8 + 12 * 16 + 8);
         assert_eq!(std::mem::size_of::<PlcSignals>(), 24);
         // Every byte a named field: no implicit padding.
         assert_eq!(
             std::mem::size_of::<KernelStatus>(),
-            2 * 8 + 2 * 4 + 3 * 8 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8
+            2 * 8 + 2 * 4 + MAX_AXES * 8 + 16 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8
         );
         assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT);
         assert_eq!(std::mem::size_of::<Reply>(), 16 + TEXT);

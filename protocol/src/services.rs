@@ -26,7 +26,7 @@ use std::path::PathBuf;
 
 /// Version of the protocol; with the payloads' layouts it makes the ABI string.
 /// 2: `Command::t` (offsets of T/D tables).
-pub const PROTOCOL_VERSION: u32 = 2;
+pub const PROTOCOL_VERSION: u32 = 3;
 pub const ABI_KEY: &str = "softnc.abi";
 
 /// The default instance; tests and side-by-side machines take their own.
@@ -435,7 +435,7 @@ mod tests {
     #[test]
     fn abi_names_version_and_layout() {
         let a = abi();
-        assert!(a.starts_with("softnc-ipc/2/"), "{a}");
+        assert!(a.starts_with("softnc-ipc/3/"), "{a}");
         assert_eq!(a, abi());
         assert!(a.len() < 64);
     }

@@ -4,20 +4,97 @@
 //! cycles replan, and their times are kept apart. Prints p50/p99/p99.9/max in µs.
 //!
 //! `ipo_timing [BLOCKS]` (default 4000 blocks of the G41 serpentine, about 1.5 M cycles)
+//! `ipo_timing --axes N [BLOCKS]` (N = 3 or 8): a zig-zag of lines with a corner at every
+//! block and helical arcs between, on a machine of X Y Z (3) or X Y Z U V A B C (8) where
+//! every additional axis moves in every block; the same X Y Z path both ways.
 
 use hdrhistogram::Histogram;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
 use nc_kernel::{MachineData, ToolTable};
 use nc_runtime::os::now_ns;
 
+/// Machine data with the geometry axes, and with `eight` five additional axes beside them.
+fn machine(eight: bool) -> MachineData {
+    let mut text = String::from("dialect = \"fanuc\"\n[program]\ndecimal_input = \"calculator\"\n");
+    for (name, rotary) in [("X", false), ("Y", false), ("Z", false)]
+        .into_iter()
+        .chain(
+            [
+                ("U", false),
+                ("V", false),
+                ("A", true),
+                ("B", true),
+                ("C", true),
+            ]
+            .into_iter()
+            .filter(|_| eight),
+        )
+    {
+        text += &format!(
+            "[axes.{name}]\nmax_velocity = 15000\nmax_acceleration = 3000\nmax_jerk = 60000\n{}",
+            if rotary { "kind = \"rotary\"\n" } else { "" }
+        );
+    }
+    MachineData::from_toml_str(&text, "ipo_timing").expect("machine data")
+}
+
+/// `blocks` moves: zig-zag lines (a corner at each) and every fourth a helical half circle;
+/// with `eight`, U V A B C move in every block.
+fn zigzag(blocks: usize, eight: bool) -> String {
+    let mut text = String::from("G90 G0 X0 Y0 Z0\nG1 F3000\n");
+    let (mut x, mut y) = (0.0, 0.0);
+    for i in 0..blocks {
+        let extra = if eight {
+            let s = if i % 2 == 0 { 1.0 } else { -1.0 };
+            format!(
+                " U{} V{} A{} B{} C{}",
+                5.0 * s,
+                -5.0 * s,
+                10.0 * s,
+                4.0 * s,
+                i * 7
+            )
+        } else {
+            String::new()
+        };
+        if i % 4 == 3 {
+            // A half circle to the same Y, the helix lead down 1.
+            text += &format!("G2 X{:.3} Y{y} Z-1 I5 J0{extra}\n", x + 10.0);
+            x += 10.0;
+        } else {
+            x += 6.0;
+            y = if i % 2 == 0 { 8.0 } else { 0.0 };
+            text += &format!("G1 X{x:.3} Y{y} Z0{extra}\n");
+        }
+    }
+    text + "M30\n"
+}
+
 fn main() {
-    let blocks: usize = std::env::args()
-        .nth(1)
-        .map_or(4000, |s| s.parse().expect("BLOCKS"));
-    let md = MachineData::load(None, &[]).expect("machine data");
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let axes: Option<usize> = match args.first().map(String::as_str) {
+        Some("--axes") => Some(
+            args.get(1)
+                .and_then(|a| a.parse().ok())
+                .expect("--axes 3|8"),
+        ),
+        _ => None,
+    };
+    let rest = if axes.is_some() {
+        &args[2..]
+    } else {
+        &args[..]
+    };
+    let blocks: usize = rest.first().map_or(4000, |s| s.parse().expect("BLOCKS"));
+    let (md, text) = match axes {
+        Some(n) => (machine(n == 8), zigzag(blocks, n == 8)),
+        None => (
+            MachineData::load(None, &nc_kernel::synthetic::unlimited_travel())
+                .expect("machine data"),
+            nc_kernel::synthetic::compensated_program(blocks, nc_kernel::synthetic::Header::Softnc),
+        ),
+    };
     let tools = ToolTable::builtin();
-    let text =
-        nc_kernel::synthetic::compensated_program(blocks, nc_kernel::synthetic::Header::Softnc);
     let job = nc_kernel::handover::Job {
         name: "bench",
         source: &text,

@@ -15,9 +15,11 @@ mod failure;
 pub mod live;
 pub mod os;
 pub mod process;
+mod wire_axes;
 
 pub use clock::{CycleClock, Tick};
 pub use failure::{exit, Failure};
+pub use wire_axes::WireAxes;
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
 /// alike: `# title`, `# name value` comment lines, then "`<µs> <count>`" per 1 µs bucket.

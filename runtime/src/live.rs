@@ -100,7 +100,7 @@ pub fn run(
 
 fn ipo_thread(
     md: &MachineData,
-    start: nc_kernel::Pos,
+    start: nc_kernel::AxisPos,
     hand: &Handover,
     opts: &LiveOptions,
     cycle_ns: u64,

@@ -4,8 +4,8 @@
 
 use super::RunOptions;
 use nc_kernel::cycle::ChannelAlarm;
-use nc_kernel::{Interpreter, Preparation, Segment};
-use softnc_protocol::KernelStatus;
+use nc_kernel::{AxisKind, Interpreter, MachineData, Pos, Preparation, Segment};
+use softnc_protocol::{KernelStatus, MAX_AXES};
 use std::path::{Path, PathBuf};
 use std::process::ExitStatus;
 
@@ -27,8 +27,9 @@ pub(super) struct Session<'a> {
 
 /// Prints the summary and writes the picture.
 pub(super) fn report(o: &RunOptions<'_>, s: &Session<'_>) -> Result<(), String> {
-    let rows = read_trace(s.trace)?;
-    let t = summarize(&rows);
+    let trace = read_trace(s.trace)?;
+    let rotary: Vec<bool> = trace.axes.iter().map(|&c| is_rotary(o.md, c)).collect();
+    let t = summarize(&trace, &rotary);
     let blocks = Interpreter::new(o.name, o.source, o.md, o.tools)
         .map_while(Result::ok)
         .count();
@@ -53,6 +54,14 @@ pub(super) fn report(o: &RunOptions<'_>, s: &Session<'_>) -> Result<(), String> 
         t.max_v / o.md.plc.kv,
         t.max_deviation
     );
+    if !t.rotary.is_empty() {
+        let each: Vec<String> = t
+            .rotary
+            .iter()
+            .map(|(c, e)| format!("{c} {e:.4}°"))
+            .collect();
+        println!("rotary axes: max following error {}", each.join(", "));
+    }
     println!(
         "auxiliary functions: {} output, {} acknowledged by the PLC; setpoints: {} lost",
         s.last.aux_sent, s.last.aux_acked, t.lost
@@ -67,11 +76,20 @@ pub(super) fn report(o: &RunOptions<'_>, s: &Session<'_>) -> Result<(), String> 
         ended.join(", "),
         s.files_left
     );
-    picture(o, &rows)
+    picture(o, &trace)
+}
+
+/// Whether the machine's axis `name` is a rotary axis (degrees).
+fn is_rotary(md: &MachineData, name: char) -> bool {
+    u8::try_from(name)
+        .ok()
+        .and_then(|l| md.axes.of_letter(l))
+        .and_then(|i| md.axes.get(i))
+        .is_some_and(|a| a.kind == AxisKind::Rotary)
 }
 
 /// The picture: programmed contour, compensated path and the actual path from the trace.
-fn picture(o: &RunOptions<'_>, rows: &[Row]) -> Result<(), String> {
+fn picture(o: &RunOptions<'_>, trace: &Trace) -> Result<(), String> {
     let svg_path = o.svg.clone().unwrap_or_else(|| {
         let stem = o
             .program
@@ -82,7 +100,7 @@ fn picture(o: &RunOptions<'_>, rows: &[Row]) -> Result<(), String> {
     let segments: Vec<Segment> = Preparation::new(o.name, o.source, o.md, o.tools)
         .map_while(Result::ok)
         .collect();
-    let actual: Vec<[f64; 3]> = rows.iter().map(|r| r.actual).collect();
+    let actual: Vec<Pos> = trace.rows.iter().map(|r| trace.xyz(&r.actual)).collect();
     let pic = crate::picture::Picture::new(o.name, o.source, o.md, o.tools, &segments, None)
         .with_actual(&actual);
     svg::save(&svg_path, &pic.render()).map_err(|e| format!("{}: {e}", svg_path.display()))?;
@@ -90,90 +108,172 @@ fn picture(o: &RunOptions<'_>, rows: &[Row]) -> Result<(), String> {
     Ok(())
 }
 
+/// Positions of every axis of a trace, in its order.
+pub type Axes = [f64; MAX_AXES];
+
 /// One row of plc-sim's trace.
 pub struct Row {
-    pub setpoint: [f64; 3],
-    pub actual: [f64; 3],
-    pub following_error: [f64; 3],
+    pub setpoint: Axes,
+    pub actual: Axes,
+    pub following_error: Axes,
     /// mm/s
     pub v_path: f64,
     pub seq: u64,
 }
 
-pub fn read_trace(path: &Path) -> Result<Vec<Row>, String> {
+/// plc-sim's trace: its axes (in the order of every row's positions) and its rows.
+pub struct Trace {
+    pub axes: Vec<char>,
+    /// Where X, Y and Z are among the axes.
+    geo: [Option<usize>; 3],
+    pub rows: Vec<Row>,
+}
+
+impl Trace {
+    /// X, Y and Z of `p` (0 for one the machine does not have, as the kernel keeps it).
+    pub fn xyz(&self, p: &Axes) -> Pos {
+        self.geo.map(|g| g.map_or(0.0, |n| p[n]))
+    }
+}
+
+/// The axes a trace header names: `time,cycle,seq`, the setpoints under the axes' letters,
+/// the actual positions under `A` and the letter, the following errors under `F` and the
+/// letter, `v_path,line,state,events`.
+fn header_axes(header: &str) -> Option<Vec<char>> {
+    let cols: Vec<&str> = header.split(',').collect();
+    let n = cols.len().checked_sub(7)? / 3;
+    let fixed = cols.len() == 7 + 3 * n
+        && cols[..3] == ["time", "cycle", "seq"]
+        && cols[3 + 3 * n..] == ["v_path", "line", "state", "events"];
+    if !fixed || n > MAX_AXES {
+        return None;
+    }
+    let mut names = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut c = cols[3 + i].chars();
+        let (Some(name), None) = (c.next(), c.next()) else {
+            return None;
+        };
+        let named = |k: usize, prefix: char| {
+            let mut c = cols[k].chars();
+            c.next() == Some(prefix) && c.next() == Some(name) && c.next().is_none()
+        };
+        if !named(3 + n + i, 'A') || !named(3 + 2 * n + i, 'F') {
+            return None;
+        }
+        names.push(name);
+    }
+    Some(names)
+}
+
+pub fn read_trace(path: &Path) -> Result<Trace, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or("");
+    let axes = header_axes(header)
+        .ok_or_else(|| format!("{}: not plc-sim's trace header: {header}", path.display()))?;
+    let n = axes.len();
+    let geo = ['X', 'Y', 'Z'].map(|c| axes.iter().position(|&a| a == c));
     let mut rows = Vec::new();
-    for (i, l) in text.lines().enumerate().skip(1) {
-        let f: Vec<&str> = l.split(',').collect();
+    for (i, l) in lines.enumerate() {
+        let f: Vec<&str> = l.splitn(7 + 3 * n, ',').collect();
         let num = |k: usize| -> Result<f64, String> {
             f.get(k)
                 .and_then(|x| x.parse::<f64>().ok())
-                .ok_or_else(|| format!("{}: line {}: field {k} unreadable", path.display(), i + 1))
+                .ok_or_else(|| format!("{}: line {}: field {k} unreadable", path.display(), i + 2))
+        };
+        let axes_from = |first: usize| -> Result<Axes, String> {
+            let mut a = [0.0; MAX_AXES];
+            for (k, x) in a.iter_mut().enumerate().take(n) {
+                *x = num(first + k)?;
+            }
+            Ok(a)
         };
         rows.push(Row {
             seq: num(2)? as u64,
-            setpoint: [num(3)?, num(4)?, num(5)?],
-            actual: [num(6)?, num(7)?, num(8)?],
-            following_error: [num(9)?, num(10)?, num(11)?],
-            v_path: num(12)? / 60.0,
+            setpoint: axes_from(3)?,
+            actual: axes_from(3 + n)?,
+            following_error: axes_from(3 + 2 * n)?,
+            v_path: num(3 + 3 * n)? / 60.0,
         });
     }
-    Ok(rows)
+    Ok(Trace { axes, geo, rows })
 }
 
 pub struct Summary {
+    /// Of the linear axes together, mm.
     pub max_following_error: f64,
     pub max_deviation: f64,
     pub max_v: f64,
     pub lost: u64,
+    /// Each rotary axis's largest following error, degrees.
+    pub rotary: Vec<(char, f64)>,
 }
 
-/// Following error, and the actual path's distance from the setpoint polyline (the setpoints
-/// lie on the compensated path; between two of them the chord is within (v·T)²/8r of it),
-/// searched within ±2000 rows of the actual point's row.
-pub fn summarize(rows: &[Row]) -> Summary {
-    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+/// Following error (the linear axes' together in mm, each rotary axis's alone in degrees),
+/// and the actual path's distance from the setpoint polyline in X Y Z (the setpoints lie on
+/// the compensated path; between two of them the chord is within (v·T)²/8r of it), searched
+/// within ±2000 rows of the actual point's row. `rotary[n]`: the trace's axis n is rotary.
+pub fn summarize(trace: &Trace, rotary: &[bool]) -> Summary {
+    let rows = &trace.rows;
+    let rotary_at = |n: usize| rotary.get(n).copied().unwrap_or(false);
     let mut s = Summary {
         max_following_error: 0.0,
         max_deviation: 0.0,
         max_v: 0.0,
-        lost: 0,
+        lost: lost(rows),
+        rotary: (0..trace.axes.len())
+            .filter(|&n| rotary_at(n))
+            .map(|n| (trace.axes[n], 0.0))
+            .collect(),
     };
-    let mut last_seq = None;
-    for r in rows {
-        if r.seq == 0 {
-            continue; // a watchdog row
-        }
-        if let Some(l) = last_seq {
-            if r.seq > l + 1 {
-                s.lost += r.seq - l - 1;
+    for (i, r) in rows.iter().enumerate() {
+        let mut linear = 0.0;
+        let mut turning = s.rotary.iter_mut();
+        for (n, e) in r.following_error.iter().enumerate().take(trace.axes.len()) {
+            if !rotary_at(n) {
+                linear += e * e;
+            } else if let Some((_, max)) = turning.next() {
+                *max = max.max(e.abs());
             }
         }
-        last_seq = Some(r.seq);
-    }
-    for (i, r) in rows.iter().enumerate() {
-        s.max_following_error = s.max_following_error.max(norm(r.following_error));
+        s.max_following_error = s.max_following_error.max(linear.sqrt());
         s.max_v = s.max_v.max(r.v_path);
         let (lo, hi) = (i.saturating_sub(2000), (i + 2000).min(rows.len() - 1));
+        let at = |j: usize| trace.xyz(&rows[j].setpoint);
+        let p = trace.xyz(&r.actual);
         // The last index pairs with itself: a point, which also covers a one-row trace.
         let best = (lo..=hi)
-            .map(|j| point_segment(r.actual, rows[j].setpoint, rows[(j + 1).min(hi)].setpoint))
+            .map(|j| point_segment(p, at(j), at((j + 1).min(hi))))
             .fold(f64::INFINITY, f64::min);
         s.max_deviation = s.max_deviation.max(best);
     }
     s
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+/// Setpoints missing from the sequence (watchdog rows, seq 0, aside).
+fn lost(rows: &[Row]) -> u64 {
+    let mut lost = 0;
+    let mut last_seq = None;
+    for r in rows.iter().filter(|r| r.seq != 0) {
+        if let Some(l) = last_seq.filter(|&l| r.seq > l + 1) {
+            lost += r.seq - l - 1;
+        }
+        last_seq = Some(r.seq);
+    }
+    lost
+}
+
+fn sub(a: Pos, b: Pos) -> Pos {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+fn dot(a: Pos, b: Pos) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Distance from `p` to the segment `a`–`b`.
-pub fn point_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+pub fn point_segment(p: Pos, a: Pos, b: Pos) -> f64 {
     let ab = sub(b, a);
     let l2 = dot(ab, ab);
     let t = if l2 > 0.0 {
@@ -183,4 +283,53 @@ pub fn point_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     };
     let q = [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]];
     dot(sub(p, q), sub(p, q)).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> PathBuf {
+        let p = std::env::temp_dir().join(format!("softnc-summary-{}-{name}", std::process::id()));
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn a_lathe_trace_with_c_is_read_by_axis_name() {
+        let p = write(
+            "lathe.csv",
+            "time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,v_path,line,state,events
+             0.001000,1,1,10,-5,370,9.7,-4.6,369,0.3,0.4,1,600,3,ACTIVE,
+             0.002000,2,3,10,-5,371,10,-5,370.5,0,0,0.5,0,4,END,ack M5
+",
+        );
+        let t = read_trace(&p).unwrap();
+        let _ = std::fs::remove_file(&p);
+        assert_eq!(t.axes, ['X', 'Z', 'C']);
+        assert_eq!(t.xyz(&t.rows[0].setpoint), [10.0, 0.0, -5.0]);
+        assert_eq!(t.xyz(&t.rows[1].actual), [10.0, 0.0, -5.0]);
+        assert_eq!(t.rows[0].following_error[2], 1.0);
+        assert_eq!(t.rows[0].v_path, 10.0);
+        let s = summarize(&t, &[false, false, true]);
+        assert!((s.max_following_error - 0.5).abs() < 1e-12);
+        assert_eq!(s.rotary, [('C', 1.0)]);
+        assert_eq!(s.lost, 1);
+        assert!((s.max_deviation - 0.5).abs() < 1e-12, "{}", s.max_deviation);
+    }
+
+    #[test]
+    fn a_header_that_is_not_plc_sims_is_refused() {
+        for bad in [
+            "time,cycle,seq,X,Y,AX,AY,FX,FZ,v_path,line,state,events",
+            "time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state",
+            "",
+        ] {
+            assert_eq!(header_axes(bad), None, "{bad}");
+        }
+        assert_eq!(
+            header_axes("time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events"),
+            Some(vec!['X', 'Y', 'Z'])
+        );
+    }
 }

@@ -3,7 +3,7 @@
 
 use super::{Hmi, Supervisor};
 use nc_kernel::cycle::ChannelAlarm;
-use softnc_protocol::{command, receive_each, state, Command, KernelStatus};
+use softnc_protocol::{command, receive_each, state, AxisList, Command, KernelStatus, MAX_AXES};
 use std::io::Write;
 use std::time::{Duration, Instant};
 
@@ -110,16 +110,45 @@ impl Watch {
         let frac = (f64::from(last.line) / f64::from(total)).min(1.0);
         let n = (frac * 30.0) as usize;
         eprint!(
-            "\r[{}{}] line {:>5}/{total}  {:<7}  X{:>9.3} Y{:>9.3} Z{:>9.3}  {:>7.0} mm/min",
+            "\r[{}{}] line {:>5}/{total}  {:<7}  {} {:>7.0} mm/min",
             "#".repeat(n),
             " ".repeat(30 - n),
             last.line,
             state::name(last.state),
-            last.pos[0],
-            last.pos[1],
-            last.pos[2],
+            positions(&last.axes, &last.pos),
             last.v_path * 60.0
         );
         let _ = std::io::stderr().flush();
+    }
+}
+
+/// Every configured axis with its position, as the operator reads it: a modulo axis within
+/// 0…360°.
+pub(super) fn positions(axes: &AxisList, pos: &[f64; MAX_AXES]) -> String {
+    let mut out = String::new();
+    for (n, (name, p)) in axes.names().zip(pos).enumerate() {
+        let shown = if axes.modulo(n) {
+            p.rem_euclid(360.0)
+        } else {
+            *p
+        };
+        out.push_str(&format!("{name}{shown:>9.3} "));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_axis_is_shown_by_name_a_modulo_one_within_a_turn() {
+        let mut axes = AxisList::default();
+        axes.names[..3].copy_from_slice(b"XZC");
+        axes.count = 3;
+        axes.kinds = 1 << 2 | 1 << (8 + 2);
+        let mut pos = [0.0; MAX_AXES];
+        pos[..3].copy_from_slice(&[12.5, -3.0, 370.0]);
+        assert_eq!(positions(&axes, &pos), "X   12.500 Z   -3.000 C   10.000 ");
     }
 }

@@ -122,35 +122,87 @@ pub fn long_program(seconds: f64) -> PathBuf {
     p
 }
 
+/// A row of plc-sim's trace. `sp`, `act` and `fe` are X, Y and Z (0 for an axis the
+/// machine does not have); `axes` has every configured axis.
 pub struct TraceRow {
     pub cycle: u64,
     pub seq: u64,
     pub sp: [f64; 3],
     pub act: [f64; 3],
     pub fe: [f64; 3],
+    /// Each configured axis in the machine's order: its name, then setpoint, actual
+    /// position and following error.
+    pub axes: Vec<(char, [f64; 3])>,
     pub v: f64,
     pub line: u32,
     pub state: String,
     pub events: String,
 }
 
+impl TraceRow {
+    /// Setpoint, actual position and following error of axis `name`.
+    pub fn axis(&self, name: char) -> Option<[f64; 3]> {
+        self.axes.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
+    }
+}
+
+/// The axes of a trace header: `time,cycle,seq`, the setpoint columns named after the axes,
+/// the same with `A` (actual) and `F` (following error) before the name, then
+/// `v_path,line,state,events`.
+fn trace_axes(header: &str) -> Vec<char> {
+    let cols: Vec<&str> = header.split(',').collect();
+    let n = (cols.len() - 7) / 3;
+    assert_eq!(cols.len(), 7 + 3 * n, "{header}");
+    assert_eq!(&cols[..3], ["time", "cycle", "seq"], "{header}");
+    assert_eq!(
+        &cols[3 + 3 * n..],
+        ["v_path", "line", "state", "events"],
+        "{header}"
+    );
+    let names: Vec<char> = cols[3..3 + n]
+        .iter()
+        .map(|c| c.chars().next().unwrap())
+        .collect();
+    for (i, c) in names.iter().enumerate() {
+        assert_eq!(cols[3 + n + i], format!("A{c}"), "{header}");
+        assert_eq!(cols[3 + 2 * n + i], format!("F{c}"), "{header}");
+    }
+    names
+}
+
 pub fn trace(path: &Path) -> Vec<TraceRow> {
     let text = std::fs::read_to_string(path).unwrap();
-    text.lines()
-        .skip(1)
+    let mut lines = text.lines();
+    let names = trace_axes(lines.next().unwrap_or(""));
+    let n = names.len();
+    lines
         .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            let n = |k: usize| f[k].parse::<f64>().unwrap();
+            let f: Vec<&str> = l.splitn(3 * n + 7, ',').collect();
+            let num = |k: usize| f[k].parse::<f64>().unwrap();
+            let axes: Vec<(char, [f64; 3])> = names
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| (c, [num(3 + i), num(3 + n + i), num(3 + 2 * n + i)]))
+                .collect();
+            let xyz = |k: usize| {
+                ['X', 'Y', 'Z'].map(|c| {
+                    axes.iter()
+                        .find(|(a, _)| *a == c)
+                        .map_or(0.0, |(_, v)| v[k])
+                })
+            };
+            let rest = 3 + 3 * n;
             TraceRow {
                 cycle: f[1].parse().unwrap(),
                 seq: f[2].parse().unwrap(),
-                sp: [n(3), n(4), n(5)],
-                act: [n(6), n(7), n(8)],
-                fe: [n(9), n(10), n(11)],
-                v: n(12) / 60.0,
-                line: f[13].parse().unwrap(),
-                state: f[14].to_string(),
-                events: f.get(15).unwrap_or(&"").to_string(),
+                sp: xyz(0),
+                act: xyz(1),
+                fe: xyz(2),
+                v: num(rest) / 60.0,
+                line: f[rest + 1].parse().unwrap(),
+                state: f[rest + 2].to_string(),
+                events: f.get(rest + 3).unwrap_or(&"").to_string(),
+                axes,
             }
         })
         .collect()

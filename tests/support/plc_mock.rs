@@ -10,7 +10,7 @@ use nc_kernel::cycle::{
 use nc_kernel::handover::{prepare_all, Handover, Job, Report, QUEUE};
 use nc_kernel::ipo::Input;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
-use nc_kernel::{MachineData, ToolTable};
+use nc_kernel::{AxisPos, MachineData, ToolTable};
 use std::sync::Arc;
 
 /// An auxiliary-function request as the PLC got it.
@@ -110,7 +110,7 @@ pub struct Rig {
 impl Rig {
     pub fn new(md: &MachineData, cycles: usize) -> Rig {
         Rig {
-            cyclic: Box::new(Cyclic::new(md, [0.0; 3])),
+            cyclic: Box::new(Cyclic::new(md, AxisPos::default())),
             plc: MockPlc::new(cycles),
             k: 0,
         }
@@ -146,7 +146,7 @@ impl Rig {
         for _ in 0..3 {
             self.step();
         }
-        let at = self.cyclic.setpoint().pos;
+        let at = self.cyclic.setpoint().axes();
         self.ask(Control::Load(program(md, id, text, Some(at))))
             .expect("load");
         self.ask(Control::Start).expect("NC start");
@@ -160,7 +160,7 @@ impl Rig {
 }
 
 /// A program prepared completely up front (at most `QUEUE` records) with its channel.
-pub fn program(md: &MachineData, id: u32, text: &str, at: Option<[f64; 3]>) -> Box<Program> {
+pub fn program(md: &MachineData, id: u32, text: &str, at: Option<AxisPos>) -> Box<Program> {
     let (p, inputs, reports) = fed(md, id, text, at);
     assert!(reports.is_empty(), "{reports:?}");
     assert!(inputs.len() <= QUEUE, "{} records", inputs.len());
@@ -182,7 +182,7 @@ pub fn fed(
     md: &MachineData,
     id: u32,
     text: &str,
-    at: Option<[f64; 3]>,
+    at: Option<AxisPos>,
 ) -> (Box<Program>, Vec<Input>, Vec<Report>) {
     let tools = ToolTable::builtin();
     let job = Job {

@@ -31,12 +31,30 @@ pub struct Station {
 }
 
 pub fn station(tag: &str, program: Option<&Path>, kernel: &[&str], bridge: &[&str]) -> Station {
+    station_with(tag, &[], program, kernel, bridge)
+}
+
+/// A station whose plc-sim takes `plc` too (its machine data for one).
+pub fn station_with(
+    tag: &str,
+    plc: &[&str],
+    program: Option<&Path>,
+    kernel: &[&str],
+    bridge: &[&str],
+) -> Station {
     let name = instance(tag);
     let scope = Scope::new(&name);
     let trace = scratch(&format!("{tag}.csv"));
+    let mut plc_args = vec![
+        "--instance",
+        name.as_str(),
+        "--trace",
+        trace.to_str().unwrap(),
+    ];
+    plc_args.extend(plc);
     let mut kids = vec![spawn(
         "plc-sim",
-        &["--instance", &name, "--trace", trace.to_str().unwrap()],
+        &plc_args,
         &scratch(&format!("{tag}-plc.log")),
     )];
     let mut args = vec!["--instance", name.as_str()];

@@ -220,6 +220,15 @@ impl Dialect {
     }
 
     /// The table row for G`code`, in O(1).
+    /// Whether the dialect uses `letter` (upper case) for a word other than an axis: the
+    /// radius R, the 840C's polar angle A and radius U/B, the Fanuc dwell P. Machine data
+    /// may not name an axis after such a letter.
+    pub fn address_taken(&self, letter: u8) -> bool {
+        (letter == b'R' && self.radius_word == RadiusWord::R)
+            || (matches!(letter, b'A' | b'U' | b'B') && self.polar_words)
+            || (letter == b'P' && self.dwell.p_millis)
+    }
+
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
         let index = self.index();
         let slot = *index.get(code as usize)?;

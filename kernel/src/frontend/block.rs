@@ -7,7 +7,49 @@ use crate::machine_data::Units;
 /// in mm, X as a radius on lathes.
 pub type Pos = [f64; 3];
 
-pub const AXIS_NAMES: [char; 3] = ['X', 'Y', 'Z'];
+pub use crate::machine_data::{ADDITIONAL, AXIS_NAMES};
+
+/// The additional axes' positions (U V W A B C, one slot each; 0 where not configured), in
+/// machine coordinates: mm, or degrees for a rotary axis, counted on without wrapping.
+pub type Additional = [f64; ADDITIONAL];
+
+/// Where every path axis stands: the geometry axes and the additional ones.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisPos {
+    pub geo: Pos,
+    pub add: Additional,
+}
+
+/// The additional axes' move in a block: from where they stand to where the block takes them,
+/// linearly with the path's length. It travels beside the block's segment (additional axes
+/// move only outside tool radius compensation, where a block is one segment), so the
+/// segments of a plain three-axis path stay as small as they were (docs/axes.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisMove {
+    pub from: Additional,
+    pub to: Additional,
+}
+
+impl AxisPos {
+    /// Axis `i` of [`AXIS_NAMES`].
+    pub fn axis(&self, i: usize) -> f64 {
+        match i {
+            0..3 => self.geo[i],
+            _ => self.add.get(i - 3).copied().unwrap_or(0.0),
+        }
+    }
+
+    pub fn set_axis(&mut self, i: usize, v: f64) {
+        match i {
+            0..3 => self.geo[i] = v,
+            _ => {
+                if let Some(a) = self.add.get_mut(i - 3) {
+                    *a = v;
+                }
+            }
+        }
+    }
+}
 
 /// A working plane as (abscissa, ordinate, normal) axis indices; always right-handed, so
 /// counter-clockwise means from abscissa towards ordinate, looking against the normal.
@@ -138,9 +180,9 @@ pub struct Motion {
     pub start: Pos,
     pub end: Pos,
     pub center: Pos,
-    /// Axes programmed in the block (bit 0 = X, 1 = Y, 2 = Z), for "at least one axis of the
-    /// plane programmed" (840C 11.3) and the 808D completion rule.
-    pub programmed: u8,
+    /// Axes programmed in the block (bit i = axis i of [`AXIS_NAMES`]), for "at least one
+    /// axis of the plane programmed" (840C 11.3) and the 808D completion rule.
+    pub programmed: u16,
 }
 
 impl Motion {
@@ -382,6 +424,8 @@ pub struct Block {
     pub calculation: bool,
     /// Preprocessing stop (840C @714).
     pub preprocess_stop: bool,
+    /// The additional axes move in this block (with `motion`, which may stand still).
+    pub axes: Option<AxisMove>,
 }
 
 impl Block {
@@ -402,6 +446,7 @@ impl Block {
             offset_changed: false,
             calculation: false,
             preprocess_stop: false,
+            axes: None,
         }
     }
 

@@ -40,6 +40,7 @@ pub struct Interpreter<'a> {
     pub(super) blk_number: Option<BlockNo>,
     /// The position after the last block.
     pub(super) cur: Pos,
+    pub(super) cur_add: Additional,
     pub(super) vars: Variables,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
@@ -70,6 +71,7 @@ impl<'a> Interpreter<'a> {
             blk_line_start: 0,
             blk_number: None,
             cur: [0.0; 3],
+            cur_add: [0.0; ADDITIONAL],
             vars: Variables::default(),
             structures: Structures::default(),
             area: WorkingArea::default(),
@@ -103,14 +105,23 @@ impl<'a> Interpreter<'a> {
     /// The same interpreter with the axes standing at `p` (machine coordinates) before the
     /// first block: a kernel loads a program where the last one left the axes, as a control
     /// does (the first motion starts from there).
-    pub fn starting_at(mut self, p: Pos) -> Self {
-        self.cur = p;
+    pub fn starting_at(mut self, p: AxisPos) -> Self {
+        self.cur = p.geo;
+        self.cur_add = p.add;
         self
     }
 
     /// The position after the last block handed out.
     pub fn position(&self) -> Pos {
         self.cur
+    }
+
+    /// Every path axis's position after the last block handed out.
+    pub fn axis_position(&self) -> AxisPos {
+        AxisPos {
+            geo: self.cur,
+            add: self.cur_add,
+        }
     }
 
     /// The same interpreter with every block read by the full word loop (tests compare the

@@ -113,7 +113,7 @@ impl Interpreter<'_> {
             start,
             end,
             center: centre,
-            programmed,
+            programmed: programmed.into(),
         });
         self.cur = end;
         Some(w.end)

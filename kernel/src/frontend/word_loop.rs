@@ -72,6 +72,10 @@ impl Interpreter<'_> {
                 let i = (letter - b'I') as usize;
                 set_once(&mut w.centre[i], v, CENTRE_WORDS[i])
             }
+            b'U'..=b'W' | b'A'..=b'C' if self.md.axes.of_letter(letter).is_some() => {
+                let i = self.md.axes.of_letter(letter).map_or(0, |i| i - 3);
+                set_once(&mut w.additional[i], v, ADDITIONAL_WORDS[i])
+            }
             b'R' if d.radius_word == RadiusWord::R => set_once(&mut w.radius, v, "R"),
             b'A' if d.polar_words => set_once(&mut w.angle, v, "A"),
             b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B"),
@@ -240,9 +244,8 @@ impl Interpreter<'_> {
                 | b'S'
                 | b'H'
                 | b'N'
-        ) || (letter == b'R' && d.radius_word == RadiusWord::R)
-            || (matches!(letter, b'A' | b'U' | b'B') && d.polar_words)
-            || (letter == b'P' && d.dwell.p_millis)
+        ) || d.address_taken(letter)
+            || self.md.axes.of_letter(letter).is_some()
     }
 
     #[cold]

@@ -43,6 +43,8 @@ pub struct Words {
     pub g: heapless::Vec<(u16, u32), 16>,
     /// X Y Z
     pub axis: [Option<Val>; 3],
+    /// The additional axes U V W A B C (those the machine has).
+    pub additional: [Option<Val>; crate::machine_data::ADDITIONAL],
     /// I J K
     pub centre: [Option<Val>; 3],
     /// Arc radius (`CR=` or `R`).
@@ -74,6 +76,7 @@ impl Words {
     pub fn is_empty(&self) -> bool {
         self.g.is_empty()
             && self.axis.iter().all(Option::is_none)
+            && self.additional.iter().all(Option::is_none)
             && self.centre.iter().all(Option::is_none)
             && self.radius.is_none()
             && self.angle.is_none()
@@ -89,6 +92,7 @@ impl Words {
 /// Word names for alarms, as statics: an array literal at the call would be built on the
 /// stack for every word.
 pub static AXIS_WORDS: [&str; 3] = ["X", "Y", "Z"];
+pub static ADDITIONAL_WORDS: [&str; 6] = ["U", "V", "W", "A", "B", "C"];
 pub static CENTRE_WORDS: [&str; 3] = ["I", "J", "K"];
 
 /// A value is finite and within ±[`MAX_VALUE`].

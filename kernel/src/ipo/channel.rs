@@ -13,7 +13,7 @@
 //! it is output when that segment starts (or, after the last one, when the path is done).
 
 use super::planner::{Entry, Planner, Sample};
-use crate::frontend::block::Pos;
+use crate::frontend::block::{Additional, AxisPos, Pos};
 use crate::machine_data::MachineData;
 use crate::prep::{AuxFunction, Stop};
 use crate::segment::Source;
@@ -59,6 +59,8 @@ pub enum Event {
 }
 
 /// What preparation feeds the channel, in program order.
+// Nearly every input is a motion: boxing it would allocate, and the IPO thread frees nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum Input {
     Motion(Entry),
@@ -84,6 +86,8 @@ const RECORDS_PER_CYCLE: usize = MAX_EVENTS - 2;
 pub struct Setpoint {
     pub cycle: u64,
     pub pos: Pos,
+    /// The additional axes (U V W A B C; 0 where not configured).
+    pub add: Additional,
     /// Path speed, mm/s.
     pub v_path: f64,
     pub source: Option<Source>,
@@ -185,7 +189,7 @@ pub struct Channel {
 }
 
 impl Channel {
-    pub fn new(md: &MachineData, start: Pos) -> Self {
+    pub fn new(md: &MachineData, start: AxisPos) -> Self {
         let lim = super::AxisLimits::new(md);
         let mut wait = heapless::Vec::new();
         for w in md.ipo.ack_words() {
@@ -368,7 +372,7 @@ impl Channel {
     }
 
     /// Where the channel stands, for a channel with nothing queued (after a reset).
-    pub fn set_position(&mut self, pos: Pos) {
+    pub fn set_position(&mut self, pos: AxisPos) {
         self.planner.set_position(pos);
     }
 
@@ -411,6 +415,7 @@ impl Channel {
             }
             ChannelState::Reset | ChannelState::End => Sample {
                 pos: self.planner.position(),
+                add: self.planner.axis_position().add,
                 v: 0.0,
                 source: out.source,
             },
@@ -440,6 +445,7 @@ impl Channel {
         }
         out.cycle = k;
         out.pos = sample.pos;
+        out.add = sample.add;
         out.v_path = sample.v;
         out.source = sample.source;
         out.state = self.state;
@@ -447,10 +453,19 @@ impl Channel {
 }
 
 impl Setpoint {
-    pub fn new(start: Pos) -> Self {
+    /// Every path axis.
+    pub fn axes(&self) -> AxisPos {
+        AxisPos {
+            geo: self.pos,
+            add: self.add,
+        }
+    }
+
+    pub fn new(start: AxisPos) -> Self {
         Setpoint {
             cycle: 0,
-            pos: start,
+            pos: start.geo,
+            add: start.add,
             v_path: 0.0,
             source: None,
             state: ChannelState::Reset,

@@ -19,7 +19,8 @@
 
 use super::path::{Piece, V3};
 use super::profile::{cubic_root, Dynamics};
-use crate::machine_data::MachineData;
+use crate::frontend::block::Additional;
+use crate::machine_data::{MachineData, AXES};
 
 /// Share of the jerk kept for transition steps.
 const STEP_SHARE: f64 = 0.25;
@@ -27,9 +28,10 @@ const STEP_SHARE: f64 = 0.25;
 /// The axes' limits in mm/s, mm/s², mm/s³; `None` for an axis without machine data.
 #[derive(Clone, Copy, Debug)]
 pub struct AxisLimits {
-    v: [Option<f64>; 3],
-    a: [f64; 3],
-    j: [f64; 3],
+    /// Per axis of [`crate::machine_data::AXIS_NAMES`] (rotary axes in degrees).
+    v: [Option<f64>; AXES],
+    a: [f64; AXES],
+    j: [f64; AXES],
     /// The IPO cycle, s.
     cycle: f64,
 }
@@ -45,12 +47,12 @@ pub struct SegmentLimits {
 impl AxisLimits {
     pub fn new(md: &MachineData) -> Self {
         let mut l = AxisLimits {
-            v: [None; 3],
-            a: [f64::INFINITY; 3],
-            j: [f64::INFINITY; 3],
+            v: [None; AXES],
+            a: [f64::INFINITY; AXES],
+            j: [f64::INFINITY; AXES],
             cycle: f64::from(md.ipo.cycle_us) * 1e-6,
         };
-        for i in 0..3 {
+        for i in 0..AXES {
             if let Some(ax) = md.axes.get(i) {
                 l.v[i] = Some(ax.max_velocity / 60.0);
                 l.a[i] = ax.max_acceleration;
@@ -67,11 +69,15 @@ impl AxisLimits {
     /// The limits of a segment; `Err(axis)` if it moves an axis without machine data.
     pub fn segment(&self, p: &Piece) -> Result<SegmentLimits, usize> {
         // How much of the path speed each axis can see: a line's direction cosines; on an
-        // arc the whole of it in the plane (the tangent turns) and the lead along the normal.
-        let mut share = [0.0f64; 3];
+        // arc the whole of it in the plane (the tangent turns) and the lead along the normal;
+        // an additional axis its constant share.
+        let mut share = [0.0f64; AXES];
+        for (s, d) in share[3..].iter_mut().zip(&p.add_dir) {
+            *s = d.abs();
+        }
         match p.plane() {
             None => {
-                for (i, s) in share.iter_mut().enumerate() {
+                for (i, s) in share[..3].iter_mut().enumerate() {
                     *s = p.tangent[0][i].abs();
                 }
             }
@@ -124,7 +130,21 @@ impl AxisLimits {
 
     /// The highest speed through the transition from `a`'s end to `b`'s start.
     pub fn corner(&self, a: &Piece, b: &Piece) -> f64 {
-        self.transition(a.tangent[1], b.tangent[0], a.curvature[1], b.curvature[0])
+        let v = self.transition(a.tangent[1], b.tangent[0], a.curvature[1], b.curvature[0]);
+        v.min(self.additional_step(&a.add_dir, &b.add_dir))
+    }
+
+    /// The additional axes' velocity step (they do not curve): v ≤ ¼·j·T²/|Δshare|.
+    fn additional_step(&self, d1: &Additional, d2: &Additional) -> f64 {
+        let t = self.cycle;
+        let mut v = f64::INFINITY;
+        for (k, (a, b)) in d1.iter().zip(d2).enumerate() {
+            let du = (b - a).abs();
+            if du > 0.0 {
+                v = v.min(STEP_SHARE * self.j[k + 3] * t * t / du);
+            }
+        }
+        v
     }
 
     fn transition(&self, t1: V3, t2: V3, k1: V3, k2: V3) -> f64 {

@@ -6,8 +6,12 @@
 //! tool's cutting edge changing, prep/tool_tip.rs) are one parametrisation, the segment's
 //! [`Curve`], with u = s/len. Every setpoint is a point of that curve, computed directly
 //! (no chords); the end points are the segment's own.
+//!
+//! Additional axes (U V W A B C) move linearly in u beside the curve, and the path length
+//! counts them: len = √(curve length² + Σ Δ²), degrees of a rotary axis as mm (the feed
+//! applies over all axes, docs/ipo.md).
 
-use crate::frontend::block::{Plane, Pos};
+use crate::frontend::block::{Additional, AxisMove, AxisPos, Plane, Pos, ADDITIONAL};
 use crate::segment::{Curve, Segment};
 
 pub type V3 = [f64; 3];
@@ -28,6 +32,11 @@ pub struct Piece {
     pub stretch: f64,
     /// Largest curvature, 1/mm (0 for lines).
     pub kappa: f64,
+    /// The additional axes at the start and the end, and each one's share of the path speed
+    /// (signed; constant over the segment).
+    pub add_from: Additional,
+    pub add_to: Additional,
+    pub add_dir: Additional,
 }
 
 fn sub(a: V3, b: V3) -> V3 {
@@ -44,8 +53,14 @@ fn dot(a: V3, b: V3) -> f64 {
 }
 
 impl Piece {
-    /// `None` for a segment without length (nothing to interpolate).
+    /// `None` for a segment without length (nothing to interpolate); the additional axes at 0.
     pub fn new(seg: &Segment) -> Option<Piece> {
+        Piece::with_axes(seg, None, &[0.0; ADDITIONAL])
+    }
+
+    /// As [`Piece::new`], with the additional axes' move `axes` beside the segment; without
+    /// one they stand at `at`.
+    pub fn with_axes(seg: &Segment, axes: Option<&AxisMove>, at: &Additional) -> Option<Piece> {
         let curve = Curve::new(seg)?;
         let mut p = Piece {
             seg: *seg,
@@ -55,7 +70,20 @@ impl Piece {
             curvature: [[0.0; 3]; 2],
             stretch: 1.0,
             kappa: 0.0,
+            add_from: axes.map_or(*at, |m| m.from),
+            add_to: axes.map_or(*at, |m| m.to),
+            add_dir: [0.0; ADDITIONAL],
         };
+        p.measure_curve()?;
+        p.add_additional();
+        (p.len > 0.0).then_some(p)
+    }
+
+    /// Length, tangents and curvatures of the curve alone; `None` for a length that is not
+    /// a number.
+    fn measure_curve(&mut self) -> Option<()> {
+        let (seg, curve) = (self.seg, self.curve);
+        let p = self;
         let Curve::Arc {
             r0,
             dr,
@@ -67,12 +95,14 @@ impl Piece {
         else {
             let d = sub(seg.to, seg.from);
             p.len = norm(d);
-            if p.len.is_nan() || p.len <= 0.0 {
+            if p.len.is_nan() {
                 return None;
             }
-            let t = scale(d, 1.0 / p.len);
-            p.tangent = [t, t];
-            return Some(p);
+            if p.len > 0.0 {
+                let t = scale(d, 1.0 / p.len);
+                p.tangent = [t, t];
+            }
+            return Some(());
         };
         let r1 = r0 + dr;
         p.kappa = 1.0 / r0.min(r1);
@@ -112,7 +142,34 @@ impl Piece {
             p.tangent[end] = t;
             p.curvature[end] = scale(sub(d2, scale(t, dot(d2, t))), 1.0 / (speed * speed));
         }
-        Some(p)
+        Some(())
+    }
+
+    /// The additional axes into the length: with k = curve length / path length the
+    /// curve's tangents scale by k, its curvatures by k² (d²P/ds² = κ·(ds_curve/ds)²).
+    fn add_additional(&mut self) {
+        if self.add_from == self.add_to {
+            return;
+        }
+        let mut sq = self.len * self.len;
+        for (a, b) in self.add_from.iter().zip(&self.add_to) {
+            sq += (b - a) * (b - a);
+        }
+        let len = sq.sqrt();
+        if len.is_nan() || len <= 0.0 {
+            return;
+        }
+        let k = self.len / len;
+        for i in 0..ADDITIONAL {
+            self.add_dir[i] = (self.add_to[i] - self.add_from[i]) / len;
+        }
+        for end in 0..2 {
+            self.tangent[end] = scale(self.tangent[end], k);
+            self.curvature[end] = scale(self.curvature[end], k * k);
+        }
+        self.stretch *= k;
+        self.kappa *= k * k;
+        self.len = len;
     }
 
     /// The point at distance `s` along the segment (clamped to it); the ends exactly.
@@ -124,6 +181,30 @@ impl Piece {
             return self.seg.to;
         }
         self.curve.point(s / self.len)
+    }
+
+    /// Every axis at distance `s` along the segment; the ends exactly.
+    pub fn axes_at(&self, s: f64) -> AxisPos {
+        if s <= 0.0 {
+            return AxisPos {
+                geo: self.seg.from,
+                add: self.add_from,
+            };
+        }
+        if s >= self.len {
+            return AxisPos {
+                geo: self.seg.to,
+                add: self.add_to,
+            };
+        }
+        let mut add = self.add_from;
+        for (x, d) in add.iter_mut().zip(&self.add_dir) {
+            *x += d * s;
+        }
+        AxisPos {
+            geo: self.curve.point(s / self.len),
+            add,
+        }
     }
 
     /// The plane of an arc; `None` for a line.

@@ -19,7 +19,7 @@
 use super::limits::{AxisLimits, SegmentLimits};
 use super::path::Piece;
 use super::profile::{plan, reach, Profile};
-use crate::frontend::block::Pos;
+use crate::frontend::block::{Additional, AxisMove, AxisPos, Pos};
 use crate::segment::{Segment, Source};
 
 /// Longest lookahead, in segments.
@@ -56,8 +56,13 @@ impl Entry {
     /// `Ok(None)` for a segment without length; `Err(axis)` when it moves an axis without
     /// machine data. Computed where the segment is prepared, not in the IPO thread (it
     /// evaluates the arc's trigonometry).
-    pub fn new(seg: &Segment, lim: &AxisLimits) -> Result<Option<Entry>, usize> {
-        let Some(piece) = Piece::new(seg) else {
+    pub fn new(
+        seg: &Segment,
+        axes: Option<&AxisMove>,
+        at: &Additional,
+        lim: &AxisLimits,
+    ) -> Result<Option<Entry>, usize> {
+        let Some(piece) = Piece::with_axes(seg, axes, at) else {
             return Ok(None);
         };
         let limits = lim.segment(&piece)?;
@@ -103,6 +108,8 @@ impl Run {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
     pub pos: Pos,
+    /// The additional axes.
+    pub add: Additional,
     /// Path speed, mm/s.
     pub v: f64,
     /// The block the setpoint belongs to (the last one after the end).
@@ -134,6 +141,7 @@ pub struct Planner {
     rest_cycle: u64,
     last_t: f64,
     pos: Pos,
+    add: Additional,
     source: Option<Source>,
     /// The block of the segment finished last, and how many of its segments are finished.
     finished: Option<(u32, u32)>,
@@ -154,7 +162,7 @@ pub struct Progress {
 }
 
 impl Planner {
-    pub fn new(lim: AxisLimits, lookahead: usize, start: Pos) -> Self {
+    pub fn new(lim: AxisLimits, lookahead: usize, start: AxisPos) -> Self {
         Planner {
             lim,
             lookahead: lookahead.clamp(1, MAX_LOOKAHEAD),
@@ -172,7 +180,8 @@ impl Planner {
             t_free: 0.0,
             rest_cycle: 0,
             last_t: 0.0,
-            pos: start,
+            pos: start.geo,
+            add: start.add,
             source: None,
             finished: None,
             last_role: crate::segment::Role::Uncompensated,
@@ -237,6 +246,14 @@ impl Planner {
 
     pub fn position(&self) -> Pos {
         self.pos
+    }
+
+    /// Every path axis at the last setpoint.
+    pub fn axis_position(&self) -> AxisPos {
+        AxisPos {
+            geo: self.pos,
+            add: self.add,
+        }
     }
 
     /// Queues a segment (the caller keeps to [`room`](Self::room)).
@@ -352,9 +369,10 @@ impl Planner {
     }
 
     /// Moves the idle planner to `pos` (nothing queued: the position of a fresh channel).
-    pub fn set_position(&mut self, pos: Pos) {
+    pub fn set_position(&mut self, pos: AxisPos) {
         if self.idle() {
-            self.pos = pos;
+            self.pos = pos.geo;
+            self.add = pos.add;
         }
     }
 
@@ -445,7 +463,8 @@ impl Planner {
             let ends_here = over && run.prof.distance() >= rem - 1e-9 * rem.max(1.0);
             if s < rem && !ends_here {
                 self.done = self.offset + s;
-                self.pos = front.piece.point(self.done);
+                let p = front.piece.axes_at(self.done);
+                (self.pos, self.add) = (p.geo, p.add);
                 // A plan that ended at rest short of the end (NC stop): exactly at rest.
                 self.v = if v > 0.0 && !over { v } else { 0.0 };
                 self.a = if over { 0.0 } else { a };
@@ -461,6 +480,7 @@ impl Planner {
             let (_, ve, ae) = run.prof.at(te);
             let (t0, w) = (run.t0, run.w);
             self.pos = front.piece.seg.to;
+            self.add = front.piece.add_to;
             self.source = Some(front.piece.seg.source);
             let seq = front.piece.seg.source.seq;
             self.last_role = front.piece.seg.role;
@@ -493,6 +513,7 @@ impl Planner {
         self.last_t = t;
         Sample {
             pos: self.pos,
+            add: self.add,
             v: self.v,
             source: self.source,
         }

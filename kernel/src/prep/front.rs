@@ -12,7 +12,7 @@
 
 use crate::alarm::Alarm;
 use crate::frontend::block::{
-    AuxWord, Block, Motion, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    AuxWord, AxisMove, Block, Motion, Plane, ProgramStop, SelectionPolicy, TrcSide,
 };
 use crate::frontend::Interpreter;
 use crate::machine_data::{MachineData, ViolationReaction};
@@ -63,6 +63,8 @@ pub struct BlockStep<'b> {
     pub fault: Option<Box<Alarm>>,
     /// Violations the machine data lets pass.
     pub warnings: &'b [Alarm],
+    /// The additional axes' move beside the block's segment (boxed as `fault`: rare).
+    pub axes: Option<Box<AxisMove>>,
 }
 
 /// Interpretation, tool length, tool radius compensation.
@@ -158,6 +160,7 @@ impl<'a> Front<'a> {
             holds_back: self.trc.holds_back(),
             fault,
             warnings: &self.warnings,
+            axes: block.axes.map(Box::new),
         })
     }
 
@@ -196,6 +199,7 @@ impl<'a> Front<'a> {
                                 element: b.element,
                                 holds_back: b.holds_back,
                                 fault: b.fault,
+                                axes: b.axes,
                                 warnings: if b.warnings.is_empty() {
                                     Vec::new()
                                 } else {
@@ -252,6 +256,7 @@ enum Owned {
         element: Option<(Elem, f64)>,
         holds_back: bool,
         fault: Option<Box<Alarm>>,
+        axes: Option<Box<AxisMove>>,
         warnings: Vec<Alarm>,
         /// The step's segments: a range of the batch's.
         segments: (u32, u32),
@@ -297,6 +302,7 @@ impl Threaded {
                         element,
                         holds_back,
                         fault,
+                        axes,
                         warnings,
                         segments,
                     } => {
@@ -308,6 +314,7 @@ impl Threaded {
                             holds_back: *holds_back,
                             fault: fault.take(),
                             warnings,
+                            axes: axes.take(),
                         })
                     }
                     Owned::Decode(a) => {

@@ -2,7 +2,7 @@
 //! Written by hand: it is on the path of long programs, and the format is small.
 
 use crate::alarm::Alarm;
-use crate::frontend::block::Pos;
+use crate::frontend::block::{AxisMove, Pos, AXIS_NAMES};
 use crate::json::{num_point as num, string};
 use crate::machine_data::AuxOutput;
 use crate::prep::s_points::{AuxFunction, Prepared, Stop};
@@ -71,11 +71,31 @@ fn block(out: &mut impl Write, s: &Source) -> io::Result<()> {
 pub fn write_prepared(out: &mut impl Write, p: &Prepared) -> io::Result<()> {
     match p {
         Prepared::Segment(s) => write_segment(out, s),
+        Prepared::Axes(m, s) => write_axes(out, m, s),
         Prepared::Aux(a) => write_aux(out, a),
         Prepared::Stop(s) => write_stop(out, "stop", s),
         Prepared::End(s) => write_stop(out, "end", s),
         Prepared::Warning(a) => write_record(out, "warning", a),
     }
+}
+
+/// `{"type":"axes","block":"N20","line":3,"from":{"A":0.0,"C":90.0},"to":{"A":-30.0,"C":350.0}}`:
+/// the additional axes that move with the next segment.
+pub fn write_axes(out: &mut impl Write, m: &AxisMove, s: &Source) -> io::Result<()> {
+    out.write_all(b"{\"type\":\"axes\",\"block\":")?;
+    block(out, s)?;
+    write!(out, ",\"line\":{}", s.line)?;
+    for (key, values) in [("from", &m.from), ("to", &m.to)] {
+        write!(out, ",\"{key}\":{{")?;
+        let moving = (0..values.len()).filter(|&k| m.from[k] != m.to[k]);
+        for (n, k) in moving.enumerate() {
+            let sep = if n == 0 { "" } else { "," };
+            write!(out, "{sep}\"{}\":", AXIS_NAMES[k + 3])?;
+            num(out, values[k])?;
+        }
+        out.write_all(b"}")?;
+    }
+    out.write_all(b"}\n")
 }
 
 /// `{"type":"aux","block":"N25","line":14,"at":"S1","words":["M3","S2000","H2"],"pos":[..],"timing":"before"}`

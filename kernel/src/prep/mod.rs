@@ -9,6 +9,7 @@ pub mod front;
 pub mod jsonl;
 pub mod resume;
 pub mod s_points;
+mod soft_limits;
 pub mod tool_tip;
 mod whole;
 
@@ -49,7 +50,14 @@ pub struct Preparation<'a> {
     /// Turning tools: nose centre to tool tip.
     tip: tool_tip::ToolTip,
     /// Where the program starts (the interpreter's initial position).
-    start: crate::frontend::block::Pos,
+    start: crate::frontend::block::AxisPos,
+    /// The additional axes' moves of blocks whose segment has not come out yet (block
+    /// number in execution order, move), and the one of the segment that came out last.
+    axis_moves: std::collections::VecDeque<(u32, crate::frontend::block::AxisMove)>,
+    axes_out: Option<crate::frontend::block::AxisMove>,
+    /// The axes' software limit switches, where the path is the machine's (the kernel,
+    /// `softnc simulate` and `check`): a segment beyond them is an alarm.
+    limits: Option<soft_limits::SoftLimits>,
     /// The whole-program check, when asked for (it allocates as the run grows).
     whole: Option<Box<whole::WholeCheck>>,
     whole_mode: WholeMode,
@@ -102,13 +110,13 @@ impl<'a> Preparation<'a> {
         source: &'a str,
         md: &'a MachineData,
         tools: &'a ToolTable,
-        at: Option<crate::frontend::block::Pos>,
+        at: Option<crate::frontend::block::AxisPos>,
     ) -> Self {
         let mut interp = Interpreter::new(name, source, md, tools);
         if let Some(p) = at {
             interp = interp.starting_at(p);
         }
-        let start = interp.position();
+        let start = interp.axis_position();
         let front = Front::new(name, interp, md);
         Self::with_front(name, FrontEnd::Local(Box::new(front)), start, md)
     }
@@ -124,7 +132,7 @@ impl<'a> Preparation<'a> {
         tools: &'a ToolTable,
     ) -> Self {
         let interp = Interpreter::new(name, source, md, tools);
-        let start = interp.position();
+        let start = interp.axis_position();
         let front = Front::new(name, interp, md).threaded(scope);
         Self::with_front(name, FrontEnd::Threaded(front), start, md)
     }
@@ -132,7 +140,7 @@ impl<'a> Preparation<'a> {
     fn with_front(
         name: &'a str,
         front: FrontEnd<'a>,
-        start: crate::frontend::block::Pos,
+        start: crate::frontend::block::AxisPos,
         md: &'a MachineData,
     ) -> Self {
         Preparation {
@@ -142,7 +150,7 @@ impl<'a> Preparation<'a> {
             blocks: 0,
             done: false,
             ended: false,
-            s_points: SPoints::new(start, md.trc.aux_output, md.program.optional_stop),
+            s_points: SPoints::new(start.geo, md.trc.aux_output, md.program.optional_stop),
             ready: heapless::Deque::new(),
             bottleneck: Bottleneck::new(md.trc.bottleneck_window as usize),
             released: std::collections::VecDeque::with_capacity(
@@ -154,6 +162,9 @@ impl<'a> Preparation<'a> {
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
             tip: tool_tip::ToolTip::new(),
             start,
+            axis_moves: std::collections::VecDeque::new(),
+            axes_out: None,
+            limits: None,
             whole: None,
             whole_mode: WholeMode::Reaction,
             violations: Vec::new(),
@@ -232,8 +243,15 @@ impl<'a> Preparation<'a> {
         self.whole_mode != WholeMode::Collect || self.masking || !self.bottleneck.is_empty()
     }
 
+    /// With the software limit switches of `md` (alarm 10720 for a segment beyond them):
+    /// the path the machine runs; without them the tool path of the program alone.
+    pub fn with_soft_limits(mut self, md: &MachineData) -> Self {
+        self.limits = Some(soft_limits::SoftLimits::new(md));
+        self
+    }
+
     /// Where the program starts: the position before its first motion.
-    pub fn start(&self) -> crate::frontend::block::Pos {
+    pub fn start(&self) -> crate::frontend::block::AxisPos {
         self.start
     }
 
@@ -276,7 +294,11 @@ impl<'a> Preparation<'a> {
                 return Ok(Some(x));
             }
             if let Some(seg) = self.pop_path()? {
-                if self.s_points.idle() {
+                if let Some(m) = self.axes_out.take() {
+                    // Ahead of the segment and what waits for its start: the next segment's.
+                    let _ = self.ready.push_back(Prepared::Axes(m, seg.source));
+                }
+                if self.s_points.idle() && self.ready.is_empty() {
                     self.s_points.pass(&seg);
                     return Ok(Some(Prepared::Segment(seg)));
                 }
@@ -303,13 +325,37 @@ impl<'a> Preparation<'a> {
                 }
             }
         }
-        match seg {
-            Some(mut s) if !self.tip.idle() => {
-                self.tip.shift(&mut s);
-                Ok(Some(s))
+        if let Some(s) = &mut seg {
+            if !self.tip.idle() {
+                self.tip.shift(s);
             }
-            s => Ok(s),
+            self.axes_out = None;
+            if self
+                .axis_moves
+                .front()
+                .is_some_and(|(q, _)| *q == s.source.seq)
+            {
+                self.axes_out = self.axis_moves.pop_front().map(|(_, m)| m);
+            }
+            if let Some(Err(o)) = self
+                .limits
+                .as_ref()
+                .map(|l| l.check(s, self.axes_out.as_ref()))
+            {
+                self.overrun(&s.source, o);
+                return Ok(None);
+            }
         }
+        Ok(seg)
+    }
+
+    /// A segment past a software limit: preparation ends with the alarm before it.
+    #[cold]
+    fn overrun(&mut self, at: &Source, o: soft_limits::Overrun) {
+        let alarm = Alarm::at(AlarmCode::SoftwareLimit, self.name, at, o.message());
+        self.stop_with(alarm);
+        self.released.clear();
+        self.bottleneck.discard();
     }
 
     /// The path of the nose centre (the tool centre) through the bottleneck window.
@@ -500,6 +546,9 @@ impl<'a> Preparation<'a> {
             };
             let info = b.info;
             let source = info.source;
+            if let Some(m) = b.axes {
+                self.axis_moves.push_back((source.seq, *m));
+            }
             self.blocks = u64::from(source.seq);
             self.tip.block(info.tip, source.seq);
             self.s_points.set_plane(info.plane);

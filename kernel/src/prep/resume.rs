@@ -9,7 +9,7 @@
 
 use super::{Preparation, Prepared};
 use crate::alarm::{Alarm, AlarmCode};
-use crate::frontend::block::Pos;
+use crate::frontend::block::{Additional, AxisMove, AxisPos, Pos};
 use crate::machine_data::MachineData;
 use crate::segment::{Curve, Role, Segment, Shape};
 use crate::tools::ToolTable;
@@ -61,19 +61,30 @@ impl<'a> Preparation<'a> {
         source: &'a str,
         md: &'a MachineData,
         tools: &'a ToolTable,
-        start: Option<Pos>,
+        start: Option<AxisPos>,
         at: Interruption,
-        axes: Pos,
+        axes: AxisPos,
     ) -> Result<Resumed<'a>, Alarm> {
-        let mut rest = Preparation::starting_at(name, source, md, tools, start);
+        let mut rest =
+            Preparation::starting_at(name, source, md, tools, start).with_soft_limits(md);
         let along = at.along.clamp(0.0, 1.0);
-        // The block's pieces with length, in order, and what follows them (the fallback).
+        // The block's pieces with length, in order, and what follows them (the fallback);
+        // the additional axes where they stand before the segment, and their move with it.
         let mut block: Vec<Prepared> = Vec::new();
         let mut nth = 0u32;
+        let mut here = rest.start().add;
+        let mut moving: Option<AxisMove> = None;
         loop {
             let item = rest.next_item()?;
             let seg = match item {
                 Some(Prepared::Segment(s)) => s,
+                Some(Prepared::Axes(m, src)) => {
+                    moving = Some(m);
+                    if !block.is_empty() {
+                        block.push(Prepared::Axes(m, src));
+                    }
+                    continue;
+                }
                 Some(other) => {
                     if !block.is_empty() {
                         block.push(other);
@@ -82,8 +93,10 @@ impl<'a> Preparation<'a> {
                 }
                 None => break,
             };
+            let axes_of = moving.take();
             let d = seg.source.seq.wrapping_sub(at.seq) as i32;
             if d < 0 || Curve::new(&seg).is_none() {
+                here = axes_of.map_or(here, |m| m.to);
                 continue;
             }
             if d > 0 {
@@ -91,31 +104,46 @@ impl<'a> Preparation<'a> {
                 break;
             }
             if nth == at.nth && seg.role == at.role {
-                let q = point_at(&seg, along);
+                let q = point_at(&seg, axes_of.as_ref(), &here, along);
                 let mut remainder = seg;
-                remainder.from = q;
+                remainder.from = q.geo;
                 if let Shape::Arc { r0, r1, .. } = &mut remainder.shape {
                     // The radius where the rest starts, on the same linear ramp.
                     *r0 += (*r1 - *r0) * along;
                 }
-                return Ok(Resumed {
-                    first: vec![
-                        Prepared::Segment(reposition(&seg, axes, q)),
-                        Prepared::Segment(remainder),
-                    ],
-                    rest,
-                });
+                let mut first = reposition(&seg, axes, q);
+                if let Some(m) = axes_of {
+                    first.push(Prepared::Axes(
+                        AxisMove {
+                            from: q.add,
+                            to: m.to,
+                        },
+                        seg.source,
+                    ));
+                }
+                first.push(Prepared::Segment(remainder));
+                return Ok(Resumed { first, rest });
             }
             nth += 1;
+            if let Some(m) = axes_of {
+                block.push(Prepared::Axes(m, seg.source));
+            }
             block.push(Prepared::Segment(seg));
+            here = axes_of.map_or(here, |m| m.to);
         }
         // Not found: from the start of the block's first piece.
-        if let Some(Prepared::Segment(first)) = block.first() {
-            if first.source.seq == at.seq {
-                let mut out = vec![Prepared::Segment(reposition(first, axes, first.from))];
-                out.extend(block);
-                return Ok(Resumed { first: out, rest });
-            }
+        let first_piece = block.iter().find_map(|p| match p {
+            Prepared::Segment(s) => Some(*s),
+            _ => None,
+        });
+        if let Some(first) = first_piece.filter(|f| f.source.seq == at.seq) {
+            let start = AxisPos {
+                geo: first.from,
+                add: block_start(&block, &here),
+            };
+            let mut out = reposition(&first, axes, start);
+            out.extend(block);
+            return Ok(Resumed { first: out, rest });
         }
         Err(Alarm {
             code: AlarmCode::NotSupported,
@@ -132,25 +160,52 @@ impl<'a> Preparation<'a> {
 }
 
 /// The straight move from where the axes stand onto `q` of `seg`, with `seg`'s feed and
-/// block, ending in an exact stop.
-fn reposition(seg: &Segment, axes: Pos, q: Pos) -> Segment {
-    Segment {
+/// block, ending in an exact stop: the segment, with the additional axes' move before it
+/// where they stand elsewhere.
+fn reposition(seg: &Segment, axes: AxisPos, q: AxisPos) -> Vec<Prepared> {
+    let mut out = Vec::with_capacity(3);
+    if axes.add != q.add {
+        let m = AxisMove {
+            from: axes.add,
+            to: q.add,
+        };
+        out.push(Prepared::Axes(m, seg.source));
+    }
+    out.push(Prepared::Segment(Segment {
         role: Role::Approach,
         shape: Shape::Line,
-        from: axes,
-        to: q,
+        from: axes.geo,
+        to: q.geo,
         rapid: false,
         exact_stop: true,
         ..*seg
+    }));
+    out
+}
+
+/// Where the additional axes stand at the start of the block's first piece: the start of
+/// its move if one comes before it, else `here`.
+fn block_start(block: &[Prepared], here: &Additional) -> Additional {
+    match block.first() {
+        Some(Prepared::Axes(m, _)) => m.from,
+        _ => *here,
     }
 }
 
 /// The point `t` (0..=1) along a segment: on its [`Curve`], the parametrisation the
 /// interpolator runs along (by angle on an arc, the radius, centre and tool axis linearly).
-fn point_at(s: &Segment, t: f64) -> Pos {
-    match Curve::new(s) {
+/// The additional axes move linearly in t beside it (`axes`), or stand at `here`.
+fn point_at(s: &Segment, axes: Option<&AxisMove>, here: &Additional, t: f64) -> AxisPos {
+    let geo: Pos = match Curve::new(s) {
         Some(c) if t > 0.0 && t < 1.0 => c.point(t),
         _ if t >= 1.0 => s.to,
         _ => s.from,
+    };
+    let mut add = *here;
+    if let Some(m) = axes {
+        for (k, a) in add.iter_mut().enumerate() {
+            *a = m.from[k] + (m.to[k] - m.from[k]) * t.clamp(0.0, 1.0);
+        }
     }
+    AxisPos { geo, add }
 }

@@ -40,6 +40,8 @@ pub struct Stop {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Prepared {
     Segment(Segment),
+    /// The additional axes move with the next segment (the block's): from, to, the block.
+    Axes(crate::frontend::block::AxisMove, crate::segment::Source),
     Aux(AuxFunction),
     /// A programmed stop (M00, M01, M18) at the end of its block.
     Stop(Stop),
@@ -54,6 +56,7 @@ impl Prepared {
     pub fn line(&self) -> u32 {
         match self {
             Prepared::Segment(s) => s.source.line,
+            Prepared::Axes(_, s) => s.line,
             Prepared::Aux(a) => a.source.line,
             Prepared::Stop(s) | Prepared::End(s) => s.source.line,
             Prepared::Warning(w) => w.line,

@@ -36,6 +36,7 @@ pub struct IceBus {
     /// The tool table's version, for the status (set by the control thread's commands).
     pub tools_version: u32,
     cycle_ns: u64,
+    axes: crate::WireAxes,
     /// Sends that failed (no memory to loan, a peer gone while sending).
     pub send_errors: u64,
 }
@@ -50,7 +51,11 @@ pub fn state_code(s: ChannelState) -> u8 {
 }
 
 impl IceBus {
-    pub fn open(instance: &Instance, cycle_ns: u64) -> Result<Self, IpcError> {
+    pub fn open(
+        instance: &Instance,
+        cycle_ns: u64,
+        axes: crate::WireAxes,
+    ) -> Result<Self, IpcError> {
         let node = instance.node("nc-kernel")?;
         let err = |what: &str, e: &dyn std::fmt::Debug| {
             IpcError(format!(
@@ -99,6 +104,7 @@ impl IceBus {
             skipped: 0,
             tools_version: 1,
             cycle_ns,
+            axes,
             send_errors: 0,
         })
     }
@@ -124,10 +130,11 @@ impl Bus for IceBus {
             deadline_ns: self.deadline_ns,
             cycle_us: (self.cycle_ns / 1000) as u32,
             line: sp.source.map_or(0, |s| s.line),
-            pos: sp.pos,
+            pos: self.axes.to_wire(&sp.axes()),
             v_path: sp.v_path,
             state: state_code(sp.state),
-            _pad: [0; 7],
+            axes: self.axes.list.count,
+            _pad: [0; 6],
         };
         let sent = match self.setpoints.loan_uninit() {
             Ok(s) => s.write_payload(msg).send().is_ok(),
@@ -191,7 +198,8 @@ impl Bus for IceBus {
             cycle: st.cycle,
             program: st.program,
             line: st.line,
-            pos: st.pos,
+            pos: self.axes.to_wire(&st.axes()),
+            axes: self.axes.list,
             v_path: st.v_path,
             override_: st.override_,
             alarm: ChannelAlarm::wire(st.alarm),

@@ -44,7 +44,7 @@ struct Loaded {
     name: String,
     source: String,
     /// Where the axes stood when it was loaded (its interpretation starts there).
-    at: Option<nc_kernel::Pos>,
+    at: Option<nc_kernel::AxisPos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
     live: nc_kernel::LiveEdits,
     reports: crossbeam::channel::Receiver<Report>,
@@ -106,7 +106,7 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         next_id += 1;
     }
     let start = first.as_ref().map_or_else(
-        || nc_kernel::Interpreter::new("", "", &md, &tools).position(),
+        || nc_kernel::Interpreter::new("", "", &md, &tools).axis_position(),
         |p| p.start,
     );
     let shared = Arc::new(Shared {
@@ -150,7 +150,7 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
 fn start_ipo(
     instance: &Instance,
     md: &Arc<MachineData>,
-    start: nc_kernel::Pos,
+    start: nc_kernel::AxisPos,
     priority: i32,
     shared: &Arc<Shared>,
 ) -> Result<std::thread::JoinHandle<()>, String> {
@@ -190,7 +190,7 @@ fn load(
     md: &MachineData,
     tools: &ToolTable,
     id: u32,
-    at: Option<nc_kernel::Pos>,
+    at: Option<nc_kernel::AxisPos>,
 ) -> Result<(Box<Program>, Loaded), (u32, String)> {
     let source = std::fs::read_to_string(path).map_err(|e| (0, format!("{path}: {e}")))?;
     let (tools, live) = run_table(tools);
@@ -233,7 +233,7 @@ impl Loaded {
         id: u32,
         name: String,
         source: String,
-        at: Option<nc_kernel::Pos>,
+        at: Option<nc_kernel::AxisPos>,
         live: nc_kernel::LiveEdits,
     ) -> (Box<Program>, Loaded) {
         let program = Box::new(Program {
@@ -257,7 +257,7 @@ impl Loaded {
 fn ipo_thread(
     instance: &Instance,
     md: &MachineData,
-    start: nc_kernel::Pos,
+    start: nc_kernel::AxisPos,
     priority: i32,
     shared: &Shared,
     ready: crossbeam::channel::Sender<Result<String, String>>,
@@ -265,7 +265,7 @@ fn ipo_thread(
     // However this thread ends (a panic included), the control thread learns it and ends.
     let _done = Done(&shared.done);
     let cycle_ns = u64::from(md.ipo.cycle_us) * 1000;
-    let mut bus = match IceBus::open(instance, cycle_ns) {
+    let mut bus = match IceBus::open(instance, cycle_ns, crate::WireAxes::new(md)) {
         Ok(b) => b,
         Err(e) => {
             let _ = ready.send(Err(e.to_string()));
@@ -336,7 +336,6 @@ fn ask(shared: &Shared, c: Control) -> Result<(), Refusal> {
 }
 
 fn refusal_text(r: Refusal) -> (u32, String) {
-    let p = |p: [f64; 3]| format!("X{:.3} Y{:.3} Z{:.3}", p[0], p[1], p[2]);
     match r {
         Refusal::NotInReset(s) => (0, format!("the channel is {}: reset it first", s.name())),
         Refusal::NotStopped(s) => (
@@ -354,12 +353,11 @@ fn refusal_text(r: Refusal) -> (u32, String) {
             alarm::EMERGENCY_STOP.number(),
             "emergency stop is pressed: release it, then reset".into(),
         ),
-        Refusal::StartsElsewhere { start, here } => (
+        Refusal::StartsElsewhere { axis, start, here } => (
             0,
             format!(
-                "the program starts at {} but the axes stand at {}: move them there first",
-                p(start),
-                p(here)
+                "the program starts with {} at {start:.3} but the axis stands at {here:.3}: move it there first",
+                nc_kernel::AXIS_NAMES.get(axis).copied().unwrap_or('?')
             ),
         ),
         Refusal::Ending => (0, "the kernel is ending".into()),
@@ -527,7 +525,13 @@ impl Desk<'_> {
             command::LOAD => {
                 let path = c.text();
                 let id = self.next_id;
-                match load(path, self.md, &self.tools, id, Some(last.pos)) {
+                match load(
+                    path,
+                    self.md,
+                    &self.tools,
+                    id,
+                    Some(crate::WireAxes::new(self.md).from_wire(&last.pos)),
+                ) {
                     Ok((p, l)) => {
                         self.programs.insert(id, l);
                         self.next_id += 1;
@@ -652,7 +656,7 @@ impl Desk<'_> {
             tools,
             l.at,
             at,
-            last.pos,
+            crate::WireAxes::new(self.md).from_wire(&last.pos),
         );
         let s = match spawned {
             Ok(Ok(s)) => s,

@@ -49,8 +49,10 @@ impl Interpreter<'_> {
             (None, Some(max)) => self.working_area(w, max, new.units),
             (None, None) => self.motion(w, &mut new, block_col)?,
         }
-        // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026).
+        // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);
+        //    additional axes move only outside compensation (docs/axes.md).
         self.trc_in_linear_block(&new, g.trc_at)?;
+        self.additional_outside_trc(&new, w)?;
         // 10. The block done: position, program end (880 4.2.5: the pole), modal state.
         self.finish(new);
         Ok(true)
@@ -72,6 +74,9 @@ impl Interpreter<'_> {
         let blk = &mut self.block;
         if let Some(m) = &blk.motion {
             self.cur = m.end;
+        }
+        if let Some(a) = &blk.axes {
+            self.cur_add = a.to;
         }
         if blk.stop.is_some_and(|s| s.ends_program()) {
             new.pole = self.md.zero_offsets.get(new.work_offset);
@@ -99,6 +104,7 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
         offset_changed,
         calculation,
         preprocess_stop,
+        axes,
     } = b;
     *b_line = line;
     *b_col = col;
@@ -112,4 +118,5 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
     *offset_changed = false;
     *calculation = false;
     *preprocess_stop = false;
+    *axes = None;
 }

@@ -30,6 +30,9 @@ impl Default for WorkingArea {
     }
 }
 
+/// The geometry axes' bits in [`Motion::programmed`].
+const GEOMETRY: u16 = 0b111;
+
 /// A coordinate the control takes (bounded like the words, with room for offsets).
 #[inline(always)]
 pub fn in_range(x: f64) -> bool {
@@ -78,15 +81,50 @@ impl Interpreter<'_> {
     pub(super) fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let programmed = self.programmed_axes(w)?;
         if new.motion.is_polar() {
-            self.polar(w, new, programmed, block_col)
+            self.polar(w, new, programmed, block_col)?;
         } else {
-            self.cartesian(w, new, programmed, block_col)
+            self.cartesian(w, new, programmed, block_col)?;
         }
+        if programmed & !GEOMETRY != 0 {
+            self.additional_motion(w, new, programmed, block_col)?;
+        }
+        Ok(())
     }
 
-    /// The axes written, as bits (X = 1, Y = 2, Z = 4); each must exist on the machine.
-    fn programmed_axes(&self, w: &Words) -> R<u8> {
-        let mut programmed = 0u8;
+    /// The additional axes' move beside the block's motion (docs/axes.md). A block with
+    /// only additional axes gets a motion that stands still in X Y Z: a straight move at the
+    /// feed, or at rapid under G0 (a circular mode in force does not make it an arc).
+    fn additional_motion(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        programmed: u16,
+        block_col: usize,
+    ) -> R<()> {
+        let add_end = self.additional_end(w, new)?;
+        if self.block.motion.is_none() {
+            feed_programmed(new, block_col)?;
+            let here = self.cur;
+            self.set_motion(new, here, here, here, programmed, block_col)?;
+            if let Some(m) = &mut self.block.motion {
+                if m.kind != MotionKind::Rapid {
+                    m.kind = MotionKind::Linear;
+                }
+            }
+        }
+        if add_end != self.cur_add {
+            self.block.axes = Some(AxisMove {
+                from: self.cur_add,
+                to: add_end,
+            });
+        }
+        Ok(())
+    }
+
+    /// The axes written, as bits (bit i = axis i of [`AXIS_NAMES`]); each must exist on the
+    /// machine.
+    fn programmed_axes(&self, w: &Words) -> R<u16> {
+        let mut programmed = 0u16;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
                 if !self.md.has_axis(i) {
@@ -99,7 +137,58 @@ impl Interpreter<'_> {
                 programmed |= 1 << i;
             }
         }
+        for (k, a) in w.additional.iter().enumerate() {
+            if a.is_some() {
+                programmed |= 1 << (k + 3);
+            }
+        }
         Ok(programmed)
+    }
+
+    /// Where the additional axes go for their words: mm (inch converted) or degrees,
+    /// absolute (a modulo axis within its turn, axes.rs) or incremental.
+    fn additional_end(&self, w: &Words, new: &ModalState) -> R<Additional> {
+        let mut end = self.cur_add;
+        for (k, a) in w.additional.iter().enumerate() {
+            let (Some(a), Some(ax)) = (a, self.md.axes.get(k + 3)) else {
+                continue;
+            };
+            let rotary = ax.kind == crate::machine_data::AxisKind::Rotary;
+            let v = self.length(*a, if rotary { Units::Mm } else { new.units });
+            end[k] = match new.distance {
+                Distance::Absolute => ax.absolute_target(self.cur_add[k], v),
+                Distance::Incremental => self.cur_add[k] + v,
+            };
+            if !in_range(end[k]) {
+                return Err(fault(AlarmCode::BadNumber, a.at, "coordinate out of range"));
+            }
+        }
+        Ok(end)
+    }
+
+    /// Additional axes move only in blocks neither inside a compensation run nor selecting
+    /// or deselecting one: the tool radius compensation works in the plane of the geometry
+    /// axes, and its inserted pieces could not share out a rotary move (docs/axes.md).
+    pub(super) fn additional_outside_trc(&self, new: &ModalState, w: &Words) -> R<()> {
+        if self.block.axes.is_none()
+            || (new.trc == TrcSide::Off && self.block.modal.trc == TrcSide::Off)
+        {
+            return Ok(());
+        }
+        let (k, at) = w
+            .additional
+            .iter()
+            .enumerate()
+            .find_map(|(k, a)| a.map(|a| (k, a.pos())))
+            .unwrap_or((0, 0));
+        Err(fault(
+            AlarmCode::ForbiddenWithTrc,
+            at,
+            format!(
+                "axis {} cannot move while tool radius compensation is active",
+                AXIS_NAMES[k + 3]
+            ),
+        ))
     }
 
     /// A line or an arc to the axis words' end point.
@@ -107,7 +196,7 @@ impl Interpreter<'_> {
         &mut self,
         w: &Words,
         new: &ModalState,
-        programmed: u8,
+        programmed: u16,
         block_col: usize,
     ) -> R<()> {
         let start = self.cur;
@@ -129,7 +218,7 @@ impl Interpreter<'_> {
                 "circle parameters without a circular motion",
             ));
         }
-        if programmed == 0 && !(arc && has_centre) {
+        if programmed & GEOMETRY == 0 && !(arc && has_centre) {
             return Ok(());
         }
         feed_programmed(new, block_col)?;
@@ -222,7 +311,7 @@ impl Interpreter<'_> {
         &mut self,
         w: &Words,
         new: &mut ModalState,
-        programmed: u8,
+        programmed: u16,
         block_col: usize,
     ) -> R<()> {
         self.pole(w, new);
@@ -335,7 +424,7 @@ impl Interpreter<'_> {
         start: Pos,
         end: Pos,
         centre: Pos,
-        programmed: u8,
+        programmed: u16,
         block_col: usize,
     ) -> R<()> {
         self.check_area(&end, block_col)?;

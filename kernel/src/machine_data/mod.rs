@@ -9,9 +9,12 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
 
+mod axes;
+pub use axes::{Axes, AxisData, AxisKind, ADDITIONAL, AXES, AXIS_NAMES, MAX_PATH_AXES};
+
 /// The built-in machine data: a three-axis SINUMERIK 840C milling machine. The shipped
 /// `config/siemens-840c.toml` holds the same values (a test keeps them equal).
-pub const BUILTIN_DEFAULTS: &str = include_str!("../../config/siemens-840c.toml");
+pub const BUILTIN_DEFAULTS: &str = include_str!("../../../config/siemens-840c.toml");
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -227,9 +230,6 @@ pub struct PlcData {
     pub tool_change_ms: u32,
     /// Spindle acceleration, rpm/s: M3/M4 are acknowledged at speed.
     pub spindle_acceleration: f64,
-    /// Software limit switches per axis (X, Y, Z), machine coordinates, mm.
-    pub software_limit_min: [f64; 3],
-    pub software_limit_max: [f64; 3],
 }
 
 /// The operator's side: the HMI bridge and what offset edits it may make (840C 11.8).
@@ -268,39 +268,6 @@ pub struct SimulateData {
     /// Machine time the path may stand still with nothing happening (no motion, no output,
     /// no state change) before the run stops with alarm 90002, s.
     pub max_rest_time: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AxisData {
-    /// Maximum axis velocity (also the rapid traverse rate), mm/min.
-    pub max_velocity: f64,
-    /// Maximum axis acceleration, mm/s².
-    pub max_acceleration: f64,
-    /// Maximum axis jerk, mm/s³.
-    pub max_jerk: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Axes {
-    #[serde(rename = "X", skip_serializing_if = "Option::is_none", default)]
-    pub x: Option<AxisData>,
-    #[serde(rename = "Y", skip_serializing_if = "Option::is_none", default)]
-    pub y: Option<AxisData>,
-    #[serde(rename = "Z", skip_serializing_if = "Option::is_none", default)]
-    pub z: Option<AxisData>,
-}
-
-impl Axes {
-    pub fn get(&self, axis: usize) -> Option<&AxisData> {
-        match axis {
-            0 => self.x.as_ref(),
-            1 => self.y.as_ref(),
-            2 => self.z.as_ref(),
-            _ => None,
-        }
-    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -523,17 +490,6 @@ impl MachineData {
             1.0,
             1e6,
         )?;
-        for i in 0..3 {
-            let (lo, hi) = (plc.software_limit_min[i], plc.software_limit_max[i]);
-            range(&format!("plc.software_limit_min[{i}]"), lo, -1e6, 1e6)?;
-            range(&format!("plc.software_limit_max[{i}]"), hi, -1e6, 1e6)?;
-            if lo >= hi {
-                return Err((
-                    format!("plc.software_limit_min[{i}]"),
-                    format!("{lo} is not below software_limit_max[{i}] = {hi}"),
-                ));
-            }
-        }
         Ok(())
     }
 
@@ -556,29 +512,21 @@ impl MachineData {
         Ok(())
     }
 
-    /// At least one axis, each within its ranges, and the initial plane's two axes.
+    /// The axes (axes.rs), and the initial plane's two axes.
     fn validate_axes(&self) -> Result<(), (String, String)> {
-        let mut any = false;
-        for (i, name) in ["X", "Y", "Z"].iter().enumerate() {
-            if let Some(a) = self.axes.get(i) {
-                any = true;
-                range(
-                    &format!("axes.{name}.max_velocity"),
-                    a.max_velocity,
-                    1.0,
-                    1e6,
-                )?;
-                range(
-                    &format!("axes.{name}.max_acceleration"),
-                    a.max_acceleration,
-                    1.0,
-                    1e5,
-                )?;
-                range(&format!("axes.{name}.max_jerk"), a.max_jerk, 1.0, 1e8)?;
+        self.axes.validate()?;
+        let dialect = crate::dialect::Dialect::get(self.dialect);
+        for (i, _) in self.axes.configured() {
+            let letter = AXIS_NAMES[i];
+            if dialect.address_taken(letter as u8) {
+                return Err((
+                    format!("axes.{letter}"),
+                    format!(
+                        "the {} dialect uses the address {letter} for another word",
+                        self.dialect.as_str()
+                    ),
+                ));
             }
-        }
-        if !any {
-            return Err(("axes".into(), "at least one axis must be configured".into()));
         }
         let plane_axes = match self.program.initial_plane {
             PlaneName::Xy => [0, 1],
@@ -599,7 +547,7 @@ impl MachineData {
         Ok(())
     }
 
-    /// Whether axis 0..3 (X, Y, Z) exists on this machine.
+    /// Whether axis `axis` (an index into [`AXIS_NAMES`]) exists on this machine.
     pub fn has_axis(&self, axis: usize) -> bool {
         self.axes.get(axis).is_some()
     }

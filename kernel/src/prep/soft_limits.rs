@@ -1,0 +1,220 @@
+//! Software limit switches in preparation: a segment that would take an axis past its
+//! limit (machine data `axes.<name>.software_limits`) is an alarm before it is handed to
+//! the path, so the machine never starts a move it cannot finish (840D 10720 checks the
+//! block in preparation; plc-sim's limit switches stay as the last line).
+//!
+//! A segment's extent is exact for lines and circular arcs (the ends, and the arc's points
+//! on the plane axes' extremes within its sweep); a spiral of the compensation (a radius
+//! or centre that changes over the block) is sampled finely, and its rounding is far below
+//! the tolerance of a limit switch.
+
+use crate::frontend::block::{AxisMove, AXIS_NAMES};
+use crate::machine_data::{MachineData, AXES};
+use crate::segment::{Curve, Segment, Shape};
+
+/// Samples of a spiral's extent.
+const SPIRAL_SAMPLES: usize = 64;
+
+#[derive(Clone, Copy, Debug)]
+pub struct SoftLimits {
+    lo: [f64; AXES],
+    hi: [f64; AXES],
+    /// Some axis has limits.
+    any: bool,
+}
+
+/// An axis past its limit: which, where, and the limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overrun {
+    pub axis: usize,
+    pub value: f64,
+    pub limit: f64,
+}
+
+impl Overrun {
+    pub fn message(&self) -> String {
+        format!(
+            "axis {} would reach {:.4}, beyond its software limit {:.4}",
+            AXIS_NAMES[self.axis], self.value, self.limit
+        )
+    }
+}
+
+impl SoftLimits {
+    pub fn new(md: &MachineData) -> Self {
+        let mut l = SoftLimits {
+            lo: [f64::NEG_INFINITY; AXES],
+            hi: [f64::INFINITY; AXES],
+            any: false,
+        };
+        for (i, a) in md.axes.configured() {
+            if let Some([lo, hi]) = a.software_limits {
+                // Rounding of the path's own arithmetic is not a limit violation.
+                l.lo[i] = lo - 1e-9;
+                l.hi[i] = hi + 1e-9;
+                l.any = true;
+            }
+        }
+        l
+    }
+
+    /// The first axis `seg` (with the additional axes' move `axes` beside it) takes past a
+    /// limit.
+    #[inline]
+    pub fn check(&self, seg: &Segment, axes: Option<&AxisMove>) -> Result<(), Overrun> {
+        if !self.any {
+            return Ok(());
+        }
+        let (mut lo, mut hi) = extent(seg);
+        if let Some(m) = axes {
+            // Linear in the path: its ends are its extremes.
+            for k in 0..m.from.len() {
+                lo[k + 3] = m.from[k].min(m.to[k]);
+                hi[k + 3] = m.from[k].max(m.to[k]);
+            }
+        }
+        for i in 0..AXES {
+            if lo[i] < self.lo[i] {
+                return Err(Overrun {
+                    axis: i,
+                    value: lo[i],
+                    limit: self.lo[i] + 1e-9,
+                });
+            }
+            if hi[i] > self.hi[i] {
+                return Err(Overrun {
+                    axis: i,
+                    value: hi[i],
+                    limit: self.hi[i] - 1e-9,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The smallest and largest value of every geometry axis along `seg` (the additional
+/// axes' entries at 0).
+fn extent(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
+    let mut lo = [0.0; AXES];
+    let mut hi = [0.0; AXES];
+    for i in 0..3 {
+        lo[i] = seg.from[i].min(seg.to[i]);
+        hi[i] = seg.from[i].max(seg.to[i]);
+    }
+    let Shape::Arc {
+        center,
+        center_end,
+        r0,
+        r1,
+        plane,
+        ..
+    } = seg.shape
+    else {
+        return (lo, hi);
+    };
+    let mut grow = |i: usize, v: f64| {
+        lo[i] = lo[i].min(v);
+        hi[i] = hi[i].max(v);
+    };
+    let Some(curve) = Curve::new(seg) else {
+        return (lo, hi);
+    };
+    if center == center_end && r0 == r1 {
+        // A circle reaches its plane extremes where θ is a multiple of 90° within the sweep.
+        if let Curve::Arc { th0, sweep, .. } = curve {
+            for q in quarter_angles(th0, sweep) {
+                let p = curve.point((q - th0) / sweep);
+                grow(plane.abscissa as usize, p[plane.abscissa as usize]);
+                grow(plane.ordinate as usize, p[plane.ordinate as usize]);
+            }
+        }
+        return (lo, hi);
+    }
+    for k in 1..SPIRAL_SAMPLES {
+        let p = curve.point(k as f64 / SPIRAL_SAMPLES as f64);
+        for (i, v) in p.iter().enumerate() {
+            grow(i, *v);
+        }
+    }
+    (lo, hi)
+}
+
+/// The multiples of 90° (in radians) strictly between th0 and th0 + sweep.
+fn quarter_angles(th0: f64, sweep: f64) -> impl Iterator<Item = f64> {
+    let q = std::f64::consts::FRAC_PI_2;
+    let (a, b) = if sweep >= 0.0 {
+        (th0, th0 + sweep)
+    } else {
+        (th0 + sweep, th0)
+    };
+    let first = (a / q).floor() as i64 + 1;
+    (first..)
+        .map(move |k| k as f64 * q)
+        .take_while(move |&t| t < b)
+        .take(5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frontend::block::Plane;
+    use crate::segment::{Role, Source};
+
+    fn seg(from: [f64; 3], to: [f64; 3], shape: Shape) -> Segment {
+        Segment {
+            source: Source::default(),
+            role: Role::Uncompensated,
+            shape,
+            from,
+            to,
+            feed: 100.0,
+            rapid: false,
+            exact_stop: false,
+        }
+    }
+
+    #[test]
+    fn a_half_circle_bulges_past_its_ends() {
+        // (10,0) → (−10,0) about the origin counter-clockwise: Y reaches 10 at 90°.
+        let c = [0.0; 3];
+        let s = seg(
+            [10.0, 0.0, 0.0],
+            [-10.0, 0.0, 0.0],
+            Shape::Arc {
+                center: c,
+                center_end: c,
+                ccw: true,
+                r0: 10.0,
+                r1: 10.0,
+                plane: Plane::XY,
+            },
+        );
+        let (lo, hi) = extent(&s);
+        assert!(
+            (hi[1] - 10.0).abs() < 1e-12 && lo[1].abs() < 1e-12,
+            "{lo:?} {hi:?}"
+        );
+        assert_eq!((lo[0], hi[0]), (-10.0, 10.0));
+        // Clockwise the other half: Y down to −10.
+        let mut cw = s;
+        if let Shape::Arc { ccw, .. } = &mut cw.shape {
+            *ccw = false;
+        }
+        let (lo, _) = extent(&cw);
+        assert!((lo[1] + 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn limits_name_the_axis_and_the_value() {
+        let md = MachineData::default();
+        let l = SoftLimits::new(&md);
+        // Default Z limits ±500.
+        let ok = seg([0.0; 3], [0.0, 0.0, -500.0], Shape::Line);
+        assert_eq!(l.check(&ok, None), Ok(()));
+        let bad = seg([0.0; 3], [0.0, 0.0, -500.5], Shape::Line);
+        let o = l.check(&bad, None).unwrap_err();
+        assert_eq!((o.axis, o.value, o.limit), (2, -500.5, -500.0));
+        assert!(o.message().contains("axis Z"), "{}", o.message());
+    }
+}

@@ -1,0 +1,98 @@
+//! The IPO path with 8 axes allocates nothing: the counting allocator of
+//! tests/ipo_allocations.rs over a machine with X Y Z U V A B C, every axis moving together
+//! (lines, a helix with five axes beside it, a compensated contour between), with
+//! auxiliary functions, an override change and an NC stop on the way.
+
+#[path = "support/counting.rs"]
+mod counting;
+
+use nc_kernel::handover::{prepare_all, Job};
+use nc_kernel::ipo::{Channel, ChannelState, Input, Setpoint};
+use nc_kernel::{AxisPos, MachineData, ToolTable};
+
+const EIGHT_AXES: &str = "dialect = \"fanuc\"\n\
+    [program]\ndecimal_input = \"calculator\"\n\
+    [axes.X]\nmax_velocity = 15000\nmax_acceleration = 3000\nmax_jerk = 60000\n\
+    [axes.Y]\nmax_velocity = 15000\nmax_acceleration = 3000\nmax_jerk = 60000\n\
+    [axes.Z]\nmax_velocity = 10000\nmax_acceleration = 2000\nmax_jerk = 50000\n\
+    [axes.U]\nmax_velocity = 6000\nmax_acceleration = 1000\nmax_jerk = 20000\n\
+    software_limits = [-100.0, 100.0]\n\
+    [axes.V]\nmax_velocity = 6000\nmax_acceleration = 1000\nmax_jerk = 20000\n\
+    [axes.A]\nkind = \"rotary\"\nmax_velocity = 5400\nmax_acceleration = 600\n\
+    max_jerk = 12000\nsoftware_limits = [-120.0, 30.0]\n\
+    [axes.B]\nkind = \"rotary\"\nmax_velocity = 5400\nmax_acceleration = 600\n\
+    max_jerk = 12000\n\
+    [axes.C]\nkind = \"rotary\"\nmodulo = true\nshortest_way = true\nmax_velocity = 7200\n\
+    max_acceleration = 900\nmax_jerk = 15000\n";
+
+const PROGRAM: &str = "G90 G0 X0 Y0 Z0 U0 V0 A0 B0 C0\n\
+    G1 X40 Y20 Z-5 U10 V-10 A-30 B15 C200 F3000 M8\n\
+    G2 X40 Y-20 Z-10 I0 J-20 U20 V0 A-60 B0 C300\n\
+    G0 X60 Y0\n\
+    G41 D1 G1 X80 Y0 F2000\n\
+    Y40\nX60\nY0\n\
+    G40 G0 X100 Y0\n\
+    G1 X0 Y0 Z0 U0 V0 A0 B0 C0 F4000 M9\n\
+    M30\n";
+
+fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64, Setpoint) {
+    let mut ch = Box::new(Channel::new(md, start));
+    let mut sp = Box::new(Setpoint::new(start));
+    let mut it = inputs.into_iter();
+    let mut pending: Option<Input> = None;
+    let (k, events) = counting::counted(|| {
+        ch.start();
+        let mut k = 0u64;
+        let mut acks = 0u32;
+        loop {
+            ch.fill(&mut pending, || it.next());
+            for _ in 0..acks {
+                ch.ack();
+            }
+            ch.cycle(k, &mut sp);
+            acks = ch.acks_due();
+            match k {
+                1_500 => ch.set_override(0.5),
+                3_000 => ch.stop(),
+                _ => {}
+            }
+            if sp.state == ChannelState::Stopped {
+                ch.start();
+            }
+            if sp.state == ChannelState::End || k > 10_000_000 {
+                break;
+            }
+            k += 1;
+        }
+        k
+    });
+    drop(pending);
+    (events, k, (*sp).clone())
+}
+
+#[global_allocator]
+static GLOBAL: counting::Counting = counting::Counting;
+
+#[test]
+fn eight_axes_through_the_ipo_without_the_allocator() {
+    counting::self_test();
+    let md = MachineData::from_toml_str(EIGHT_AXES, "eight.toml").unwrap();
+    assert_eq!(md.axes.configured().count(), 8);
+    let tools = ToolTable::builtin();
+    let job = Job {
+        name: "eight",
+        source: PROGRAM,
+        md: &md,
+        tools: &tools,
+        at: None,
+    };
+    let (start, inputs, reports) = prepare_all(job);
+    assert!(reports.is_empty(), "{reports:?}");
+    let (events, cycles, last) = run(inputs, start, &md);
+    assert!(cycles > 5_000, "{cycles}");
+    assert_eq!(events, 0, "{events} allocator calls over {cycles} cycles");
+    // Back where it started (Z with D1's tool length). C takes the shorter way each time:
+    // 0 → 200 is −160, shown 200 → 300 is +100 (at −60), shown 300 → 0 is +60 (at 0).
+    assert_eq!((last.pos[0], last.pos[1]), (0.0, 0.0));
+    assert_eq!(last.add, [0.0; 6]);
+}

@@ -1,0 +1,100 @@
+//! The machine's axes end to end: `softnc run` (nc-kernel and plc-sim over iceoryx2) on the
+//! shipped 5-axis milling machine with its sample program, and a program that would drive
+//! an axis past its software limit (docs/axes.md).
+
+#[path = "support/control.rs"]
+mod control;
+
+use control::*;
+use std::process::Command as Proc;
+
+const EXE: &str = env!("CARGO_BIN_EXE_softnc");
+
+#[test]
+fn five_axes_run_through_plc_sim_with_every_axis_in_the_trace() {
+    let inst = instance("fiveax");
+    let tr = scratch("fiveax.csv");
+    let out = Proc::new(EXE)
+        .current_dir(root())
+        .args(["run", "programs/fanuc-5axis/five_axis_faces_and_sweep.nc"])
+        .args(["--machine", "config/fanuc-5axis.toml", "--quiet"])
+        .args(["--instance", &inst, "--trace"])
+        .arg(&tr)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("ran to its end"), "{stdout}");
+    let header = std::fs::read_to_string(&tr).unwrap();
+    assert!(
+        header.starts_with("time,cycle,seq,X,Y,Z,A,C,AX,AY,AZ,AA,AC,FX,FY,FZ,FA,FC,v_path,"),
+        "{}",
+        header.lines().next().unwrap_or("")
+    );
+    let rows = trace(&tr);
+    assert_eq!(rows.last().unwrap().state, "END");
+    assert!(rows.iter().all(|r| r.seq > 0), "no watchdog rows");
+    for w in rows.windows(2) {
+        assert_eq!(w[1].seq, w[0].seq + 1, "no setpoint lost");
+    }
+    // As programmed: N280 A0. C0. from C360 (shown 0) stays at 360 the shorter way.
+    let last = rows.last().unwrap();
+    assert_eq!(last.sp, [-40.0, 0.0, 0.0]);
+    assert_eq!(last.axis('A').map(|a| a[0]), Some(0.0));
+    assert_eq!(last.axis('C').map(|c| c[0]), Some(360.0));
+    // N250 (line 33) moves X, A and C together: X +80 while A −60° and C +180°, the ratio
+    // of their setpoints' changes constant along the block. C starts at 360: N230's C0.
+    // came from 270 the shorter way (+90).
+    let sweep: Vec<&TraceRow> = rows.iter().filter(|r| r.line == 33).collect();
+    assert!(sweep.len() > 100, "{}", sweep.len());
+    let (x0, a0, c0) = (-40.0, -30.0, 360.0);
+    for r in &sweep {
+        let u = (r.sp[0] - x0) / 80.0;
+        let a = r.axis('A').unwrap()[0];
+        let c = r.axis('C').unwrap()[0];
+        assert!((a - (a0 - 60.0 * u)).abs() < 1e-9, "{a} at u {u}");
+        assert!((c - (c0 + 180.0 * u)).abs() < 1e-9, "{c} at u {u}");
+    }
+    // The rotary drives follow with an error of their own, in degrees.
+    let fe_c = sweep
+        .iter()
+        .map(|r| r.axis('C').unwrap()[2].abs())
+        .fold(0.0, f64::max);
+    assert!(fe_c > 0.1, "C's following error {fe_c}°");
+}
+
+#[test]
+fn a_program_past_a_software_limit_is_refused_before_motion() {
+    let inst = instance("softlim");
+    let tr = scratch("softlim.csv");
+    let prog = scratch("softlim.nc");
+    // A's limits are −120° … 30°; N30 would take it to −125°.
+    std::fs::write(
+        &prog,
+        "N10 G90 G0 X0. Y0. Z0. A0. C0.\nN20 G1 X50. F2000.\nN30 A-125.\nN40 M30\n",
+    )
+    .unwrap();
+    let out = Proc::new(EXE)
+        .current_dir(root())
+        .arg("run")
+        .arg(&prog)
+        .args(["--machine", "config/fanuc-5axis.toml", "--quiet"])
+        .args(["--instance", &inst, "--trace"])
+        .arg(&tr)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
+    let said = format!("{stdout}{stderr}");
+    assert!(said.contains("alarm 10720"), "{said}");
+    assert!(said.contains(":3:"), "the alarm names line 3: {said}");
+    assert!(said.contains("axis A would reach -125.0000"), "{said}");
+    // Nothing moved: X never left 0.
+    if let Ok(text) = std::fs::read_to_string(&tr) {
+        if text.lines().count() > 1 {
+            assert!(trace(&tr).iter().all(|r| r.sp[0] == 0.0), "something moved");
+        }
+    }
+}
