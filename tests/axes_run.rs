@@ -6,26 +6,20 @@
 mod control;
 
 use control::*;
-use std::process::Command as Proc;
-
-const EXE: &str = env!("CARGO_BIN_EXE_softnc");
+use std::path::Path;
 
 #[test]
 fn five_axes_run_through_plc_sim_with_every_axis_in_the_trace() {
     let inst = instance("fiveax");
     let tr = scratch("fiveax.csv");
-    let out = Proc::new(EXE)
-        .current_dir(root())
-        .args(["run", "programs/fanuc-5axis/five_axis_faces_and_sweep.nc"])
-        .args(["--machine", "config/fanuc-5axis.toml", "--quiet"])
-        .args(["--instance", &inst, "--trace"])
-        .arg(&tr)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
-    assert!(stdout.contains("ran to its end"), "{stdout}");
+    let run = softnc_run(
+        Path::new("programs/fanuc-5axis/five_axis_faces_and_sweep.nc"),
+        &inst,
+        &tr,
+        &["--machine", "config/fanuc-5axis.toml"],
+    );
+    assert!(run.success(), "{}", run.said());
+    assert!(run.stdout.contains("ran to its end"), "{}", run.stdout);
     let header = std::fs::read_to_string(&tr).unwrap();
     assert!(
         header.starts_with("time,cycle,seq,X,Y,Z,A,C,AX,AY,AZ,AA,AC,FX,FY,FZ,FA,FC,v_path,"),
@@ -75,19 +69,9 @@ fn a_program_past_a_software_limit_is_refused_before_motion() {
         "N10 G90 G0 X0. Y0. Z0. A0. C0.\nN20 G1 X50. F2000.\nN30 A-125.\nN40 M30\n",
     )
     .unwrap();
-    let out = Proc::new(EXE)
-        .current_dir(root())
-        .arg("run")
-        .arg(&prog)
-        .args(["--machine", "config/fanuc-5axis.toml", "--quiet"])
-        .args(["--instance", &inst, "--trace"])
-        .arg(&tr)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
-    let said = format!("{stdout}{stderr}");
+    let run = softnc_run(&prog, &inst, &tr, &["--machine", "config/fanuc-5axis.toml"]);
+    let said = run.said();
+    assert_eq!(run.code, Some(1), "{said}");
     assert!(said.contains("alarm 10720"), "{said}");
     assert!(said.contains(":3:"), "the alarm names line 3: {said}");
     assert!(said.contains("axis A would reach -125.0000"), "{said}");

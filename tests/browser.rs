@@ -169,17 +169,28 @@ fn decode_base64(s: &str) -> Vec<u8> {
     out
 }
 
+/// Chromium and its driver; `None` (the test skipped) where they are not installed, unless
+/// SOFTNC_REQUIRE_BROWSER asks for them.
+fn browser() -> Option<(String, String)> {
+    match (which("chromium"), which("chromedriver")) {
+        (Some(c), Some(d)) => Some((c, d)),
+        _ if std::env::var_os("SOFTNC_REQUIRE_BROWSER").is_some() => {
+            panic!("chromium and chromedriver are required (SOFTNC_REQUIRE_BROWSER is set)")
+        }
+        _ => {
+            eprintln!(
+                "skipped: chromium or chromedriver not installed (Debian: chromium chromium-driver)"
+            );
+            None
+        }
+    }
+}
+
 const SQUARE: &str = "; softnc HMI demo: a square with G41, D1\nN10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F1500\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n";
 
 #[test]
 fn the_page_stops_edits_an_offset_and_resumes() {
-    let (Some(chromium), Some(chromedriver)) = (which("chromium"), which("chromedriver")) else {
-        if std::env::var_os("SOFTNC_REQUIRE_BROWSER").is_some() {
-            panic!("chromium and chromedriver are required (SOFTNC_REQUIRE_BROWSER is set)");
-        }
-        eprintln!(
-            "skipped: chromium or chromedriver not installed (Debian: chromium chromium-driver)"
-        );
+    let Some((chromium, chromedriver)) = browser() else {
         return;
     };
     let prog = scratch("square-hmi.mpf");
@@ -269,13 +280,7 @@ fn the_page_stops_edits_an_offset_and_resumes() {
 /// plane; plc-sim's trace has X, Z and C columns and no Y.
 #[test]
 fn the_page_shows_a_lathes_axes_by_name() {
-    let (Some(chromium), Some(chromedriver)) = (which("chromium"), which("chromedriver")) else {
-        if std::env::var_os("SOFTNC_REQUIRE_BROWSER").is_some() {
-            panic!("chromium and chromedriver are required (SOFTNC_REQUIRE_BROWSER is set)");
-        }
-        eprintln!(
-            "skipped: chromium or chromedriver not installed (Debian: chromium chromium-driver)"
-        );
+    let Some((chromium, chromedriver)) = browser() else {
         return;
     };
     let prog = scratch("lathe-c-hmi.mpf");

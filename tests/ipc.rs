@@ -10,7 +10,7 @@ mod control;
 use control::*;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{command, state, Command, Instance, KernelStatus};
-use std::process::Command as Proc;
+use std::path::Path;
 use std::time::{Duration, Instant};
 /// plc.watchdog_cycles of the built-in machine data.
 const WATCHDOG: u64 = 50;
@@ -93,22 +93,14 @@ impl Hmi {
 fn softnc_run_runs_the_workpiece_to_m30() {
     let inst = instance("wp");
     let (tr, svg) = (scratch("wp.csv"), scratch("wp.svg"));
-    let out = Proc::new(EXE)
-        .current_dir(root())
-        .args([
-            "run",
-            "programs/siemens-840c/11_15_workpiece.mpf",
-            "--quiet",
-        ])
-        .args(["--instance", &inst, "--trace"])
-        .arg(&tr)
-        .arg("--svg")
-        .arg(&svg)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
+    let run = softnc_run(
+        Path::new("programs/siemens-840c/11_15_workpiece.mpf"),
+        &inst,
+        &tr,
+        &["--svg", svg.to_str().unwrap()],
+    );
+    let (stdout, stderr) = (&run.stdout, &run.stderr);
+    assert!(run.success(), "{stdout}\n{stderr}");
     assert!(stdout.contains("ran to its end"), "{stdout}");
     // N10 has S80 M3: one request, acknowledged at speed.
     assert!(
@@ -177,20 +169,19 @@ fn softnc_run_on_a_lathe_with_c_traces_its_axes_by_name() {
         "N10 G18 G90 G0 X62 Z2 C0\nN20 G1 Z-10 F600\nN30 G91 G0 C450\nN40 G90 G0 X80 Z20\nM30\n",
     )
     .unwrap();
-    let out = Proc::new(EXE)
-        .current_dir(root())
-        .arg("run")
-        .arg(&prog)
-        .args(["--machine", "config/siemens-808d-c.toml", "--quiet"])
-        .args(["--instance", &inst, "--trace"])
-        .arg(&tr)
-        .arg("--svg")
-        .arg(&svg)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
+    let run = softnc_run(
+        &prog,
+        &inst,
+        &tr,
+        &[
+            "--machine",
+            "config/siemens-808d-c.toml",
+            "--svg",
+            svg.to_str().unwrap(),
+        ],
+    );
+    let stdout = &run.stdout;
+    assert!(run.success(), "{}", run.said());
     assert!(
         stdout.contains("rotary axes: max following error C "),
         "{stdout}"

@@ -2,8 +2,8 @@
 //! allocation, reallocation or free in the thread that runs the channel — taking the prepared
 //! records into the lookahead, and every cycle from NC start to the program end, with
 //! auxiliary functions, acknowledgements, an override change and an NC stop and restart on
-//! the way. The records are prepared before counting (preparation runs in its own thread in
-//! the kernel and may allocate).
+//! the way; on a machine of three axes and on one of eight. The records are prepared before
+//! counting (preparation runs in its own thread in the kernel and may allocate).
 
 #[path = "support/counting.rs"]
 mod counting;
@@ -30,9 +30,9 @@ fn inputs(text: &str, md: &MachineData) -> (Vec<Input>, AxisPos) {
     (inputs, start)
 }
 
-/// Runs the channel over `inputs` and returns the allocator events in this thread and the
-/// cycles run.
-fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64) {
+/// Runs the channel over `inputs` and returns the allocator events in this thread, the
+/// cycles run and the last setpoint.
+fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64, Setpoint) {
     let mut ch = Box::new(Channel::new(md, start));
     let mut sp = Box::new(Setpoint::new(start));
     let mut it = inputs.into_iter();
@@ -65,7 +65,7 @@ fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64) {
     });
     // What is left (an empty iterator, the boxes) is freed after counting.
     drop(pending);
-    (events, k)
+    (events, k, (*sp).clone())
 }
 
 #[test]
@@ -90,11 +90,53 @@ fn the_ipo_path_does_not_touch_the_allocator() {
     for text in [workpiece.as_str(), long.as_str()] {
         let (inputs, start) = inputs(text, &md);
         let n = inputs.len();
-        let (events, cycles) = run(inputs, start, &md);
+        let (events, cycles, _) = run(inputs, start, &md);
         assert!(cycles > 10_000, "{cycles}");
         assert_eq!(
             events, 0,
             "{events} allocator calls over {cycles} cycles and {n} records"
         );
     }
+    eight_axes_through_the_ipo_without_the_allocator();
+}
+
+/// A machine with eight path axes: X Y Z U V A B C.
+const EIGHT_AXES: &str = "dialect = \"fanuc\"\n\
+    [program]\ndecimal_input = \"calculator\"\n\
+    [axes.X]\nmax_velocity = 15000\nmax_acceleration = 3000\nmax_jerk = 60000\n\
+    [axes.Y]\nmax_velocity = 15000\nmax_acceleration = 3000\nmax_jerk = 60000\n\
+    [axes.Z]\nmax_velocity = 10000\nmax_acceleration = 2000\nmax_jerk = 50000\n\
+    [axes.U]\nmax_velocity = 6000\nmax_acceleration = 1000\nmax_jerk = 20000\n\
+    software_limits = [-100.0, 100.0]\n\
+    [axes.V]\nmax_velocity = 6000\nmax_acceleration = 1000\nmax_jerk = 20000\n\
+    [axes.A]\nkind = \"rotary\"\nmax_velocity = 5400\nmax_acceleration = 600\n\
+    max_jerk = 12000\nsoftware_limits = [-120.0, 30.0]\n\
+    [axes.B]\nkind = \"rotary\"\nmax_velocity = 5400\nmax_acceleration = 600\n\
+    max_jerk = 12000\n\
+    [axes.C]\nkind = \"rotary\"\nmodulo = true\nshortest_way = true\nmax_velocity = 7200\n\
+    max_acceleration = 900\nmax_jerk = 15000\n";
+
+const PROGRAM: &str = "G90 G0 X0 Y0 Z0 U0 V0 A0 B0 C0\n\
+    G1 X40 Y20 Z-5 U10 V-10 A-30 B15 C200 F3000 M8\n\
+    G2 X40 Y-20 Z-10 I0 J-20 U20 V0 A-60 B0 C300\n\
+    G0 X60 Y0\n\
+    G41 D1 G1 X80 Y0 F2000\n\
+    Y40\nX60\nY0\n\
+    G40 G0 X100 Y0\n\
+    G1 X0 Y0 Z0 U0 V0 A0 B0 C0 F4000 M9\n\
+    M30\n";
+
+/// Every axis of eight moving together. Called from the test above: the allocator's counter
+/// is one for the process, so counted runs may not overlap.
+fn eight_axes_through_the_ipo_without_the_allocator() {
+    let md = MachineData::from_toml_str(EIGHT_AXES, "eight.toml").unwrap();
+    assert_eq!(md.axes.configured().count(), 8);
+    let (inputs, start) = inputs(PROGRAM, &md);
+    let (events, cycles, last) = run(inputs, start, &md);
+    assert!(cycles > 5_000, "{cycles}");
+    assert_eq!(events, 0, "{events} allocator calls over {cycles} cycles");
+    // Back where it started (Z with D1's tool length). C takes the shorter way each time:
+    // 0 → 200 is −160, shown 200 → 300 is +100 (at −60), shown 300 → 0 is +60 (at 0).
+    assert_eq!((last.pos[0], last.pos[1]), (0.0, 0.0));
+    assert_eq!(last.add, [0.0; 6]);
 }

@@ -9,6 +9,43 @@ use std::process::{Child, Command as Proc, Stdio};
 
 pub const EXE: &str = env!("CARGO_BIN_EXE_softnc");
 
+/// What a `softnc run` printed, and how it ended.
+pub struct RunOutput {
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+impl RunOutput {
+    pub fn success(&self) -> bool {
+        self.code == Some(0)
+    }
+
+    /// Both streams, for assertion messages.
+    pub fn said(&self) -> String {
+        format!("{}\n{}", self.stdout, self.stderr)
+    }
+}
+
+/// `softnc run PROGRAM --quiet --instance INST --trace TRACE ARGS…` from the repository
+/// root.
+pub fn softnc_run(program: &Path, inst: &str, trace: &Path, args: &[&str]) -> RunOutput {
+    let out = Proc::new(EXE)
+        .current_dir(root())
+        .arg("run")
+        .arg(program)
+        .args(["--quiet", "--instance", inst, "--trace"])
+        .arg(trace)
+        .args(args)
+        .output()
+        .expect("softnc runs");
+    RunOutput {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
