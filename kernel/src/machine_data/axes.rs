@@ -72,15 +72,6 @@ impl AxisData {
         now + d
     }
 
-    /// How the position `p` is shown: within 0…360° on a modulo axis.
-    pub fn shown(&self, p: f64) -> f64 {
-        if self.modulo {
-            p.rem_euclid(TURN)
-        } else {
-            p
-        }
-    }
-
     /// Whether `p` (machine coordinates) lies within the software limits.
     pub fn within_limits(&self, p: f64) -> bool {
         self.software_limits
