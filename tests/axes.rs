@@ -267,3 +267,115 @@ fn a_lathe_with_a_c_axis_positions_the_spindle() {
     let blocks = interpret("t.mpf", text, &md, &ToolTable::builtin()).unwrap();
     assert_eq!(blocks[0].motion.unwrap().end[0], 20.0);
 }
+
+#[test]
+fn half_a_turn_goes_positive_on_the_shorter_way() {
+    let md = config("fanuc-5axis", &[]);
+    // 180 → 0 (360) is half a turn either way: +180. 0 shown → 180 likewise: +180.
+    let got = a_c(&md, "G0 C180.\nC360.\nC180.\n");
+    assert_eq!(got, [(0.0, 180.0), (0.0, 360.0), (0.0, 540.0)]);
+}
+
+#[test]
+fn words_of_additional_axes_in_blocks_that_move_nothing_are_refused() {
+    let md = config("fanuc-5axis", &[]);
+    let a = interpret("t.nc", "G04 X1. C90.\n", &md, &ToolTable::builtin()).unwrap_err();
+    assert_eq!((a.code, a.col), (AlarmCode::Syntax, 9), "{a}");
+    assert!(a.message.contains("axis C"), "{a}");
+}
+
+#[test]
+fn a_deselection_waiting_for_its_plane_move_keeps_additional_axes_still() {
+    // 840C G40 alone: the retract waits for the next move in the plane (11.5). A C move
+    // before it is refused, as inside the run.
+    let md = MachineData::from_toml_str(
+        "[axes.X]\nmax_velocity = 1e4\nmax_acceleration = 2e3\nmax_jerk = 5e4\n\
+         [axes.Y]\nmax_velocity = 1e4\nmax_acceleration = 2e3\nmax_jerk = 5e4\n\
+         [axes.Z]\nmax_velocity = 8e3\nmax_acceleration = 1.5e3\nmax_jerk = 4e4\n\
+         [axes.C]\nkind = \"rotary\"\nmodulo = true\nmax_velocity = 7200\n\
+         max_acceleration = 900\nmax_jerk = 15000\n",
+        "840c-c.toml",
+    )
+    .unwrap();
+    let text = "N10 G0 X0 Y0 Z0 C0\nN20 G1 G41 D1 X10 Y10 F1000\nN30 X50\nN40 G40\n\
+                N50 Z10\nN55 C90\nN60 X0 Y0 C270\nM30\n";
+    let a = nc_kernel::prepare("t.mpf", text, &md, &ToolTable::builtin()).unwrap_err();
+    assert_eq!((a.number(), a.line), (10754, 6), "{a}");
+}
+
+#[test]
+fn a_helix_beside_a_rotary_axis_keeps_the_tool_axis_in_its_limits() {
+    // X and Y and C made fast, so that Z (10000 mm/min, 2000 mm/s²) is the axis that limits
+    // the helix: its share of the path speed must count the rotary axis's part of the length.
+    let md = config(
+        "fanuc-5axis",
+        &[
+            "axes.X.max_velocity=1e6",
+            "axes.Y.max_velocity=1e6",
+            "axes.X.max_acceleration=1e5",
+            "axes.Y.max_acceleration=1e5",
+            "axes.C.max_velocity=1e6",
+            "axes.C.max_acceleration=1e5",
+            "axes.X.max_jerk=1e8",
+            "axes.Y.max_jerk=1e8",
+            "axes.C.max_jerk=1e8",
+        ],
+    );
+    let (rows, s) = simulate(
+        &md,
+        "G90 G0 X100. Y0 Z0 A0 C0\nG91 G2 X0 Y0 I-100. J0 Z-400. C1000. F100000.\nM30\n",
+    );
+    assert!(s.alarms.is_empty(), "{:?}", s.alarms);
+    let dt = 0.001;
+    let top = rows
+        .windows(2)
+        .map(|w| (w[1].p[2] - w[0].p[2]).abs() / dt * 60.0)
+        .fold(0.0, f64::max);
+    assert!(top > 9990.0, "Z limits the helix: {top} mm/min");
+    for w in rows.windows(3) {
+        let v1 = (w[1].p[2] - w[0].p[2]) / dt;
+        let v2 = (w[2].p[2] - w[1].p[2]) / dt;
+        assert!(
+            v2.abs() * 60.0 <= 10000.0 * (1.0 + 1e-6),
+            "Z at {} mm/min",
+            v2 * 60.0
+        );
+        assert!(
+            (v2 - v1).abs() / dt <= 2000.0 * 1.02 + 1.0,
+            "Z at {} mm/s²",
+            (v2 - v1) / dt
+        );
+    }
+}
+
+#[test]
+fn a_resume_after_an_offset_change_starts_from_where_the_rotary_axes_stand() {
+    // Loaded with C at 0, C turned to 90 before the compensation run; stopped in N40.
+    let md = config("fanuc-5axis", &["axes.Z.software_limits=[-500, 500]"]);
+    let text = "N10 G90 G0 X0. Y0. Z0. C0.\nN20 C90.\nN30 G41 D1 G1 X10. Y10. F1000.\n\
+                N40 X50.\nN50 X60. Y40.\nN60 G40 G0 X100. Y0.\nM30\n";
+    let tools = ToolTable::builtin();
+    let mut here = nc_kernel::AxisPos {
+        geo: [30.0, 0.0, 100.0],
+        ..Default::default()
+    };
+    here.add[5] = 90.0;
+    let r = nc_kernel::Preparation::resume(
+        "t.nc",
+        text,
+        &md,
+        &tools,
+        None,
+        nc_kernel::Interruption::contour(4, 0.5),
+        here,
+    )
+    .unwrap();
+    // The reposition move says where the additional axes stand and stay: C at 90, not the
+    // 0 the program was loaded at.
+    match &r.first[0] {
+        nc_kernel::Prepared::Axes(m, _) => {
+            assert_eq!((m.from[5], m.to[5]), (90.0, 90.0));
+        }
+        other => panic!("an axes record first, not {other:?}"),
+    }
+}

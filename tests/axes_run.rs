@@ -32,11 +32,12 @@ fn five_axes_run_through_plc_sim_with_every_axis_in_the_trace() {
     for w in rows.windows(2) {
         assert_eq!(w[1].seq, w[0].seq + 1, "no setpoint lost");
     }
-    // As programmed: N280 A0. C0. from C360 (shown 0) stays at 360 the shorter way.
+    // As programmed: C the shorter way each time — N230 C0. from 270 +90 (360), N250 C180.
+    // +180 (540), N260 C360. half a turn, positive (720), N280 C0. stays (shown 0).
     let last = rows.last().unwrap();
     assert_eq!(last.sp, [-40.0, 0.0, 0.0]);
     assert_eq!(last.axis('A').map(|a| a[0]), Some(0.0));
-    assert_eq!(last.axis('C').map(|c| c[0]), Some(360.0));
+    assert_eq!(last.axis('C').map(|c| c[0]), Some(720.0));
     // N250 (line 33) moves X, A and C together: X +80 while A −60° and C +180°, the ratio
     // of their setpoints' changes constant along the block. C starts at 360: N230's C0.
     // came from 270 the shorter way (+90).

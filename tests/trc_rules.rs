@@ -782,8 +782,12 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant_11_8() {
         },
     )
     .unwrap_or_else(|a| panic!("{a}"));
-    let [Prepared::Segment(reposition), Prepared::Segment(remainder)] = r.first.as_slice() else {
-        panic!("two segments first");
+    // The additional axes' record (where they stand; this machine has none moving), then
+    // the reposition move and the rest of the interrupted segment.
+    let [Prepared::Axes(..), Prepared::Segment(reposition), Prepared::Segment(remainder)] =
+        r.first.as_slice()
+    else {
+        panic!("the axes, then two segments first");
     };
     assert_eq!(reposition.role, Role::Approach);
     at("reposition from the axes", reposition.from, mid_old, 65.0);

@@ -82,8 +82,10 @@ impl AxisLimits {
                 }
             }
             Some(plane) => {
-                share[plane.abscissa as usize] = p.stretch;
-                share[plane.ordinate as usize] = p.stretch;
+                // The curve runs at curve_share of the path speed; normal_share is of the
+                // whole path already.
+                share[plane.abscissa as usize] = p.stretch * p.curve_share;
+                share[plane.ordinate as usize] = p.stretch * p.curve_share;
                 share[plane.normal as usize] = p.normal_share() * p.stretch;
             }
         }

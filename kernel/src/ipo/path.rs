@@ -27,11 +27,13 @@ pub struct Piece {
     pub tangent: [V3; 2],
     /// Curvature vectors (1/mm, towards the centre) at the start and the end.
     pub curvature: [V3; 2],
-    /// Largest ratio of the axes' speed to the path speed along the parametrisation (1 for
-    /// lines, circles and helices; a little more where the radius or the centre moves).
+    /// Largest ratio of the axes' speed to the curve's speed along the parametrisation (1
+    /// for lines, circles and helices; a little more where the radius or the centre moves).
     pub stretch: f64,
     /// Largest curvature, 1/mm (0 for lines).
     pub kappa: f64,
+    /// The curve's share of the path speed, L/len (1 without additional axes moving).
+    pub curve_share: f64,
     /// The additional axes at the start and the end, and each one's share of the path speed
     /// (signed; constant over the segment).
     pub add_from: Additional,
@@ -70,6 +72,7 @@ impl Piece {
             curvature: [[0.0; 3]; 2],
             stretch: 1.0,
             kappa: 0.0,
+            curve_share: 1.0,
             add_from: axes.map_or(*at, |m| m.from),
             add_to: axes.map_or(*at, |m| m.to),
             add_dir: [0.0; ADDITIONAL],
@@ -167,7 +170,7 @@ impl Piece {
             self.tangent[end] = scale(self.tangent[end], k);
             self.curvature[end] = scale(self.curvature[end], k * k);
         }
-        self.stretch *= k;
+        self.curve_share = k;
         self.kappa *= k * k;
         self.len = len;
     }

@@ -56,16 +56,17 @@ impl AxisData {
     /// Where an absolute `value` takes the axis standing at `now`: the value itself; on a
     /// modulo axis the value's place within the turn, reached the shorter way round or, by
     /// default, in the direction of the value against the shown position (as a linear axis
-    /// within one turn; Fanuc's rollover without "shortest way", docs/axes.md).
+    /// within one turn, docs/axes.md).
     pub fn absolute_target(&self, now: f64, value: f64) -> f64 {
         if !self.modulo {
             return value;
         }
         let mut d = value.rem_euclid(TURN) - now.rem_euclid(TURN);
         if self.shortest_way {
+            // Half a turn either way: positive.
             if d > TURN / 2.0 {
                 d -= TURN;
-            } else if d < -TURN / 2.0 {
+            } else if d <= -TURN / 2.0 {
                 d += TURN;
             }
         }

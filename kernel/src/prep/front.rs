@@ -123,11 +123,16 @@ impl<'a> Front<'a> {
         let motion = block
             .motion
             .map(|m| with_length(&m, &mut self.length, block));
-        let fault = self
-            .trc
-            .block(block, motion.as_ref(), out)
-            .err()
-            .map(|f| Box::new(alarm(self.name, *f)));
+        let fault = if block.axes.is_some() && !self.trc.is_off() {
+            // A deselection still waits for its plane move (840C G40 alone): the
+            // compensation's pieces could not carry a rotary move (docs/axes.md).
+            Some(Box::new(additional_under_trc(self.name, block)))
+        } else {
+            self.trc
+                .block(block, motion.as_ref(), out)
+                .err()
+                .map(|f| Box::new(alarm(self.name, *f)))
+        };
         self.warnings.clear();
         while let Some(w) = self.trc.take_warning() {
             self.warnings.push(alarm(self.name, w));
@@ -380,6 +385,23 @@ fn recv_soon<T>(rx: &Receiver<T>) -> Result<T, crossbeam::channel::RecvError> {
 
 /// Spins before sleeping: ~50 µs here.
 const SPIN: u32 = 20_000;
+
+/// Alarm 10754 for a block that moves additional axes while compensation is still active.
+#[cold]
+fn additional_under_trc(name: &str, b: &Block) -> Alarm {
+    let source = Source {
+        number: b.number,
+        line: b.line,
+        col: b.col,
+        seq: 0,
+    };
+    Alarm::at(
+        crate::alarm::AlarmCode::ForbiddenWithTrc,
+        name,
+        &source,
+        "an additional axis cannot move before the deselection has reached the plane".to_string(),
+    )
+}
 
 fn alarm(name: &str, f: TrcFault) -> Alarm {
     Alarm::at(f.code, name, &f.source, f.message)

@@ -160,17 +160,16 @@ impl<'a> Preparation<'a> {
 }
 
 /// The straight move from where the axes stand onto `q` of `seg`, with `seg`'s feed and
-/// block, ending in an exact stop: the segment, with the additional axes' move before it
-/// where they stand elsewhere.
+/// block, ending in an exact stop: the segment, with the additional axes' move before it —
+/// always, even where they stand still: it tells the hand-over where they stand, which
+/// need not be where the program was loaded.
 fn reposition(seg: &Segment, axes: AxisPos, q: AxisPos) -> Vec<Prepared> {
     let mut out = Vec::with_capacity(3);
-    if axes.add != q.add {
-        let m = AxisMove {
-            from: axes.add,
-            to: q.add,
-        };
-        out.push(Prepared::Axes(m, seg.source));
-    }
+    let m = AxisMove {
+        from: axes.add,
+        to: q.add,
+    };
+    out.push(Prepared::Axes(m, seg.source));
     out.push(Prepared::Segment(Segment {
         role: Role::Approach,
         shape: Shape::Line,

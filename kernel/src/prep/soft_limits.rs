@@ -66,14 +66,17 @@ impl SoftLimits {
             return Ok(());
         }
         let (mut lo, mut hi) = extent(seg);
+        let mut axes_checked = 3;
         if let Some(m) = axes {
-            // Linear in the path: its ends are its extremes.
+            // Linear in the path: its ends are its extremes. Additional axes that stand
+            // still were checked when they moved there.
             for k in 0..m.from.len() {
                 lo[k + 3] = m.from[k].min(m.to[k]);
                 hi[k + 3] = m.from[k].max(m.to[k]);
             }
+            axes_checked = AXES;
         }
-        for i in 0..AXES {
+        for i in 0..axes_checked {
             if lo[i] < self.lo[i] {
                 return Err(Overrun {
                     axis: i,
@@ -216,5 +219,28 @@ mod tests {
         let o = l.check(&bad, None).unwrap_err();
         assert_eq!((o.axis, o.value, o.limit), (2, -500.5, -500.0));
         assert!(o.message().contains("axis Z"), "{}", o.message());
+    }
+
+    #[test]
+    fn an_additional_axis_standing_still_is_not_checked_again() {
+        // A's limits exclude 0; a segment without a move of A says nothing of where A is.
+        let md = MachineData::load(
+            Some(std::path::Path::new(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../config/fanuc-5axis.toml"
+            ))),
+            &["axes.A.software_limits=[-120, -5]".into()],
+        )
+        .unwrap();
+        let l = SoftLimits::new(&md);
+        let s = seg([0.0; 3], [10.0, 0.0, 0.0], Shape::Line);
+        assert_eq!(l.check(&s, None), Ok(()));
+        let mut m = AxisMove {
+            from: [0.0, 0.0, 0.0, -50.0, 0.0, 0.0],
+            to: [0.0, 0.0, 0.0, -60.0, 0.0, 0.0],
+        };
+        assert_eq!(l.check(&s, Some(&m)), Ok(()));
+        m.to[3] = -1.0;
+        assert_eq!(l.check(&s, Some(&m)).map_err(|o| o.axis), Err(6));
     }
 }

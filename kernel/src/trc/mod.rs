@@ -469,6 +469,11 @@ impl Compensator {
         self.closing = last;
     }
 
+    /// Compensation is off: selected nowhere, and no deselection waits for a plane move.
+    pub fn is_off(&self) -> bool {
+        self.mode == Mode::Off
+    }
+
     /// True while blocks wait for the next element (their segments are not out yet).
     pub fn holds_back(&self) -> bool {
         self.pending.is_some() || self.selection.is_some() || !self.held.is_empty()

@@ -45,8 +45,14 @@ impl Interpreter<'_> {
         self.program_stops(w)?;
         // 8. The axis words: a dwell time, the working area's limits, or the motion.
         match (g.dwell, g.working_area) {
-            (Some(code), _) => self.dwell(w, code, block_col)?,
-            (None, Some(max)) => self.working_area(w, max, new.units),
+            (Some(code), _) => {
+                self.no_additional_axes(w, "a dwell block")?;
+                self.dwell(w, code, block_col)?
+            }
+            (None, Some(max)) => {
+                self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
+                self.working_area(w, max, new.units)
+            }
             (None, None) => self.motion(w, &mut new, block_col)?,
         }
         // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);

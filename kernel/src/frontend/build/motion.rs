@@ -166,6 +166,23 @@ impl Interpreter<'_> {
         Ok(end)
     }
 
+    /// A block that moves nothing may not name an additional axis: it would be ignored.
+    pub(super) fn no_additional_axes(&self, w: &Words, what: &str) -> R<()> {
+        match w
+            .additional
+            .iter()
+            .enumerate()
+            .find_map(|(k, a)| a.map(|a| (k, a)))
+        {
+            Some((k, a)) => Err(fault(
+                AlarmCode::Syntax,
+                a.at,
+                format!("axis {} has no place in {what}", AXIS_NAMES[k + 3]),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Additional axes move only in blocks neither inside a compensation run nor selecting
     /// or deselecting one: the tool radius compensation works in the plane of the geometry
     /// axes, and its inserted pieces could not share out a rotary move (docs/axes.md).
