@@ -37,6 +37,11 @@ struct Browser {
 }
 
 impl Browser {
+    /// The HMI page of the bridge at `addr`.
+    fn open(&self, addr: &impl std::fmt::Display) {
+        self.call("POST", "/url", json!({ "url": format!("http://{addr}/") }));
+    }
+
     fn start(chromium: &str, chromedriver: &str) -> Browser {
         let port = std::net::TcpListener::bind("127.0.0.1:0")
             .unwrap()
@@ -197,11 +202,7 @@ fn the_page_stops_edits_an_offset_and_resumes() {
     std::fs::write(&prog, SQUARE).unwrap();
     let st = station("browser", Some(&prog), &["--set", "D1=10"], &[]);
     let b = Browser::start(&chromium, &chromedriver);
-    b.call(
-        "POST",
-        "/url",
-        json!({ "url": format!("http://{}/", st.bridge.addr) }),
-    );
+    b.open(&st.bridge.addr);
     b.wait(
         "return document.body.dataset.state",
         &json!("ACTIVE"),
@@ -293,11 +294,7 @@ fn the_page_shows_a_lathes_axes_by_name() {
     let md = ["--machine", md.to_str().unwrap()];
     let mut st = station_with("browser-lathe", &md, Some(&prog), &md, &md);
     let b = Browser::start(&chromium, &chromedriver);
-    b.call(
-        "POST",
-        "/url",
-        json!({ "url": format!("http://{}/", st.bridge.addr) }),
-    );
+    b.open(&st.bridge.addr);
     b.wait(
         "return document.body.dataset.state",
         &json!("END"),

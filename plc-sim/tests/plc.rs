@@ -86,6 +86,11 @@ struct Rig {
 }
 
 impl Rig {
+    /// The events of the last trace row.
+    fn last_events(&self) -> &str {
+        self.io.rows.last().map_or("", |r| r.events.as_str())
+    }
+
     fn new(script: Script) -> Rig {
         Rig::of(&MachineData::load(None, &[]).unwrap(), script)
     }
@@ -224,13 +229,7 @@ fn a_setpoint_beyond_the_software_limit_raises_700001_and_stops_at_the_limit() {
     assert_eq!(rig.step().alarm, None);
     let s = rig.send([1200.0, 0.0, 0.0], state::ACTIVE);
     assert_eq!(s.alarm, Some(alarm::PLC_SOFTWARE_LIMIT));
-    assert!(rig
-        .io
-        .rows
-        .last()
-        .unwrap()
-        .events
-        .contains("software limit"));
+    assert!(rig.last_events().contains("software limit"));
     for _ in 0..3000 {
         rig.send([1200.0, 0.0, 0.0], state::ACTIVE);
     }
@@ -260,7 +259,7 @@ fn m6_is_acknowledged_after_the_tool_change_time() {
     rig.send([0.0; 3], state::ACTIVE);
     assert_eq!(rig.io.acks, [(7, 1, 805 * MS)]);
     rig.send([0.0; 3], state::ACTIVE);
-    assert!(rig.io.rows.last().unwrap().events.contains("ack M6 T3"));
+    assert!(rig.last_events().contains("ack M6 T3"));
     assert_eq!(rig.plc.stats().aux_acked, 1);
 }
 
@@ -428,13 +427,7 @@ fn five_axes_follow_with_their_own_errors_and_a_stops_at_its_limit() {
         if s.alarm.is_some() && alarm_at.is_none() {
             alarm_at = Some(k);
             assert_eq!(s.alarm, Some(alarm::PLC_SOFTWARE_LIMIT));
-            assert!(rig
-                .io
-                .rows
-                .last()
-                .unwrap()
-                .events
-                .contains("software limit"));
+            assert!(rig.last_events().contains("software limit"));
             assert!(
                 sp[3] > 30.0 && sp[3] - v[3] * t <= 30.0 + 1e-9,
                 "at A {}",
