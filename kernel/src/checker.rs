@@ -59,6 +59,11 @@ impl<'a> Gated<'a> {
         self.checker.as_mut().and_then(|c| c.ahead(blocks))
     }
 
+    /// The alarm the load-time check refused the program with ([`Gated::of_job_checked`]).
+    pub fn refusal(&self) -> Option<&Alarm> {
+        self.refused.as_ref()
+    }
+
     /// Where the program starts: the position before its first motion.
     pub fn start(&self) -> crate::frontend::block::AxisPos {
         self.prep.start()

@@ -360,9 +360,9 @@ pub fn spawn_preparation(
             tools: &tools,
             at,
         };
-        let mut path = Gated::of_job(job);
-        if let Some(a) = path.check_ahead(u64::from(md.trc.check_at_load_blocks)) {
-            let _ = ready_tx.send(Err(a));
+        let path = Gated::of_job_checked(job);
+        if let Some(a) = path.refusal() {
+            let _ = ready_tx.send(Err(a.clone()));
             return;
         }
         let _ = ready_tx.send(Ok(path.start()));

@@ -246,8 +246,13 @@ impl<'a> Preparation<'a> {
     /// With the software limit switches of `md` (alarm 10720 for a segment beyond them):
     /// the path the machine runs; without them the tool path of the program alone.
     pub fn with_soft_limits(mut self, md: &MachineData) -> Self {
-        self.limits = Some(soft_limits::SoftLimits::new(md));
+        self.limits = soft_limits::SoftLimits::new(md);
         self
+    }
+
+    /// Some axis has software limits, and this preparation checks them.
+    pub fn has_soft_limits(&self) -> bool {
+        self.limits.is_some()
     }
 
     /// Where the program starts: the position before its first motion.

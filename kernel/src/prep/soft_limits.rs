@@ -6,7 +6,8 @@
 //! A segment's extent is exact for lines and circular arcs (the ends, and the arc's points
 //! on the plane axes' extremes within its sweep); a spiral of the compensation (a radius
 //! or centre that changes over the block) is sampled finely, and its rounding is far below
-//! the tolerance of a limit switch.
+//! the tolerance of a limit switch. An arc whose whole circle stays inside the limits (the
+//! common case) needs neither: no trigonometry per block for the check.
 
 use crate::frontend::block::{AxisMove, AXIS_NAMES};
 use crate::machine_data::{MachineData, AXES};
@@ -19,8 +20,6 @@ const SPIRAL_SAMPLES: usize = 64;
 pub struct SoftLimits {
     lo: [f64; AXES],
     hi: [f64; AXES],
-    /// Some axis has limits.
-    any: bool,
 }
 
 /// An axis past its limit: which, where, and the limit.
@@ -41,31 +40,55 @@ impl Overrun {
 }
 
 impl SoftLimits {
-    pub fn new(md: &MachineData) -> Self {
+    /// The limits of `md`; `None` where no axis has any.
+    pub fn new(md: &MachineData) -> Option<Self> {
         let mut l = SoftLimits {
             lo: [f64::NEG_INFINITY; AXES],
             hi: [f64::INFINITY; AXES],
-            any: false,
         };
+        let mut any = false;
         for (i, a) in md.axes.configured() {
             if let Some([lo, hi]) = a.software_limits {
                 // Rounding of the path's own arithmetic is not a limit violation.
                 l.lo[i] = lo - 1e-9;
                 l.hi[i] = hi + 1e-9;
-                l.any = true;
+                any = true;
             }
         }
-        l
+        any.then_some(l)
+    }
+
+    /// The first of axes `0..n` whose range `lo`…`hi` leaves its limits.
+    fn first_past(&self, lo: &[f64; AXES], hi: &[f64; AXES], n: usize) -> Option<Overrun> {
+        (0..n).find_map(|i| {
+            if lo[i] < self.lo[i] {
+                Some(Overrun {
+                    axis: i,
+                    value: lo[i],
+                    limit: self.lo[i] + 1e-9,
+                })
+            } else if hi[i] > self.hi[i] {
+                Some(Overrun {
+                    axis: i,
+                    value: hi[i],
+                    limit: self.hi[i] - 1e-9,
+                })
+            } else {
+                None
+            }
+        })
     }
 
     /// The first axis `seg` (with the additional axes' move `axes` beside it) takes past a
     /// limit.
     #[inline]
     pub fn check(&self, seg: &Segment, axes: Option<&AxisMove>) -> Result<(), Overrun> {
-        if !self.any {
-            return Ok(());
+        let (mut lo, mut hi) = ends(seg);
+        if let Some((blo, bhi)) = circle_box(seg) {
+            if self.first_past(&blo, &bhi, 3).is_some() {
+                arc_extent(seg, &mut lo, &mut hi);
+            }
         }
-        let (mut lo, mut hi) = extent(seg);
         let mut axes_checked = 3;
         if let Some(m) = axes {
             // Linear in the path: its ends are its extremes. Additional axes that stand
@@ -76,35 +99,48 @@ impl SoftLimits {
             }
             axes_checked = AXES;
         }
-        for i in 0..axes_checked {
-            if lo[i] < self.lo[i] {
-                return Err(Overrun {
-                    axis: i,
-                    value: lo[i],
-                    limit: self.lo[i] + 1e-9,
-                });
-            }
-            if hi[i] > self.hi[i] {
-                return Err(Overrun {
-                    axis: i,
-                    value: hi[i],
-                    limit: self.hi[i] - 1e-9,
-                });
-            }
-        }
-        Ok(())
+        self.first_past(&lo, &hi, axes_checked).map_or(Ok(()), Err)
     }
 }
 
-/// The smallest and largest value of every geometry axis along `seg` (the additional
-/// axes' entries at 0).
-fn extent(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
+/// The smallest and largest value of every geometry axis at the ends of `seg` (the
+/// additional axes' entries at 0).
+fn ends(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
     let mut lo = [0.0; AXES];
     let mut hi = [0.0; AXES];
     for i in 0..3 {
         lo[i] = seg.from[i].min(seg.to[i]);
         hi[i] = seg.from[i].max(seg.to[i]);
     }
+    (lo, hi)
+}
+
+/// For an arc, a box that holds all of it: its circle (both centres, the larger radius of
+/// its two ends) in the plane, its ends along the normal.
+fn circle_box(seg: &Segment) -> Option<([f64; AXES], [f64; AXES])> {
+    let Shape::Arc {
+        center,
+        center_end,
+        plane,
+        ..
+    } = seg.shape
+    else {
+        return None;
+    };
+    let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+    let r0 = (seg.from[a] - center[a]).hypot(seg.from[o] - center[o]);
+    let r1 = (seg.to[a] - center_end[a]).hypot(seg.to[o] - center_end[o]);
+    let r = r0.max(r1) + 1e-9;
+    let (mut lo, mut hi) = ends(seg);
+    for i in [a, o] {
+        lo[i] = center[i].min(center_end[i]) - r;
+        hi[i] = center[i].max(center_end[i]) + r;
+    }
+    Some((lo, hi))
+}
+
+/// Grows `lo`/`hi` (the ends) to the exact extent of the arc `seg`.
+fn arc_extent(seg: &Segment, lo: &mut [f64; AXES], hi: &mut [f64; AXES]) {
     let Shape::Arc {
         center,
         center_end,
@@ -114,14 +150,14 @@ fn extent(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
         ..
     } = seg.shape
     else {
-        return (lo, hi);
+        return;
     };
     let mut grow = |i: usize, v: f64| {
         lo[i] = lo[i].min(v);
         hi[i] = hi[i].max(v);
     };
     let Some(curve) = Curve::new(seg) else {
-        return (lo, hi);
+        return;
     };
     if center == center_end && r0 == r1 {
         // A circle reaches its plane extremes where θ is a multiple of 90° within the sweep.
@@ -132,7 +168,7 @@ fn extent(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
                 grow(plane.ordinate as usize, p[plane.ordinate as usize]);
             }
         }
-        return (lo, hi);
+        return;
     }
     for k in 1..SPIRAL_SAMPLES {
         let p = curve.point(k as f64 / SPIRAL_SAMPLES as f64);
@@ -140,7 +176,6 @@ fn extent(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
             grow(i, *v);
         }
     }
-    (lo, hi)
 }
 
 /// The multiples of 90° (in radians) strictly between th0 and th0 + sweep.
@@ -177,6 +212,13 @@ mod tests {
         }
     }
 
+    /// The exact extent of a segment.
+    fn extent(s: &Segment) -> ([f64; AXES], [f64; AXES]) {
+        let (mut lo, mut hi) = ends(s);
+        arc_extent(s, &mut lo, &mut hi);
+        (lo, hi)
+    }
+
     #[test]
     fn a_half_circle_bulges_past_its_ends() {
         // (10,0) → (−10,0) about the origin counter-clockwise: Y reaches 10 at 90°.
@@ -211,7 +253,7 @@ mod tests {
     #[test]
     fn limits_name_the_axis_and_the_value() {
         let md = MachineData::default();
-        let l = SoftLimits::new(&md);
+        let l = SoftLimits::new(&md).unwrap();
         // Default Z limits ±500.
         let ok = seg([0.0; 3], [0.0, 0.0, -500.0], Shape::Line);
         assert_eq!(l.check(&ok, None), Ok(()));
@@ -232,7 +274,7 @@ mod tests {
             &["axes.A.software_limits=[-120, -5]".into()],
         )
         .unwrap();
-        let l = SoftLimits::new(&md);
+        let l = SoftLimits::new(&md).unwrap();
         let s = seg([0.0; 3], [10.0, 0.0, 0.0], Shape::Line);
         assert_eq!(l.check(&s, None), Ok(()));
         let mut m = AxisMove {
