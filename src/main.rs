@@ -126,8 +126,9 @@ enum Command {
         #[command(flatten)]
         bridge: BridgeArgs,
     },
-    /// Tool offsets through hmi-bridge: `softnc offset set D1 --radius 10.02 [--wear]`
-    /// (`T1D2` on a table numbered per tool).
+    /// Offsets through hmi-bridge: a tool offset, `softnc offset set D1 --radius 10.02
+    /// [--wear]` (`T1D2` on a table numbered per tool), or a work offset, `softnc offset set
+    /// G54 --x 120.5 --z -310` (`"G54.1 P3"` on a Fanuc).
     Offset {
         #[command(subcommand)]
         action: OffsetAction,
@@ -164,20 +165,67 @@ impl Command {
 
 #[derive(Subcommand)]
 enum OffsetAction {
-    /// Set an offset's geometry radius, or its radius wear with --wear (in NC stop or reset;
-    /// while the program runs only if machine data hmi.edit_while_active allows it).
+    /// Set a tool offset's geometry radius (or its radius wear with --wear), or a work
+    /// offset's axis values: in NC stop or reset; while the program runs only if machine
+    /// data hmi.edit_while_active allows it.
     Set {
-        /// The offset: D1, or T1D2 (also "T1 D2") where D numbers count per tool (808D).
-        d: String,
-        /// The value, mm.
+        /// The offset: D1, or T1D2 (also "T1 D2") where D numbers count per tool (808D); or
+        /// a work offset as the program selects it: G54, "G54.1 P3".
+        name: String,
+        /// A tool offset's radius, mm.
         #[arg(long, allow_hyphen_values = true)]
-        radius: f64,
+        radius: Option<f64>,
         /// Set the radius wear instead of the geometry radius.
         #[arg(long)]
         wear: bool,
         #[command(flatten)]
+        axes: AxisValues,
+        #[command(flatten)]
         bridge: BridgeArgs,
     },
+}
+
+/// A work offset's new values per axis, mm (degrees for a rotary axis).
+#[derive(Args)]
+struct AxisValues {
+    #[arg(long, allow_hyphen_values = true)]
+    x: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    y: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    z: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    u: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    v: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    w: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    a: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    b: Option<f64>,
+    #[arg(long, allow_hyphen_values = true)]
+    c: Option<f64>,
+}
+
+impl AxisValues {
+    /// The values given, by axis letter, as a JSON object.
+    fn given(&self) -> serde_json::Map<String, serde_json::Value> {
+        let all = [
+            ('X', self.x),
+            ('Y', self.y),
+            ('Z', self.z),
+            ('U', self.u),
+            ('V', self.v),
+            ('W', self.w),
+            ('A', self.a),
+            ('B', self.b),
+            ('C', self.c),
+        ];
+        all.iter()
+            .filter_map(|(n, v)| v.map(|v| (n.to_string(), v.into())))
+            .collect()
+    }
 }
 
 /// Where hmi-bridge listens.
@@ -219,6 +267,9 @@ struct ProgramArgs {
     /// Override the radius of offset n, e.g. `--set D1=10.0`.
     #[arg(long = "set", value_name = "Dn=R")]
     set: Vec<String>,
+    /// Work-offset file (TOML, docs/work-offsets.md); all work offsets zero if not given.
+    #[arg(long, value_name = "FILE")]
+    offsets: Option<PathBuf>,
 }
 
 struct Loaded {
@@ -234,7 +285,10 @@ fn fail(msg: impl std::fmt::Display) -> Failure {
 }
 
 fn load(a: &ProgramArgs) -> Result<Loaded, Failure> {
-    let md = MachineData::load(a.machine.as_deref(), &a.md).map_err(fail)?;
+    let mut md = MachineData::load(a.machine.as_deref(), &a.md).map_err(fail)?;
+    if let Some(p) = &a.offsets {
+        md.work_offsets = nc_kernel::WorkOffsets::load(p, &md).map_err(fail)?;
+    }
     let mut tools = match &a.tools {
         Some(p) => ToolTable::load(p).map_err(fail)?,
         None => ToolTable::builtin(),
@@ -262,7 +316,7 @@ fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> Result<(), Failure> {
     let writing = |e: std::io::Error| fail(format!("writing output: {e}"));
     for item in Interpreter::new(&l.name, &l.source, &l.md, &l.tools) {
         match item {
-            Ok(block) => jsonl::write_block(&mut out, &block).map_err(writing)?,
+            Ok(block) => jsonl::write_block(&mut out, &block, l.md.dialect).map_err(writing)?,
             Err(alarm) => {
                 let _ = out.flush();
                 eprintln!("{}", alarm.render(&l.source));
@@ -474,17 +528,35 @@ fn simple(b: &BridgeArgs, path: &str) -> Result<(), Failure> {
     report(bridge(b)?.post(path, &serde_json::json!({})))
 }
 
-fn offset(b: &BridgeArgs, d: &str, value: f64, wear: bool) -> Result<(), Failure> {
-    let (t, n) = offset_name(d).ok_or_else(|| {
-        fail(format!(
-            "{d}: expected an offset like D1, or T1D2 for a tool's edge"
-        ))
-    })?;
-    let mut body = serde_json::json!({ "d": n, "radius": value, "wear": wear });
-    if let Some(t) = t {
-        body["t"] = t.into();
+/// `softnc offset set`: a tool offset (D1, T1D2) with --radius, or a work offset with
+/// axis values.
+fn offset(
+    b: &BridgeArgs,
+    name: &str,
+    radius: Option<f64>,
+    wear: bool,
+    axes: &AxisValues,
+) -> Result<(), Failure> {
+    let values = axes.given();
+    match (offset_name(name), radius) {
+        (Some((t, n)), Some(r)) if values.is_empty() => {
+            let mut body = serde_json::json!({ "d": n, "radius": r, "wear": wear });
+            if let Some(t) = t {
+                body["t"] = t.into();
+            }
+            report(bridge(b)?.post("/api/offset", &body))
+        }
+        (Some(_), _) => Err(fail(format!(
+            "{name} is a tool offset: give its value with --radius (and --wear for the wear)"
+        ))),
+        (None, None) if !values.is_empty() && !wear => {
+            let body = serde_json::json!({ "set": name, "values": values });
+            report(bridge(b)?.post("/api/work-offset", &body))
+        }
+        (None, _) => Err(fail(format!(
+            "{name}: a work offset, named as the program selects it, takes axis values (--x 10 --z -5); a tool offset is D1 or T1D2"
+        ))),
     }
-    report(bridge(b)?.post("/api/offset", &body))
 }
 
 /// "D1" → (None, 1); "T1D2", "T1 D2", "t1d2" → (Some(1), 2). Numbers from 1.
@@ -615,12 +687,13 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         Command::Offset {
             action:
                 OffsetAction::Set {
-                    d,
+                    name,
                     radius,
                     wear,
+                    axes,
                     bridge,
                 },
-        } => offset(&bridge, &d, radius, wear),
+        } => offset(&bridge, &name, radius, wear, &axes),
         Command::Run {
             input,
             instance,
@@ -639,6 +712,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 md: &l.md,
                 tools: &l.tools,
                 tools_file: input.tools.as_deref(),
+                offsets_file: input.offsets.as_deref(),
                 set: &input.set,
                 instance,
                 trace,

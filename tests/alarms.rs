@@ -188,7 +188,10 @@ fn address_without_value_at_end_of_line() {
 fn g_code_with_a_fraction() {
     // N10 G1.5 X1 F100
     //     ^ 5
+    // G numbers with a decimal exist (Fanuc G54.1): this one is not in the 840C's table.
     let a = alarm(C840, "N10 G1.5 X1 F100\n");
+    check(&a, AlarmCode::UnknownGCode, 12470, 1, 5);
+    let a = alarm(C840, "N10 G-1 X1 F100\n");
     check(&a, AlarmCode::BadNumber, 12160, 1, 5);
 }
 

@@ -1,7 +1,7 @@
 //! Front-end rules checked with hand-computed values: comments, zero offsets, polar
 //! coordinates, Fanuc decimal input for dwell times.
 
-use nc_kernel::{interpret, AlarmCode, Block, MachineData, ToolTable};
+use nc_kernel::{interpret, AlarmCode, Block, MachineData, ToolTable, WorkOffsets};
 
 fn run(md: &[&str], src: &str) -> Result<Vec<Block>, nc_kernel::Alarm> {
     let md: Vec<String> = md.iter().map(|s| s.to_string()).collect();
@@ -34,15 +34,22 @@ fn centre_words_in_a_linear_block_are_an_alarm() {
 #[test]
 fn zero_offset_shifts_absolute_coordinates() {
     // G54 = (100, 50, -20): X10 Y5 Z0 lands at (110, 55, -20); G91 X1 then moves by 1.
-    let b = run(
-        &["zero_offsets.G54=[100.0, 50.0, -20.0]"],
-        "G54 G0 X10 Y5 Z0\nG91 X1\nG90 G53 X10\n",
+    let mut md = MachineData::default();
+    md.work_offsets =
+        WorkOffsets::from_toml_str("[G54]\nX = 100\nY = 50.0\nZ = -20\n", "w.toml", &md).unwrap();
+    let b = interpret(
+        "rules.nc",
+        "G54 G0 X10 Y5 Z0\nG91 X1\nG90 G53 X10\nX20\n",
+        &md,
+        &ToolTable::builtin(),
     )
     .unwrap();
     assert!(close(b[0].motion.unwrap().end, [110.0, 55.0, -20.0]));
     assert!(close(b[1].motion.unwrap().end, [111.0, 55.0, -20.0]));
-    // G53 (840C: no zero offset): X10 is X10 in the basic system.
+    // G53 (840C: the zero offset suppressed in its block): X10 is X10 in the basic system;
+    // the next block is in G54 again.
     assert!(close(b[2].motion.unwrap().end, [10.0, 55.0, -20.0]));
+    assert!(close(b[3].motion.unwrap().end, [120.0, 55.0, -20.0]));
 }
 
 #[test]

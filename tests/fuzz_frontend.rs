@@ -208,11 +208,13 @@ const ISG_STATEMENTS: &[&str] = &[
 #[rustfmt::skip]
 const FANUC_WORDS: &[&str] = &[
     "R5", "R-10", "R500", "G20", "G21", "G61", "G64", "P500", "X100", "Y-2500", "O100", "%",
+    "G43 H2", "G44 H1", "G49", "H0", "H99", "H2", "G53 X0", "G54.1 P1", "G54.1 P48",
+    "G54.1 P49", "G54.1", "G54.2", "G59", "G58", "P0",
 ];
 #[rustfmt::skip]
 const D808_WORDS: &[&str] = &[
     "CR=5", "CR=-10", "DIAMON", "DIAMOF", "G450", "G451", "T1", "T2", "T1 D2", "G700", "G710",
-    "G60", "G64", "G53",
+    "G60", "G64", "G53", "G500", "G59",
 ];
 
 /// A program of blocks: mostly words of the dialect, now and then any token of the vocabulary.

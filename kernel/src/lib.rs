@@ -33,6 +33,7 @@ pub mod simulate;
 pub mod synthetic;
 mod tools;
 mod trc;
+mod work_offsets;
 
 pub use alarm::{Alarm, AlarmCode};
 pub use frontend::{
@@ -42,11 +43,17 @@ pub use frontend::{
 pub use frontend::{Additional, AxisPos};
 pub use machine_data::{
     AuxOutput, AxisData, AxisKind, CornerModeSetting, DecimalInput, DialectName, MachineData,
-    MachineDataError, MachineKind, PlaneName, ToolPost, Units, ViolationReaction, ADDITIONAL,
+    MachineDataError, MachineKind, PlaneName, ToolPost, Units, ViolationReaction, ADDITIONAL, AXES,
     AXIS_NAMES, BUILTIN_DEFAULTS, MAX_PATH_AXES,
 };
+
+/// The dialect table of the machine's control (work-offset names for the HMI).
+pub fn dialect_of(md: &MachineData) -> &'static dialect::Dialect {
+    dialect::Dialect::get(md.dialect)
+}
 pub use prep::{
     prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,
 };
 pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{check_edit, offset_label, LiveEdit, LiveEdits, ToolOffset, ToolTable};
+pub use work_offsets::{WorkOffsetError, WorkOffsets, MAX_WORK_OFFSET};

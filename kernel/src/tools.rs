@@ -132,6 +132,37 @@ impl fmt::Display for ToolTableError {
 
 impl std::error::Error for ToolTableError {}
 
+/// Writes `text` to `path` so that a crash at any moment leaves the old file or the new
+/// one, never a torn one: a temporary file beside it, synced, renamed over it, and the
+/// folder synced.
+pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    use std::io::Write;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other("the path names no file"))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let write = || -> std::io::Result<()> {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)?;
+        std::fs::File::open(&dir)?.sync_all()
+    };
+    let r = write();
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    r
+}
+
 /// Largest |radius| or |length| accepted in a tool table, mm.
 pub const MAX_OFFSET_MM: f64 = 10_000.0;
 
@@ -289,36 +320,10 @@ impl ToolTable {
         toml::to_string(self).map_err(|e| e.to_string())
     }
 
-    /// Writes the table to `path` so that a crash at any moment leaves the old file or the
-    /// new one, never a torn one: a temporary file beside it, synced, renamed over it, and
-    /// the folder synced.
+    /// Writes the table to `path` atomically ([`write_atomic`]).
     pub fn save_atomic(&self, path: &Path) -> std::io::Result<()> {
-        use std::io::Write;
         let text = self.to_toml().map_err(std::io::Error::other)?;
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => std::path::PathBuf::from("."),
-        };
-        let name = path
-            .file_name()
-            .ok_or_else(|| std::io::Error::other("the tool file path names no file"))?;
-        let tmp = dir.join(format!(
-            ".{}.tmp-{}",
-            name.to_string_lossy(),
-            std::process::id()
-        ));
-        let write = || -> std::io::Result<()> {
-            let mut f = std::fs::File::create(&tmp)?;
-            f.write_all(text.as_bytes())?;
-            f.sync_all()?;
-            std::fs::rename(&tmp, path)?;
-            std::fs::File::open(&dir)?.sync_all()
-        };
-        let r = write();
-        if r.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        r
+        write_atomic(path, &text)
     }
 
     /// Effective (radius, length, cutting edge) of D `d` with tool `t` active, `--set`

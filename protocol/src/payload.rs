@@ -216,6 +216,13 @@ pub struct KernelStatus {
     pub block_seq: u32,
     pub piece: u32,
     pub along: f64,
+    /// The work-offset table's version: 1 at start, one more with every accepted edit.
+    pub work_offsets_version: u32,
+    /// The active work offset's index in [`WorkOffsetsMsg`] (0: none).
+    pub work_offset: u32,
+    /// The running block's tool (T, 0: none) and cutting edge or offset number (D, 0: none).
+    pub tool: u32,
+    pub edge: u32,
 }
 
 /// What an HMI asks the kernel.
@@ -236,6 +243,9 @@ pub mod command {
     pub const SHUTDOWN: u32 = 8;
     /// `d`: a program number (`KernelStatus::program`); the reply's message is its path.
     pub const PROGRAM_INFO: u32 = 9;
+    /// `text`: the work offset's name as the dialect writes it (`G54`, `G54.1 P3`);
+    /// `axis_values[i]` for each bit i of `axis_mask` ([`AxisList`] order).
+    pub const SET_WORK_OFFSET: u32 = 10;
 }
 
 pub const TEXT: usize = 512;
@@ -255,6 +265,10 @@ pub struct Command {
     /// The tool number where offsets are numbered per tool (T/D, 808D); 0: none.
     pub t: u32,
     pub text: [u8; TEXT],
+    /// `SET_WORK_OFFSET`: bit i set when `axis_values[i]` is given.
+    pub axis_mask: u32,
+    pub _pad2: u32,
+    pub axis_values: [f64; MAX_AXES],
 }
 
 impl Command {
@@ -268,6 +282,9 @@ impl Command {
             text_len: 0,
             t: 0,
             text: [0; TEXT],
+            axis_mask: 0,
+            _pad2: 0,
+            axis_values: [0.0; MAX_AXES],
         }
     }
 
@@ -298,6 +315,24 @@ impl Command {
         c.flag = wear as u8;
         c
     }
+
+    /// `SET_WORK_OFFSET` of the set `name`: each `(slot, value)` is an axis in
+    /// [`AxisList`] order and its new value, mm or degrees.
+    pub fn work_offset(name: &str, values: &[(usize, f64)]) -> Self {
+        let mut c = Command::new(command::SET_WORK_OFFSET).with_text(name);
+        for &(i, v) in values.iter().filter(|(i, _)| *i < MAX_AXES) {
+            c.axis_mask |= 1 << i;
+            c.axis_values[i] = v;
+        }
+        c
+    }
+
+    /// The axis values of a `SET_WORK_OFFSET`, as (slot, value).
+    pub fn axis_values(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..MAX_AXES)
+            .filter(|i| self.axis_mask & (1 << i) != 0)
+            .map(|i| (i, self.axis_values[i]))
+    }
 }
 
 /// The kernel's answer to a [`Command`].
@@ -313,7 +348,8 @@ pub struct Reply {
     pub alarm: u32,
     /// The tool table's version after the command (the kernel sets it on every reply).
     pub tools_version: u32,
-    pub _pad2: u32,
+    /// The work-offset table's version after the command (set on every reply).
+    pub work_offsets_version: u32,
     pub message: [u8; TEXT],
 }
 
@@ -325,7 +361,7 @@ impl Reply {
             len: 0,
             alarm,
             tools_version: 0,
-            _pad2: 0,
+            work_offsets_version: 0,
             message: [0; TEXT],
         };
         let n = fit(message, TEXT);
@@ -392,6 +428,81 @@ impl ToolTableMsg {
     }
 }
 
+/// Work offsets a [`WorkOffsetsMsg`] carries at most (Fanuc: G54…G59 and G54.1 P1…P48).
+pub const WORK_OFFSET_ENTRIES: usize = 128;
+
+/// One work offset (settable zero offset): its name and its value per axis.
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::WorkOffsetEntry")]
+pub struct WorkOffsetEntry {
+    /// The name as the dialect writes it (`G54`, `G54.1 P3`), ASCII, 0-padded.
+    pub name: [u8; 16],
+    /// Every configured axis in [`AxisList`] order, mm or degrees.
+    pub values: [f64; MAX_AXES],
+}
+
+impl Default for WorkOffsetEntry {
+    fn default() -> Self {
+        WorkOffsetEntry {
+            name: [0; 16],
+            values: [0.0; MAX_AXES],
+        }
+    }
+}
+
+impl WorkOffsetEntry {
+    pub fn new(name: &str, values: [f64; MAX_AXES]) -> Self {
+        let mut e = WorkOffsetEntry {
+            name: [0; 16],
+            values,
+        };
+        let n = fit(name, 16);
+        e.name[..n].copy_from_slice(&name.as_bytes()[..n]);
+        e
+    }
+
+    pub fn name(&self) -> &str {
+        let len = self.name.iter().position(|&b| b == 0).unwrap_or(16);
+        as_text(&self.name, len)
+    }
+}
+
+/// The kernel's work-offset table, kernel → anyone, when it changes (the newest kept for
+/// late subscribers): every set the dialect has, in its order.
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("softnc::WorkOffsetsMsg")]
+pub struct WorkOffsetsMsg {
+    /// 1 at start, one more with every accepted edit (as `KernelStatus::work_offsets_version`).
+    pub version: u32,
+    pub count: u32,
+    /// Saved to a work-offset file (0: the built-in table, not saved).
+    pub saved: u8,
+    pub _pad: [u8; 7],
+    pub axes: AxisList,
+    pub entries: [WorkOffsetEntry; WORK_OFFSET_ENTRIES],
+}
+
+impl Default for WorkOffsetsMsg {
+    fn default() -> Self {
+        WorkOffsetsMsg {
+            version: 0,
+            count: 0,
+            saved: 0,
+            _pad: [0; 7],
+            axes: AxisList::default(),
+            entries: [WorkOffsetEntry::default(); WORK_OFFSET_ENTRIES],
+        }
+    }
+}
+
+impl WorkOffsetsMsg {
+    pub fn entries(&self) -> &[WorkOffsetEntry] {
+        &self.entries[..(self.count as usize).min(WORK_OFFSET_ENTRIES)]
+    }
+}
+
 /// The longest prefix of `s` within `max` bytes that ends on a character boundary.
 fn fit(s: &str, max: usize) -> usize {
     let mut n = s.len().min(max);
@@ -412,7 +523,7 @@ fn as_text(bytes: &[u8], len: usize) -> &str {
 
 /// Size and alignment of every payload, in a fixed order: part of the ABI string, so a peer
 /// whose layout differs in any way is refused by name.
-pub fn layouts() -> [(&'static str, usize, usize); 12] {
+pub fn layouts() -> [(&'static str, usize, usize); 14] {
     use std::mem::{align_of, size_of};
     macro_rules! l {
         ($t:ty) => {
@@ -432,6 +543,8 @@ pub fn layouts() -> [(&'static str, usize, usize); 12] {
         l!(Reply),
         l!(ToolEntry),
         l!(ToolTableMsg),
+        l!(WorkOffsetEntry),
+        l!(WorkOffsetsMsg),
     ]
 }
 
@@ -462,9 +575,14 @@ mod tests {
         // Every byte a named field: no implicit padding.
         assert_eq!(
             std::mem::size_of::<KernelStatus>(),
-            2 * 8 + 2 * 4 + MAX_AXES * 8 + 16 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8
+            2 * 8 + 2 * 4 + MAX_AXES * 8 + 16 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8 + 4 * 4
         );
-        assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT);
+        assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT + 8 + MAX_AXES * 8);
+        assert_eq!(std::mem::size_of::<WorkOffsetEntry>(), 16 + MAX_AXES * 8);
+        let c = Command::work_offset("G54.1 P3", &[(0, 1.5), (2, -3.0), (9, 1.0)]);
+        assert_eq!(c.text(), "G54.1 P3");
+        assert_eq!(c.axis_values().collect::<Vec<_>>(), [(0, 1.5), (2, -3.0)]);
+        assert_eq!(WorkOffsetEntry::new("G55", [0.0; MAX_AXES]).name(), "G55");
         assert_eq!(std::mem::size_of::<Reply>(), 16 + TEXT);
     }
 }

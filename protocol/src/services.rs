@@ -26,7 +26,7 @@ use std::path::PathBuf;
 
 /// Version of the protocol; with the payloads' layouts it makes the ABI string.
 /// 2: `Command::t` (offsets of T/D tables).
-pub const PROTOCOL_VERSION: u32 = 3;
+pub const PROTOCOL_VERSION: u32 = 4;
 pub const ABI_KEY: &str = "softnc.abi";
 
 /// The default instance; tests and side-by-side machines take their own.
@@ -422,6 +422,15 @@ impl Instance {
         self.pubsub(node, "tools", 2, 1)
     }
 
+    /// The kernel's work-offset table, published when it changes; a new subscriber gets
+    /// the newest at once.
+    pub fn work_offsets(
+        &self,
+        node: &Node<ipc::Service>,
+    ) -> Result<PubSub<WorkOffsetsMsg>, IpcError> {
+        self.pubsub(node, "work-offsets", 2, 1)
+    }
+
     /// HMI commands to the kernel.
     pub fn commands(&self, node: &Node<ipc::Service>) -> Result<ReqRes<Command, Reply>, IpcError> {
         self.reqres(node, "commands", 4)
@@ -435,7 +444,7 @@ mod tests {
     #[test]
     fn abi_names_version_and_layout() {
         let a = abi();
-        assert!(a.starts_with("softnc-ipc/3/"), "{a}");
+        assert!(a.starts_with("softnc-ipc/4/"), "{a}");
         assert_eq!(a, abi());
         assert!(a.len() < 64);
     }

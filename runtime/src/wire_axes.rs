@@ -44,6 +44,20 @@ impl WireAxes {
         w
     }
 
+    /// The axis number ([`AXIS_NAMES`] index) of wire slot `slot`, if configured.
+    pub fn axis_of_slot(&self, slot: usize) -> Option<usize> {
+        (slot < self.count()).then(|| self.index[slot])
+    }
+
+    /// Values per axis number ([`AXIS_NAMES`] order) in wire order, 0 past the count.
+    pub fn to_wire_all(&self, v: &[f64; nc_kernel::AXES]) -> [f64; MAX_AXES] {
+        let mut w = [0.0; MAX_AXES];
+        for (n, x) in w.iter_mut().enumerate().take(self.count()) {
+            *x = v[self.index[n]];
+        }
+        w
+    }
+
     /// A wire position array as the kernel's position (axes not configured at 0).
     pub fn from_wire(&self, w: &[f64; MAX_AXES]) -> AxisPos {
         let mut p = AxisPos::default();

@@ -27,6 +27,8 @@ pub struct RunOptions<'a> {
     pub md: &'a MachineData,
     pub tools: &'a ToolTable,
     pub tools_file: Option<&'a Path>,
+    /// The work-offset file nc-kernel reads and saves edits to.
+    pub offsets_file: Option<&'a Path>,
     pub set: &'a [String],
     pub instance: Option<String>,
     pub trace: Option<PathBuf>,
@@ -311,6 +313,9 @@ impl Supervisor<'_> {
         }
         for s in o.set {
             kernel.extend(["--set".into(), s.clone()]);
+        }
+        if let Some(f) = o.offsets_file {
+            kernel.extend(["--offsets".into(), f.display().to_string()]);
         }
         self.start("nc-kernel", &kernel)?;
         let Some(port) = o.hmi else {

@@ -1,11 +1,12 @@
 //! Fanuc-style milling control with cutter compensation C (seed 003).
 
 use super::{
-    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+    g, m, point_code, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord,
+    Semicolon,
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, LengthComp, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -28,12 +29,18 @@ static GCODES: &[GCodeDef] = &[
     g(40, Trc(TrcSide::Off)),
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
-    g(53, Unsupported("machine coordinate system G53")),
+    g(43, ToolLength(LengthComp::Plus)),
+    g(44, ToolLength(LengthComp::Minus)),
+    g(49, ToolLength(LengthComp::Off)),
+    g(53, MachineCoordinates),
     g(54, WorkOffset(1)),
     g(55, WorkOffset(2)),
     g(56, WorkOffset(3)),
     g(57, WorkOffset(4)),
+    g(58, WorkOffset(5)),
+    g(59, WorkOffset(6)),
     g(61, ExactStopModal(true)),
+    g(point_code(54, 1), NumberedWorkOffset),
     g(64, ExactStopModal(false)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
@@ -60,6 +67,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: true,
     decimal_switch: true,
+    numbered_work_offsets: 48,
+    length_offset: super::LengthOffset::HRegister,
     tool_edges: false,
     dwell: DwellWords {
         x_seconds: true,

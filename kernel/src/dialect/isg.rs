@@ -40,6 +40,8 @@ static GCODES: &[GCodeDef] = &[
     g(55, WorkOffset(2)),
     g(56, WorkOffset(3)),
     g(57, WorkOffset(4)),
+    g(58, WorkOffset(5)),
+    g(59, WorkOffset(6)),
     g(60, ExactStopBlock),
     g(70, Units(Units::Inch)),
     g(71, Units(Units::Mm)),
@@ -76,6 +78,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: false,
     decimal_switch: false,
+    numbered_work_offsets: 0,
+    length_offset: super::LengthOffset::WithD,
     tool_edges: false,
     dwell: DwellWords {
         x_seconds: true,

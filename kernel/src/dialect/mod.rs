@@ -10,7 +10,8 @@ mod siemens_840c;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
+    SelectionPolicy, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
@@ -18,6 +19,26 @@ use std::sync::OnceLock;
 
 /// G numbers run from 0 to `G_CODES - 1` in every dialect; the tables are indexed by them.
 pub const G_CODES: usize = 1000;
+
+/// A G number with a decimal point (Fanuc G54.1) is `G_CODES` plus ten times its value.
+pub const fn point_code(whole: u16, tenth: u16) -> u16 {
+    G_CODES as u16 + whole * 10 + tenth
+}
+
+/// G`code` as a program writes it: `G54`, `G54.1`.
+#[derive(Clone, Copy, Debug)]
+pub struct GName(pub u16);
+
+impl std::fmt::Display for GName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let c = self.0 as usize;
+        if c < G_CODES {
+            write!(f, "G{c}")
+        } else {
+            write!(f, "G{}.{}", (c - G_CODES) / 10, (c - G_CODES) % 10)
+        }
+    }
+}
 
 /// What a G code does, independent of its number.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,8 +62,16 @@ pub enum GEffect {
     FeedAdaption(FeedAdaption),
     /// ISG contour masking G140 (false) / G141 (true).
     Masking(bool),
-    /// Working zero offset: 0 = off, 1..=4 = G54..G57.
+    /// Working zero offset (modal): 0 = off, 1.. = the dialect's sets selected by a G code
+    /// of their own (G54 …), in table order.
     WorkOffset(u8),
+    /// A numbered work offset (modal): the set number comes from P (Fanuc G54.1 P1…P48).
+    NumberedWorkOffset,
+    /// The block's absolute positions are machine positions: no work offset (non-modal:
+    /// Fanuc, Siemens G53).
+    MachineCoordinates,
+    /// Tool length compensation by H register (modal: Fanuc G43/G44/G49).
+    ToolLength(LengthComp),
     /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
     WorkingArea {
         max: bool,
@@ -70,7 +99,9 @@ impl GEffect {
             GEffect::Selection(_) => 11,
             GEffect::FeedAdaption(_) => 12,
             GEffect::Masking(_) => 13,
-            GEffect::WorkOffset(_) => 14,
+            GEffect::WorkOffset(_) | GEffect::NumberedWorkOffset => 14,
+            GEffect::MachineCoordinates => 18,
+            GEffect::ToolLength(_) => 19,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
             GEffect::Unsupported(_) => 17,
@@ -156,6 +187,16 @@ pub enum RadiusWord {
     R,
 }
 
+/// Where the tool length comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LengthOffset {
+    /// The D offset gives radius and length (840C, Sinumerik T/D, ISG).
+    WithD,
+    /// An H register selected with the length compensation codes (Fanuc memory C: offset
+    /// number n holds H n's length and D n's radius, each geometry + wear).
+    HRegister,
+}
+
 /// Addresses that give a dwell time with G04.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DwellWords {
@@ -194,6 +235,9 @@ pub struct Dialect {
     pub decimal_switch: bool,
     /// Tools carry several cutting edges: D is looked up under the active T (808D).
     pub tool_edges: bool,
+    /// Work offsets numbered after a G code with P (Fanuc G54.1 P1…P48): how many.
+    pub numbered_work_offsets: u8,
+    pub length_offset: LengthOffset,
     pub dwell: DwellWords,
     /// Alarm for TRC selection/deselection in a circular block.
     pub trc_not_linear: AlarmCode,
@@ -210,6 +254,62 @@ pub struct Dialect {
 }
 
 impl Dialect {
+    /// The work offsets selected by a G code of their own (G54 …).
+    fn coded_work_offsets(&self) -> u8 {
+        self.gcodes
+            .iter()
+            .filter_map(|def| match def.effect {
+                GEffect::WorkOffset(i) => Some(i),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// How many work offsets the control has: the sets with a G code of their own, then
+    /// the numbered ones. Set indices run 1..=this (0: none).
+    pub fn work_offset_count(&self) -> u8 {
+        self.coded_work_offsets() + self.numbered_work_offsets
+    }
+
+    /// The name of work offset `index` as the program selects it (`G54`, `G54.1 P3`);
+    /// `None` for 0 (none) or beyond the control's sets.
+    pub fn work_offset_name(&self, index: u8) -> Option<String> {
+        let coded = self.coded_work_offsets();
+        let code_of = |e: GEffect| self.gcodes.iter().find(|def| def.effect == e);
+        if index == 0 {
+            None
+        } else if index <= coded {
+            code_of(GEffect::WorkOffset(index)).map(|def| GName(def.code).to_string())
+        } else if index - coded <= self.numbered_work_offsets {
+            code_of(GEffect::NumberedWorkOffset)
+                .map(|def| format!("{} P{}", GName(def.code), index - coded))
+        } else {
+            None
+        }
+    }
+
+    /// The index of the work offset named `name` (case and spaces ignored: `g54.1p3`).
+    pub fn work_offset_index(&self, name: &str) -> Option<u8> {
+        let key = |s: &str| -> String {
+            s.chars()
+                .filter(|c| !c.is_whitespace())
+                .collect::<String>()
+                .to_ascii_uppercase()
+        };
+        let want = key(name);
+        (1..=self.work_offset_count())
+            .find(|&i| self.work_offset_name(i).is_some_and(|n| key(&n) == want))
+    }
+
+    /// The index of numbered work offset P`p`, if the control has it.
+    pub fn numbered_work_offset(&self, p: u32) -> Option<u8> {
+        let p = u8::try_from(p).ok()?;
+        (1..=self.numbered_work_offsets)
+            .contains(&p)
+            .then(|| self.coded_work_offsets() + p)
+    }
+
     pub fn get(name: DialectName) -> &'static Dialect {
         match name {
             DialectName::Siemens840C => &siemens_840c::DIALECT,
@@ -230,6 +330,9 @@ impl Dialect {
     }
 
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
+        if code as usize >= G_CODES {
+            return self.gcodes.iter().find(|def| def.code == code);
+        }
         let index = self.index();
         let slot = *index.get(code as usize)?;
         if slot == 0 {
@@ -255,7 +358,9 @@ impl Dialect {
         INDEX[i].get_or_init(|| {
             let mut t = Box::new([0u16; G_CODES]);
             for (k, def) in self.gcodes.iter().enumerate() {
-                t[def.code as usize] = k as u16 + 1;
+                if let Some(slot) = t.get_mut(def.code as usize) {
+                    *slot = k as u16 + 1;
+                }
             }
             t
         })
@@ -282,7 +387,7 @@ impl Dialect {
         let codes: Vec<String> = effects
             .iter()
             .filter_map(|e| self.gcodes.iter().find(|def| def.effect == *e))
-            .map(|def| format!("G{}", def.code))
+            .map(|def| GName(def.code).to_string())
             .collect();
         codes.join("/")
     }
@@ -300,18 +405,6 @@ pub fn stop_name(stop: ProgramStop) -> &'static str {
     }
 }
 
-/// The name softnc's outputs give a settable zero offset 1..=4 (`"work_offset": "G54"`), or
-/// `None` for none.
-pub fn work_offset_name(index: u8) -> Option<&'static str> {
-    match index {
-        0 => None,
-        1 => Some("G54"),
-        2 => Some("G55"),
-        3 => Some("G56"),
-        _ => Some("G57"),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -326,7 +419,7 @@ mod tests {
         ] {
             let d = Dialect::get(name);
             for (i, a) in d.gcodes.iter().enumerate() {
-                assert!(a.code < 1000);
+                assert!(a.code < 1000 || a.code > point_code(0, 0));
                 assert!(
                     d.gcodes[i + 1..].iter().all(|b| b.code != a.code),
                     "{name:?}: G{} twice",
@@ -395,7 +488,31 @@ mod tests {
         let trc = [GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)];
         assert_eq!(f.codes_of(&trc), "G41/G42");
         assert_eq!(f.codes_of(&[GEffect::Dwell]), "G4");
-        assert_eq!(work_offset_name(0), None);
-        assert_eq!(work_offset_name(2), Some("G55"));
+    }
+
+    #[test]
+    fn work_offsets_are_named_as_the_program_selects_them() {
+        let f = Dialect::get(DialectName::Fanuc);
+        assert_eq!(f.work_offset_count(), 6 + 48);
+        assert_eq!(f.work_offset_name(0), None);
+        assert_eq!(f.work_offset_name(2).as_deref(), Some("G55"));
+        assert_eq!(f.work_offset_name(6).as_deref(), Some("G59"));
+        assert_eq!(f.work_offset_name(7).as_deref(), Some("G54.1 P1"));
+        assert_eq!(f.work_offset_name(54).as_deref(), Some("G54.1 P48"));
+        assert_eq!(f.work_offset_name(55), None);
+        assert_eq!(f.work_offset_index("g54.1p48"), Some(54));
+        assert_eq!(f.work_offset_index("G54.1 P49"), None);
+        assert_eq!(f.numbered_work_offset(3), Some(9));
+        assert_eq!(f.numbered_work_offset(0), None);
+        let c = Dialect::get(DialectName::Siemens840C);
+        assert_eq!(c.work_offset_count(), 4);
+        assert_eq!(c.work_offset_index("G57"), Some(4));
+        assert_eq!(c.work_offset_index("G58"), None);
+        assert_eq!(
+            Dialect::get(DialectName::Siemens808D).work_offset_count(),
+            6
+        );
+        assert_eq!(Dialect::get(DialectName::Isg).work_offset_count(), 6);
+        assert_eq!(GName(point_code(54, 1)).to_string(), "G54.1");
     }
 }

@@ -29,11 +29,13 @@ static GCODES: &[GCodeDef] = &[
     g(40, Trc(TrcSide::Off)),
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
-    g(53, WorkOffset(0)),
+    g(53, MachineCoordinates),
     g(54, WorkOffset(1)),
     g(55, WorkOffset(2)),
     g(56, WorkOffset(3)),
     g(57, WorkOffset(4)),
+    g(58, WorkOffset(5)),
+    g(59, WorkOffset(6)),
     g(60, ExactStopModal(true)),
     g(64, ExactStopModal(false)),
     g(70, Units(Units::Inch)),
@@ -41,6 +43,7 @@ static GCODES: &[GCodeDef] = &[
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
+    g(500, WorkOffset(0)),
     g(
         451,
         Corner(CornerPolicy::IntersectionLimited {
@@ -71,6 +74,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: true,
     o_numbers: false,
     decimal_switch: false,
+    numbered_work_offsets: 0,
+    length_offset: super::LengthOffset::WithD,
     tool_edges: true,
     dwell: DwellWords {
         x_seconds: false,

@@ -41,7 +41,7 @@ static GCODES: &[GCodeDef] = &[
     g(40, Trc(TrcSide::Off)),
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
-    g(53, WorkOffset(0)),
+    g(53, MachineCoordinates),
     g_no_trc(54, WorkOffset(1)),
     g_no_trc(55, WorkOffset(2)),
     g_no_trc(56, WorkOffset(3)),
@@ -94,6 +94,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: false,
     decimal_switch: false,
+    numbered_work_offsets: 0,
+    length_offset: super::LengthOffset::WithD,
     tool_edges: false,
     dwell: DwellWords {
         x_seconds: true,

@@ -295,6 +295,14 @@ pub enum FeedAdaption {
     Contour,
 }
 
+/// Tool length compensation by H register (Fanuc G43 +, G44 −, G49 off).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LengthComp {
+    Off,
+    Plus,
+    Minus,
+}
+
 /// The modal state after a block.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModalState {
@@ -315,7 +323,7 @@ pub struct ModalState {
     pub masking: bool,
     /// Modal exact stop (G60 / G61) instead of continuous path (G64).
     pub exact_stop: bool,
-    /// 0 = none, 1..=4 = G54..G57.
+    /// The active work offset: 0 = none, 1.. = the dialect's sets in its order.
     pub work_offset: u8,
     /// X programmed as a diameter.
     pub diameter: bool,
@@ -324,8 +332,13 @@ pub struct ModalState {
     pub d: u32,
     /// Effective tool radius of the active offset (geometry + wear, or as the program set it).
     pub radius: f64,
-    /// Effective tool length of the active offset.
+    /// Effective tool length, along the tool axis (the active plane's normal): the active
+    /// offset's, or on controls with H registers the active H's, signed by G43/G44.
     pub length: f64,
+    /// Tool length compensation by H register (Fanuc G43/G44/G49).
+    pub length_comp: LengthComp,
+    /// The active H register (0: none).
+    pub h: u32,
     /// Cutting edge position 1..=9 of the active offset (turning tools; 0: none).
     pub edge: u8,
     /// Pole for polar coordinates (840C/880).

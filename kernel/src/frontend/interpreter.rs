@@ -46,6 +46,8 @@ pub struct Interpreter<'a> {
     pub(super) structures: Structures,
     /// 840C G25/G26.
     pub(super) area: WorkingArea,
+    /// The block being built is in machine coordinates: no work offset (G53, this block).
+    pub(super) machine_coordinates: bool,
     pub(super) finished: bool,
     /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
     pub(super) plain_path: bool,
@@ -75,6 +77,7 @@ impl<'a> Interpreter<'a> {
             vars: Variables::default(),
             structures: Structures::default(),
             area: WorkingArea::default(),
+            machine_coordinates: false,
             finished: false,
             plain_path: true,
             block: Block::new(0, 0, None, initial_state(d, md)),
@@ -244,6 +247,8 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         d: 0,
         radius: 0.0,
         length: 0.0,
+        length_comp: LengthComp::Off,
+        h: 0,
         edge: 0,
         pole: [0.0; 3],
     }

@@ -2,8 +2,9 @@
 //! Written by hand: it is on the path of million-block programs, and the format is small.
 
 use super::block::*;
-use crate::dialect::work_offset_name;
+use crate::dialect::Dialect;
 use crate::json::{num, string};
+use crate::machine_data::DialectName;
 use crate::machine_data::Units;
 use std::io::{self, Write};
 
@@ -12,7 +13,8 @@ fn pos(out: &mut impl Write, p: &Pos) -> io::Result<()> {
 }
 
 /// Writes one block as a JSON object and a newline.
-pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
+/// `dialect` names the work offset as the program selects it.
+pub fn write_block(out: &mut impl Write, b: &Block, dialect: DialectName) -> io::Result<()> {
     write!(out, "{{\"line\":{},\"col\":{},\"block\":", b.line, b.col)?;
     match b.number {
         Some(n) => string(out, &n.to_string())?,
@@ -23,7 +25,7 @@ pub fn write_block(out: &mut impl Write, b: &Block) -> io::Result<()> {
         None => out.write_all(b"null")?,
         Some(m) => motion(out, m)?,
     }
-    modal(out, &b.modal)?;
+    modal(out, &b.modal, Dialect::get(dialect))?;
     out.write_all(b",\"words\":[")?;
     for (i, w) in b.words.iter().enumerate() {
         if i > 0 {
@@ -53,7 +55,7 @@ fn motion(out: &mut impl Write, m: &Motion) -> io::Result<()> {
     out.write_all(b"}")
 }
 
-fn modal(out: &mut impl Write, s: &ModalState) -> io::Result<()> {
+fn modal(out: &mut impl Write, s: &ModalState, d: &Dialect) -> io::Result<()> {
     write!(
         out,
         ",\"modal\":{{\"motion\":\"{}\",\"plane\":\"{}\",\"distance\":\"{}\",\"units\":\"{}\",\"feed\":",
@@ -84,7 +86,7 @@ fn modal(out: &mut impl Write, s: &ModalState) -> io::Result<()> {
         s.masking,
         s.exact_stop,
     )?;
-    match work_offset_name(s.work_offset) {
+    match d.work_offset_name(s.work_offset) {
         Some(name) => write!(out, "\"{name}\"")?,
         None => out.write_all(b"null")?,
     }

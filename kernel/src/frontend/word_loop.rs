@@ -12,7 +12,7 @@ use super::lexer::Cursor;
 use super::number;
 use super::words::*;
 use crate::alarm::AlarmCode;
-use crate::dialect::{GEffect, RadiusWord, G_CODES};
+use crate::dialect::{point_code, GEffect, LengthOffset, RadiusWord, G_CODES};
 
 /// How the word loop goes on after [`Interpreter::special`].
 enum Next {
@@ -54,15 +54,8 @@ impl Interpreter<'_> {
         let d = self.d;
         match letter {
             b'G' => {
-                let code = int_value(v.value, at, "G code")?;
-                if code as usize >= G_CODES {
-                    return Err(fault(
-                        AlarmCode::UnknownGCode,
-                        at,
-                        format!("G{code} is not a {} G code", d.name.as_str()),
-                    ));
-                }
-                push(&mut w.g, (code as u16, at as u32), at)
+                let code = g_code(v.value, at, d.name.as_str())?;
+                push(&mut w.g, (code, at as u32), at)
             }
             b'X' | b'Y' | b'Z' => {
                 let i = (letter - b'X') as usize;
@@ -96,6 +89,7 @@ impl Interpreter<'_> {
                 push(&mut w.m, v, at)?;
                 self.aux(letter, v, at)
             }
+            b'H' if d.length_offset == LengthOffset::HRegister => set_once(&mut w.h, v, "H"),
             b'S' | b'H' => self.aux(letter, v, at),
             b'N' => Err(fault(
                 AlarmCode::Syntax,
@@ -384,4 +378,27 @@ fn diameter_switch(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
         ));
     }
     Ok(Next::Continue)
+}
+
+/// A G number as the tables index it: whole below `G_CODES`, or with one decimal (G54.1,
+/// [`point_code`]).
+fn g_code(v: f64, at: usize, dialect: &str) -> R<u16> {
+    let tenths = libm::round(v * 10.0);
+    if v < 0.0 || !v.is_finite() {
+        Err(fault(
+            AlarmCode::BadNumber,
+            at,
+            format!("a G code must be a whole number, not {v}"),
+        ))
+    } else if v < G_CODES as f64 && v as u16 as f64 == v {
+        Ok(v as u16)
+    } else if v < G_CODES as f64 && libm::fabs(v * 10.0 - tenths) < 1e-9 {
+        Ok(point_code(0, tenths as u16))
+    } else {
+        Err(fault(
+            AlarmCode::UnknownGCode,
+            at,
+            format!("G{v} is not a {dialect} G code"),
+        ))
+    }
 }

@@ -59,6 +59,8 @@ pub struct Words {
     /// ISG: a number standing alone after the dwell G code (`G04 3.0`).
     pub bare: Option<Val>,
     pub d: Option<Val>,
+    /// Fanuc: the tool length offset's H register.
+    pub h: Option<Val>,
     pub t: Option<Val>,
     pub m: heapless::Vec<Val, 8>,
     /// @ command numbers with their offsets.

@@ -163,32 +163,6 @@ pub struct TrcData {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ZeroOffsets {
-    #[serde(rename = "G54")]
-    pub g54: [f64; 3],
-    #[serde(rename = "G55")]
-    pub g55: [f64; 3],
-    #[serde(rename = "G56")]
-    pub g56: [f64; 3],
-    #[serde(rename = "G57")]
-    pub g57: [f64; 3],
-}
-
-impl ZeroOffsets {
-    /// Offset for G54 (index 1) … G57 (index 4); index 0 is "no offset".
-    pub fn get(&self, index: u8) -> [f64; 3] {
-        match index {
-            1 => self.g54,
-            2 => self.g55,
-            3 => self.g56,
-            4 => self.g57,
-            _ => [0.0; 3],
-        }
-    }
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct IpoData {
     /// Interpolation cycle in microseconds.
     pub cycle_us: u32,
@@ -243,8 +217,11 @@ pub struct HmiData {
     /// Largest wear value an operator may enter, mm (either sign).
     pub max_wear: f64,
     /// Offset edits while the program runs: false refuses them (840C 11.8: immediately
-    /// effective only in NC stop); true stores them, to act when that D is next programmed.
+    /// effective only in NC stop); true stores them: a tool offset acts when that D is next
+    /// programmed, a work offset from the next program start (docs/work-offsets.md).
     pub edit_while_active: bool,
+    /// Largest work-offset value an operator may enter, mm or degrees (either sign).
+    pub max_work_offset: f64,
 }
 
 impl HmiData {
@@ -278,12 +255,15 @@ pub struct MachineData {
     pub tool_post: ToolPost,
     pub program: ProgramData,
     pub trc: TrcData,
-    pub zero_offsets: ZeroOffsets,
     pub ipo: IpoData,
     pub plc: PlcData,
     pub hmi: HmiData,
     pub simulate: SimulateData,
     pub axes: Axes,
+    /// The work offsets in force (setting data, not machine data: from the work-offset file
+    /// or all zero, docs/work-offsets.md).
+    #[serde(skip)]
+    pub work_offsets: crate::work_offsets::WorkOffsets,
 }
 
 /// A machine data problem: which file, which key, why.
@@ -384,16 +364,6 @@ impl MachineData {
         self.validate_hmi()?;
         self.validate_program()?;
         self.validate_trc()?;
-        for (name, off) in [
-            ("G54", self.zero_offsets.g54),
-            ("G55", self.zero_offsets.g55),
-            ("G56", self.zero_offsets.g56),
-            ("G57", self.zero_offsets.g57),
-        ] {
-            for (i, v) in off.iter().enumerate() {
-                range(&format!("zero_offsets.{name}[{i}]"), *v, -1e6, 1e6)?;
-            }
-        }
         whole("ipo.cycle_us", self.ipo.cycle_us, 125, 100_000)?;
         self.validate_plc()?;
         let sim = &self.simulate;
@@ -412,6 +382,7 @@ impl MachineData {
         for (key, v) in [
             ("hmi.max_radius", self.hmi.max_radius),
             ("hmi.max_wear", self.hmi.max_wear),
+            ("hmi.max_work_offset", self.hmi.max_work_offset),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= crate::tools::MAX_OFFSET_MM) {
                 return Err((

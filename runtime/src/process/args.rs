@@ -63,6 +63,10 @@ pub struct KernelArgs {
     /// Override the radius of offset n, e.g. `--set D1=10.0`.
     #[arg(long = "set", value_name = "Dn=R")]
     pub set: Vec<String>,
+    /// Work-offset file (TOML), where work-offset edits are also saved; all zero and not
+    /// saved if not given.
+    #[arg(long, value_name = "FILE")]
+    pub offsets: Option<PathBuf>,
     /// The IPO thread's SCHED_FIFO priority, 1 to 99.
     #[arg(long, value_name = "P", value_parser = priority, default_value_t = 80)]
     pub priority: i32,

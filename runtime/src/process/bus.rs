@@ -35,6 +35,7 @@ pub struct IceBus {
     pub skipped: u64,
     /// The tool table's version, for the status (set by the control thread's commands).
     pub tools_version: u32,
+    pub work_offsets_version: u32,
     cycle_ns: u64,
     axes: crate::WireAxes,
     /// Sends that failed (no memory to loan, a peer gone while sending).
@@ -103,6 +104,7 @@ impl IceBus {
             deadline_ns: 0,
             skipped: 0,
             tools_version: 1,
+            work_offsets_version: 1,
             cycle_ns,
             axes,
             send_errors: 0,
@@ -206,6 +208,7 @@ impl Bus for IceBus {
             aux_sent: st.aux_sent,
             aux_acked: st.aux_acked,
             tools_version: self.tools_version,
+            work_offsets_version: self.work_offsets_version,
             plc_cycle: st.plc_cycle,
             state: st.state.map_or(state::RESET, state_code),
             single_block: st.single_block as u8,
@@ -215,6 +218,9 @@ impl Bus for IceBus {
             block_seq: st.progress.map_or(0, |p| p.source.seq),
             piece: st.progress.map_or(0, |p| p.nth),
             along: st.progress.map_or(0.0, |p| p.along),
+            work_offset: 0,
+            tool: 0,
+            edge: 0,
         };
         if self.status.send_copy(msg).is_err() {
             self.send_errors += 1;

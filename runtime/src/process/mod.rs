@@ -1,7 +1,8 @@
 //! nc-kernel process: the NC kernel on the live clock — preparation thread, lock-free
 //! queue, cyclic IPO thread (SCHED_FIFO, locked memory, absolute deadlines).
 //!
-//! `nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE]`: a process
+//! `nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE]
+//! [--offsets FILE]`: a process
 //! of the control, talking to plc-sim and the HMI over iceoryx2 (serve.rs).
 //!
 //! `nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P]`: the
@@ -22,7 +23,10 @@ use std::time::Duration;
 
 /// The nc-kernel process.
 pub fn main(args: KernelArgs) -> Result<(), Failure> {
-    let md = args::machine(args.machine.as_deref())?;
+    let mut md = args::machine(args.machine.as_deref())?;
+    if let Some(p) = &args.offsets {
+        md.work_offsets = nc_kernel::WorkOffsets::load(p, &md).map_err(|e| e.to_string())?;
+    }
     let tools = args.tool_table()?;
     if let Some(instance) = args.instance {
         return serve::run(serve::ServeOptions {
@@ -32,6 +36,7 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
             md,
             tools,
             tools_path: args.tools,
+            offsets_path: args.offsets,
             priority: args.priority,
         });
     }

@@ -6,9 +6,9 @@
 use super::super::block::*;
 use super::super::fault::{fault, Fault, Offset, R};
 use super::super::interpreter::Interpreter;
-use super::super::words::Words;
+use super::super::words::{int_value, Words};
 use crate::alarm::AlarmCode;
-use crate::dialect::{Dialect, GCodeDef, GEffect};
+use crate::dialect::{Dialect, GCodeDef, GEffect, GName};
 use crate::trc::SideChange;
 
 /// A block's G codes as their table rows (not copies: the common block has one or two), with
@@ -23,6 +23,10 @@ pub(super) struct BlockCodes {
     pub working_area: Option<bool>,
     /// Where a G40/G41/G42 was written.
     pub trc_at: Option<u32>,
+    /// Where a numbered work offset's G code was written (Fanuc G54.1: the set is P).
+    pub numbered_at: Option<u32>,
+    /// A tool length compensation code was written (Fanuc G43/G44/G49).
+    pub length: bool,
 }
 
 impl Interpreter<'_> {
@@ -39,7 +43,11 @@ impl Interpreter<'_> {
                 return Err(fault(
                     AlarmCode::SameGroupTwice,
                     at,
-                    format!("G{code} and G{} belong to the same group", other.code),
+                    format!(
+                        "{} and {} belong to the same group",
+                        GName(code),
+                        GName(other.code)
+                    ),
                 ));
             }
             self.check_with_trc(def, at)?;
@@ -60,7 +68,7 @@ impl Interpreter<'_> {
         fault(
             AlarmCode::UnknownGCode,
             at,
-            format!("G{code} is not a {} G code", self.d.name.as_str()),
+            format!("{} is not a {} G code", GName(code), self.d.name.as_str()),
         )
     }
 
@@ -77,11 +85,14 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::PlaneChangeWithTrc,
                 at,
-                format!("G{code}: the plane cannot be changed while TRC is active"),
+                format!(
+                    "{}: the plane cannot be changed while TRC is active",
+                    GName(code)
+                ),
             ));
         }
         if def.forbidden_with_trc {
-            return Err(self.forbidden_with_trc(&format!("G{code}"), at));
+            return Err(self.forbidden_with_trc(&GName(code).to_string(), at));
         }
         Ok(())
     }
@@ -108,7 +119,10 @@ impl Interpreter<'_> {
             dwell: None,
             working_area: None,
             trc_at: None,
+            numbered_at: None,
+            length: false,
         };
+        self.machine_coordinates = false;
         let blk = &mut self.block;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
             match effect {
@@ -131,12 +145,41 @@ impl Interpreter<'_> {
                 GEffect::FeedAdaption(fa) => new.feed_adaption = fa,
                 GEffect::Masking(on) => new.masking = on,
                 GEffect::WorkOffset(i) => new.work_offset = i,
+                GEffect::NumberedWorkOffset => g.numbered_at = Some(at),
+                GEffect::MachineCoordinates => self.machine_coordinates = true,
+                GEffect::ToolLength(c) => {
+                    new.length_comp = c;
+                    g.length = true;
+                }
                 GEffect::WorkingArea { max } => g.working_area = Some(max),
                 GEffect::PoleHere => new.pole = self.cur,
                 GEffect::Unsupported(_) => {}
             }
         }
         Ok(g)
+    }
+
+    /// Step 4, a numbered work offset: the set is P (Fanuc G54.1 P1…P48).
+    pub(super) fn numbered_work_offset(&self, w: &Words, at: u32, new: &mut ModalState) -> R<()> {
+        let p = w.p.ok_or_else(|| {
+            fault(
+                AlarmCode::MissingValue,
+                at,
+                "a numbered work offset needs its number P",
+            )
+        })?;
+        let n = int_value(p.value, p.at, "P")?;
+        new.work_offset = self.d.numbered_work_offset(n).ok_or_else(|| {
+            fault(
+                AlarmCode::BadNumber,
+                p.at,
+                format!(
+                    "P{n}: the control has numbered work offsets P1 … P{}",
+                    self.d.numbered_work_offsets
+                ),
+            )
+        })?;
+        Ok(())
     }
 
     /// Step 4, words that switch a modal state: 808D `DIAMON`/`DIAMOF`.

@@ -33,14 +33,18 @@ impl Interpreter<'_> {
         // 4. The G codes' effects, and modal switches written as words (808D DIAMON).
         let mut new = self.block.modal;
         let g = self.g_effects(&codes, &mut new)?;
+        if let Some(at) = g.numbered_at {
+            self.numbered_work_offset(w, at, &mut new)?;
+        }
         self.diameter_switch(w, &mut new);
         // 5. Feed and spindle speed; a dwell block's F is its time.
         if g.dwell.is_none() {
             self.feed(w, &mut new)?;
         }
         self.spindle(&mut new, block_col)?;
-        // 6. Tool and tool offset (840C 11.5: D0 deselects).
+        // 6. Tool and tool offset (840C 11.5: D0 deselects); the H register's length.
         self.tool_offset(w, &mut new, block_col)?;
+        self.length_register(w, &mut new, g.length, block_col)?;
         // 7. Program-flow M functions, acting at block end (840C 11.10).
         self.program_stops(w)?;
         // 8. The axis words: a dwell time, the working area's limits, or the motion.
@@ -85,7 +89,8 @@ impl Interpreter<'_> {
             self.cur_add = a.to;
         }
         if blk.stop.is_some_and(|s| s.ends_program()) {
-            new.pole = self.md.zero_offsets.get(new.work_offset);
+            let o = self.md.work_offsets.get(new.work_offset);
+            new.pole = [o[0], o[1], o[2]];
             self.finished = true;
         }
         blk.modal = new;

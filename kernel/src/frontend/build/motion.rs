@@ -9,7 +9,7 @@ use super::super::fault::{fault, Fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::words::{Val, Words};
 use crate::alarm::AlarmCode;
-use crate::machine_data::{DecimalInput, Units};
+use crate::machine_data::{DecimalInput, Units, AXES};
 
 /// 840C G25/G26: the working area limitation, in the basic coordinate system.
 #[derive(Clone, Debug)]
@@ -145,9 +145,20 @@ impl Interpreter<'_> {
         Ok(programmed)
     }
 
+    /// The work offset absolute positions take: none in a block in machine coordinates.
+    fn work_offset(&self, new: &ModalState) -> &[f64; AXES] {
+        if self.machine_coordinates {
+            &[0.0; AXES]
+        } else {
+            self.md.work_offsets.get(new.work_offset)
+        }
+    }
+
     /// Where the additional axes go for their words: mm (inch converted) or degrees,
-    /// absolute (a modulo axis within its turn, axes.rs) or incremental.
+    /// absolute (plus the work offset; a modulo axis within its turn, axes.rs) or
+    /// incremental.
     fn additional_end(&self, w: &Words, new: &ModalState) -> R<Additional> {
+        let offset = self.work_offset(new);
         let mut end = self.cur_add;
         for (k, a) in w.additional.iter().enumerate() {
             let (Some(a), Some(ax)) = (a, self.md.axes.get(k + 3)) else {
@@ -156,7 +167,7 @@ impl Interpreter<'_> {
             let rotary = ax.kind == crate::machine_data::AxisKind::Rotary;
             let v = self.length(*a, if rotary { Units::Mm } else { new.units });
             end[k] = match new.distance {
-                Distance::Absolute => ax.absolute_target(self.cur_add[k], v),
+                Distance::Absolute => ax.absolute_target(self.cur_add[k], v + offset[k + 3]),
                 Distance::Incremental => self.cur_add[k] + v,
             };
             if !in_range(end[k]) {
@@ -249,7 +260,7 @@ impl Interpreter<'_> {
 
     /// The end point of the axis words; the axes not written stay where they are.
     fn end_point(&self, w: &Words, new: &ModalState, start: Pos) -> R<Pos> {
-        let offset = self.md.zero_offsets.get(new.work_offset);
+        let offset = self.work_offset(new);
         let mut end = start;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
@@ -336,7 +347,7 @@ impl Interpreter<'_> {
         let normal = new.plane.normal as usize;
         let mut end = start;
         if let Some(a) = w.axis[normal] {
-            let offset = self.md.zero_offsets.get(new.work_offset);
+            let offset = self.work_offset(new);
             let v = self.length(a, new.units);
             end[normal] = match new.distance {
                 Distance::Absolute => v + offset[normal],
@@ -361,7 +372,7 @@ impl Interpreter<'_> {
     /// The pole from the plane-axis words: absolute plus the zero offset, or added to the
     /// last pole (880 4.2.5).
     fn pole(&self, w: &Words, new: &mut ModalState) {
-        let offset = self.md.zero_offsets.get(new.work_offset);
+        let offset = self.work_offset(new);
         let (pa, po) = (new.plane.abscissa as usize, new.plane.ordinate as usize);
         for i in [pa, po] {
             if let Some(a) = w.axis[i] {

@@ -7,6 +7,7 @@ use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::words::{int_value, Words};
 use crate::alarm::AlarmCode;
+use crate::dialect::LengthOffset;
 use crate::machine_data::Units;
 
 impl Interpreter<'_> {
@@ -89,7 +90,9 @@ impl Interpreter<'_> {
     fn no_offset(&mut self, new: &mut ModalState) {
         new.d = 0;
         new.radius = 0.0;
-        new.length = 0.0;
+        if self.d.length_offset == LengthOffset::WithD {
+            new.length = 0.0;
+        }
         new.edge = 0;
         let blk = &mut self.block;
         if self.d.d0_deselects && blk.modal.trc != TrcSide::Off && blk.trc.is_none() {
@@ -111,8 +114,49 @@ impl Interpreter<'_> {
         })?;
         new.d = dn;
         new.radius = radius;
-        new.length = length;
+        if self.d.length_offset == LengthOffset::WithD {
+            new.length = length;
+        }
         new.edge = edge.unwrap_or(0);
+        Ok(())
+    }
+
+    /// Step 6 on controls with H registers (Fanuc G43/G44/G49): the length of H, signed,
+    /// taken when a length code or H is written (an H edited in the table acts at the next
+    /// H, as a D does). H0 is no length.
+    pub(super) fn length_register(
+        &mut self,
+        w: &Words,
+        new: &mut ModalState,
+        code: bool,
+        block_col: usize,
+    ) -> R<()> {
+        if self.d.length_offset != LengthOffset::HRegister || !(code || w.h.is_some()) {
+            return Ok(());
+        }
+        if let Some(h) = w.h {
+            new.h = int_value(h.value, h.at, "H")?;
+        }
+        let sign = match new.length_comp {
+            LengthComp::Off => 0.0,
+            LengthComp::Plus => 1.0,
+            LengthComp::Minus => -1.0,
+        };
+        new.length = if sign == 0.0 || new.h == 0 {
+            0.0
+        } else {
+            let at = w.h.map_or(block_col, |h| h.pos());
+            let (_, length, _) = self.tools.resolve(None, new.h).ok_or_else(|| {
+                fault(
+                    AlarmCode::UnknownOffset,
+                    at,
+                    format!("tool length offset H{} is not in the tool table", new.h),
+                )
+            })?;
+            sign * length
+        };
+        self.vars.tool_length = new.length;
+        self.block.offset_changed = true;
         Ok(())
     }
 }

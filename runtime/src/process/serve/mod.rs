@@ -12,6 +12,8 @@
 //! Programs are built (preparation thread started, channel allocated) here and handed over
 //! boxed, so the IPO thread never allocates or frees.
 
+mod work_offsets;
+
 use super::bus::IceBus;
 use crate::clock::CycleClock;
 use crate::os;
@@ -36,6 +38,9 @@ pub struct ServeOptions {
     pub tools: ToolTable,
     /// Where offset edits are saved (atomically); `None`: the built-in table, not saved.
     pub tools_path: Option<std::path::PathBuf>,
+    /// Where work-offset edits are saved (`md.work_offsets` was read from it); `None`: not
+    /// saved.
+    pub offsets_path: Option<std::path::PathBuf>,
     pub priority: i32,
 }
 
@@ -59,6 +64,8 @@ struct Shared {
     done: AtomicBool,
     /// The tool table's version, shown in the status.
     tools_version: std::sync::atomic::AtomicU32,
+    /// The work-offset table's version, shown in the status.
+    work_offsets_version: std::sync::atomic::AtomicU32,
 }
 
 /// The control thread's own state besides the ports.
@@ -67,6 +74,9 @@ struct Desk<'a> {
     md: &'a MachineData,
     tools: ToolTable,
     tools_path: Option<std::path::PathBuf>,
+    /// The work offsets programs are loaded with (edited here), and their file.
+    work: nc_kernel::WorkOffsets,
+    work_path: Option<std::path::PathBuf>,
     programs: HashMap<u32, Loaded>,
     next_id: u32,
     /// Offsets changed in NC stop since the program stopped: NC start resumes with them.
@@ -115,6 +125,7 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         garbage: ArrayQueue::new(4),
         done: AtomicBool::new(false),
         tools_version: std::sync::atomic::AtomicU32::new(1),
+        work_offsets_version: std::sync::atomic::AtomicU32::new(1),
     });
     let ipo = start_ipo(&instance, &md, start, opts.priority, &shared)?;
     let mut desk = Desk {
@@ -122,6 +133,8 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         md: &md,
         tools,
         tools_path: opts.tools_path,
+        work: md.work_offsets.clone(),
+        work_path: opts.offsets_path,
         programs,
         next_id,
         changed_in_stop: false,
@@ -283,6 +296,7 @@ fn ipo_thread(
         bus.deadline_ns = tick.deadline;
         bus.skipped = clock.skipped();
         bus.tools_version = shared.tools_version.load(Ordering::Relaxed);
+        bus.work_offsets_version = shared.work_offsets_version.load(Ordering::Relaxed);
         while let Some(c) = shared.ctrl.pop() {
             let r = cyclic.command(c);
             let _ = shared.answers.push(r);
@@ -395,6 +409,14 @@ fn control(
         .map_err(|e| format!("cannot publish the tool table: {e:?}"))?;
     let _ = tools_pub.send_copy(desk.table_msg(1));
     let mut published = 1u32;
+    let work_pub = instance
+        .work_offsets(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .create()
+        .map_err(|e| format!("cannot publish the work offsets: {e:?}"))?;
+    let _ = work_pub.send_copy(desk.work_offsets_msg(1));
+    let mut work_published = 1u32;
     let mut tools_seen = Instant::now();
     if let Some(p) = first {
         if let Err(r) = ask(shared, Control::Load(p)) {
@@ -417,6 +439,7 @@ fn control(
         // for new subscribers: now and then, not only when the table changes.
         if tools_seen.elapsed() > Duration::from_millis(50) {
             let _ = tools_pub.update_connections();
+            let _ = work_pub.update_connections();
             tools_seen = Instant::now();
         }
         while let Ok(Some(req)) = server.receive() {
@@ -431,6 +454,12 @@ fn control(
                 published = version;
             }
             reply.tools_version = version;
+            let work = shared.work_offsets_version.load(Ordering::Acquire);
+            if work != work_published {
+                let _ = work_pub.send_copy(desk.work_offsets_msg(work));
+                work_published = work;
+            }
+            reply.work_offsets_version = work;
             let _ = req.send_copy(reply);
         }
         receive_each(&status, |s| last = report_status(s, &last));
@@ -527,7 +556,7 @@ impl Desk<'_> {
                 let id = self.next_id;
                 match load(
                     path,
-                    self.md,
+                    &self.program_md(),
                     &self.tools,
                     id,
                     Some(crate::WireAxes::new(self.md).from_wire(&last.pos)),
@@ -546,6 +575,7 @@ impl Desk<'_> {
                 }
             }
             command::SET_OFFSET => self.set_offset(c, last),
+            command::SET_WORK_OFFSET => self.set_work_offset(c, last),
             command::PROGRAM_INFO => match self.programs.get(&c.d) {
                 Some(l) => Reply::new(true, 0, &l.name),
                 None => Reply::new(false, 0, &format!("no program number {}", c.d)),
@@ -652,7 +682,7 @@ impl Desk<'_> {
         let spawned = nc_kernel::handover::spawn_resume(
             l.name.clone(),
             l.source.clone(),
-            self.md.clone(),
+            self.program_md(),
             tools,
             l.at,
             at,
@@ -727,4 +757,8 @@ impl Desk<'_> {
 
 fn shared_bump(shared: &Shared) -> u32 {
     shared.tools_version.fetch_add(1, Ordering::AcqRel) + 1
+}
+
+fn shared_bump_work(shared: &Shared) -> u32 {
+    shared.work_offsets_version.fetch_add(1, Ordering::AcqRel) + 1
 }
