@@ -54,7 +54,7 @@ enum Command {
     },
     /// Run the program through the kernel (preparation, lookahead, interpolation, channel)
     /// against a simulated clock and write one CSV row per IPO cycle:
-    /// `cycle,time,X,Y,Z,v_path,block,events` (docs/ipo.md). Bit-identical on every run.
+    /// `cycle,time,X,Y,Z,S1,v_path,block,events` (docs/ipo.md). Bit-identical on every run.
     Simulate {
         #[command(flatten)]
         input: ProgramArgs,
@@ -82,7 +82,7 @@ enum Command {
         instance: Option<String>,
         /// Keep plc-sim's CSV trace in FILE: setpoint, actual (A…) and following error (F…)
         /// of every configured axis
-        /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events` on a mill).
+        /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,S1,AS1,v_path,line,state,events` on a mill).
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Write the picture to FILE (default: <program>.run.svg here).

@@ -170,12 +170,13 @@ fn rows(csv: &[u8]) -> Vec<Row> {
     text.lines()
         .skip(1)
         .map(|l| {
-            let f: Vec<&str> = l.splitn(8, ',').collect();
+            // cycle,time,X,Y,Z,S1,v_path,block,events
+            let f: Vec<&str> = l.splitn(9, ',').collect();
             let n = |i: usize| f[i].parse::<f64>().unwrap();
             Row {
                 pos: [n(2), n(3), n(4)],
-                v: n(5),
-                events: f[7].to_string(),
+                v: n(6),
+                events: f[8].to_string(),
             }
         })
         .collect()

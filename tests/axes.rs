@@ -163,15 +163,15 @@ fn simulate(md: &MachineData, text: &str) -> (Vec<Row>, nc_kernel::simulate::Sum
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("cycle,time,X,Y,Z,A,C,v_path,block,events")
+        Some("cycle,time,X,Y,Z,A,C,S1,v_path,block,events")
     );
     let rows = lines
         .map(|l| {
-            let f: Vec<f64> = l.split(',').take(8).map(|x| x.parse().unwrap()).collect();
+            let f: Vec<f64> = l.split(',').take(9).map(|x| x.parse().unwrap()).collect();
             Row {
                 t: f[1],
                 p: [f[2], f[3], f[4], f[5], f[6]],
-                v: f[7],
+                v: f[8],
             }
         })
         .collect();

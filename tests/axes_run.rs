@@ -22,7 +22,7 @@ fn five_axes_run_through_plc_sim_with_every_axis_in_the_trace() {
     assert!(run.stdout.contains("ran to its end"), "{}", run.stdout);
     let header = std::fs::read_to_string(&tr).unwrap();
     assert!(
-        header.starts_with("time,cycle,seq,X,Y,Z,A,C,AX,AY,AZ,AA,AC,FX,FY,FZ,FA,FC,v_path,"),
+        header.starts_with("time,cycle,seq,X,Y,Z,A,C,AX,AY,AZ,AA,AC,FX,FY,FZ,FA,FC,S1,AS1,v_path,"),
         "{}",
         header.lines().next().unwrap_or("")
     );
@@ -80,6 +80,68 @@ fn a_program_past_a_software_limit_is_refused_before_motion() {
     if let Ok(text) = std::fs::read_to_string(&tr) {
         if text.lines().count() > 1 {
             assert!(trace(&tr).iter().all(|r| r.sp[0] == 0.0), "something moved");
+        }
+    }
+}
+
+/// The shipped lathe with a C axis and its main spindle, end to end: the sample turns a
+/// shoulder at constant surface speed with feed per revolution, stops the spindle and
+/// drills four radial holes positioned with C. From plc-sim's trace: every axis and the
+/// spindle, no setpoint lost, the final position as programmed; the spindle's setpoint is
+/// n = 150000 / (2π·r) (G96 S150) at the turning radius, plc-sim's spindle comes up to it,
+/// and the path runs at F × the actual speed (G95).
+#[test]
+fn the_lathe_with_c_and_spindle_runs_its_sample_through_plc_sim() {
+    let inst = instance("lathesp");
+    let tr = scratch("lathesp.csv");
+    let run = softnc_run(
+        Path::new("programs/siemens-808d-c/c_axis_cross_holes.mpf"),
+        &inst,
+        &tr,
+        &["--machine", "config/siemens-808d-c.toml"],
+    );
+    assert!(run.success(), "{}", run.said());
+    let header = std::fs::read_to_string(&tr).unwrap();
+    assert!(
+        header.starts_with("time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,S1,AS1,v_path,"),
+        "{}",
+        header.lines().next().unwrap_or("")
+    );
+    let rows = trace(&tr);
+    assert!(rows.iter().all(|r| r.seq > 0), "no watchdog rows");
+    for w in rows.windows(2) {
+        assert_eq!(w[1].seq, w[0].seq + 1, "no setpoint lost");
+    }
+    let last = rows.last().unwrap();
+    assert_eq!(last.state, "END");
+    assert_eq!(last.sp, [40.0, 0.0, 50.0], "X80 (a diameter) Z50");
+    assert_eq!(last.axis('C').map(|c| c[0]), Some(360.0));
+    assert_eq!(last.spindle, vec![[0.0, 0.0]], "M5: stopped");
+    // N30 (line 8): X62 is r = 31 mm: 150000 / (2π·31) = 770.1046 rev/min; the path
+    // runs at F0.5 × the actual speed once it is there.
+    let n = 150_000.0 / (2.0 * std::f64::consts::PI * 31.0);
+    let cut: Vec<&TraceRow> = rows.iter().filter(|r| r.line == 8).collect();
+    assert!(cut.len() > 1000, "{}", cut.len());
+    for r in &cut {
+        assert!((r.spindle[0][0] - n).abs() < 1e-9, "{:?}", r.spindle);
+    }
+    let steady: Vec<&&TraceRow> = cut
+        .iter()
+        .filter(|r| (r.spindle[0][1] - n).abs() < 1e-6)
+        .collect();
+    assert!(
+        steady.len() > cut.len() / 2,
+        "the spindle is at speed for most of the cut"
+    );
+    let top = cut.iter().map(|r| r.v * 60.0).fold(0.0, f64::max);
+    assert!((top - 0.5 * n).abs() < 1e-6, "{top} mm/min vs {}", 0.5 * n);
+    // The holes (lines 17, 20, 23, 26) with the spindle stopped, C at its angle.
+    for (line, c) in [(17, 0.0), (20, 90.0), (23, 180.0), (26, 270.0)] {
+        let hole: Vec<&TraceRow> = rows.iter().filter(|r| r.line == line).collect();
+        assert!(!hole.is_empty(), "line {line}");
+        for r in hole {
+            assert_eq!(r.spindle[0], [0.0, 0.0], "line {line}");
+            assert_eq!(r.axis('C').map(|a| a[0]), Some(c), "line {line}");
         }
     }
 }

@@ -323,3 +323,91 @@ fn the_page_shows_a_lathes_axes_by_name() {
     assert_eq!(last.axis('C').map(|c| c[0]), Some(400.0));
     assert_eq!(last.sp[1], 0.0, "a lathe has no Y");
 }
+
+/// The work-offset panel: the kernel's sets (G54 … G57 on the 840C) with a value per axis;
+/// values typed into G54's row and set: the page follows the new table version and shows
+/// the kernel's message, the values are in the API's table and in the saved file. A value
+/// beyond `hmi.max_work_offset` is refused on the page with its reason, nothing changed.
+#[test]
+fn the_page_edits_a_work_offset() {
+    let Some((chromium, chromedriver)) = browser() else {
+        return;
+    };
+    let offsets = write("browser-wo.toml", "[G55]\nY = -7.5\n");
+    let st = station(
+        "browser-wo",
+        None,
+        &["--offsets", offsets.to_str().unwrap()],
+        &[],
+    );
+    st.work_offsets();
+    let b = Browser::start(&chromium, &chromedriver);
+    b.open(&st.bridge.addr);
+    b.wait(
+        "return [...document.querySelectorAll('#work tr')].map(r => r.dataset.set).join()",
+        &json!("G54,G55,G56,G57"),
+        Duration::from_secs(10),
+    );
+    b.wait(
+        "return [...document.querySelectorAll('#wo-head th')].map(e => e.textContent).join()",
+        &json!("Set,X,Y,Z,"),
+        Duration::from_secs(5),
+    );
+    let input = |set: &str, axis: &str| format!("tr[data-set='{set}'] input[data-axis='{axis}']");
+    let value = |css: &str| format!("return document.querySelector(\"{css}\").value");
+    b.wait(
+        &value(&input("G55", "Y")),
+        &json!("-7.5"),
+        Duration::from_secs(5),
+    );
+    b.type_into(&input("G54", "X"), "12.5");
+    b.type_into(&input("G54", "Z"), "-3");
+    b.click("button[data-work='G54']");
+    b.wait(
+        "return document.body.dataset.workOffsetsVersion",
+        &json!("2"),
+        Duration::from_secs(10),
+    );
+    b.wait(
+        "return document.querySelector('#wo-msg').className",
+        &json!("good"),
+        Duration::from_secs(5),
+    );
+    let msg = b.script("return document.querySelector('#wo-msg').textContent");
+    assert!(msg.as_str().unwrap_or("").contains("G54"), "{msg}");
+    // The table shown again, from the kernel's new version.
+    b.wait(
+        &value(&input("G54", "Z")),
+        &json!("-3"),
+        Duration::from_secs(5),
+    );
+    let table = st.work_offsets();
+    assert_eq!(table["version"], json!(2));
+    assert_eq!(
+        table["sets"][0]["values"],
+        json!({ "X": 12.5, "Y": 0.0, "Z": -3.0 })
+    );
+    let md = nc_kernel::MachineData::load(None, &[]).unwrap();
+    let saved = nc_kernel::WorkOffsets::load(&offsets, &md).expect("a whole work-offset file");
+    assert_eq!(saved.get(1)[..3], [12.5, 0.0, -3.0]);
+    assert_eq!(saved.get(2)[..3], [0.0, -7.5, 0.0]);
+
+    // Beyond the limit: refused with its reason, the version stays.
+    b.type_into(&input("G56", "X"), "20000");
+    b.click("button[data-work='G56']");
+    b.wait(
+        "return document.querySelector('#wo-msg').className",
+        &json!("bad"),
+        Duration::from_secs(5),
+    );
+    let msg = b.script("return document.querySelector('#wo-msg').textContent");
+    assert!(
+        msg.as_str().unwrap_or("").contains("hmi.max_work_offset"),
+        "{msg}"
+    );
+    assert_eq!(st.work_offsets()["version"], json!(2));
+    assert_eq!(
+        b.script("return document.body.dataset.workOffsetsVersion"),
+        json!("2")
+    );
+}

@@ -494,6 +494,8 @@ fn random_requests_are_answered_and_the_bridge_stays_up() {
         Just("program"),
         Just("percent"),
         Just("on"),
+        Just("set"),
+        Just("values"),
         Just("x"),
     ];
     // Values of the right kind for the key, or anything.
@@ -502,6 +504,17 @@ fn random_requests_are_answered_and_the_bridge_stays_up() {
             "d" | "t" => (0u32..4).prop_map(|n| n.to_string()).boxed(),
             "radius" | "percent" => (-20.0f64..150.0).prop_map(|x| format!("{x}")).boxed(),
             "wear" | "on" => any::<bool>().prop_map(|b| b.to_string()).boxed(),
+            "set" => prop_oneof![
+                Just("\"G54\"".to_string()),
+                Just("\"g54.1 p3\"".to_string())
+            ]
+            .boxed(),
+            "values" => (
+                prop_oneof![Just("X"), Just("z"), Just("Q")],
+                -20.0f64..150.0,
+            )
+                .prop_map(|(a, v)| format!("{{\"{a}\":{v}}}"))
+                .boxed(),
             "program" => prop_oneof![
                 Just("\"square.mpf\"".to_string()),
                 Just("\"../etc/passwd\"".to_string()),
@@ -536,6 +549,8 @@ fn random_requests_are_answered_and_the_bridge_stays_up() {
         Just("/api/program".to_string()),
         Just("/api/plot".to_string()),
         Just("/api/offset".to_string()),
+        Just("/api/work-offsets".to_string()),
+        Just("/api/work-offset".to_string()),
         Just("/api/load".to_string()),
         Just("/api/override".to_string()),
         Just("/api/single-block".to_string()),
@@ -948,4 +963,166 @@ fn a_crash_while_saving_leaves_a_whole_tool_file() {
         saved.offset.len(),
         nc_kernel::ToolTable::builtin().offset.len()
     );
+}
+
+/// A raw POST to /api/work-offset.
+fn work_offset_raw(b: &Bridge, body: &str) -> hmi_bridge::client::Answer {
+    b.request("POST", "/api/work-offset", Some(body)).unwrap()
+}
+
+/// Without a kernel: a malformed edit is refused as such; a well-formed one and the table
+/// wait for the kernel's table (503); the wrong methods are 405.
+#[test]
+fn work_offset_requests_without_a_kernel() {
+    let l = lone("wolone");
+    let m = refused(
+        work_offset_raw(&l.bridge, r#"{"set":"G54","values":{"X":"#),
+        400,
+        "malformed",
+    );
+    assert!(m.contains("malformed JSON"), "{m}");
+    let m = refused(
+        work_offset_raw(&l.bridge, r#"{"set":"G54","values":{"X":1}}"#),
+        503,
+        "no table",
+    );
+    assert!(m.contains("work-offset table"), "{m}");
+    refused(l.bridge.get("/api/work-offsets").unwrap(), 503, "table");
+    refused(l.bridge.get("/api/work-offset").unwrap(), 405, "GET edit");
+    refused(
+        l.bridge.post("/api/work-offsets", &json!({})).unwrap(),
+        405,
+        "POST table",
+    );
+}
+
+/// Work offsets through a whole control (840C: G54 … G57 on X, Y, Z), the table saved to a
+/// file: every kind of bad edit is answered 4xx with its reason and changes nothing (the
+/// version, the values and the file stay); a good edit in RESET is taken, named by the new
+/// version and saved.
+#[test]
+fn work_offset_edits_are_checked_taken_and_saved() {
+    let offsets = write("wo-api.toml", "[G54]\nX = 10.0\n");
+    let st = station(
+        "woapi",
+        None,
+        &["--offsets", offsets.to_str().unwrap()],
+        &[],
+    );
+    let table = st.work_offsets();
+    let names: Vec<&str> = table["sets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|s| s["name"].as_str())
+        .collect();
+    assert_eq!(names, ["G54", "G55", "G56", "G57"], "{table}");
+    assert_eq!(table["axes"], json!(["X", "Y", "Z"]));
+    assert_eq!(
+        (&table["version"], &table["saved"]),
+        (&json!(1), &json!(true))
+    );
+    assert_eq!(
+        table["sets"][0]["values"],
+        json!({ "X": 10.0, "Y": 0.0, "Z": 0.0 })
+    );
+    assert_eq!(table["max_work_offset"], json!(10000.0));
+    let file = std::fs::read_to_string(&offsets).unwrap();
+    let bad = [
+        (r#"{"set":"G60","values":{"X":1}}"#, 422, "G54 … G57"),
+        (
+            r#"{"set":"G54.1 P3","values":{"X":1}}"#,
+            422,
+            "not a work offset",
+        ),
+        (
+            r#"{"set":"G54","values":{"C":1}}"#,
+            422,
+            "its axes are X, Y, Z",
+        ),
+        (r#"{"set":"G54","values":{"Q":1}}"#, 422, "not an axis"),
+        (
+            r#"{"set":"G54","values":{"X":10000.5}}"#,
+            422,
+            "hmi.max_work_offset",
+        ),
+        (
+            r#"{"set":"G54","values":{"Y":-1e300}}"#,
+            422,
+            "hmi.max_work_offset",
+        ),
+        (r#"{"set":"G54","values":{}}"#, 422, "no axis value"),
+        (r#"{"set":"G54","values":{"x":1,"X":2}}"#, 422, "twice"),
+        (r#"{"set":"G54","values":{"X":"#, 400, "malformed JSON"),
+        (r#"{"set":"G54","values":{"X":NaN}}"#, 400, "malformed JSON"),
+        (r#"{"set":"G54","values":{"X":"5"}}"#, 400, "malformed JSON"),
+        (r#"{"set":"G54","values":[5]}"#, 400, "malformed JSON"),
+        (
+            r#"{"set":"G54","values":{"X":1},"force":true}"#,
+            400,
+            "force",
+        ),
+        (r#"{"values":{"X":1}}"#, 400, "set"),
+    ];
+    for (body, code, says) in bad {
+        let m = refused(work_offset_raw(&st.bridge, body), code, body);
+        assert!(m.contains(says), "{body}: {m}");
+        let now = st.work_offsets();
+        assert_eq!(now["version"], json!(1), "{body}: {now}");
+        assert_eq!(now["sets"], table["sets"], "{body}");
+        assert_eq!(st.status()["work_offsets_version"], json!(1), "{body}");
+    }
+    assert_eq!(std::fs::read_to_string(&offsets).unwrap(), file);
+
+    let (code, r) = st.post(
+        "/api/work-offset",
+        json!({ "set": "g 55", "values": { "x": 12.5, "Z": -3 } }),
+    );
+    assert_eq!(code, 200, "{r}");
+    assert_eq!(r["work_offsets_version"], json!(2), "{r}");
+    assert!(r["message"].as_str().unwrap().contains("G55"), "{r}");
+    let now = st.work_offsets();
+    assert_eq!(now["version"], json!(2));
+    assert_eq!(
+        now["sets"][1]["values"],
+        json!({ "X": 12.5, "Y": 0.0, "Z": -3.0 })
+    );
+    assert_eq!(now["sets"][0], table["sets"][0], "G54 untouched");
+    assert_eq!(st.status()["work_offsets_version"], json!(2));
+    let md = nc_kernel::MachineData::load(None, &[]).unwrap();
+    let saved = nc_kernel::WorkOffsets::load(&offsets, &md).expect("a whole work-offset file");
+    assert_eq!(saved.get(2)[..3], [12.5, 0.0, -3.0]);
+    assert_eq!(saved.get(1)[..3], [10.0, 0.0, 0.0]);
+}
+
+/// A Fanuc control's 54 sets (G54 … G59, G54.1 P1 … P48): a numbered set is named as the
+/// operator writes it, case and spaces aside, and the kernel takes it under its own name.
+#[test]
+fn numbered_work_offsets_are_found_by_name() {
+    let md = root().join("config/fanuc.toml");
+    let md = ["--machine", md.to_str().unwrap()];
+    let st = station_with("wofanuc", &md, None, &md, &md);
+    let table = st.work_offsets();
+    let sets = table["sets"].as_array().unwrap();
+    assert_eq!(sets.len(), 54, "{table}");
+    assert_eq!(
+        (&sets[6]["name"], &sets[53]["name"]),
+        (&json!("G54.1 P1"), &json!("G54.1 P48"))
+    );
+    let (code, r) = st.post(
+        "/api/work-offset",
+        json!({ "set": "g54.1p3", "values": { "Y": -40.25 } }),
+    );
+    assert_eq!(code, 200, "{r}");
+    let now = st.work_offsets();
+    assert_eq!(now["sets"][8]["name"], json!("G54.1 P3"));
+    assert_eq!(now["sets"][8]["values"]["Y"], json!(-40.25));
+    assert_eq!(now["version"], json!(2));
+    let m = refused(
+        work_offset_raw(&st.bridge, r#"{"set":"G54.1 P49","values":{"Y":1}}"#),
+        422,
+        "P49",
+    );
+    assert!(m.contains("G54 … G54.1 P48"), "{m}");
+    assert_eq!(st.work_offsets()["version"], json!(2));
 }

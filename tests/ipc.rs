@@ -188,7 +188,7 @@ fn softnc_run_on_a_lathe_with_c_traces_its_axes_by_name() {
     );
     let header = std::fs::read_to_string(&tr).unwrap();
     assert!(
-        header.starts_with("time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,v_path,"),
+        header.starts_with("time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,S1,AS1,v_path,"),
         "{}",
         header.lines().next().unwrap_or("")
     );

@@ -48,10 +48,13 @@ fn simulate_bytes(md: &MachineData, text: &str, opts: &Options) -> (Vec<u8>, Sum
 fn rows(csv: &[u8]) -> Vec<Row> {
     let text = std::str::from_utf8(csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("cycle,time,X,Y,Z,v_path,block,events"));
+    assert_eq!(
+        lines.next(),
+        Some("cycle,time,X,Y,Z,S1,v_path,block,events")
+    );
     lines
         .map(|l| {
-            let f: Vec<&str> = l.splitn(8, ',').collect();
+            let f: Vec<&str> = l.splitn(9, ',').collect();
             Row {
                 cycle: f[0].parse().unwrap(),
                 pos: [
@@ -59,9 +62,10 @@ fn rows(csv: &[u8]) -> Vec<Row> {
                     f[3].parse().unwrap(),
                     f[4].parse().unwrap(),
                 ],
-                v: f[5].parse().unwrap(),
-                block: f[6].to_string(),
-                events: f[7].to_string(),
+                // f[5]: the spindle (tests/spindle.rs)
+                v: f[6].parse().unwrap(),
+                block: f[7].to_string(),
+                events: f[8].to_string(),
             }
         })
         .collect()

@@ -29,12 +29,13 @@ fn items(src: &str, md: &[&str]) -> Vec<Prepared> {
     v
 }
 
-/// (block, S point, words, position) of every aux record.
+/// (block, S point, words, position) of every aux record that goes to the PLC (a record
+/// that only carries the block's new tool or spindle has no words).
 fn aux(items: &[Prepared]) -> Vec<(String, u32, Vec<String>, [f64; 3])> {
     items
         .iter()
         .filter_map(|x| match x {
-            Prepared::Aux(a) => Some((
+            Prepared::Aux(a) if !a.words.is_empty() => Some((
                 a.source.number.map(|n| n.to_string()).unwrap_or_default(),
                 a.at,
                 a.words.iter().map(|w| w.to_string()).collect(),

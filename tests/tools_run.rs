@@ -51,7 +51,10 @@ fn m6_waits_for_the_plc_and_g43_h_takes_geometry_and_wear() {
         .expect("plc-sim acknowledged the tool change");
     let at = rows[k].sp;
     assert_eq!(at, [0.0, 0.0, 100.0]);
-    let from = rows[..k].iter().rposition(|r| r.sp != at).map_or(0, |j| j + 1);
+    let from = rows[..k]
+        .iter()
+        .rposition(|r| r.sp != at)
+        .map_or(0, |j| j + 1);
     let stood = rows[k].cycle - rows[from].cycle;
     assert!(
         (1450..2500).contains(&stood),
@@ -60,12 +63,20 @@ fn m6_waits_for_the_plc_and_g43_h_takes_geometry_and_wear() {
     // Lines: N10 is line 3. Then N30 (line 5) goes down to Z10 plus H2 (79.75), N40 cuts at that height, N50 takes the
     // length off again.
     let on = |line: u32| rows.iter().filter(move |r| r.line == line);
-    let n30 = on(5).last().expect("N30 ran").sp;
+    let n30 = on(5).next_back().expect("N30 ran").sp;
     assert!((n30[2] - 89.75).abs() < 1e-6, "{n30:?}"); // the last cycle before N40
     assert!(on(6).all(|r| (r.sp[2] - 89.75).abs() < 1e-9));
-    assert!((on(6).last().unwrap().sp[0] - 50.0).abs() < 1e-5, "N40 ends at X50 (blending into N50)");
+    assert!(
+        (on(6).next_back().unwrap().sp[0] - 50.0).abs() < 1e-5,
+        "N40 ends at X50 (blending into N50)"
+    );
     // N30 starts only after the acknowledgement.
-    assert!(rows.iter().position(|r| r.sp[2] < 100.0 && r.line >= 5).unwrap() > k);
+    assert!(
+        rows.iter()
+            .position(|r| r.sp[2] < 100.0 && r.line >= 5)
+            .unwrap()
+            > k
+    );
     let last = rows.last().unwrap();
     assert_eq!((last.sp, last.state.as_str()), ([50.0, 0.0, 100.0], "END"));
 }

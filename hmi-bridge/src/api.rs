@@ -5,6 +5,7 @@
 use crate::link::{Link, Snapshot};
 use crate::net::{Request, Response};
 use crate::plot;
+use crate::work::{self, WorkOffsetEdit};
 use nc_kernel::cycle::{ChannelAlarm, Override};
 use nc_kernel::MachineData;
 use serde::Deserialize;
@@ -26,8 +27,14 @@ pub struct Api {
     pub md: MachineData,
     pub programs: PathBuf,
     streams: Arc<AtomicUsize>,
-    /// (program path, tool table version, the plot as JSON).
-    plot_cache: Mutex<Option<(String, u32, Arc<String>)>>,
+    plot_cache: Mutex<Option<PlotCache>>,
+}
+
+/// The last plot as JSON and what it was drawn from: a program and the versions of the
+/// tool table and the work offsets.
+struct PlotCache {
+    from: (String, u32, u32),
+    json: Arc<String>,
 }
 
 /// A refusal: status code and message.
@@ -143,9 +150,14 @@ impl Api {
                 let b: Offset = body(req)?;
                 self.offset(b)
             }
+            "/api/work-offsets" if !post => self.work_offsets(),
+            "/api/work-offset" if post => {
+                let b: WorkOffsetEdit = body(req)?;
+                self.work_offset(&b)
+            }
             "/api/status" | "/api/tools" | "/api/programs" | "/api/program" | "/api/plot"
             | "/api/start" | "/api/stop" | "/api/reset" | "/api/single-block" | "/api/override"
-            | "/api/load" | "/api/offset" => {
+            | "/api/load" | "/api/offset" | "/api/work-offsets" | "/api/work-offset" => {
                 Err(refuse(405, format!("{path} does not take {method}")))
             }
             _ => Err(refuse(404, format!("no such resource: {path}"))),
@@ -172,14 +184,23 @@ impl Api {
 
     fn command(&self, c: Command) -> Answer {
         let r = self.link.ask(c).map_err(|e| refuse(503, e))?;
-        let version = r.tools_version;
+        let (tools, work) = (r.tools_version, r.work_offsets_version);
         if r.ok != 0 {
             Ok((
                 200,
-                json!({ "ok": true, "message": r.message(), "tools_version": version }),
+                json!({
+                    "ok": true,
+                    "message": r.message(),
+                    "tools_version": tools,
+                    "work_offsets_version": work,
+                }),
             ))
         } else {
-            let mut v = json!({ "error": r.message(), "tools_version": version });
+            let mut v = json!({
+                "error": r.message(),
+                "tools_version": tools,
+                "work_offsets_version": work,
+            });
             if let Some(a) = ChannelAlarm::new(r.alarm) {
                 v["alarm"] = json!(a.number());
             }
@@ -202,6 +223,29 @@ impl Api {
                 .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         }
         self.command(Command::offset(t, b.d, b.radius, b.wear))
+    }
+
+    /// A work-offset edit: checked here against the kernel's last table (422 says what is
+    /// wrong), then the kernel's answer (it checks again and knows the channel's state).
+    fn work_offset(&self, b: &WorkOffsetEdit) -> Answer {
+        let snap = self.link.snapshot();
+        let Some(table) = snap.work_offsets else {
+            return Err(refuse(503, "no work-offset table from the kernel yet"));
+        };
+        let (name, values) = work::check(&table, self.md.hmi.max_work_offset, b)
+            .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
+        self.command(Command::work_offset(&name, &values))
+    }
+
+    fn work_offsets(&self) -> Answer {
+        let snap = self.link.snapshot();
+        let Some(t) = snap.work_offsets else {
+            return Err(refuse(503, "no work-offset table from the kernel yet"));
+        };
+        let mut v = work::table_json(&t, snap.status.map_or(0, |s| s.work_offset));
+        v["max_work_offset"] = json!(self.md.hmi.max_work_offset);
+        v["edit_while_active"] = json!(self.md.hmi.edit_while_active);
+        Ok((200, v))
     }
 
     fn tools(&self) -> Answer {
@@ -292,6 +336,8 @@ impl Api {
         Ok((200, json!({ "path": path, "text": text })))
     }
 
+    /// The plot with the kernel's tool table and work offsets (a program in G54 is drawn
+    /// where the axes go, beside their actual position); cached per program and versions.
     fn plot(&self) -> Answer {
         let snap = self.link.snapshot();
         let (Some(path), Some(t)) = (snap.program_path, snap.tools) else {
@@ -299,19 +345,29 @@ impl Api {
                 .map_err(|e| refuse(500, e.to_string()))?;
             return Ok((200, empty));
         };
+        let from = (
+            path.clone(),
+            t.version,
+            snap.work_offsets.as_ref().map_or(0, |w| w.version),
+        );
         if let Ok(c) = self.plot_cache.lock() {
-            if let Some((p, v, j)) = c.as_ref() {
-                if *p == path && *v == t.version {
-                    return Ok((200, serde_json::from_str(j).unwrap_or(Value::Null)));
-                }
+            if let Some(c) = c.as_ref().filter(|c| c.from == from) {
+                return Ok((200, serde_json::from_str(&c.json).unwrap_or(Value::Null)));
             }
         }
         let source =
             std::fs::read_to_string(&path).map_err(|e| refuse(404, format!("{path}: {e}")))?;
-        let pl = plot::plot(&path, &source, &self.md, &plot::table(&t));
+        let mut md = self.md.clone();
+        if let Some(w) = &snap.work_offsets {
+            md.work_offsets = plot::work_offsets(w, &self.md);
+        }
+        let pl = plot::plot(&path, &source, &md, &plot::table(&t));
         let text = serde_json::to_string(&pl).map_err(|e| refuse(500, e.to_string()))?;
         if let Ok(mut c) = self.plot_cache.lock() {
-            *c = Some((path, t.version, Arc::new(text.clone())));
+            *c = Some(PlotCache {
+                from,
+                json: Arc::new(text.clone()),
+            });
         }
         Ok((200, serde_json::from_str(&text).unwrap_or(Value::Null)))
     }
@@ -377,7 +433,7 @@ fn text(req: &Request) -> Result<String, Refuse> {
 }
 
 /// The body as a JSON object of type `T` (serde would also take an array in field order:
-/// not here).
+/// not here), each field once.
 fn body<T: serde::de::DeserializeOwned>(req: &Request) -> Result<T, Refuse> {
     let text = text(req)?;
     let v: Value =
@@ -385,7 +441,9 @@ fn body<T: serde::de::DeserializeOwned>(req: &Request) -> Result<T, Refuse> {
     if !v.is_object() {
         return Err(refuse(400, "malformed JSON: expected an object"));
     }
-    serde_json::from_value(v).map_err(|e| refuse(400, format!("malformed JSON: {e}")))
+    // From the text, not from `v`: a `Value` keeps one of two equal keys silently, the
+    // text makes `{"d": 1, "d": 2}` a duplicate field.
+    serde_json::from_str(&text).map_err(|e| refuse(400, format!("malformed JSON: {e}")))
 }
 
 fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
@@ -441,10 +499,16 @@ pub fn status_json(s: &Snapshot) -> Value {
         "aux_sent": st.aux_sent,
         "aux_acked": st.aux_acked,
         "tools_version": st.tools_version,
+        "work_offsets_version": st.work_offsets_version,
+        "work_offset": work::active_name(s.work_offsets.as_ref(), st.work_offset),
+        "tool": (st.tool != 0).then_some(st.tool),
+        "edge": (st.edge != 0).then_some(st.edge),
         "actual": s.actual.as_ref().map(|a| positions(&a.pos, n)),
         "following_error": s.actual.as_ref().map(|a| positions(&a.following_error, n)),
-        "spindle_rpm": s.actual.map(|a| a.spindle_rpm),
-        "tool": s.actual.map(|a| a.tool),
+        "spindle_rpm": s.actual.map(|a| a.spindle_rpm[0]),
+        "spindle_setpoint": st.spindle[0],
+        // The tool in the spindle as the PLC reports it (T output as an aux function).
+        "plc_tool": s.actual.map(|a| a.tool),
         "plc_alarm": s.actual.and_then(|a| ChannelAlarm::new(a.plc_alarm)).map(ChannelAlarm::number),
     })
 }
@@ -488,5 +552,161 @@ mod tests {
         assert_eq!(j["pos"], json!([10.0, -5.0, 370.0]));
         assert_eq!(j["actual"], json!([9.5, -4.5, 369.0]));
         assert_eq!(j["following_error"], json!([0.5, -0.5, 1.0]));
+        // No tool, edge or work offset active: null, not 0.
+        assert_eq!(
+            (&j["tool"], &j["edge"], &j["work_offset"]),
+            (&Value::Null, &Value::Null, &Value::Null)
+        );
+    }
+
+    /// An 840C mill's table (G54 … G57 on X, Y, Z), G55 active, T3 D2 in the channel.
+    fn snapshot_with_work_offsets() -> Snapshot {
+        let mut w = softnc_protocol::WorkOffsetsMsg {
+            version: 4,
+            count: 4,
+            ..Default::default()
+        };
+        w.axes.names[..3].copy_from_slice(b"XYZ");
+        w.axes.count = 3;
+        for (i, e) in w.entries.iter_mut().take(4).enumerate() {
+            *e = softnc_protocol::WorkOffsetEntry::new(&format!("G5{}", 4 + i), [0.0; MAX_AXES]);
+        }
+        w.entries[1].values[0] = -120.5;
+        let mut st = KernelStatus {
+            work_offsets_version: 4,
+            work_offset: 2,
+            tool: 3,
+            edge: 2,
+            ..Default::default()
+        };
+        st.axes = w.axes;
+        Snapshot {
+            status: Some(st),
+            status_age: Some(std::time::Duration::ZERO),
+            work_offsets: Some(w),
+            ..Default::default()
+        }
+    }
+
+    fn api(snap: Snapshot) -> (Arc<Api>, crossbeam::channel::Receiver<crate::link::Job>) {
+        let (link, jobs) = crate::link::fake(snap);
+        let md = MachineData::load(None, &[]).expect("the built-in machine data");
+        (
+            Arc::new(Api::new(link, None, md, PathBuf::from("programs"))),
+            jobs,
+        )
+    }
+
+    fn request(api: &Arc<Api>, method: &str, path: &str, body: &str) -> (u16, Value) {
+        let req = Request {
+            method: method.into(),
+            path: path.into(),
+            query: String::new(),
+            headers: Vec::new(),
+            body: body.as_bytes().to_vec(),
+        };
+        match api.handle(req) {
+            crate::net::Response::Full { status, body, .. } => {
+                (status, serde_json::from_slice(&body).unwrap_or(Value::Null))
+            }
+            crate::net::Response::Stream(_) => panic!("{path}: a stream"),
+        }
+    }
+
+    #[test]
+    fn status_names_the_work_offset_tool_and_edge() {
+        let j = status_json(&snapshot_with_work_offsets());
+        assert_eq!(j["work_offset"], json!("G55"));
+        assert_eq!(j["work_offsets_version"], json!(4));
+        assert_eq!((&j["tool"], &j["edge"]), (&json!(3), &json!(2)));
+    }
+
+    #[test]
+    fn the_work_offset_table_as_json() {
+        let (api, _) = api(snapshot_with_work_offsets());
+        let (code, j) = request(&api, "GET", "/api/work-offsets", "");
+        assert_eq!(code, 200, "{j}");
+        assert_eq!(j["active"], json!("G55"));
+        assert_eq!(j["sets"][1]["values"]["X"], json!(-120.5));
+        assert_eq!(j["max_work_offset"], json!(10000.0));
+        assert_eq!(j["edit_while_active"], json!(false));
+        let (empty, _) = self::api(Snapshot::default());
+        assert_eq!(request(&empty, "GET", "/api/work-offsets", "").0, 503);
+        assert_eq!(request(&api, "POST", "/api/work-offsets", "{}").0, 405);
+        assert_eq!(request(&api, "GET", "/api/work-offset", "").0, 405);
+    }
+
+    /// Every malformed or wrong edit is answered 400 or 422 with a reason, and no command
+    /// reaches the kernel.
+    #[test]
+    fn wrong_work_offset_edits_are_refused_before_the_kernel() {
+        let (api, jobs) = api(snapshot_with_work_offsets());
+        let cases = [
+            (400, r#"{"set":"G54","values":{"X":"#, "malformed JSON"),
+            (400, r#"[1,2]"#, "expected an object"),
+            (400, r#"{"set":"G54"}"#, "values"),
+            (400, r#"{"set":"G54","values":{"X":1},"force":1}"#, "force"),
+            (400, r#"{"set":"G54","values":{"X":NaN}}"#, "malformed JSON"),
+            (
+                400,
+                r#"{"set":"G54","values":{"X":1e999}}"#,
+                "malformed JSON",
+            ),
+            (
+                400,
+                r#"{"set":"G54","set":"G55","values":{"X":1}}"#,
+                "duplicate",
+            ),
+            (422, r#"{"set":"G59","values":{"X":1}}"#, "G54 … G57"),
+            (
+                422,
+                r#"{"set":"G54","values":{"C":1}}"#,
+                "its axes are X, Y, Z",
+            ),
+            (422, r#"{"set":"G54","values":{}}"#, "no axis value"),
+            (
+                422,
+                r#"{"set":"G54","values":{"X":10000.5}}"#,
+                "hmi.max_work_offset",
+            ),
+            (422, r#"{"set":"G54","values":{"x":1,"X":1}}"#, "twice"),
+        ];
+        for (want, body, says) in cases {
+            let (code, j) = request(&api, "POST", "/api/work-offset", body);
+            let e = j["error"].as_str().unwrap_or_default();
+            assert_eq!(code, want, "{body}: {j}");
+            assert!(e.contains(says), "{body}: {e}");
+        }
+        assert!(jobs.try_recv().is_err(), "a command was sent");
+    }
+
+    /// A good edit goes to the kernel by the set's own name, its axes by slot; the answer
+    /// carries the kernel's message and both table versions.
+    #[test]
+    fn a_work_offset_edit_goes_to_the_kernel() {
+        let (api, jobs) = api(snapshot_with_work_offsets());
+        let kernel = std::thread::spawn(move || {
+            let job = jobs.recv().expect("a command");
+            let c = job.command;
+            let mut r = softnc_protocol::Reply::new(true, 0, "G56 taken");
+            (r.tools_version, r.work_offsets_version) = (1, 5);
+            let _ = job.answer.send(Ok(r));
+            (
+                c.kind,
+                c.text().to_string(),
+                c.axis_values().collect::<Vec<_>>(),
+            )
+        });
+        let body = r#"{"set":"g 56","values":{"z":-3,"X":10.5}}"#;
+        let (code, j) = request(&api, "POST", "/api/work-offset", body);
+        assert_eq!(code, 200, "{j}");
+        assert_eq!(
+            j,
+            json!({ "ok": true, "message": "G56 taken", "tools_version": 1, "work_offsets_version": 5 })
+        );
+        let (kind, name, values) = kernel.join().expect("the fake kernel");
+        assert_eq!(kind, command::SET_WORK_OFFSET);
+        assert_eq!(name, "G56");
+        assert_eq!(values, [(0, 10.5), (2, -3.0)]);
     }
 }

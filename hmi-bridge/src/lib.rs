@@ -8,6 +8,7 @@ pub mod client;
 mod link;
 mod net;
 mod plot;
+mod work;
 
 use nc_runtime::process::args::{machine, ControlArgs};
 use nc_runtime::Failure;

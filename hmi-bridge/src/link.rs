@@ -1,6 +1,6 @@
 //! The bridge's side of the control: one thread owns every iceoryx2 port (they stay in the
-//! thread that made them). It keeps the newest kernel status, actual values and tool table
-//! in a [`Snapshot`] for the HTTP workers, sends their commands to the kernel one at a time
+//! thread that made them). It keeps the newest kernel status, actual values, tool table and
+//! work-offset table in a [`Snapshot`] for the HTTP workers, sends their commands to the kernel one at a time
 //! (so edits from several clients are serialised here, and again in the kernel), and pushes
 //! the snapshot to the Server-Sent-Events subscribers.
 
@@ -8,6 +8,7 @@ use crossbeam::channel::{Receiver, Sender, TrySendError};
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
     command, newest, ActualValues, Command, Instance, KernelStatus, Reply, ToolTableMsg,
+    WorkOffsetsMsg,
 };
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -27,6 +28,8 @@ pub struct Snapshot {
     pub status_age: Option<Duration>,
     pub actual: Option<ActualValues>,
     pub tools: Option<ToolTableMsg>,
+    /// The kernel's work offsets (G54 …), every set of its dialect.
+    pub work_offsets: Option<WorkOffsetsMsg>,
     /// The path of the program in `status.program`, as the kernel loaded it.
     pub program_path: Option<String>,
 }
@@ -78,6 +81,20 @@ impl Link {
         }
         rx
     }
+}
+
+/// A link without a kernel, for tests of the HTTP side: `snapshot` is what it knows, and
+/// every command asked of it arrives at the receiver (and is answered by whoever holds it,
+/// or not at all).
+#[cfg(test)]
+pub fn fake(snapshot: Snapshot) -> (Link, Receiver<Job>) {
+    let (jobs, rx) = crossbeam::channel::unbounded();
+    let link = Link {
+        jobs,
+        snapshot: Arc::new(Mutex::new(snapshot)),
+        subscribers: Arc::default(),
+    };
+    (link, rx)
 }
 
 /// Starts the link thread; returns when its ports are open (or why they could not be).
@@ -161,6 +178,12 @@ fn serve(
         .subscriber_builder()
         .create()
         .map_err(|x| e("tool-table subscriber", &x))?;
+    let work_offsets = instance
+        .work_offsets(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
+        .create()
+        .map_err(|x| e("work-offset subscriber", &x))?;
     let _ = ready.send(Ok(()));
 
     let mut last_status: Option<Instant> = None;
@@ -173,6 +196,7 @@ fn serve(
         }
         snap.actual = newest(&actuals).or(snap.actual);
         snap.tools = newest(&tools).or(snap.tools);
+        snap.work_offsets = newest(&work_offsets).or(snap.work_offsets);
         snap.status_age = last_status.map(|t| t.elapsed());
     };
     while !stop.load(Ordering::Relaxed) {
@@ -198,7 +222,7 @@ fn serve(
             } else {
                 Err("the kernel is not running (no status from it)".to_string())
             };
-            // What the kernel published before its reply (a new tool table) is in the
+            // What the kernel published before its reply (a new tool or work-offset table) is in the
             // snapshot before the asker hears back: reads after a write see it.
             drain(&mut snap, &mut last_status);
             if let Ok(mut s) = snapshot.lock() {

@@ -4,10 +4,10 @@
 
 use nc_kernel::geometry::{Curve, Fineness};
 use nc_kernel::Prepared;
-use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable};
+use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable, WorkOffsets};
 use nc_kernel::{MotionKind, Plane, Pos};
 use nc_runtime::WireAxes;
-use softnc_protocol::ToolTableMsg;
+use softnc_protocol::{ToolTableMsg, WorkOffsetsMsg};
 
 /// Points kept at most per picture: longer programs are thinned.
 const MAX_POINTS: usize = 100_000;
@@ -44,6 +44,29 @@ pub fn table(m: &ToolTableMsg) -> ToolTable {
             .collect(),
         ..Default::default()
     }
+}
+
+/// The kernel's work offsets as the preparation reads them. Axes are matched by letter;
+/// a set or axis this machine data does not know (the bridge started with another
+/// `--machine` than the kernel) is left at zero.
+pub fn work_offsets(m: &WorkOffsetsMsg, md: &MachineData) -> WorkOffsets {
+    let mut table = WorkOffsets::default();
+    for e in m.entries() {
+        let values: Vec<(usize, f64)> = m
+            .axes
+            .names()
+            .zip(e.values)
+            .filter(|(_, v)| *v != 0.0)
+            .filter_map(|(c, v)| {
+                let axis = nc_kernel::AXIS_NAMES.iter().position(|&n| n == c)?;
+                md.has_axis(axis).then_some((axis, v))
+            })
+            .collect();
+        if !values.is_empty() {
+            let _ = table.edit(md, e.name(), &values, nc_kernel::MAX_WORK_OFFSET);
+        }
+    }
+    table
 }
 
 /// Names of the geometry axes by index.
@@ -228,6 +251,30 @@ mod tests {
         for (got, want) in p.path[0].iter().zip(want) {
             assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9);
         }
+    }
+
+    /// A program in G55 is drawn where the kernel's G55 puts it: its values per axis by
+    /// letter from the kernel's table (here listed X Y Z), G54 untouched.
+    #[test]
+    fn the_kernels_work_offsets_move_the_picture() {
+        let md = MachineData::load(None, &[]).unwrap();
+        let mut m = WorkOffsetsMsg {
+            count: 2,
+            ..Default::default()
+        };
+        m.axes.names[..3].copy_from_slice(b"XYZ");
+        m.axes.count = 3;
+        let mut g55 = [0.0; softnc_protocol::MAX_AXES];
+        g55[..3].copy_from_slice(&[100.0, -20.0, 5.0]);
+        m.entries[0] = softnc_protocol::WorkOffsetEntry::new("G54", Default::default());
+        m.entries[1] = softnc_protocol::WorkOffsetEntry::new("G55", g55);
+        let mut shifted = md.clone();
+        shifted.work_offsets = work_offsets(&m, &md);
+        assert_eq!(shifted.work_offsets.get(2)[..3], [100.0, -20.0, 5.0]);
+        assert!(shifted.work_offsets.get(1).iter().all(|v| *v == 0.0));
+        let text = "N10 G55 G0 X0 Y0\nN20 G1 X10 F100\nM30\n";
+        let p = plot("t.mpf", text, &shifted, &ToolTable::builtin());
+        assert_eq!(p.programmed, vec![vec![[100.0, -20.0], [110.0, -20.0]]]);
     }
 
     /// A lathe (X and Z): Z is the second entry of its positions, and it has no Y.

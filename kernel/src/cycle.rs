@@ -138,6 +138,8 @@ pub struct PlcInput {
     pub emergency_stop: bool,
     /// A PLC alarm standing.
     pub alarm: Option<ChannelAlarm>,
+    /// The main spindle's actual speed, rev/min (signed as the setpoint).
+    pub spindle_rpm: f64,
 }
 
 /// An auxiliary-function request as it goes to the PLC.
@@ -170,6 +172,10 @@ pub struct Status {
     pub plc_cycle: u64,
     /// Where the path is on the program.
     pub progress: Option<crate::ipo::Progress>,
+    /// The spindle's speed setpoint, rev/min (signed).
+    pub spindle: f64,
+    /// The tool, cutting edge and work offset of the path's place.
+    pub tech: crate::frontend::block::Technology,
 }
 
 /// The IPO thread's transport. Every method returns at once.
@@ -308,6 +314,13 @@ impl Cyclic {
         match &mut self.program {
             Some(p) => &mut p.channel,
             None => &mut self.idle,
+        }
+    }
+
+    fn channel_ref(&self) -> &Channel {
+        match &self.program {
+            Some(p) => &p.channel,
+            None => &self.idle,
         }
     }
 
@@ -529,6 +542,7 @@ impl Cyclic {
             let was = self.plc;
             self.plc = s;
             let moving = self.state() == ChannelState::Active;
+            self.channel().set_spindle_actual(s.spindle_rpm);
             if s.emergency_stop && !was.emergency_stop {
                 self.fault(alarm::EMERGENCY_STOP);
             }
@@ -598,6 +612,8 @@ impl Cyclic {
     fn events(&mut self, k: u64, bus: &mut impl Bus) {
         for i in 0..self.sp.events.len() {
             match &self.sp.events[i] {
+                // A change of the spindle alone (G96 without S): nothing for the PLC.
+                Event::Aux { aux: a, .. } if a.words.is_empty() => {}
                 Event::Aux { aux: a, wait } => {
                     let wait = *wait;
                     let id = self.aux_next;
@@ -662,6 +678,8 @@ impl Cyclic {
                 Some(p) => p.channel.progress(),
                 None => None,
             },
+            spindle: self.sp.spindle,
+            tech: self.channel_ref().technology(),
         }
     }
 }

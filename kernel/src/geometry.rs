@@ -40,6 +40,7 @@ impl Curve {
             from: m.start,
             to: m.end,
             feed: 0.0,
+            per_rev: false,
             rapid: m.kind == MotionKind::Rapid,
             exact_stop: false,
         })

@@ -40,7 +40,7 @@ pub use frontend::{
     interpret, AuxWord, Block, BlockNo, CornerPolicy, Distance, FeedAdaption, Interpreter,
     ModalState, Motion, MotionKind, MotionMode, Plane, Pos, ProgramStop, SelectionPolicy, TrcSide,
 };
-pub use frontend::{Additional, AxisPos};
+pub use frontend::{Additional, AxisPos, LengthComp, SpindleDir, SpindleProgram, Technology};
 pub use machine_data::{
     AuxOutput, AxisData, AxisKind, CornerModeSetting, DecimalInput, DialectName, MachineData,
     MachineDataError, MachineKind, PlaneName, ToolPost, Units, ViolationReaction, ADDITIONAL, AXES,

@@ -93,8 +93,11 @@ pub struct Segment {
     pub shape: Shape,
     pub from: Pos,
     pub to: Pos,
-    /// Path feed, mm/min (over every moving axis, docs/ipo.md).
+    /// Path feed, mm/min (over every moving axis, docs/ipo.md); mm per spindle revolution
+    /// when `per_rev`.
     pub feed: f64,
+    /// Feed per revolution (G95): the path speed follows the spindle's actual speed.
+    pub per_rev: bool,
     pub rapid: bool,
     /// Exact stop at the end (G09 of the block, or the modal G60/G61; inserted blocks take
     /// the next block's, 840C 11.10).

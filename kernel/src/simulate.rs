@@ -1,6 +1,7 @@
 //! `softnc simulate`: the kernel's preparation thread, queue and channel run against a
 //! simulated clock. One CSV row per IPO cycle:
-//! `cycle,time,X,Y,Z,v_path,block,events`.
+//! `cycle,time,X,Y,Z,S1,v_path,block,events` (the configured additional axes after Z, the
+//! spindle's speed setpoint in rev/min under S1).
 //!
 //! Preparation runs in its own thread and hands ready [`Entry`](crate::ipo::Entry)s (limits computed there)
 //! over a bounded queue. The simulated IPO never runs ahead of it: before each cycle it takes
@@ -15,7 +16,7 @@
 use crate::alarm::{Alarm, AlarmCode};
 use crate::handover::{with_preparation, Handover, Job, Report};
 use crate::ipo::Input;
-use crate::ipo::{Channel, ChannelState, Event, Setpoint};
+use crate::ipo::{Channel, ChannelState, Event, Setpoint, SpindleModel};
 use crate::segment::Source;
 use crate::{MachineData, ToolTable};
 use std::io::Write;
@@ -196,10 +197,15 @@ fn ipo_loop(
         .iter()
         .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
         .collect();
-    writeln!(w, "cycle,time,X,Y,Z{names},v_path,block,events")?;
+    writeln!(w, "cycle,time,X,Y,Z{names},S1,v_path,block,events")?;
     let mut line = String::with_capacity(256);
     ch.start();
     let limits = Limits::new(md);
+    // The simulated PLC's spindle drive.
+    let mut spindle = SpindleModel::new(
+        md.plc.spindle_acceleration,
+        f64::from(md.ipo.cycle_us) * 1e-6,
+    );
     // Cycles in a row the path stood still with nothing happening.
     let mut still: u64 = 0;
     let mut k: u64 = 0;
@@ -219,6 +225,7 @@ fn ipo_loop(
         }
         let before = sp.axes();
         ch.cycle(k, &mut sp);
+        ch.set_spindle_actual(spindle.follow(sp.spindle));
         still = if sp.axes() == before && sp.events.is_empty() {
             still + 1
         } else {
@@ -237,8 +244,8 @@ fn ipo_loop(
             }
         }
         for e in &sp.events {
-            if let Event::Aux { .. } = e {
-                summary.aux += 1;
+            if let Event::Aux { aux, .. } = e {
+                summary.aux += u64::from(!aux.words.is_empty());
             }
         }
         let due = ch.acks_due() as usize;
@@ -292,6 +299,7 @@ fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
         .pos
         .iter()
         .chain(add)
+        .chain(std::iter::once(&sp.spindle))
         .chain(std::iter::once(&(sp.v_path * 60.0)))
     {
         line.push(',');
@@ -316,6 +324,9 @@ fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
             line.push(';');
         }
         match e {
+            Event::Aux { aux: a, .. } if a.words.is_empty() => {
+                let _ = write!(line, "tech @S{}", a.at);
+            }
             Event::Aux { aux: a, .. } => {
                 line.push_str("aux");
                 for w in &a.words {

@@ -14,8 +14,9 @@ pub struct PlcArgs {
     #[command(flatten)]
     pub control: ControlArgs,
     /// Write the CSV trace to FILE: setpoint, actual (A…) and following error (F…) of
-    /// every configured axis (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events`
-    /// on a three-axis mill).
+    /// every configured axis, speed setpoint (S…) and actual speed (AS…) of every spindle
+    /// (`time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,S1,AS1,v_path,line,state,events` on a
+    /// three-axis mill).
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
     /// Press emergency stop at kernel cycle CYCLE.

@@ -2,9 +2,9 @@
 //! monotonic clock, stderr and the CSV trace. The wire's numbers (flags as 0/1, alarm 0 for
 //! none, sequence numbers) are made here.
 
-use crate::plc::{Actual, Row, Transport};
+use crate::plc::{Actual, Row, Signals, Transport};
 use crate::trace;
-use nc_kernel::cycle::{ChannelAlarm, PlcInput};
+use nc_kernel::cycle::ChannelAlarm;
 use softnc_protocol::iceoryx2::active_request::ActiveRequest;
 use softnc_protocol::iceoryx2::node::Node;
 use softnc_protocol::iceoryx2::port::listener::Listener;
@@ -141,7 +141,7 @@ impl Transport for Ice {
         }
     }
 
-    fn signals(&mut self, echo_cycle: u64, s: &PlcInput) {
+    fn signals(&mut self, echo_cycle: u64, s: &Signals) {
         self.signal_seq += 1;
         let _ = self.signals.send_copy(PlcSignals {
             seq: self.signal_seq,
@@ -151,6 +151,7 @@ impl Transport for Ice {
             drives_ready: s.drives_ready as u8,
             emergency_stop: s.emergency_stop as u8,
             alarm: ChannelAlarm::wire(s.alarm),
+            spindle_rpm: s.spindle_rpm,
         });
     }
 

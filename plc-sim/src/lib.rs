@@ -1,11 +1,14 @@
 //! plc-sim: the simulated PLC and axes of a softnc instance (docs/ipc.md).
 //!
-//! Woken by the kernel's setpoint event, it runs one drive cycle per setpoint (axis.rs),
-//! answers auxiliary functions (tool change and spindle ramp take their time), publishes the
-//! PLC interface signals (its sign of life for the kernel) and the actual values, and writes
-//! a CSV trace. When setpoints stay away for `plc.watchdog_cycles` cycles of its own clock,
-//! its watchdog brakes the axes and raises PLC alarm 700000; setpoints from a kernel in RESET
-//! acknowledge it.
+//! Woken by the kernel's setpoint event, it runs one drive cycle per setpoint: the axes'
+//! position loops (axis.rs) and the spindle drives, which follow the kernel's speed setpoint
+//! at `plc.spindle_acceleration` (spindle.rs). It answers auxiliary functions when they are
+//! done (M6 after the tool change time, M3/M4 with the spindle at speed, M5 at rest, M19
+//! oriented), publishes the PLC interface signals (its sign of life for the kernel, and the
+//! spindles' actual speed for feed per revolution) and the actual values, and writes a CSV
+//! trace. When setpoints stay away for `plc.watchdog_cycles` cycles of its own clock, its
+//! watchdog brakes the axes and the spindles and raises PLC alarm 700000; setpoints from a
+//! kernel in RESET acknowledge it.
 //!
 //! The PLC is a state machine over a transport ([`plc::Plc`], [`plc::Transport`]); the
 //! process runs it over iceoryx2 (ice.rs) until SIGINT or SIGTERM.
@@ -19,6 +22,7 @@ mod axis;
 mod drives;
 mod ice;
 pub mod plc;
+pub mod spindle;
 mod trace;
 
 pub use args::PlcArgs;
@@ -36,7 +40,7 @@ pub fn main(args: PlcArgs) -> Result<(), Failure> {
     let trace = args
         .trace
         .as_deref()
-        .map(|p| trace::create(p, &axes))
+        .map(|p| trace::create(p, &axes, spindle::CONFIGURED))
         .transpose()?;
     let term = Arc::new(AtomicBool::new(false));
     {
@@ -46,12 +50,13 @@ pub fn main(args: PlcArgs) -> Result<(), Failure> {
     }
     let mut io = ice::Ice::open(instance, trace)?;
     eprintln!(
-        "plc-sim: instance '{}' ready; axes {}, kv {}/s, dead time {} cycles, watchdog {} cycles",
+        "plc-sim: instance '{}' ready; axes {}, kv {}/s, dead time {} cycles, watchdog {} cycles, spindle {} rev/min per s",
         instance.name(),
         axes.names().collect::<String>(),
         md.plc.kv,
         md.plc.dead_time_cycles,
-        md.plc.watchdog_cycles
+        md.plc.watchdog_cycles,
+        md.plc.spindle_acceleration
     );
     // SCHED_FIFO for the drive cycle, as a PLC's cyclic task runs: one below the kernel's
     // IPO thread (80) unless --priority says otherwise.

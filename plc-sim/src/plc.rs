@@ -4,18 +4,27 @@
 //!
 //! ```text
 //!  setpoint ─► Plc::setpoint: sequence gaps, watchdog acknowledgement, scripted inputs,
-//!              software limits, one drive cycle, spindle ramp ─► trace row, actual values
+//!              software limits, one drive cycle of the axes and the spindles
+//!              ─► trace row, actual values
 //!  no setpoint for a cycle ─► Plc::silence: watchdog count, braking ─► trace row
-//!  aux request ─► Plc::request: tool, spindle, when it is done
+//!  aux request ─► Plc::request: tool, what it waits for (time, spindle)
 //!  time ─► Plc::acknowledge_due ─► acknowledgements; Plc::signal ─► PLC interface signals
 //! ```
+//!
+//! The spindles follow the kernel's speed setpoint in every setpoint (spindle.rs); the PLC
+//! does not read S words for a speed (under G96 S is a cutting speed in m/min). A request
+//! is acknowledged when everything it waits for holds: M6 its `plc.tool_change_ms`; M3, M4,
+//! and S while the spindle turns, the main spindle at speed; M5 at rest; M19 oriented. The
+//! spindle conditions count from the first setpoint of the request's cycle on (the one that
+//! carries the speed the request belongs to) and each is kept once it has held.
 //!
 //! The transport is a [`Transport`]: iceoryx2 and a CSV file in the process (ice.rs), a mock
 //! on a mock clock in tests/plc.rs.
 
 use crate::args::Window;
 use crate::drives::{Axes, DriveData, Drives};
-use nc_kernel::cycle::{alarm, ChannelAlarm, PlcInput};
+use crate::spindle::{self, SpindleDrives, Spindles, Waits};
+use nc_kernel::cycle::{alarm, ChannelAlarm};
 use nc_kernel::MachineData;
 use nc_runtime::WireAxes;
 use softnc_protocol::{state, AuxRequest, AxisList, SetpointMsg, MAX_AXES};
@@ -36,7 +45,7 @@ pub trait Transport {
     /// Acknowledges the request of `ticket` (the kernel's request `id`): done.
     fn ack(&mut self, ticket: u64, id: u64);
     /// The PLC interface signals, with the last setpoint cycle consumed (the sign of life).
-    fn signals(&mut self, echo_cycle: u64, s: &PlcInput);
+    fn signals(&mut self, echo_cycle: u64, s: &Signals);
     fn actuals(&mut self, a: &Actual);
     /// A row of the trace.
     fn row(&mut self, r: &Row<'_>);
@@ -53,7 +62,8 @@ pub struct Actual {
     pub pos: Axes,
     /// Setpoint − actual position per axis, mm (rotary: degrees).
     pub following_error: Axes,
-    pub spindle_rpm: f64,
+    /// Actual speed per spindle, rev/min, signed as the setpoint.
+    pub spindle_rpm: Spindles,
     /// The tool in the spindle.
     pub tool: u32,
     /// Auxiliary functions acknowledged so far.
@@ -73,6 +83,11 @@ pub struct Row<'a> {
     pub setpoint: Axes,
     pub actual: Axes,
     pub following_error: Axes,
+    /// The spindles the trace has columns for: the entries of the spindle arrays that count.
+    pub spindles: usize,
+    /// Per spindle the speed setpoint its drive follows and its actual speed, rev/min.
+    pub spindle_setpoint: Spindles,
+    pub spindle_actual: Spindles,
     /// mm/s.
     pub v_path: f64,
     pub line: u32,
@@ -80,6 +95,19 @@ pub struct Row<'a> {
     pub state: u8,
     /// What happened since the last row, `;`-separated.
     pub events: &'a str,
+}
+
+/// The PLC interface signals as plc-sim sends them every PLC cycle (ice.rs makes the
+/// wire's numbers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Signals {
+    pub feed_hold: bool,
+    pub read_in_disable: bool,
+    pub drives_ready: bool,
+    pub emergency_stop: bool,
+    pub alarm: Option<ChannelAlarm>,
+    /// Actual speed per spindle, rev/min, signed as the setpoint (feed per revolution).
+    pub spindle_rpm: Spindles,
 }
 
 /// Inputs as from a machine's control panel, at kernel cycles (for tests and
@@ -146,11 +174,16 @@ impl Stats {
     }
 }
 
-/// A request waiting for its time.
+/// A request waiting until it is done.
 struct Pending {
+    /// Not before then (M6's tool change time).
     due_ns: u64,
     ticket: u64,
     id: u64,
+    /// The kernel cycle it was output in: spindle conditions count from its setpoint on.
+    cycle: u64,
+    /// The spindle conditions that have not held yet.
+    waits: Waits,
     text: String,
 }
 
@@ -179,8 +212,9 @@ pub struct Plc {
     drives_ready: bool,
     pending: Vec<Pending>,
     tool: u32,
-    spindle_rpm: f64,
-    spindle_target: f64,
+    spindles: SpindleDrives,
+    /// Spindles the trace has columns for.
+    trace_spindles: usize,
     /// Since the last trace row.
     events: String,
     stats: Stats,
@@ -210,8 +244,8 @@ impl Plc {
             drives_ready: true,
             pending: Vec::new(),
             tool: 0,
-            spindle_rpm: 0.0,
-            spindle_target: 0.0,
+            spindles: SpindleDrives::new(md.plc.spindle_acceleration, cycle_ns as f64 * 1e-9),
+            trace_spindles: spindle::CONFIGURED,
             events: String::new(),
             stats: Stats::new(),
         }
@@ -250,7 +284,7 @@ impl Plc {
         self.signal(io);
     }
 
-    /// A setpoint arrives at `now`: one drive cycle.
+    /// A setpoint arrives at `now`: one drive cycle of the axes and the spindles.
     pub fn setpoint(&mut self, sp: &SetpointMsg, now: u64, io: &mut impl Transport) {
         self.count(sp, now);
         self.missed = 0;
@@ -260,8 +294,9 @@ impl Plc {
         self.scripted_inputs(sp.cycle);
         self.check_axes(sp, io);
         let (actual, following_error) = self.drive(&sp.pos);
-        let ds = self.md.plc.spindle_acceleration * self.t;
-        self.spindle_rpm += (self.spindle_target - self.spindle_rpm).clamp(-ds, ds);
+        self.spindles.follow(sp, self.braking);
+        self.last = Some(*sp);
+        self.settle();
         io.row(&Row {
             time: self.since_start(now),
             cycle: sp.cycle,
@@ -270,6 +305,9 @@ impl Plc {
             setpoint: sp.pos,
             actual,
             following_error,
+            spindles: self.trace_spindles,
+            spindle_setpoint: self.spindles.setpoint(),
+            spindle_actual: self.spindles.actual(),
             v_path: sp.v_path,
             line: sp.line,
             state: sp.state,
@@ -280,12 +318,11 @@ impl Plc {
             cycle: sp.cycle,
             pos: actual,
             following_error,
-            spindle_rpm: self.spindle_rpm,
+            spindle_rpm: self.spindles.actual(),
             tool: self.tool,
             aux_acked: self.stats.aux_acked,
             alarm: self.alarm,
         });
-        self.last = Some(*sp);
     }
 
     /// Latency, lateness and gaps in the sequence (a new kernel counts from 1 again).
@@ -364,7 +401,9 @@ impl Plc {
     }
 
     /// A cycle passes without a setpoint: after `plc.watchdog_cycles` of them every axis
-    /// brakes at its acceleration limit, with PLC alarm 700000.
+    /// brakes at its acceleration limit and every spindle at `plc.spindle_acceleration`
+    /// (a PLC does not leave a spindle turning for a control that is gone), with PLC alarm
+    /// 700000.
     pub fn silence(&mut self, now: u64, io: &mut impl Transport) {
         let (Some(drives), Some(l)) = (self.drives.as_mut(), self.last) else {
             return;
@@ -377,7 +416,7 @@ impl Plc {
             self.events
                 .push_str(&format!("watchdog: no setpoint for {missed} cycles;"));
             io.log(&format!(
-                "alarm {}: no setpoint for {missed} cycles after cycle {}: braking the axes",
+                "alarm {}: no setpoint for {missed} cycles after cycle {}: braking axes and spindles",
                 alarm::PLC_WATCHDOG,
                 l.cycle
             ));
@@ -386,6 +425,8 @@ impl Plc {
             return;
         }
         let actual = drives.brake();
+        self.spindles.brake();
+        self.settle();
         io.row(&Row {
             time: self.since_start(now),
             cycle: l.cycle + self.missed,
@@ -394,6 +435,9 @@ impl Plc {
             setpoint: l.pos,
             actual,
             following_error: [0.0; MAX_AXES],
+            spindles: self.trace_spindles,
+            spindle_setpoint: self.spindles.setpoint(),
+            spindle_actual: self.spindles.actual(),
             v_path: 0.0,
             line: l.line,
             state: l.state,
@@ -402,53 +446,60 @@ impl Plc {
         self.events.clear();
     }
 
-    /// An auxiliary-function request arrives at `now`: T takes the tool, M5 stops the
-    /// spindle, M3/M4 turn it at the programmed S (or the last one). It is done when M6 has
-    /// taken `plc.tool_change_ms` and the spindle is at speed; anything else at once.
+    /// An auxiliary-function request arrives at `now`: T takes the tool at once; the
+    /// request is done when M6 has taken `plc.tool_change_ms` and the main spindle is at
+    /// speed for M3, M4 (and S while it turns), at rest for M5, oriented for M19; anything
+    /// else at once. The speed itself comes with the setpoints, not from S.
     pub fn request(&mut self, ticket: u64, r: &AuxRequest, now: u64) {
         let mut wait_ns = 0u64;
+        let mut waits = Waits::NONE;
         let mut text = String::new();
         for w in r.words() {
             text.push_str(&format!("{}{} ", w.address as char, w.value));
-            match (w.address, w.value as i64) {
-                (b'M', 6) => {
+            match (w.address, whole(w.value)) {
+                (b'M', Some(6)) => {
                     wait_ns = wait_ns.max(u64::from(self.md.plc.tool_change_ms) * 1_000_000)
                 }
-                (b'T', n) => self.tool = n.max(0) as u32,
-                (b'M', 5) => self.spindle_target = 0.0,
+                (b'M', Some(3 | 4)) => waits |= Waits::AT_SPEED,
+                (b'M', Some(5)) => waits |= Waits::STOPPED,
+                (b'M', Some(19)) => waits |= Waits::ORIENTED,
+                (b'S', _) if self.spindles.turning() => waits |= Waits::AT_SPEED,
+                // Saturating: a value from the wire out of range names no real tool anyway.
+                (b'T', _) => self.tool = w.value.clamp(0.0, f64::from(u32::MAX)) as u32,
                 _ => {}
             }
-        }
-        let s_word = r
-            .words()
-            .iter()
-            .find(|w| w.address == b'S')
-            .map(|w| w.value);
-        let turns = r
-            .words()
-            .iter()
-            .any(|w| w.address == b'M' && (w.value == 3.0 || w.value == 4.0));
-        if turns {
-            let target = s_word.unwrap_or(self.spindle_target.abs());
-            self.spindle_target = target;
-            let ramp = (target - self.spindle_rpm).abs() / self.md.plc.spindle_acceleration;
-            wait_ns = wait_ns.max((ramp * 1e9) as u64);
-        } else if let Some(s) = s_word.filter(|_| self.spindle_rpm != 0.0) {
-            self.spindle_target = s;
         }
         self.pending.push(Pending {
             due_ns: now + wait_ns,
             ticket,
             id: r.id,
+            cycle: r.cycle,
+            waits,
             text: text.trim_end().to_string(),
         });
+        // What already holds counts: an M5 to a spindle at rest is done at once.
+        self.settle();
+    }
+
+    /// Drops from the pending requests the spindle conditions that hold now, for those
+    /// whose cycle's setpoint has arrived (before it the spindle still follows the speed
+    /// of before the request). Called after every drive cycle, so a condition that holds
+    /// for a single cycle counts, whenever the acknowledgements go out.
+    fn settle(&mut self) {
+        let Some(l) = self.last else {
+            return;
+        };
+        let idle = matches!(l.state, state::RESET | state::END);
+        for p in self.pending.iter_mut().filter(|p| l.cycle >= p.cycle) {
+            p.waits = self.spindles.open(p.waits, idle);
+        }
     }
 
     /// Time has come to `now`: the requests that are done are acknowledged.
     pub fn acknowledge_due(&mut self, now: u64, io: &mut impl Transport) {
         let mut i = 0;
         while i < self.pending.len() {
-            if self.pending[i].due_ns <= now {
+            if self.pending[i].due_ns <= now && self.pending[i].waits.is_empty() {
                 let p = self.pending.swap_remove(i);
                 io.ack(p.ticket, p.id);
                 self.stats.aux_acked += 1;
@@ -463,12 +514,13 @@ impl Plc {
     pub fn signal(&mut self, io: &mut impl Transport) {
         let c = self.last.map_or(0, |l| l.cycle);
         let within = |w: Option<Window>| w.is_some_and(|w| w.contains(c));
-        let s = PlcInput {
+        let s = Signals {
             feed_hold: within(self.script.feed_hold),
             read_in_disable: within(self.script.read_in_disable),
             drives_ready: self.drives_ready && !self.braking,
             emergency_stop: self.estop,
             alarm: self.alarm,
+            spindle_rpm: self.spindles.actual(),
         };
         io.signals(c, &s);
     }
@@ -476,4 +528,9 @@ impl Plc {
     fn since_start(&self, now: u64) -> f64 {
         now.saturating_sub(self.start_ns) as f64 * 1e-9
     }
+}
+
+/// `v` as a whole number of an M function, if it is one (M3.5 is not M3).
+fn whole(v: f64) -> Option<u32> {
+    (v.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&v)).then_some(v as u32)
 }

@@ -25,6 +25,19 @@ pub mod state {
 /// Path axes a setpoint, the actual values and the status carry at most.
 pub const MAX_AXES: usize = 8;
 
+/// Spindles a setpoint, the PLC's signals, the actual values and the status carry at most
+/// (main spindle and counter-spindle); machine data configures one today.
+pub const MAX_SPINDLES: usize = 2;
+
+/// What a spindle is told to do (`SetpointMsg::spindle_mode`).
+pub mod spindle_mode {
+    pub const STOP: u8 = 0;
+    /// Turning at `SetpointMsg::spindle`: positive clockwise (M3), negative counter-clockwise.
+    pub const TURN: u8 = 1;
+    /// Oriented stop: the PLC positions the spindle (M19).
+    pub const ORIENT: u8 = 2;
+}
+
 /// The machine's axes as the wire lists them: the configured path axes in the machine's
 /// order X Y Z U V W A B C (a lathe with C: X, Z, C), `count` of them; every position array
 /// of the payloads uses this order. Names are ASCII upper case, 0 past `count`.
@@ -87,7 +100,14 @@ pub struct SetpointMsg {
     pub state: u8,
     /// Configured axes: the entries of `pos` that count.
     pub axes: u8,
-    pub _pad: [u8; 6],
+    /// Configured spindles: the entries of `spindle` and `spindle_mode` that count.
+    pub spindles: u8,
+    /// `spindle_mode::*` per spindle.
+    pub spindle_mode: [u8; MAX_SPINDLES],
+    pub _pad: [u8; 3],
+    /// Speed setpoint per spindle, rev/min: positive clockwise, negative counter-clockwise
+    /// (under constant surface speed it follows the transverse axis every cycle).
+    pub spindle: [f64; MAX_SPINDLES],
 }
 
 /// Words an auxiliary-function request carries at most (the front end's limit).
@@ -155,6 +175,8 @@ pub struct PlcSignals {
     pub emergency_stop: u8,
     /// A PLC alarm (0: none), e.g. a software limit switch.
     pub alarm: u32,
+    /// Actual speed per spindle, rev/min, signed as the setpoint (feed per revolution).
+    pub spindle_rpm: [f64; MAX_SPINDLES],
 }
 
 /// The axes' actual values, PLC → anyone, every PLC cycle.
@@ -169,7 +191,8 @@ pub struct ActualValues {
     pub pos: [f64; MAX_AXES],
     /// Setpoint − actual position per axis, mm (degrees).
     pub following_error: [f64; MAX_AXES],
-    pub spindle_rpm: f64,
+    /// Actual speed per spindle, rev/min (signed as the setpoint).
+    pub spindle_rpm: [f64; MAX_SPINDLES],
     /// The tool in the spindle.
     pub tool: u32,
     /// Auxiliary functions acknowledged so far.
@@ -223,6 +246,8 @@ pub struct KernelStatus {
     /// The running block's tool (T, 0: none) and cutting edge or offset number (D, 0: none).
     pub tool: u32,
     pub edge: u32,
+    /// Speed setpoint per spindle, rev/min (signed), as in the setpoint.
+    pub spindle: [f64; MAX_SPINDLES],
 }
 
 /// What an HMI asks the kernel.
@@ -567,15 +592,27 @@ mod tests {
         // up to.
         assert_eq!(
             std::mem::size_of::<SetpointMsg>(),
-            4 * 8 + 2 * 4 + MAX_AXES * 8 + 8 + 8
+            4 * 8 + 2 * 4 + MAX_AXES * 8 + 8 + 8 + MAX_SPINDLES * 8
         );
         assert_eq!(std::mem::size_of::<AxisList>(), MAX_AXES + 1 + 5 + 2);
         assert_eq!(std::mem::size_of::<AuxRequest>(), 16 + 8 + 12 * 16 + 8);
-        assert_eq!(std::mem::size_of::<PlcSignals>(), 24);
+        assert_eq!(std::mem::size_of::<PlcSignals>(), 24 + MAX_SPINDLES * 8);
         // Every byte a named field: no implicit padding.
         assert_eq!(
             std::mem::size_of::<KernelStatus>(),
-            2 * 8 + 2 * 4 + MAX_AXES * 8 + 16 + 2 * 8 + 4 * 4 + 8 + 4 + 4 + 2 * 4 + 8 + 4 * 4
+            2 * 8
+                + 2 * 4
+                + MAX_AXES * 8
+                + 16
+                + 2 * 8
+                + 4 * 4
+                + 8
+                + 4
+                + 4
+                + 2 * 4
+                + 8
+                + 4 * 4
+                + MAX_SPINDLES * 8
         );
         assert_eq!(std::mem::size_of::<Command>(), 24 + TEXT + 8 + MAX_AXES * 8);
         assert_eq!(std::mem::size_of::<WorkOffsetEntry>(), 16 + MAX_AXES * 8);

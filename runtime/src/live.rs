@@ -122,6 +122,8 @@ fn ipo_thread(
         .limit
         .map_or(u64::MAX, |d| (d.as_nanos() as u64 / cycle_ns).max(1));
     ch.start();
+    let mut spindle =
+        nc_kernel::ipo::SpindleModel::new(md.plc.spindle_acceleration, cycle_ns as f64 * 1e-9);
     let mut clock = crate::clock::CycleClock::new(cycle_ns);
     let mut k: u64 = 0;
     loop {
@@ -138,6 +140,8 @@ fn ipo_thread(
             ch.ack();
         }
         ch.cycle(k, &mut sp);
+        // No PLC in this process: its spindle drive is the kernel's model.
+        ch.set_spindle_actual(spindle.follow(sp.spindle));
         sink(&sp);
         let done = os::now_ns();
         let _ = compute.record(done.saturating_sub(woke).max(1));

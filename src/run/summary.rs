@@ -5,7 +5,7 @@
 use super::RunOptions;
 use nc_kernel::cycle::ChannelAlarm;
 use nc_kernel::{AxisKind, Interpreter, MachineData, Pos, Preparation, Segment};
-use softnc_protocol::{KernelStatus, MAX_AXES};
+use softnc_protocol::{KernelStatus, MAX_AXES, MAX_SPINDLES};
 use std::path::{Path, PathBuf};
 use std::process::ExitStatus;
 
@@ -136,21 +136,49 @@ impl Trace {
     }
 }
 
-/// The axes a trace header names: `time,cycle,seq`, the setpoints under the axes' letters,
+/// What a trace header names: the axes, in the order of every row's positions, and the
+/// number of spindles.
+#[derive(Debug, PartialEq)]
+struct Header {
+    axes: Vec<char>,
+    spindles: usize,
+}
+
+/// The columns of a trace header: `time,cycle,seq`, the setpoints under the axes' letters,
 /// the actual positions under `A` and the letter, the following errors under `F` and the
-/// letter, `v_path,line,state,events`.
-fn header_axes(header: &str) -> Option<Vec<char>> {
+/// letter, per spindle i (from 1) its speed setpoint `Si` and actual speed `ASi`, then
+/// `v_path,line,state,events`. Traces from before the spindle columns have none.
+fn header_axes(header: &str) -> Option<Header> {
     let cols: Vec<&str> = header.split(',').collect();
-    let n = cols.len().checked_sub(7)? / 3;
-    let fixed = cols.len() == 7 + 3 * n
+    let fixed = cols.len() >= 7
         && cols[..3] == ["time", "cycle", "seq"]
-        && cols[3 + 3 * n..] == ["v_path", "line", "state", "events"];
-    if !fixed || n > MAX_AXES {
+        && cols[cols.len() - 4..] == ["v_path", "line", "state", "events"];
+    if !fixed {
+        return None;
+    }
+    let middle = &cols[3..cols.len() - 4];
+    let spindles = middle.iter().filter(|c| c.starts_with('S')).count();
+    let (axis_cols, spindle_cols) = middle.split_at(middle.len().checked_sub(2 * spindles)?);
+    let named_spindles = (0..spindles).all(|i| {
+        spindle_cols[2 * i] == format!("S{}", i + 1)
+            && spindle_cols[2 * i + 1] == format!("AS{}", i + 1)
+    });
+    if !named_spindles || spindles > MAX_SPINDLES {
+        return None;
+    }
+    let axes = axis_names(axis_cols)?;
+    Some(Header { axes, spindles })
+}
+
+/// The axes of the axis columns: setpoints, actual positions (`A`), following errors (`F`).
+fn axis_names(cols: &[&str]) -> Option<Vec<char>> {
+    let n = cols.len() / 3;
+    if cols.len() != 3 * n || n > MAX_AXES {
         return None;
     }
     let mut names = Vec::with_capacity(n);
     for i in 0..n {
-        let mut c = cols[3 + i].chars();
+        let mut c = cols[i].chars();
         let (Some(name), None) = (c.next(), c.next()) else {
             return None;
         };
@@ -158,7 +186,7 @@ fn header_axes(header: &str) -> Option<Vec<char>> {
             let mut c = cols[k].chars();
             c.next() == Some(prefix) && c.next() == Some(name) && c.next().is_none()
         };
-        if !named(3 + n + i, 'A') || !named(3 + 2 * n + i, 'F') {
+        if !named(n + i, 'A') || !named(2 * n + i, 'F') {
             return None;
         }
         names.push(name);
@@ -170,13 +198,15 @@ pub fn read_trace(path: &Path) -> Result<Trace, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut lines = text.lines();
     let header = lines.next().unwrap_or("");
-    let axes = header_axes(header)
+    let Header { axes, spindles } = header_axes(header)
         .ok_or_else(|| format!("{}: not plc-sim's trace header: {header}", path.display()))?;
     let n = axes.len();
+    // The path speed follows the axes' and the spindles' columns.
+    let v_path = 3 + 3 * n + 2 * spindles;
     let geo = ['X', 'Y', 'Z'].map(|c| axes.iter().position(|&a| a == c));
     let mut rows = Vec::new();
     for (i, l) in lines.enumerate() {
-        let f: Vec<&str> = l.splitn(7 + 3 * n, ',').collect();
+        let f: Vec<&str> = l.splitn(v_path + 4, ',').collect();
         let num = |k: usize| -> Result<f64, String> {
             f.get(k)
                 .and_then(|x| x.parse::<f64>().ok())
@@ -194,7 +224,7 @@ pub fn read_trace(path: &Path) -> Result<Trace, String> {
             setpoint: axes_from(3)?,
             actual: axes_from(3 + n)?,
             following_error: axes_from(3 + 2 * n)?,
-            v_path: num(3 + 3 * n)? / 60.0,
+            v_path: num(v_path)? / 60.0,
         });
     }
     Ok(Trace { axes, geo, rows })
@@ -324,12 +354,49 @@ mod tests {
             "time,cycle,seq,X,Y,AX,AY,FX,FZ,v_path,line,state,events",
             "time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state",
             "",
+            // Spindle columns out of their place, order or numbering, or too many.
+            "time,cycle,seq,X,S1,AS1,AX,FX,v_path,line,state,events",
+            "time,cycle,seq,X,AX,FX,AS1,S1,v_path,line,state,events",
+            "time,cycle,seq,X,AX,FX,S2,AS2,v_path,line,state,events",
+            "time,cycle,seq,X,AX,FX,S1,AS1,v_path,line,state,events,S2,AS2",
+            "time,cycle,seq,X,AX,FX,S1,AS1,S2,AS2,S3,AS3,v_path,line,state,events",
         ] {
             assert_eq!(header_axes(bad), None, "{bad}");
         }
         assert_eq!(
-            header_axes("time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events"),
+            header_axes("time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events")
+                .map(|h| h.axes),
             Some(vec!['X', 'Y', 'Z'])
         );
+    }
+
+    #[test]
+    fn spindle_columns_are_read_past_and_old_traces_have_none() {
+        let h = |s| header_axes(s).map(|h| (h.axes, h.spindles));
+        assert_eq!(
+            h("time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,v_path,line,state,events"),
+            Some((vec!['X', 'Y', 'Z'], 0))
+        );
+        assert_eq!(
+            h("time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,S1,AS1,v_path,line,state,events"),
+            Some((vec!['X', 'Y', 'Z'], 1))
+        );
+        assert_eq!(
+            h("time,cycle,seq,X,Z,C,AX,AZ,AC,FX,FZ,FC,S1,AS1,S2,AS2,v_path,line,state,events"),
+            Some((vec!['X', 'Z', 'C'], 2))
+        );
+        let p = write(
+            "spindle.csv",
+            "time,cycle,seq,X,Y,Z,AX,AY,AZ,FX,FY,FZ,S1,AS1,v_path,line,state,events
+             0.001000,1,1,1,2,3,0.5,1.5,2.5,0.5,0.5,0.5,-1200,-996,600,3,ACTIVE,
+             0.002000,2,2,1,2,3,1,2,3,0,0,0,-1200,-1002,0,4,ACTIVE,ack M4
+",
+        );
+        let t = read_trace(&p).unwrap();
+        let _ = std::fs::remove_file(&p);
+        assert_eq!(t.axes, ['X', 'Y', 'Z']);
+        assert_eq!(t.rows[0].following_error[..3], [0.5, 0.5, 0.5]);
+        assert_eq!((t.rows[0].v_path, t.rows[1].v_path), (10.0, 0.0));
+        assert_eq!(t.xyz(&t.rows[1].actual), [1.0, 2.0, 3.0]);
     }
 }

@@ -170,6 +170,10 @@ pub struct TraceRow {
     /// Each configured axis in the machine's order: its name, then setpoint, actual
     /// position and following error.
     pub axes: Vec<(char, [f64; 3])>,
+    /// Each spindle of the trace (S1, AS1, …): speed setpoint and actual speed, rev/min,
+    /// signed (positive clockwise); empty for a trace from before the spindle columns.
+    pub spindle: Vec<[f64; 2]>,
+    /// Path speed, mm/s.
     pub v: f64,
     pub line: u32,
     pub state: String,
@@ -183,16 +187,18 @@ impl TraceRow {
     }
 }
 
-/// The axes of a trace header: `time,cycle,seq`, the setpoint columns named after the axes,
-/// the same with `A` (actual) and `F` (following error) before the name, then
-/// `v_path,line,state,events`.
-fn trace_axes(header: &str) -> Vec<char> {
+/// The axes and the number of spindles of a trace header: `time,cycle,seq`, the setpoint
+/// columns named after the axes, the same with `A` (actual) and `F` (following error) before
+/// the name, per spindle i (from 1) `Si` (speed setpoint) and `ASi` (actual speed), then
+/// `v_path,line,state,events`. A header from before the spindle columns has none.
+fn trace_axes(header: &str) -> (Vec<char>, usize) {
     let cols: Vec<&str> = header.split(',').collect();
-    let n = (cols.len() - 7) / 3;
-    assert_eq!(cols.len(), 7 + 3 * n, "{header}");
+    let s = cols.iter().filter(|c| c.starts_with('S')).count();
+    let n = cols.len().saturating_sub(7 + 2 * s) / 3;
+    assert_eq!(cols.len(), 7 + 3 * n + 2 * s, "{header}");
     assert_eq!(&cols[..3], ["time", "cycle", "seq"], "{header}");
     assert_eq!(
-        &cols[3 + 3 * n..],
+        &cols[3 + 3 * n + 2 * s..],
         ["v_path", "line", "state", "events"],
         "{header}"
     );
@@ -204,17 +210,21 @@ fn trace_axes(header: &str) -> Vec<char> {
         assert_eq!(cols[3 + n + i], format!("A{c}"), "{header}");
         assert_eq!(cols[3 + 2 * n + i], format!("F{c}"), "{header}");
     }
-    names
+    for i in 0..s {
+        assert_eq!(cols[3 + 3 * n + 2 * i], format!("S{}", i + 1), "{header}");
+        assert_eq!(cols[4 + 3 * n + 2 * i], format!("AS{}", i + 1), "{header}");
+    }
+    (names, s)
 }
 
 pub fn trace(path: &Path) -> Vec<TraceRow> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    let names = trace_axes(lines.next().unwrap_or(""));
+    let (names, s) = trace_axes(lines.next().unwrap_or(""));
     let n = names.len();
     lines
         .map(|l| {
-            let f: Vec<&str> = l.splitn(3 * n + 7, ',').collect();
+            let f: Vec<&str> = l.splitn(3 * n + 2 * s + 7, ',').collect();
             let num = |k: usize| f[k].parse::<f64>().unwrap();
             let axes: Vec<(char, [f64; 3])> = names
                 .iter()
@@ -228,7 +238,10 @@ pub fn trace(path: &Path) -> Vec<TraceRow> {
                         .map_or(0.0, |(_, v)| v[k])
                 })
             };
-            let rest = 3 + 3 * n;
+            let spindle = (0..s)
+                .map(|i| [num(3 + 3 * n + 2 * i), num(4 + 3 * n + 2 * i)])
+                .collect();
+            let rest = 3 + 3 * n + 2 * s;
             TraceRow {
                 cycle: f[1].parse().unwrap(),
                 seq: f[2].parse().unwrap(),
@@ -240,6 +253,7 @@ pub fn trace(path: &Path) -> Vec<TraceRow> {
                 state: f[rest + 2].to_string(),
                 events: f.get(rest + 3).unwrap_or(&"").to_string(),
                 axes,
+                spindle,
             }
         })
         .collect()

@@ -115,6 +115,24 @@ impl Station {
         panic!("not reached in {limit:?}; last {:?}", seen.last());
     }
 
+    /// The kernel's work-offset table through the bridge, once it has arrived (it is
+    /// published just after the tool table).
+    pub fn work_offsets(&self) -> Value {
+        let t = Instant::now();
+        loop {
+            let a = self.bridge.get("/api/work-offsets").unwrap();
+            if a.status == 200 {
+                return a.json();
+            }
+            assert!(
+                t.elapsed() < Duration::from_secs(10),
+                "no work-offset table: {}",
+                a.body
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
     pub fn post(&self, path: &str, body: Value) -> (u16, Value) {
         let a = self.bridge.post(path, &body).unwrap();
         (a.status, a.json())

@@ -6,7 +6,8 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, LengthComp, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, LengthComp, MotionMode, Plane, ProgramStop, SelectionPolicy,
+    SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -44,12 +45,20 @@ static GCODES: &[GCodeDef] = &[
     g(64, ExactStopModal(false)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
+    g(94, FeedPerRevolution(false)),
+    g(95, FeedPerRevolution(true)),
+    g(96, ConstantSurfaceSpeed(true)),
+    g(97, ConstantSurfaceSpeed(false)),
     g(92, Unsupported("coordinate system setting G92")),
 ];
 
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
+    m(3, Spindle(SpindleDir::Clockwise)),
+    m(4, Spindle(SpindleDir::CounterClockwise)),
+    m(5, Spindle(SpindleDir::Stop)),
+    m(19, Spindle(SpindleDir::Orient)),
     m(2, Stop(ProgramStop::End)),
     m(30, Stop(ProgramStop::EndRewind)),
 ];
@@ -64,6 +73,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: &[],
     polar_words: false,
+    lims_word: false,
     diameter_words: false,
     o_numbers: true,
     decimal_switch: true,

@@ -5,7 +5,8 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, MotionMode, Plane, ProgramStop, SelectionPolicy,
+    SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -47,6 +48,10 @@ static GCODES: &[GCodeDef] = &[
     g(71, Units(Units::Mm)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
+    g(94, FeedPerRevolution(false)),
+    g(95, FeedPerRevolution(true)),
+    g(96, ConstantSurfaceSpeed(true)),
+    g(97, ConstantSurfaceSpeed(false)),
     g(138, Selection(SelectionPolicy::Direct)),
     g(139, Selection(SelectionPolicy::Indirect)),
     g(140, Masking(false)),
@@ -61,6 +66,10 @@ static GCODES: &[GCodeDef] = &[
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
+    m(3, Spindle(SpindleDir::Clockwise)),
+    m(4, Spindle(SpindleDir::CounterClockwise)),
+    m(5, Spindle(SpindleDir::Stop)),
+    m(19, Spindle(SpindleDir::Orient)),
     m(2, Stop(ProgramStop::End)),
     m(30, Stop(ProgramStop::EndRewind)),
 ];
@@ -75,6 +84,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: true,
     at_commands: &[],
     polar_words: false,
+    lims_word: false,
     diameter_words: false,
     o_numbers: false,
     decimal_switch: false,

@@ -11,7 +11,7 @@ mod siemens_840c;
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
-    SelectionPolicy, TrcSide,
+    SelectionPolicy, SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
@@ -72,6 +72,12 @@ pub enum GEffect {
     MachineCoordinates,
     /// Tool length compensation by H register (modal: Fanuc G43/G44/G49).
     ToolLength(LengthComp),
+    /// Feed per minute (false) or per spindle revolution (true): G94/G95.
+    FeedPerRevolution(bool),
+    /// Constant surface speed on (true) or spindle speed in rev/min (false): G96/G97.
+    ConstantSurfaceSpeed(bool),
+    /// The block's S is the spindle speed limit (840C G92).
+    SpindleLimit,
     /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
     WorkingArea {
         max: bool,
@@ -102,6 +108,9 @@ impl GEffect {
             GEffect::WorkOffset(_) | GEffect::NumberedWorkOffset => 14,
             GEffect::MachineCoordinates => 18,
             GEffect::ToolLength(_) => 19,
+            GEffect::FeedPerRevolution(_) => 20,
+            GEffect::ConstantSurfaceSpeed(_) => 21,
+            GEffect::SpindleLimit => 22,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
             GEffect::Unsupported(_) => 17,
@@ -140,6 +149,8 @@ pub(crate) const fn g_no_trc(code: u16, effect: GEffect) -> GCodeDef {
 pub enum MEffect {
     /// A program-flow function acting at block end (840C 11.10).
     Stop(ProgramStop),
+    /// The spindle's direction, orientation or stop; the word still goes to the PLC.
+    Spindle(SpindleDir),
 }
 
 /// One row of a dialect's M-function table.
@@ -229,6 +240,8 @@ pub struct Dialect {
     pub polar_words: bool,
     /// 808D `DIAMON`/`DIAMOF`.
     pub diameter_words: bool,
+    /// Siemens `LIMS=`: the spindle speed limit under constant surface speed.
+    pub lims_word: bool,
     /// Fanuc `O` program numbers.
     pub o_numbers: bool,
     /// Fanuc: numbers without a decimal point follow the machine-data switch.
@@ -460,7 +473,8 @@ mod tests {
         assert_eq!(stop(c, 18.0), Some(MEffect::Stop(ProgramStop::StopAtEnd)));
         assert_eq!(stop(i, 18.0), None);
         assert_eq!(stop(i, 30.0), Some(MEffect::Stop(ProgramStop::EndRewind)));
-        assert_eq!(stop(i, 3.0), None);
+        assert_eq!(stop(i, 3.0), Some(MEffect::Spindle(SpindleDir::Clockwise)));
+        assert_eq!(stop(i, 8.0), None, "coolant: the PLC's");
         assert_eq!(stop(i, 0.5), None);
         let at = c.at_command(714).unwrap();
         assert_eq!(
@@ -476,8 +490,9 @@ mod tests {
             DialectName::Siemens808D,
         ] {
             for def in Dialect::get(name).mcodes {
-                let MEffect::Stop(s) = def.effect;
-                assert_eq!(stop_name(s), format!("M{}", def.code));
+                if let MEffect::Stop(s) = def.effect {
+                    assert_eq!(stop_name(s), format!("M{}", def.code));
+                }
             }
         }
     }

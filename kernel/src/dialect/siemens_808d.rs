@@ -5,7 +5,7 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -42,6 +42,10 @@ static GCODES: &[GCodeDef] = &[
     g(71, Units(Units::Mm)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
+    g(94, FeedPerRevolution(false)),
+    g(95, FeedPerRevolution(true)),
+    g(96, ConstantSurfaceSpeed(true)),
+    g(97, ConstantSurfaceSpeed(false)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
     g(500, WorkOffset(0)),
     g(
@@ -57,6 +61,10 @@ static GCODES: &[GCodeDef] = &[
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
+    m(3, Spindle(SpindleDir::Clockwise)),
+    m(4, Spindle(SpindleDir::CounterClockwise)),
+    m(5, Spindle(SpindleDir::Stop)),
+    m(19, Spindle(SpindleDir::Orient)),
     m(2, Stop(ProgramStop::End)),
     m(30, Stop(ProgramStop::EndRewind)),
 ];
@@ -71,6 +79,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: &[],
     polar_words: false,
+    lims_word: true,
     diameter_words: true,
     o_numbers: false,
     decimal_switch: false,

@@ -6,7 +6,7 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -55,7 +55,11 @@ static GCODES: &[GCodeDef] = &[
     g_no_trc(74, Unsupported("reference point approach G74")),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
-    g_no_trc(92, Unsupported("set actual value / speed limit G92")),
+    g(94, FeedPerRevolution(false)),
+    g(95, FeedPerRevolution(true)),
+    g(96, ConstantSurfaceSpeed(true)),
+    g(97, ConstantSurfaceSpeed(false)),
+    g(92, SpindleLimit),
     g(110, PoleHere),
     g(111, Unsupported("polar programming G111")),
     g(450, Corner(CornerPolicy::TransitionCircle)),
@@ -67,6 +71,10 @@ static GCODES: &[GCodeDef] = &[
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
+    m(3, Spindle(SpindleDir::Clockwise)),
+    m(4, Spindle(SpindleDir::CounterClockwise)),
+    m(5, Spindle(SpindleDir::Stop)),
+    m(19, Spindle(SpindleDir::Orient)),
     m(2, Stop(ProgramStop::End)),
     // 11.10 lists M18 with M00/M01/M02/M30: a programmed stop at block end.
     m(18, Stop(ProgramStop::StopAtEnd)),
@@ -91,6 +99,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: AT_COMMANDS,
     polar_words: true,
+    lims_word: false,
     diameter_words: false,
     o_numbers: false,
     decimal_switch: false,

@@ -295,6 +295,70 @@ pub enum FeedAdaption {
     Contour,
 }
 
+/// The spindle's direction as programmed (the dialects' M3, M4, M5, M19).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SpindleDir {
+    #[default]
+    Stop,
+    Clockwise,
+    CounterClockwise,
+    /// Oriented stop: the PLC positions the spindle.
+    Orient,
+}
+
+impl SpindleDir {
+    pub fn name(self) -> &'static str {
+        match self {
+            SpindleDir::Stop => "stop",
+            SpindleDir::Clockwise => "cw",
+            SpindleDir::CounterClockwise => "ccw",
+            SpindleDir::Orient => "orient",
+        }
+    }
+}
+
+/// The spindle as the program has set it: the channel turns it into a speed setpoint
+/// every cycle (docs/spindle.md).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SpindleProgram {
+    pub dir: SpindleDir,
+    /// rev/min, or under constant surface speed the cutting speed in m/min.
+    pub speed: f64,
+    /// Constant surface speed: the speed follows the transverse axis (X, a radius).
+    pub css: bool,
+    /// The program's limit, rev/min (0: none; machine data's maximum always holds).
+    pub limit: f64,
+}
+
+/// What the channel keeps of the modal state besides the path: the spindle, and the tool,
+/// cutting edge and work offset the HMI shows (docs/spindle.md).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Technology {
+    pub spindle: SpindleProgram,
+    /// T (0: none).
+    pub tool: u32,
+    /// The offset number D (0: none).
+    pub d: u32,
+    /// The work offset's index in the dialect's sets (0: none).
+    pub work_offset: u8,
+}
+
+impl ModalState {
+    pub fn technology(&self) -> Technology {
+        Technology {
+            spindle: SpindleProgram {
+                dir: self.spindle_dir,
+                speed: self.spindle,
+                css: self.css,
+                limit: self.spindle_limit,
+            },
+            tool: self.tool.unwrap_or(0),
+            d: self.d,
+            work_offset: self.work_offset,
+        }
+    }
+}
+
 /// Tool length compensation by H register (Fanuc G43 +, G44 −, G49 off).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LengthComp {
@@ -312,8 +376,17 @@ pub struct ModalState {
     pub units: Units,
     /// Path feed, mm/min.
     pub feed: f64,
-    /// Spindle speed, rev/min.
+    /// Spindle speed S: rev/min, or under constant surface speed m/min (ft/min in inch).
     pub spindle: f64,
+    /// The spindle as programmed: the technology the channel turns into a speed setpoint.
+    pub spindle_dir: SpindleDir,
+    /// Constant surface speed (G96): S is the cutting speed, the speed follows the
+    /// transverse axis (X).
+    pub css: bool,
+    /// The program's spindle speed limit, rev/min (0: machine data's only).
+    pub spindle_limit: f64,
+    /// The feed is per spindle revolution (G95): F in mm/rev.
+    pub feed_per_rev: bool,
     pub trc: TrcSide,
     pub corner: CornerPolicy,
     /// The modal selection/deselection method (ISG G138…G239; fixed per dialect elsewhere).

@@ -123,7 +123,7 @@ impl Interpreter<'_> {
         let Some(letter) = c.letter() else {
             return self.not_a_letter(c, w, ch, at);
         };
-        // Multi-letter words: they start with L (LF), C (CR=), D (DIAMON/DIAMOF) or
+        // Multi-letter words: they start with L (LF, LIMS=), C (CR=), D (DIAMON/DIAMOF) or
         // V (V. variables).
         if matches!(letter, b'L' | b'C' | b'D' | b'V') {
             if let Some(next) = self.multi_letter(c, w, letter, at)? {
@@ -200,6 +200,9 @@ impl Interpreter<'_> {
         if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
             return diameter_switch(c, w, at).map(Some);
         }
+        if d.lims_word && c.keyword("LIMS") {
+            return self.lims_equals(c, w, at).map(Some);
+        }
         if d.variables && expr::at_variable(c) {
             self.assignment(c, w, at)?;
             return Ok(Some(Next::Continue));
@@ -217,6 +220,19 @@ impl Interpreter<'_> {
         c.i += 1;
         let v = self.value(c, at, "CR=")?;
         set_once(&mut w.radius, v, "CR=")?;
+        Ok(Next::Continue)
+    }
+
+    /// Siemens `LIMS=`: the spindle speed limit under constant surface speed.
+    fn lims_equals(&mut self, c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
+        c.i += 4;
+        c.skip_blanks();
+        if c.peek() != Some(b'=') {
+            return Err(fault(AlarmCode::Syntax, at, "LIMS must be followed by '='"));
+        }
+        c.i += 1;
+        let v = self.value(c, at, "LIMS=")?;
+        set_once(&mut w.lims, v, "LIMS=")?;
         Ok(Next::Continue)
     }
 

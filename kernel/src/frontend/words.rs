@@ -61,6 +61,8 @@ pub struct Words {
     pub d: Option<Val>,
     /// Fanuc: the tool length offset's H register.
     pub h: Option<Val>,
+    /// Siemens `LIMS=`: the spindle speed limit.
+    pub lims: Option<Val>,
     pub t: Option<Val>,
     pub m: heapless::Vec<Val, 8>,
     /// @ command numbers with their offsets.
@@ -87,6 +89,8 @@ impl Words {
             && self.bare.is_none()
             && self.at_codes.is_empty()
             && self.diameter.is_none()
+            && self.h.is_none()
+            && self.lims.is_none()
             && !self.calculation
     }
 }

@@ -13,7 +13,8 @@
 //! it is output when that segment starts (or, after the last one, when the path is done).
 
 use super::planner::{Entry, Planner, Sample};
-use crate::frontend::block::{Additional, AxisPos, Pos};
+use super::spindle::spindle_setpoint;
+use crate::frontend::block::{Additional, AxisPos, Pos, SpindleDir, SpindleProgram, Technology};
 use crate::machine_data::MachineData;
 use crate::prep::{AuxFunction, Stop};
 use crate::segment::Source;
@@ -92,6 +93,11 @@ pub struct Setpoint {
     pub v_path: f64,
     pub source: Option<Source>,
     pub state: ChannelState,
+    /// The spindle's speed setpoint, rev/min: positive clockwise, negative
+    /// counter-clockwise (docs/spindle.md).
+    pub spindle: f64,
+    /// What the spindle is told to do (an oriented stop has speed 0 too).
+    pub spindle_dir: SpindleDir,
     pub events: heapless::Vec<Event, MAX_EVENTS>,
 }
 
@@ -118,6 +124,8 @@ struct Gate {
     released: Option<u64>,
     started: Option<u64>,
     wait_for_ack: heapless::Vec<(u8, f64), 16>,
+    /// The spindle, tool and work offset as of the last record output.
+    tech: Technology,
 }
 
 impl Gate {
@@ -146,6 +154,11 @@ impl Gate {
                 self.acks_due += 1;
             }
             match &e {
+                Event::Aux { aux, .. } => {
+                    if let Some(t) = aux.tech {
+                        self.tech = t;
+                    }
+                }
                 Event::Stop(_) => self.halted = true,
                 Event::Alarm { .. } => {
                     self.halted = true;
@@ -183,6 +196,8 @@ impl Gate {
 pub struct Channel {
     planner: Planner,
     gate: Gate,
+    /// Machine data `spindle.max_speed`, rev/min.
+    spindle_max: f64,
     state: ChannelState,
     input_done: bool,
     ended: bool,
@@ -206,7 +221,9 @@ impl Channel {
                 released: None,
                 started: None,
                 wait_for_ack: wait,
+                tech: Technology::default(),
             },
+            spindle_max: md.spindle.max_speed,
             state: ChannelState::Reset,
             input_done: false,
             ended: false,
@@ -449,6 +466,24 @@ impl Channel {
         out.v_path = sample.v;
         out.source = sample.source;
         out.state = self.state;
+        // Reset and the program's end stop the spindle (docs/spindle.md).
+        let p = match self.state {
+            ChannelState::Active | ChannelState::Stopped => self.gate.tech.spindle,
+            ChannelState::Reset | ChannelState::End => SpindleProgram::default(),
+        };
+        out.spindle = spindle_setpoint(&p, sample.pos[0], self.spindle_max);
+        out.spindle_dir = p.dir;
+    }
+
+    /// The tool, cutting edge and work offset of the path's place (for the HMI).
+    pub fn technology(&self) -> Technology {
+        self.gate.tech
+    }
+
+    /// The spindle's actual speed, rev/min (the PLC's, or a model's): a feed per revolution
+    /// follows it.
+    pub fn set_spindle_actual(&mut self, rpm: f64) {
+        self.planner.set_spindle_speed(rpm);
     }
 }
 
@@ -469,6 +504,8 @@ impl Setpoint {
             v_path: 0.0,
             source: None,
             state: ChannelState::Reset,
+            spindle: 0.0,
+            spindle_dir: SpindleDir::Stop,
             events: heapless::Vec::new(),
         }
     }

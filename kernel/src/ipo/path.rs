@@ -246,6 +246,7 @@ pub(crate) mod tests {
             from,
             to,
             feed: 1000.0,
+            per_rev: false,
             rapid: false,
             exact_stop: false,
         }

@@ -25,25 +25,33 @@ use crate::segment::{Segment, Source};
 /// Longest lookahead, in segments.
 pub const MAX_LOOKAHEAD: usize = 128;
 
-/// The speed a segment may run at: programmed feed times override, within the axes' cap;
+/// The speed a segment may run at: programmed feed times override, within the axes' cap
+/// (a feed per revolution times the spindle's actual revolutions per second `rev_s`);
 /// rapid traverse at the cap, the override acting up to 100 %; 0 while stopping.
-fn speed(e: &Entry, stopping: bool, ovr: f64) -> f64 {
+fn speed(e: &Entry, stopping: bool, ovr: f64, rev_s: f64) -> f64 {
     if stopping {
         return 0.0;
     }
     match e.feed {
+        Some(f) if e.per_rev => (f * rev_s * ovr).min(e.limits.v_cap),
         Some(f) => (f * ovr).min(e.limits.v_cap),
         None => e.limits.v_cap * ovr.min(1.0),
     }
 }
+
+/// A change of the spindle's actual speed smaller than this share of it leaves a feed per
+/// revolution planned as it is (no replanning every cycle of a ramp's last rev/min).
+const SPINDLE_REPLAN_SHARE: f64 = 0.005;
 
 /// A segment in the lookahead queue.
 #[derive(Clone, Copy, Debug)]
 pub struct Entry {
     pub piece: Piece,
     pub limits: SegmentLimits,
-    /// Programmed path feed in mm/s; `None` for rapid traverse.
+    /// Programmed path feed in mm/s (mm/rev when `per_rev`); `None` for rapid traverse.
     pub feed: Option<f64>,
+    /// Feed per spindle revolution (G95).
+    pub per_rev: bool,
     /// The path stops at its end: exact stop (G09, G60), or something waits there.
     pub stop_after: bool,
     /// Numbered in the order pushed, from 0.
@@ -69,7 +77,12 @@ impl Entry {
         Ok(Some(Entry {
             piece,
             limits,
-            feed: (!seg.rapid).then_some(seg.feed / 60.0),
+            feed: (!seg.rapid).then_some(if seg.per_rev {
+                seg.feed
+            } else {
+                seg.feed / 60.0
+            }),
+            per_rev: seg.per_rev,
             stop_after: seg.exact_stop,
             no: 0,
             end_cap: 0.0,
@@ -122,6 +135,10 @@ pub struct Planner {
     queue: heapless::Deque<Entry, MAX_LOOKAHEAD>,
     pushed: u64,
     override_: f64,
+    /// The spindle's actual speed, rev/s, feeds per revolution are planned with, and the
+    /// last one reported.
+    rev_s: f64,
+    rev_seen: f64,
     stopping: bool,
     /// Read-in disable: no segment starts, the path comes to rest at the first segment end
     /// it can still reach.
@@ -169,6 +186,8 @@ impl Planner {
             queue: heapless::Deque::new(),
             pushed: 0,
             override_: 1.0,
+            rev_s: 0.0,
+            rev_seen: 0.0,
             stopping: false,
             hold: false,
             replan: false,
@@ -346,6 +365,29 @@ impl Planner {
         }
     }
 
+    /// The spindle's actual speed (rev/min, either sign) for feeds per revolution: taken
+    /// when it differs from the one the queue was planned with by more than
+    /// [`SPINDLE_REPLAN_SHARE`], reaches 0, or holds still (the end of a ramp); then the queue
+    /// is replanned from the next cycle if it holds such a feed.
+    pub fn set_spindle_speed(&mut self, rpm: f64) {
+        let r = if rpm.is_finite() {
+            rpm.abs() / 60.0
+        } else {
+            0.0
+        };
+        let steady = r == self.rev_seen;
+        self.rev_seen = r;
+        let big = (r - self.rev_s).abs() > SPINDLE_REPLAN_SHARE * r.max(self.rev_s);
+        if r == self.rev_s || !(big || steady || r == 0.0) {
+            return;
+        }
+        self.rev_s = r;
+        if self.queue.iter().any(|e| e.per_rev) {
+            self.backward(true);
+            self.replan = true;
+        }
+    }
+
     /// NC stop: brake on the path, from the next cycle.
     pub fn stop(&mut self) {
         if !self.stopping {
@@ -391,20 +433,20 @@ impl Planner {
 
     /// The speed the segment may run at now.
     fn vmax(&self, e: &Entry) -> f64 {
-        speed(e, self.stopping, self.override_)
+        speed(e, self.stopping, self.override_, self.rev_s)
     }
 
     /// The highest speed at each segment's end from which the rest of the queue can still be
     /// done, from the back; on a push only the tail can change (`full` after an override).
     fn backward(&mut self, full: bool) {
-        let (stopping, ovr) = (self.stopping, self.override_);
+        let (stopping, ovr, rev_s) = (self.stopping, self.override_, self.rev_s);
         let n = self.queue.len();
         // (start speed the next segment allows, its own cap)
         let mut next: Option<(f64, f64)> = None;
         let (a, b) = self.queue.as_mut_slices();
         for (k, e) in b.iter_mut().rev().chain(a.iter_mut().rev()).enumerate() {
             let i = n - 1 - k;
-            let own = speed(e, stopping, ovr);
+            let own = speed(e, stopping, ovr, rev_s);
             let end = match next {
                 None => 0.0,
                 Some((start_next, cap_next)) => e.end_cap.min(own).min(cap_next).min(start_next),

@@ -236,6 +236,15 @@ impl HmiData {
     }
 }
 
+/// The main spindle (docs/spindle.md).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpindleData {
+    /// Highest speed, rev/min: every speed setpoint is limited to it (under constant
+    /// surface speed too, with the program's limit below it).
+    pub max_speed: f64,
+}
+
 /// `softnc simulate`, which no operator watches: where a run that would not end is ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -259,6 +268,7 @@ pub struct MachineData {
     pub plc: PlcData,
     pub hmi: HmiData,
     pub simulate: SimulateData,
+    pub spindle: SpindleData,
     pub axes: Axes,
     /// The work offsets in force (setting data, not machine data: from the work-offset file
     /// or all zero, docs/work-offsets.md).
@@ -374,6 +384,7 @@ impl MachineData {
             1e7,
         )?;
         range("simulate.max_rest_time", sim.max_rest_time, 0.001, 1e6)?;
+        range("spindle.max_speed", self.spindle.max_speed, 1.0, 1e6)?;
         self.validate_ipo()?;
         self.validate_axes()
     }

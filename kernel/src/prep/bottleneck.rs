@@ -1287,6 +1287,7 @@ mod tests {
             from: [55.0, 0.0, 0.0],
             to: [0.0, -60.0, 0.0],
             feed: 1000.0,
+            per_rev: false,
             rapid: false,
             exact_stop: false,
         };

@@ -12,7 +12,7 @@
 
 use crate::alarm::Alarm;
 use crate::frontend::block::{
-    AuxWord, AxisMove, Block, Motion, Plane, ProgramStop, SelectionPolicy, TrcSide,
+    AuxWord, AxisMove, Block, Motion, Plane, ProgramStop, SelectionPolicy, Technology, TrcSide,
 };
 use crate::frontend::Interpreter;
 use crate::machine_data::{MachineData, ViolationReaction};
@@ -48,6 +48,8 @@ pub struct BlockInfo {
     /// Nose centre → tool tip of the active cutting edge (zero for a milling tool).
     pub tip: V2,
     pub stop: Option<ProgramStop>,
+    /// The spindle, tool and work offset from this block on, when the block changed them.
+    pub tech: Option<Technology>,
 }
 
 pub struct BlockStep<'b> {
@@ -75,6 +77,8 @@ pub struct Front<'a> {
     /// Tool length in effect on the tool axis, and the one the active offset asks for: a new
     /// length is traversed with the next move of the tool axis (002, 840C 11.5.2 "N15 Z..").
     length: f64,
+    /// The spindle, tool and work offset as the blocks so far programmed them.
+    tech: Technology,
     blocks: u32,
     warnings: Vec<Alarm>,
 }
@@ -96,6 +100,7 @@ impl<'a> Front<'a> {
             interp,
             trc,
             length: 0.0,
+            tech: Technology::default(),
             blocks: 0,
             warnings: Vec::new(),
         }
@@ -157,6 +162,7 @@ impl<'a> Front<'a> {
                 tip_vector(block.modal.edge, block.modal.radius, block.modal.plane)
             },
             stop: block.stop,
+            tech: changed(&mut self.tech, block.modal.technology()),
         };
         Step::Block(BlockStep {
             info,
@@ -437,6 +443,15 @@ fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
         }
     }
     None
+}
+
+/// `now` if it differs from `last` (which becomes it).
+#[inline]
+fn changed(last: &mut Technology, now: Technology) -> Option<Technology> {
+    (*last != now).then(|| {
+        *last = now;
+        now
+    })
 }
 
 /// The motion with the tool length on the tool axis: the old length up to a block that

@@ -53,6 +53,9 @@ pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     }
     out.write_all(b",\"feed\":")?;
     num(out, s.feed)?;
+    if s.per_rev {
+        out.write_all(b",\"feed_per_rev\":true")?;
+    }
     if s.exact_stop {
         writeln!(out, ",\"rapid\":{},\"exact_stop\":true}}", s.rapid)
     } else {
@@ -119,7 +122,24 @@ pub fn write_aux(out: &mut impl Write, a: &AuxFunction) -> io::Result<()> {
         AuxOutput::BeforeMotion => "before",
         AuxOutput::DuringMotion => "during",
     };
-    writeln!(out, ",\"timing\":\"{timing}\"}}")
+    write!(out, ",\"timing\":\"{timing}\"")?;
+    if let Some(t) = &a.tech {
+        let sp = &t.spindle;
+        write!(
+            out,
+            ",\"tech\":{{\"spindle\":{{\"dir\":\"{}\",\"speed\":",
+            sp.dir.name()
+        )?;
+        num(out, sp.speed)?;
+        write!(out, ",\"css\":{},\"limit\":", sp.css)?;
+        num(out, sp.limit)?;
+        write!(
+            out,
+            "}},\"tool\":{},\"d\":{},\"work_offset\":{}}}",
+            t.tool, t.d, t.work_offset
+        )?;
+    }
+    writeln!(out, "}}")
 }
 
 /// `{"type":"stop","block":"N40","line":9,"code":"M0","at":"S5","pos":[..]}`, and the same

@@ -557,7 +557,7 @@ impl<'a> Preparation<'a> {
             self.blocks = u64::from(source.seq);
             self.tip.block(info.tip, source.seq);
             self.s_points.set_plane(info.plane);
-            let words_fit = self.s_points.block(source, b.words, info.stop);
+            let words_fit = self.s_points.block(source, b.words, info.stop, info.tech);
             let (element, fault) = (b.element, b.fault);
             self.holds_back = b.holds_back;
             // Warnings are rare: copied out only when there are any.

@@ -10,7 +10,7 @@
 //! intermediate blocks"); a block outside the plane outputs them at the S point where it is
 //! executed (11.11); M00, M01, M18 act at the end of their block, M02/M30 end the program.
 
-use crate::frontend::block::{AuxWord, Plane, Pos, ProgramStop, MAX_AUX_WORDS};
+use crate::frontend::block::{AuxWord, Plane, Pos, ProgramStop, Technology, MAX_AUX_WORDS};
 use crate::machine_data::AuxOutput;
 use crate::segment::{Role, Segment, Source};
 
@@ -25,6 +25,10 @@ pub struct AuxFunction {
     pub pos: Pos,
     /// Output before the motion from there starts, or with it (machine data).
     pub timing: AuxOutput,
+    /// The spindle, tool and work offset from here on, when the block changed them (the
+    /// channel's spindle setpoint and status follow from this S point; a record with no
+    /// words goes to no PLC).
+    pub tech: Option<Technology>,
 }
 
 /// M00, M01 or M18 at the end of its block, or M02/M30 at the end of the program.
@@ -65,9 +69,15 @@ impl Prepared {
 }
 
 /// Auxiliary words and stops waiting for their S point.
+// In a fixed-capacity deque: boxing the large variant would allocate per block.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 enum Waiting {
-    Aux(Source, heapless::Vec<AuxWord, MAX_AUX_WORDS>),
+    Aux(
+        Source,
+        heapless::Vec<AuxWord, MAX_AUX_WORDS>,
+        Option<Technology>,
+    ),
     Stop(Source, ProgramStop),
 }
 
@@ -134,8 +144,9 @@ impl SPoints {
         source: Source,
         block_words: &[AuxWord],
         stop: Option<ProgramStop>,
+        tech: Option<Technology>,
     ) -> bool {
-        if block_words.is_empty() && stop.is_none() {
+        if block_words.is_empty() && stop.is_none() && tech.is_none() {
             return true;
         }
         let mut words = heapless::Vec::new();
@@ -147,8 +158,11 @@ impl SPoints {
             let _ = words.push(*w);
         }
         let mut ok = true;
-        if !words.is_empty() {
-            ok &= self.waiting.push_back(Waiting::Aux(source, words)).is_ok();
+        if !words.is_empty() || tech.is_some() {
+            ok &= self
+                .waiting
+                .push_back(Waiting::Aux(source, words, tech))
+                .is_ok();
         }
         match stop {
             Some(s) if s.ends_program() => self.end = Some((source, s)),
@@ -188,7 +202,7 @@ impl SPoints {
         let own = !matches!(seg.role, Role::Intermediate | Role::Corner);
         self.release(out, |w| {
             let (src, stop) = match w {
-                Waiting::Aux(s, _) => (s, false),
+                Waiting::Aux(s, ..) => (s, false),
                 Waiting::Stop(s, _) => (s, true),
             };
             let d = seq.wrapping_sub(src.seq) as i32;
@@ -232,12 +246,13 @@ impl SPoints {
                 break;
             }
             let item = match self.waiting.pop_front() {
-                Some(Waiting::Aux(source, words)) => Prepared::Aux(AuxFunction {
+                Some(Waiting::Aux(source, words, tech)) => Prepared::Aux(AuxFunction {
                     source,
                     words,
                     at: self.s,
                     pos: self.pos,
                     timing: self.timing,
+                    tech,
                 }),
                 Some(Waiting::Stop(source, code)) => Prepared::Stop(Stop {
                     source,

@@ -207,6 +207,7 @@ mod tests {
             from,
             to,
             feed: 100.0,
+            per_rev: false,
             rapid: false,
             exact_stop: false,
         }

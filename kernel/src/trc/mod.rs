@@ -199,6 +199,7 @@ impl Out {
 struct Tag {
     source: Source,
     feed: f64,
+    per_rev: bool,
     rapid: bool,
     exact_stop: bool,
     /// ISG G11: the feed acts at the contour (adapted at arcs and transition blocks).
@@ -529,6 +530,7 @@ impl Compensator {
                 seq: self.seq,
             },
             feed: b.modal.feed,
+            per_rev: b.modal.feed_per_rev,
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
             exact_stop: b.exact_stop || b.modal.exact_stop,
             adapt: b.modal.feed_adaption == FeedAdaption::Contour,
@@ -1020,6 +1022,7 @@ impl Compensator {
             from: join(a, w0, self.plane),
             to: join(b, w1, self.plane),
             feed: tag.feed,
+            per_rev: tag.per_rev,
             rapid: tag.rapid,
             exact_stop: tag.exact_stop,
         });
@@ -1548,6 +1551,7 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         from: m.start,
         to: m.end,
         feed: tag.feed,
+        per_rev: tag.per_rev,
         rapid: tag.rapid,
         exact_stop: tag.exact_stop,
     }
@@ -1640,6 +1644,7 @@ mod tests {
         Tag {
             source: source(),
             feed,
+            per_rev: false,
             rapid: false,
             exact_stop: false,
             adapt,

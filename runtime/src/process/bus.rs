@@ -12,8 +12,8 @@ use softnc_protocol::iceoryx2::port::notifier::Notifier;
 use softnc_protocol::iceoryx2::port::publisher::Publisher;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{
-    newest, state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus, PlcSignals,
-    SetpointMsg, Sub, AUX_WORDS,
+    newest, spindle_mode, state, AuxAck, AuxRequest, AuxWordMsg, Instance, IpcError, KernelStatus,
+    PlcSignals, SetpointMsg, Sub, AUX_WORDS,
 };
 
 type Pending = PendingResponse<ipc::Service, AuxRequest, (), AuxAck, ()>;
@@ -120,6 +120,11 @@ impl Bus for IceBus {
             drives_ready: s.drives_ready != 0,
             emergency_stop: s.emergency_stop != 0,
             alarm: ChannelAlarm::new(s.alarm),
+            spindle_rpm: if s.spindle_rpm[0].is_finite() {
+                s.spindle_rpm[0]
+            } else {
+                0.0
+            },
         })
     }
 
@@ -136,7 +141,10 @@ impl Bus for IceBus {
             v_path: sp.v_path,
             state: state_code(sp.state),
             axes: self.axes.list.count,
-            _pad: [0; 6],
+            spindles: 1,
+            spindle_mode: [spindle_mode_code(sp.spindle_dir), spindle_mode::STOP],
+            _pad: [0; 3],
+            spindle: [sp.spindle, 0.0],
         };
         let sent = match self.setpoints.loan_uninit() {
             Ok(s) => s.write_payload(msg).send().is_ok(),
@@ -218,12 +226,24 @@ impl Bus for IceBus {
             block_seq: st.progress.map_or(0, |p| p.source.seq),
             piece: st.progress.map_or(0, |p| p.nth),
             along: st.progress.map_or(0.0, |p| p.along),
-            work_offset: 0,
-            tool: 0,
-            edge: 0,
+            work_offset: st.tech.work_offset.into(),
+            tool: st.tech.tool,
+            edge: st.tech.d,
+            spindle: [st.spindle, 0.0],
         };
         if self.status.send_copy(msg).is_err() {
             self.send_errors += 1;
         }
+    }
+}
+
+/// The wire's code for what the spindle is told to do.
+fn spindle_mode_code(d: nc_kernel::SpindleDir) -> u8 {
+    match d {
+        nc_kernel::SpindleDir::Stop => spindle_mode::STOP,
+        nc_kernel::SpindleDir::Clockwise | nc_kernel::SpindleDir::CounterClockwise => {
+            spindle_mode::TURN
+        }
+        nc_kernel::SpindleDir::Orient => spindle_mode::ORIENT,
     }
 }

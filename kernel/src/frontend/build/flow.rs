@@ -33,13 +33,26 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// Step 7: the M functions the dialect's table knows; the others are auxiliary
-    /// functions, handed on as written.
+    /// Step 7: the M functions the dialect's table knows (program flow, the spindle's
+    /// direction); every M word also goes on to the PLC as written (but the program-flow
+    /// ones).
     #[inline(always)]
-    pub(super) fn program_stops(&mut self, w: &Words) -> R<()> {
+    pub(super) fn m_functions(&mut self, w: &Words, new: &mut ModalState) -> R<()> {
+        let mut spindle = None;
         for m in &w.m {
             match self.d.mcode(m.value).map(|def| def.effect) {
                 Some(MEffect::Stop(s)) => self.program_stop(s, m.at)?,
+                Some(MEffect::Spindle(dir)) => {
+                    if spindle.is_some_and(|d| d != dir) {
+                        return Err(fault(
+                            AlarmCode::SameGroupTwice,
+                            m.at,
+                            "two spindle M functions in one block",
+                        ));
+                    }
+                    spindle = Some(dir);
+                    new.spindle_dir = dir;
+                }
                 None => {}
             }
         }

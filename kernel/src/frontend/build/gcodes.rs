@@ -27,6 +27,8 @@ pub(super) struct BlockCodes {
     pub numbered_at: Option<u32>,
     /// A tool length compensation code was written (Fanuc G43/G44/G49).
     pub length: bool,
+    /// The block's S is the spindle speed limit (840C G92).
+    pub spindle_limit: bool,
 }
 
 impl Interpreter<'_> {
@@ -121,6 +123,7 @@ impl Interpreter<'_> {
             trc_at: None,
             numbered_at: None,
             length: false,
+            spindle_limit: false,
         };
         self.machine_coordinates = false;
         let blk = &mut self.block;
@@ -147,6 +150,9 @@ impl Interpreter<'_> {
                 GEffect::WorkOffset(i) => new.work_offset = i,
                 GEffect::NumberedWorkOffset => g.numbered_at = Some(at),
                 GEffect::MachineCoordinates => self.machine_coordinates = true,
+                GEffect::FeedPerRevolution(on) => new.feed_per_rev = on,
+                GEffect::ConstantSurfaceSpeed(on) => new.css = on,
+                GEffect::SpindleLimit => g.spindle_limit = true,
                 GEffect::ToolLength(c) => {
                     new.length_comp = c;
                     g.length = true;

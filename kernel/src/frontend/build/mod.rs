@@ -41,12 +41,12 @@ impl Interpreter<'_> {
         if g.dwell.is_none() {
             self.feed(w, &mut new)?;
         }
-        self.spindle(&mut new, block_col)?;
+        self.spindle(w, &mut new, g.spindle_limit, block_col)?;
         // 6. Tool and tool offset (840C 11.5: D0 deselects); the H register's length.
         self.tool_offset(w, &mut new, block_col)?;
         self.length_register(w, &mut new, g.length, block_col)?;
-        // 7. Program-flow M functions, acting at block end (840C 11.10).
-        self.program_stops(w)?;
+        // 7. Program-flow M functions, acting at block end (840C 11.10); the spindle's.
+        self.m_functions(w, &mut new)?;
         // 8. The axis words: a dwell time, the working area's limits, or the motion.
         match (g.dwell, g.working_area) {
             (Some(code), _) => {

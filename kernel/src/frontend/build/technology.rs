@@ -28,20 +28,44 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// Step 5: the spindle speed, from the S words collected into the block.
+    /// Step 5: the spindle speed, from the S words collected into the block: rev/min, the
+    /// cutting speed under constant surface speed (m/min, ft/min in inch converted), or the
+    /// speed limit in a limit block (840C G92); Siemens `LIMS=` is a limit too.
     #[inline(always)]
-    pub(super) fn spindle(&self, new: &mut ModalState, block_col: usize) -> R<()> {
+    pub(super) fn spindle(
+        &self,
+        w: &Words,
+        new: &mut ModalState,
+        limit_block: bool,
+        block_col: usize,
+    ) -> R<()> {
         for a in &self.block.words {
             if a.address == b'S' {
-                if a.value < 0.0 {
+                if a.value < 0.0 || !a.value.is_finite() {
                     return Err(fault(
                         AlarmCode::BadNumber,
                         block_col,
                         "the spindle speed S must not be negative",
                     ));
                 }
-                new.spindle = a.value;
+                if limit_block {
+                    new.spindle_limit = a.value;
+                } else if new.css && new.units == Units::Inch {
+                    new.spindle = a.value * 0.3048;
+                } else {
+                    new.spindle = a.value;
+                }
             }
+        }
+        if let Some(l) = w.lims {
+            if l.value <= 0.0 || !l.value.is_finite() {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    l.at,
+                    "the spindle speed limit LIMS must be positive",
+                ));
+            }
+            new.spindle_limit = l.value;
         }
         Ok(())
     }
