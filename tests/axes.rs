@@ -2,7 +2,9 @@
 //! (docs/axes.md), through the front end, preparation and interpolation. Expected values are
 //! worked out by hand in the comments.
 
-use nc_kernel::simulate::{run, Options};
+#[path = "support/sim.rs"]
+mod sim;
+
 use nc_kernel::{interpret, AlarmCode, MachineData, ToolTable};
 use std::path::{Path, PathBuf};
 
@@ -149,17 +151,7 @@ struct Row {
 }
 
 fn simulate(md: &MachineData, text: &str) -> (Vec<Row>, nc_kernel::simulate::Summary) {
-    let mut out = Vec::new();
-    let s = run(
-        "t.nc",
-        text,
-        md,
-        &ToolTable::builtin(),
-        &Options::default(),
-        &mut out,
-    )
-    .expect("simulate");
-    let text = String::from_utf8(out).unwrap();
+    let (text, s) = sim::csv(md, text);
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),

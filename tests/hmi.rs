@@ -40,11 +40,7 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant() {
     let (code, r) = st.post("/api/offset", json!({ "d": 1, "radius": 12.0 }));
     assert_eq!(code, 409, "{r}");
     assert!(r["error"].as_str().unwrap().contains("running"), "{r}");
-    assert_eq!(st.post("/api/stop", json!({})).0, 200);
-    let stopped = st
-        .watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
-        .pop()
-        .unwrap();
+    let stopped = st.nc_stop();
     assert_eq!(
         stopped["tools_version"],
         json!(1),
@@ -65,16 +61,7 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant() {
     );
     let (code, r) = st.post("/api/start", json!({}));
     assert_eq!(code, 200, "{r}");
-    let end = st
-        .watch(Duration::from_secs(30), |s| {
-            s["state"] == json!("END") || !s["alarm"].is_null()
-        })
-        .pop()
-        .unwrap();
-    assert_eq!(
-        (end["state"].clone(), end["alarm"].clone()),
-        (json!("END"), Value::Null)
-    );
+    st.until_end(Duration::from_secs(30));
 
     let rows = st.trace();
     let contour = |r: &TraceRow| (3..=6).contains(&r.line);
@@ -128,11 +115,7 @@ fn an_offset_that_violates_the_contour_is_refused_before_any_motion() {
     st.watch(Duration::from_secs(30), |s| {
         s["line"] == json!(3) && f(&s["feed_mm_min"]) > 2400.0
     });
-    assert_eq!(st.post("/api/stop", json!({})).0, 200);
-    let stopped = st
-        .watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
-        .pop()
-        .unwrap();
+    let stopped = st.nc_stop();
     assert_eq!(
         st.post("/api/offset", json!({ "d": 1, "radius": 12.0 })).0,
         200
@@ -158,13 +141,7 @@ fn an_offset_that_violates_the_contour_is_refused_before_any_motion() {
     );
     let (code, r) = st.post("/api/start", json!({}));
     assert_eq!(code, 200, "{r}");
-    let end = st
-        .watch(Duration::from_secs(30), |s| {
-            s["state"] == json!("END") || !s["alarm"].is_null()
-        })
-        .pop()
-        .unwrap();
-    assert_eq!(end["state"], json!("END"));
+    st.until_end(Duration::from_secs(30));
 }
 
 /// With machine data `hmi.edit_while_active`, an edit while the program runs is stored and
@@ -195,13 +172,7 @@ fn an_edit_while_active_acts_at_the_next_d_when_machine_data_allows_it() {
         "{r}"
     );
     let y_edit = f(&st.status()["pos"][1]);
-    let end = st
-        .watch(Duration::from_secs(60), |s| {
-            s["state"] == json!("END") || !s["alarm"].is_null()
-        })
-        .pop()
-        .unwrap();
-    assert_eq!(end["state"], json!("END"));
+    st.until_end(Duration::from_secs(60));
     let rows = st.trace();
     let first: Vec<_> = rows
         .iter()

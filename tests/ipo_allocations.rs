@@ -2,7 +2,9 @@
 //! allocation, reallocation or free in the thread that runs the channel — taking the prepared
 //! records into the lookahead, and every cycle from NC start to the program end, with
 //! auxiliary functions, acknowledgements, an override change and an NC stop and restart on
-//! the way; on a machine of three axes and on one of eight. The records are prepared before
+//! the way; on a machine of three axes, on one of eight, and on a lathe turning at constant
+//! surface speed with feed per revolution (the spindle's setpoint every cycle, a drive model
+//! feeding its actual speed back, the path replanned as it changes). The records are prepared before
 //! counting (preparation runs in its own thread in the kernel and may allocate).
 
 #[path = "support/counting.rs"]
@@ -37,6 +39,10 @@ fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64, Setpo
     let mut sp = Box::new(Setpoint::new(start));
     let mut it = inputs.into_iter();
     let mut pending: Option<Input> = None;
+    let mut drive = nc_kernel::ipo::SpindleModel::new(
+        md.plc.spindle_acceleration,
+        f64::from(md.ipo.cycle_us) * 1e-6,
+    );
     let (k, events) = counting::counted(|| {
         ch.start();
         let mut k = 0u64;
@@ -47,6 +53,7 @@ fn run(inputs: Vec<Input>, start: AxisPos, md: &MachineData) -> (u64, u64, Setpo
                 ch.ack();
             }
             ch.cycle(k, &mut sp);
+            ch.set_spindle_actual(drive.follow(sp.spindle));
             acks = ch.acks_due();
             match k {
                 2_000 => ch.set_override(0.5),
@@ -98,6 +105,24 @@ fn the_ipo_path_does_not_touch_the_allocator() {
         );
     }
     eight_axes_through_the_ipo_without_the_allocator();
+    a_lathe_at_constant_surface_speed_without_the_allocator();
+}
+
+/// Facing and turning on the 808D lathe under G96/G95 (docs/spindle.md). Called from the
+/// test above, as the eight-axis run.
+fn a_lathe_at_constant_surface_speed_without_the_allocator() {
+    let md = MachineData::load(
+        Some(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/siemens-808d.toml")),
+        &[],
+    )
+    .unwrap();
+    let text = "G18 G90 G95 G0 X82 Z0\nG96 S200 LIMS=3000 M3\nG1 X0 F0.3\nG0 Z2\n\
+                X60\nG1 Z-20 F0.25\nX82\nG97 S800 M4\nG0 Z5\nM5\nM30\n";
+    let (inputs, start) = inputs(text, &md);
+    let (events, cycles, last) = run(inputs, start, &md);
+    assert!(cycles > 5_000, "{cycles}");
+    assert_eq!(events, 0, "{events} allocator calls over {cycles} cycles");
+    assert_eq!(last.spindle, 0.0, "stopped at the end");
 }
 
 /// A machine with eight path axes: X Y Z U V A B C.

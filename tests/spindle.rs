@@ -3,6 +3,9 @@
 //! follows the spindle's actual speed — through `softnc simulate`'s setpoint stream, with
 //! speeds and path speeds worked out by hand.
 
+#[path = "support/sim.rs"]
+mod sim;
+
 use nc_kernel::simulate::{run, Options};
 use nc_kernel::{interpret, AlarmCode, MachineData, SpindleDir, ToolTable};
 
@@ -30,21 +33,11 @@ fn lathe(over: &[&str]) -> MachineData {
 }
 
 fn simulate(md: &MachineData, text: &str) -> Vec<Row> {
-    let mut out = Vec::new();
-    let s = run(
-        "s.nc",
-        text,
-        md,
-        &ToolTable::builtin(),
-        &Options::default(),
-        &mut out,
-    )
-    .expect("simulate");
+    let (text, s) = sim::csv(md, text);
     assert!(s.alarms.is_empty(), "{:?}", s.alarms);
-    let text = String::from_utf8(out).unwrap();
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let header = lines.next().unwrap();
+    let col = |name: &str| sim::column(header, name);
     let (x, z, s1, v, b) = (col("X"), col("Z"), col("S1"), col("v_path"), col("block"));
     lines
         .map(|l| {

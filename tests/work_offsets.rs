@@ -280,3 +280,42 @@ fn an_unknown_h_is_an_alarm_at_its_word() {
     let b = run(&machine(&[], ""), "G0 X1 H2\n").unwrap();
     assert!(b[0].words.iter().any(|w| w.address == b'H'));
 }
+
+/// The command line reads `--offsets`; a file that does not load stops it with exit status 2
+/// and names the file and the key, before anything runs.
+#[test]
+fn the_command_line_takes_the_offsets_file_and_refuses_a_bad_one() {
+    let dir = std::env::temp_dir().join(format!("softnc-wo-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let prog = dir.join("p.mpf");
+    std::fs::write(&prog, "G54 G0 X10 Y0 Z0\nM30\n").unwrap();
+    let good = dir.join("good.toml");
+    std::fs::write(&good, "[G54]\nX = 5.5\n").unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[G54]\nX = 5.5\nQ = 1\n").unwrap();
+    let broken = dir.join("broken.toml");
+    std::fs::write(&broken, "[G54\n").unwrap();
+    let softnc = |offsets: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_softnc"))
+            .args(["path", prog.to_str().unwrap(), "--offsets"])
+            .arg(offsets)
+            .output()
+            .unwrap()
+    };
+    let out = softnc(&good);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path = String::from_utf8_lossy(&out.stdout);
+    assert!(path.contains("\"to\":[15.5,0.0,0.0]"), "{path}");
+    for (file, key) in [(&bad, "key `G54.Q`"), (&broken, "broken.toml")] {
+        let out = softnc(file);
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{said}");
+        assert!(said.contains(key), "{said}");
+        assert!(out.stdout.is_empty(), "nothing ran");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

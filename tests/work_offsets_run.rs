@@ -9,7 +9,7 @@ mod control;
 mod station;
 
 use control::*;
-use serde_json::{json, Value};
+use serde_json::json;
 use station::*;
 use std::time::Duration;
 
@@ -45,11 +45,7 @@ fn g54_edited_in_nc_stop_shifts_the_rest_of_the_program_by_exactly_the_edit() {
     let (code, r) = st.post("/api/work-offset", edit.clone());
     assert_eq!(code, 409, "{r}");
     assert!(r["error"].as_str().unwrap().contains("running"), "{r}");
-    assert_eq!(st.post("/api/stop", json!({})).0, 200);
-    let stopped = st
-        .watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
-        .pop()
-        .unwrap();
+    let stopped = st.nc_stop();
     assert_eq!(
         stopped["work_offsets_version"],
         json!(1),
@@ -72,16 +68,7 @@ fn g54_edited_in_nc_stop_shifts_the_rest_of_the_program_by_exactly_the_edit() {
     );
     let (code, r) = st.post("/api/start", json!({}));
     assert_eq!(code, 200, "{r}");
-    let end = st
-        .watch(Duration::from_secs(30), |s| {
-            s["state"] == json!("END") || !s["alarm"].is_null()
-        })
-        .pop()
-        .unwrap();
-    assert_eq!(
-        (end["state"].clone(), end["alarm"].clone()),
-        (json!("END"), Value::Null)
-    );
+    let end = st.until_end(Duration::from_secs(30));
     let p = pos(&end);
     assert!(
         (p[0] - 15.0).abs() < 1e-9 && (p[1] - 18.0).abs() < 1e-9,

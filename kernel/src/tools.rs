@@ -113,6 +113,7 @@ impl LiveEdits {
     }
 }
 
+/// A table file (tool offsets, work offsets) that does not load: which file, which key, why.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ToolTableError {
     pub file: String,

@@ -6,7 +6,6 @@
 use crate::dialect::Dialect;
 use crate::machine_data::{MachineData, AXES, AXIS_NAMES};
 use crate::tools::write_atomic;
-use std::fmt;
 use std::path::Path;
 
 /// Largest |value| a work-offset file may hold, mm or degrees.
@@ -19,25 +18,9 @@ pub struct WorkOffsets {
     sets: Vec<[f64; AXES]>,
 }
 
-/// A work-offset file that does not load: which file, which key, why.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct WorkOffsetError {
-    pub file: String,
-    pub key: String,
-    pub reason: String,
-}
-
-impl fmt::Display for WorkOffsetError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.key.is_empty() {
-            write!(f, "{}: {}", self.file, self.reason)
-        } else {
-            write!(f, "{}: key `{}`: {}", self.file, self.key, self.reason)
-        }
-    }
-}
-
-impl std::error::Error for WorkOffsetError {}
+/// A work-offset file that does not load: which file, which key, why (the tool table's
+/// error: the two files fail alike).
+pub type WorkOffsetError = crate::tools::ToolTableError;
 
 const ZERO: [f64; AXES] = [0.0; AXES];
 

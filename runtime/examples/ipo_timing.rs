@@ -7,6 +7,11 @@
 //! `ipo_timing --axes N [BLOCKS]` (N = 3 or 8): a zig-zag of lines with a corner at every
 //! block and helical arcs between, on a machine of X Y Z (3) or X Y Z U V A B C (8) where
 //! every additional axis moves in every block; the same X Y Z path both ways.
+//! `ipo_timing --lathe [BLOCKS]`: facing passes on the 808D lathe at constant surface speed
+//! with feed per revolution (G96 G95): the spindle's setpoint follows X every cycle, a
+//! model of its drive follows the setpoint, and the path speed follows the drive's actual
+//! speed (replanned whenever it has changed by more than 0.5 %); those cycles count as
+//! plain cycles.
 
 use hdrhistogram::Histogram;
 use nc_kernel::ipo::{Channel, ChannelState, Setpoint};
@@ -70,8 +75,25 @@ fn zigzag(blocks: usize, eight: bool) -> String {
     text + "M30\n"
 }
 
+/// `blocks` / 3 facing passes from X80 (a diameter) to the centre, 0.5 mm deeper each, at
+/// 200 m/min (limit 3000 rev/min) and 0.2 mm/rev.
+fn facing(blocks: usize) -> String {
+    let mut text = String::from("G18 G90 G95 G0 X82 Z0\nG96 S200 LIMS=3000 M3\n");
+    for i in 0..blocks / 3 {
+        let z = -0.5 * (i + 1) as f64;
+        text += &format!("G0 X82 Z{z}\nG1 X0 F0.2\nG0 Z{}\n", z + 1.0);
+    }
+    text + "M5\nM30\n"
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("--lathe") {
+        let blocks = args.get(1).map_or(300, |s| s.parse().expect("BLOCKS"));
+        let md = MachineData::load(Some(std::path::Path::new("config/siemens-808d.toml")), &[])
+            .expect("config/siemens-808d.toml (run from the repository)");
+        return time_program(&md, &facing(blocks), true);
+    }
     let axes: Option<usize> = match args.first().map(String::as_str) {
         Some("--axes") => Some(
             args.get(1)
@@ -94,11 +116,17 @@ fn main() {
             nc_kernel::synthetic::compensated_program(blocks, nc_kernel::synthetic::Header::Softnc),
         ),
     };
+    time_program(&md, &text, false);
+}
+
+/// Runs `text` through the channel on the simulated clock and prints the cycle times;
+/// `spindle`: a model of the spindle drive feeds the actual speed back every cycle.
+fn time_program(md: &MachineData, text: &str, spindle: bool) {
     let tools = ToolTable::builtin();
     let job = nc_kernel::handover::Job {
         name: "bench",
-        source: &text,
-        md: &md,
+        source: text,
+        md,
         tools: &tools,
         at: None,
     };
@@ -109,7 +137,11 @@ fn main() {
     );
     let mut it = inputs.into_iter();
     let mut pending = None;
-    let mut ch = Box::new(Channel::new(&md, start));
+    let mut ch = Box::new(Channel::new(md, start));
+    let mut drive = nc_kernel::ipo::SpindleModel::new(
+        md.plc.spindle_acceleration,
+        f64::from(md.ipo.cycle_us) * 1e-6,
+    );
     let mut sp = Box::new(Setpoint::new(start));
     let mut plain = Histogram::<u64>::new_with_bounds(1, 1_000_000_000, 3).unwrap();
     let mut replan = Histogram::<u64>::new_with_bounds(1, 1_000_000_000, 3).unwrap();
@@ -131,6 +163,9 @@ fn main() {
             ch.ack();
         }
         ch.cycle(k, &mut sp);
+        if spindle {
+            ch.set_spindle_actual(drive.follow(sp.spindle));
+        }
         let dt = (now_ns() - t0).max(1);
         if action {
             replan.record(dt).unwrap();

@@ -133,6 +133,31 @@ impl Station {
         }
     }
 
+    /// NC stop through the API; the status once the channel is in NC stop, at rest.
+    pub fn nc_stop(&self) -> Value {
+        assert_eq!(self.post("/api/stop", json!({})).0, 200);
+        self.watch(Duration::from_secs(10), |s| s["state"] == json!("STOPPED"))
+            .pop()
+            .unwrap()
+    }
+
+    /// Waits (within `limit`) for the program's end or an alarm, and asserts it ended
+    /// without one; the last status.
+    pub fn until_end(&self, limit: Duration) -> Value {
+        let end = self
+            .watch(limit, |s| {
+                s["state"] == json!("END") || !s["alarm"].is_null()
+            })
+            .pop()
+            .unwrap();
+        assert_eq!(
+            (end["state"].clone(), end["alarm"].clone()),
+            (json!("END"), Value::Null),
+            "the program ends without an alarm"
+        );
+        end
+    }
+
     pub fn post(&self, path: &str, body: Value) -> (u16, Value) {
         let a = self.bridge.post(path, &body).unwrap();
         (a.status, a.json())
