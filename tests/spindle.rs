@@ -169,6 +169,17 @@ fn feed_per_revolution_follows_the_spindle_as_it_comes_up_to_speed() {
         "cruise at 0.3 × 1000 = 300 mm/min: {top}"
     );
     assert!(cut.iter().all(|r| r.v <= 300.0 + 1e-6));
+    // While the spindle comes up the path never runs faster than F × its actual speed:
+    // the model's 6 rev/min per cycle from the cycle M3 went out.
+    let m3 = rows.iter().position(|r| r.spindle == 1000.0).unwrap();
+    for (k, r) in rows.iter().enumerate().skip(m3) {
+        let n_actual = (6.0 * (k - m3 + 1) as f64).min(1000.0);
+        assert!(
+            r.v <= 0.3 * n_actual + 1e-6,
+            "cycle {k}: {} > 0.3 × {n_actual}",
+            r.v
+        );
+    }
     // At 50 mm in 300 mm/min the cut takes 10 s (plus ramps); at 1000 mm/min (F as per
     // minute) it would take 3 s.
     assert!(cut.len() > 10_000, "{}", cut.len());
@@ -192,4 +203,87 @@ fn feed_per_revolution_waits_while_the_spindle_stands() {
     .unwrap();
     let codes: Vec<u32> = s.alarms.iter().map(|a| a.number()).collect();
     assert_eq!(codes, [90002], "{:?}", s.alarms);
+}
+
+#[test]
+fn g97_without_s_keeps_the_speed_constant_surface_speed_had_there() {
+    // 808D: G96 S150 at X62 (r 31): 150000 / (2π·31) = 770.1046 rev/min; G97 alone there
+    // keeps that speed (840D, TF5200: the last speed remains), wherever X goes after.
+    let md = lathe(&[]);
+    let rows = simulate(
+        &md,
+        "G0 X62 Z2\nG96 S150 M3\nG1 Z-5 F200\nG97\nG1 X40 Z-10\nM30\n",
+    );
+    let n = 150_000.0 / (2.0 * std::f64::consts::PI * 31.0);
+    let after: Vec<&Row> = rows.iter().filter(|r| r.line == 5 && r.v > 0.0).collect();
+    assert!(after.len() > 100);
+    assert!(
+        after.iter().all(|r| (r.spindle - n).abs() < 1e-9),
+        "{}",
+        after[0].spindle
+    );
+}
+
+#[test]
+fn a_change_of_the_feeds_unit_deletes_f() {
+    // 840D feeds: "the programmed F value is deleted when switching G93/G94/G95": a move
+    // after G95 without a new F is alarm 10860 at its block, not 200 mm/rev.
+    let md = machine(&[]);
+    let a = interpret(
+        "s.nc",
+        "S1000 M3\nG1 X10 F200\nG95 X300\n",
+        &md,
+        &ToolTable::builtin(),
+    )
+    .unwrap_err();
+    assert_eq!((a.number(), a.line), (10860, 3), "{a}");
+    assert!(interpret(
+        "s.nc",
+        "S1000 M3\nG1 X10 F200\nG95 X20 F0.1\nG94 X30 F300\n",
+        &md,
+        &ToolTable::builtin()
+    )
+    .is_ok());
+}
+
+#[test]
+fn constant_surface_speed_takes_a_rapid_moves_end_point() {
+    // G0 X30 from X80 under G96 S180 (Fanuc, 840D: the speed does not follow a rapid
+    // traverse): the whole move at the speed of r = 15, 180000 / (2π·15) = 1909.86.
+    let md = lathe(&[]);
+    let rows = simulate(&md, "G0 X80 Z2\nG96 S180 M3\nG0 X30\nG1 Z-5 F100\nM30\n");
+    let n = 180_000.0 / (2.0 * std::f64::consts::PI * 15.0);
+    let rapid: Vec<&Row> = rows.iter().filter(|r| r.line == 3 && r.v > 0.0).collect();
+    assert!(rapid.len() > 10);
+    assert!(
+        rapid.iter().all(|r| (r.spindle - n).abs() < 1e-9),
+        "{}",
+        rapid[0].spindle
+    );
+}
+
+#[test]
+fn an_alarm_stops_the_spindle() {
+    // simulate's machine-time limit (alarm 90001) in the middle of a cut: the path brakes
+    // and the spindle's setpoint is 0 from the alarm on.
+    let md = machine(&["simulate.max_machine_time=2"]);
+    let mut out = Vec::new();
+    let s = run(
+        "s.nc",
+        "S1000 M3\nG1 X500 F1000\nM30\n",
+        &md,
+        &ToolTable::builtin(),
+        &Options::default(),
+        &mut out,
+    )
+    .unwrap();
+    assert_eq!(s.alarms.first().map(|a| a.number()), Some(90001));
+    let text = String::from_utf8(out).unwrap();
+    let mut lines = text.lines();
+    let s1 = sim::column(lines.next().unwrap(), "S1");
+    let speeds: Vec<f64> = lines
+        .map(|l| l.split(',').nth(s1).unwrap().parse().unwrap())
+        .collect();
+    assert!(speeds.contains(&1000.0));
+    assert_eq!(*speeds.last().unwrap(), 0.0);
 }

@@ -36,7 +36,10 @@ fn fanuc_g54_to_g59_and_the_numbered_sets() {
         "G0 G90 X1 Y1 Z1\nG55 X1\nG59 X1 Y1\nG54.1 P1 X1 Y1 Z1\nG54.1 P48 Z0\nG54 X0 Y0 Z0\n",
     )
     .unwrap();
-    assert!(close(end(&b[0]), [1.0, 1.0, 1.0]), "no set selected: none");
+    assert!(
+        close(end(&b[0]), [1.0, 1.0, 1.0]),
+        "G54 at program start: zero here"
+    );
     assert!(close(end(&b[1]), [11.0, 1.0, 1.0]), "G55 X+10");
     assert!(close(end(&b[2]), [1.0, -6.5, 1.0]), "G59 Y-7.5");
     assert!(close(end(&b[3]), [2.0, 1.0, 3.0]), "G54.1 P1 (1, 0, 2)");
@@ -318,4 +321,16 @@ fn the_command_line_takes_the_offsets_file_and_refuses_a_bad_one() {
         assert!(out.stdout.is_empty(), "nothing ran");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_fanuc_program_starts_in_g54() {
+    // Fanuc: G54 is in force at power-on and reset (group 14's initial code); the other
+    // controls start without a set.
+    let md = machine(FANUC, "[G54]\nX = 100\n");
+    let b = run(&md, "G1 X5 F100\n").unwrap();
+    assert!(close(end(&b[0]), [105.0, 0.0, 0.0]));
+    let md = machine(&[], "[G54]\nX = 100\n");
+    let b = run(&md, "G1 X5 F100\n").unwrap();
+    assert!(close(end(&b[0]), [5.0, 0.0, 0.0]));
 }

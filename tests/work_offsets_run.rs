@@ -13,8 +13,9 @@ use serde_json::json;
 use station::*;
 use std::time::Duration;
 
-/// A square 100 mm wide drawn in G54 from its corner (0, 0).
-const SQUARE: &str = "N10 G54 G0 X0 Y0 Z0\nN20 G1 X100 F3000\nN30 Y100\nN40 X0\nN50 Y0\nN60 M30\n";
+/// A square 100 mm wide drawn in G54 from its corner (0, 0), the spindle turning.
+const SQUARE: &str =
+    "N10 G54 G0 X0 Y0 Z0 M3 S1000\nN20 G1 X100 F3000\nN30 Y100\nN40 X0\nN50 Y0\nN60 M5\nN70 M30\n";
 
 /// Distance from `p` to the outline of the square with its corner at `o`.
 fn off_outline(p: [f64; 3], o: [f64; 2]) -> f64 {
@@ -108,6 +109,45 @@ fn g54_edited_in_nc_stop_shifts_the_rest_of_the_program_by_exactly_the_edit() {
         "{before} {}",
         after.len()
     );
+    // The spindle turns on through the stop and the resume: the re-prepared program goes on
+    // with the spindle in force where it stopped (its M3 lies before the interruption).
+    // (M5 goes out at N50's end, with the path there at rest.)
+    let moving = rows[stop..]
+        .iter()
+        .filter(|r| r.v > 0.0 && (2..=5).contains(&r.line));
+    for r in moving {
+        assert_eq!(r.spindle[0][0], 1000.0, "line {}", r.line);
+    }
+}
+
+/// An edit in reset reaches the program loaded before it: NC start prepares it again with
+/// the new set first.
+#[test]
+fn an_edit_in_reset_reaches_the_program_loaded_before_it() {
+    let prog = write("wo-reset.mpf", "N10 G54 G0 X10 Y0 Z0\nN20 M30\n");
+    let offsets = write("wo-reset.toml", "[G54]\nX = 1.0\n");
+    let folder = prog.parent().unwrap().to_str().unwrap().to_string();
+    let st = station(
+        "woreset",
+        None,
+        &["--offsets", offsets.to_str().unwrap()],
+        &["--programs", &folder],
+    );
+    let (code, r) = st.post("/api/load", json!({ "program": "wo-reset.mpf" }));
+    assert_eq!(code, 200, "{r}");
+    let (code, r) = st.post(
+        "/api/work-offset",
+        json!({ "set": "G54", "values": { "X": 7.0 } }),
+    );
+    assert_eq!(code, 200, "{r}");
+    let (code, r) = st.post("/api/start", json!({}));
+    assert_eq!(code, 200, "{r}");
+    assert!(
+        r["message"].as_str().unwrap().contains("prepared again"),
+        "{r}"
+    );
+    let end = st.until_end(Duration::from_secs(30));
+    assert_eq!(pos(&end)[0], 17.0, "X10 in the new G54 (X7)");
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

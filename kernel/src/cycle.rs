@@ -419,7 +419,11 @@ impl Cyclic {
                     return Err(r);
                 }
                 self.feed_held = false;
+                // The re-prepared program goes on with the spindle, tool and work offset in
+                // force at the interruption point: its records before it are not output again.
+                let tech = self.channel_ref().technology();
                 self.install(p);
+                self.channel().set_technology(tech);
                 self.channel().start();
                 Ok(())
             }

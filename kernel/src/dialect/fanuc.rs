@@ -77,6 +77,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: true,
     decimal_switch: true,
+    initial_work_offset: 1,
     numbered_work_offsets: 48,
     length_offset: super::LengthOffset::HRegister,
     tool_edges: false,

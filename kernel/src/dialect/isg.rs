@@ -88,6 +88,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: false,
     decimal_switch: false,
+    initial_work_offset: 0,
     numbered_work_offsets: 0,
     length_offset: super::LengthOffset::WithD,
     tool_edges: false,

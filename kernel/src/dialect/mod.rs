@@ -250,6 +250,8 @@ pub struct Dialect {
     pub tool_edges: bool,
     /// Work offsets numbered after a G code with P (Fanuc G54.1 P1…P48): how many.
     pub numbered_work_offsets: u8,
+    /// The work offset in force at program start (Fanuc: G54; elsewhere none).
+    pub initial_work_offset: u8,
     pub length_offset: LengthOffset,
     pub dwell: DwellWords,
     /// Alarm for TRC selection/deselection in a circular block.

@@ -245,7 +245,7 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         feed_adaption: FeedAdaption::Centre,
         masking: false,
         exact_stop: false,
-        work_offset: 0,
+        work_offset: d.initial_work_offset,
         diameter: md.program.diameter_programming,
         tool: None,
         d: 0,

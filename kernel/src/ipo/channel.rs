@@ -466,18 +466,27 @@ impl Channel {
         out.v_path = sample.v;
         out.source = sample.source;
         out.state = self.state;
-        // Reset and the program's end stop the spindle (docs/spindle.md).
+        // Reset, the program's end and an alarm stop the spindle (docs/spindle.md).
         let p = match self.state {
+            _ if self.gate.alarm => SpindleProgram::default(),
             ChannelState::Active | ChannelState::Stopped => self.gate.tech.spindle,
             ChannelState::Reset | ChannelState::End => SpindleProgram::default(),
         };
-        out.spindle = spindle_setpoint(&p, sample.pos[0], self.spindle_max);
+        // Constant surface speed during a rapid move: the speed of its end point (Fanuc,
+        // 840D: the speed does not follow a rapid traverse).
+        let x = self.planner.rapid_end_x().unwrap_or(sample.pos[0]);
+        out.spindle = spindle_setpoint(&p, x, self.spindle_max);
         out.spindle_dir = p.dir;
     }
 
-    /// The tool, cutting edge and work offset of the path's place (for the HMI).
+    /// The spindle, tool, cutting edge and work offset of the path's place (for the HMI).
     pub fn technology(&self) -> Technology {
         self.gate.tech
+    }
+
+    /// A program resumed in NC stop starts with what was in force where it stopped.
+    pub fn set_technology(&mut self, t: Technology) {
+        self.gate.tech = t;
     }
 
     /// The spindle's actual speed, rev/min (the PLC's, or a model's): a feed per revolution

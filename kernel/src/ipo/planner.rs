@@ -258,6 +258,16 @@ impl Planner {
         self.queue.is_empty() && self.run.is_none()
     }
 
+    /// X at the end of the running segment if it is a rapid move (constant surface speed
+    /// takes its end point's speed, docs/spindle.md).
+    pub fn rapid_end_x(&self) -> Option<f64> {
+        self.run?;
+        self.queue
+            .front()
+            .filter(|e| e.feed.is_none())
+            .map(|e| e.piece.seg.to[0])
+    }
+
     /// The path stands still (between segments or stopped on one).
     pub fn at_rest(&self) -> bool {
         self.v == 0.0

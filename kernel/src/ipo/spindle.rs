@@ -7,9 +7,10 @@ use crate::frontend::block::{SpindleDir, SpindleProgram};
 
 /// The speed setpoint, rev/min, positive clockwise (M3), negative counter-clockwise (M4), 0
 /// stopped or oriented. Under constant surface speed n = v·1000 / (2π·r) with r the
-/// transverse axis's distance from the centre (`x`, a radius, mm) and v in m/min; at the
-/// centre and wherever that exceeds it, the limit: the program's (840C G92, 808D LIMS) if
-/// below machine data's `max_speed`, else `max_speed`.
+/// transverse axis's distance from the centre (`x`, a radius, mm) and v in m/min. The
+/// limit holds for both: the program's (840C G92, 808D LIMS, 840D: "LIMS acts with G96 and
+/// G97") if below machine data's `max_speed`, else `max_speed`; under constant surface
+/// speed it is also the speed at the centre.
 pub fn spindle_setpoint(p: &SpindleProgram, x: f64, max_speed: f64) -> f64 {
     let limit = if p.limit > 0.0 {
         p.limit.min(max_speed)
@@ -24,7 +25,7 @@ pub fn spindle_setpoint(p: &SpindleProgram, x: f64, max_speed: f64) -> f64 {
             p.speed * 1000.0 / circumference
         }
     } else {
-        p.speed.min(max_speed)
+        p.speed.min(limit)
     };
     match p.dir {
         SpindleDir::Clockwise => n,

@@ -150,7 +150,14 @@ impl Interpreter<'_> {
                 GEffect::WorkOffset(i) => new.work_offset = i,
                 GEffect::NumberedWorkOffset => g.numbered_at = Some(at),
                 GEffect::MachineCoordinates => self.machine_coordinates = true,
-                GEffect::FeedPerRevolution(on) => new.feed_per_rev = on,
+                GEffect::FeedPerRevolution(on) => {
+                    // A change of the feed's unit deletes F: the next move needs its own
+                    // (840D feeds "F is deleted when switching G93/G94/G95"; Fanuc likewise).
+                    if new.feed_per_rev != on {
+                        new.feed = 0.0;
+                    }
+                    new.feed_per_rev = on;
+                }
                 GEffect::ConstantSurfaceSpeed(on) => new.css = on,
                 GEffect::SpindleLimit => g.spindle_limit = true,
                 GEffect::ToolLength(c) => {

@@ -39,8 +39,10 @@ impl Interpreter<'_> {
         limit_block: bool,
         block_col: usize,
     ) -> R<()> {
+        let mut s_written = false;
         for a in &self.block.words {
             if a.address == b'S' {
+                s_written |= !limit_block;
                 if a.value < 0.0 || !a.value.is_finite() {
                     return Err(fault(
                         AlarmCode::BadNumber,
@@ -67,7 +69,22 @@ impl Interpreter<'_> {
             }
             new.spindle_limit = l.value;
         }
+        if self.block.modal.css && !new.css && !s_written {
+            new.spindle = self.css_speed_here(new);
+        }
         Ok(())
+    }
+
+    /// G97 without S after G96 keeps the speed the spindle turns at where the block starts
+    /// (840D, TF5200: "the last speed remains").
+    fn css_speed_here(&self, new: &ModalState) -> f64 {
+        let css = crate::frontend::block::SpindleProgram {
+            dir: crate::frontend::block::SpindleDir::Clockwise,
+            speed: self.block.modal.spindle,
+            css: true,
+            limit: new.spindle_limit,
+        };
+        crate::ipo::spindle_setpoint(&css, self.cur[0], self.md.spindle.max_speed)
     }
 
     /// Step 6: the tool and its offset. A written tool radius (ISG) overrides the table's.

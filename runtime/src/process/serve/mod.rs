@@ -52,6 +52,8 @@ struct Loaded {
     at: Option<nc_kernel::AxisPos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
     live: nc_kernel::LiveEdits,
+    /// The tool and work-offset tables' versions it was prepared with.
+    versions: (u32, u32),
     reports: crossbeam::channel::Receiver<Report>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -107,10 +109,12 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
     // stand where an empty program would start.
     let mut first = None;
     if let Some(path) = &opts.program {
-        let (p, l) = load(path, &md, &tools, next_id, None).map_err(|(a, m)| match a {
+        let (p, mut l) = load(path, &md, &tools, next_id, None).map_err(|(a, m)| match a {
             0 => Failure::Error(m),
             _ => Failure::Failed(m),
         })?;
+        // The tables' versions start at 1.
+        l.versions = (1, 1);
         programs.insert(next_id, l);
         first = Some(p);
         next_id += 1;
@@ -260,6 +264,7 @@ impl Loaded {
             source,
             at,
             live,
+            versions: (0, 0),
             reports: s.reports,
             thread: Some(s.thread),
         };
@@ -521,16 +526,12 @@ fn print_reports(l: &Loaded) {
 impl Desk<'_> {
     fn handle(&mut self, c: &Command, last: &KernelStatus) -> Reply {
         let shared = self.shared;
-        let answer = |r: Result<(), Refusal>, ok: &str| match r {
-            Ok(()) => Reply::new(true, 0, ok),
-            Err(r) => {
-                let (a, m) = refusal_text(r);
-                Reply::new(false, a, &m)
-            }
-        };
         match c.kind {
             command::START if self.changed_in_stop && last.state == state::STOPPED => {
                 self.resume(last)
+            }
+            command::START if last.state == state::RESET && self.stale(last.program) => {
+                self.reload_and_start(last)
             }
             command::START => answer(ask(shared, Control::Start), "NC start"),
             command::STOP => answer(ask(shared, Control::Stop), "NC stop"),
@@ -551,29 +552,7 @@ impl Desk<'_> {
             ),
             command::OVERRIDE => answer(ask(shared, Control::Override(c.value)), "override set"),
             command::SHUTDOWN => answer(ask(shared, Control::Shutdown), "shutting down"),
-            command::LOAD => {
-                let path = c.text();
-                let id = self.next_id;
-                match load(
-                    path,
-                    &self.program_md(),
-                    &self.tools,
-                    id,
-                    Some(crate::WireAxes::new(self.md).from_wire(&last.pos)),
-                ) {
-                    Ok((p, l)) => {
-                        self.programs.insert(id, l);
-                        self.next_id += 1;
-                        let r = ask(shared, Control::Load(p));
-                        if r.is_ok() {
-                            self.changed_in_stop = false;
-                        }
-                        self.settle(id, r.is_ok(), last.program);
-                        answer(r, &format!("program {path} loaded (number {id})"))
-                    }
-                    Err((a, m)) => Reply::new(false, a, &m),
-                }
-            }
+            command::LOAD => self.load_command(c.text(), last),
             command::SET_OFFSET => self.set_offset(c, last),
             command::SET_WORK_OFFSET => self.set_work_offset(c, last),
             command::PROGRAM_INFO => match self.programs.get(&c.d) {
@@ -582,6 +561,63 @@ impl Desk<'_> {
             },
             k => Reply::new(false, 0, &format!("unknown command {k}")),
         }
+    }
+
+    /// LOAD: the program at `path` prepared from where the axes stand.
+    fn load_command(&mut self, path: &str, last: &KernelStatus) -> Reply {
+        let id = self.next_id;
+        let md = self.program_md();
+        match load(
+            path,
+            &md,
+            &self.tools,
+            id,
+            Some(crate::WireAxes::new(self.md).from_wire(&last.pos)),
+        ) {
+            Ok((p, mut l)) => {
+                l.versions = self.versions();
+                self.programs.insert(id, l);
+                self.next_id += 1;
+                let r = ask(self.shared, Control::Load(p));
+                if r.is_ok() {
+                    self.changed_in_stop = false;
+                }
+                self.settle(id, r.is_ok(), last.program);
+                answer(r, &format!("program {path} loaded (number {id})"))
+            }
+            Err((a, m)) => Reply::new(false, a, &m),
+        }
+    }
+
+    /// The tool and work-offset tables' versions now.
+    fn versions(&self) -> (u32, u32) {
+        (
+            self.shared.tools_version.load(Ordering::Acquire),
+            self.shared.work_offsets_version.load(Ordering::Acquire),
+        )
+    }
+
+    /// Program `id` was prepared with offsets edited since.
+    fn stale(&self, id: u32) -> bool {
+        self.programs
+            .get(&id)
+            .is_some_and(|l| l.versions != self.versions())
+    }
+
+    /// NC start in reset of a program prepared before an offset edit: prepared again with
+    /// the offsets now in force (every check before anything moves), then started.
+    fn reload_and_start(&mut self, last: &KernelStatus) -> Reply {
+        let Some(path) = self.programs.get(&last.program).map(|l| l.name.clone()) else {
+            return Reply::new(false, 0, "no program is loaded: load one");
+        };
+        let loaded = self.load_command(&path, last);
+        if loaded.ok == 0 {
+            return loaded;
+        }
+        answer(
+            ask(self.shared, Control::Start),
+            "NC start: the program was prepared again with the offsets edited since its load",
+        )
     }
 
     /// An operator's offset edit (840C 11.8): taken at once in RESET, END and NC stop (from
@@ -633,7 +669,7 @@ impl Desk<'_> {
             self.changed_in_stop = true;
             "acts at NC start: the tool moves onto the new equidistant at the interruption point"
         } else {
-            "acts from the next program load"
+            "acts at the next NC start (a loaded program is prepared again with it) or program load"
         };
         let saved = if self.tools_path.is_some() {
             "saved"
@@ -704,7 +740,8 @@ impl Desk<'_> {
         let id = self.next_id;
         self.next_id += 1;
         let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
-        let (program, loaded) = Loaded::running(s, self.md, id, name, source, load_at, live);
+        let (program, mut loaded) = Loaded::running(s, self.md, id, name, source, load_at, live);
+        loaded.versions = self.versions();
         self.programs.insert(id, loaded);
         let r = ask(self.shared, Control::Resume(program));
         self.settle(id, r.is_ok(), last.program);
@@ -752,6 +789,17 @@ impl Desk<'_> {
             };
         }
         m
+    }
+}
+
+/// The reply to a command the IPO thread took or refused.
+fn answer(r: Result<(), Refusal>, ok: &str) -> Reply {
+    match r {
+        Ok(()) => Reply::new(true, 0, ok),
+        Err(r) => {
+            let (a, m) = refusal_text(r);
+            Reply::new(false, a, &m)
+        }
     }
 }
 

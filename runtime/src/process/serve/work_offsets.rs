@@ -63,7 +63,7 @@ impl Desk<'_> {
             self.changed_in_stop = true;
             "acts at NC start: the rest of the program is prepared again and the axes reposition onto it"
         } else {
-            "acts from the next program load"
+            "acts at the next NC start (a loaded program is prepared again with it) or program load"
         };
         let saved = if self.work_path.is_some() {
             "saved"
