@@ -47,6 +47,11 @@ fn offset_changed_in_nc_stop_resumes_on_the_new_equidistant() {
         "the refused edit changed nothing"
     );
     assert_eq!(stopped["line"], json!(4));
+    // The status shows the offset number in force (no T on the 840C).
+    assert_eq!(
+        (&stopped["edge"], &stopped["tool"]),
+        (&json!(1), &Value::Null)
+    );
     assert!((off_square(pos(&stopped)) - 10.0).abs() < 1e-6);
     let (code, r) = st.post("/api/offset", json!({ "d": 1, "radius": 12.0 }));
     assert_eq!(code, 200, "{r}");

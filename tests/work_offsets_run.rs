@@ -53,6 +53,9 @@ fn g54_edited_in_nc_stop_shifts_the_rest_of_the_program_by_exactly_the_edit() {
         "refused: unchanged"
     );
     assert!(off_outline(pos(&stopped), [10.0, 20.0]) < 1e-6);
+    // The status names the set in force and the spindle turning.
+    assert_eq!(stopped["work_offset"], json!("G54"), "{stopped}");
+    assert_eq!(stopped["spindle_setpoint"], json!(1000.0), "{stopped}");
     assert_eq!(
         std::fs::read_to_string(&offsets).unwrap(),
         "[G54]\nX = 10.0\nY = 20.0\n",

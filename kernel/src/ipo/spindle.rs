@@ -82,6 +82,9 @@ mod tests {
         };
         assert_eq!(spindle_setpoint(&ccw, 50.0, 6000.0), -1200.0);
         assert_eq!(spindle_setpoint(&cw, 50.0, 1000.0), 1000.0);
+        // The program's limit holds under G97 too (840D: LIMS acts with G96 and G97).
+        let limited = SpindleProgram { limit: 800.0, ..cw };
+        assert_eq!(spindle_setpoint(&limited, 50.0, 6000.0), 800.0);
         for dir in [SpindleDir::Stop, SpindleDir::Orient] {
             assert_eq!(
                 spindle_setpoint(&SpindleProgram { dir, ..cw }, 0.0, 6000.0),
