@@ -212,28 +212,32 @@ impl Interpreter<'_> {
 
     /// Siemens `CR=`: the arc radius.
     fn cr_equals(&mut self, c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-        c.i += 2;
-        c.skip_blanks();
-        if c.peek() != Some(b'=') {
-            return Err(fault(AlarmCode::Syntax, at, "CR must be followed by '='"));
-        }
-        c.i += 1;
-        let v = self.value(c, at, "CR=")?;
+        let v = self.keyword_value(c, at, "CR=")?;
         set_once(&mut w.radius, v, "CR=")?;
         Ok(Next::Continue)
     }
 
     /// Siemens `LIMS=`: the spindle speed limit under constant surface speed.
     fn lims_equals(&mut self, c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-        c.i += 4;
-        c.skip_blanks();
-        if c.peek() != Some(b'=') {
-            return Err(fault(AlarmCode::Syntax, at, "LIMS must be followed by '='"));
-        }
-        c.i += 1;
-        let v = self.value(c, at, "LIMS=")?;
+        let v = self.keyword_value(c, at, "LIMS=")?;
         set_once(&mut w.lims, v, "LIMS=")?;
         Ok(Next::Continue)
+    }
+
+    /// The value of a Siemens `NAME=` word (`word`) whose name starts at the cursor.
+    fn keyword_value(&mut self, c: &mut Cursor, at: usize, word: &'static str) -> R<Val> {
+        let name = word.trim_end_matches('=');
+        c.i += name.len();
+        c.skip_blanks();
+        if c.peek() != Some(b'=') {
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                format!("{name} must be followed by '='"),
+            ));
+        }
+        c.i += 1;
+        self.value(c, at, word)
     }
 
     /// Whether `letter` is an address of the dialect.

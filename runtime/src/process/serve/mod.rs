@@ -644,15 +644,13 @@ impl Desk<'_> {
         if let Err(e) = self.tools.edit(t, c.d, wear, c.value, limit) {
             return Reply::new(false, 0, &format!("{e}; nothing changed"));
         }
-        if let Some(path) = &self.tools_path {
-            if let Err(e) = self.tools.save_atomic(path) {
-                self.tools = before;
-                return Reply::new(
-                    false,
-                    0,
-                    &format!("cannot save {}: {e}; nothing changed", path.display()),
-                );
-            }
+        let saved = self
+            .tools_path
+            .as_ref()
+            .map(|path| (path, self.tools.save_atomic(path)));
+        if let Some(refusal) = unsaved(saved) {
+            self.tools = before;
+            return refusal;
         }
         let version = shared_bump(self.shared);
         let when = if running {
@@ -789,6 +787,18 @@ impl Desk<'_> {
             };
         }
         m
+    }
+}
+
+/// A refusal when an edited table could not be saved (the caller puts the old one back).
+fn unsaved(saved: Option<(&std::path::PathBuf, std::io::Result<()>)>) -> Option<Reply> {
+    match saved {
+        Some((path, Err(e))) => Some(Reply::new(
+            false,
+            0,
+            &format!("cannot save {}: {e}; nothing changed", path.display()),
+        )),
+        _ => None,
     }
 }
 

@@ -3,7 +3,7 @@
 //! the rest again and repositions), refused while the program runs unless machine data
 //! allows it (then from the next program start); checked, saved atomically, versioned.
 
-use super::{shared_bump_work, Desk};
+use super::{shared_bump_work, unsaved, Desk};
 use nc_kernel::{MachineData, AXIS_NAMES};
 use softnc_protocol::{state, Command, KernelStatus, Reply, WorkOffsetEntry, WorkOffsetsMsg};
 
@@ -46,15 +46,13 @@ impl Desk<'_> {
         if let Err(e) = self.work.edit(self.md, name, &values, limit) {
             return Reply::new(false, 0, &format!("{e}; nothing changed"));
         }
-        if let Some(path) = &self.work_path {
-            if let Err(e) = self.work.save_atomic(path, self.md) {
-                self.work = before;
-                return Reply::new(
-                    false,
-                    0,
-                    &format!("cannot save {}: {e}; nothing changed", path.display()),
-                );
-            }
+        let saved = self
+            .work_path
+            .as_ref()
+            .map(|path| (path, self.work.save_atomic(path, self.md)));
+        if let Some(refusal) = unsaved(saved) {
+            self.work = before;
+            return refusal;
         }
         let version = shared_bump_work(self.shared);
         let when = if running {
