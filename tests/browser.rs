@@ -191,7 +191,7 @@ fn browser() -> Option<(String, String)> {
     }
 }
 
-const SQUARE: &str = "; softnc HMI demo: a square with G41, D1\nN10 G0 X-30 Y-30 Z0\nN20 G1 G41 D1 X0 Y0 F1500\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n";
+const SQUARE: &str = "; softnc HMI demo: a square with G41, D1\nN10 G0 X-30 Y-30 Z0 M3 S800\nN20 G1 G41 D1 X0 Y0 F1500\nN30 Y100\nN40 X100\nN50 Y0\nN60 X0\nN70 G40 X-30 Y-30\nM30\n";
 
 #[test]
 fn the_page_stops_edits_an_offset_and_resumes() {
@@ -224,8 +224,18 @@ fn the_page_stops_edits_an_offset_and_resumes() {
         &json!("X,Y,Z"),
         Duration::from_secs(5),
     );
-    // On the top edge (N40): NC stop.
+    // On the top edge (N40): the offset number and the spindle in force are shown; NC stop.
     st.watch(Duration::from_secs(60), |s| s["line"] == json!(5));
+    b.wait(
+        "return document.querySelector('#tool-now').textContent",
+        &json!("D1"),
+        Duration::from_secs(5),
+    );
+    b.wait(
+        "return document.querySelector('#spindle-now').textContent",
+        &json!("800 rev/min (actual 800)"),
+        Duration::from_secs(5),
+    );
     b.click("#btn-stop");
     b.wait(
         "return document.body.dataset.state",
