@@ -43,6 +43,7 @@ static GCODES: &[GCodeDef] = &[
     g(61, ExactStopModal(true)),
     g(point_code(54, 1), NumberedWorkOffset),
     g(64, ExactStopModal(false)),
+    g(80, CycleCancel),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
     g(94, FeedPerRevolution(false)),

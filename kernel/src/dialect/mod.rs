@@ -78,6 +78,9 @@ pub enum GEffect {
     ConstantSurfaceSpeed(bool),
     /// The block's S is the spindle speed limit (840C G92).
     SpindleLimit,
+    /// Cancels the modal canned cycle (Fanuc G80). No cycle can be active: the cycle codes
+    /// (G73, G81 …) are not in the tables, so a program that calls one is refused there.
+    CycleCancel,
     /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
     WorkingArea {
         max: bool,
@@ -111,6 +114,7 @@ impl GEffect {
             GEffect::FeedPerRevolution(_) => 20,
             GEffect::ConstantSurfaceSpeed(_) => 21,
             GEffect::SpindleLimit => 22,
+            GEffect::CycleCancel => 23,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
             GEffect::Unsupported(_) => 17,

@@ -166,7 +166,7 @@ impl Interpreter<'_> {
                 }
                 GEffect::WorkingArea { max } => g.working_area = Some(max),
                 GEffect::PoleHere => new.pole = self.cur,
-                GEffect::Unsupported(_) => {}
+                GEffect::Unsupported(_) | GEffect::CycleCancel => {}
             }
         }
         Ok(g)
