@@ -2,6 +2,7 @@
 //! edit checked against it before it goes to the kernel, so a wrong request is answered
 //! 422 with its reason (the kernel checks again and has the last word).
 
+use nc_kernel::work_offset_key;
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use serde_json::{json, Map, Value};
@@ -42,21 +43,13 @@ impl<'de> Deserialize<'de> for AxisValues {
     }
 }
 
-/// A set's name compared as the kernel does: case and spaces ignored (`g54.1p3`).
-fn key(name: &str) -> String {
-    name.chars()
-        .filter(|c| !c.is_whitespace())
-        .collect::<String>()
-        .to_ascii_uppercase()
-}
-
 /// The set's name as the kernel writes it, if the table has it.
 fn find_set<'a>(m: &'a WorkOffsetsMsg, name: &str) -> Option<&'a str> {
-    let want = key(name);
+    let want = work_offset_key(name);
     m.entries()
         .iter()
         .map(|e| e.name())
-        .find(|n| key(n) == want)
+        .find(|n| work_offset_key(n) == want)
 }
 
 /// A name from the request as a message quotes it: at most 24 characters (the body may

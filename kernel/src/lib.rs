@@ -47,6 +47,8 @@ pub use machine_data::{
     AXIS_NAMES, BUILTIN_DEFAULTS, MAX_PATH_AXES,
 };
 
+pub use dialect::work_offset_key;
+
 /// The dialect table of the machine's control (work-offset names for the HMI).
 pub fn dialect_of(md: &MachineData) -> &'static dialect::Dialect {
     dialect::Dialect::get(md.dialect)

@@ -2,10 +2,11 @@
 //! kernel's newest speed setpoint at `plc.spindle_acceleration`, and says what an auxiliary
 //! function waits for of it: at speed (a drive's n_act = n_set signal), at rest, oriented.
 //!
-//! The ramp is the kernel's `SpindleModel` step for step (the same change per drive cycle),
-//! so plc-sim's actual speed and the model `softnc simulate` runs without a PLC agree.
+//! The ramp is the kernel's `SpindleModel`, so plc-sim's actual speed and the model
+//! `softnc simulate` runs without a PLC agree.
 //! Everything is a fixed array of `MAX_SPINDLES`: a drive cycle allocates nothing.
 
+use nc_kernel::ipo::SpindleModel;
 use softnc_protocol::{spindle_mode, SetpointMsg, MAX_SPINDLES};
 use std::ops::BitOrAssign;
 
@@ -59,23 +60,20 @@ impl BitOrAssign for Waits {
 /// The spindle drives: what each was last told and how fast it turns.
 #[derive(Clone, Copy, Debug)]
 pub struct SpindleDrives {
-    /// rev/min per drive cycle.
-    step: f64,
     /// `spindle_mode::*` of the newest setpoint.
     mode: [u8; MAX_SPINDLES],
     /// The speed each drive follows: the kernel's while it is told to turn, else 0.
     setpoint: Spindles,
-    actual: Spindles,
+    drive: [SpindleModel; MAX_SPINDLES],
 }
 
 impl SpindleDrives {
     /// Drives standing, accelerating at `acceleration` rev/min per s in cycles of `cycle_s`.
     pub fn new(acceleration: f64, cycle_s: f64) -> Self {
         SpindleDrives {
-            step: acceleration * cycle_s,
             mode: [spindle_mode::STOP; MAX_SPINDLES],
             setpoint: [0.0; MAX_SPINDLES],
-            actual: [0.0; MAX_SPINDLES],
+            drive: [SpindleModel::new(acceleration, cycle_s); MAX_SPINDLES],
         }
     }
 
@@ -96,19 +94,15 @@ impl SpindleDrives {
             let turn = mode == spindle_mode::TURN && sp.spindle[i].is_finite();
             self.mode[i] = mode;
             self.setpoint[i] = if turn { sp.spindle[i] } else { 0.0 };
-            self.ramp(i, if brake { 0.0 } else { self.setpoint[i] });
+            self.drive[i].follow(if brake { 0.0 } else { self.setpoint[i] });
         }
     }
 
     /// One drive cycle bringing every spindle to rest (the watchdog, no setpoint).
     pub fn brake(&mut self) {
-        for i in 0..MAX_SPINDLES {
-            self.ramp(i, 0.0);
+        for d in &mut self.drive {
+            d.follow(0.0);
         }
-    }
-
-    fn ramp(&mut self, i: usize, target: f64) {
-        self.actual[i] += (target - self.actual[i]).clamp(-self.step, self.step);
     }
 
     /// The speed each drive follows, rev/min.
@@ -118,7 +112,7 @@ impl SpindleDrives {
 
     /// The actual speeds, rev/min.
     pub fn actual(&self) -> Spindles {
-        self.actual
+        self.drive.map(|d| d.rpm())
     }
 
     /// The main spindle is told to turn (an S word then waits for the new speed).
@@ -131,7 +125,7 @@ impl SpindleDrives {
     /// END), so nothing is to be oriented any more and an M19 is done once the spindle
     /// stands; otherwise it would wait for ever and hold the kernel's request port.
     pub fn open(&self, waits: Waits, idle: bool) -> Waits {
-        let (set, act) = (self.setpoint[0], self.actual[0]);
+        let (set, act) = (self.setpoint[0], self.drive[0].rpm());
         let stopped = act.abs() <= STANDSTILL_RPM;
         let window = STANDSTILL_RPM.max(AT_SPEED_SHARE * set.abs());
         let oriented = stopped && (self.mode[0] == spindle_mode::ORIENT || idle);

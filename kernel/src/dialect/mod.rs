@@ -310,15 +310,11 @@ impl Dialect {
 
     /// The index of the work offset named `name` (case and spaces ignored: `g54.1p3`).
     pub fn work_offset_index(&self, name: &str) -> Option<u8> {
-        let key = |s: &str| -> String {
-            s.chars()
-                .filter(|c| !c.is_whitespace())
-                .collect::<String>()
-                .to_ascii_uppercase()
-        };
-        let want = key(name);
-        (1..=self.work_offset_count())
-            .find(|&i| self.work_offset_name(i).is_some_and(|n| key(&n) == want))
+        let want = work_offset_key(name);
+        (1..=self.work_offset_count()).find(|&i| {
+            self.work_offset_name(i)
+                .is_some_and(|n| work_offset_key(&n) == want)
+        })
     }
 
     /// The index of numbered work offset P`p`, if the control has it.
@@ -410,6 +406,15 @@ impl Dialect {
             .collect();
         codes.join("/")
     }
+}
+
+/// A work offset's name as names are compared: case and spaces ignored (`g54.1p3` is
+/// `G54.1 P3`).
+pub fn work_offset_key(name: &str) -> String {
+    name.chars()
+        .filter(|c| !c.is_whitespace())
+        .collect::<String>()
+        .to_ascii_uppercase()
 }
 
 /// The name softnc's outputs give a program stop (`"stop": "M30"`): the M function that

@@ -57,6 +57,11 @@ impl SpindleModel {
         self.rpm += (setpoint - self.rpm).clamp(-self.step, self.step);
         self.rpm
     }
+
+    /// The actual speed, rev/min.
+    pub fn rpm(&self) -> f64 {
+        self.rpm
+    }
 }
 
 #[cfg(test)]

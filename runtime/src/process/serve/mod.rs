@@ -652,7 +652,7 @@ impl Desk<'_> {
             self.tools = before;
             return refusal;
         }
-        let version = shared_bump(self.shared);
+        let version = bump(&self.shared.tools_version);
         let when = if running {
             if let Some(l) = self.programs.get(&last.program) {
                 l.live.push(nc_kernel::LiveEdit {
@@ -813,10 +813,7 @@ fn answer(r: Result<(), Refusal>, ok: &str) -> Reply {
     }
 }
 
-fn shared_bump(shared: &Shared) -> u32 {
-    shared.tools_version.fetch_add(1, Ordering::AcqRel) + 1
-}
-
-fn shared_bump_work(shared: &Shared) -> u32 {
-    shared.work_offsets_version.fetch_add(1, Ordering::AcqRel) + 1
+/// One more on a table's version; the new version.
+fn bump(version: &std::sync::atomic::AtomicU32) -> u32 {
+    version.fetch_add(1, Ordering::AcqRel) + 1
 }

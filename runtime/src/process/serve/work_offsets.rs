@@ -3,7 +3,7 @@
 //! the rest again and repositions), refused while the program runs unless machine data
 //! allows it (then from the next program start); checked, saved atomically, versioned.
 
-use super::{shared_bump_work, unsaved, Desk};
+use super::{bump, unsaved, Desk};
 use nc_kernel::{MachineData, AXIS_NAMES};
 use softnc_protocol::{state, Command, KernelStatus, Reply, WorkOffsetEntry, WorkOffsetsMsg};
 
@@ -54,7 +54,7 @@ impl Desk<'_> {
             self.work = before;
             return refusal;
         }
-        let version = shared_bump_work(self.shared);
+        let version = bump(&self.shared.work_offsets_version);
         let when = if running {
             "acts from the next program start; the running program keeps the offsets it was loaded with"
         } else if last.state == state::STOPPED && last.program != 0 {
