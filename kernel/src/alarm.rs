@@ -72,6 +72,15 @@ pub enum AlarmCode {
     /// `softnc simulate`: the path stood still with nothing happening for
     /// `simulate.max_rest_time` (a program that would wait for ever).
     NoProgress,
+    /// A called program is not there (Fanuc M98/G65/G66: no such O number).
+    MissingProgram,
+    /// A jump target is not in the program (Fanuc GOTO n, M99 P n: no such sequence number).
+    JumpTarget,
+    /// Subprogram or macro calls nested deeper than the control allows.
+    CallNesting,
+    /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
+    /// the number is the Sinumerik user-alarm range of SETAL).
+    ProgramAlarm,
 }
 
 impl AlarmCode {
@@ -106,6 +115,10 @@ impl AlarmCode {
             AlarmCode::PreparationFailed => 1011,
             AlarmCode::SimulationTimeLimit => 90001,
             AlarmCode::NoProgress => 90002,
+            AlarmCode::MissingProgram => 14011,
+            AlarmCode::JumpTarget => 14080,
+            AlarmCode::CallNesting => 14012,
+            AlarmCode::ProgramAlarm => 65000,
         }
     }
 }

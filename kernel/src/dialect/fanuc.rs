@@ -43,6 +43,9 @@ static GCODES: &[GCodeDef] = &[
     g(61, ExactStopModal(true)),
     g(point_code(54, 1), NumberedWorkOffset),
     g(64, ExactStopModal(false)),
+    g(65, MacroCall),
+    g(66, ModalMacroCall),
+    g(67, ModalMacroCancel),
     g(80, CycleCancel),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
@@ -62,6 +65,8 @@ static MCODES: &[MCodeDef] = &[
     m(19, Spindle(SpindleDir::Orient)),
     m(2, Stop(ProgramStop::End)),
     m(30, Stop(ProgramStop::EndRewind)),
+    m(98, Call),
+    m(99, Return),
 ];
 
 pub static DIALECT: Dialect = Dialect {
@@ -77,6 +82,7 @@ pub static DIALECT: Dialect = Dialect {
     lims_word: false,
     diameter_words: false,
     o_numbers: true,
+    macro_b: true,
     decimal_switch: true,
     initial_work_offset: 1,
     numbered_work_offsets: 48,

@@ -87,6 +87,7 @@ pub static DIALECT: Dialect = Dialect {
     lims_word: false,
     diameter_words: false,
     o_numbers: false,
+    macro_b: false,
     decimal_switch: false,
     initial_work_offset: 0,
     numbered_work_offsets: 0,

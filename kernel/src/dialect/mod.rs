@@ -87,6 +87,12 @@ pub enum GEffect {
     },
     /// 880/840C G110: the current position becomes the pole.
     PoleHere,
+    /// A macro call (Fanuc G65): the block is a call statement with P, L and arguments.
+    MacroCall,
+    /// A modal macro call (Fanuc G66): the program runs after every move until canceled.
+    ModalMacroCall,
+    /// Cancels the modal macro call (Fanuc G67).
+    ModalMacroCancel,
     /// A code the dialect defines that softnc recognises but does not implement.
     Unsupported(&'static str),
 }
@@ -115,6 +121,7 @@ impl GEffect {
             GEffect::ConstantSurfaceSpeed(_) => 21,
             GEffect::SpindleLimit => 22,
             GEffect::CycleCancel => 23,
+            GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
             GEffect::Unsupported(_) => 17,
@@ -155,6 +162,10 @@ pub enum MEffect {
     Stop(ProgramStop),
     /// The spindle's direction, orientation or stop; the word still goes to the PLC.
     Spindle(SpindleDir),
+    /// Subprogram call with P (and L) when the block is complete (Fanuc M98).
+    Call,
+    /// Return from a subprogram, with P to a sequence number (Fanuc M99).
+    Return,
 }
 
 /// One row of a dialect's M-function table.
@@ -248,6 +259,8 @@ pub struct Dialect {
     pub lims_word: bool,
     /// Fanuc `O` program numbers.
     pub o_numbers: bool,
+    /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
+    pub macro_b: bool,
     /// Fanuc: numbers without a decimal point follow the machine-data switch.
     pub decimal_switch: bool,
     /// Tools carry several cutting edges: D is looked up under the active T (808D).
@@ -342,6 +355,7 @@ impl Dialect {
         (letter == b'R' && self.radius_word == RadiusWord::R)
             || (matches!(letter, b'A' | b'U' | b'B') && self.polar_words)
             || (letter == b'P' && self.dwell.p_millis)
+            || (letter == b'L' && self.macro_b)
     }
 
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
@@ -389,6 +403,15 @@ impl Dialect {
     #[inline]
     pub fn mcode(&self, value: f64) -> Option<&'static MCodeDef> {
         self.mcodes.iter().find(|def| def.code as f64 == value)
+    }
+
+    /// The M function with `effect` as a program writes it (`M98`), for messages.
+    #[cold]
+    pub fn m_name(&self, effect: MEffect) -> String {
+        self.mcodes
+            .iter()
+            .find(|def| def.effect == effect)
+            .map_or_else(|| format!("{effect:?}"), |def| format!("M{}", def.code))
     }
 
     /// The row of `@` command `code`.

@@ -82,6 +82,7 @@ pub static DIALECT: Dialect = Dialect {
     lims_word: true,
     diameter_words: true,
     o_numbers: false,
+    macro_b: false,
     decimal_switch: false,
     initial_work_offset: 0,
     numbered_work_offsets: 0,

@@ -40,7 +40,7 @@ impl Interpreter<'_> {
     /// Skips what stands before a block's words: blanks and a block-skip mark. False if the
     /// text is no block: empty, a `%` line, a block left out by block skip, a Fanuc `O` line.
     #[inline]
-    pub(super) fn block_start(&self, c: &mut Cursor) -> bool {
+    pub(super) fn block_start(&mut self, c: &mut Cursor) -> bool {
         c.skip_blanks();
         // Program header: `%name`, `%` alone (Fanuc tape start/end).
         if matches!(c.peek(), None | Some(b'%')) {
@@ -52,8 +52,14 @@ impl Interpreter<'_> {
             }
             c.skip_blanks();
         }
-        // Fanuc program number line.
-        !(self.d.o_numbers && c.letter() == Some(b'O') && matches!(c.peek_at(1), Some(b'0'..=b'9')))
+        // Fanuc program number line: the program's own, or the next program's (its end).
+        if self.d.o_numbers && c.letter() == Some(b'O') && matches!(c.peek_at(1), Some(b'0'..=b'9'))
+        {
+            let line_start = self.blk_line_start;
+            self.o_line(c, line_start);
+            return false;
+        }
+        true
     }
 }
 

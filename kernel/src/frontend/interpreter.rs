@@ -10,8 +10,10 @@
 use super::block::*;
 use super::block_text::read_block_number;
 use super::build::WorkingArea;
+use super::calls::Calls;
 use super::fault::{fault, Fault, R};
 use super::lexer::{column, Cursor};
+use super::macro_b::MacroVariables;
 use super::statements::isg::Structures;
 use super::variables::Variables;
 use super::words::Words;
@@ -42,6 +44,12 @@ pub struct Interpreter<'a> {
     pub(super) cur: Pos,
     pub(super) cur_add: Additional,
     pub(super) vars: Variables,
+    /// Fanuc `#` variables.
+    pub(super) macros: MacroVariables,
+    /// A Macro B variable of the present position was read in this block.
+    pub(super) present_state_read: std::cell::Cell<bool>,
+    /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
+    pub(super) calls: Calls<'a>,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
     /// 840C G25/G26.
@@ -75,6 +83,9 @@ impl<'a> Interpreter<'a> {
             cur: [0.0; 3],
             cur_add: [0.0; ADDITIONAL],
             vars: Variables::default(),
+            macros: MacroVariables::default(),
+            present_state_read: std::cell::Cell::new(false),
+            calls: Calls::new(source.as_bytes()),
             structures: Structures::default(),
             area: WorkingArea::default(),
             machine_coordinates: false,
@@ -112,6 +123,21 @@ impl<'a> Interpreter<'a> {
         self.cur = p.geo;
         self.cur_add = p.add;
         self
+    }
+
+    /// The same interpreter with the kept macro variables (Fanuc #500 … #999) of an earlier
+    /// run: `(number, value)`; numbers outside 500 … 999 are ignored.
+    pub fn with_kept_variables(mut self, values: &[(u32, f64)]) -> Self {
+        self.macros = std::mem::take(&mut self.macros).with_kept(values);
+        self
+    }
+
+    /// The kept macro variables (#500 … #999) that hold a value, to save after the run.
+    pub fn kept_variables(&self) -> Vec<(u32, f64)> {
+        (500u32..)
+            .zip(self.macros.kept())
+            .filter_map(|(n, v)| v.map(|v| (n, v)))
+            .collect()
     }
 
     /// The position after the last block handed out.
@@ -156,11 +182,14 @@ impl<'a> Interpreter<'a> {
             if self.finished {
                 return Ok(false);
             }
-            if self.plain_path && self.plain_line() {
+            if self.plain_path && self.calls.modal.is_none() && self.plain_line() {
                 return Ok(true);
             }
             let Some((start, end)) = self.next_segment() else {
                 self.finished = true;
+                if let Some(f) = self.called_program_ends() {
+                    return Err(self.alarm(*f));
+                }
                 return match self.unclosed() {
                     Some(f) => Err(self.alarm(*f)),
                     None => Ok(false),
@@ -189,6 +218,26 @@ impl<'a> Interpreter<'a> {
         Some(fault(AlarmCode::ControlNesting, at, message))
     }
 
+    /// At the end of a called program's text: it has no M99 (a fault at its O line).
+    #[cold]
+    fn called_program_ends(&mut self) -> Option<Box<Fault>> {
+        if self.calls.depth() == 0 {
+            return None;
+        }
+        let (at, line, line_start) = self.calls.running.start;
+        (self.blk_line, self.blk_line_start, self.blk_number) = (line, line_start, None);
+        let name = match self.calls.program_number() {
+            Some(n) => format!("O{n:04}"),
+            None => "the called program".to_string(),
+        };
+        let ret = self.d.m_name(crate::dialect::MEffect::Return);
+        Some(fault(
+            AlarmCode::ControlNesting,
+            at,
+            format!("{name} ends without {ret} (return)"),
+        ))
+    }
+
     /// One block's text: what stands before the words, the block number, then a statement,
     /// a plain block or the words and the build.
     #[inline]
@@ -201,9 +250,9 @@ impl<'a> Interpreter<'a> {
         self.blk_number = read_block_number(&mut c)?;
         c.skip_blanks();
         if self.is_statement(&c) {
-            return self.statement(c).map(|()| false);
+            return self.statement(c, start, block_col);
         }
-        if self.plain_path && self.plain(c, block_col).is_some() {
+        if self.plain_path && self.calls.modal.is_none() && self.plain(c, block_col).is_some() {
             return Ok(true);
         }
         let mut words = Words::default();
@@ -213,7 +262,9 @@ impl<'a> Interpreter<'a> {
             // A line holding only a comment is no block.
             return Ok(false);
         }
-        self.build(&words, block_col)
+        let built = self.build(&words, block_col)?;
+        self.after_block()?;
+        Ok(built)
     }
 }
 

@@ -43,6 +43,10 @@ impl Interpreter<'_> {
             };
             c.i += 1;
             let v = self.value(c, at, "")?;
+            if v.value.is_nan() {
+                // Macro B: a vacant variable leaves its word out.
+                continue;
+            }
             self.word(w, letter, v, at)?;
         }
         Ok(())
@@ -73,6 +77,7 @@ impl Interpreter<'_> {
             b'A' if d.polar_words => set_once(&mut w.angle, v, "A"),
             b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B"),
             b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P"),
+            b'L' if d.macro_b => set_once(&mut w.l, v, "L"),
             b'F' => {
                 set_once(&mut w.f, v, "F")?;
                 self.aux(letter, v, at)
@@ -297,6 +302,22 @@ impl Interpreter<'_> {
             return checked(Val::new(n, at));
         }
         c.skip_blanks();
+        if self.d.macro_b && crate::frontend::macro_b::expr::at_operand(c) {
+            let v = crate::frontend::macro_b::expr::operand(c, &*self)?;
+            return match v {
+                // Vacant: the word loop leaves the word out.
+                None => Ok(Val {
+                    value: f64::NAN,
+                    at: at as u32,
+                    has_point: true,
+                }),
+                Some(value) => checked(Val {
+                    value,
+                    at: at as u32,
+                    has_point: true,
+                }),
+            };
+        }
         if self.d.variables && starts_operand(c) {
             let v = expr::eval_operand(c, &self.vars)?;
             return checked(Val {

@@ -54,6 +54,8 @@ pub struct Words {
     /// Polar radius U or B.
     pub polar_radius: Option<Val>,
     pub f: Option<Val>,
+    /// Fanuc: the repeat count L of M98.
+    pub l: Option<Val>,
     /// Fanuc dwell time in milliseconds.
     pub p: Option<Val>,
     /// ISG: a number standing alone after the dwell G code (`G04 3.0`).
@@ -90,6 +92,7 @@ impl Words {
             && self.at_codes.is_empty()
             && self.diameter.is_none()
             && self.h.is_none()
+            && self.l.is_none()
             && self.lims.is_none()
             && !self.calculation
     }

@@ -3,12 +3,30 @@
 //! addresses carry instead of a position.
 
 use super::super::block::*;
+use super::super::calls::{CallKind, Pending};
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
+use super::super::macro_b::expr;
+use super::super::statements::fanuc::{count, program_number};
 use super::super::words::{Val, Words};
 use crate::alarm::AlarmCode;
 use crate::dialect::{AtEffect, MEffect};
 use crate::machine_data::DecimalInput;
+
+/// The sequence number of M99 P.
+fn sequence_number(v: f64, at: usize) -> R<u32> {
+    let n = expr::whole(v, at, "a sequence number")?;
+    u32::try_from(n)
+        .ok()
+        .filter(|n| (1..=99_999).contains(n))
+        .ok_or_else(|| {
+            fault(
+                AlarmCode::BadNumber,
+                at,
+                format!("sequence number {n} is not in 1…99999"),
+            )
+        })
+}
 
 impl Interpreter<'_> {
     /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC
@@ -53,8 +71,64 @@ impl Interpreter<'_> {
                     spindle = Some(dir);
                     new.spindle_dir = dir;
                 }
+                Some(MEffect::Call) => self.subprogram_call(w, m.at)?,
+                Some(MEffect::Return) => {
+                    let to = w.p.map(|p| sequence_number(p.value, p.pos())).transpose()?;
+                    self.set_pending(Pending::Return { to, at: m.pos() }, m.at)?;
+                }
                 None => {}
             }
+        }
+        if self.calls.pending.is_some() {
+            // M98/M99 act in the control; they go to no PLC.
+            let d = self.d;
+            self.block.words.retain(|x| {
+                x.address != b'M'
+                    || !matches!(
+                        d.mcode(x.value).map(|def| def.effect),
+                        Some(MEffect::Call | MEffect::Return)
+                    )
+            });
+        }
+        Ok(())
+    }
+
+    /// M98 P… (L…): the call runs when the block is complete. A P of more than four digits
+    /// carries the repeat count before the program number (P30010: O0010 three times).
+    fn subprogram_call(&mut self, w: &Words, at: u32) -> R<()> {
+        let p = w.p.ok_or_else(|| {
+            let call = self.d.m_name(MEffect::Call);
+            fault(
+                AlarmCode::MissingValue,
+                at,
+                format!("{call} needs the program number P"),
+            )
+        })?;
+        let digits = expr::whole(p.value, p.pos(), "P")?;
+        let (count_in_p, number) = (digits / 10_000, digits % 10_000);
+        let repeats = match w.l {
+            Some(l) => count(l.value, l.pos())?,
+            None if count_in_p > 0 => count(count_in_p as f64, p.pos())?,
+            None => 1,
+        };
+        let number = program_number(number as f64, p.pos())?;
+        let call = Pending::Call {
+            number,
+            repeats,
+            kind: CallKind::Subprogram,
+            args: Box::new([None; crate::frontend::macro_b::LOCALS]),
+            at: p.pos(),
+        };
+        self.set_pending(call, at)
+    }
+
+    fn set_pending(&mut self, p: Pending, at: u32) -> R<()> {
+        if self.calls.pending.replace(p).is_some() {
+            return Err(fault(
+                AlarmCode::SameGroupTwice,
+                at,
+                "two calls or returns in one block",
+            ));
         }
         Ok(())
     }

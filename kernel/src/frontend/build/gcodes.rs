@@ -166,6 +166,14 @@ impl Interpreter<'_> {
                 }
                 GEffect::WorkingArea { max } => g.working_area = Some(max),
                 GEffect::PoleHere => new.pole = self.cur,
+                GEffect::ModalMacroCancel => self.calls.modal = None,
+                GEffect::MacroCall | GEffect::ModalMacroCall => {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        at,
+                        format!("{} must stand first in its block", GName(code)),
+                    ))
+                }
                 GEffect::Unsupported(_) | GEffect::CycleCancel => {}
             }
         }

@@ -97,6 +97,37 @@ impl Interpreter<'_> {
     }
 }
 
+impl Interpreter<'_> {
+    /// A block with nothing programmed at the block being read (a statement's block).
+    pub(in crate::frontend) fn empty_block(&mut self, block_col: usize) {
+        let col = column(self.src, self.blk_line_start, block_col);
+        reset(&mut self.block, self.blk_line, col, self.blk_number);
+        self.block.words.clear();
+    }
+
+    /// After a block is complete: the call or return it asked for (M98, M99), or the G66
+    /// modal call after a move.
+    #[inline(always)]
+    pub(in crate::frontend) fn after_block(&mut self) -> R<()> {
+        if self.calls.pending.is_none() {
+            let Some(call) = &self.calls.modal else {
+                return Ok(());
+            };
+            if self.block.motion.is_none() || self.calls.in_modal_call() || self.finished {
+                return Ok(());
+            }
+            self.calls.pending = Some(super::calls::Pending::Call {
+                number: call.number,
+                repeats: 1,
+                kind: super::calls::CallKind::Modal,
+                args: Box::new(call.args),
+                at: self.blk_line_start,
+            });
+        }
+        self.run_pending()
+    }
+}
+
 /// Clears everything of `b` but its auxiliary words (collected already) and its modal state
 /// (still the state before the block). Destructures, so that a new field is not forgotten.
 pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>) {

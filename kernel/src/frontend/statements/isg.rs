@@ -299,7 +299,7 @@ impl Interpreter<'_> {
 
     /// Counts one more loop pass; the budget covers the whole program, so nested loops are
     /// bounded by it too.
-    fn next_pass(&mut self, at: usize) -> R<()> {
+    pub(in crate::frontend) fn next_pass(&mut self, at: usize) -> R<()> {
         let max = self.md.program.max_loop_iterations;
         if self.structures.loop_passes >= max {
             return Err(fault(

@@ -4,7 +4,9 @@
 //! block of its own, while an assignment may stand among a block's words.
 //!
 //! - [`isg`]: ISG `$IF`/`$ELSEIF`/`$ELSE`/`$ENDIF`, `$FOR`, `$WHILE`, `V.` assignments.
+//! - [`fanuc`]: Fanuc Custom Macro B `#i = …`, `IF`, `GOTO`, `WHILE … DO`/`END`, G65/G66.
 
+pub(super) mod fanuc;
 pub(super) mod isg;
 
 use super::fault::R;
@@ -16,11 +18,23 @@ impl Interpreter<'_> {
     /// language.
     #[inline(always)]
     pub(super) fn is_statement(&self, c: &Cursor) -> bool {
-        self.d.variables && c.peek() == Some(b'$')
+        (self.d.variables && c.peek() == Some(b'$'))
+            || (self.d.macro_b && self.is_macro_statement(c))
     }
 
-    /// Runs a statement block.
-    pub(super) fn statement(&mut self, c: Cursor) -> R<()> {
-        self.isg_statement(c)
+    /// Runs a statement block whose text starts at `start`; true if it produced a block (a
+    /// statement that reads the present position hands out a preprocessing stop).
+    pub(super) fn statement(&mut self, c: Cursor, start: usize, block_col: usize) -> R<bool> {
+        if self.d.variables {
+            return self.isg_statement(c).map(|()| false);
+        }
+        self.present_state_read.set(false);
+        self.macro_statement(c, start)?;
+        if self.present_state_read.get() {
+            self.empty_block(block_col);
+            self.block.preprocess_stop = true;
+            return Ok(true);
+        }
+        Ok(false)
     }
 }

@@ -1,0 +1,383 @@
+//! Subprogram and macro calls (Fanuc 0i-MF, "Subprogram", "Macro call"): a call stack of
+//! reading positions. A call saves where the caller reads (its text, the block after the
+//! call, its open loops and, for a macro call, its local variables) in a [`Frame`] and goes
+//! on reading in the called program; a return takes the frame back.
+//!
+//! Programs are found by number: the `O` programs in the main program's file, after the
+//! main program (a program's text ends where the next `O` line starts). Nesting is bounded
+//! as on the control: five macro levels (G65/G66) and fifteen calls in all.
+
+use super::fault::{fault, R};
+use super::interpreter::Interpreter;
+use super::lexer::Cursor;
+use super::macro_b::{Value, LOCALS};
+use crate::alarm::AlarmCode;
+use std::collections::HashMap;
+
+/// Macro call levels (G65/G66): local variable levels 1…5 (0i-F).
+pub const MAX_MACRO_LEVELS: usize = 5;
+/// Calls of any kind open at once (M98 and macro calls together, 0i-F).
+pub const MAX_CALLS: usize = 15;
+
+/// A reading position: (byte offset, line, line start).
+pub type Mark = (usize, u32, usize);
+
+/// How a program was called.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CallKind {
+    /// M98: the caller's local variables stay.
+    Subprogram,
+    /// G65: a new level of local variables.
+    Macro,
+    /// G66 after a move: a new level; moves inside call nothing.
+    Modal,
+}
+
+/// An open WHILE … DO m loop: `m`, where its WHILE (or DO) block starts, and its origin for
+/// alarms (line, line start, byte offset).
+#[derive(Clone, Copy, Debug)]
+pub struct DoLoop {
+    pub m: u8,
+    pub head: Mark,
+    /// A DO without WHILE: jumps back to the block after it.
+    pub endless: bool,
+}
+
+/// The program being read.
+#[derive(Clone, Copy, Debug)]
+pub struct Running {
+    /// Its O number and where its O line is, once that was read.
+    pub number: Option<u32>,
+    pub o_line: Option<usize>,
+    /// Where it starts (its O line, or the start of the text).
+    pub start: Mark,
+}
+
+/// A caller's saved reading state.
+#[derive(Clone, Debug)]
+struct Frame<'a> {
+    src: &'a [u8],
+    ret: Mark,
+    running: Running,
+    loops: Vec<DoLoop>,
+    /// The caller's locals, for a macro call.
+    locals: Option<[Value; LOCALS]>,
+    kind: CallKind,
+    /// Passes still to run after this one (M98 L, P with a count) and where they start.
+    repeats: u32,
+    start: Mark,
+}
+
+/// What a block asks for when it is complete.
+#[derive(Clone, Debug)]
+pub enum Pending {
+    Call {
+        number: u32,
+        repeats: u32,
+        kind: CallKind,
+        args: Box<[Value; LOCALS]>,
+        at: usize,
+    },
+    /// M99, with P: the sequence number to go on at.
+    Return { to: Option<u32>, at: usize },
+}
+
+/// A G66 modal call: the program and its arguments.
+#[derive(Clone, Debug)]
+pub struct ModalCall {
+    pub number: u32,
+    pub args: [Value; LOCALS],
+}
+
+/// The call stack, the open loops of the level running now, and the label index.
+#[derive(Clone, Debug)]
+pub struct Calls<'a> {
+    /// The main program's whole file: its `O` programs are callable.
+    file: &'a [u8],
+    frames: Vec<Frame<'a>>,
+    pub running: Running,
+    pub loops: Vec<DoLoop>,
+    pub pending: Option<Pending>,
+    pub modal: Option<ModalCall>,
+    /// The `O` programs of the file: number → start (read when the first call comes).
+    programs: Option<HashMap<u32, Mark>>,
+    /// Sequence numbers of each program (by its start offset): N → the blocks' marks.
+    labels: HashMap<(usize, usize), HashMap<u32, Vec<Mark>>>,
+}
+
+impl<'a> Calls<'a> {
+    pub fn new(file: &'a [u8]) -> Self {
+        Calls {
+            file,
+            frames: Vec::new(),
+            running: Running {
+                number: None,
+                o_line: None,
+                start: (0, 1, 0),
+            },
+            loops: Vec::new(),
+            pending: None,
+            modal: None,
+            programs: None,
+            labels: HashMap::new(),
+        }
+    }
+
+    /// Calls open (0: the main program runs).
+    pub fn depth(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// The running program's O number.
+    pub fn program_number(&self) -> Option<u32> {
+        self.running.number
+    }
+
+    /// Inside a program called by G66 (its moves call nothing).
+    pub fn in_modal_call(&self) -> bool {
+        self.frames.iter().any(|f| f.kind == CallKind::Modal)
+    }
+
+    fn macro_levels(&self) -> usize {
+        self.frames
+            .iter()
+            .filter(|f| f.kind != CallKind::Subprogram)
+            .count()
+    }
+}
+
+impl<'a> Interpreter<'a> {
+    /// Runs the call or return the block just built asked for.
+    pub(super) fn run_pending(&mut self) -> R<()> {
+        match self.calls.pending.take() {
+            Some(Pending::Call {
+                number,
+                repeats,
+                kind,
+                args,
+                at,
+            }) => self.call(number, repeats, kind, *args, at),
+            Some(Pending::Return { to, at }) => self.ret(to, at),
+            None => Ok(()),
+        }
+    }
+
+    fn call(
+        &mut self,
+        number: u32,
+        repeats: u32,
+        kind: CallKind,
+        args: [Value; LOCALS],
+        at: usize,
+    ) -> R<()> {
+        if repeats == 0 {
+            return Ok(());
+        }
+        let start = self.find_program(number, at)?;
+        if self.calls.depth() >= MAX_CALLS {
+            return Err(nesting(at, format!("more than {MAX_CALLS} calls nested")));
+        }
+        if kind != CallKind::Subprogram && self.calls.macro_levels() >= MAX_MACRO_LEVELS {
+            return Err(nesting(
+                at,
+                format!("more than {MAX_MACRO_LEVELS} macro call levels nested"),
+            ));
+        }
+        let locals = (kind != CallKind::Subprogram)
+            .then(|| std::mem::replace(&mut self.macros.locals, args));
+        let frame = Frame {
+            src: self.src,
+            ret: (self.pos, self.line, self.line_start),
+            running: self.calls.running,
+            loops: std::mem::take(&mut self.calls.loops),
+            locals,
+            kind,
+            repeats: repeats - 1,
+            start,
+        };
+        self.calls.frames.push(frame);
+        self.enter(start);
+        Ok(())
+    }
+
+    /// Starts reading the file's program at `start` (its O line).
+    fn enter(&mut self, start: Mark) {
+        self.src = self.calls.file;
+        (self.pos, self.line, self.line_start) = start;
+        self.calls.running = Running {
+            number: None,
+            o_line: None,
+            start,
+        };
+    }
+
+    /// M99: back to the caller (or its sequence number `to`); a pass still to run starts
+    /// the program again. In the main program M99 starts it again (or goes on at `to`).
+    fn ret(&mut self, to: Option<u32>, at: usize) -> R<()> {
+        let Some(frame) = self.calls.frames.last_mut() else {
+            self.next_pass(at)?;
+            let target = match to {
+                Some(n) => self.find_label(n, at)?,
+                None => self.calls.running.start,
+            };
+            self.calls.loops.clear();
+            (self.pos, self.line, self.line_start) = target;
+            return Ok(());
+        };
+        if frame.repeats > 0 && to.is_none() {
+            frame.repeats -= 1;
+            let start = frame.start;
+            self.calls.loops.clear();
+            self.enter(start);
+            return Ok(());
+        }
+        let Some(frame) = self.calls.frames.pop() else {
+            return Ok(());
+        };
+        if let Some(locals) = frame.locals {
+            self.macros.locals = locals;
+        }
+        self.src = frame.src;
+        (self.pos, self.line, self.line_start) = frame.ret;
+        self.calls.running = frame.running;
+        self.calls.loops = frame.loops;
+        if let Some(n) = to {
+            (self.pos, self.line, self.line_start) = self.find_label(n, at)?;
+        }
+        Ok(())
+    }
+
+    /// An `O` line at the cursor while reading (block_text): the running program's own O
+    /// line names it; the next one ends its text. Returns false for the program's own.
+    pub(super) fn o_line(&mut self, c: &Cursor, line_start_at: usize) -> bool {
+        if self.calls.running.o_line == Some(c.i) {
+            return false;
+        }
+        if self.calls.running.number.is_none() {
+            let mut n: u32 = 0;
+            let mut k = c.i + 1;
+            while let Some(d @ b'0'..=b'9') = c.b.get(k).copied().filter(|_| k < c.end) {
+                n = n.saturating_mul(10).saturating_add((d - b'0') as u32);
+                k += 1;
+            }
+            self.calls.running.number = Some(n);
+            self.calls.running.o_line = Some(c.i);
+            return false;
+        }
+        // The next program begins: the running one's text ends before its line.
+        self.src = &self.src[..line_start_at.min(self.src.len())];
+        self.pos = self.src.len();
+        true
+    }
+
+    /// The start of program O`number` in the file.
+    fn find_program(&mut self, number: u32, at: usize) -> R<Mark> {
+        let file = self.calls.file;
+        let programs = self
+            .calls
+            .programs
+            .get_or_insert_with(|| index_programs(file));
+        programs.get(&number).copied().ok_or_else(|| {
+            fault(
+                AlarmCode::MissingProgram,
+                at,
+                format!("program O{number:04} is not in this file"),
+            )
+        })
+    }
+
+    /// The block with sequence number `n` in the running program: the first after the
+    /// block being read, else the first from the program's start (0i-MF, GOTO).
+    pub(super) fn find_label(&mut self, n: u32, at: usize) -> R<Mark> {
+        let start = self.calls.running.start;
+        let src = self.src;
+        let labels = self
+            .calls
+            .labels
+            .entry((src.as_ptr() as usize, start.0))
+            .or_insert_with(|| index_labels(src, start, self.d.semicolon));
+        let marks = labels.get(&n).ok_or_else(|| {
+            fault(
+                AlarmCode::JumpTarget,
+                at,
+                format!("sequence number N{n} is not in this program"),
+            )
+        })?;
+        let here = self.pos;
+        Ok(*marks.iter().find(|m| m.0 >= here).unwrap_or(&marks[0]))
+    }
+}
+
+fn nesting(at: usize, m: String) -> Box<super::fault::Fault> {
+    fault(AlarmCode::CallNesting, at, m)
+}
+
+/// The lines of `src` from `from`: (block text start, end, mark of the line).
+fn lines(src: &[u8], from: Mark) -> impl Iterator<Item = (usize, usize, Mark)> + '_ {
+    let (mut pos, mut line, _) = from;
+    std::iter::from_fn(move || {
+        if pos >= src.len() {
+            return None;
+        }
+        let start = pos;
+        let end = super::lexer::find_byte(src, start, [b'\n']);
+        pos = end + 1;
+        line += 1;
+        Some((start, end, (start, line - 1, start)))
+    })
+}
+
+/// The first non-blank byte of a line (upper case), and where it is.
+fn first(src: &[u8], start: usize, end: usize) -> Option<(u8, usize)> {
+    let mut c = Cursor::new(src, start, end);
+    c.skip_blanks();
+    c.peek().map(|b| (b.to_ascii_uppercase(), c.i))
+}
+
+/// Every `O` line of a file: program number → its mark.
+fn index_programs(file: &[u8]) -> HashMap<u32, Mark> {
+    let mut out = HashMap::new();
+    for (s, e, mark) in lines(file, (0, 1, 0)) {
+        if let Some((b'O', i)) = first(file, s, e) {
+            let number =
+                super::number::parse(file, i + 1).filter(|(n, end)| !n.has_point && *end <= e);
+            if let Some((n, _)) = number {
+                out.entry(n.value as u32).or_insert(mark);
+            }
+        }
+    }
+    out
+}
+
+/// The sequence numbers of the program starting at `start`, up to the next `O` line; a
+/// block after a `;` on the same line counts too (Fanuc end of block).
+fn index_labels(
+    src: &[u8],
+    start: Mark,
+    semicolon: crate::dialect::Semicolon,
+) -> HashMap<u32, Vec<Mark>> {
+    let mut out: HashMap<u32, Vec<Mark>> = HashMap::new();
+    for (k, (s, e, mark)) in lines(src, start).enumerate() {
+        if k > 0 && first(src, s, e).is_some_and(|(b, _)| b == b'O') {
+            break;
+        }
+        let mut block_start = s;
+        loop {
+            let end = if semicolon == crate::dialect::Semicolon::EndOfBlock {
+                super::lexer::find_byte(&src[..e], block_start, [b';'])
+            } else {
+                e
+            };
+            if let Some(n) = super::block_text::block_number(src, block_start, end) {
+                out.entry(n.value)
+                    .or_default()
+                    .push((block_start, mark.1, mark.2));
+            }
+            if end >= e {
+                break;
+            }
+            block_start = end + 1;
+        }
+    }
+    out
+}
