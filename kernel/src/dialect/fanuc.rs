@@ -1,8 +1,8 @@
 //! Fanuc-style milling control with cutter compensation C (seed 003).
 
 use super::{
-    g, m, point_code, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord,
-    Semicolon,
+    g, m, point_code, CycleKind, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect,
+    RadiusWord, Semicolon,
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -46,7 +46,26 @@ static GCODES: &[GCodeDef] = &[
     g(65, MacroCall),
     g(66, ModalMacroCall),
     g(67, ModalMacroCancel),
+    g(28, ReferenceReturn(false)),
+    g(30, ReferenceReturn(true)),
+    g(73, Cycle(CycleKind::HighSpeedPeck)),
+    g(74, Cycle(CycleKind::LeftTap)),
+    g(76, Cycle(CycleKind::FineBore)),
     g(80, CycleCancel),
+    g(81, Cycle(CycleKind::Drill)),
+    g(82, Cycle(CycleKind::SpotDrill)),
+    g(83, Cycle(CycleKind::Peck)),
+    g(84, Cycle(CycleKind::Tap)),
+    g(85, Cycle(CycleKind::Bore)),
+    g(86, Cycle(CycleKind::BoreSpindleStop)),
+    g(87, Cycle(CycleKind::BackBore)),
+    g(
+        88,
+        Unsupported("boring cycle with manual operation at the bottom G88"),
+    ),
+    g(89, Cycle(CycleKind::BoreDwell)),
+    g(98, CycleReturn(true)),
+    g(99, CycleReturn(false)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
     g(94, FeedPerRevolution(false)),

@@ -13,6 +13,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
     SelectionPolicy, SpindleDir, TrcSide,
 };
+pub use crate::frontend::CycleKind;
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
 use std::sync::OnceLock;
@@ -78,8 +79,7 @@ pub enum GEffect {
     ConstantSurfaceSpeed(bool),
     /// The block's S is the spindle speed limit (840C G92).
     SpindleLimit,
-    /// Cancels the modal canned cycle (Fanuc G80). No cycle can be active: the cycle codes
-    /// (G73, G81 …) are not in the tables, so a program that calls one is refused there.
+    /// Cancels the modal canned cycle (Fanuc G80).
     CycleCancel,
     /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
     WorkingArea {
@@ -87,6 +87,13 @@ pub enum GEffect {
     },
     /// 880/840C G110: the current position becomes the pole.
     PoleHere,
+    /// A canned cycle for holes (modal until canceled: Fanuc G73 G74 G76 G81…G89).
+    Cycle(CycleKind),
+    /// The canned cycle's return level: the initial level (true, G98) or the R point (G99).
+    CycleReturn(bool),
+    /// Reference point return through an intermediate point: the first reference (false,
+    /// G28) or the second to fourth with P (true, G30).
+    ReferenceReturn(bool),
     /// A macro call (Fanuc G65): the block is a call statement with P, L and arguments.
     MacroCall,
     /// A modal macro call (Fanuc G66): the program runs after every move until canceled.
@@ -120,7 +127,9 @@ impl GEffect {
             GEffect::FeedPerRevolution(_) => 20,
             GEffect::ConstantSurfaceSpeed(_) => 21,
             GEffect::SpindleLimit => 22,
-            GEffect::CycleCancel => 23,
+            GEffect::CycleCancel | GEffect::Cycle(_) => 23,
+            GEffect::CycleReturn(_) => 25,
+            GEffect::ReferenceReturn(_) => 26,
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
@@ -356,6 +365,7 @@ impl Dialect {
             || (matches!(letter, b'A' | b'U' | b'B') && self.polar_words)
             || (letter == b'P' && self.dwell.p_millis)
             || (letter == b'L' && self.macro_b)
+            || (letter == b'Q' && self.has_cycles())
     }
 
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
@@ -403,6 +413,13 @@ impl Dialect {
     #[inline]
     pub fn mcode(&self, value: f64) -> Option<&'static MCodeDef> {
         self.mcodes.iter().find(|def| def.code as f64 == value)
+    }
+
+    /// The dialect has canned cycles (their Q word).
+    pub fn has_cycles(&self) -> bool {
+        self.gcodes
+            .iter()
+            .any(|def| matches!(def.effect, GEffect::Cycle(_)))
     }
 
     /// The M function with `effect` as a program writes it (`M98`), for messages.

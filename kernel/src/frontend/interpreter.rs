@@ -9,7 +9,7 @@
 
 use super::block::*;
 use super::block_text::read_block_number;
-use super::build::WorkingArea;
+use super::build::{CycleMode, Expansion, WorkingArea};
 use super::calls::Calls;
 use super::fault::{fault, Fault, R};
 use super::lexer::{column, Cursor};
@@ -54,6 +54,11 @@ pub struct Interpreter<'a> {
     pub(super) structures: Structures,
     /// 840C G25/G26.
     pub(super) area: WorkingArea,
+    /// The moves still to come of a block that expands into several (G28, a canned cycle).
+    pub(super) expansion: Option<Expansion>,
+    /// The canned cycle mode in force, and its return level (G98: the initial level).
+    pub(super) cycle: Option<CycleMode>,
+    pub(super) cycle_to_initial: bool,
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
     pub(super) finished: bool,
@@ -88,6 +93,9 @@ impl<'a> Interpreter<'a> {
             calls: Calls::new(source.as_bytes()),
             structures: Structures::default(),
             area: WorkingArea::default(),
+            expansion: None,
+            cycle: None,
+            cycle_to_initial: true,
             machine_coordinates: false,
             finished: false,
             plain_path: true,
@@ -182,7 +190,17 @@ impl<'a> Interpreter<'a> {
             if self.finished {
                 return Ok(false);
             }
-            if self.plain_path && self.calls.modal.is_none() && self.plain_line() {
+            if self.expansion.is_some() {
+                match self.next_expanded() {
+                    Ok(true) => return Ok(true),
+                    Ok(false) => continue,
+                    Err(f) => {
+                        self.finished = true;
+                        return Err(self.alarm(*f));
+                    }
+                }
+            }
+            if self.plain_allowed() && self.plain_line() {
                 return Ok(true);
             }
             let Some((start, end)) = self.next_segment() else {
@@ -216,6 +234,13 @@ impl<'a> Interpreter<'a> {
         let message = format!("{} is not closed by {}", f.opener(), f.closer());
         (self.blk_line, self.blk_line_start, self.blk_number) = (line, line_start, None);
         Some(fault(AlarmCode::ControlNesting, at, message))
+    }
+
+    /// Plain motion blocks may take the fast path: not while a modal macro call or a canned
+    /// cycle makes a move block more than a move.
+    #[inline(always)]
+    fn plain_allowed(&self) -> bool {
+        self.plain_path && self.calls.modal.is_none() && self.cycle.is_none()
     }
 
     /// At the end of a called program's text: it has no M99 (a fault at its O line).
@@ -252,7 +277,7 @@ impl<'a> Interpreter<'a> {
         if self.is_statement(&c) {
             return self.statement(c, start, block_col);
         }
-        if self.plain_path && self.calls.modal.is_none() && self.plain(c, block_col).is_some() {
+        if self.plain_allowed() && self.plain(c, block_col).is_some() {
             return Ok(true);
         }
         let mut words = Words::default();
@@ -263,7 +288,9 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         let built = self.build(&words, block_col)?;
-        self.after_block()?;
+        if self.expansion.is_none() {
+            self.after_block()?;
+        }
         Ok(built)
     }
 }

@@ -56,6 +56,7 @@ mod word_loop;
 mod words;
 
 pub use block::*;
+pub use build::CycleKind;
 pub use interpreter::Interpreter;
 
 use crate::alarm::Alarm;

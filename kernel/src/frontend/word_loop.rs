@@ -78,6 +78,7 @@ impl Interpreter<'_> {
             b'U' | b'B' if d.polar_words => set_once(&mut w.polar_radius, v, "U/B"),
             b'P' if d.dwell.p_millis => set_once(&mut w.p, v, "P"),
             b'L' if d.macro_b => set_once(&mut w.l, v, "L"),
+            b'Q' if d.has_cycles() => set_once(&mut w.q, v, "Q"),
             b'F' => {
                 set_once(&mut w.f, v, "F")?;
                 self.aux(letter, v, at)

@@ -54,6 +54,8 @@ pub struct Words {
     /// Polar radius U or B.
     pub polar_radius: Option<Val>,
     pub f: Option<Val>,
+    /// Canned cycles: the peck depth or shift Q.
+    pub q: Option<Val>,
     /// Fanuc: the repeat count L of M98.
     pub l: Option<Val>,
     /// Fanuc dwell time in milliseconds.
@@ -93,6 +95,7 @@ impl Words {
             && self.diameter.is_none()
             && self.h.is_none()
             && self.l.is_none()
+            && self.q.is_none()
             && self.lims.is_none()
             && !self.calculation
     }

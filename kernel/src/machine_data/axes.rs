@@ -50,6 +50,10 @@ pub struct AxisData {
     /// in the direction of the programmed value against the shown one, as a linear axis).
     #[serde(default)]
     pub shortest_way: bool,
+    /// The reference positions in machine coordinates: the first for G28, the second to
+    /// fourth for G30 P2…P4.
+    #[serde(default)]
+    pub reference_positions: [f64; 4],
 }
 
 impl AxisData {
@@ -150,6 +154,9 @@ fn validate_axis(name: char, i: usize, a: &AxisData) -> Result<(), (String, Stri
     super::range(&key("max_velocity"), a.max_velocity, 1.0, 1e6)?;
     super::range(&key("max_acceleration"), a.max_acceleration, 1.0, 1e5)?;
     super::range(&key("max_jerk"), a.max_jerk, 1.0, 1e8)?;
+    for r in a.reference_positions {
+        super::range(&key("reference_positions"), r, -1e9, 1e9)?;
+    }
     let rotary = a.kind == AxisKind::Rotary;
     if rotary && i < 3 {
         return Err((

@@ -124,6 +124,37 @@ pub struct ProgramData {
     pub optional_stop: bool,
     /// Iterations one program loop may run before alarm 12650 (endless loops are an error).
     pub max_loop_iterations: u32,
+    /// Canned cycles: the high-speed peck cycle's retraction after each peck, mm (Fanuc
+    /// G73 d, parameter 5114).
+    #[serde(default = "default_peck")]
+    pub peck_retract: f64,
+    /// Canned cycles: the peck cycle's clearance above the last depth when it goes down
+    /// again, mm (Fanuc G83 d, parameter 5115).
+    #[serde(default = "default_peck")]
+    pub peck_clearance: f64,
+    /// Canned cycles: the direction the fine-boring and back-boring cycles shift the tool
+    /// away from the wall after orienting the spindle (Fanuc G76/G87, parameter RD1/RD2).
+    #[serde(default)]
+    pub boring_shift: BoringShift,
+}
+
+/// The fine-boring shift direction, as seen in the G17 plane (in G18/G19 the same roles:
+/// X is the plane's first axis, Y its second).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BoringShift {
+    #[default]
+    #[serde(rename = "+X")]
+    PlusX,
+    #[serde(rename = "-X")]
+    MinusX,
+    #[serde(rename = "+Y")]
+    PlusY,
+    #[serde(rename = "-Y")]
+    MinusY,
+}
+
+fn default_peck() -> f64 {
+    1.0
 }
 
 fn default_feed_rmin() -> f64 {
@@ -431,6 +462,8 @@ impl MachineData {
             0.0,
             1.0,
         )?;
+        range("program.peck_retract", p.peck_retract, 0.0, 100.0)?;
+        range("program.peck_clearance", p.peck_clearance, 0.0, 100.0)?;
         if p.max_loop_iterations == 0 {
             return Err((
                 "program.max_loop_iterations".into(),

@@ -29,6 +29,10 @@ pub(super) struct BlockCodes {
     pub length: bool,
     /// The block's S is the spindle speed limit (840C G92).
     pub spindle_limit: bool,
+    /// A canned cycle code was written (Fanuc G81 …).
+    pub cycle: Option<super::cycles::CycleKind>,
+    /// A reference point return (its code; true for the second reference, G30).
+    pub reference: Option<(u16, bool)>,
 }
 
 impl Interpreter<'_> {
@@ -122,6 +126,8 @@ impl Interpreter<'_> {
             working_area: None,
             trc_at: None,
             numbered_at: None,
+            cycle: None,
+            reference: None,
             length: false,
             spindle_limit: false,
         };
@@ -129,7 +135,11 @@ impl Interpreter<'_> {
         let blk = &mut self.block;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
             match effect {
-                GEffect::Motion(m) => new.motion = m,
+                GEffect::Motion(m) => {
+                    // A motion code ends the canned cycle mode (0i-MF: group 01 cancels 09).
+                    self.cycle = None;
+                    new.motion = m
+                }
                 GEffect::Dwell => g.dwell = Some(code),
                 GEffect::ExactStopBlock => blk.exact_stop = true,
                 GEffect::ExactStopModal(on) => new.exact_stop = on,
@@ -167,6 +177,9 @@ impl Interpreter<'_> {
                 GEffect::WorkingArea { max } => g.working_area = Some(max),
                 GEffect::PoleHere => new.pole = self.cur,
                 GEffect::ModalMacroCancel => self.calls.modal = None,
+                GEffect::Cycle(kind) => g.cycle = Some(kind),
+                GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
+                GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
                 GEffect::MacroCall | GEffect::ModalMacroCall => {
                     return Err(fault(
                         AlarmCode::Syntax,
@@ -174,7 +187,8 @@ impl Interpreter<'_> {
                         format!("{} must stand first in its block", GName(code)),
                     ))
                 }
-                GEffect::Unsupported(_) | GEffect::CycleCancel => {}
+                GEffect::CycleCancel => self.cycle = None,
+                GEffect::Unsupported(_) => {}
             }
         }
         Ok(g)

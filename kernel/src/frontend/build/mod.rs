@@ -7,11 +7,17 @@
 //! stops, `@` commands, dwell) and [`motion`] (end point, polar coordinates, arcs, working
 //! area).
 
+mod cycles;
+mod expand;
 mod flow;
 mod gcodes;
 mod motion;
+mod reference;
 mod technology;
 
+pub use cycles::CycleKind;
+pub(super) use cycles::CycleMode;
+pub(super) use expand::Expansion;
 pub(super) use motion::{in_range, WorkingArea};
 
 use super::block::{Block, BlockNo, ModalState};
@@ -36,6 +42,10 @@ impl Interpreter<'_> {
         if let Some(at) = g.numbered_at {
             self.numbered_work_offset(w, at, &mut new)?;
         }
+        if let Some(kind) = g.cycle {
+            let initial = self.cur[new.plane.normal as usize];
+            self.cycle = Some(CycleMode::new(kind, initial, self.cycle));
+        }
         self.diameter_switch(w, &mut new);
         // 5. Feed and spindle speed; a dwell block's F is its time.
         if g.dwell.is_none() {
@@ -47,7 +57,8 @@ impl Interpreter<'_> {
         self.length_register(w, &mut new, g.length, block_col)?;
         // 7. Program-flow M functions, acting at block end (840C 11.10); the spindle's.
         self.m_functions(w, &mut new)?;
-        // 8. The axis words: a dwell time, the working area's limits, or the motion.
+        // 8. The axis words: a dwell time, the working area's limits, a reference point
+        //    return or a canned cycle (expanded into several moves), or the motion.
         match (g.dwell, g.working_area) {
             (Some(code), _) => {
                 self.no_additional_axes(w, "a dwell block")?;
@@ -57,7 +68,15 @@ impl Interpreter<'_> {
                 self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
                 self.working_area(w, max, new.units)
             }
-            (None, None) => self.motion(w, &mut new, block_col)?,
+            (None, None) => match g.reference {
+                Some((code, second)) => {
+                    self.reference_return(w, &mut new, code, second, block_col)?
+                }
+                None if self.cycle.is_some() && cycles::makes_hole(w) => {
+                    self.canned_cycle(w, &mut new, block_col)?
+                }
+                None => self.motion(w, &mut new, block_col)?,
+            },
         }
         // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);
         //    additional axes move only outside compensation (docs/axes.md).

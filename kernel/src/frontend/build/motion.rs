@@ -259,7 +259,7 @@ impl Interpreter<'_> {
     }
 
     /// The end point of the axis words; the axes not written stay where they are.
-    fn end_point(&self, w: &Words, new: &ModalState, start: Pos) -> R<Pos> {
+    pub(super) fn end_point(&self, w: &Words, new: &ModalState, start: Pos) -> R<Pos> {
         let offset = self.work_offset(new);
         let mut end = start;
         for (i, a) in w.axis.iter().enumerate() {

@@ -1,0 +1,128 @@
+//! Blocks that the control executes as several moves: a reference point return (G28: to the
+//! intermediate point, then to the reference point) and the canned cycles (positioning, R
+//! point, hole bottom, retraction). The block build computes the first [`Step`] into the
+//! programmed block itself (with its words and modal changes); the rest come out of the
+//! [`Expansion`] one block per `next_block`, before the next block's text is read, so that
+//! even a peck cycle of many pecks streams.
+
+use super::super::block::*;
+use super::super::fault::R;
+use super::super::interpreter::Interpreter;
+use super::cycles::Drilling;
+use crate::machine_data::ADDITIONAL;
+
+/// One move or action of an expanded block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step {
+    /// A move in machine coordinates: at rapid, or at the modal feed.
+    Move { to: Pos, rapid: bool },
+    /// A dwell, seconds.
+    Dwell(f64),
+    /// The spindle turns, stops or orients; its M function goes to the PLC.
+    Spindle(SpindleDir),
+}
+
+/// The steps still to come of the block being expanded.
+#[derive(Clone, Debug)]
+pub enum Expansion {
+    /// A short fixed list, handed out from the front.
+    Steps(heapless::Deque<Step, 8>),
+    /// A drilling cycle's remaining holes and pecks.
+    Drilling(Drilling),
+}
+
+impl Expansion {
+    pub fn of(steps: &[Step]) -> Self {
+        let mut q = heapless::Deque::new();
+        for &s in steps {
+            // At most eight steps are built into a fixed list (G28: two).
+            let _ = q.push_back(s);
+        }
+        Expansion::Steps(q)
+    }
+
+    fn next(&mut self) -> Option<Step> {
+        match self {
+            Expansion::Steps(q) => q.pop_front(),
+            Expansion::Drilling(d) => d.next(),
+        }
+    }
+}
+
+impl Interpreter<'_> {
+    /// The first step of the expansion just set, into the programmed block.
+    pub(super) fn expand_first(&mut self, new: &mut ModalState) {
+        if let Some(step) = self.expansion.as_mut().and_then(Expansion::next) {
+            self.apply_step(step, new);
+        }
+    }
+
+    /// The next expanded block, if an expansion is running; when it ends, what the
+    /// programmed block asked for after it (a call) runs. False: read on in the text.
+    pub(in crate::frontend) fn next_expanded(&mut self) -> R<bool> {
+        let Some(step) = self.expansion.as_mut().and_then(Expansion::next) else {
+            self.expansion = None;
+            self.after_block()?;
+            return Ok(false);
+        };
+        let b = &mut self.block;
+        let (line, col, number) = (b.line, b.col, b.number);
+        super::reset(b, line, col, number);
+        b.words.clear();
+        let mut modal = b.modal;
+        self.apply_step(step, &mut modal);
+        self.block.modal = modal;
+        Ok(true)
+    }
+
+    /// Puts a step into the block being built: its motion from the position now (exact
+    /// stop at its end), its dwell, or its spindle function.
+    fn apply_step(&mut self, step: Step, modal: &mut ModalState) {
+        let blk = &mut self.block;
+        match step {
+            Step::Move { to, rapid } => {
+                let moved = (0..3).fold(
+                    0u16,
+                    |m, i| {
+                        if to[i] != self.cur[i] {
+                            m | 1 << i
+                        } else {
+                            m
+                        }
+                    },
+                );
+                blk.motion = Some(Motion {
+                    kind: if rapid {
+                        MotionKind::Rapid
+                    } else {
+                        MotionKind::Linear
+                    },
+                    plane: modal.plane,
+                    start: self.cur,
+                    end: to,
+                    center: to,
+                    programmed: moved,
+                });
+                blk.exact_stop = true;
+                self.cur = to;
+            }
+            Step::Dwell(s) => blk.dwell = Some(s),
+            Step::Spindle(dir) => {
+                modal.spindle_dir = dir;
+                let code = self
+                    .d
+                    .mcodes
+                    .iter()
+                    .find(|def| def.effect == crate::dialect::MEffect::Spindle(dir));
+                if let Some(def) = code {
+                    let _ = blk.words.push(AuxWord {
+                        address: b'M',
+                        value: def.code as f64,
+                    });
+                }
+            }
+        }
+    }
+}
+
+const _: () = assert!(ADDITIONAL > 0);
