@@ -5,6 +5,15 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
 
+/// Which value of an offset a program writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OffsetValue {
+    Length,
+    LengthWear,
+    Radius,
+    RadiusWear,
+}
+
 /// One tool offset (one cutting edge).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -246,6 +255,33 @@ impl ToolTable {
     /// operator's edit names one entry; it does not fall back as `find` does for a program.
     fn exact_mut(&mut self, t: Option<u32>, d: u32) -> Option<&mut ToolOffset> {
         self.offset.iter_mut().find(|o| o.t == t && o.d == d)
+    }
+
+    /// A program's write of one value of offset number `d` (Fanuc G10 L10…L13): the entry
+    /// is made if the table has none (the control's offset memory has every number).
+    pub fn write_value(&mut self, d: u32, which: OffsetValue, value: f64) {
+        if self.exact_mut(None, d).is_none() {
+            self.offset.push(ToolOffset {
+                t: None,
+                d,
+                radius: 0.0,
+                radius_wear: 0.0,
+                length: 0.0,
+                length_wear: 0.0,
+                edge: None,
+            });
+        }
+        if matches!(which, OffsetValue::Radius | OffsetValue::RadiusWear) {
+            self.radius_overrides.retain(|(k, _)| *k != d);
+        }
+        if let Some(o) = self.exact_mut(None, d) {
+            *match which {
+                OffsetValue::Length => &mut o.length,
+                OffsetValue::LengthWear => &mut o.length_wear,
+                OffsetValue::Radius => &mut o.radius,
+                OffsetValue::RadiusWear => &mut o.radius_wear,
+            } = value;
+        }
     }
 
     /// `--set` as written on a command line: "Dn=R" (also "dn=R").

@@ -117,6 +117,16 @@ impl WorkOffsets {
         write_atomic(path, &self.to_toml(md))
     }
 
+    /// Writes one value (a program's G10); sets past the end are made.
+    pub fn set(&mut self, index: u8, axis: usize, value: f64) {
+        if self.sets.len() <= index as usize {
+            self.sets.resize(index as usize + 1, ZERO);
+        }
+        if let Some(v) = self.sets[index as usize].get_mut(axis) {
+            *v = value;
+        }
+    }
+
     /// An operator's edit of set `name`: each (axis, value), all checked before any is
     /// taken; a refusal changes nothing and says why.
     pub fn edit(

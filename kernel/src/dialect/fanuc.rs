@@ -72,7 +72,15 @@ static GCODES: &[GCodeDef] = &[
     g(95, FeedPerRevolution(true)),
     g(96, ConstantSurfaceSpeed(true)),
     g(97, ConstantSurfaceSpeed(false)),
-    g(92, Unsupported("coordinate system setting G92")),
+    g(92, PositionSetting),
+    g(52, LocalCoordinates),
+    g(50, Scaling(false)),
+    g(51, Scaling(true)),
+    g(point_code(50, 1), Mirror(false)),
+    g(point_code(51, 1), Mirror(true)),
+    g(68, Rotation(true)),
+    g(69, Rotation(false)),
+    g(10, DataSetting),
 ];
 
 static MCODES: &[MCodeDef] = &[

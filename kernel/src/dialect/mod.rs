@@ -94,6 +94,18 @@ pub enum GEffect {
     /// Reference point return through an intermediate point: the first reference (false,
     /// G28) or the second to fourth with P (true, G30).
     ReferenceReturn(bool),
+    /// The position now gets the axis words' values: the zero shifts (Fanuc G92).
+    PositionSetting,
+    /// A local coordinate system: its zero from the axis words (Fanuc G52).
+    LocalCoordinates,
+    /// Programmable data input: offsets written by the program (Fanuc G10 L P).
+    DataSetting,
+    /// Programmable mirror image on (true, Fanuc G51.1) or off for the axes written (G50.1).
+    Mirror(bool),
+    /// Scaling on (true, Fanuc G51) or off (G50).
+    Scaling(bool),
+    /// Coordinate system rotation on (true, Fanuc G68) or off (G69).
+    Rotation(bool),
     /// A macro call (Fanuc G65): the block is a call statement with P, L and arguments.
     MacroCall,
     /// A modal macro call (Fanuc G66): the program runs after every move until canceled.
@@ -130,6 +142,10 @@ impl GEffect {
             GEffect::CycleCancel | GEffect::Cycle(_) => 23,
             GEffect::CycleReturn(_) => 25,
             GEffect::ReferenceReturn(_) => 26,
+            GEffect::PositionSetting | GEffect::LocalCoordinates | GEffect::DataSetting => 27,
+            GEffect::Mirror(_) => 28,
+            GEffect::Scaling(_) => 29,
+            GEffect::Rotation(_) => 30,
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,

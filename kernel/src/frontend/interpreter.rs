@@ -48,6 +48,8 @@ pub struct Interpreter<'a> {
     pub(super) macros: MacroVariables,
     /// A Macro B variable of the present position was read in this block.
     pub(super) present_state_read: std::cell::Cell<bool>,
+    /// The program's shifts of the zero (G92, G52) and its writes to the tables (G10).
+    pub(super) coords: super::coordinates::Coordinates,
     /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
     pub(super) calls: Calls<'a>,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
@@ -91,6 +93,7 @@ impl<'a> Interpreter<'a> {
             macros: MacroVariables::default(),
             present_state_read: std::cell::Cell::new(false),
             calls: Calls::new(source.as_bytes()),
+            coords: Default::default(),
             structures: Structures::default(),
             area: WorkingArea::default(),
             expansion: None,
@@ -146,6 +149,17 @@ impl<'a> Interpreter<'a> {
             .zip(self.macros.kept())
             .filter_map(|(n, v)| v.map(|v| (n, v)))
             .collect()
+    }
+
+    /// The work offset table as the program left it, if it wrote it (Fanuc G10 L2/L20):
+    /// the caller keeps it, as the control keeps what a program writes.
+    pub fn written_work_offsets(&self) -> Option<&crate::work_offsets::WorkOffsets> {
+        self.coords.written_work_offsets()
+    }
+
+    /// The tool offsets as the program left them, if it wrote them (Fanuc G10 L10…L13).
+    pub fn written_tools(&self) -> Option<&ToolTable> {
+        self.coords.written_tools()
     }
 
     /// The position after the last block handed out.
@@ -240,7 +254,10 @@ impl<'a> Interpreter<'a> {
     /// cycle makes a move block more than a move.
     #[inline(always)]
     fn plain_allowed(&self) -> bool {
-        self.plain_path && self.calls.modal.is_none() && self.cycle.is_none()
+        self.plain_path
+            && self.calls.modal.is_none()
+            && self.cycle.is_none()
+            && !self.coords.frame.active()
     }
 
     /// At the end of a called program's text: it has no M99 (a fault at its O line).

@@ -187,7 +187,7 @@ impl Interpreter<'_> {
     #[inline(always)]
     fn plain_end(&self, vals: &[Val; 6], programmed: u8, start: Pos) -> Option<Pos> {
         let modal = &self.block.modal;
-        let offset = self.md.work_offsets.get(modal.work_offset);
+        let offset = self.zero(modal.work_offset);
         let mut end = start;
         for i in 0..3 {
             if programmed & (1 << i) != 0 {

@@ -33,6 +33,10 @@ pub(super) struct BlockCodes {
     pub cycle: Option<super::cycles::CycleKind>,
     /// A reference point return (its code; true for the second reference, G30).
     pub reference: Option<(u16, bool)>,
+    /// A data-setting block (G92, G52, G10).
+    pub setting: Option<super::settings::Setting>,
+    /// A block that programs the frame (G51.1 G50.1 G51 G50 G68 G69).
+    pub frame: Option<super::frames::FramePart>,
 }
 
 impl Interpreter<'_> {
@@ -128,6 +132,8 @@ impl Interpreter<'_> {
             numbered_at: None,
             cycle: None,
             reference: None,
+            setting: None,
+            frame: None,
             length: false,
             spindle_limit: false,
         };
@@ -148,6 +154,12 @@ impl Interpreter<'_> {
                 GEffect::Units(u) => new.units = u,
                 GEffect::Distance(x) => new.distance = x,
                 GEffect::Trc(side) => {
+                    // A frame that turns the plane over turns G41 into G42 (frame.rs).
+                    let side = match side {
+                        TrcSide::Left if self.coords.frame.flips(new.plane) => TrcSide::Right,
+                        TrcSide::Right if self.coords.frame.flips(new.plane) => TrcSide::Left,
+                        s => s,
+                    };
                     blk.trc = Some(side);
                     new.trc = side;
                     g.trc_at = Some(at);
@@ -180,6 +192,12 @@ impl Interpreter<'_> {
                 GEffect::Cycle(kind) => g.cycle = Some(kind),
                 GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
                 GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
+                GEffect::PositionSetting => g.setting = Some(super::settings::Setting::Position),
+                GEffect::LocalCoordinates => g.setting = Some(super::settings::Setting::Local),
+                GEffect::DataSetting => g.setting = Some(super::settings::Setting::Data(code)),
+                GEffect::Mirror(on) => g.frame = Some(super::frames::FramePart::Mirror(on)),
+                GEffect::Scaling(on) => g.frame = Some(super::frames::FramePart::Scale(on)),
+                GEffect::Rotation(on) => g.frame = Some(super::frames::FramePart::Rotation(on)),
                 GEffect::MacroCall | GEffect::ModalMacroCall => {
                     return Err(fault(
                         AlarmCode::Syntax,

@@ -10,9 +10,11 @@
 mod cycles;
 mod expand;
 mod flow;
+mod frames;
 mod gcodes;
 mod motion;
 mod reference;
+mod settings;
 mod technology;
 
 pub use cycles::CycleKind;
@@ -57,27 +59,10 @@ impl Interpreter<'_> {
         self.length_register(w, &mut new, g.length, block_col)?;
         // 7. Program-flow M functions, acting at block end (840C 11.10); the spindle's.
         self.m_functions(w, &mut new)?;
-        // 8. The axis words: a dwell time, the working area's limits, a reference point
-        //    return or a canned cycle (expanded into several moves), or the motion.
-        match (g.dwell, g.working_area) {
-            (Some(code), _) => {
-                self.no_additional_axes(w, "a dwell block")?;
-                self.dwell(w, code, block_col)?
-            }
-            (None, Some(max)) => {
-                self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
-                self.working_area(w, max, new.units)
-            }
-            (None, None) => match g.reference {
-                Some((code, second)) => {
-                    self.reference_return(w, &mut new, code, second, block_col)?
-                }
-                None if self.cycle.is_some() && cycles::makes_hole(w) => {
-                    self.canned_cycle(w, &mut new, block_col)?
-                }
-                None => self.motion(w, &mut new, block_col)?,
-            },
-        }
+        // 8. The axis words: a dwell time, the working area's limits, a setting (G92 G52
+        //    G10), a reference point return or a canned cycle (expanded into several
+        //    moves), or the motion.
+        self.axis_words(w, &g, &mut new, block_col)?;
         // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);
         //    additional axes move only outside compensation (docs/axes.md).
         self.trc_in_linear_block(&new, g.trc_at)?;
@@ -85,6 +70,42 @@ impl Interpreter<'_> {
         // 10. The block done: position, program end (880 4.2.5: the pole), modal state.
         self.finish(new);
         Ok(true)
+    }
+
+    /// Step 8: what the block's axis words mean.
+    fn axis_words(
+        &mut self,
+        w: &Words,
+        g: &gcodes::BlockCodes,
+        new: &mut ModalState,
+        block_col: usize,
+    ) -> R<()> {
+        if let Some(code) = g.dwell {
+            self.no_additional_axes(w, "a dwell block")?;
+            return self.dwell(w, code, block_col);
+        }
+        if let Some(max) = g.working_area {
+            self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
+            self.working_area(w, max, new.units);
+            return Ok(());
+        }
+        if let Some(s) = g.setting {
+            return self.setting(w, new, s, block_col);
+        }
+        if let Some(part) = g.frame {
+            // G50 and G69 end their part and the block moves as written; the others'
+            // axis words are the frame's data.
+            if !self.frame_block(w, new, part, block_col)? {
+                return Ok(());
+            }
+        }
+        if let Some((code, second)) = g.reference {
+            return self.reference_return(w, new, code, second, block_col);
+        }
+        if self.cycle.is_some() && cycles::makes_hole(w) {
+            return self.canned_cycle(w, new, block_col);
+        }
+        self.motion(w, new, block_col)
     }
 
     /// Step 1: the block at its source position with nothing programmed; its words (read
@@ -107,12 +128,13 @@ impl Interpreter<'_> {
         if let Some(a) = &blk.axes {
             self.cur_add = a.to;
         }
-        if blk.stop.is_some_and(|s| s.ends_program()) {
-            let o = self.md.work_offsets.get(new.work_offset);
+        let ends = blk.stop.is_some_and(|s| s.ends_program());
+        if ends {
+            let o = self.zero(new.work_offset);
             new.pole = [o[0], o[1], o[2]];
             self.finished = true;
         }
-        blk.modal = new;
+        self.block.modal = new;
     }
 }
 

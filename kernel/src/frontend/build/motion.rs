@@ -146,11 +146,11 @@ impl Interpreter<'_> {
     }
 
     /// The work offset absolute positions take: none in a block in machine coordinates.
-    fn work_offset(&self, new: &ModalState) -> &[f64; AXES] {
+    fn work_offset(&self, new: &ModalState) -> [f64; AXES] {
         if self.machine_coordinates {
-            &[0.0; AXES]
+            [0.0; AXES]
         } else {
-            self.md.work_offsets.get(new.work_offset)
+            self.zero(new.work_offset)
         }
     }
 
@@ -227,6 +227,9 @@ impl Interpreter<'_> {
         programmed: u16,
         block_col: usize,
     ) -> R<()> {
+        if self.coords.frame.active() && !self.machine_coordinates {
+            return self.cartesian_framed(w, new, programmed, block_col);
+        }
         let start = self.cur;
         let end = self.end_point(w, new, start)?;
         let arc = new.motion.is_arc();
@@ -256,6 +259,30 @@ impl Interpreter<'_> {
             end
         };
         self.set_motion(new, start, end, centre, programmed, block_col)
+    }
+
+    /// [`Self::cartesian`] under an active frame (frames.rs).
+    fn cartesian_framed(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        programmed: u16,
+        block_col: usize,
+    ) -> R<()> {
+        let Some((end, centre, flip)) = self.framed_motion(w, new, programmed, block_col)? else {
+            return Ok(());
+        };
+        feed_programmed(new, block_col)?;
+        let start = self.cur;
+        self.set_motion(new, start, end, centre, programmed, block_col)?;
+        if let (true, Some(m)) = (flip, self.block.motion.as_mut()) {
+            m.kind = match m.kind {
+                MotionKind::ArcCw => MotionKind::ArcCcw,
+                MotionKind::ArcCcw => MotionKind::ArcCw,
+                k => k,
+            };
+        }
+        Ok(())
     }
 
     /// The end point of the axis words; the axes not written stay where they are.
@@ -308,7 +335,7 @@ impl Interpreter<'_> {
     }
 
     /// How the block gives the circle: centre offsets or a radius, one of them.
-    fn centre_spec(&self, w: &Words, units: Units, block_col: usize) -> R<CentreSpec> {
+    pub(super) fn centre_spec(&self, w: &Words, units: Units, block_col: usize) -> R<CentreSpec> {
         match (w.radius, w.centre.iter().any(Option::is_some)) {
             (Some(r), false) => Ok(CentreSpec::Radius(self.length(r, units))),
             (None, true) => {
@@ -520,7 +547,7 @@ fn feed_programmed(new: &ModalState, block_col: usize) -> R<()> {
 
 /// Why no circle fits, as the alarm at `at`.
 #[cold]
-fn arc_fault(e: ArcError, tol: f64, at: usize) -> Box<Fault> {
+pub(super) fn arc_fault(e: ArcError, tol: f64, at: usize) -> Box<Fault> {
     let msg = match e {
         ArcError::EndPointOff { r_start, r_end } => format!(
             "end point not on the circle: start radius {r_start:.4}, end radius {r_end:.4} (tolerance {tol})"

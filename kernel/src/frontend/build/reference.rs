@@ -33,6 +33,13 @@ impl Interpreter<'_> {
             ));
         }
         self.no_additional_axes(w, "a reference point return (X Y Z only)")?;
+        if self.coords.frame.active() {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                block_col,
+                format!("{} under a frame (mirror, scaling, rotation)", GName(code)),
+            ));
+        }
         if w.axis.iter().all(Option::is_none) {
             return Err(fault(
                 AlarmCode::MissingValue,

@@ -145,7 +145,7 @@ impl Interpreter<'_> {
     /// Offset `dn` from the tool table (under the active tool where tools have edges).
     fn offset(&self, dn: u32, at: usize, new: &mut ModalState) -> R<()> {
         let tool = if self.d.tool_edges { new.tool } else { None };
-        let (radius, length, edge) = self.tools.resolve(tool, dn).ok_or_else(|| {
+        let (radius, length, edge) = self.tool_table().resolve(tool, dn).ok_or_else(|| {
             let what = crate::tools::offset_label(tool, dn);
             fault(
                 AlarmCode::UnknownOffset,
@@ -187,7 +187,7 @@ impl Interpreter<'_> {
             0.0
         } else {
             let at = w.h.map_or(block_col, |h| h.pos());
-            let (_, length, _) = self.tools.resolve(None, new.h).ok_or_else(|| {
+            let (_, length, _) = self.tool_table().resolve(None, new.h).ok_or_else(|| {
                 fault(
                     AlarmCode::UnknownOffset,
                     at,

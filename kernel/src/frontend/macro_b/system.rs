@@ -133,7 +133,7 @@ impl Interpreter<'_> {
 
     fn workpiece(&self, k: i64) -> Value {
         let i = self.axis_slot(k)?;
-        let o = self.md.work_offsets.get(self.block.modal.work_offset)[i];
+        let o = self.zero(self.block.modal.work_offset)[i];
         let p = if i < 3 {
             self.cur[i]
         } else {
@@ -159,7 +159,7 @@ impl Interpreter<'_> {
         if set == 0 || set > self.d.work_offset_count() {
             return None;
         }
-        Some(self.md.work_offsets.get(set)[i] / self.unit())
+        Some(self.work_offset_table().get(set)[i] / self.unit())
     }
 
     fn numbered_offset(&self, n: i64) -> Value {
@@ -174,7 +174,7 @@ impl Interpreter<'_> {
             2 => Register::DWear,
             _ => Register::DGeometry,
         };
-        let o = self.tools.find(None, number)?;
+        let o = self.tool_table().find(None, number)?;
         let v = match kind {
             Register::HWear => o.length_wear,
             Register::HGeometry => o.length,

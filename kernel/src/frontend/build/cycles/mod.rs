@@ -290,7 +290,11 @@ impl Interpreter<'_> {
         }
         let hole = self.hole(&mode, new, n, block_col)?;
         feed_for_cycle(new, block_col)?;
-        let (target, step) = self.hole_position(w, new, n);
+        let (target, step) = if self.coords.frame.active() {
+            self.framed_hole_position(w, new, n, block_col)?
+        } else {
+            self.hole_position(w, new, n)
+        };
         self.expansion = Some(Expansion::Drilling(Drilling {
             hole,
             at: self.cur,
@@ -356,7 +360,7 @@ impl Interpreter<'_> {
 
     /// The hole's levels in machine coordinates from the modal data.
     fn hole(&self, mode: &CycleMode, new: &ModalState, n: usize, at: usize) -> R<Hole> {
-        let offset = self.md.work_offsets.get(new.work_offset)[n];
+        let offset = self.zero(new.work_offset)[n];
         let (Some((z, zd)), Some((r, rd))) = (mode.z, mode.r) else {
             return Err(fault(
                 AlarmCode::MissingValue,
@@ -420,7 +424,7 @@ impl Interpreter<'_> {
     /// The first hole's position (plane axes from the words, the rest where they are) and,
     /// under G91, the step to each further hole.
     fn hole_position(&self, w: &Words, new: &ModalState, n: usize) -> (Pos, Pos) {
-        let offset = self.md.work_offsets.get(new.work_offset);
+        let offset = self.zero(new.work_offset);
         let (mut target, mut step) = (self.cur, [0.0; 3]);
         for i in (0..3).filter(|&i| i != n) {
             if let Some(a) = w.axis[i] {
@@ -431,6 +435,48 @@ impl Interpreter<'_> {
             }
         }
         (target, step)
+    }
+}
+
+impl Interpreter<'_> {
+    /// [`Interpreter::hole_position`] under a frame: the position in program coordinates,
+    /// mapped; the frame may not touch the drilling axis.
+    fn framed_hole_position(
+        &self,
+        w: &Words,
+        new: &ModalState,
+        n: usize,
+        at: usize,
+    ) -> R<(Pos, Pos)> {
+        let frame = self.coords.frame;
+        if !frame.keeps_axis(n) {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "a canned cycle under a frame that mirrors, scales or turns the drilling axis",
+            ));
+        }
+        let start = self.program_position(new, at)?;
+        let (mut prog, mut delta) = (start, [0.0; 3]);
+        for i in (0..3).filter(|&i| i != n) {
+            if let Some(a) = w.axis[i] {
+                let v = self.length(a, new.units);
+                prog[i] = match new.distance {
+                    Distance::Absolute => v,
+                    Distance::Incremental => {
+                        delta[i] = v;
+                        start[i] + v
+                    }
+                };
+            }
+        }
+        let zero = self.zero(new.work_offset);
+        let q = frame.apply(prog);
+        let mut target: Pos = std::array::from_fn(|i| q[i] + zero[i]);
+        target[n] = self.cur[n];
+        let (a, b) = (frame.apply(delta), frame.apply([0.0; 3]));
+        let step = std::array::from_fn(|i| a[i] - b[i]);
+        Ok((target, step))
     }
 }
 
