@@ -9,7 +9,8 @@
 //! interpreter   the Interpreter: its state, the stream of blocks, faults to alarms (fault)
 //! block_text    where a block's text ends; `%`, `/` and `O` lines; the N number
 //!   then one of
-//! statements    a statement of the control's language, run in place (no block)
+//! statements    a statement of the control's language, run in place (no block, or a
+//!               preprocessing stop)
 //! plain         the plain motion block, read and built in one pass
 //! word_loop     the block's words (words, number, lexer; ISG expressions: expr, variables)
 //!   └ build     the block from its words, in the order of execution
@@ -18,24 +19,26 @@
 //!
 //! Where the languages' larger features go:
 //!
-//! - **Statements of each language** are a module each under `statements/`, next to
-//!   `statements/isg.rs` (`$IF`, `$FOR`, `$WHILE`, `V.` assignments): Fanuc Macro B
-//!   (`#` variables, `IF … GOTO`, `WHILE … DO … END`), the Sinumerik high-level language
-//!   (`IF`/`LOOP`/`FOR`/`WHILE`/`REPEAT`, `GOTOF`/`GOTOB`, `DEF`, R parameters).
-//!   `statements/mod.rs` tells a statement block from a block of words for the dialect.
-//! - **Variable stores** live in `variables.rs`, one namespace per language (Fanuc local,
-//!   common and permanent `#` ranges, Sinumerik R parameters and user variables, ISG `V.`);
-//!   the store a call level owns (locals) moves with that level.
-//! - **A subprogram call stack** extends the interpreter's reading position (`pos`, `line`,
-//!   `line_start`) and its open control structures into one frame per call level: a call
-//!   (Fanuc M98/G65, Sinumerik `L`/`CALL`, ISG `L`) pushes a frame with its program text and
-//!   locals, a return (M99, `RET`/M17) pops it. The codes come into the dialect tables as
-//!   effects, like the program stops (`MEffect`).
-//! - **Canned cycles** (drilling G81…G89, Sinumerik `CYCLE…`) become a G or call effect in
-//!   the tables and a module of their own under `build/`: the build takes the cycle's
-//!   parameters from the words and expands it into several blocks, which the interpreter hands
-//!   out one per `next_block` before it reads the next block's text; a modal cycle repeats at
-//!   every following position, like the motion mode.
+//! - **Statements of each language** are a module each under `statements/`: `isg.rs`
+//!   (`$IF`, `$FOR`, `$WHILE`, `V.` assignments) and `fanuc.rs` (Custom Macro B: `#`
+//!   assignments, `IF … GOTO`/`THEN`, `WHILE … DO … END`, `GOTO`, G65/G66 calls); the
+//!   Sinumerik high-level language goes beside them. `statements/mod.rs` tells a statement
+//!   block from a block of words for the dialect.
+//! - **Variable stores**: `variables.rs` (ISG `V.`), `macro_b/` (Fanuc local, common and
+//!   kept `#` ranges, the system variables bound to the interpreter's state); the locals a
+//!   call level owns move with that level.
+//! - **The call stack** (`calls.rs`) extends the interpreter's reading position (`src`,
+//!   `pos`, `line`, `line_start`) and its open loops into one frame per call level: a call
+//!   (M98, G65, G66) pushes a frame, a return (M99) pops it. The codes are dialect-table
+//!   effects (`MEffect::Call`, `GEffect::MacroCall` …).
+//! - **Blocks that become several moves** (`build/expand.rs`): canned cycles
+//!   (`build/cycles/`, one module per family) and the reference point return
+//!   (`build/reference.rs`) put their first move into the programmed block and hand the rest
+//!   out one per `next_block`, before the next block's text is read.
+//! - **The zero and the frame** (`coordinates.rs`, `frame.rs`, `build/settings.rs`,
+//!   `build/frames.rs`): work offset plus G92/G52 shifts, the program's G10 copies of the
+//!   tables, and the mirror/scale/rotation map under which a block is computed in program
+//!   coordinates and then mapped.
 
 mod arc;
 pub mod block;
