@@ -1,5 +1,5 @@
 //! Interprets a program and prints the block count: a profiling target for the front end.
-//! `interpret_only PROGRAM [DIALECT]`
+//! `interpret_only PROGRAM [DIALECT [KEY=VALUE …]]` (machine-data overrides after the dialect)
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -8,8 +8,9 @@ fn main() {
         .expect("usage: interpret_only PROGRAM [DIALECT]");
     let dialect = args.next().unwrap_or_else(|| "siemens-840c".into());
     let text = std::fs::read_to_string(&path).expect("readable program");
-    let md =
-        nc_kernel::MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
+    let mut overrides = vec![format!("dialect={dialect}")];
+    overrides.extend(args);
+    let md = nc_kernel::MachineData::load(None, &overrides).expect("machine data");
     let tools = nc_kernel::ToolTable::builtin();
     let mut n = 0usize;
     let mut interp = nc_kernel::Interpreter::new(&path, &text, &md, &tools);

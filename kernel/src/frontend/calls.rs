@@ -242,7 +242,12 @@ impl<'a> Interpreter<'a> {
         self.calls.running = frame.running;
         self.calls.loops = frame.loops;
         if let Some(n) = to {
-            (self.pos, self.line, self.line_start) = self.find_label(n, at)?;
+            let target = self.find_label(n, at)?;
+            // Back to a block before the call: a loop through the call, counted.
+            if target.0 < frame.ret.0 {
+                self.next_pass(at)?;
+            }
+            (self.pos, self.line, self.line_start) = target;
         }
         Ok(())
     }
@@ -290,12 +295,13 @@ impl<'a> Interpreter<'a> {
     /// block being read, else the first from the program's start (0i-MF, GOTO).
     pub(super) fn find_label(&mut self, n: u32, at: usize) -> R<Mark> {
         let start = self.calls.running.start;
+        let own_o_line = self.calls.running.o_line;
         let src = self.src;
         let labels = self
             .calls
             .labels
             .entry((src.as_ptr() as usize, start.0))
-            .or_insert_with(|| index_labels(src, start, self.d.semicolon));
+            .or_insert_with(|| index_labels(src, start, own_o_line, self.d.semicolon));
         let marks = labels.get(&n).ok_or_else(|| {
             fault(
                 AlarmCode::JumpTarget,
@@ -349,16 +355,20 @@ fn index_programs(file: &[u8]) -> HashMap<u32, Mark> {
     out
 }
 
-/// The sequence numbers of the program starting at `start`, up to the next `O` line; a
-/// block after a `;` on the same line counts too (Fanuc end of block).
+/// The sequence numbers of the program starting at `start`, up to an `O` line other than
+/// its own (at `own_o_line`: lines such as `%` may stand before it); a block after a `;`
+/// on the same line counts too (Fanuc end of block).
 fn index_labels(
     src: &[u8],
     start: Mark,
+    own_o_line: Option<usize>,
     semicolon: crate::dialect::Semicolon,
 ) -> HashMap<u32, Vec<Mark>> {
     let mut out: HashMap<u32, Vec<Mark>> = HashMap::new();
     for (k, (s, e, mark)) in lines(src, start).enumerate() {
-        if k > 0 && first(src, s, e).is_some_and(|(b, _)| b == b'O') {
+        let o_line = first(src, s, e).filter(|&(b, _)| b == b'O');
+        if o_line.is_some_and(|(_, at)| Some(at) != own_o_line && !(k == 0 && own_o_line.is_none()))
+        {
             break;
         }
         let mut block_start = s;

@@ -174,7 +174,10 @@ impl Interpreter<'_> {
             2 => Register::DWear,
             _ => Register::DGeometry,
         };
-        let o = self.tool_table().find(None, number)?;
+        // Every offset number exists on the control: one not in the table reads 0.
+        let Some(o) = self.tool_table().find(None, number) else {
+            return Some(0.0);
+        };
         let v = match kind {
             Register::HWear => o.length_wear,
             Register::HGeometry => o.length,
