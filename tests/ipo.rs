@@ -388,6 +388,7 @@ fn md_for(dir: &str) -> Option<&'static str> {
         "siemens-808d" => Some("siemens-808d.toml"),
         "siemens-808d-c" => Some("siemens-808d-c.toml"),
         "fanuc-5axis" => Some("fanuc-5axis.toml"),
+        "fanuc-lathe" => Some("fanuc-lathe.toml"),
         _ => None,
     }
 }

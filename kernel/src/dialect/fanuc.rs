@@ -110,6 +110,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: true,
     macro_b: true,
+    incremental_words: false,
+    t_selects_offset: false,
     decimal_switch: true,
     initial_work_offset: 1,
     numbered_work_offsets: 48,

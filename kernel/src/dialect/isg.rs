@@ -88,6 +88,8 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: false,
     macro_b: false,
+    incremental_words: false,
+    t_selects_offset: false,
     decimal_switch: false,
     initial_work_offset: 0,
     numbered_work_offsets: 0,

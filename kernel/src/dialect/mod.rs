@@ -4,6 +4,7 @@
 //! up here, and the names softnc's outputs give to a stop or a zero offset come from here.
 
 mod fanuc;
+mod fanuc_lathe;
 mod isg;
 mod siemens_808d;
 mod siemens_840c;
@@ -286,6 +287,10 @@ pub struct Dialect {
     pub o_numbers: bool,
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
+    /// Fanuc lathe (G-code system A): U and W are the incremental words of X and Z.
+    pub incremental_words: bool,
+    /// Fanuc lathe: T aabb selects tool aa and its offset bb (00: none).
+    pub t_selects_offset: bool,
     /// Fanuc: numbers without a decimal point follow the machine-data switch.
     pub decimal_switch: bool,
     /// Tools carry several cutting edges: D is looked up under the active T (808D).
@@ -369,6 +374,7 @@ impl Dialect {
             DialectName::Isg => &isg::DIALECT,
             DialectName::Fanuc => &fanuc::DIALECT,
             DialectName::Siemens808D => &siemens_808d::DIALECT,
+            DialectName::FanucLathe => &fanuc_lathe::DIALECT,
         }
     }
 
@@ -381,6 +387,7 @@ impl Dialect {
             || (matches!(letter, b'A' | b'U' | b'B') && self.polar_words)
             || (letter == b'P' && self.dwell.p_millis)
             || (letter == b'L' && self.macro_b)
+            || (matches!(letter, b'U' | b'W') && self.incremental_words)
             || (letter == b'Q' && self.has_cycles())
     }
 
@@ -398,7 +405,8 @@ impl Dialect {
     }
 
     fn index(&self) -> &'static [u16; G_CODES] {
-        static INDEX: [OnceLock<Box<[u16; G_CODES]>>; 4] = [
+        static INDEX: [OnceLock<Box<[u16; G_CODES]>>; 5] = [
+            OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
@@ -409,6 +417,7 @@ impl Dialect {
             DialectName::Isg => 1,
             DialectName::Fanuc => 2,
             DialectName::Siemens808D => 3,
+            DialectName::FanucLathe => 4,
         };
         INDEX[i].get_or_init(|| {
             let mut t = Box::new([0u16; G_CODES]);

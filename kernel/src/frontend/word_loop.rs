@@ -69,6 +69,20 @@ impl Interpreter<'_> {
                 let i = (letter - b'I') as usize;
                 set_once(&mut w.centre[i], v, CENTRE_WORDS[i])
             }
+            b'U' | b'W' if d.incremental_words => {
+                // U and W: X and Z, incremental (Fanuc lathe, G-code system A).
+                let i = if letter == b'U' { 0 } else { 2 };
+                if w.axis[i].is_some() {
+                    return Err(fault(
+                        AlarmCode::AddressTwice,
+                        at,
+                        format!("{} and {} in one block", AXIS_WORDS[i], letter as char),
+                    ));
+                }
+                w.axis[i] = Some(v);
+                w.incremental |= 1 << i;
+                Ok(())
+            }
             b'U'..=b'W' | b'A'..=b'C' if self.md.axes.of_letter(letter).is_some() => {
                 let i = self.md.axes.of_letter(letter).map_or(0, |i| i - 3);
                 set_once(&mut w.additional[i], v, ADDITIONAL_WORDS[i])

@@ -56,6 +56,8 @@ pub struct Words {
     pub f: Option<Val>,
     /// Canned cycles: the peck depth or shift Q.
     pub q: Option<Val>,
+    /// Fanuc lathe: the axes written with their incremental word (U for X, W for Z), as bits.
+    pub incremental: u8,
     /// Fanuc: the repeat count L of M98.
     pub l: Option<Val>,
     /// Fanuc dwell time in milliseconds.

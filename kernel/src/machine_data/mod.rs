@@ -25,6 +25,8 @@ pub enum DialectName {
     Fanuc,
     #[serde(rename = "siemens-808d")]
     Siemens808D,
+    #[serde(rename = "fanuc-lathe")]
+    FanucLathe,
 }
 
 impl DialectName {
@@ -34,6 +36,7 @@ impl DialectName {
             DialectName::Isg => "isg",
             DialectName::Fanuc => "fanuc",
             DialectName::Siemens808D => "siemens-808d",
+            DialectName::FanucLathe => "fanuc-lathe",
         }
     }
 }

@@ -192,7 +192,11 @@ impl Interpreter<'_> {
                 GEffect::Cycle(kind) => g.cycle = Some(kind),
                 GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
                 GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
-                GEffect::PositionSetting => g.setting = Some(super::settings::Setting::Position),
+                GEffect::PositionSetting => {
+                    // Its S is the spindle speed limit (Fanuc G92 S, lathe G50 S).
+                    g.setting = Some(super::settings::Setting::Position);
+                    g.spindle_limit = true;
+                }
                 GEffect::LocalCoordinates => g.setting = Some(super::settings::Setting::Local),
                 GEffect::DataSetting => g.setting = Some(super::settings::Setting::Data(code)),
                 GEffect::Mirror(on) => g.frame = Some(super::frames::FramePart::Mirror(on)),

@@ -291,7 +291,16 @@ impl Interpreter<'_> {
         let mut end = start;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
-                end[i] = self.axis_target(*a, i, new, start[i], offset[i]);
+                end[i] = if w.incremental & (1 << i) != 0 {
+                    // U/W: incremental whatever the distance mode.
+                    let inc = ModalState {
+                        distance: Distance::Incremental,
+                        ..*new
+                    };
+                    self.axis_target(*a, i, &inc, start[i], offset[i])
+                } else {
+                    self.axis_target(*a, i, new, start[i], offset[i])
+                };
                 if !in_range(end[i]) {
                     return Err(fault(AlarmCode::BadNumber, a.at, "coordinate out of range"));
                 }

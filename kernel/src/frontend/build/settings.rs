@@ -93,7 +93,9 @@ impl Interpreter<'_> {
             } else {
                 new.units
             };
-            let v = self.length(*a, units);
+            // A diameter-programmed X is a diameter here too (G50 X100: radius 50).
+            let half = if i == 0 && new.diameter { 0.5 } else { 1.0 };
+            let v = self.length(*a, units) * half;
             if !v.is_finite() || v.abs() > MAX_WORK_OFFSET {
                 return Err(fault(AlarmCode::BadNumber, a.at, "value out of range"));
             }

@@ -5,7 +5,7 @@
 use super::super::block::*;
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
-use super::super::words::{int_value, Words};
+use super::super::words::{int_value, Val, Words};
 use crate::alarm::AlarmCode;
 use crate::dialect::LengthOffset;
 use crate::machine_data::Units;
@@ -95,6 +95,9 @@ impl Interpreter<'_> {
         new: &mut ModalState,
         block_col: usize,
     ) -> R<()> {
+        if let (Some(t), true) = (w.t, self.d.t_selects_offset) {
+            return self.turret_tool(t, new);
+        }
         if let Some(t) = w.t {
             new.tool = Some(int_value(t.value, t.at, "T")?);
             self.block.offset_changed = true;
@@ -112,6 +115,23 @@ impl Interpreter<'_> {
             new.radius = self.vars.tool_radius;
             self.block.offset_changed = true;
         }
+        self.vars.tool_radius = new.radius;
+        Ok(())
+    }
+
+    /// Fanuc lathe: T aabb is tool aa with offset bb (looked up as T aa D bb, else D bb);
+    /// offset 00 cancels it.
+    fn turret_tool(&mut self, t: Val, new: &mut ModalState) -> R<()> {
+        let v = int_value(t.value, t.at, "T")?;
+        let (tool, offset) = (v / 100, v % 100);
+        new.tool = Some(tool);
+        if offset == 0 {
+            self.no_offset(new);
+        } else {
+            self.offset(offset, t.pos(), new)?;
+        }
+        self.block.offset_changed = true;
+        self.vars.tool_length = new.length;
         self.vars.tool_radius = new.radius;
         Ok(())
     }

@@ -1,0 +1,184 @@
+//! Fanuc-style lathe (0i-TF, G-code system A): X is a diameter, U and W are the incremental
+//! words of X and Z (there is no G90/G91), G98/G99 are feed per minute / per revolution,
+//! G50 sets the coordinate system and, with S, the spindle speed limit, and T aabb selects
+//! tool aa with offset bb. Custom Macro B and the subprograms are the milling control's.
+
+use super::{
+    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+};
+use crate::alarm::AlarmCode;
+use crate::frontend::block::{
+    CornerPolicy, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
+};
+use crate::machine_data::{DialectName, Units};
+use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
+
+use GEffect::*;
+use MEffect::*;
+
+static GCODES: &[GCodeDef] = &[
+    g(0, Motion(MotionMode::Rapid)),
+    g(1, Motion(MotionMode::Linear)),
+    g(2, Motion(MotionMode::ArcCw)),
+    g(3, Motion(MotionMode::ArcCcw)),
+    g(4, Dwell),
+    g(9, ExactStopBlock),
+    g(17, Plane(Plane::XY)),
+    g(18, Plane(Plane::ZX)),
+    g(19, Plane(Plane::YZ)),
+    g(20, Units(Units::Inch)),
+    g(21, Units(Units::Mm)),
+    g(28, ReferenceReturn(false)),
+    g(30, ReferenceReturn(true)),
+    g(32, Unsupported("thread cutting G32")),
+    g(40, Trc(TrcSide::Off)),
+    g(41, Trc(TrcSide::Left)),
+    g(42, Trc(TrcSide::Right)),
+    g(50, PositionSetting),
+    g(52, LocalCoordinates),
+    g(53, MachineCoordinates),
+    g(54, WorkOffset(1)),
+    g(55, WorkOffset(2)),
+    g(56, WorkOffset(3)),
+    g(57, WorkOffset(4)),
+    g(58, WorkOffset(5)),
+    g(59, WorkOffset(6)),
+    g(61, ExactStopModal(true)),
+    g(64, ExactStopModal(false)),
+    g(65, MacroCall),
+    g(66, ModalMacroCall),
+    g(67, ModalMacroCancel),
+    g(70, Unsupported("finishing cycle G70")),
+    g(71, Unsupported("stock removal in turning G71")),
+    g(72, Unsupported("stock removal in facing G72")),
+    g(73, Unsupported("pattern repeating G73")),
+    g(74, Unsupported("end face peck drilling G74")),
+    g(75, Unsupported("outer/inner diameter grooving G75")),
+    g(76, Unsupported("multiple threading cycle G76")),
+    g(90, Unsupported("outer/inner diameter cutting cycle G90")),
+    g(92, Unsupported("threading cycle G92")),
+    g(94, Unsupported("end face turning cycle G94")),
+    g(96, ConstantSurfaceSpeed(true)),
+    g(97, ConstantSurfaceSpeed(false)),
+    g(98, FeedPerRevolution(false)),
+    g(99, FeedPerRevolution(true)),
+];
+
+static MCODES: &[MCodeDef] = &[
+    m(0, Stop(ProgramStop::Stop)),
+    m(1, Stop(ProgramStop::OptionalStop)),
+    m(3, Spindle(SpindleDir::Clockwise)),
+    m(4, Spindle(SpindleDir::CounterClockwise)),
+    m(5, Spindle(SpindleDir::Stop)),
+    m(19, Spindle(SpindleDir::Orient)),
+    m(2, Stop(ProgramStop::End)),
+    m(30, Stop(ProgramStop::EndRewind)),
+    m(98, Call),
+    m(99, Return),
+];
+
+pub static DIALECT: Dialect = Dialect {
+    name: DialectName::FanucLathe,
+    gcodes: GCODES,
+    mcodes: MCODES,
+    semicolon: Semicolon::EndOfBlock,
+    radius_word: RadiusWord::R,
+    lf_block_end: false,
+    variables: false,
+    at_commands: &[],
+    polar_words: false,
+    lims_word: false,
+    diameter_words: false,
+    o_numbers: true,
+    macro_b: true,
+    incremental_words: true,
+    t_selects_offset: true,
+    decimal_switch: true,
+    initial_work_offset: 1,
+    numbered_work_offsets: 0,
+    length_offset: super::LengthOffset::WithD,
+    tool_edges: true,
+    dwell: DwellWords {
+        x_seconds: true,
+        f_seconds: false,
+        p_millis: true,
+        bare_seconds: false,
+    },
+    trc_not_linear: AlarmCode::FanucTrcNotLinear,
+    trc_codes_need_linear_mode: true,
+    d0_deselects: false,
+    initial_motion: MotionMode::Linear,
+    initial_corner_intersection: CornerPolicy::ExtendedIntersection,
+    initial_selection: SelectionPolicy::OffsetVector,
+    trc: TrcRules {
+        repeat: RepeatRule::Restart,
+        side_change: SideChange::Intersection,
+        radius_change: RadiusChange::InBlock,
+        armed_arc: ArmedArc::Alarm(AlarmCode::FanucTrcNotLinear),
+        no_plane_move: NoPlaneMove::OffsetOnly,
+        not_linear: AlarmCode::FanucTrcNotLinear,
+        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+    },
+};
+
+#[cfg(test)]
+mod tests {
+    use crate::alarm::AlarmCode;
+    use crate::frontend::{interpret, Block};
+    use crate::machine_data::MachineData;
+    use crate::tools::ToolTable;
+
+    fn lathe(src: &str) -> Result<Vec<Block>, crate::alarm::Alarm> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/fanuc-lathe.toml");
+        let md = MachineData::load(Some(std::path::Path::new(path)), &[]).unwrap();
+        interpret("l.nc", src, &md, &ToolTable::builtin())
+    }
+
+    /// (X as a radius, Z) of every move's end.
+    fn ends(src: &str) -> Vec<(f64, f64)> {
+        lathe(src)
+            .unwrap_or_else(|a| panic!("{a}"))
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
+            .collect()
+    }
+
+    #[test]
+    fn x_is_a_diameter_and_u_w_are_incremental() {
+        // X30 is radius 15; U-4 takes 2 off the radius; W-5 goes 5 along Z.
+        let e = ends("G0 X30. Z2.\nG1 Z-10. F0.2\nU-4. W-5.\nX40.\n");
+        assert_eq!(
+            e,
+            [(15.0, 2.0), (15.0, -10.0), (13.0, -15.0), (20.0, -15.0)]
+        );
+        let a = lathe("G0 X30. U2.\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::AddressTwice, 9));
+    }
+
+    #[test]
+    fn t_selects_tool_and_offset_and_g98_g99_set_the_feed_mode() {
+        let b = lathe("T0101\nG99 G1 X10. F0.2\nT0100\nG98 G1 X12. F100.\n").unwrap();
+        // T1 D1 of the table: the 0.8 mm nose in edge position 3.
+        assert_eq!(
+            (b[0].modal.tool, b[0].modal.d, b[0].modal.radius),
+            (Some(1), 1, 0.8)
+        );
+        assert_eq!(b[0].modal.edge, 3);
+        assert!(b[1].modal.feed_per_rev);
+        // T0100: tool 1 without its offset.
+        assert_eq!((b[2].modal.d, b[2].modal.radius), (0, 0.0));
+        assert!(!b[3].modal.feed_per_rev);
+    }
+
+    #[test]
+    fn g50_sets_the_position_and_the_speed_limit() {
+        // G50 X100 at X radius 20: the zero moves so that here reads diameter 100.
+        let b = lathe("G0 X40. Z0.\nG50 X100. Z10. S2000\nG0 X90. Z5.\n").unwrap();
+        assert_eq!(b[1].modal.spindle_limit, 2000.0);
+        let m = b[2].motion.unwrap();
+        // X90 is 5 radius below the 50 that reads here; Z5 is 5 below the Z10 here.
+        assert_eq!((m.end[0], m.end[2]), (15.0, -5.0));
+        let a = lathe("G71 U2. R1.\n").unwrap_err();
+        assert_eq!(a.code, AlarmCode::NotSupported);
+    }
+}
