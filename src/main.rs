@@ -298,6 +298,9 @@ fn load(a: &ProgramArgs) -> Result<Loaded, Failure> {
     }
     let name = a.program.display().to_string();
     let bytes = std::fs::read(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
+    md.programs = std::sync::Arc::new(
+        nc_runtime::program_library(&a.program, &md.program.search_path).map_err(fail)?,
+    );
     // Part programs are ASCII; anything else is kept and reported where the lexer meets it.
     // A valid file is taken as it is (no copy of a multi-megabyte program).
     let source = String::from_utf8(bytes)
@@ -319,7 +322,7 @@ fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> Result<(), Failure> {
             Ok(block) => jsonl::write_block(&mut out, &block, l.md.dialect).map_err(writing)?,
             Err(alarm) => {
                 let _ = out.flush();
-                eprintln!("{}", alarm.render(&l.source));
+                eprintln!("{}", l.md.programs.render(&alarm, &l.source));
                 return Err(Failure::Reported);
             }
         }
@@ -364,7 +367,7 @@ fn path_jsonl(
             Ok(None) => break Ok(()),
             Err(alarm) => {
                 let _ = prep_jsonl::write_alarm(&mut out, &alarm);
-                eprintln!("{}", alarm.render(&l.source));
+                eprintln!("{}", l.md.programs.render(&alarm, &l.source));
                 break Err(Failure::Reported);
             }
         }
@@ -381,7 +384,7 @@ fn path_svg(l: &Loaded, mut out: BufWriter<Box<dyn Write>>) -> Result<(), Failur
         match item {
             Ok(s) => segments.push(s),
             Err(a) => {
-                eprintln!("{}", a.render(&l.source));
+                eprintln!("{}", l.md.programs.render(&a, &l.source));
                 alarm = Some(a);
             }
         }
@@ -419,7 +422,7 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
         let end = !matches!(item, Ok(Some(_)));
         for v in prep.take_violations(end) {
             alarms += 1;
-            eprintln!("{}", v.render(&l.source));
+            eprintln!("{}", l.md.programs.render(&v, &l.source));
         }
         match item {
             Ok(Some(Prepared::Segment(_))) => segments += 1,
@@ -431,7 +434,7 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
             Ok(None) => break,
             Err(alarm) => {
                 alarms += 1;
-                eprintln!("{}", alarm.render(&l.source));
+                eprintln!("{}", l.md.programs.render(&alarm, &l.source));
                 break;
             }
         }
@@ -805,7 +808,7 @@ fn simulate(
         eprintln!("{}", render_warning(w, &l.source));
     }
     for a in &s.alarms {
-        eprintln!("{}", a.render(&l.source));
+        eprintln!("{}", l.md.programs.render(a, &l.source));
     }
     eprintln!(
         "{}: {}: {} cycles ({:.3} s machine time), {} segments, {} auxiliary functions, top path speed {:.1} mm/min; simulated in {:.0} ms",

@@ -361,6 +361,10 @@ impl Api {
         if let Some(w) = &snap.work_offsets {
             md.work_offsets = plot::work_offsets(w, &self.md);
         }
+        // The subprogram files it calls, as the kernel reads them (none if unreadable: the
+        // plot then ends where the kernel's alarm says).
+        let library = nc_runtime::program_library(Path::new(&path), &md.program.search_path);
+        md.programs = Arc::new(library.unwrap_or_default());
         let pl = plot::plot(&path, &source, &md, &plot::table(&t));
         let text = serde_json::to_string(&pl).map_err(|e| refuse(500, e.to_string()))?;
         if let Ok(mut c) = self.plot_cache.lock() {

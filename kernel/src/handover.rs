@@ -79,6 +79,7 @@ impl Handover {
                     line: self.line().max(1),
                     col: 1,
                     seq: 0,
+                    program: 0,
                 },
             })
         })
@@ -206,6 +207,7 @@ fn path_alarm(a: Alarm, report: &mut dyn FnMut(Report)) -> Option<Input> {
             line: a.line,
             col: a.col,
             seq: 0,
+            program: 0,
         },
     };
     report(Report::Alarm(a));

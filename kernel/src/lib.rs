@@ -28,6 +28,7 @@ mod json;
 pub mod jsonl;
 mod machine_data;
 mod prep;
+mod programs;
 mod segment;
 pub mod simulate;
 pub mod synthetic;
@@ -56,6 +57,7 @@ pub fn dialect_of(md: &MachineData) -> &'static dialect::Dialect {
 pub use prep::{
     prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,
 };
+pub use programs::{LibraryProgram, ProgramLibrary};
 pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{check_edit, offset_label, LiveEdit, LiveEdits, ToolOffset, ToolTable};
 pub use work_offsets::{WorkOffsetError, WorkOffsets, MAX_WORK_OFFSET};

@@ -13,6 +13,16 @@ pub struct Source {
     /// The block's place in execution order (1, 2, …; a loop's blocks get a new one on every
     /// pass; wraps after 2³² blocks, so compare with `wrapping_sub`).
     pub seq: u32,
+    /// The file the block is in: 0 the main program's, k a subprogram file of the machine
+    /// data's program library (`ProgramLibrary::name`).
+    pub program: u16,
+}
+
+impl Source {
+    /// The name of the file this position is in: `main`, or a subprogram file's.
+    pub fn program_name<'n>(&self, main: &'n str, library: &'n crate::ProgramLibrary) -> &'n str {
+        library.name(self.program).unwrap_or(main)
+    }
 }
 
 /// Why a segment is in the path.

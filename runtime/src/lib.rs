@@ -15,10 +15,12 @@ mod failure;
 pub mod live;
 pub mod os;
 pub mod process;
+mod program_files;
 mod wire_axes;
 
 pub use clock::{CycleClock, Tick};
 pub use failure::{exit, Failure};
+pub use program_files::program_library;
 pub use wire_axes::WireAxes;
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either

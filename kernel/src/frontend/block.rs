@@ -488,6 +488,9 @@ pub struct Block {
     /// 1-based source line and column of the block's first character.
     pub line: u32,
     pub col: u32,
+    /// The file it is in: 0 the main program's, k a subprogram file of the machine data's
+    /// program library.
+    pub program: u16,
     pub number: Option<BlockNo>,
     pub motion: Option<Motion>,
     /// Modal state after the block.
@@ -520,6 +523,7 @@ impl Block {
         Block {
             line,
             col,
+            program: 0,
             number,
             motion: None,
             modal,

@@ -3,9 +3,11 @@
 //! call, its open loops and, for a macro call, its local variables) in a [`Frame`] and goes
 //! on reading in the called program; a return takes the frame back.
 //!
-//! Programs are found by number: the `O` programs in the main program's file, after the
-//! main program (a program's text ends where the next `O` line starts). Nesting is bounded
-//! as on the control: five macro levels (G65/G66) and fifteen calls in all.
+//! Programs are found by number: first the `O` programs in the main program's file, after
+//! the main program (a program's text ends where the next `O` line starts), then the
+//! subprogram files of the machine data's program library (the program's folder and the
+//! search path, programs.rs). Nesting is bounded as on the control: five macro levels
+//! (G65/G66) and fifteen calls in all.
 
 use super::fault::{fault, R};
 use super::interpreter::Interpreter;
@@ -21,6 +23,10 @@ pub const MAX_CALLS: usize = 15;
 
 /// A reading position: (byte offset, line, line start).
 pub type Mark = (usize, u32, usize);
+
+/// A program's text to read: its file's name, the text, its library index (`None` where
+/// it is the main program's file).
+type Text<'a> = Option<(&'a str, &'a [u8], u16)>;
 
 /// How a program was called.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,11 +57,14 @@ pub struct Running {
     pub o_line: Option<usize>,
     /// Where it starts (its O line, or the start of the text).
     pub start: Mark,
+    /// Its file: 0 the main program's, k the program library's file k.
+    pub program: u16,
 }
 
 /// A caller's saved reading state.
 #[derive(Clone, Debug)]
 struct Frame<'a> {
+    name: &'a str,
     src: &'a [u8],
     ret: Mark,
     running: Running,
@@ -92,8 +101,9 @@ pub struct ModalCall {
 /// The call stack, the open loops of the level running now, and the label index.
 #[derive(Clone, Debug)]
 pub struct Calls<'a> {
-    /// The main program's whole file: its `O` programs are callable.
+    /// The main program's whole file (its `O` programs are callable) and its name.
     file: &'a [u8],
+    main_name: &'a str,
     frames: Vec<Frame<'a>>,
     pub running: Running,
     pub loops: Vec<DoLoop>,
@@ -106,14 +116,16 @@ pub struct Calls<'a> {
 }
 
 impl<'a> Calls<'a> {
-    pub fn new(file: &'a [u8]) -> Self {
+    pub fn new(main_name: &'a str, file: &'a [u8]) -> Self {
         Calls {
             file,
+            main_name,
             frames: Vec::new(),
             running: Running {
                 number: None,
                 o_line: None,
                 start: (0, 1, 0),
+                program: 0,
             },
             loops: Vec::new(),
             pending: None,
@@ -173,7 +185,7 @@ impl<'a> Interpreter<'a> {
         if repeats == 0 {
             return Ok(());
         }
-        let start = self.find_program(number, at)?;
+        let (text, start) = self.find_program(number, at)?;
         if self.calls.depth() >= MAX_CALLS {
             return Err(nesting(at, format!("more than {MAX_CALLS} calls nested")));
         }
@@ -186,6 +198,7 @@ impl<'a> Interpreter<'a> {
         let locals = (kind != CallKind::Subprogram)
             .then(|| std::mem::replace(&mut self.macros.locals, args));
         let frame = Frame {
+            name: self.name,
             src: self.src,
             ret: (self.pos, self.line, self.line_start),
             running: self.calls.running,
@@ -196,18 +209,22 @@ impl<'a> Interpreter<'a> {
             start,
         };
         self.calls.frames.push(frame);
-        self.enter(start);
+        self.enter(text, start);
         Ok(())
     }
 
-    /// Starts reading the file's program at `start` (its O line).
-    fn enter(&mut self, start: Mark) {
-        self.src = self.calls.file;
+    /// Starts reading a program at `start` (its O line) in `text` (name, text, library
+    /// index; `None`: the main program's file).
+    fn enter(&mut self, text: Text<'a>, start: Mark) {
+        let (name, src, program) = text.unwrap_or((self.calls.main_name, self.calls.file, 0));
+        self.name = name;
+        self.src = src;
         (self.pos, self.line, self.line_start) = start;
         self.calls.running = Running {
             number: None,
             o_line: None,
             start,
+            program,
         };
     }
 
@@ -227,8 +244,9 @@ impl<'a> Interpreter<'a> {
         if frame.repeats > 0 && to.is_none() {
             frame.repeats -= 1;
             let start = frame.start;
+            let text = self.running_text();
             self.calls.loops.clear();
-            self.enter(start);
+            self.enter(text, start);
             return Ok(());
         }
         let Some(frame) = self.calls.frames.pop() else {
@@ -237,6 +255,7 @@ impl<'a> Interpreter<'a> {
         if let Some(locals) = frame.locals {
             self.macros.locals = locals;
         }
+        self.name = frame.name;
         self.src = frame.src;
         (self.pos, self.line, self.line_start) = frame.ret;
         self.calls.running = frame.running;
@@ -275,20 +294,40 @@ impl<'a> Interpreter<'a> {
         true
     }
 
-    /// The start of program O`number` in the file.
-    fn find_program(&mut self, number: u32, at: usize) -> R<Mark> {
+    /// The running program's text as `enter` takes it (to run it again).
+    fn running_text(&self) -> Text<'a> {
+        let k = self.calls.running.program;
+        let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
+        let p = library.find_index(k)?;
+        Some((p.name.as_str(), p.text.as_bytes(), k))
+    }
+
+    /// Program O`number`: in the main program's file, else a file of the library (its
+    /// name, text and index), and where it starts.
+    fn find_program(
+        &mut self,
+        number: u32,
+        at: usize,
+    ) -> R<(Text<'a>, Mark)> {
         let file = self.calls.file;
         let programs = self
             .calls
             .programs
             .get_or_insert_with(|| index_programs(file));
-        programs.get(&number).copied().ok_or_else(|| {
-            fault(
+        if let Some(&start) = programs.get(&number) {
+            return Ok((None, start));
+        }
+        let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
+        match library.find(number) {
+            Some((k, p)) => Ok((Some((p.name.as_str(), p.text.as_bytes(), k)), (0, 1, 0))),
+            None => Err(fault(
                 AlarmCode::MissingProgram,
                 at,
-                format!("program O{number:04} is not in this file"),
-            )
-        })
+                format!(
+                    "program O{number:04} is neither in this file nor a subprogram file (O{number:04}.nc) of the program's folder or program.search_path"
+                ),
+            )),
+        }
     }
 
     /// The block with sequence number `n` in the running program: the first after the

@@ -92,7 +92,7 @@ impl<'a> Interpreter<'a> {
             vars: Variables::default(),
             macros: MacroVariables::default(),
             present_state_read: std::cell::Cell::new(false),
-            calls: Calls::new(source.as_bytes()),
+            calls: Calls::new(name, source.as_bytes()),
             coords: Default::default(),
             structures: Structures::default(),
             area: WorkingArea::default(),
@@ -193,7 +193,9 @@ impl<'a> Interpreter<'a> {
             col: column(self.src, self.blk_line_start, f.at),
             // Not read by `Alarm::at`: a block that fails has no place in execution order.
             seq: 0,
+            program: self.calls.running.program,
         };
+        // `name` is the running program's file (a subprogram file's while one runs).
         Alarm::at(f.code, self.name, &source, f.message)
     }
 
@@ -288,6 +290,7 @@ impl<'a> Interpreter<'a> {
         if !self.block_start(&mut c) {
             return Ok(false);
         }
+        self.block.program = self.calls.running.program;
         let block_col = c.i;
         self.blk_number = read_block_number(&mut c)?;
         c.skip_blanks();

@@ -68,6 +68,7 @@ impl Interpreter<'_> {
         let Some(end) = self.plain(Cursor::new(b, i, b.len()), i) else {
             return false;
         };
+        self.block.program = self.calls.running.program;
         // As `next_segment` leaves it after a line.
         self.pos = end + 1;
         self.line += 1;

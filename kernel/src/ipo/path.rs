@@ -240,6 +240,7 @@ pub(crate) mod tests {
                 line: 1,
                 col: 1,
                 seq: 1,
+                program: 0,
             },
             role: Role::Contour,
             shape,

@@ -139,6 +139,11 @@ pub struct ProgramData {
     /// away from the wall after orienting the spindle (Fanuc G76/G87, parameter RD1/RD2).
     #[serde(default)]
     pub boring_shift: BoringShift,
+    /// Folders searched for subprogram files (`O1000.nc`) after the program's own folder,
+    /// in order (Fanuc M98/G65 P; kernel/src/programs.rs). Relative paths count from the
+    /// working directory.
+    #[serde(default)]
+    pub search_path: Vec<String>,
 }
 
 /// The fine-boring shift direction, as seen in the G17 plane (in G18/G19 the same roles:
@@ -308,6 +313,10 @@ pub struct MachineData {
     /// or all zero, docs/work-offsets.md).
     #[serde(skip)]
     pub work_offsets: crate::work_offsets::WorkOffsets,
+    /// The subprogram files a program can call (read by the runtime from the program's
+    /// folder and `program.search_path`; kernel/src/programs.rs).
+    #[serde(skip)]
+    pub programs: std::sync::Arc<crate::programs::ProgramLibrary>,
 }
 
 /// A machine data problem: which file, which key, why.

@@ -1241,6 +1241,7 @@ mod tests {
             line: seq,
             col: 1,
             seq,
+            program: 0,
         }
     }
 

@@ -72,6 +72,8 @@ pub struct BlockStep<'b> {
 /// Interpretation, tool length, tool radius compensation.
 pub struct Front<'a> {
     name: &'a str,
+    /// The subprogram files, to name the file an alarm is in.
+    programs: &'a crate::ProgramLibrary,
     interp: Interpreter<'a>,
     trc: Compensator,
     /// Tool length in effect on the tool axis, and the one the active offset asks for: a new
@@ -84,7 +86,7 @@ pub struct Front<'a> {
 }
 
 impl<'a> Front<'a> {
-    pub fn new(name: &'a str, interp: Interpreter<'a>, md: &MachineData) -> Self {
+    pub fn new(name: &'a str, interp: Interpreter<'a>, md: &'a MachineData) -> Self {
         let rules = crate::dialect::Dialect::get(md.dialect).trc;
         let mut trc = Compensator::new(
             rules,
@@ -97,6 +99,7 @@ impl<'a> Front<'a> {
         trc.set_feed_adaption_rmin(md.trc.feed_adaption_rmin);
         Front {
             name,
+            programs: &md.programs,
             interp,
             trc,
             length: 0.0,
@@ -115,7 +118,7 @@ impl<'a> Front<'a> {
                     Ok(()) => Step::End {
                         holds_back: self.trc.holds_back(),
                     },
-                    Err(f) => Step::EndFault(alarm(self.name, *f)),
+                    Err(f) => Step::EndFault(alarm(self.name, self.programs, *f)),
                 }
             }
             Err(a) => return Step::Decode(a),
@@ -131,16 +134,16 @@ impl<'a> Front<'a> {
         let fault = if block.axes.is_some() && !self.trc.is_off() {
             // A deselection still waits for its plane move (840C G40 alone): the
             // compensation's pieces could not carry a rotary move (docs/axes.md).
-            Some(Box::new(additional_under_trc(self.name, block)))
+            Some(Box::new(additional_under_trc(self.name, self.programs, block)))
         } else {
             self.trc
                 .block(block, motion.as_ref(), out)
                 .err()
-                .map(|f| Box::new(alarm(self.name, *f)))
+                .map(|f| Box::new(alarm(self.name, self.programs, *f)))
         };
         self.warnings.clear();
         while let Some(w) = self.trc.take_warning() {
-            self.warnings.push(alarm(self.name, w));
+            self.warnings.push(alarm(self.name, self.programs, w));
         }
         let info = BlockInfo {
             source: Source {
@@ -148,6 +151,7 @@ impl<'a> Front<'a> {
                 line: block.line,
                 col: block.col,
                 seq: self.blocks,
+                program: block.program,
             },
             plane: block.modal.plane,
             masking: block.modal.masking,
@@ -394,22 +398,24 @@ const SPIN: u32 = 20_000;
 
 /// Alarm 10754 for a block that moves additional axes while compensation is still active.
 #[cold]
-fn additional_under_trc(name: &str, b: &Block) -> Alarm {
+fn additional_under_trc(main: &str, programs: &crate::ProgramLibrary, b: &Block) -> Alarm {
     let source = Source {
         number: b.number,
         line: b.line,
         col: b.col,
         seq: 0,
+        program: b.program,
     };
     Alarm::at(
         crate::alarm::AlarmCode::ForbiddenWithTrc,
-        name,
+        source.program_name(main, programs),
         &source,
         "an additional axis cannot move before the deselection has reached the plane".to_string(),
     )
 }
 
-fn alarm(name: &str, f: TrcFault) -> Alarm {
+fn alarm(main: &str, programs: &crate::ProgramLibrary, f: TrcFault) -> Alarm {
+    let name = f.source.program_name(main, programs);
     Alarm::at(f.code, name, &f.source, f.message)
 }
 
@@ -438,6 +444,7 @@ fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
                     line: b.line,
                     col: b.col,
                     seq: 0,
+                    program: b.program,
                 },
             ));
         }

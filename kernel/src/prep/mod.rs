@@ -28,6 +28,8 @@ use front::{Front, Step};
 /// Streams the tool path of one program.
 pub struct Preparation<'a> {
     name: &'a str,
+    /// The subprogram files, to name the file an alarm is in.
+    programs: &'a crate::ProgramLibrary,
     front: FrontEnd<'a>,
     out: Out,
     blocks: u64,
@@ -145,6 +147,7 @@ impl<'a> Preparation<'a> {
     ) -> Self {
         Preparation {
             name,
+            programs: &md.programs,
             front,
             out: Out::new(),
             blocks: 0,
@@ -357,7 +360,8 @@ impl<'a> Preparation<'a> {
     /// A segment past a software limit: preparation ends with the alarm before it.
     #[cold]
     fn overrun(&mut self, at: &Source, o: soft_limits::Overrun) {
-        let alarm = Alarm::at(AlarmCode::SoftwareLimit, self.name, at, o.message());
+        let name = at.program_name(self.name, self.programs);
+        let alarm = Alarm::at(AlarmCode::SoftwareLimit, name, at, o.message());
         self.stop_with(alarm);
         self.released.clear();
         self.bottleneck.discard();
@@ -491,7 +495,8 @@ impl<'a> Preparation<'a> {
                     g.radius
                 )
         };
-        Alarm::at(AlarmCode::ContourViolation, self.name, &g.path, message)
+        let name = g.path.program_name(self.name, self.programs);
+        Alarm::at(AlarmCode::ContourViolation, name, &g.path, message)
     }
 
     /// With both queues empty: releases what waits for the current point, or reads and
@@ -572,7 +577,7 @@ impl<'a> Preparation<'a> {
                 self.out.clear();
                 return Err(Alarm::at(
                     AlarmCode::TooManyWords,
-                    self.name,
+                    source.program_name(self.name, self.programs),
                     &source,
                     "too many blocks with auxiliary functions wait for their S point",
                 ));

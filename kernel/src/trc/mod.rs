@@ -528,6 +528,7 @@ impl Compensator {
                 line: b.line,
                 col: b.col,
                 seq: self.seq,
+                program: b.program,
             },
             feed: b.modal.feed,
             per_rev: b.modal.feed_per_rev,
@@ -1637,6 +1638,7 @@ mod tests {
             line: 1,
             col: 1,
             seq: 1,
+            program: 0,
         }
     }
 

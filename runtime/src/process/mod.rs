@@ -53,6 +53,7 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
     };
     let name = program.display().to_string();
     let source = std::fs::read_to_string(program).map_err(|e| format!("{name}: {e}"))?;
+    md.programs = std::sync::Arc::new(crate::program_library(program, &md.program.search_path)?);
     let mut setpoints = 0u64;
     let stats = run(&name, &source, &md, &tools, &opts, &mut |_sp| {
         setpoints += 1
@@ -61,10 +62,10 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
     let mut alarms = 0;
     for r in &stats.reports {
         match r {
-            Report::Warning(w) => eprintln!("{}", w.render(&source)),
+            Report::Warning(w) => eprintln!("{}", md.programs.render(w, &source)),
             Report::Alarm(a) => {
                 alarms += 1;
-                eprintln!("{}", a.render(&source));
+                eprintln!("{}", md.programs.render(a, &source));
             }
         }
     }

@@ -175,6 +175,8 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
     let Block {
         line: b_line,
         col: b_col,
+        // Set where the block's text is read (the interpreter), kept by the expansion.
+        program: _,
         number: b_number,
         motion,
         modal: _,

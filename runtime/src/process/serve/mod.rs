@@ -48,6 +48,8 @@ pub struct ServeOptions {
 struct Loaded {
     name: String,
     source: String,
+    /// The subprogram files it calls (read at load; a resume prepares with the same).
+    programs: std::sync::Arc<nc_kernel::ProgramLibrary>,
     /// Where the axes stood when it was loaded (its interpretation starts there).
     at: Option<nc_kernel::AxisPos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
@@ -210,11 +212,17 @@ fn load(
     at: Option<nc_kernel::AxisPos>,
 ) -> Result<(Box<Program>, Loaded), (u32, String)> {
     let source = std::fs::read_to_string(path).map_err(|e| (0, format!("{path}: {e}")))?;
+    let mut md = md.clone();
+    md.programs = std::sync::Arc::new(
+        crate::program_library(std::path::Path::new(path), &md.program.search_path)
+            .map_err(|e| (0, e))?,
+    );
+    let md = &md;
     let (tools, live) = run_table(tools);
     let s = spawn_preparation(path.to_string(), source.clone(), md.clone(), tools, at)
         .map_err(|e| (0, format!("cannot start the preparation thread: {e}")))?
         .map_err(|a| {
-            let text = a.render(&source);
+            let text = md.programs.render(&a, &source);
             eprintln!("{text}");
             (
                 a.number(),
@@ -262,6 +270,7 @@ impl Loaded {
         let loaded = Loaded {
             name,
             source,
+            programs: md.programs.clone(),
             at,
             live,
             versions: (0, 0),
@@ -517,7 +526,7 @@ fn print_reports(l: &Loaded) {
     for r in l.reports.try_iter() {
         match r {
             Report::Warning(w) | Report::Alarm(w) => {
-                eprintln!("{}", w.render(&l.source))
+                eprintln!("{}", l.programs.render(&w, &l.source))
             }
         }
     }
@@ -713,10 +722,13 @@ impl Desk<'_> {
             along: last.along,
         };
         let (tools, live) = run_table(&self.tools);
+        let mut md = self.program_md();
+        md.programs = l.programs.clone();
+        let programs = l.programs.clone();
         let spawned = nc_kernel::handover::spawn_resume(
             l.name.clone(),
             l.source.clone(),
-            self.program_md(),
+            md.clone(),
             tools,
             l.at,
             at,
@@ -725,7 +737,7 @@ impl Desk<'_> {
         let s = match spawned {
             Ok(Ok(s)) => s,
             Ok(Err(alarm)) => {
-                let text = alarm.render(&l.source);
+                let text = programs.render(&alarm, &l.source);
                 eprintln!("{text}");
                 return Reply::new(
                     false,
@@ -738,7 +750,7 @@ impl Desk<'_> {
         let id = self.next_id;
         self.next_id += 1;
         let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
-        let (program, mut loaded) = Loaded::running(s, self.md, id, name, source, load_at, live);
+        let (program, mut loaded) = Loaded::running(s, &md, id, name, source, load_at, live);
         loaded.versions = self.versions();
         self.programs.insert(id, loaded);
         let r = ask(self.shared, Control::Resume(program));

@@ -1,0 +1,51 @@
+//! The subprogram files a program can call (kernel/src/programs.rs): read from the
+//! program's own folder, then from each folder of `program.search_path`.
+
+use nc_kernel::ProgramLibrary;
+use std::path::Path;
+
+/// Largest subprogram file read (a part program larger than this is no subprogram).
+const MAX_FILE: u64 = 64 << 20;
+
+/// The library for the program at `program`. A search-path folder that cannot be read is
+/// an error naming it; files that are no O number (`O1000.nc`) are passed over.
+pub fn program_library(program: &Path, search_path: &[String]) -> Result<ProgramLibrary, String> {
+    let mut library = ProgramLibrary::default();
+    let own = program.parent().filter(|p| !p.as_os_str().is_empty());
+    add_folder(&mut library, own.unwrap_or(Path::new(".")), program)
+        .map_err(|e| format!("{}: {e}", program.display()))?;
+    for folder in search_path {
+        add_folder(&mut library, Path::new(folder), program)
+            .map_err(|e| format!("program.search_path {folder}: {e}"))?;
+    }
+    Ok(library)
+}
+
+fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> std::io::Result<()> {
+    let mut entries: Vec<_> = std::fs::read_dir(folder)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    // A fixed order, so that the first file of a number is always the same one.
+    entries.sort();
+    for path in entries {
+        let Some(file) = path.file_name().and_then(|f| f.to_str()) else {
+            continue;
+        };
+        let small = path.metadata().is_ok_and(|m| m.is_file() && m.len() <= MAX_FILE);
+        if !small || ProgramLibrary::number_of(file).is_none() || same_file(&path, program) {
+            continue;
+        }
+        let text = std::fs::read(&path)?;
+        let text = String::from_utf8(text)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+        library.add(file, path.display().to_string(), text);
+    }
+    Ok(())
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
