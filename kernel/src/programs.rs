@@ -99,7 +99,10 @@ mod tests {
         assert!(l.add("O1000.nc", "a/O1000.nc".into(), "first".into()));
         assert!(!l.add("O1000.NC", "b/O1000.NC".into(), "second".into()));
         let (k, p) = l.find(1000).unwrap();
-        assert_eq!((k, p.text.as_str(), l.name(k)), (1, "first", Some("a/O1000.nc")));
+        assert_eq!(
+            (k, p.text.as_str(), l.name(k)),
+            (1, "first", Some("a/O1000.nc"))
+        );
         assert_eq!(l.name(0), None);
     }
 }

@@ -73,6 +73,8 @@ static GCODES: &[GCodeDef] = &[
     g(96, ConstantSurfaceSpeed(true)),
     g(97, ConstantSurfaceSpeed(false)),
     g(92, PositionSetting),
+    g(15, PolarCoordinates(false)),
+    g(16, PolarCoordinates(true)),
     g(52, LocalCoordinates),
     g(50, Scaling(false)),
     g(51, Scaling(true)),

@@ -107,6 +107,9 @@ pub enum GEffect {
     Scaling(bool),
     /// Coordinate system rotation on (true, Fanuc G68) or off (G69).
     Rotation(bool),
+    /// Polar coordinates on (true, Fanuc G16: the plane's first axis word is the radius,
+    /// the second the angle) or off (G15).
+    PolarCoordinates(bool),
     /// A macro call (Fanuc G65): the block is a call statement with P, L and arguments.
     MacroCall,
     /// A modal macro call (Fanuc G66): the program runs after every move until canceled.
@@ -147,6 +150,7 @@ impl GEffect {
             GEffect::Mirror(_) => 28,
             GEffect::Scaling(_) => 29,
             GEffect::Rotation(_) => 30,
+            GEffect::PolarCoordinates(_) => 31,
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,

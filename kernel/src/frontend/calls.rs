@@ -304,11 +304,7 @@ impl<'a> Interpreter<'a> {
 
     /// Program O`number`: in the main program's file, else a file of the library (its
     /// name, text and index), and where it starts.
-    fn find_program(
-        &mut self,
-        number: u32,
-        at: usize,
-    ) -> R<(Text<'a>, Mark)> {
+    fn find_program(&mut self, number: u32, at: usize) -> R<(Text<'a>, Mark)> {
         let file = self.calls.file;
         let programs = self
             .calls

@@ -21,6 +21,9 @@ pub struct Coordinates {
     pub g52: [f64; AXES],
     /// Mirror, scaling and rotation (frame.rs).
     pub frame: super::frame::Frame,
+    /// Fanuc G16: polar coordinates in force, with the radius and angle written last (in
+    /// program units and degrees; a word left out keeps its value).
+    pub polar: Option<(f64, f64)>,
 }
 
 impl Coordinates {

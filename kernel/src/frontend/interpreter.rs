@@ -260,6 +260,7 @@ impl<'a> Interpreter<'a> {
             && self.calls.modal.is_none()
             && self.cycle.is_none()
             && !self.coords.frame.active()
+            && self.coords.polar.is_none()
     }
 
     /// At the end of a called program's text: it has no M99 (a fault at its O line).

@@ -37,7 +37,7 @@ impl Val {
 
 /// The words of one block. The auxiliary words (F S T D M H) also go straight into the block
 /// being built, in program order.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct Words {
     /// G numbers with their offsets, in program order.
     pub g: heapless::Vec<(u16, u32), 16>,

@@ -134,7 +134,11 @@ impl<'a> Front<'a> {
         let fault = if block.axes.is_some() && !self.trc.is_off() {
             // A deselection still waits for its plane move (840C G40 alone): the
             // compensation's pieces could not carry a rotary move (docs/axes.md).
-            Some(Box::new(additional_under_trc(self.name, self.programs, block)))
+            Some(Box::new(additional_under_trc(
+                self.name,
+                self.programs,
+                block,
+            )))
         } else {
             self.trc
                 .block(block, motion.as_ref(), out)

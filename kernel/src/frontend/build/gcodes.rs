@@ -199,6 +199,10 @@ impl Interpreter<'_> {
                 }
                 GEffect::LocalCoordinates => g.setting = Some(super::settings::Setting::Local),
                 GEffect::DataSetting => g.setting = Some(super::settings::Setting::Data(code)),
+                GEffect::PolarCoordinates(on) => {
+                    let last = self.coords.polar.unwrap_or((0.0, 0.0));
+                    self.coords.polar = on.then_some(last);
+                }
                 GEffect::Mirror(on) => g.frame = Some(super::frames::FramePart::Mirror(on)),
                 GEffect::Scaling(on) => g.frame = Some(super::frames::FramePart::Scale(on)),
                 GEffect::Rotation(on) => g.frame = Some(super::frames::FramePart::Rotation(on)),

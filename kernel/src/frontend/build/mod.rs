@@ -13,6 +13,7 @@ mod flow;
 mod frames;
 mod gcodes;
 mod motion;
+mod polar;
 mod reference;
 mod settings;
 mod technology;
@@ -102,6 +103,13 @@ impl Interpreter<'_> {
         if let Some((code, second)) = g.reference {
             return self.reference_return(w, new, code, second, block_col);
         }
+        let polar;
+        let w = if self.coords.polar.is_some() {
+            polar = self.polar_words(w, new, block_col)?;
+            &polar
+        } else {
+            w
+        };
         if self.cycle.is_some() && cycles::makes_hole(w) {
             return self.canned_cycle(w, new, block_col);
         }
