@@ -243,6 +243,14 @@ impl Interpreter<'_> {
                 .chain(w.radius.map(Val::pos))
                 .next()
                 .unwrap_or(block_col);
+            if self.block.trc == Some(TrcSide::Off) && w.radius.is_none() {
+                // Fanuc: I J K in the cancel block give the last offset vector's direction.
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    "I J K in the compensation cancel block (the exit vector) are not supported",
+                ));
+            }
             return Err(fault(
                 AlarmCode::Syntax,
                 at,
