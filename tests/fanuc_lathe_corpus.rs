@@ -1,0 +1,178 @@
+//! Turning programs for the Fanuc lathe (config/fanuc-lathe.toml: G-code system A, X as a
+//! diameter, U/W incremental, increment input) in tests/corpus/fanuc-lathe/. Every move's
+//! end point is compared with values worked out by hand: X in the blocks is the radius
+//! (diameter / 2), machine coordinates (the work offset is zero; G50 shifts the zero).
+//! Programs that run cleanly also pass `softnc check` (nose radius compensation and the
+//! gouge check included).
+//!
+//! LinuxCNC's rs274 is no oracle here: its U and W are axes of their own, not X and Z
+//! incremental, and it has no T aabb offsets.
+
+use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, ToolTable};
+use std::path::PathBuf;
+use std::process::Command;
+
+type P = [f64; 3];
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn path_of(file: &str) -> PathBuf {
+    root().join("tests/corpus/fanuc-lathe").join(file)
+}
+
+fn machine() -> MachineData {
+    MachineData::load(Some(&root().join("config/fanuc-lathe.toml")), &[]).expect("machine data")
+}
+
+/// The blocks up to the end or the first alarm.
+fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
+    let text = std::fs::read_to_string(path_of(file)).unwrap();
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let mut out = Vec::new();
+    for item in Interpreter::new(file, &text, &md, &tools) {
+        match item {
+            Ok(b) => out.push(b),
+            Err(a) => return (out, Some(a)),
+        }
+    }
+    (out, None)
+}
+
+fn ends(b: &[Block]) -> Vec<P> {
+    b.iter().filter_map(|b| b.motion.map(|m| m.end)).collect()
+}
+
+fn assert_ends(file: &str, got: &[P], want: &[P]) {
+    assert_eq!(got.len(), want.len(), "{file}: {got:?}");
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(
+            (0..3).all(|i| (g[i] - w[i]).abs() <= 1e-9),
+            "{file}: move {k}: {g:?}, by hand {w:?}"
+        );
+    }
+}
+
+/// `softnc check` on the lathe machine passes.
+fn check(file: &str) {
+    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("check")
+        .arg(path_of(file))
+        .arg("--machine")
+        .arg(root().join("config/fanuc-lathe.toml"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{file}: {stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn clean(file: &str, want: &[P]) -> Vec<Block> {
+    let (b, alarm) = run(file);
+    if let Some(a) = alarm {
+        panic!("{file}: {a}");
+    }
+    assert_ends(file, &ends(&b), want);
+    check(file);
+    b
+}
+
+#[test]
+fn t01_shaft_finish_u_w() {
+    let b = clean(
+        "t01_shaft_finish_u_w.nc",
+        &[
+            [13.0, 0.0, 2.0],   // X26 Z2: radius 13
+            [6.0, 0.0, 0.0],    // G42 X12 Z0
+            [8.0, 0.0, -2.0],   // X16 W-2: chamfer, Z 0 − 2
+            [8.0, 0.0, -15.0],  // Z-15
+            [12.0, 0.0, -15.0], // U8: radius 8 + 8/2
+            [12.0, 0.0, -25.0], // W-10: −15 − 10
+            [17.0, 0.0, -30.0], // G2 X34 W-5 R5: radius 17, Z −25 − 5
+            [17.0, 0.0, -45.0], // Z-45
+            [22.0, 0.0, 2.0],   // G40 U10 Z2: radius 17 + 10/2
+        ],
+    );
+    // T0101: T1 D1 of the tool table, the 0.8 mm nose in edge position 3; G42 in force.
+    let contour = &b[6];
+    assert_eq!((contour.modal.tool, contour.modal.d), (Some(1), 1));
+    assert_eq!((contour.modal.radius, contour.modal.edge), (0.8, 3));
+    assert_eq!(contour.modal.trc, nc_kernel::TrcSide::Right);
+    assert_eq!(contour.modal.spindle_limit, 3000.0);
+}
+
+#[test]
+fn t02_facing_passes_while() {
+    // Four passes of 0.5 (#1 = 0.5 … 2.0): Z = 2 − #1, across to X−1.6 (radius −0.8),
+    // back 1 mm in Z (W1), out to X44 (radius 22).
+    let mut want = vec![[22.0, 0.0, 5.0]];
+    for z in [1.5, 1.0, 0.5, 0.0] {
+        want.extend([
+            [22.0, 0.0, z],
+            [-0.8, 0.0, z],
+            [-0.8, 0.0, z + 1.0],
+            [22.0, 0.0, z + 1.0],
+        ]);
+    }
+    let b = clean("t02_facing_passes_while.nc", &want);
+    assert!(
+        b.iter().any(|b| b.modal.feed_per_rev),
+        "G99: feed per revolution"
+    );
+}
+
+#[test]
+fn t03_grooves_m98_repeat() {
+    // X32 is radius 16; each pass: U-6 down to radius 13, dwell, U6 back to 16, W-8 on.
+    let mut want = vec![[16.0, 0.0, -10.0]];
+    for z in [-10.0, -18.0, -26.0] {
+        want.extend([[13.0, 0.0, z], [16.0, 0.0, z], [16.0, 0.0, z - 8.0]]);
+    }
+    want.push([30.0, 0.0, 20.0]); // X60 Z20
+    let b = clean("t03_grooves_m98_repeat.nc", &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [0.3, 0.3, 0.3]);
+}
+
+#[test]
+fn t04_reference_and_g50() {
+    clean(
+        "t04_reference_and_g50.nc",
+        &[
+            [0.0, 0.0, 0.0],    // G28 U0 W0: the intermediate point is where the tool is
+            [60.0, 0.0, 100.0], // then the reference: X 60 (radius), Z 100 (machine data)
+            [20.0, 0.0, -95.0], // after G50 X120 Z200 there: zero X 60 − 60 = 0, Z 100 − 200 = −100
+            [25.0, 0.0, -95.0], // G28 U10: radius 20 + 5 first
+            [60.0, 0.0, 100.0], // then the reference again
+            [25.0, 0.0, -90.0], // X50 Z10: radius 25, Z 10 − 100
+        ],
+    );
+}
+
+#[test]
+fn t05_taper_g65_macro() {
+    clean(
+        "t05_taper_g65_macro.nc",
+        &[
+            [10.0, 0.0, 2.0],   // X#1 = A20: radius 10
+            [10.0, 0.0, 0.0],   // Z0
+            [15.0, 0.0, -25.0], // X#2 = B30 (radius 15), W-#3 = −25
+            [20.0, 0.0, -25.0], // U10: radius + 5
+            [20.0, 0.0, 2.0],   // Z2
+            [30.0, 0.0, 10.0],  // back in the main program: X60 Z10
+        ],
+    );
+}
+
+#[test]
+fn a01_lathe_cycle_refused() {
+    let (b, alarm) = run("a01_lathe_cycle_refused.nc");
+    assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);
+    let a = alarm.expect("G71 is refused");
+    assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 6, 1));
+}
