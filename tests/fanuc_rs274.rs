@@ -8,7 +8,26 @@
 //! that purpose. Where the two languages spell a thing differently the rs274 copy is
 //! rewritten: the cycles' repeat count K is L there; `O` lines are dropped. softnc runs with
 //! rs274's peck distances (0.254 mm = 0.010 in, `program.peck_retract` and
-//! `program.peck_clearance`).
+//! `program.peck_clearance`). rs274 gets a tool table made from softnc's (config/tools.toml,
+//! the D numbers of their own): tool n has offset n's length, so that `G43 Hn` means the same
+//! length in both (a G28 with a length in force ends at the reference minus the length). The
+//! table's lengths and diameters are in inches whatever the program's units (field notes).
+//!
+//! Where the two controls read the same words differently, the shared programs keep away:
+//! - LinuxCNC needs Z and R again in a block that changes the cycle code;
+//! - LinuxCNC's rs274 starts in G99, Fanuc in G98: write G98/G99;
+//! - LinuxCNC's G86 needs P (Fanuc's has none: P0);
+//! - a G99 → G98 switch inside a running series: LinuxCNC climbs to the initial level on its
+//!   way to the next hole, a Fanuc moves over at the R point and climbs after the hole;
+//! - LinuxCNC's G98 G89 feeds out from the bottom straight to the initial level, a Fanuc feeds
+//!   to R and rapids on (G85 is the same in both): G89 under G99 only;
+//! - G82/G89 P is seconds in LinuxCNC, milliseconds on a Fanuc (only the path is compared);
+//! - LinuxCNC drills only towards the negative drilling axis (R above the bottom: "R less
+//!   than y in cycle in xz plane"), a Fanuc either way;
+//! - G53 under G43 is shared: both put the spindle on the position written (0i-MB manual
+//!   14.1.2: the length vector is cancelled for the move);
+//! - the path compared is the programmed one (softnc's block end points): rs274 puts out the
+//!   compensated path under G41/G42, so no program with cutter compensation is shared.
 //!
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set (CI installs linuxcnc-uspace), where a missing oracle fails.
@@ -96,16 +115,36 @@ fn ngc(text: &str) -> String {
 /// rs274 processes started at once sometimes die with SIGBUS (field notes): one at a time.
 static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// softnc's tool table as an rs274 tool table: `T<n> P<n> Z<length> D<diameter>` for each
+/// offset number n of its own (no T/D entries), in inches (rs274's table is in machine units,
+/// inches, whatever G20/G21 the program is in).
+fn rs274_tool_table() -> String {
+    let mut out = String::new();
+    for o in ToolTable::builtin().offset.iter().filter(|o| o.t.is_none()) {
+        out.push_str(&format!(
+            "T{d} P{d} Z{:.9} D{:.9}\n",
+            o.effective_length() / 25.4,
+            2.0 * o.effective_radius() / 25.4,
+            d = o.d
+        ));
+    }
+    out
+}
+
 fn rs274_moves(name: &str, text: &str) -> (Vec<Move>, f64) {
     let dir = std::env::temp_dir().join(format!("softnc-fanuc-rs274-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join(format!("{name}.ngc"));
     std::fs::write(&file, ngc(text)).unwrap();
+    let tools = dir.join(format!("{name}.tbl"));
+    std::fs::write(&tools, rs274_tool_table()).unwrap();
     let _guard = RS274.lock().unwrap_or_else(|e| e.into_inner());
     let mut tries = 0;
     let out = loop {
         tries += 1;
         let out = Command::new("rs274")
+            .arg("-t")
+            .arg(&tools)
             .arg("-g")
             .arg(&file)
             .output()
@@ -287,6 +326,21 @@ fn programs_that_rs274_also_reads_give_the_same_path() {
     for (name, text) in PROGRAMS {
         compare(name, text);
     }
+}
+
+/// G53 G0 Z… under G43, as CAM posts retract to the tool change height: the spindle goes to
+/// the machine position written in both controls (Fanuc 0i-MB manual B-63844EN/02, 14.1.2:
+/// the tool length vector is cancelled for a G53 move of its axis). The move after it is
+/// under the length again.
+#[test]
+fn g53_under_g43_puts_the_spindle_on_the_position() {
+    if !rs274_present() {
+        return;
+    }
+    compare(
+        "g53_under_g43",
+        "G90 G17 G21 G0 X0. Y0. Z0.\nG43 H1 Z10.\nG53 G0 Z-10.\nG0 X5. Z10.\nM30\n",
+    );
 }
 
 #[test]

@@ -58,16 +58,28 @@ fn calls_find_files_in_the_folder_and_the_search_path() {
 #[test]
 fn alarms_in_a_subprogram_file_name_that_file() {
     let d = folder("alarms");
-    write(&d.join("main.nc"), "O0001\nG90 G0 X0. Y0. Z0.\nM98 P2000\nM98 P2001\nM30\n");
+    write(
+        &d.join("main.nc"),
+        "O0001\nG90 G0 X0. Y0. Z0.\nM98 P2000\nM98 P2001\nM30\n",
+    );
     // Line 3 col 8: X twice (the front end).
-    write(&d.join("O2000.nc"), "O2000\nG1 X1. F100.\nG1 X2. X3.\nM99\n");
+    write(
+        &d.join("O2000.nc"),
+        "O2000\nG1 X1. F100.\nG1 X2. X3.\nM99\n",
+    );
     let (code, text) = check(&d.join("main.nc"), &[]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("O2000.nc:3:8: alarm 12040"), "{text}");
-    assert!(text.contains("3 | G1 X2. X3."), "the line shown is the subprogram's: {text}");
+    assert!(
+        text.contains("3 | G1 X2. X3."),
+        "the line shown is the subprogram's: {text}"
+    );
     // A software limit (preparation) in a subprogram file names it too.
     write(&d.join("O2000.nc"), "O2000\nG1 X1. F100.\nM99\n");
-    write(&d.join("O2001.nc"), "O2001\nG1 X10. F100.\nG1 X5000.\nM99\n");
+    write(
+        &d.join("O2001.nc"),
+        "O2001\nG1 X10. F100.\nG1 X5000.\nM99\n",
+    );
     let (code, text) = check(&d.join("main.nc"), &[]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("O2001.nc:3:1: alarm 10720"), "{text}");

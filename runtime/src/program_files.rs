@@ -31,7 +31,9 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
         let Some(file) = path.file_name().and_then(|f| f.to_str()) else {
             continue;
         };
-        let small = path.metadata().is_ok_and(|m| m.is_file() && m.len() <= MAX_FILE);
+        let small = path
+            .metadata()
+            .is_ok_and(|m| m.is_file() && m.len() <= MAX_FILE);
         if !small || ProgramLibrary::number_of(file).is_none() || same_file(&path, program) {
             continue;
         }

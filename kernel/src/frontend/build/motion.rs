@@ -148,7 +148,13 @@ impl Interpreter<'_> {
     /// The work offset absolute positions take: none in a block in machine coordinates.
     fn work_offset(&self, new: &ModalState) -> [f64; AXES] {
         if self.machine_coordinates {
-            [0.0; AXES]
+            // Fanuc G53 cancels the tool length vector of the axes it moves (0i-MB 14.1.2:
+            // the spindle goes to the machine position), as G28 does; Siemens keeps it.
+            let mut o = [0.0; AXES];
+            if self.d.length_offset == crate::dialect::LengthOffset::HRegister {
+                o[new.plane.normal as usize] = -new.length;
+            }
+            o
         } else {
             self.zero(new.work_offset)
         }

@@ -45,9 +45,11 @@ impl Interpreter<'_> {
         }
         match s {
             Setting::Position => {
+                // G92 also ends the local coordinate system of the axes it names.
                 let set = new.work_offset;
                 for (i, v) in self.axis_values(w, new)? {
-                    let base = self.work_offset_table().get(set)[i] + self.coords.g52[i];
+                    self.coords.g52[i] = 0.0;
+                    let base = self.work_offset_table().get(set)[i];
                     self.coords.g92[i] = self.axis_now(i) - base - v;
                 }
                 Ok(())
@@ -235,6 +237,11 @@ mod tests {
         );
         // G52 X20: X5 is 25; G52 X0 takes it back.
         assert_eq!(xs("G52 X20.\nG0 X5.\nG52 X0.\nG0 X5.\n"), [25.0, 5.0]);
+        // G92 ends the local system of its axes: after G92 X0 at 25, G52 X0 changes nothing.
+        assert_eq!(
+            xs("G52 X20.\nG0 X5.\nG92 X0.\nG52 X0.\nG0 X1.\n"),
+            [25.0, 26.0]
+        );
         let a = run("fanuc", "G0 X0. Y0.\nG41 D1 G1 X10. F100.\nG92 X0.\n").unwrap_err();
         assert_eq!(a.code, AlarmCode::ForbiddenWithTrc);
     }

@@ -199,7 +199,9 @@ impl Interpreter<'_> {
             6 => GEffect::Units(m.units),
             7 => GEffect::Trc(m.trc),
             8 => GEffect::ToolLength(m.length_comp),
-            9 => self.cycle.map_or(GEffect::CycleCancel, |c| GEffect::Cycle(c.kind)),
+            9 => self
+                .cycle
+                .map_or(GEffect::CycleCancel, |c| GEffect::Cycle(c.kind)),
             13 => GEffect::ConstantSurfaceSpeed(m.css),
             14 => return self.work_offset_code(),
             15 => GEffect::ExactStopModal(m.exact_stop),
