@@ -34,7 +34,8 @@
 
 use nc_kernel::{interpret, MachineData, MotionKind, ToolTable};
 use std::path::Path;
-use std::process::Command;
+#[path = "support/rs274.rs"]
+mod rs274;
 
 /// rs274 prints four decimals of its unit: 2e-4 mm, or 2e-4 in for an inch program.
 const TOL: f64 = 2e-4;
@@ -45,17 +46,6 @@ const TOL: f64 = 2e-4;
 struct Move {
     end: [f64; 3],
     arc: Option<([f64; 3], bool, usize)>,
-}
-
-fn rs274_present() -> bool {
-    let ok = Command::new("rs274").arg("-h").output().is_ok();
-    if !ok {
-        if std::env::var_os("SOFTNC_REQUIRE_ORACLES").is_some() {
-            panic!("rs274 not found, and SOFTNC_REQUIRE_ORACLES is set (install linuxcnc-uspace)");
-        }
-        eprintln!("rs274 not found: differential test skipped (install linuxcnc-uspace)");
-    }
-    ok
 }
 
 fn machine() -> MachineData {
@@ -112,9 +102,6 @@ fn ngc(text: &str) -> String {
     out
 }
 
-/// rs274 processes started at once sometimes die with SIGBUS (field notes): one at a time.
-static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
 /// softnc's tool table as an rs274 tool table: `T<n> P<n> Z<length> D<diameter>` for each
 /// offset number n of its own (no T/D entries), in inches (rs274's table is in machine units,
 /// inches, whatever G20/G21 the program is in).
@@ -132,32 +119,10 @@ fn rs274_tool_table() -> String {
 }
 
 fn rs274_moves(name: &str, text: &str) -> (Vec<Move>, f64) {
-    let dir = std::env::temp_dir().join(format!("softnc-fanuc-rs274-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join(format!("{name}.ngc"));
-    std::fs::write(&file, ngc(text)).unwrap();
-    let tools = dir.join(format!("{name}.tbl"));
-    std::fs::write(&tools, rs274_tool_table()).unwrap();
-    let _guard = RS274.lock().unwrap_or_else(|e| e.into_inner());
-    let mut tries = 0;
-    let out = loop {
-        tries += 1;
-        let out = Command::new("rs274")
-            .arg("-t")
-            .arg(&tools)
-            .arg("-g")
-            .arg(&file)
-            .output()
-            .expect("rs274 runs");
-        if out.status.code().is_some() || tries == 3 {
-            break out;
-        }
-    };
-    let text = String::from_utf8_lossy(&out.stdout);
+    let (text, status) = rs274::output(&ngc(text), name, Some(&rs274_tool_table()));
     assert!(
-        !text.contains("error") && out.status.success(),
-        "{name}: rs274 refused it:\n{text}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+        !text.contains("error") && status.starts_with("exit status: 0"),
+        "{name}: rs274 refused it:\n{text}\n{status}"
     );
     let tol = if text.contains("CANON_UNITS_INCHES") {
         TOL * 25.4
@@ -176,12 +141,12 @@ fn parse_canon(text: &str) -> Vec<Move> {
     let mut moves: Vec<Move> = Vec::new();
     for line in text.lines() {
         if line.contains("SET_G5X_OFFSET(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             g5x = [n[1], n[2], n[3]];
             continue;
         }
         if line.contains("SET_G92_OFFSET(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             g92 = [n[0], n[1], n[2]];
             continue;
         }
@@ -197,13 +162,13 @@ fn parse_canon(text: &str) -> Vec<Move> {
                 "XY"
             };
         } else if line.contains("STRAIGHT_TRAVERSE(") || line.contains("STRAIGHT_FEED(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             moves.push(Move {
                 end: std::array::from_fn(|i| (n[i] + origin[i]) * scale),
                 arc: None,
             });
         } else if line.contains("ARC_FEED(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             let (e1, e2, c1, c2, rot, e3) = (n[0], n[1], n[2], n[3], n[4], n[5]);
             // (first, second, normal) axis indices of the plane, as rs274 orders them.
             let (a, b, c) = match plane {
@@ -224,14 +189,6 @@ fn parse_canon(text: &str) -> Vec<Move> {
         }
     }
     moves
-}
-
-fn numbers(s: &str) -> Vec<f64> {
-    let inner = &s[s.find('(').unwrap() + 1..s.rfind(')').unwrap()];
-    inner
-        .split(',')
-        .map(|t| t.trim().parse().unwrap())
-        .collect()
 }
 
 /// Moves that end where the one before ended (and are no full circle) move nothing: the two
@@ -320,7 +277,7 @@ const PROGRAMS: &[(&str, &str)] = &[
 
 #[test]
 fn programs_that_rs274_also_reads_give_the_same_path() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     for (name, text) in PROGRAMS {
@@ -334,7 +291,7 @@ fn programs_that_rs274_also_reads_give_the_same_path() {
 /// under the length again.
 #[test]
 fn g53_under_g43_puts_the_spindle_on_the_position() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     compare(
@@ -345,7 +302,7 @@ fn g53_under_g43_puts_the_spindle_on_the_position() {
 
 #[test]
 fn corpus_programs_that_rs274_also_reads_give_the_same_path() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/fanuc");

@@ -11,24 +11,10 @@
 
 use nc_kernel::{prepare, MachineData, ToolTable};
 use nc_kernel::{Role, Segment, Shape};
-use std::process::Command;
+#[path = "support/rs274.rs"]
+mod rs274;
 
 const TOL: f64 = 2e-4;
-
-fn rs274_present() -> bool {
-    let ok = Command::new("rs274")
-        .arg("-h")
-        .output()
-        .map(|_| true)
-        .unwrap_or(false);
-    if !ok {
-        if std::env::var_os("SOFTNC_REQUIRE_ORACLES").is_some() {
-            panic!("rs274 not found, and SOFTNC_REQUIRE_ORACLES is set (install linuxcnc-uspace)");
-        }
-        eprintln!("rs274 not found: oracle comparison skipped (install linuxcnc-uspace)");
-    }
-    ok
-}
 
 /// One programmed element of a closed or open chain, in absolute XY.
 #[derive(Clone, Copy, Debug)]
@@ -88,61 +74,18 @@ fn programs(
     (siemens, ngc)
 }
 
-fn numbers(s: &str) -> Vec<f64> {
-    let inner = &s[s.find('(').unwrap() + 1..s.rfind(')').unwrap()];
-    inner
-        .split(',')
-        .map(|t| t.trim().parse().unwrap())
-        .collect()
-}
-
-/// rs274 processes started at the same moment by the parallel tests of this file sometimes
-/// die with SIGBUS (seen here, 2.9.0~pre1): one at a time.
-static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// rs274's canonical calls for a program, and its exit status and stderr for messages.
-fn rs274_output(ngc: &str, tag: &str) -> (String, String) {
-    let dir = std::env::temp_dir().join(format!("softnc-oracle-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("p.ngc");
-    std::fs::write(&file, ngc).unwrap();
-    let guard = RS274.lock().unwrap_or_else(|e| e.into_inner());
-    // rs274 (2.9.0~pre1) now and then dies from a signal on a loaded machine, with no output:
-    // that is the oracle failing, not an answer. Up to three tries; its own errors (an exit
-    // code) are answers and come back at once.
-    let mut tries = 0;
-    let out = loop {
-        tries += 1;
-        let out = Command::new("rs274")
-            .arg("-g")
-            .arg(&file)
-            .output()
-            .expect("rs274 runs");
-        if out.status.code().is_some() || tries == 3 {
-            break out;
-        }
-        eprintln!("rs274 died ({}), trying again", out.status);
-    };
-    drop(guard);
-    let _ = std::fs::remove_dir_all(&dir);
-    (
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        format!("{}\n{}", out.status, String::from_utf8_lossy(&out.stderr)),
-    )
-}
-
 fn run_rs274(ngc: &str, tag: &str) -> Vec<Mv> {
-    let (text, status) = rs274_output(ngc, tag);
+    let (text, status) = rs274::output(ngc, tag, None);
     let mut moves = Vec::new();
     for line in text.lines() {
         if line.contains("STRAIGHT_FEED(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             moves.push(Mv {
                 end: (n[0], n[1]),
                 arc: None,
             });
         } else if line.contains("ARC_FEED(") {
-            let n = numbers(line);
+            let n = rs274::numbers(line);
             moves.push(Mv {
                 end: (n[0], n[1]),
                 arc: Some(((n[2], n[3]), n[4] > 0.0)),
@@ -296,7 +239,7 @@ fn to_chain(v: &[Vertex]) -> Vec<El> {
 
 #[test]
 fn g450_interior_matches_rs274_on_the_workpiece_shape() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     // The 11.15 workpiece contour (G41, radius 10) as a chain.
@@ -334,7 +277,7 @@ fn g450_interior_matches_rs274_on_the_workpiece_shape() {
 
 #[test]
 fn g450_interior_matches_rs274_on_generated_contours() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     let mut rng = Lcg(0x0dd5eed);
@@ -372,18 +315,18 @@ fn g450_interior_matches_rs274_on_generated_contours() {
 /// rs274's moves in G18 as (Z, X): STRAIGHT_FEED(x, y, z, …); ARC_FEED(end Z, end X,
 /// centre Z, centre X, rotation, …).
 fn run_rs274_zx(ngc: &str, tag: &str) -> Vec<Mv> {
-    let (text, status) = rs274_output(ngc, tag);
+    let (text, status) = rs274::output(ngc, tag, None);
     let moves: Vec<Mv> = text
         .lines()
         .filter_map(|line| {
             if line.contains("STRAIGHT_FEED(") {
-                let n = numbers(line);
+                let n = rs274::numbers(line);
                 Some(Mv {
                     end: (n[2], n[0]),
                     arc: None,
                 })
             } else if line.contains("ARC_FEED(") {
-                let n = numbers(line);
+                let n = rs274::numbers(line);
                 Some(Mv {
                     end: (n[0], n[1]),
                     arc: Some(((n[2], n[3]), n[4] > 0.0)),
@@ -422,7 +365,7 @@ fn linuxcnc_orientation(edge: u8) -> u8 {
 /// interior to 2e-4 mm, as (Z, X-radius).
 #[test]
 fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     let body = "Z-5\nX16 Z-15\nG3 X24 Z-19 {R}4\nG1 Z-25\nG2 X34 Z-30 {R}5\nG1 X40\nZ-40\n";
@@ -500,7 +443,7 @@ fn turned_contour_tip_path_matches_rs274_for_every_cutting_edge_position() {
 /// the same tool-centre path, and no alarm.
 #[test]
 fn synthetic_corner_contours_match_rs274() {
-    if !rs274_present() {
+    if !rs274::present() {
         return;
     }
     use nc_kernel::synthetic::{bars_program, roughing_program, Header};

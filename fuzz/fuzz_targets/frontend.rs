@@ -2,7 +2,10 @@
 //!
 //! The first byte picks the machine (one per dialect, from the shipped config/*.toml), the rest
 //! is the program, read the way `softnc parse` reads a file (lossy UTF-8). Loops are limited to
-//! 100 iterations so that endless loops end in alarm 12650 quickly.
+//! 100 iterations so that endless loops end in alarm 12650 quickly: on the Fanuc machine that
+//! bounds WHILE … DO, backward GOTOs and M99 restarts, and the kernel bounds call nesting (15
+//! calls, 5 macro levels), so a file of several `O` programs with Custom Macro B (`#`
+//! variables, IF, WHILE, M98/M99, G65/G66; words in frontend.dict) ends too.
 //!
 //! With `SOFTNC_FUZZ_STRICT=1` in the environment the target also requires every coordinate of
 //! every motion to be finite (block preparation relies on it).

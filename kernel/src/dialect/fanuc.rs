@@ -85,7 +85,8 @@ static GCODES: &[GCodeDef] = &[
     g(10, DataSetting),
 ];
 
-static MCODES: &[MCodeDef] = &[
+/// The M functions the front end acts on, the lathe's too.
+pub(super) static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
     m(3, Spindle(SpindleDir::Clockwise)),
@@ -131,13 +132,16 @@ pub static DIALECT: Dialect = Dialect {
     initial_motion: MotionMode::Linear,
     initial_corner_intersection: CornerPolicy::ExtendedIntersection,
     initial_selection: SelectionPolicy::OffsetVector,
-    trc: TrcRules {
-        repeat: RepeatRule::Restart,
-        side_change: SideChange::Intersection,
-        radius_change: RadiusChange::InBlock,
-        armed_arc: ArmedArc::Alarm(AlarmCode::FanucTrcNotLinear),
-        no_plane_move: NoPlaneMove::OffsetOnly,
-        not_linear: AlarmCode::FanucTrcNotLinear,
-        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
-    },
+    trc: TRC,
+};
+
+/// Cutter compensation C (seed 003), the lathe's nose radius compensation too.
+pub(super) const TRC: TrcRules = TrcRules {
+    repeat: RepeatRule::Restart,
+    side_change: SideChange::Intersection,
+    radius_change: RadiusChange::InBlock,
+    armed_arc: ArmedArc::Alarm(AlarmCode::FanucTrcNotLinear),
+    no_plane_move: NoPlaneMove::OffsetOnly,
+    not_linear: AlarmCode::FanucTrcNotLinear,
+    intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
 };

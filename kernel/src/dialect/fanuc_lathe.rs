@@ -3,18 +3,12 @@
 //! G50 sets the coordinate system and, with S, the spindle speed limit, and T aabb selects
 //! tool aa with offset bb. Custom Macro B and the subprograms are the milling control's.
 
-use super::{
-    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
-};
+use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
-use crate::frontend::block::{
-    CornerPolicy, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
-};
+use crate::frontend::block::{CornerPolicy, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
-use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
 
 use GEffect::*;
-use MEffect::*;
 
 static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
@@ -64,23 +58,10 @@ static GCODES: &[GCodeDef] = &[
     g(99, FeedPerRevolution(true)),
 ];
 
-static MCODES: &[MCodeDef] = &[
-    m(0, Stop(ProgramStop::Stop)),
-    m(1, Stop(ProgramStop::OptionalStop)),
-    m(3, Spindle(SpindleDir::Clockwise)),
-    m(4, Spindle(SpindleDir::CounterClockwise)),
-    m(5, Spindle(SpindleDir::Stop)),
-    m(19, Spindle(SpindleDir::Orient)),
-    m(2, Stop(ProgramStop::End)),
-    m(30, Stop(ProgramStop::EndRewind)),
-    m(98, Call),
-    m(99, Return),
-];
-
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::FanucLathe,
     gcodes: GCODES,
-    mcodes: MCODES,
+    mcodes: super::fanuc::MCODES,
     semicolon: Semicolon::EndOfBlock,
     radius_word: RadiusWord::R,
     lf_block_end: false,
@@ -110,15 +91,7 @@ pub static DIALECT: Dialect = Dialect {
     initial_motion: MotionMode::Linear,
     initial_corner_intersection: CornerPolicy::ExtendedIntersection,
     initial_selection: SelectionPolicy::OffsetVector,
-    trc: TrcRules {
-        repeat: RepeatRule::Restart,
-        side_change: SideChange::Intersection,
-        radius_change: RadiusChange::InBlock,
-        armed_arc: ArmedArc::Alarm(AlarmCode::FanucTrcNotLinear),
-        no_plane_move: NoPlaneMove::OffsetOnly,
-        not_linear: AlarmCode::FanucTrcNotLinear,
-        intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
-    },
+    trc: super::fanuc::TRC,
 };
 
 #[cfg(test)]

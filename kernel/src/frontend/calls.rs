@@ -244,6 +244,8 @@ impl<'a> Interpreter<'a> {
         if frame.repeats > 0 && to.is_none() {
             frame.repeats -= 1;
             let start = frame.start;
+            // A repetition is a loop pass: nested repetitions stay bounded too.
+            self.next_pass(at)?;
             let text = self.running_text();
             self.calls.loops.clear();
             self.enter(text, start);

@@ -7,26 +7,11 @@ use super::super::calls::{CallKind, Pending};
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::macro_b::expr;
-use super::super::statements::fanuc::{count, program_number};
+use super::super::statements::fanuc::{count, program_number, sequence_number};
 use super::super::words::{Val, Words};
 use crate::alarm::AlarmCode;
 use crate::dialect::{AtEffect, MEffect};
 use crate::machine_data::DecimalInput;
-
-/// The sequence number of M99 P.
-fn sequence_number(v: f64, at: usize) -> R<u32> {
-    let n = expr::whole(v, at, "a sequence number")?;
-    u32::try_from(n)
-        .ok()
-        .filter(|n| (1..=99_999).contains(n))
-        .ok_or_else(|| {
-            fault(
-                AlarmCode::BadNumber,
-                at,
-                format!("sequence number {n} is not in 1…99999"),
-            )
-        })
-}
 
 impl Interpreter<'_> {
     /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC

@@ -218,17 +218,7 @@ impl Interpreter<'_> {
                 "GOTO to a vacant variable's sequence number",
             )
         })?;
-        let n = expr::whole(v, at, "a sequence number")?;
-        u32::try_from(n)
-            .ok()
-            .filter(|n| (1..=99_999).contains(n))
-            .ok_or_else(|| {
-                fault(
-                    AlarmCode::BadNumber,
-                    at,
-                    format!("sequence number {n} is not in 1…99999"),
-                )
-            })
+        sequence_number(v, at)
     }
 
     /// Goes on at sequence number `n`; a jump backwards counts as a loop pass. Loops that
@@ -265,9 +255,10 @@ impl Interpreter<'_> {
     fn open_loop(&mut self, m: u8, head: Mark, endless: bool, at: usize) -> R<bool> {
         self.next_pass(at)?;
         let loops = &mut self.calls.loops;
-        // The same DO m open already: a pass of it (or a loop left by a jump), not a nest.
+        // The same DO m open already: a loop a jump left; it ends here (the loops opened
+        // after it stay).
         if let Some(k) = loops.iter().position(|l| l.m == m) {
-            loops.truncate(k);
+            loops.remove(k);
         }
         if loops.len() >= MAX_LOOPS {
             return Err(fault(
@@ -290,14 +281,9 @@ impl Interpreter<'_> {
                 format!("END {m} without an open DO {m}"),
             ));
         };
-        if k + 1 != self.calls.loops.len() {
-            let inner = self.calls.loops[self.calls.loops.len() - 1].m;
-            return Err(fault(
-                AlarmCode::ControlNesting,
-                at,
-                format!("END {m} closes DO {m} while DO {inner} inside it is open (loops may not cross)"),
-            ));
-        }
+        // Loops still open inside it were left by a jump (a crossing END shows later: its
+        // DO is gone).
+        self.calls.loops.truncate(k + 1);
         let l = self.calls.loops[k];
         if l.endless {
             self.next_pass(at)?;
@@ -488,29 +474,32 @@ fn argument_number(letter: u8) -> Option<usize> {
 
 /// A program number (O0001 … O9999).
 pub(in crate::frontend) fn program_number(v: f64, at: usize) -> R<u32> {
-    let n = expr::whole(v, at, "a program number")?;
-    u32::try_from(n)
-        .ok()
-        .filter(|n| (1..=9999).contains(n))
-        .ok_or_else(|| {
-            fault(
-                AlarmCode::BadNumber,
-                at,
-                format!("program number {n} is not in 1…9999"),
-            )
-        })
+    whole_in(v, at, "program number", 1..=9999)
 }
 
 /// A repeat count L (0 … 9999).
 pub(in crate::frontend) fn count(v: f64, at: usize) -> R<u32> {
-    let n = expr::whole(v, at, "a repeat count")?;
-    u32::try_from(n).ok().filter(|n| *n <= 9999).ok_or_else(|| {
-        fault(
-            AlarmCode::BadNumber,
-            at,
-            format!("repeat count {n} is not in 0…9999"),
-        )
-    })
+    whole_in(v, at, "repeat count", 0..=9999)
+}
+
+/// A sequence number (GOTO, M99 P): 1 … 99999.
+pub(in crate::frontend) fn sequence_number(v: f64, at: usize) -> R<u32> {
+    whole_in(v, at, "sequence number", 1..=99_999)
+}
+
+/// A whole number within `range`, or alarm 12160 naming `what`.
+fn whole_in(v: f64, at: usize, what: &str, range: std::ops::RangeInclusive<u32>) -> R<u32> {
+    let n = expr::whole(v, at, &format!("a {what}"))?;
+    u32::try_from(n)
+        .ok()
+        .filter(|n| range.contains(n))
+        .ok_or_else(|| {
+            fault(
+                AlarmCode::BadNumber,
+                at,
+                format!("{what} {n} is not in {}…{}", range.start(), range.end()),
+            )
+        })
 }
 
 /// The loop identification m after DO/END: 1, 2 or 3.

@@ -288,6 +288,11 @@ impl Interpreter<'_> {
         if repeats == 0 {
             return Ok(());
         }
+        // Each repetition after the first is a loop pass (nested in loops and calls, the
+        // repetitions stay bounded).
+        for _ in 1..repeats {
+            self.next_pass(block_col)?;
+        }
         let hole = self.hole(&mode, new, n, block_col)?;
         feed_for_cycle(new, block_col)?;
         let (target, step) = if self.coords.frame.active() {
