@@ -25,7 +25,7 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
-                "polar coordinates under G91 (the pole at the position now)",
+                "polar coordinates with incremental distances (the pole at the position now)",
             ));
         }
         if let Some(v) = w.axis[a] {
