@@ -74,6 +74,11 @@ fn alarms_in_a_subprogram_file_name_that_file() {
         text.contains("3 | G1 X2. X3."),
         "the line shown is the subprogram's: {text}"
     );
+    // M99 P to a sequence number the caller lacks: the alarm is at the M99 of the file.
+    write(&d.join("O2000.nc"), "O2000\n(sub)\nG1 X1. F100.\nM99 P77\n");
+    let (code, text) = check(&d.join("main.nc"), &[]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("O2000.nc:4:1: alarm 14080"), "{text}");
     // A software limit (preparation) in a subprogram file names it too.
     write(&d.join("O2000.nc"), "O2000\nG1 X1. F100.\nM99\n");
     write(

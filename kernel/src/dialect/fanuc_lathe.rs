@@ -144,6 +144,13 @@ mod tests {
     }
 
     #[test]
+    fn position_variables_read_x_as_a_diameter() {
+        // #5001 after X40 is 40 (the diameter), so X#1 stays at radius 20.
+        let e = ends("G0 X40. Z2.\n#1=#5001\nG0 X#1 Z5.\n");
+        assert_eq!(e, [(20.0, 2.0), (20.0, 5.0)]);
+    }
+
+    #[test]
     fn g50_sets_the_position_and_the_speed_limit() {
         // G50 X100 at X radius 20: the zero moves so that here reads diameter 100.
         let b = lathe("G0 X40. Z0.\nG50 X100. Z10. S2000\nG0 X90. Z5.\n").unwrap();

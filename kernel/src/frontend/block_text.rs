@@ -64,7 +64,7 @@ impl Interpreter<'_> {
 }
 
 /// Where a Fanuc block ends.
-enum BlockEnd {
+pub(super) enum BlockEnd {
     /// At a `;` (outside a comment), which ends the block but not the line.
     Semicolon(usize),
     /// At the line feed or the end of the text.
@@ -72,7 +72,7 @@ enum BlockEnd {
 }
 
 /// Fanuc: `;` ends the block, except inside a comment.
-fn fanuc_block_end(b: &[u8], start: usize) -> BlockEnd {
+pub(super) fn fanuc_block_end(b: &[u8], start: usize) -> BlockEnd {
     let mut depth = 0u32;
     let mut i = start;
     loop {

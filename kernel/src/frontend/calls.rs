@@ -59,6 +59,8 @@ pub struct Running {
     pub start: Mark,
     /// Its file: 0 the main program's, k the program library's file k.
     pub program: u16,
+    /// A block of it has been read: an `O` line from now on begins the next program.
+    pub started: bool,
 }
 
 /// A caller's saved reading state.
@@ -95,6 +97,8 @@ pub enum Pending {
 #[derive(Clone, Debug)]
 pub struct ModalCall {
     pub number: u32,
+    /// L: how often it runs after each move.
+    pub repeats: u32,
     pub args: [Value; LOCALS],
 }
 
@@ -126,6 +130,7 @@ impl<'a> Calls<'a> {
                 o_line: None,
                 start: (0, 1, 0),
                 program: 0,
+                started: false,
             },
             loops: Vec::new(),
             pending: None,
@@ -225,6 +230,7 @@ impl<'a> Interpreter<'a> {
             o_line: None,
             start,
             program,
+            started: false,
         };
     }
 
@@ -251,6 +257,19 @@ impl<'a> Interpreter<'a> {
             self.enter(text, start);
             return Ok(());
         }
+        // M99 P: the caller's sequence number, found (and a jump back before the call
+        // counted) while the alarm can still point at the M99 in this program.
+        let target = match to {
+            Some(n) => {
+                let (src, running, ret) = (frame.src, frame.running, frame.ret);
+                let target = self.find_label_in(src, running, ret.0, n, at)?;
+                if target.0 < ret.0 {
+                    self.next_pass(at)?;
+                }
+                Some(target)
+            }
+            None => None,
+        };
         let Some(frame) = self.calls.frames.pop() else {
             return Ok(());
         };
@@ -259,17 +278,9 @@ impl<'a> Interpreter<'a> {
         }
         self.name = frame.name;
         self.src = frame.src;
-        (self.pos, self.line, self.line_start) = frame.ret;
+        (self.pos, self.line, self.line_start) = target.unwrap_or(frame.ret);
         self.calls.running = frame.running;
         self.calls.loops = frame.loops;
-        if let Some(n) = to {
-            let target = self.find_label(n, at)?;
-            // Back to a block before the call: a loop through the call, counted.
-            if target.0 < frame.ret.0 {
-                self.next_pass(at)?;
-            }
-            (self.pos, self.line, self.line_start) = target;
-        }
         Ok(())
     }
 
@@ -279,7 +290,7 @@ impl<'a> Interpreter<'a> {
         if self.calls.running.o_line == Some(c.i) {
             return false;
         }
-        if self.calls.running.number.is_none() {
+        if self.calls.running.number.is_none() && !self.calls.running.started {
             let mut n: u32 = 0;
             let mut k = c.i + 1;
             while let Some(d @ b'0'..=b'9') = c.b.get(k).copied().filter(|_| k < c.end) {
@@ -331,9 +342,21 @@ impl<'a> Interpreter<'a> {
     /// The block with sequence number `n` in the running program: the first after the
     /// block being read, else the first from the program's start (0i-MF, GOTO).
     pub(super) fn find_label(&mut self, n: u32, at: usize) -> R<Mark> {
-        let start = self.calls.running.start;
-        let own_o_line = self.calls.running.o_line;
-        let src = self.src;
+        let (src, running, here) = (self.src, self.calls.running, self.pos);
+        self.find_label_in(src, running, here, n, at)
+    }
+
+    /// Sequence number `n` in the program `running` of `src`: the first at or after
+    /// `here`, else the first from its start.
+    fn find_label_in(
+        &mut self,
+        src: &'a [u8],
+        running: Running,
+        here: usize,
+        n: u32,
+        at: usize,
+    ) -> R<Mark> {
+        let (start, own_o_line) = (running.start, running.o_line);
         let labels = self
             .calls
             .labels
@@ -346,7 +369,6 @@ impl<'a> Interpreter<'a> {
                 format!("sequence number N{n} is not in this program"),
             )
         })?;
-        let here = self.pos;
         Ok(*marks.iter().find(|m| m.0 >= here).unwrap_or(&marks[0]))
     }
 }
@@ -410,10 +432,15 @@ fn index_labels(
         }
         let mut block_start = s;
         loop {
-            let end = if semicolon == crate::dialect::Semicolon::EndOfBlock {
-                super::lexer::find_byte(&src[..e], block_start, [b';'])
-            } else {
-                e
+            // A `;` ends a Fanuc block, but not inside a comment.
+            let end = match semicolon {
+                crate::dialect::Semicolon::EndOfBlock => {
+                    match super::block_text::fanuc_block_end(&src[..e], block_start) {
+                        super::block_text::BlockEnd::Semicolon(i) => i,
+                        super::block_text::BlockEnd::Line(_) => e,
+                    }
+                }
+                crate::dialect::Semicolon::Comment => e,
             };
             if let Some(n) = super::block_text::block_number(src, block_start, end) {
                 out.entry(n.value)

@@ -126,6 +126,16 @@ impl Frame {
         self.m[a][a] * self.m[o][o] - self.m[a][o] * self.m[o][a] < 0.0
     }
 
+    /// The frame maps `plane` onto itself (its normal stays its normal).
+    pub fn keeps_plane(&self, plane: Plane) -> bool {
+        let (a, o, n) = (
+            plane.abscissa as usize,
+            plane.ordinate as usize,
+            plane.normal as usize,
+        );
+        self.m[n][a] == 0.0 && self.m[n][o] == 0.0 && self.m[a][n] == 0.0 && self.m[o][n] == 0.0
+    }
+
     /// The frame leaves axis `n` alone (a hole's depth under a frame in its plane).
     pub fn keeps_axis(&self, n: usize) -> bool {
         (0..3).all(|k| {

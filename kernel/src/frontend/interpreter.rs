@@ -296,6 +296,7 @@ impl<'a> Interpreter<'a> {
         self.blk_number = read_block_number(&mut c)?;
         c.skip_blanks();
         if self.is_statement(&c) {
+            self.calls.running.started = true;
             return self.statement(c, start, block_col);
         }
         if self.plain_allowed() && self.plain(c, block_col).is_some() {
@@ -303,12 +304,16 @@ impl<'a> Interpreter<'a> {
         }
         let mut words = Words::default();
         self.block.words.clear();
+        self.present_state_read.set(false);
         self.words(&mut c, &mut words)?;
         if self.blk_number.is_none() && words.is_empty() && self.block.words.is_empty() {
             // A line holding only a comment is no block.
             return Ok(false);
         }
+        self.calls.running.started = true;
         let built = self.build(&words, block_col)?;
+        // A word read the present position (#5041 …): the block stops preprocessing.
+        self.block.preprocess_stop |= self.present_state_read.get();
         if self.expansion.is_none() {
             self.after_block()?;
         }

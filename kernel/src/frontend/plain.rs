@@ -101,6 +101,7 @@ impl Interpreter<'_> {
             end
         };
         // Nothing fails from here on.
+        self.calls.running.started = true;
         let col = column(self.src, self.blk_line_start, block_col);
         reset(&mut self.block, self.blk_line, col, self.blk_number);
         let blk = &mut self.block;

@@ -22,11 +22,18 @@ pub enum Step {
     Spindle(SpindleDir),
 }
 
-/// The steps still to come of the block being expanded.
+/// The steps still to come of the block being expanded, and the program stop of its block
+/// (M00 … M30 act when the whole block is done: with its last step).
 #[derive(Clone, Debug)]
-pub enum Expansion {
+pub struct Expansion {
+    steps: Steps,
+    stop: Option<ProgramStop>,
+}
+
+#[derive(Clone, Debug)]
+enum Steps {
     /// A short fixed list, handed out from the front.
-    Steps(heapless::Deque<Step, 8>),
+    Fixed(heapless::Deque<Step, 8>),
     /// A drilling cycle's remaining holes and pecks.
     Drilling(Drilling),
 }
@@ -38,22 +45,46 @@ impl Expansion {
             // At most eight steps are built into a fixed list (G28: two).
             let _ = q.push_back(s);
         }
-        Expansion::Steps(q)
+        Expansion {
+            steps: Steps::Fixed(q),
+            stop: None,
+        }
+    }
+
+    pub fn drilling(d: Drilling) -> Self {
+        Expansion {
+            steps: Steps::Drilling(d),
+            stop: None,
+        }
     }
 
     fn next(&mut self) -> Option<Step> {
-        match self {
-            Expansion::Steps(q) => q.pop_front(),
-            Expansion::Drilling(d) => d.next(),
+        match &mut self.steps {
+            Steps::Fixed(q) => q.pop_front(),
+            Steps::Drilling(d) => d.next(),
+        }
+    }
+
+    /// No step is left.
+    fn done(&mut self) -> bool {
+        match &mut self.steps {
+            Steps::Fixed(q) => q.is_empty(),
+            Steps::Drilling(d) => d.done(),
         }
     }
 }
 
 impl Interpreter<'_> {
-    /// The first step of the expansion just set, into the programmed block.
+    /// The first step of the expansion just set, into the programmed block; the block's
+    /// program stop waits for the last step.
     pub(super) fn expand_first(&mut self, new: &mut ModalState) {
         if let Some(step) = self.expansion.as_mut().and_then(Expansion::next) {
             self.apply_step(step, new);
+        }
+        if let Some(e) = self.expansion.as_mut() {
+            if !e.done() {
+                e.stop = self.block.stop.take();
+            }
         }
     }
 
@@ -72,6 +103,12 @@ impl Interpreter<'_> {
         let mut modal = b.modal;
         self.apply_step(step, &mut modal);
         self.block.modal = modal;
+        if let Some(e) = self.expansion.as_mut() {
+            if e.done() {
+                self.block.stop = e.stop.take();
+                self.finished |= self.block.stop.is_some_and(|s| s.ends_program());
+            }
+        }
         Ok(true)
     }
 

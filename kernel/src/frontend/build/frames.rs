@@ -75,9 +75,11 @@ impl Interpreter<'_> {
                     )
                 })?;
                 let old = self.coords.frame.rotation.map_or(0.0, |(_, _, a)| a);
+                // Degrees, in the least input increment without a decimal point.
+                let r = self.unscaled(r, crate::machine_data::Units::Mm);
                 let angle = match new.distance {
-                    Distance::Absolute => r.value,
-                    Distance::Incremental => old + r.value,
+                    Distance::Absolute => r,
+                    Distance::Incremental => old + r,
                 };
                 let centre = std::array::from_fn(|i| words[i].unwrap_or(here[i]));
                 self.coords.frame.rotation = Some((new.plane, centre, angle));
@@ -163,6 +165,13 @@ impl Interpreter<'_> {
         if programmed & 7 == 0 && !arc {
             return Ok(None);
         }
+        if arc && !frame.keeps_plane(new.plane) {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                block_col,
+                "a circle in a plane the frame turns out of itself (rotation about another plane)",
+            ));
+        }
         if arc && !frame.keeps_circles(new.plane) {
             return Err(fault(
                 AlarmCode::NotSupported,
@@ -212,6 +221,34 @@ mod tests {
         near(ends[1], [10.0, 10.0, 0.0]);
         near(ends[2], [10.0, 15.0, 0.0]);
         near(ends[3], [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn the_rotation_angle_takes_the_increment_and_keeps_its_plane() {
+        // Increment input: R90000 without a decimal point is 90°.
+        let md = crate::machine_data::MachineData::load(
+            None,
+            &[
+                "dialect=fanuc".into(),
+                "program.decimal_input=increment".into(),
+            ],
+        )
+        .unwrap();
+        let b = crate::frontend::interpret(
+            "r.nc",
+            "G0 X0. Y0.\nG68 X0. Y0. R90000\nG0 X10. Y0.\n",
+            &md,
+            &crate::tools::ToolTable::builtin(),
+        )
+        .unwrap();
+        near(b[2].motion.unwrap().end, [0.0, 10.0, 0.0]);
+        // A circle in G18 under a G17 rotation would leave its plane.
+        let a = run(
+            "fanuc",
+            "G17 G0 X0. Y0. Z0.\nG68 X0. Y0. R90.\nG18 G2 X10. Z0. I5. K0. F100.\n",
+        )
+        .unwrap_err();
+        assert_eq!(a.code, AlarmCode::NotSupported);
     }
 
     #[test]

@@ -167,7 +167,7 @@ impl Interpreter<'_> {
             }
             self.calls.pending = Some(super::calls::Pending::Call {
                 number: call.number,
-                repeats: 1,
+                repeats: call.repeats,
                 kind: super::calls::CallKind::Modal,
                 args: Box::new(call.args),
                 at: self.blk_line_start,

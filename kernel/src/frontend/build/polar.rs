@@ -53,7 +53,7 @@ impl Interpreter<'_> {
 
     /// A value in program units with the decimal-input switch applied (no inch
     /// conversion: the Cartesian words go through it again).
-    fn unscaled(&self, v: Val, units: Units) -> f64 {
+    pub(super) fn unscaled(&self, v: Val, units: Units) -> f64 {
         let increment = self.d.decimal_switch
             && !v.has_point
             && self.md.program.decimal_input == DecimalInput::Increment;

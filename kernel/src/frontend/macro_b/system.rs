@@ -128,7 +128,7 @@ impl Interpreter<'_> {
         } else {
             self.cur_add[i - 3]
         };
-        Some(p / self.unit())
+        Some(p * self.diameter_factor(i) / self.unit())
     }
 
     fn workpiece(&self, k: i64) -> Value {
@@ -139,7 +139,16 @@ impl Interpreter<'_> {
         } else {
             self.cur_add[i - 3]
         };
-        Some((p - o) / self.unit())
+        Some((p - o) * self.diameter_factor(i) / self.unit())
+    }
+
+    /// A position of X reads as a diameter where X is programmed as one (a lathe).
+    fn diameter_factor(&self, i: usize) -> f64 {
+        if i == 0 && self.block.modal.diameter {
+            2.0
+        } else {
+            1.0
+        }
     }
 
     /// #5081…: the tool length offset acts along the plane's normal.

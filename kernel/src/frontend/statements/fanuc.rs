@@ -335,6 +335,7 @@ impl Interpreter<'_> {
         if modal {
             self.calls.modal = Some(ModalCall {
                 number,
+                repeats: call.repeats,
                 args: call.args,
             });
         } else {
@@ -628,5 +629,82 @@ mod tests {
         assert_eq!(a.code, AlarmCode::CallNesting);
         let a = run("fanuc", "WHILE [1 EQ 0] DO 1\nG0 X1.\n").unwrap_err();
         assert_eq!((a.code, a.line), (AlarmCode::ControlNesting, 1));
+    }
+}
+
+#[cfg(test)]
+mod review {
+    use super::super::super::run;
+    use crate::alarm::AlarmCode;
+    use crate::machine_data::MachineData;
+    use crate::tools::ToolTable;
+
+    fn xs(src: &str) -> Vec<f64> {
+        run("fanuc", src)
+            .unwrap_or_else(|a| panic!("{a}"))
+            .iter()
+            .filter_map(|b| b.motion.map(|m| m.end[0]))
+            .collect()
+    }
+
+    #[test]
+    fn a_program_stop_acts_after_the_last_move_of_its_block() {
+        let md = MachineData::load(
+            None,
+            &[
+                "dialect=fanuc".into(),
+                "axes.X.reference_positions=[-100.0, 0.0, 0.0, 0.0]".into(),
+            ],
+        )
+        .unwrap();
+        let b = crate::frontend::interpret(
+            "s.nc",
+            "G0 X10. Y10. Z20.\nG91 G28 X0. Y0. M30\n",
+            &md,
+            &ToolTable::builtin(),
+        )
+        .unwrap();
+        let last = b.last().unwrap();
+        assert_eq!(last.motion.unwrap().end[0], -100.0);
+        assert!(last.stop.is_some_and(|s| s.ends_program()));
+        assert!(b[1].stop.is_none(), "not at the intermediate point");
+    }
+
+    #[test]
+    fn jumps_and_program_ends_follow_the_text() {
+        // A `;` inside a comment ends no block: N20 is the real one.
+        assert_eq!(
+            xs("GOTO 20;(TOOL 3; N20 FOLLOWS)\nG0 X50.\nN20 G0 X99.\nM30\n"),
+            [99.0]
+        );
+        // A main program without an O line ends where the next O program begins.
+        assert_eq!(xs("G0 X1.\nO1000\nG0 X2.\nM99\n"), [1.0]);
+        // G66 L2 runs the macro twice after each move.
+        assert_eq!(
+            xs("O1\nG66 P9 L2\nG91 G0 X1.\nG67\nM30\nO9\nG91 G0 X10.\nM99\n"),
+            [1.0, 11.0, 21.0]
+        );
+    }
+
+    #[test]
+    fn pecks_and_present_positions_in_words() {
+        let md = MachineData::load(
+            None,
+            &[
+                "dialect=fanuc".into(),
+                "program.max_loop_iterations=10".into(),
+            ],
+        )
+        .unwrap();
+        let a = crate::frontend::interpret(
+            "p.nc",
+            "G0 Z10.\nG91 G99 G83 X10. Z-10. R-8. Q2. K3 F100.\n",
+            &md,
+            &ToolTable::builtin(),
+        )
+        .unwrap_err();
+        assert_eq!(a.code, AlarmCode::LoopLimit);
+        let b = run("fanuc", "G0 X10.\nG0 X[#5041+5.]\n").unwrap();
+        assert!(b[1].preprocess_stop && !b[0].preprocess_stop);
     }
 }

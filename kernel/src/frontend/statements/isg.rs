@@ -300,15 +300,21 @@ impl Interpreter<'_> {
     /// Counts one more loop pass; the budget covers the whole program, so nested loops are
     /// bounded by it too.
     pub(in crate::frontend) fn next_pass(&mut self, at: usize) -> R<()> {
+        self.add_passes(1, at)
+    }
+
+    /// Counts `n` more passes at once (a cycle's repetitions and pecks).
+    pub(in crate::frontend) fn add_passes(&mut self, n: u64, at: usize) -> R<()> {
         let max = self.md.program.max_loop_iterations;
-        if self.structures.loop_passes >= max {
+        let total = self.structures.loop_passes as u64 + n;
+        if total > max as u64 {
             return Err(fault(
                 AlarmCode::LoopLimit,
                 at,
                 format!("loops ran {max} passes (machine data program.max_loop_iterations, counted over the whole program)"),
             ));
         }
-        self.structures.loop_passes += 1;
+        self.structures.loop_passes = total as u32;
         Ok(())
     }
 

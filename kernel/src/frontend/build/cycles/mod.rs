@@ -165,6 +165,18 @@ impl Drilling {
         }
     }
 
+    /// No step is left (works out the next ones if it must).
+    pub fn done(&mut self) -> bool {
+        loop {
+            if !self.queue.is_empty() {
+                return false;
+            }
+            if !self.refill() {
+                return true;
+            }
+        }
+    }
+
     fn refill(&mut self) -> bool {
         match self.phase {
             Phase::Position => {
@@ -288,19 +300,23 @@ impl Interpreter<'_> {
         if repeats == 0 {
             return Ok(());
         }
-        // Each repetition after the first is a loop pass (nested in loops and calls, the
-        // repetitions stay bounded).
-        for _ in 1..repeats {
-            self.next_pass(block_col)?;
-        }
         let hole = self.hole(&mode, new, n, block_col)?;
+        // Every peck and every repetition after the first is a loop pass (nested in loops
+        // and calls, they stay bounded).
+        let pecks = match hole.kind {
+            CycleKind::HighSpeedPeck | CycleKind::Peck => {
+                libm::ceil((hole.bottom - hole.r).abs() / hole.q).max(1.0) as u64
+            }
+            _ => 1,
+        };
+        self.add_passes(repeats as u64 * pecks - 1, block_col)?;
         feed_for_cycle(new, block_col)?;
         let (target, step) = if self.coords.frame.active() {
             self.framed_hole_position(w, new, n, block_col)?
         } else {
             self.hole_position(w, new, n)
         };
-        self.expansion = Some(Expansion::Drilling(Drilling {
+        self.expansion = Some(Expansion::drilling(Drilling {
             hole,
             at: self.cur,
             target,
