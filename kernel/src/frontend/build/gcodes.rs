@@ -138,7 +138,6 @@ impl Interpreter<'_> {
             spindle_limit: false,
         };
         self.machine_coordinates = false;
-        let blk = &mut self.block;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
             match effect {
                 GEffect::Motion(m) => {
@@ -147,7 +146,7 @@ impl Interpreter<'_> {
                     new.motion = m
                 }
                 GEffect::Dwell => g.dwell = Some(code),
-                GEffect::ExactStopBlock => blk.exact_stop = true,
+                GEffect::ExactStopBlock => self.block.exact_stop = true,
                 GEffect::ExactStopModal(on) => new.exact_stop = on,
                 // A change while TRC is active was refused in step 2.
                 GEffect::Plane(p) => new.plane = p,
@@ -160,13 +159,15 @@ impl Interpreter<'_> {
                         TrcSide::Right if self.coords.frame.flips(new.plane) => TrcSide::Left,
                         s => s,
                     };
-                    blk.trc = Some(side);
+                    self.block.trc = Some(side);
                     new.trc = side;
                     g.trc_at = Some(at);
                 }
                 GEffect::Corner(cp) => new.corner = cp,
-                GEffect::Approach(sp) => blk.approach = Some(sp),
-                GEffect::Selection(sp) => new.selection = selection(&blk.modal, sp, code, at)?,
+                GEffect::Approach(sp) => self.block.approach = Some(sp),
+                GEffect::Selection(sp) => {
+                    new.selection = selection(&self.block.modal, sp, code, at)?
+                }
                 GEffect::FeedAdaption(fa) => new.feed_adaption = fa,
                 GEffect::Masking(on) => new.masking = on,
                 GEffect::WorkOffset(i) => new.work_offset = i,
@@ -188,36 +189,49 @@ impl Interpreter<'_> {
                 }
                 GEffect::WorkingArea { max } => g.working_area = Some(max),
                 GEffect::PoleHere => new.pole = self.cur,
-                GEffect::ModalMacroCancel => self.calls.modal = None,
-                GEffect::Cycle(kind) => g.cycle = Some(kind),
-                GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
-                GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
-                GEffect::PositionSetting => {
-                    // Its S is the spindle speed limit (Fanuc G92 S, lathe G50 S).
-                    g.setting = Some(super::settings::Setting::Position);
-                    g.spindle_limit = true;
-                }
-                GEffect::LocalCoordinates => g.setting = Some(super::settings::Setting::Local),
-                GEffect::DataSetting => g.setting = Some(super::settings::Setting::Data(code)),
-                GEffect::PolarCoordinates(on) => {
-                    let last = self.coords.polar.unwrap_or((0.0, 0.0));
-                    self.coords.polar = on.then_some(last);
-                }
-                GEffect::Mirror(on) => g.frame = Some(super::frames::FramePart::Mirror(on)),
-                GEffect::Scaling(on) => g.frame = Some(super::frames::FramePart::Scale(on)),
-                GEffect::Rotation(on) => g.frame = Some(super::frames::FramePart::Rotation(on)),
-                GEffect::MacroCall | GEffect::ModalMacroCall => {
-                    return Err(fault(
-                        AlarmCode::Syntax,
-                        at,
-                        format!("{} must stand first in its block", GName(code)),
-                    ))
-                }
-                GEffect::CycleCancel => self.cycle = None,
                 GEffect::Unsupported(_) => {}
+                other => self.program_effect(other, code, at, &mut g)?,
             }
         }
         Ok(g)
+    }
+
+    /// Step 4, the codes that change how the program runs or what the block's axis words
+    /// mean: canned cycles, reference return, settings, the frame, polar coordinates,
+    /// macro calls.
+    fn program_effect(&mut self, effect: GEffect, code: u16, at: u32, g: &mut BlockCodes) -> R<()> {
+        use super::frames::FramePart;
+        use super::settings::Setting;
+        match effect {
+            GEffect::Cycle(kind) => g.cycle = Some(kind),
+            GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
+            GEffect::CycleCancel => self.cycle = None,
+            GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
+            GEffect::PositionSetting => {
+                // Its S is the spindle speed limit (Fanuc G92 S, lathe G50 S).
+                g.setting = Some(Setting::Position);
+                g.spindle_limit = true;
+            }
+            GEffect::LocalCoordinates => g.setting = Some(Setting::Local),
+            GEffect::DataSetting => g.setting = Some(Setting::Data(code)),
+            GEffect::PolarCoordinates(on) => {
+                let last = self.coords.polar.unwrap_or((0.0, 0.0));
+                self.coords.polar = on.then_some(last);
+            }
+            GEffect::Mirror(on) => g.frame = Some(FramePart::Mirror(on)),
+            GEffect::Scaling(on) => g.frame = Some(FramePart::Scale(on)),
+            GEffect::Rotation(on) => g.frame = Some(FramePart::Rotation(on)),
+            GEffect::ModalMacroCancel => self.calls.modal = None,
+            GEffect::MacroCall | GEffect::ModalMacroCall => {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    at,
+                    format!("{} must stand first in its block", GName(code)),
+                ))
+            }
+            _ => {}
+        }
+        Ok(())
     }
 
     /// Step 4, a numbered work offset: the set is P (Fanuc G54.1 P1…P48).
