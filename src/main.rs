@@ -270,6 +270,10 @@ struct ProgramArgs {
     /// Work-offset file (TOML, docs/work-offsets.md); all work offsets zero if not given.
     #[arg(long, value_name = "FILE")]
     offsets: Option<PathBuf>,
+    /// Kept macro variables #500 … #999 (TOML, docs/fanuc.md): the values a program starts
+    /// with; `softnc run` also saves what the program leaves there.
+    #[arg(long, value_name = "FILE")]
+    macro_variables: Option<PathBuf>,
 }
 
 struct Loaded {
@@ -288,6 +292,9 @@ fn load(a: &ProgramArgs) -> Result<Loaded, Failure> {
     let mut md = MachineData::load(a.machine.as_deref(), &a.md).map_err(fail)?;
     if let Some(p) = &a.offsets {
         md.work_offsets = nc_kernel::WorkOffsets::load(p, &md).map_err(fail)?;
+    }
+    if let Some(p) = &a.macro_variables {
+        md.kept_variables = std::sync::Arc::new(nc_runtime::process::kept::load(p).map_err(fail)?);
     }
     let mut tools = match &a.tools {
         Some(p) => ToolTable::load(p).map_err(fail)?,
@@ -716,6 +723,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 tools: &l.tools,
                 tools_file: input.tools.as_deref(),
                 offsets_file: input.offsets.as_deref(),
+                macro_variables_file: input.macro_variables.as_deref(),
                 set: &input.set,
                 instance,
                 trace,

@@ -64,6 +64,11 @@ impl<'a> Gated<'a> {
         self.refused.as_ref()
     }
 
+    /// The kept macro variables as the path's program (not the checker's) left them.
+    pub fn kept_variables(&self) -> Option<Vec<(u32, f64)>> {
+        self.prep.kept_variables()
+    }
+
     /// Where the program starts: the position before its first motion.
     pub fn start(&self) -> crate::frontend::block::AxisPos {
         self.prep.start()

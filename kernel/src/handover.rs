@@ -33,6 +33,9 @@ pub const QUEUE: usize = 256;
 pub enum Report {
     Warning(Alarm),
     Alarm(Alarm),
+    /// The kept macro variables (#500 …) at the end of the program's preparation, to save
+    /// (docs/fanuc.md).
+    KeptVariables(Vec<(u32, f64)>),
 }
 
 /// The two threads' shared state.
@@ -275,6 +278,10 @@ fn feed(
             break;
         }
     }
+    // What the program wrote is kept, up to an alarm too (as the control keeps it).
+    if let Some(k) = path.kept_variables() {
+        report(Report::KeptVariables(k));
+    }
     push(Input::Done);
 }
 
@@ -397,7 +404,7 @@ fn answer(
             let _ = thread.join();
             let why = reports.try_iter().find_map(|r| match r {
                 Report::Alarm(a) => Some(a),
-                Report::Warning(_) => None,
+                Report::Warning(_) | Report::KeptVariables(_) => None,
             });
             Err(why.unwrap_or_else(|| Alarm {
                 code: crate::AlarmCode::PreparationFailed,

@@ -27,6 +27,7 @@ pub mod ipo;
 mod json;
 pub mod jsonl;
 mod machine_data;
+mod macro_variables;
 mod prep;
 mod programs;
 mod segment;
@@ -54,10 +55,13 @@ pub use dialect::work_offset_key;
 pub fn dialect_of(md: &MachineData) -> &'static dialect::Dialect {
     dialect::Dialect::get(md.dialect)
 }
+pub use macro_variables::{format_kept_variables, parse_kept_variables};
 pub use prep::{
     prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,
 };
 pub use programs::{LibraryProgram, ProgramLibrary};
 pub use segment::{Role, Segment, Shape, Source};
-pub use tools::{check_edit, offset_label, LiveEdit, LiveEdits, ToolOffset, ToolTable};
+pub use tools::{
+    check_edit, offset_label, write_atomic, LiveEdit, LiveEdits, ToolOffset, ToolTable,
+};
 pub use work_offsets::{WorkOffsetError, WorkOffsets, MAX_WORK_OFFSET};

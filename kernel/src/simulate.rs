@@ -114,6 +114,8 @@ pub fn run_with_progress(
         match r {
             Report::Warning(w) => summary.warnings.push(w),
             Report::Alarm(a) => summary.alarms.push(a),
+            // A simulation keeps nothing: the file of kept variables is the machine's.
+            Report::KeptVariables(_) => {}
         }
     }
     Ok(summary)

@@ -29,6 +29,8 @@ pub struct RunOptions<'a> {
     pub tools_file: Option<&'a Path>,
     /// The work-offset file nc-kernel reads and saves edits to.
     pub offsets_file: Option<&'a Path>,
+    /// Kept macro variables: read and saved by the kernel.
+    pub macro_variables_file: Option<&'a Path>,
     pub set: &'a [String],
     pub instance: Option<String>,
     pub trace: Option<PathBuf>,
@@ -316,6 +318,9 @@ impl Supervisor<'_> {
         }
         if let Some(f) = o.offsets_file {
             kernel.extend(["--offsets".into(), f.display().to_string()]);
+        }
+        if let Some(f) = o.macro_variables_file {
+            kernel.extend(["--macro-variables".into(), f.display().to_string()]);
         }
         self.start("nc-kernel", &kernel)?;
         let Some(port) = o.hmi else {

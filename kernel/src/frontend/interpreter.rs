@@ -90,7 +90,7 @@ impl<'a> Interpreter<'a> {
             cur: [0.0; 3],
             cur_add: [0.0; ADDITIONAL],
             vars: Variables::default(),
-            macros: MacroVariables::default(),
+            macros: MacroVariables::default().with_kept(&md.kept_variables),
             present_state_read: std::cell::Cell::new(false),
             calls: Calls::new(name, source.as_bytes()),
             coords: Default::default(),

@@ -317,6 +317,10 @@ pub struct MachineData {
     /// folder and `program.search_path`; kernel/src/programs.rs).
     #[serde(skip)]
     pub programs: std::sync::Arc<crate::programs::ProgramLibrary>,
+    /// The kept macro variables (#500 … #999) a run starts with (setting data: from the
+    /// `--macro-variables` file, kernel/src/macro_variables.rs).
+    #[serde(skip)]
+    pub kept_variables: std::sync::Arc<Vec<(u32, f64)>>,
 }
 
 /// A machine data problem: which file, which key, why.

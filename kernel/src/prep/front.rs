@@ -86,6 +86,11 @@ pub struct Front<'a> {
 }
 
 impl<'a> Front<'a> {
+    /// The interpreter's kept macro variables (#500 …).
+    pub fn kept_variables(&self) -> Vec<(u32, f64)> {
+        self.interp.kept_variables()
+    }
+
     pub fn new(name: &'a str, interp: Interpreter<'a>, md: &'a MachineData) -> Self {
         let rules = crate::dialect::Dialect::get(md.dialect).trc;
         let mut trc = Compensator::new(

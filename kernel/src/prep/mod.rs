@@ -139,6 +139,15 @@ impl<'a> Preparation<'a> {
         Self::with_front(name, FrontEnd::Threaded(front), start, md)
     }
 
+    /// The kept macro variables (#500 …) as the program has left them so far (`None` with the
+    /// front in a thread of its own: the runs that keep them prepare in one thread).
+    pub fn kept_variables(&self) -> Option<Vec<(u32, f64)>> {
+        match &self.front {
+            FrontEnd::Local(f) => Some(f.kept_variables()),
+            FrontEnd::Threaded(_) => None,
+        }
+    }
+
     fn with_front(
         name: &'a str,
         front: FrontEnd<'a>,

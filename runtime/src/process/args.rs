@@ -67,6 +67,10 @@ pub struct KernelArgs {
     /// saved if not given.
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// Kept macro variables #500 … #999 (TOML, docs/fanuc.md): read at each program load,
+    /// written when a program's preparation ends; none and not written if not given.
+    #[arg(long, value_name = "FILE")]
+    pub macro_variables: Option<PathBuf>,
     /// The IPO thread's SCHED_FIFO priority, 1 to 99.
     #[arg(long, value_name = "P", value_parser = priority, default_value_t = 80)]
     pub priority: i32,

@@ -11,6 +11,7 @@
 
 pub mod args;
 mod bus;
+pub mod kept;
 mod serve;
 
 pub use args::KernelArgs;
@@ -27,6 +28,9 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
     if let Some(p) = &args.offsets {
         md.work_offsets = nc_kernel::WorkOffsets::load(p, &md).map_err(|e| e.to_string())?;
     }
+    if let Some(p) = &args.macro_variables {
+        md.kept_variables = std::sync::Arc::new(kept::load(p)?);
+    }
     let tools = args.tool_table()?;
     if let Some(instance) = args.instance {
         return serve::run(serve::ServeOptions {
@@ -37,6 +41,7 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
             tools,
             tools_path: args.tools,
             offsets_path: args.offsets,
+            kept_path: args.macro_variables,
             priority: args.priority,
         });
     }
@@ -66,6 +71,11 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
             Report::Alarm(a) => {
                 alarms += 1;
                 eprintln!("{}", md.programs.render(a, &source));
+            }
+            Report::KeptVariables(k) => {
+                if let Some(path) = &args.macro_variables {
+                    kept::save(path, k)?;
+                }
             }
         }
     }

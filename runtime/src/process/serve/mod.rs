@@ -41,6 +41,9 @@ pub struct ServeOptions {
     /// Where work-offset edits are saved (`md.work_offsets` was read from it); `None`: not
     /// saved.
     pub offsets_path: Option<std::path::PathBuf>,
+    /// Where the kept macro variables are saved when a program's preparation ends
+    /// (`md.kept_variables` was read from it); `None`: not saved.
+    pub kept_path: Option<std::path::PathBuf>,
     pub priority: i32,
 }
 
@@ -81,6 +84,8 @@ struct Desk<'a> {
     /// The work offsets programs are loaded with (edited here), and their file.
     work: nc_kernel::WorkOffsets,
     work_path: Option<std::path::PathBuf>,
+    /// The kept macro variables, and their file.
+    kept: Kept,
     programs: HashMap<u32, Loaded>,
     next_id: u32,
     /// Offsets changed in NC stop since the program stopped: NC start resumes with them.
@@ -141,6 +146,10 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         tools_path: opts.tools_path,
         work: md.work_offsets.clone(),
         work_path: opts.offsets_path,
+        kept: Kept {
+            values: md.kept_variables.clone(),
+            path: opts.kept_path,
+        },
         programs,
         next_id,
         changed_in_stop: false,
@@ -158,6 +167,8 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         if let Some(t) = l.thread.take() {
             let _ = t.join();
         }
+        // What a program wrote into the kept variables is saved even at shutdown.
+        print_reports(&l, &mut desk.kept);
     }
     outcome?;
     joined.map_err(|_| {
@@ -494,11 +505,11 @@ fn control(
                 if let Some(t) = l.thread.take() {
                     let _ = t.join();
                 }
-                print_reports(&l);
+                print_reports(&l, &mut desk.kept);
             }
         }
         for l in desk.programs.values() {
-            print_reports(l);
+            print_reports(l, &mut desk.kept);
         }
         std::thread::sleep(Duration::from_millis(1));
     }
@@ -522,11 +533,28 @@ fn report_status(s: KernelStatus, last: &KernelStatus) -> KernelStatus {
     s
 }
 
-fn print_reports(l: &Loaded) {
+/// The kept macro variables (#500 …) the next program starts with, and their file.
+struct Kept {
+    values: Arc<Vec<(u32, f64)>>,
+    path: Option<std::path::PathBuf>,
+}
+
+/// A program's reports: alarms and warnings printed, kept variables taken and saved.
+fn print_reports(l: &Loaded, kept: &mut Kept) {
     for r in l.reports.try_iter() {
         match r {
             Report::Warning(w) | Report::Alarm(w) => {
                 eprintln!("{}", l.programs.render(&w, &l.source))
+            }
+            Report::KeptVariables(v) => {
+                if *kept.values != v {
+                    if let Some(path) = &kept.path {
+                        if let Err(e) = super::kept::save(path, &v) {
+                            eprintln!("nc-kernel: {e}");
+                        }
+                    }
+                    kept.values = Arc::new(v);
+                }
             }
         }
     }

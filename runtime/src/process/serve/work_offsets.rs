@@ -12,6 +12,7 @@ impl Desk<'_> {
     pub(super) fn program_md(&self) -> MachineData {
         let mut md = self.md.clone();
         md.work_offsets = self.work.clone();
+        md.kept_variables = self.kept.values.clone();
         md
     }
 
