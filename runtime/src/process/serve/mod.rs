@@ -53,6 +53,9 @@ struct Loaded {
     source: String,
     /// The subprogram files it calls (read at load; a resume prepares with the same).
     programs: std::sync::Arc<nc_kernel::ProgramLibrary>,
+    /// The kept macro variables it started with (a resume prepares again from them, so that
+    /// what it writes is not counted twice).
+    kept: Arc<Vec<(u32, f64)>>,
     /// Where the axes stood when it was loaded (its interpretation starts there).
     at: Option<nc_kernel::AxisPos>,
     /// Offset edits made while it runs, taken by its preparation at the next D.
@@ -282,6 +285,7 @@ impl Loaded {
             name,
             source,
             programs: md.programs.clone(),
+            kept: md.kept_variables.clone(),
             at,
             live,
             versions: (0, 0),
@@ -752,6 +756,7 @@ impl Desk<'_> {
         let (tools, live) = run_table(&self.tools);
         let mut md = self.program_md();
         md.programs = l.programs.clone();
+        md.kept_variables = l.kept.clone();
         let programs = l.programs.clone();
         let spawned = nc_kernel::handover::spawn_resume(
             l.name.clone(),
