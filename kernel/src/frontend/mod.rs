@@ -92,3 +92,13 @@ fn run(dialect: &str, src: &str) -> Result<Vec<Block>, Alarm> {
     let md = MachineData::load(None, &[format!("dialect={dialect}")]).expect("machine data");
     interpret("p", src, &md, &ToolTable::builtin())
 }
+
+/// The X of every move's end of a program that must run (`run`).
+#[cfg(test)]
+fn end_xs(dialect: &str, src: &str) -> Vec<f64> {
+    run(dialect, src)
+        .unwrap_or_else(|a| panic!("{a}"))
+        .iter()
+        .filter_map(|b| b.motion.map(|m| m.end[0]))
+        .collect()
+}

@@ -219,11 +219,7 @@ mod tests {
     use crate::alarm::AlarmCode;
 
     fn xs(src: &str) -> Vec<f64> {
-        run("fanuc", src)
-            .unwrap_or_else(|a| panic!("{a}"))
-            .iter()
-            .filter_map(|b| b.motion.map(|m| m.end[0]))
-            .collect()
+        super::super::super::end_xs("fanuc", src)
     }
 
     #[test]
