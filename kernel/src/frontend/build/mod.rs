@@ -147,10 +147,14 @@ impl Interpreter<'_> {
 }
 
 impl Interpreter<'_> {
-    /// A block with nothing programmed at the block being read (a statement's block).
-    pub(in crate::frontend) fn empty_block(&mut self, block_col: usize) {
-        let col = column(self.src, self.blk_line_start, block_col);
-        reset(&mut self.block, self.blk_line, col, self.blk_number);
+    /// A block with nothing programmed at a statement's place (its preprocessing stop).
+    pub(in crate::frontend) fn empty_block_at(
+        &mut self,
+        line: u32,
+        col: u32,
+        number: Option<BlockNo>,
+    ) {
+        reset(&mut self.block, line, col, number);
         self.block.words.clear();
     }
 

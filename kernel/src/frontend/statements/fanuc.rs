@@ -702,5 +702,12 @@ mod review {
         assert_eq!(a.code, AlarmCode::LoopLimit);
         let b = run("fanuc", "G0 X10.\nG0 X[#5041+5.]\n").unwrap();
         assert!(b[1].preprocess_stop && !b[0].preprocess_stop);
+        // A false WHILE that reads the position: its stop is at the WHILE, not at its END.
+        let b = run(
+            "fanuc",
+            "G0 X10.\n  WHILE [#5041 GT 100.] DO 1\nG0 X1.\nEND 1\nG0 X2.\n",
+        )
+        .unwrap();
+        assert_eq!((b[1].preprocess_stop, b[1].line, b[1].col), (true, 2, 3));
     }
 }

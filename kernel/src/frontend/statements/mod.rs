@@ -29,9 +29,13 @@ impl Interpreter<'_> {
             return self.isg_statement(c).map(|()| false);
         }
         self.present_state_read.set(false);
+        // The statement's own place: a jump, a skipped loop or a call moves the reading on.
+        let col = super::lexer::column(self.src, self.blk_line_start, block_col);
+        let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
         self.macro_statement(c, start)?;
         if self.present_state_read.get() {
-            self.empty_block(block_col);
+            self.empty_block_at(line, col, number);
+            self.block.program = program;
             self.block.preprocess_stop = true;
             return Ok(true);
         }
