@@ -81,6 +81,9 @@ pub enum AlarmCode {
     /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
     /// the number is the Sinumerik user-alarm range of SETAL).
     ProgramAlarm,
+    /// A message of the program for the operator, reported as a warning where preparation
+    /// reaches it (Fanuc `#3006 = n (message)`, which also stops there).
+    ProgramMessage,
 }
 
 impl AlarmCode {
@@ -119,6 +122,7 @@ impl AlarmCode {
             AlarmCode::JumpTarget => 14080,
             AlarmCode::CallNesting => 14012,
             AlarmCode::ProgramAlarm => 65000,
+            AlarmCode::ProgramMessage => 65001,
         }
     }
 }

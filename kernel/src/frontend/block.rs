@@ -515,6 +515,8 @@ pub struct Block {
     pub preprocess_stop: bool,
     /// The additional axes move in this block (with `motion`, which may stand still).
     pub axes: Option<AxisMove>,
+    /// A message for the operator with the block's stop (Fanuc `#3006 = 1 (MESSAGE)`).
+    pub message: Option<Box<str>>,
 }
 
 impl Block {
@@ -537,6 +539,7 @@ impl Block {
             calculation: false,
             preprocess_stop: false,
             axes: None,
+            message: None,
         }
     }
 

@@ -120,6 +120,10 @@ fn programmed(out: &mut impl Write, b: &Block) -> io::Result<()> {
     if let Some(st) = b.stop {
         write!(out, ",\"stop\":\"{}\"", st.code())?;
     }
+    if let Some(m) = &b.message {
+        out.write_all(b",\"message\":")?;
+        string(out, m)?;
+    }
     if b.offset_changed {
         out.write_all(b",\"offset_changed\":true")?;
     }

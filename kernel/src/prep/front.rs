@@ -154,6 +154,10 @@ impl<'a> Front<'a> {
         while let Some(w) = self.trc.take_warning() {
             self.warnings.push(alarm(self.name, self.programs, w));
         }
+        if let Some(m) = &block.message {
+            self.warnings
+                .push(message(self.name, self.programs, block, m));
+        }
         let info = BlockInfo {
             source: Source {
                 number: block.number,
@@ -421,6 +425,20 @@ fn additional_under_trc(main: &str, programs: &crate::ProgramLibrary, b: &Block)
         &source,
         "an additional axis cannot move before the deselection has reached the plane".to_string(),
     )
+}
+
+/// The program's message for the operator (`#3006`), as a warning at its block.
+#[cold]
+fn message(main: &str, programs: &crate::ProgramLibrary, b: &Block, text: &str) -> Alarm {
+    let source = Source {
+        number: b.number,
+        line: b.line,
+        col: b.col,
+        seq: 0,
+        program: b.program,
+    };
+    let name = source.program_name(main, programs);
+    Alarm::at(crate::AlarmCode::ProgramMessage, name, &source, text)
 }
 
 fn alarm(main: &str, programs: &crate::ProgramLibrary, f: TrcFault) -> Alarm {

@@ -202,6 +202,7 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
         calculation,
         preprocess_stop,
         axes,
+        message,
     } = b;
     *b_line = line;
     *b_col = col;
@@ -216,4 +217,5 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
     *calculation = false;
     *preprocess_stop = false;
     *axes = None;
+    *message = None;
 }

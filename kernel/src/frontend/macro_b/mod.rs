@@ -32,6 +32,8 @@ pub struct MacroVariables {
     common: Vec<Value>,
     /// #500 … #999.
     kept: Vec<Value>,
+    /// `#3006 = n (message)` was written: the statement's block stops with it.
+    pub stop_message: Option<Box<str>>,
 }
 
 impl Default for MacroVariables {
@@ -40,6 +42,7 @@ impl Default for MacroVariables {
             locals: [None; LOCALS],
             common: vec![None; 100],
             kept: vec![None; 500],
+            stop_message: None,
         }
     }
 }

@@ -127,6 +127,11 @@ impl Interpreter<'_> {
                 "#0 is always vacant and cannot be written",
             )),
             Slot::System(3000) => Err(self.program_alarm(v, at, message)),
+            // 0i-MF "#3006": stop after the blocks before, with the message shown.
+            Slot::System(3006) => {
+                self.macros.stop_message = Some(message.trim().into());
+                Ok(())
+            }
             Slot::System(n) => Err(fault(
                 AlarmCode::UndefinedName,
                 at,
@@ -641,6 +646,17 @@ mod review {
 
     fn xs(src: &str) -> Vec<f64> {
         super::super::super::end_xs("fanuc", src)
+    }
+
+    #[test]
+    fn a_message_stop_stops_with_its_message() {
+        let b = run("fanuc", "G0 X1.\n#3006=1(CHECK THE INSERT)\nG0 X2.\n").unwrap();
+        assert_eq!(b[1].stop, Some(crate::frontend::block::ProgramStop::Stop));
+        assert_eq!(
+            (b[1].message.as_deref(), b[1].line),
+            (Some("CHECK THE INSERT"), 2)
+        );
+        assert!(b[1].motion.is_none() && b[2].message.is_none());
     }
 
     #[test]

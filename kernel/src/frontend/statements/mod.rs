@@ -33,10 +33,15 @@ impl Interpreter<'_> {
         let col = super::lexer::column(self.src, self.blk_line_start, block_col);
         let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
         self.macro_statement(c, start)?;
-        if self.present_state_read.get() {
+        let message = self.macros.stop_message.take();
+        if self.present_state_read.get() || message.is_some() {
             self.empty_block_at(line, col, number);
             self.block.program = program;
-            self.block.preprocess_stop = true;
+            self.block.preprocess_stop = self.present_state_read.get();
+            if let Some(m) = message {
+                self.block.stop = Some(crate::frontend::block::ProgramStop::Stop);
+                self.block.message = Some(m);
+            }
             return Ok(true);
         }
         Ok(false)
