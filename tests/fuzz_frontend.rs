@@ -25,13 +25,14 @@ use std::sync::{Mutex, OnceLock};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-const DIALECTS: [&str; 6] = [
+const DIALECTS: [&str; 7] = [
     "siemens-840c",
     "isg",
     "fanuc",
     "siemens-808d",
     "fanuc-5axis",
     "siemens-808d-c",
+    "fanuc-lathe",
 ];
 
 /// Seconds one interpretation may take before the watchdog calls it a hang.
@@ -39,9 +40,10 @@ const HANG_SECS: u64 = 20;
 
 /// The shipped machine data of each dialect, with short loops. The 808D is the lathe (X and Z
 /// only, diameter programming), so unconfigured axes are exercised too; the 5-axis mill and
-/// the lathe with C add rotary axes (modulo and not).
-fn machines() -> &'static [MachineData; 6] {
-    static M: OnceLock<[MachineData; 6]> = OnceLock::new();
+/// the lathe with C add rotary axes (modulo and not); the Fanuc lathe has U/W increments,
+/// T aabb and G50.
+fn machines() -> &'static [MachineData; 7] {
+    static M: OnceLock<[MachineData; 7]> = OnceLock::new();
     M.get_or_init(|| {
         DIALECTS.map(|d| {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -295,8 +297,27 @@ const MACRO_WORDS: &[&str] = &[
 ];
 /// The rotary axes of the 5-axis machine, with and without macro values.
 #[rustfmt::skip]
+/// Words of the Fanuc lathe (G-code system A).
+#[rustfmt::skip]
+const LATHE_WORDS: &[&str] = &[
+    "U2.", "W-3.", "U-1.5", "W5.", "U", "W#1", "T0101", "T0100", "T0201", "T0102", "T9999",
+    "G50 S2000", "G50 X100. Z50.", "G50 U1.", "G99 F0.2", "G98 F100.", "G96 S180", "G97 S500",
+    "G28 U0. W0.", "X40.", "Z-10.", "G1 X20. Z-5. F0.1", "G2 X30. W-5. R5.", "G3 U10. W-5. R5.",
+    "G71 U2. R1.", "G90 X20. Z-10. F0.2", "X20. U2.", ",C1.", ",R2.", "G42", "G41", "G40",
+    "G4 U1.", "G4 X0.5", "G18", "G17 G0 X10. Y5.",
+];
+
 const FIVE_AXIS_WORDS: &[&str] = &[
-    "A30.", "A-15.", "C90.", "C-45.", "C400.", "A#1", "C#2", "A[#1*10]", "C[#100*15]", "C#5005",
+    "A30.",
+    "A-15.",
+    "C90.",
+    "C-45.",
+    "C400.",
+    "A#1",
+    "C#2",
+    "A[#1*10]",
+    "C[#100*15]",
+    "C#5005",
     "G1 A10. C20. F500.",
 ];
 /// Macro statements for the blocks of a Fanuc program, mostly valid. Repeat counts are at
@@ -318,14 +339,15 @@ const FANUC_STATEMENTS: &[&str] = &[
 type SoupBlock = (bool, u32, Vec<&'static str>, u8, &'static str);
 
 /// A program of blocks: mostly words of the dialect, now and then any token of the vocabulary.
-/// On a Fanuc machine (`which` 2 or 4), some blocks are macro statements, and `O`
+/// On a Fanuc machine (`which` 2, 4 or 6), some blocks are macro statements, and `O`
 /// subprograms may follow the main program.
 fn block_soup(which: usize) -> impl Strategy<Value = String> {
-    let fanuc = matches!(which, 2 | 4);
+    let fanuc = matches!(which, 2 | 4 | 6);
     let own: &'static [&'static str] = match which {
         0 => C840_WORDS,
         1 => ISG_WORDS,
         2 | 4 => FANUC_WORDS,
+        6 => LATHE_WORDS,
         _ => D808_WORDS,
     };
     let mut words = vec![
@@ -979,13 +1001,13 @@ proptest! {
 
     /// Arbitrary bytes, read the way `softnc parse` reads a file.
     #[test]
-    fn random_bytes(which in 0..6usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+    fn random_bytes(which in 0..7usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
         check(which, &String::from_utf8_lossy(&bytes))?;
     }
 
     /// Printable ASCII and line ends: reaches deeper than raw bytes.
     #[test]
-    fn random_ascii(which in 0..6usize, src in "[ -~\t\r\n]{0,200}") {
+    fn random_ascii(which in 0..7usize, src in "[ -~\t\r\n]{0,200}") {
         check(which, &src)?;
     }
 
@@ -1043,6 +1065,16 @@ proptest! {
     fn block_soup_5axis(src in block_soup(4)) {
         check(4, &src)?;
     }
+
+    #[test]
+    fn token_soup_fanuc_lathe(src in soup(true)) {
+        check(6, &src)?;
+    }
+
+    #[test]
+    fn block_soup_fanuc_lathe(src in block_soup(6)) {
+        check(6, &src)?;
+    }
 }
 
 proptest! {
@@ -1057,6 +1089,11 @@ proptest! {
     #[test]
     fn macro_programs_5axis(src in macro_programs::program(4)) {
         check(4, &src)?;
+    }
+
+    #[test]
+    fn macro_programs_fanuc_lathe(src in macro_programs::program(6)) {
+        check(6, &src)?;
     }
 }
 
