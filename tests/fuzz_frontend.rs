@@ -295,8 +295,6 @@ const MACRO_WORDS: &[&str] = &[
     "XSIN[#1*30]", "YCOS[#1*30]", "Y#100", "R#18", "I#4", "J#5", "G#10", "M#13", "S#19",
     "X#5001", "Y[#5002+1.]", "Z#5043", "X[#1 MOD 3]", "G1 X#24 Y#25 F#9", "G91 X#1", "G90",
 ];
-/// The rotary axes of the 5-axis machine, with and without macro values.
-#[rustfmt::skip]
 /// Words of the Fanuc lathe (G-code system A).
 #[rustfmt::skip]
 const LATHE_WORDS: &[&str] = &[
@@ -307,6 +305,8 @@ const LATHE_WORDS: &[&str] = &[
     "G4 U1.", "G4 X0.5", "G18", "G17 G0 X10. Y5.",
 ];
 
+/// The rotary axes of the 5-axis machine, with and without macro values.
+#[rustfmt::skip]
 const FIVE_AXIS_WORDS: &[&str] = &[
     "A30.",
     "A-15.",
