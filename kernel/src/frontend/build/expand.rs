@@ -9,13 +9,17 @@ use super::super::block::*;
 use super::super::fault::R;
 use super::super::interpreter::Interpreter;
 use super::cycles::Drilling;
-use crate::machine_data::ADDITIONAL;
 
 /// One move or action of an expanded block.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Step {
-    /// A move in machine coordinates: at rapid, or at the modal feed.
-    Move { to: Pos, rapid: bool },
+    /// A move in machine coordinates: at rapid, or at the modal feed; the additional axes
+    /// (U V W A B C) to `axes` with it, where given.
+    Move {
+        to: Pos,
+        rapid: bool,
+        axes: Option<Additional>,
+    },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
@@ -117,7 +121,14 @@ impl Interpreter<'_> {
     fn apply_step(&mut self, step: Step, modal: &mut ModalState) {
         let blk = &mut self.block;
         match step {
-            Step::Move { to, rapid } => {
+            Step::Move { to, rapid, axes } => {
+                if let Some(a) = axes.filter(|a| *a != self.cur_add) {
+                    blk.axes = Some(AxisMove {
+                        from: self.cur_add,
+                        to: a,
+                    });
+                    self.cur_add = a;
+                }
                 let moved = (0..3).fold(
                     0u16,
                     |m, i| {
@@ -161,5 +172,3 @@ impl Interpreter<'_> {
         }
     }
 }
-
-const _: () = assert!(ADDITIONAL > 0);

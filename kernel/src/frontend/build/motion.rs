@@ -163,7 +163,7 @@ impl Interpreter<'_> {
     /// Where the additional axes go for their words: mm (inch converted) or degrees,
     /// absolute (plus the work offset; a modulo axis within its turn, axes.rs) or
     /// incremental.
-    fn additional_end(&self, w: &Words, new: &ModalState) -> R<Additional> {
+    pub(super) fn additional_end(&self, w: &Words, new: &ModalState) -> R<Additional> {
         let offset = self.work_offset(new);
         let mut end = self.cur_add;
         for (k, a) in w.additional.iter().enumerate() {

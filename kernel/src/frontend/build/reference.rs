@@ -32,7 +32,6 @@ impl Interpreter<'_> {
                 ),
             ));
         }
-        self.no_additional_axes(w, "a reference point return (X Y Z only)")?;
         if self.coords.frame.active() {
             return Err(fault(
                 AlarmCode::NotSupported,
@@ -40,11 +39,11 @@ impl Interpreter<'_> {
                 format!("{} under a frame (mirror, scaling, rotation)", GName(code)),
             ));
         }
-        if w.axis.iter().all(Option::is_none) {
+        if w.axis.iter().chain(&w.additional).all(Option::is_none) {
             return Err(fault(
                 AlarmCode::MissingValue,
                 block_col,
-                format!("{} needs the axes that return (X Y Z)", GName(code)),
+                format!("{} needs the axes that return", GName(code)),
             ));
         }
         let k = if second { self.reference_number(w)? } else { 0 };
@@ -61,18 +60,42 @@ impl Interpreter<'_> {
                 reference[i] = r - if i == normal { new.length } else { 0.0 };
             }
         }
+        let (mid_axes, reference_axes) = self.additional_reference(w, new, k)?;
         self.expansion = Some(Expansion::of(&[
             Step::Move {
                 to: mid,
                 rapid: true,
+                axes: Some(mid_axes),
             },
             Step::Move {
                 to: reference,
                 rapid: true,
+                axes: Some(reference_axes),
             },
         ]));
         self.expand_first(new);
         Ok(())
+    }
+
+    /// The additional axes written (A, C …): their intermediate point and reference `k`
+    /// (a modulo axis the way its machine data says, within the turn).
+    fn additional_reference(
+        &self,
+        w: &Words,
+        new: &ModalState,
+        k: usize,
+    ) -> R<(
+        [f64; crate::machine_data::ADDITIONAL],
+        [f64; crate::machine_data::ADDITIONAL],
+    )> {
+        let mid = self.additional_end(w, new)?;
+        let mut reference = mid;
+        for (j, a) in w.additional.iter().enumerate() {
+            if let (Some(_), Some(ax)) = (a, self.md.axes.get(j + 3)) {
+                reference[j] = ax.absolute_target(mid[j], ax.reference_positions[k]);
+            }
+        }
+        Ok((mid, reference))
     }
 
     /// G30 P2…P4 (P2 if not written): the index into the reference positions.
@@ -127,6 +150,27 @@ mod tests {
         let a = crate::frontend::interpret("r.nc", "G30 P5 Z0.\n", &md, &ToolTable::builtin())
             .unwrap_err();
         assert_eq!((a.code, a.col), (AlarmCode::BadNumber, 5));
+    }
+
+    #[test]
+    fn rotary_axes_return_too_the_modulo_one_the_short_way() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/fanuc-5axis.toml");
+        let md = MachineData::load(Some(std::path::Path::new(path)), &[]).unwrap();
+        let b = crate::frontend::interpret(
+            "r.nc",
+            "G90 G0 X10. Y5. Z20. A-30. C270.\nG91 G28 A0. C0.\n",
+            &md,
+            &ToolTable::builtin(),
+        )
+        .unwrap();
+        // A (slot 3 of U V W A B C) and C (slot 5): the intermediate point is where they
+        // stand, so the second move takes them: A to 0; C, at 270 reached the short way as
+        // −90, turns the 90° on to 0.
+        let m = b[2].axes.expect("the axes move");
+        assert_eq!((m.from[3], m.to[3]), (-30.0, 0.0));
+        assert_eq!((m.from[5], m.to[5]), (-90.0, 0.0));
+        assert!(b[1].axes.is_none());
+        assert_eq!(b[2].motion.unwrap().end, [10.0, 5.0, 20.0]);
     }
 
     #[test]

@@ -247,7 +247,11 @@ impl Drilling {
     /// A move to `to`, left out if the tool is there.
     fn go(&mut self, to: Pos, rapid: bool) {
         if to != self.at {
-            self.push(Step::Move { to, rapid });
+            self.push(Step::Move {
+                to,
+                rapid,
+                axes: None,
+            });
             self.at = to;
         }
     }
