@@ -37,6 +37,26 @@ pub struct ToolOffset {
 }
 
 impl ToolOffset {
+    /// One of its four values, to write.
+    pub fn value_mut(&mut self, which: OffsetValue) -> &mut f64 {
+        match which {
+            OffsetValue::Length => &mut self.length,
+            OffsetValue::LengthWear => &mut self.length_wear,
+            OffsetValue::Radius => &mut self.radius,
+            OffsetValue::RadiusWear => &mut self.radius_wear,
+        }
+    }
+
+    /// One of its four values.
+    pub fn value(&self, which: OffsetValue) -> f64 {
+        match which {
+            OffsetValue::Length => self.length,
+            OffsetValue::LengthWear => self.length_wear,
+            OffsetValue::Radius => self.radius,
+            OffsetValue::RadiusWear => self.radius_wear,
+        }
+    }
+
     pub fn effective_radius(&self) -> f64 {
         self.radius + self.radius_wear
     }
@@ -275,12 +295,7 @@ impl ToolTable {
             self.radius_overrides.retain(|(k, _)| *k != d);
         }
         if let Some(o) = self.exact_mut(None, d) {
-            *match which {
-                OffsetValue::Length => &mut o.length,
-                OffsetValue::LengthWear => &mut o.length_wear,
-                OffsetValue::Radius => &mut o.radius,
-                OffsetValue::RadiusWear => &mut o.radius_wear,
-            } = value;
+            *o.value_mut(which) = value;
         }
     }
 

@@ -321,7 +321,7 @@ pub struct Dialect {
 
 impl Dialect {
     /// The work offsets selected by a G code of their own (G54 …).
-    fn coded_work_offsets(&self) -> u8 {
+    pub(crate) fn coded_work_offsets(&self) -> u8 {
         self.gcodes
             .iter()
             .filter_map(|def| match def.effect {

@@ -52,9 +52,8 @@ pub struct DoLoop {
 /// The program being read.
 #[derive(Clone, Copy, Debug)]
 pub struct Running {
-    /// Its O number and where its O line is, once that was read.
-    pub number: Option<u32>,
-    pub o_line: Option<usize>,
+    /// Where its O line is and its number, once that was read.
+    pub own: Option<(usize, u32)>,
     /// Where it starts (its O line, or the start of the text).
     pub start: Mark,
     /// Its file: 0 the main program's, k the program library's file k.
@@ -126,8 +125,7 @@ impl<'a> Calls<'a> {
             main_name,
             frames: Vec::new(),
             running: Running {
-                number: None,
-                o_line: None,
+                own: None,
                 start: (0, 1, 0),
                 program: 0,
                 started: false,
@@ -147,7 +145,7 @@ impl<'a> Calls<'a> {
 
     /// The running program's O number.
     pub fn program_number(&self) -> Option<u32> {
-        self.running.number
+        self.running.own.map(|(_, n)| n)
     }
 
     /// Inside a program called by G66 (its moves call nothing).
@@ -226,8 +224,7 @@ impl<'a> Interpreter<'a> {
         self.src = src;
         (self.pos, self.line, self.line_start) = start;
         self.calls.running = Running {
-            number: None,
-            o_line: None,
+            own: None,
             start,
             program,
             started: false,
@@ -285,26 +282,20 @@ impl<'a> Interpreter<'a> {
     }
 
     /// An `O` line at the cursor while reading (block_text): the running program's own O
-    /// line names it; the next one ends its text. Returns false for the program's own.
-    pub(super) fn o_line(&mut self, c: &Cursor, line_start_at: usize) -> bool {
-        if self.calls.running.o_line == Some(c.i) {
-            return false;
+    /// line names it; the next one ends its text.
+    pub(super) fn o_line(&mut self, c: &Cursor, line_start_at: usize) {
+        let running = &mut self.calls.running;
+        if running.own.is_some_and(|(at, _)| at == c.i) {
+            return;
         }
-        if self.calls.running.number.is_none() && !self.calls.running.started {
-            let mut n: u32 = 0;
-            let mut k = c.i + 1;
-            while let Some(d @ b'0'..=b'9') = c.b.get(k).copied().filter(|_| k < c.end) {
-                n = n.saturating_mul(10).saturating_add((d - b'0') as u32);
-                k += 1;
-            }
-            self.calls.running.number = Some(n);
-            self.calls.running.o_line = Some(c.i);
-            return false;
+        if running.own.is_none() && !running.started {
+            let n = o_number(c.b, c.i, c.end).unwrap_or(0);
+            running.own = Some((c.i, n));
+            return;
         }
         // The next program begins: the running one's text ends before its line.
         self.src = &self.src[..line_start_at.min(self.src.len())];
         self.pos = self.src.len();
-        true
     }
 
     /// The running program's text as `enter` takes it (to run it again).
@@ -356,7 +347,7 @@ impl<'a> Interpreter<'a> {
         n: u32,
         at: usize,
     ) -> R<Mark> {
-        let (start, own_o_line) = (running.start, running.o_line);
+        let (start, own_o_line) = (running.start, running.own.map(|(at, _)| at));
         let labels = self
             .calls
             .labels
@@ -399,15 +390,20 @@ fn first(src: &[u8], start: usize, end: usize) -> Option<(u8, usize)> {
     c.peek().map(|b| (b.to_ascii_uppercase(), c.i))
 }
 
+/// The program number of the `O` at `at` (digits up to `end`, no decimal point).
+fn o_number(b: &[u8], at: usize, end: usize) -> Option<u32> {
+    super::number::parse(b, at + 1)
+        .filter(|(n, e)| !n.has_point && *e <= end && n.value <= u32::MAX as f64)
+        .map(|(n, _)| n.value as u32)
+}
+
 /// Every `O` line of a file: program number → its mark.
 fn index_programs(file: &[u8]) -> HashMap<u32, Mark> {
     let mut out = HashMap::new();
     for (s, e, mark) in lines(file, (0, 1, 0)) {
         if let Some((b'O', i)) = first(file, s, e) {
-            let number =
-                super::number::parse(file, i + 1).filter(|(n, end)| !n.has_point && *end <= e);
-            if let Some((n, _)) = number {
-                out.entry(n.value as u32).or_insert(mark);
+            if let Some(n) = o_number(file, i, e) {
+                out.entry(n).or_insert(mark);
             }
         }
     }

@@ -26,18 +26,6 @@ pub struct Coordinates {
     pub polar: Option<(f64, f64)>,
 }
 
-impl Coordinates {
-    /// The program wrote the work offset table (the caller keeps it, as the control does).
-    pub fn written_work_offsets(&self) -> Option<&WorkOffsets> {
-        self.table.as_deref()
-    }
-
-    /// The program wrote tool offsets.
-    pub fn written_tools(&self) -> Option<&ToolTable> {
-        self.tools.as_deref()
-    }
-}
-
 impl Interpreter<'_> {
     /// The zero of set `set` in machine coordinates: the table's value and the shifts.
     #[inline(always)]

@@ -136,30 +136,12 @@ impl<'a> Interpreter<'a> {
         self
     }
 
-    /// The same interpreter with the kept macro variables (Fanuc #500 … #999) of an earlier
-    /// run: `(number, value)`; numbers outside 500 … 999 are ignored.
-    pub fn with_kept_variables(mut self, values: &[(u32, f64)]) -> Self {
-        self.macros = std::mem::take(&mut self.macros).with_kept(values);
-        self
-    }
-
     /// The kept macro variables (#500 … #999) that hold a value, to save after the run.
     pub fn kept_variables(&self) -> Vec<(u32, f64)> {
-        (500u32..)
+        crate::macro_variables::KEPT
             .zip(self.macros.kept())
             .filter_map(|(n, v)| v.map(|v| (n, v)))
             .collect()
-    }
-
-    /// The work offset table as the program left it, if it wrote it (Fanuc G10 L2/L20):
-    /// the caller keeps it, as the control keeps what a program writes.
-    pub fn written_work_offsets(&self) -> Option<&crate::work_offsets::WorkOffsets> {
-        self.coords.written_work_offsets()
-    }
-
-    /// The tool offsets as the program left them, if it wrote them (Fanuc G10 L10…L13).
-    pub fn written_tools(&self) -> Option<&ToolTable> {
-        self.coords.written_tools()
     }
 
     /// The position after the last block handed out.

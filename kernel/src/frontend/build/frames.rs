@@ -76,7 +76,7 @@ impl Interpreter<'_> {
                 })?;
                 let old = self.coords.frame.rotation.map_or(0.0, |(_, _, a)| a);
                 // Degrees, in the least input increment without a decimal point.
-                let r = self.unscaled(r, crate::machine_data::Units::Mm);
+                let r = self.in_program_units(r, crate::machine_data::Units::Mm);
                 let angle = match new.distance {
                     Distance::Absolute => r,
                     Distance::Incremental => old + r,

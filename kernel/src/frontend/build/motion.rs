@@ -42,20 +42,29 @@ pub fn in_range(x: f64) -> bool {
 impl Interpreter<'_> {
     /// A length value in mm: decimal-input switch, inch conversion.
     pub(in crate::frontend) fn length(&self, v: Val, units: Units) -> f64 {
-        let mut x = v.value;
-        if self.d.decimal_switch
-            && !v.has_point
-            && self.md.program.decimal_input == DecimalInput::Increment
-        {
-            x *= match units {
-                Units::Mm => self.md.program.least_input_increment_mm,
-                Units::Inch => self.md.program.least_input_increment_inch,
-            };
-        }
+        let x = self.in_program_units(v, units);
         if units == Units::Inch {
             x * 25.4
         } else {
             x
+        }
+    }
+
+    /// A value in program units with the decimal-input switch applied (Fanuc: without a
+    /// decimal point, least input increments), not yet converted from inch.
+    #[inline(always)]
+    pub(in crate::frontend) fn in_program_units(&self, v: Val, units: Units) -> f64 {
+        if self.d.decimal_switch
+            && !v.has_point
+            && self.md.program.decimal_input == DecimalInput::Increment
+        {
+            v.value
+                * match units {
+                    Units::Mm => self.md.program.least_input_increment_mm,
+                    Units::Inch => self.md.program.least_input_increment_inch,
+                }
+        } else {
+            v.value
         }
     }
 

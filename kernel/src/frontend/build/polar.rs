@@ -9,7 +9,7 @@ use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::words::{Val, Words};
 use crate::alarm::AlarmCode;
-use crate::machine_data::{DecimalInput, Units};
+use crate::machine_data::Units;
 
 impl Interpreter<'_> {
     /// The block's words with the plane's two words Cartesian.
@@ -29,10 +29,10 @@ impl Interpreter<'_> {
             ));
         }
         if let Some(v) = w.axis[a] {
-            r = self.unscaled(v, new.units);
+            r = self.in_program_units(v, new.units);
         }
         if let Some(v) = w.axis[o] {
-            angle = self.unscaled(v, Units::Mm);
+            angle = self.in_program_units(v, Units::Mm);
         }
         self.coords.polar = Some((r, angle));
         let (sin, cos) = (libm::sin(angle.to_radians()), libm::cos(angle.to_radians()));
@@ -49,22 +49,6 @@ impl Interpreter<'_> {
             has_point: true,
         });
         Ok(out)
-    }
-
-    /// A value in program units with the decimal-input switch applied (no inch
-    /// conversion: the Cartesian words go through it again).
-    pub(super) fn unscaled(&self, v: Val, units: Units) -> f64 {
-        let increment = self.d.decimal_switch
-            && !v.has_point
-            && self.md.program.decimal_input == DecimalInput::Increment;
-        if !increment {
-            return v.value;
-        }
-        v.value
-            * match units {
-                Units::Mm => self.md.program.least_input_increment_mm,
-                Units::Inch => self.md.program.least_input_increment_inch,
-            }
     }
 }
 

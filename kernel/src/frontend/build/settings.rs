@@ -50,7 +50,7 @@ impl Interpreter<'_> {
                 for (i, v) in self.axis_values(w, new)? {
                     self.coords.g52[i] = 0.0;
                     let base = self.work_offset_table().get(set)[i];
-                    self.coords.g92[i] = self.axis_now(i) - base - v;
+                    self.coords.g92[i] = self.axis_position().axis(i) - base - v;
                 }
                 Ok(())
             }
@@ -61,14 +61,6 @@ impl Interpreter<'_> {
                 Ok(())
             }
             Setting::Data(code) => self.data_input(w, new, code, block_col),
-        }
-    }
-
-    fn axis_now(&self, i: usize) -> f64 {
-        if i < 3 {
-            self.cur[i]
-        } else {
-            self.cur_add[i - 3]
         }
     }
 
@@ -150,12 +142,10 @@ impl Interpreter<'_> {
     /// The work offset set G10 L2 P (G54…G59 as P1…P6) or L20 P (G54.1 P) names.
     fn written_set(&self, l: u32, p: u32, at: Val) -> R<u8> {
         let set = if l == 2 {
-            let coded = (1..=self.d.work_offset_count())
-                .take_while(|&i| self.d.work_offset_name(i).is_some_and(|n| !n.contains(' ')));
-            coded
-                .last()
-                .filter(|&last| (1..=last as u32).contains(&p))
-                .map(|_| p as u8)
+            // P1 … P6: the sets with a G code of their own (G54 … G59).
+            (1..=self.d.coded_work_offsets() as u32)
+                .contains(&p)
+                .then_some(p as u8)
         } else {
             self.d.numbered_work_offset(p)
         };
@@ -198,12 +188,7 @@ impl Interpreter<'_> {
             let old = self
                 .tool_table()
                 .find(None, p)
-                .map_or(0.0, |o| match which {
-                    OffsetValue::Length => o.length,
-                    OffsetValue::LengthWear => o.length_wear,
-                    OffsetValue::Radius => o.radius,
-                    OffsetValue::RadiusWear => o.radius_wear,
-                });
+                .map_or(0.0, |o| o.value(which));
             old + v
         } else {
             v

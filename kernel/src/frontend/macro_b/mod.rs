@@ -21,7 +21,9 @@ pub use expr::Value;
 /// Local variables of one call level.
 pub const LOCALS: usize = 33;
 const COMMON: std::ops::RangeInclusive<i64> = 100..=199;
-const KEPT: std::ops::RangeInclusive<i64> = 500..=999;
+/// The kept range as the file has it (macro_variables.rs).
+const KEPT: std::ops::RangeInclusive<i64> =
+    *crate::macro_variables::KEPT.start() as i64..=*crate::macro_variables::KEPT.end() as i64;
 
 /// The `#` variable stores of one program run.
 #[derive(Clone, Debug)]

@@ -28,6 +28,7 @@ use super::{slot, Slot};
 use crate::alarm::AlarmCode;
 use crate::dialect::GEffect;
 use crate::machine_data::{Units, AXES};
+use crate::tools::OffsetValue;
 
 impl Store for Interpreter<'_> {
     fn read(&self, n: i64, at: usize) -> R<Value> {
@@ -36,15 +37,6 @@ impl Store for Interpreter<'_> {
             s => Ok(self.macros.program(s)),
         }
     }
-}
-
-/// Which of a tool offset's four values.
-#[derive(Clone, Copy)]
-enum Register {
-    HWear,
-    HGeometry,
-    DWear,
-    DGeometry,
 }
 
 impl Interpreter<'_> {
@@ -123,22 +115,14 @@ impl Interpreter<'_> {
 
     fn machine(&self, k: i64) -> Value {
         let i = self.axis_slot(k)?;
-        let p = if i < 3 {
-            self.cur[i]
-        } else {
-            self.cur_add[i - 3]
-        };
+        let p = self.axis_position().axis(i);
         Some(p * self.diameter_factor(i) / self.unit())
     }
 
     fn workpiece(&self, k: i64) -> Value {
         let i = self.axis_slot(k)?;
         let o = self.zero(self.block.modal.work_offset)[i];
-        let p = if i < 3 {
-            self.cur[i]
-        } else {
-            self.cur_add[i - 3]
-        };
+        let p = self.axis_position().axis(i);
         Some((p - o) * self.diameter_factor(i) / self.unit())
     }
 
@@ -177,22 +161,18 @@ impl Interpreter<'_> {
     }
 
     fn tool_register(&self, kind: i64, number: u32) -> Value {
-        let kind = match kind {
-            0 => Register::HWear,
-            1 => Register::HGeometry,
-            2 => Register::DWear,
-            _ => Register::DGeometry,
+        // Memory C: H wear, H geometry, D wear, D geometry.
+        let which = match kind {
+            0 => OffsetValue::LengthWear,
+            1 => OffsetValue::Length,
+            2 => OffsetValue::RadiusWear,
+            _ => OffsetValue::Radius,
         };
         // Every offset number exists on the control: one not in the table reads 0.
-        let Some(o) = self.tool_table().find(None, number) else {
-            return Some(0.0);
-        };
-        let v = match kind {
-            Register::HWear => o.length_wear,
-            Register::HGeometry => o.length,
-            Register::DWear => o.radius_wear,
-            Register::DGeometry => o.radius,
-        };
+        let v = self
+            .tool_table()
+            .find(None, number)
+            .map_or(0.0, |o| o.value(which));
         Some(v / self.unit())
     }
 

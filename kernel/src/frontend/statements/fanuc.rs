@@ -20,9 +20,9 @@ use super::super::interpreter::Interpreter;
 use super::super::lexer::Cursor;
 use super::super::macro_b::{expr, slot, Slot, Value, LOCALS};
 use super::super::number;
+use super::super::words::Val;
 use crate::alarm::AlarmCode;
 use crate::dialect::GEffect;
-use crate::machine_data::DecimalInput;
 
 /// WHILE … DO loops open at once (0i-MF: DO 1 … DO 3).
 const MAX_LOOPS: usize = 3;
@@ -64,9 +64,8 @@ impl Interpreter<'_> {
 
     /// The effect of a G code standing first in the block, if it is a whole number.
     fn leading_g(&self, c: &Cursor) -> Option<GEffect> {
-        let (n, next) = number::parse(c.b, c.i + 1).filter(|(_, e)| *e <= c.end)?;
+        let (n, _) = number::parse(c.b, c.i + 1).filter(|(_, e)| *e <= c.end)?;
         let whole = !n.has_point && n.value >= 0.0 && n.value < 1000.0;
-        let _ = next;
         whole
             .then(|| self.d.gcode(n.value as u16))
             .flatten()
@@ -79,7 +78,7 @@ impl Interpreter<'_> {
         let head = (start, self.blk_line, self.blk_line_start);
         match self.macro_kind(&c) {
             Some(Kind::Assign) => self.assign_statement(&mut c),
-            Some(Kind::If) => self.if_statement(&mut c, at),
+            Some(Kind::If) => self.if_statement(&mut c),
             Some(Kind::Goto) => {
                 c.i += 4;
                 let n = self.label_operand(&mut c, at)?;
@@ -162,7 +161,7 @@ impl Interpreter<'_> {
     }
 
     /// `IF [condition] GOTO n` or `IF [condition] THEN #i = …`.
-    fn if_statement(&mut self, c: &mut Cursor, at: usize) -> R<bool> {
+    fn if_statement(&mut self, c: &mut Cursor) -> R<bool> {
         c.i += 2;
         let cond = self.condition(c, "IF")?;
         c.skip_blanks();
@@ -189,7 +188,6 @@ impl Interpreter<'_> {
             // The statement is still read, so a syntax error shows at once.
             let mut probe = *c;
             expr::variable(&mut probe, &*self)?;
-            let _ = at;
             return Ok(false);
         }
         self.assign_statement(c)
@@ -329,7 +327,7 @@ impl Interpreter<'_> {
         c.i += 1;
         let (_, next) = number::parse(c.b, c.i).ok_or_else(|| syntax(at, "G code expected"))?;
         c.i = next;
-        let call = self.call_words(c, at)?;
+        let call = self.call_words(c)?;
         let number = call.program.ok_or_else(|| {
             fault(
                 AlarmCode::MissingValue,
@@ -359,7 +357,7 @@ impl Interpreter<'_> {
     /// The words of a G65/G66 block: P, L and the arguments (specification I, and II for
     /// repeated I J K: the n-th set goes to #4+3(n-1) …; a later word wins, as on the
     /// control).
-    fn call_words(&mut self, c: &mut Cursor, at: usize) -> R<CallWords> {
+    fn call_words(&mut self, c: &mut Cursor) -> R<CallWords> {
         let mut w = CallWords {
             program: None,
             repeats: 1,
@@ -409,7 +407,6 @@ impl Interpreter<'_> {
                 }
             }
         }
-        let _ = at;
         Ok(w)
     }
 
@@ -430,16 +427,8 @@ impl Interpreter<'_> {
             })?;
         c.i = next;
         let length = matches!(letter, b'A'..=b'C' | b'I'..=b'K' | b'Q' | b'R' | b'U'..=b'Z');
-        let increment = self.d.decimal_switch
-            && self.md.program.decimal_input == DecimalInput::Increment
-            && !n.has_point
-            && length;
-        Ok(Some(if increment {
-            n.value
-                * match self.block.modal.units {
-                    crate::machine_data::Units::Mm => self.md.program.least_input_increment_mm,
-                    crate::machine_data::Units::Inch => self.md.program.least_input_increment_inch,
-                }
+        Ok(Some(if length {
+            self.in_program_units(Val::new(n, at), self.block.modal.units)
         } else {
             n.value
         }))

@@ -155,13 +155,10 @@ pub struct Drilling {
 
 impl Drilling {
     pub fn next(&mut self) -> Option<Step> {
-        loop {
-            if let Some(s) = self.queue.pop_front() {
-                return Some(s);
-            }
-            if !self.refill() {
-                return None;
-            }
+        if self.done() {
+            None
+        } else {
+            self.queue.pop_front()
         }
     }
 
@@ -610,17 +607,20 @@ mod tests {
         assert_eq!(s.iter().filter(|(r, _)| !r).count(), 1);
     }
 
-    #[test]
-    fn taps_and_boring_cycles_work_the_spindle_at_the_bottom() {
-        let s = steps(&format!(
-            "{START}M3 S500\nG98 G84 X5. Z-8. R2. P500 F100.\nG80\n"
-        ));
+    /// The steps after the hole's bottom (X5 Z-8) of a cycle block run with the spindle on.
+    fn after_bottom(cycle: &str) -> Vec<(bool, [f64; 3])> {
+        let s = steps(&format!("{START}M3 S500\n{cycle}\nG80\n"));
         let bottom = s
             .iter()
             .position(|p| *p == (false, [5.0, 0.0, -8.0]))
             .unwrap();
+        s[bottom + 1..].to_vec()
+    }
+
+    #[test]
+    fn taps_and_boring_cycles_work_the_spindle_at_the_bottom() {
         assert_eq!(
-            s[bottom + 1..],
+            after_bottom("G98 G84 X5. Z-8. R2. P500 F100."),
             [
                 (false, [0.5, -1.0, -1.0]),
                 (true, [4.0, -2.0, -2.0]),
@@ -630,15 +630,8 @@ mod tests {
             ]
         );
         // G76: orient, shift +X by Q, out at rapid, shift back, spindle on again.
-        let s = steps(&format!(
-            "{START}M3 S500\nG98 G76 X5. Z-8. R2. Q0.5 F100.\nG80\n"
-        ));
-        let bottom = s
-            .iter()
-            .position(|p| *p == (false, [5.0, 0.0, -8.0]))
-            .unwrap();
         assert_eq!(
-            s[bottom + 1..],
+            after_bottom("G98 G76 X5. Z-8. R2. Q0.5 F100."),
             [
                 (true, [19.0, -2.0, -2.0]),
                 (true, [5.5, 0.0, -8.0]),
