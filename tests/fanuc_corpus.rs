@@ -1395,7 +1395,6 @@ fn c06_cam_contour_g41_arc_lead() {
 /// and reports a gouge, where they are air moves a Fanuc runs without alarm (its
 /// interference check looks three blocks ahead, and at directions, not distances).
 #[test]
-#[ignore = "softnc bug: the whole-program gouge check takes CAM lead-in/lead-out arcs for workpiece contour (alarm 3021 on N110 and N170)"]
 fn c06_cam_contour_g41_arc_lead_passes_check() {
     assert_check_passes(&path_of(C06), None);
 }

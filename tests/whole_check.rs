@@ -206,3 +206,102 @@ fn a_run_with_an_alarm_in_it_does_not_start() {
     assert_eq!(lines, [(1, Role::Uncompensated)]);
     assert_eq!((alarm.code, alarm.line), (a.code, 6));
 }
+
+/// A CAM outside profile with arc leads (docs/trc.md "Lead-in and lead-out elements"): G41
+/// in the approach line to (60, −20), a lead-in arc R20 about (40, −20) onto the bottom edge
+/// at (40, 0), clockwise round the rectangle 0..100 × 0..60 back to (40, 0), a lead-out arc
+/// about the same centre to (20, −20), G40. The tool (R10) runs along Y−10 under the bottom
+/// edge: the last edge's path crosses the lead-in arc at X57.32 (40 + 20 cos 30°), the first
+/// edge's crosses the lead-out arc at X22.68. Both arcs are air.
+const LED_PROFILE: &str = "G17 G90 G0 X60 Y-40 D1\nG1 F1000\nG41 X60 Y-20\n\
+    G3 X40 Y0 I-20 J0\nG1 X0 Y0\nG1 X0 Y60\nG1 X100 Y60\nG1 X100 Y0\nG1 X40 Y0\n\
+    G3 X20 Y-20 I0 J-20\nG40 G1 X20 Y-40\nM30\n";
+
+#[test]
+fn cam_leads_into_a_closed_profile_are_no_surface() {
+    // Without the rule both the window and the whole check see the crossings: the window
+    // alone with a reach of 64 (the shipped default) finds one.
+    let tools = ToolTable::builtin();
+    let md = machine(&[]);
+    let segs = nc_kernel::prepare("led", LED_PROFILE, &md, &tools).expect("the window");
+    let last = segs.iter().rfind(|s| s.role == Role::Retract).unwrap();
+    assert_eq!(last.to[..2], [20.0, -40.0]);
+    // The kernel's load-time check and the window ahead of the path: no alarm to the end.
+    let job = Job {
+        name: "led",
+        source: LED_PROFILE,
+        md: &md,
+        tools: &tools,
+        at: None,
+    };
+    let mut path = Gated::of_job(job);
+    while let Some(item) = path.next_item() {
+        item.expect("no alarm");
+    }
+    let prog = scratch("led.mpf");
+    std::fs::write(&prog, LED_PROFILE).unwrap();
+    let out = std::process::Command::new(EXE)
+        .arg("check")
+        .arg(&prog)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The same profile with the lead-in arc bent back into the part (about (40, 20), ending at
+/// (40, 0) going −X): it is still a lead, but its own tool path runs inside the rectangle and
+/// comes too close to the left edge's element and the bottom edge — a gouge of the part the
+/// check must report.
+#[test]
+fn a_lead_that_cuts_into_the_part_is_still_a_gouge() {
+    let text = LED_PROFILE.replace(
+        "G41 X60 Y-20\nG3 X40 Y0 I-20 J0",
+        "G41 X20 Y20\nG2 X40 Y0 I20 J0",
+    );
+    let md = machine(&["trc.bottleneck_window=0"]);
+    let tools = ToolTable::builtin();
+    let job = Job {
+        name: "led-in-part",
+        source: &text,
+        md: &md,
+        tools: &tools,
+        at: None,
+    };
+    let (_, alarm) = up_to_the_alarm(job);
+    assert_eq!(alarm.code, AlarmCode::ContourViolation, "{alarm}");
+}
+
+/// The far program closed into a loop (back along Y18 to X−20 and down to the run's start
+/// (−20, 0)) with a lead-out line after it: line 4 and line 207 are inside the loop, so the
+/// violation 203 blocks apart is still reported, both ways.
+#[test]
+fn a_far_violation_inside_a_closed_profile_is_still_reported() {
+    let text = far_program().replace(
+        "G1 X0 Y18\n",
+        "G1 X0 Y18\nG1 X-20 Y18\nG1 X-20 Y0\nG1 X-30 Y-10\n",
+    );
+    let prog = scratch("far-closed.mpf");
+    std::fs::write(&prog, text).unwrap();
+    let out = std::process::Command::new(EXE)
+        .arg("check")
+        .arg(&prog)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("far-closed.mpf:4:1: alarm 3021")
+            && stderr.contains("of the contour of line 207"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("far-closed.mpf:207:1: alarm 3021")
+            && stderr.contains("of the contour of line 4 "),
+        "{stderr}"
+    );
+}

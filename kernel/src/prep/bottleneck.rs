@@ -19,6 +19,7 @@
 //! is checked once more when it leaves the window; a gouge left, or a gap not closed, stays
 //! an alarm (no gouge-free path inside the window).
 
+use super::leads::{part_of, span_of};
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
@@ -245,6 +246,19 @@ impl Bottleneck {
         }
         let bb = bbox(&elem, 0.0);
         let fence = Fence::new(&elem);
+        // A path segment meets elements up to `depth` blocks before and after its own.
+        while self.programmed.len() >= 2 * self.depth(reaction) + 2 {
+            self.programmed.pop_front();
+        }
+        self.programmed.push_back(Programmed {
+            source,
+            elem,
+            fence,
+            bb,
+            r,
+            side,
+        });
+        let newest = self.programmed.len() - 1;
         let mut found = None;
         let (x, y) = self.held.as_slices();
         // Masking checks a segment when it leaves the window: a loop cut out later may drop
@@ -259,6 +273,9 @@ impl Bottleneck {
                 continue;
             }
             if let Some((d, radius)) = h.piece.too_close(&elem, &fence, h.r) {
+                if self.lead(newest) {
+                    break;
+                }
                 found = Some(Gouge {
                     path: h.seg.source,
                     element: source,
@@ -269,18 +286,6 @@ impl Bottleneck {
                 break;
             }
         }
-        // A path segment meets elements up to `depth` blocks before and after its own.
-        while self.programmed.len() >= 2 * self.depth(reaction) + 2 {
-            self.programmed.pop_front();
-        }
-        self.programmed.push_back(Programmed {
-            source,
-            elem,
-            fence,
-            bb,
-            r,
-            side,
-        });
         match (found, reaction) {
             (Some(g), Reaction::Warn) => Ok(Some(g)),
             (Some(g), _) => Err(g),
@@ -897,20 +902,32 @@ impl Bottleneck {
         own: bool,
     ) -> Option<Gouge> {
         let (a, b) = self.programmed.as_slices();
-        a.iter().chain(b).find_map(|p| {
+        a.iter().chain(b).enumerate().find_map(|(j, p)| {
             if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
                 return None;
             }
-            piece
-                .too_close(&p.elem, &p.fence, r)
-                .map(|(distance, radius)| Gouge {
-                    path,
-                    element: p.source,
-                    distance,
-                    radius,
-                    unjoined: false,
-                })
+            let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
+            // A lead of a closed contour is no surface (its own block's piece still is).
+            if p.source.seq != path.seq && self.lead(j) {
+                return None;
+            }
+            Some(Gouge {
+                path,
+                element: p.source,
+                distance,
+                radius,
+                unjoined: false,
+            })
         })
+    }
+
+    /// Whether programmed element `j` is a lead-in or lead-out of a contour that closes in the
+    /// window (prep/leads.rs). Decided when a violation is found, with what the window holds:
+    /// a loop closed later, or wider than the window, is left to the whole-program check.
+    #[inline(never)]
+    fn lead(&self, j: usize) -> bool {
+        let span = span_of(self.programmed.iter().map(|p| &p.elem));
+        !part_of(span, j as u32 + 1)
     }
 
     fn recount(&mut self) {

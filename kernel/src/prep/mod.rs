@@ -7,6 +7,7 @@
 pub mod bottleneck;
 pub mod front;
 pub mod jsonl;
+mod leads;
 pub mod resume;
 pub mod s_points;
 mod soft_limits;
@@ -334,12 +335,15 @@ impl<'a> Preparation<'a> {
     fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
         let mut seg = self.pop_centre_path()?;
         if let (Some(w), Some(s)) = (&mut self.whole, &seg) {
-            let mut gouges: heapless::Vec<Gouge, 1> = heapless::Vec::new();
-            w.segment(s, &mut |g| gouges.push(g).is_ok());
-            if let Some(g) = gouges.first() {
-                if self.whole_found(g) {
-                    seg = None;
-                }
+            // More than one only where a run ends and what waited for it is settled.
+            let collect = self.whole_mode == WholeMode::Collect;
+            let mut gouges = Vec::new();
+            w.segment(s, &mut |g| {
+                gouges.push(g);
+                !collect
+            });
+            if gouges.iter().any(|g| self.whole_found(g)) {
+                seg = None;
             }
         }
         if let Some(s) = &mut seg {
@@ -443,6 +447,20 @@ impl<'a> Preparation<'a> {
         gouges.iter().any(|g| self.whole_found(g))
     }
 
+    /// The program's end for the whole-program check: the violations that waited for the end
+    /// of the last run (prep/leads.rs). True when one ends preparation.
+    fn whole_finish(&mut self) -> bool {
+        let Some(w) = &mut self.whole else {
+            return false;
+        };
+        let mut gouges = Vec::new();
+        w.finish(&mut |g| {
+            gouges.push(g);
+            false
+        });
+        gouges.iter().any(|g| self.whole_found(g))
+    }
+
     /// A violation the whole-program check found; true when preparation ends with it (the
     /// segment at hand and what the window still holds do not go out).
     #[inline(never)]
@@ -534,6 +552,9 @@ impl<'a> Preparation<'a> {
                         return Err(self.gouge_alarm(&g));
                     }
                     return Ok(true);
+                }
+                if self.whole_finish() {
+                    continue;
                 }
                 if !self.ended {
                     self.ended = true;

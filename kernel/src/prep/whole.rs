@@ -13,6 +13,7 @@
 //! (the window's output).
 
 use super::bottleneck::{bbox, elem_in, overlap, Gouge, PathPiece};
+use super::leads::{in_span, part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{Elem, Fence, Measured};
@@ -31,6 +32,8 @@ struct Element {
     fence: Fence,
     bb: [f64; 4],
     side: i8,
+    /// Place in its run (prep/leads.rs).
+    ordinal: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -38,6 +41,8 @@ struct PathSegment {
     source: Source,
     /// A violation of it is on record: it is not reported again.
     reported: bool,
+    /// Violations of it waiting for the end of the run (at most `MAX_WAITING`).
+    waiting: u8,
     piece: PathPiece,
     r: f64,
     side: i8,
@@ -53,6 +58,9 @@ struct Grid {
     entries: Vec<(u32, u32)>,
     large: Vec<u32>,
 }
+
+/// Violations of one segment that wait for the end of its run, at most.
+const MAX_WAITING: u8 = 8;
 
 /// The end of a cell's list.
 const NONE: u32 = u32::MAX;
@@ -131,6 +139,11 @@ pub struct WholeCheck {
     /// The last element's tool radius and side: what a segment of a block without an
     /// element takes (as in the window).
     last: Option<(f64, i8)>,
+    /// The run's closed loops: which elements are the part and which its leads.
+    closure: Closure,
+    /// Violations of elements not (yet) known to be the part: the segment, the violation and
+    /// the element's ordinal; settled at the end of the run.
+    pending: Vec<(u32, Gouge, u32)>,
 }
 
 impl Default for WholeCheck {
@@ -152,6 +165,8 @@ impl WholeCheck {
             segment_seen: Vec::new(),
             stamp: 0,
             last: None,
+            closure: Closure::default(),
+            pending: Vec::new(),
         }
     }
 
@@ -181,15 +196,17 @@ impl WholeCheck {
             fence: Fence::new(&elem),
             bb: bbox(&elem, 0.0),
             side,
+            ordinal: self.closure.element(&elem),
         };
         let (cells, i) = self.add_element(e);
         let stamp = self.next_stamp();
-        let (segments, elements) = (&mut self.segments, &self.elements);
+        let span = self.closure.span();
+        let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
         let all = segments.len();
         self.segment_grid
             .each(cells, all, &mut self.segment_seen, stamp, |k| {
                 let s = &mut segments[k as usize];
-                report(s, &elements[i as usize], found)
+                report(s, k, &elements[i as usize], span, pending, found)
             });
     }
 
@@ -199,6 +216,7 @@ impl WholeCheck {
     /// run: what comes after it is met afresh.
     pub fn segment(&mut self, seg: &Segment, found: &mut impl FnMut(Gouge) -> bool) {
         if !matches!(seg.role, Role::Contour | Role::Corner | Role::Intermediate) {
+            self.settle(found);
             self.end_run(seg.source.seq);
             return;
         }
@@ -215,6 +233,7 @@ impl WholeCheck {
         let s = PathSegment {
             source: seg.source,
             reported: false,
+            waiting: 0,
             piece,
             r,
             side,
@@ -226,13 +245,41 @@ impl WholeCheck {
         self.segment_seen.push(0);
         self.segment_grid.insert(cells, i);
         let stamp = self.next_stamp();
-        let (segments, elements) = (&mut self.segments, &self.elements);
+        let span = self.closure.span();
+        let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
         let s = &mut segments[i as usize];
         self.element_grid
             .each(cells, elements.len(), &mut self.element_seen, stamp, |k| {
                 // One violation a segment: its first.
-                report(s, &elements[k as usize], found) || s.reported
+                report(s, i, &elements[k as usize], span, pending, found) || s.reported
             });
+    }
+
+    /// The program ends: violations still waiting for the run's end are settled.
+    pub fn finish(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
+        self.settle(found);
+    }
+
+    /// The run's contour is complete: a waiting violation of an element that is part of it
+    /// goes to `found` (in path order, one a segment), one of a lead is dropped.
+    fn settle(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
+        let span = self.closure.span();
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.sort_by_key(|p| p.0);
+        for (i, g, ordinal) in pending.drain(..) {
+            let Some(s) = self.segments.get_mut(i as usize) else {
+                continue;
+            };
+            if s.reported || !part_of(span, ordinal) {
+                continue;
+            }
+            s.reported = true;
+            if found(g) {
+                break;
+            }
+        }
+        self.pending = pending;
+        self.pending.clear();
     }
 
     /// The element of block `seq`, if the run has one (elements come in block order).
@@ -262,11 +309,14 @@ impl WholeCheck {
         self.element_seen.clear();
         self.element_grid.clear();
         self.segment_grid.clear();
+        self.closure.clear();
+        self.pending.clear();
         self.cell = 0.0;
-        for e in keep {
+        for mut e in keep {
             if self.cell == 0.0 {
                 self.cell = (8.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
             }
+            e.ordinal = self.closure.element(&e.elem);
             self.add_element(e);
         }
     }
@@ -302,15 +352,31 @@ impl WholeCheck {
     }
 }
 
-/// Segment `s` at element `e`: a gouge not reported before goes to `found` (its answer:
-/// stop looking).
-fn report(s: &mut PathSegment, e: &Element, found: &mut impl FnMut(Gouge) -> bool) -> bool {
+/// Segment `s` (index `i`) at element `e`: a gouge not reported before goes to `found` (its
+/// answer: stop looking) when `e` is part of the contour for certain (`span`), else it waits
+/// in `pending` for the end of the run (prep/leads.rs).
+fn report(
+    s: &mut PathSegment,
+    i: u32,
+    e: &Element,
+    span: Span,
+    pending: &mut Vec<(u32, Gouge, u32)>,
+    found: &mut impl FnMut(Gouge) -> bool,
+) -> bool {
     if s.reported {
         return false;
     }
     let Some(g) = gouge(s, e) else {
         return false;
     };
+    if !in_span(span, e.ordinal) {
+        // A lead is one to three elements at each end of a run: the first few suffice.
+        if s.waiting < MAX_WAITING {
+            s.waiting += 1;
+            pending.push((i, g, e.ordinal));
+        }
+        return false;
+    }
     s.reported = true;
     found(g)
 }
@@ -334,7 +400,7 @@ fn gouge(s: &PathSegment, e: &Element) -> Option<Gouge> {
 /// A fast hash for grid cells (the standard SipHash guards against inputs chosen to collide,
 /// which two integer coordinates of a part program are not).
 #[derive(Default, Clone, Copy)]
-struct Cells;
+pub(super) struct Cells;
 
 impl std::hash::BuildHasher for Cells {
     type Hasher = CellHasher;
@@ -343,7 +409,7 @@ impl std::hash::BuildHasher for Cells {
     }
 }
 
-struct CellHasher(u64);
+pub(super) struct CellHasher(u64);
 
 impl std::hash::Hasher for CellHasher {
     fn finish(&self) -> u64 {
