@@ -53,12 +53,6 @@ pub(super) struct Closure {
 }
 
 impl Closure {
-    pub fn clear(&mut self) {
-        self.seen.clear();
-        self.next = 0;
-        self.span = None;
-    }
-
     /// The next element of the run: its ordinal.
     pub fn element(&mut self, e: &Elem) -> u32 {
         if self.next == 0 {

@@ -424,8 +424,8 @@ impl<'a> Preparation<'a> {
         stop
     }
 
-    /// A programmed element for the whole-program check: true when a violation it found
-    /// ends preparation (collecting, every segment it finds too close is on record).
+    /// A programmed element for the whole-program check (what it finds is settled at the
+    /// end of the run).
     #[inline]
     fn whole_element(
         &mut self,
@@ -433,18 +433,11 @@ impl<'a> Preparation<'a> {
         element: Option<(crate::trc::geom::Elem, f64)>,
         plane: crate::frontend::block::Plane,
         side: i8,
-    ) -> bool {
-        let (Some(w), Some((e, r))) = (&mut self.whole, element) else {
-            return false;
-        };
-        w.set_plane(plane);
-        let collect = self.whole_mode == WholeMode::Collect;
-        let mut gouges = Vec::new();
-        w.element(source, e, r, side, &mut |g| {
-            gouges.push(g);
-            !collect
-        });
-        gouges.iter().any(|g| self.whole_found(g))
+    ) {
+        if let (Some(w), Some((e, r))) = (&mut self.whole, element) {
+            w.set_plane(plane);
+            w.element(source, e, r, side);
+        }
     }
 
     /// The program's end for the whole-program check: the violations that waited for the end
@@ -621,9 +614,7 @@ impl<'a> Preparation<'a> {
             }
             self.masking = info.masking;
             self.bottleneck.set_plane(info.plane);
-            if self.whole_element(source, element, info.plane, info.side) {
-                continue;
-            }
+            self.whole_element(source, element, info.plane, info.side);
             // The window meets every element (masking may begin with the next block).
             if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
                 let found = self

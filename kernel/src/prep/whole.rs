@@ -13,7 +13,7 @@
 //! (the window's output).
 
 use super::bottleneck::{bbox, elem_in, overlap, Gouge, PathPiece};
-use super::leads::{in_span, part_of, Closure, Span};
+use super::leads::{part_of, Closure};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{Elem, Fence, Measured};
@@ -32,8 +32,6 @@ struct Element {
     fence: Fence,
     bb: [f64; 4],
     side: i8,
-    /// Place in its run (prep/leads.rs).
-    ordinal: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -59,7 +57,8 @@ struct Grid {
     large: Vec<u32>,
 }
 
-/// Violations of one segment that wait for the end of its run, at most.
+/// Violations of one segment that wait for the end of its run, at most (a lead is one to
+/// three elements at each end of a run: the first few suffice).
 const MAX_WAITING: u8 = 8;
 
 /// The end of a cell's list.
@@ -139,10 +138,8 @@ pub struct WholeCheck {
     /// The last element's tool radius and side: what a segment of a block without an
     /// element takes (as in the window).
     last: Option<(f64, i8)>,
-    /// The run's closed loops: which elements are the part and which its leads.
-    closure: Closure,
-    /// Violations of elements not (yet) known to be the part: the segment, the violation and
-    /// the element's ordinal; settled at the end of the run.
+    /// Violations found in the run: the segment, the violation and the element's index;
+    /// settled at the end of the run, when its closed loops are known (prep/leads.rs).
     pending: Vec<(u32, Gouge, u32)>,
 }
 
@@ -165,7 +162,6 @@ impl WholeCheck {
             segment_seen: Vec::new(),
             stamp: 0,
             last: None,
-            closure: Closure::default(),
             pending: Vec::new(),
         }
     }
@@ -174,17 +170,10 @@ impl WholeCheck {
         self.plane = plane;
     }
 
-    /// A programmed contour element of block `source`, cut with radius `r` on `side`:
-    /// `found` gets each segment of the run already out that comes too close to it (one
-    /// not reported before), until it says to stop.
-    pub fn element(
-        &mut self,
-        source: Source,
-        elem: Elem,
-        r: f64,
-        side: i8,
-        found: &mut impl FnMut(Gouge) -> bool,
-    ) {
+    /// A programmed contour element of block `source`, cut with radius `r` on `side`: each
+    /// segment of the run already out that comes too close to it is on record for the end
+    /// of the run.
+    pub fn element(&mut self, source: Source, elem: Elem, r: f64, side: i8) {
         if self.cell == 0.0 {
             self.cell = (8.0 * r.abs()).max(1.0);
         }
@@ -196,27 +185,31 @@ impl WholeCheck {
             fence: Fence::new(&elem),
             bb: bbox(&elem, 0.0),
             side,
-            ordinal: self.closure.element(&elem),
         };
         let (cells, i) = self.add_element(e);
         let stamp = self.next_stamp();
-        let span = self.closure.span();
         let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
         let all = segments.len();
         self.segment_grid
             .each(cells, all, &mut self.segment_seen, stamp, |k| {
-                let s = &mut segments[k as usize];
-                report(s, k, &elements[i as usize], span, pending, found)
+                report(
+                    &mut segments[k as usize],
+                    k,
+                    &elements[i as usize],
+                    i,
+                    pending,
+                );
+                false
             });
     }
 
-    /// A segment of the tool-centre path as it goes out: `found` gets the first element of
-    /// its run it comes too close to, if any. A segment that is no contour, corner or
-    /// intermediate block (an approach, a retract, a move without compensation) ends the
-    /// run: what comes after it is met afresh.
+    /// A segment of the tool-centre path as it goes out: each element of its run it comes
+    /// too close to is on record. A segment that is no contour, corner or intermediate
+    /// block (an approach, a retract, a move without compensation) ends the run: `found`
+    /// gets its violations (until it says to stop), and what comes after is met afresh.
     pub fn segment(&mut self, seg: &Segment, found: &mut impl FnMut(Gouge) -> bool) {
         if !matches!(seg.role, Role::Contour | Role::Corner | Role::Intermediate) {
-            self.settle(found);
+            self.settle(Some(seg.source.seq), found);
             self.end_run(seg.source.seq);
             return;
         }
@@ -245,32 +238,41 @@ impl WholeCheck {
         self.segment_seen.push(0);
         self.segment_grid.insert(cells, i);
         let stamp = self.next_stamp();
-        let span = self.closure.span();
         let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
         let s = &mut segments[i as usize];
         self.element_grid
             .each(cells, elements.len(), &mut self.element_seen, stamp, |k| {
-                // One violation a segment: its first.
-                report(s, i, &elements[k as usize], span, pending, found) || s.reported
+                report(s, i, &elements[k as usize], k, pending);
+                false
             });
     }
 
     /// The program ends: violations still waiting for the run's end are settled.
     pub fn finish(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
-        self.settle(found);
+        self.settle(None, found);
     }
 
-    /// The run's contour is complete: a waiting violation of an element that is part of it
-    /// goes to `found` (in path order, one a segment), one of a lead is dropped.
-    fn settle(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
-        let span = self.closure.span();
+    /// The run's contour is complete (it ends before the block of `end`; the elements of
+    /// later blocks belong to the next): a violation of an element that is part of it goes
+    /// to `found` (in path order, one a segment), one of a lead is dropped.
+    fn settle(&mut self, end: Option<u32>, found: &mut impl FnMut(Gouge) -> bool) {
+        if self.pending.is_empty() {
+            return;
+        }
+        let mut closure = Closure::default();
+        let before = |e: &&Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
+        for e in self.elements.iter().take_while(before) {
+            closure.element(&e.elem);
+        }
+        let span = closure.span();
         let mut pending = std::mem::take(&mut self.pending);
         pending.sort_by_key(|p| p.0);
         for (i, g, ordinal) in pending.drain(..) {
             let Some(s) = self.segments.get_mut(i as usize) else {
                 continue;
             };
-            if s.reported || !part_of(span, ordinal) {
+            // One violation a segment: its first in the part.
+            if s.reported || !part_of(span, ordinal + 1) {
                 continue;
             }
             s.reported = true;
@@ -309,14 +311,12 @@ impl WholeCheck {
         self.element_seen.clear();
         self.element_grid.clear();
         self.segment_grid.clear();
-        self.closure.clear();
         self.pending.clear();
         self.cell = 0.0;
-        for mut e in keep {
+        for e in keep {
             if self.cell == 0.0 {
                 self.cell = (8.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
             }
-            e.ordinal = self.closure.element(&e.elem);
             self.add_element(e);
         }
     }
@@ -352,33 +352,17 @@ impl WholeCheck {
     }
 }
 
-/// Segment `s` (index `i`) at element `e`: a gouge not reported before goes to `found` (its
-/// answer: stop looking) when `e` is part of the contour for certain (`span`), else it waits
-/// in `pending` for the end of the run (prep/leads.rs).
-fn report(
-    s: &mut PathSegment,
-    i: u32,
-    e: &Element,
-    span: Span,
-    pending: &mut Vec<(u32, Gouge, u32)>,
-    found: &mut impl FnMut(Gouge) -> bool,
-) -> bool {
-    if s.reported {
-        return false;
+/// Segment `s` (index `i`) at element `e` (index `k`): a violation waits in `pending` for
+/// the end of the run, where it is reported if `e` is part of the contour and not a lead
+/// (prep/leads.rs). A segment keeps its first few.
+fn report(s: &mut PathSegment, i: u32, e: &Element, k: u32, pending: &mut Vec<(u32, Gouge, u32)>) {
+    if s.reported || s.waiting >= MAX_WAITING {
+        return;
     }
-    let Some(g) = gouge(s, e) else {
-        return false;
-    };
-    if !in_span(span, e.ordinal) {
-        // A lead is one to three elements at each end of a run: the first few suffice.
-        if s.waiting < MAX_WAITING {
-            s.waiting += 1;
-            pending.push((i, g, e.ordinal));
-        }
-        return false;
+    if let Some(g) = gouge(s, e) {
+        s.waiting += 1;
+        pending.push((i, g, k));
     }
-    s.reported = true;
-    found(g)
 }
 
 /// The gouge of segment `s` at element `e`, if it comes too close (its own block's element,
