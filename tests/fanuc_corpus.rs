@@ -14,8 +14,8 @@
 //! runs with the machine data's own (1 mm).
 
 use nc_kernel::{
-    AlarmCode, Block, Distance, Interpreter, MachineData, MotionKind, MotionMode, ToolTable,
-    TrcSide, WorkOffsets,
+    AlarmCode, Block, Distance, Interpreter, MachineData, MotionKind, MotionMode, Preparation,
+    Role, ToolTable, TrcSide, WorkOffsets,
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -1991,6 +1991,76 @@ fn c21_cam_contour_g41_line_lead() {
         sides(&b),
         [(TrcSide::Off, 0), (TrcSide::Left, 2), (TrcSide::Off, 2)]
     );
+}
+
+#[test]
+fn c22_g40_exit_vector() {
+    // c21's profile in two depth passes, each cancelled by G40 with an exit vector I J.
+    let mut want = vec![
+        [-20.0, -10.0, 0.0],  // N40
+        [-20.0, -10.0, 15.0], // N50
+        [-20.0, -10.0, 3.0],  // N70
+    ];
+    for z in [-5.0, -10.0] {
+        want.extend([
+            [-20.0, -10.0, z], // N80 / N180
+            [0.0, 0.0, z],     // N90 G41 D2
+            [0.0, 40.0, z],    // N100
+            [10.0, 50.0, z],   // N110 G2 R10
+            [60.0, 50.0, z],   // N120
+            [80.0, 30.0, z],   // N130 G2 I0 J-20
+            [80.0, 0.0, z],    // N140
+            [10.0, 0.0, z],    // N150
+            [-20.0, -10.0, z], // N160 G40 I J: the vector moves no axis
+        ]);
+        want.push([-20.0, -10.0, if z == -5.0 { 3.0 } else { 15.0 }]); // N170 / N270
+    }
+    want.extend([
+        [-20.0, -10.0, 15.0],  // N300 G91 G28 Z0.
+        [-20.0, -10.0, -80.0], // 0 − H2's 80
+    ]);
+    let file = "c22_g40_exit_vector.nc";
+    let b = run_clean(file, Tape::AsWritten, None, &want, EXACT);
+    let vectors: Vec<_> = b.iter().filter_map(|b| b.exit_vector.as_deref()).collect();
+    assert_eq!(vectors, [&[-10.0, -10.0, 0.0], &[-10.0, 10.0, 0.0]]);
+    // The tool centre (D2, R 5): N150 runs west on y = −5. The virtual block leaves (10, 0)
+    // along the vector v, its equidistant through (10, 0) + 5·left(v/|v|).
+    // N160, I−10 J−10 (a left turn, towards the tool: inner): through
+    // (10 + 2.5√2, −2.5√2) along (−1, −1), y = −5 at x = 5 + 5√2 ≈ 12.071, short of the
+    // normal position (10, −5).
+    // N260, I−10 J10 (a right turn: outer, and still the intersection): through
+    // (10 − 2.5√2, −2.5√2) along (−1, 1), y = −5 at x = 15 − 5√2 ≈ 7.929, past it.
+    let r2 = std::f64::consts::SQRT_2;
+    let path = tool_path(file);
+    let seg = |line: u32, role: Role| {
+        let s = path.iter().rfind(|s| s.0 == line && s.1 == role);
+        *s.unwrap_or_else(|| panic!("{file}: no {role:?} on line {line}: {path:?}"))
+    };
+    for (line, x) in [(18, 5.0 + 5.0 * r2), (29, 15.0 - 5.0 * r2)] {
+        let end = seg(line, Role::Contour).3;
+        assert!(
+            close([end[0], end[1], 0.0], [x, -5.0, 0.0], EXACT),
+            "{file}: line {line} ends at {end:?}, want ({x}, -5)"
+        );
+        // The cancel block starts there and runs uncompensated to (−20, −10).
+        let (_, _, from, to) = seg(line + 1, Role::Retract);
+        assert!(from == end && close([to[0], to[1], 0.0], [-20.0, -10.0, 0.0], EXACT));
+    }
+}
+
+/// The tool-centre path of a corpus program (`Preparation`, as `softnc path`): (line, role,
+/// from, to) of every segment.
+fn tool_path(file: &str) -> Vec<(u32, Role, P, P)> {
+    let (text, md, tools) = (source(file), machine(None), ToolTable::builtin());
+    let mut p = Preparation::new(file, &text, &md, &tools);
+    let mut out = Vec::new();
+    while let Some(s) = p
+        .next_segment()
+        .unwrap_or_else(|a| panic!("{}", a.render(&text)))
+    {
+        out.push((s.source.line, s.role, s.from, s.to));
+    }
+    out
 }
 
 // ---------------------------------------------------------------------------------------

@@ -144,4 +144,5 @@ pub(super) const TRC: TrcRules = TrcRules {
     no_plane_move: NoPlaneMove::OffsetOnly,
     not_linear: AlarmCode::FanucTrcNotLinear,
     intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+    exit_vector: true,
 };

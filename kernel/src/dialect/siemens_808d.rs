@@ -112,5 +112,6 @@ pub static DIALECT: Dialect = Dialect {
         no_plane_move: NoPlaneMove::Wait,
         not_linear: AlarmCode::TrcSelectionNotLinear,
         intersection_cap_deg: super::siemens_840c::INTERSECTION_CAP_DEG,
+        exit_vector: false,
     },
 };

@@ -130,5 +130,6 @@ pub static DIALECT: Dialect = Dialect {
         no_plane_move: NoPlaneMove::Wait,
         not_linear: AlarmCode::TrcSelectionNotLinear,
         intersection_cap_deg: INTERSECTION_CAP_DEG,
+        exit_vector: false,
     },
 };

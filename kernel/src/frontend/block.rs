@@ -268,6 +268,10 @@ pub enum SelectionPolicy {
     WithoutBlock,
     /// ISG G05 (non-modal)
     Tangential,
+    /// Fanuc C cancel with I J K (block-level, never modal): the last element ends where its
+    /// equidistant meets that of a virtual block along the vector, inner corner or outer; in
+    /// the normal position where they do not meet.
+    ExitVector,
 }
 
 impl SelectionPolicy {
@@ -282,6 +286,7 @@ impl SelectionPolicy {
             SelectionPolicy::InnerCorner => "inner-corner",
             SelectionPolicy::WithoutBlock => "without-block",
             SelectionPolicy::Tangential => "tangential",
+            SelectionPolicy::ExitVector => "exit-vector",
         }
     }
 }
@@ -517,6 +522,10 @@ pub struct Block {
     pub axes: Option<AxisMove>,
     /// A message for the operator with the block's stop (Fanuc `#3006 = 1 (MESSAGE)`).
     pub message: Option<Box<str>>,
+    /// Fanuc I J K in a compensation cancel block: the direction of the virtual block the
+    /// last element's end corner is built against, in basic coordinates. Boxed: rare, and
+    /// the plain path copies every block.
+    pub exit_vector: Option<Box<Pos>>,
 }
 
 impl Block {
@@ -540,6 +549,7 @@ impl Block {
             preprocess_stop: false,
             axes: None,
             message: None,
+            exit_vector: None,
         }
     }
 

@@ -94,6 +94,11 @@ impl Frame {
         })
     }
 
+    /// A direction (a vector between two programmed points) in the frame: its linear part.
+    pub fn turn(&self, v: Pos) -> Pos {
+        std::array::from_fn(|i| self.m[i][0] * v[0] + self.m[i][1] * v[1] + self.m[i][2] * v[2])
+    }
+
     /// The programmed point that the frame takes to `q` (a position back into program
     /// terms, for incremental words). `None` if a scale factor is 0.
     pub fn invert(&self, q: Pos) -> Option<Pos> {

@@ -110,6 +110,10 @@ fn programmed(out: &mut impl Write, b: &Block) -> io::Result<()> {
     if let Some(a) = b.approach {
         write!(out, ",\"approach\":\"{}\"", a.name())?;
     }
+    if let Some(v) = &b.exit_vector {
+        out.write_all(b",\"exit_vector\":")?;
+        pos(out, v)?;
+    }
     if b.exact_stop {
         out.write_all(b",\"exact_stop\":true")?;
     }
@@ -134,4 +138,27 @@ fn programmed(out: &mut impl Write, b: &Block) -> io::Result<()> {
         out.write_all(b",\"preprocess_stop\":true")?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fanuc's exit vector appears in its cancel block only (docs/parse-format.md).
+    #[test]
+    fn the_exit_vector_is_written_with_its_block() {
+        let b =
+            super::super::run("fanuc", "G41 D1 G1 X0. Y10. F100.\nG40 X0. Y0. I10. J0.\n").unwrap();
+        let text = |b: &Block| {
+            let mut out = Vec::new();
+            write_block(&mut out, b, DialectName::Fanuc).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        assert!(!text(&b[0]).contains("exit_vector"));
+        assert!(
+            text(&b[1]).contains(",\"exit_vector\":[10,0,0]"),
+            "{}",
+            text(&b[1])
+        );
+    }
 }

@@ -275,6 +275,12 @@ pub fn side_change(o1: &Elem, o2: &Elem) -> Corner {
     }
 }
 
+/// Fanuc C, G40 with I J K: where the equidistant `o1` (ending at P1) meets `o2` (starting
+/// at P2), inner corner or outer, the intersection nearest both as at an inner corner.
+pub fn crossing(o1: &Elem, o2: &Elem) -> Option<V2> {
+    nearest_intersection(o1, o2, o1.end(), o2.start())
+}
+
 /// ISG contour masking where the equidistants `o1` and `o2` do not meet: the path leaves a
 /// gap from one normal position to the other, which the bottleneck window closes where the
 /// equidistants meet further out (prep/bottleneck.rs).

@@ -1,7 +1,8 @@
 //! Deselecting TRC: how the tool leaves the last equidistant for the programmed end point
-//! of the deselection block (840C 11.5, 11.5.1; 808D G40; Fanuc C cancel; ISG G138/G139/G05/G239).
+//! of the deselection block (840C 11.5, 11.5.1; 808D G40; Fanuc C cancel, with I J K too; ISG
+//! G138/G139/G05/G239).
 
-use super::corner::{classify, corner, CornerError, CornerKind, CornerSettings};
+use super::corner::{classify, corner, crossing, CornerError, CornerKind, CornerSettings};
 use super::geom::{Elem, V2};
 use super::selection::tangent_arc;
 use crate::frontend::block::SelectionPolicy;
@@ -17,7 +18,8 @@ pub struct Exit {
 }
 
 /// The exit from the last element `en` (equidistant `on`, offset `d`) through a deselection
-/// block ending at `f`; `dir` is that block's direction of travel at its start.
+/// block ending at `f`; `dir` is that block's direction of travel at its start, or under
+/// [`SelectionPolicy::ExitVector`] the direction of the vector I J K.
 pub fn exit(
     en: &Elem,
     on: &Elem,
@@ -28,11 +30,7 @@ pub fn exit(
     s: &CornerSettings,
 ) -> Result<Exit, CornerError> {
     let p1 = on.end();
-    let normal = Exit {
-        end: p1,
-        pieces: heapless::Vec::new(),
-        path: Elem::Line { a: p1, b: f },
-    };
+    let normal = straight_from(p1, f);
     let Some(dir) = dir else {
         return Ok(normal);
     };
@@ -61,6 +59,12 @@ pub fn exit(
             }
         }
         SelectionPolicy::Indirect => compensated(),
+        // Fanuc 0i-MF, "Tool movement in offset mode cancel", G40 with I J K: a virtual block
+        // from the last element's end along the vector, on the same side; the intersection
+        // whether the corner is inner or outer, the normal position where there is none.
+        SelectionPolicy::ExitVector => {
+            Ok(crossing(on, &ol).map_or(normal, |x| straight_from(x, f)))
+        }
         SelectionPolicy::Tangential => Ok(Exit {
             end: p1,
             pieces: heapless::Vec::new(),
@@ -69,6 +73,15 @@ pub fn exit(
         // 840C G456, 808D ("the normal end position ... independently of the start angle"),
         // Fanuc cancel, ISG G138/G239.
         _ => Ok(normal),
+    }
+}
+
+/// The last element ends at `x`, and the deselection block runs straight from there to `f`.
+fn straight_from(x: V2, f: V2) -> Exit {
+    Exit {
+        end: x,
+        pieces: heapless::Vec::new(),
+        path: Elem::Line { a: x, b: f },
     }
 }
 
@@ -141,6 +154,92 @@ mod tests {
             close(x.end, i) && close(x.path.start(), i) && x.pieces.is_empty(),
             "{x:?}"
         );
+    }
+
+    /// Fanuc G40 with I J K: the last element east from (0,0) to (10,0), tool left at R 2
+    /// (equidistant y = 2, P1 = (10,2)); the G40 block ends at f = (20,−10) whatever the
+    /// vector. The virtual block starts at (10,0) along the vector v, its equidistant on the
+    /// same side runs through (10,0) + 2·left(v/|v|).
+    fn vector(v: V2) -> Exit {
+        leave(v2(20.0, -10.0), Some(v.unit()), SelectionPolicy::ExitVector)
+    }
+
+    fn ends_at(x: &Exit, p: V2) {
+        assert!(close(x.end, p) && x.pieces.is_empty(), "{x:?}");
+        assert_eq!(
+            x.path,
+            Elem::Line {
+                a: x.end,
+                b: v2(20.0, -10.0)
+            }
+        );
+    }
+
+    /// Inner corner, I1 J1 (north-east, a left turn towards the tool): through
+    /// (10 − √2, √2) along (1,1), y = 2 at s = 2 − √2, x = 12 − 2√2 ≈ 9.172: the element ends
+    /// short of P1.
+    #[test]
+    fn an_exit_vector_at_an_inner_corner_ends_at_the_intersection() {
+        ends_at(&vector(v2(1.0, 1.0)), v2(12.0 - 2.0 * SQRT_2, 2.0));
+    }
+
+    /// Outer corners take the intersection too ("irrespective of whether inner or outer"),
+    /// never the corner policy. I1 J−1 (south-east, 45° to the right): through (10 + √2, √2)
+    /// along (1,−1), y = 2 at s = √2 − 2, x = 8 + 2√2 ≈ 10.828. I−1 J−1 (south-west, an acute
+    /// 135° turn): through (10 + √2, −√2) along (−1,−1), y = 2 at s = −2 − √2,
+    /// x = 12 + 2√2 ≈ 14.828: the element runs on past P1 to there.
+    #[test]
+    fn an_exit_vector_at_an_outer_corner_ends_at_the_intersection_too() {
+        ends_at(&vector(v2(1.0, -1.0)), v2(8.0 + 2.0 * SQRT_2, 2.0));
+        ends_at(&vector(v2(-1.0, -1.0)), v2(12.0 + 2.0 * SQRT_2, 2.0));
+    }
+
+    /// No intersection: the normal position P1 = (10,2). I−1 J0 reverses the element (its
+    /// virtual equidistant is y = −2, parallel); I1 J0 goes on along it (y = 2 itself: no
+    /// single point).
+    #[test]
+    fn an_exit_vector_without_an_intersection_ends_in_the_normal_position() {
+        ends_at(&vector(v2(-1.0, 0.0)), v2(10.0, 2.0));
+        ends_at(&vector(v2(1.0, 0.0)), v2(10.0, 2.0));
+    }
+
+    /// The last element an arc: counter-clockwise about (0,0) from (20,0) to (0,20), tool left
+    /// (inside) at R 5: equidistant r = 15 from (15,0) to P1 = (0,15). I0 J−1 (south, a left
+    /// turn at the arc's end, where it runs west): virtual equidistant x = 0 + 5 = 5, which
+    /// meets r = 15 at (5, ±√200); nearest P1 and (5,20): (5, 10√2), short of P1. I0 J1
+    /// (north, outer): x = −5, at (−5, 10√2), beyond P1.
+    #[test]
+    fn an_exit_vector_after_an_arc_meets_the_arcs_equidistant() {
+        let en = Elem::Arc {
+            a: v2(20.0, 0.0),
+            b: v2(0.0, 20.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        let on = Elem::Arc {
+            a: v2(15.0, 0.0),
+            b: v2(0.0, 15.0),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        let f = v2(-30.0, 0.0);
+        for (v, want) in [
+            (v2(0.0, -1.0), v2(5.0, 10.0 * SQRT_2)),
+            (v2(0.0, 1.0), v2(-5.0, 10.0 * SQRT_2)),
+        ] {
+            let x = exit(
+                &en,
+                &on,
+                f,
+                Some(v),
+                5.0,
+                SelectionPolicy::ExitVector,
+                &CIRCLE,
+            )
+            .unwrap();
+            assert!(x.end.dist(want) < 1e-12 && x.pieces.is_empty(), "{x:?}");
+            assert_eq!(x.path, Elem::Line { a: x.end, b: f });
+        }
     }
 
     /// ISG G05: from P1 = (10,2) an arc tangent to the last direction (1,0) there, to

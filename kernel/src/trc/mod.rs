@@ -80,6 +80,9 @@ pub struct TrcRules {
     pub not_linear: AlarmCode,
     /// 840C G451 caps its tangent extension beyond this change of direction (three blocks).
     pub intersection_cap_deg: f64,
+    /// I J K in the cancel block give the direction the last corner is built against (Fanuc
+    /// C, "Tool movement in offset mode cancel"); elsewhere they are refused.
+    pub exit_vector: bool,
 }
 
 /// A side change (G41↔G42) while TRC is active, without a programmed method.
@@ -584,7 +587,8 @@ impl Compensator {
             if !has_plane && self.rules.no_plane_move == NoPlaneMove::Wait && req.select.is_none() {
                 return self.arm_exit(tag, motion, policy, out);
             }
-            self.exit(tag, motion, policy, req.select.is_some(), out)?;
+            let vector = b.exit_vector.as_deref();
+            self.exit(tag, motion, policy, vector, req.select.is_some(), out)?;
             if req.select.is_none() {
                 self.deselected(tag, motion, has_plane, out);
                 return Ok(());
@@ -607,9 +611,12 @@ impl Compensator {
 
     /// What the block's G40/G41/G42 asks, given the mode the compensation is in.
     fn request(&mut self, b: &Block, source: Source, new_d: f64) -> Result<Request, Fault> {
-        let method = b.approach.unwrap_or(b.modal.selection);
         let Some(side) = b.trc else {
             return Ok(Request::NONE);
+        };
+        let method = match (side, &b.exit_vector) {
+            (TrcSide::Off, Some(_)) if self.rules.exit_vector => SelectionPolicy::ExitVector,
+            _ => b.approach.unwrap_or(b.modal.selection),
         };
         Ok(match self.mode {
             Mode::Off if side != TrcSide::Off && b.modal.trc != TrcSide::Off => {
@@ -1313,9 +1320,21 @@ impl Compensator {
     /// Emits the pending element from its start to `end`; a trimmed element must still run
     /// forwards (840C 11.12).
     fn emit_pending(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
+        self.emit(p, end, true, out)
+    }
+
+    /// [`Self::emit_pending`]; without `past_full_turn` an arc lengthened past a full turn
+    /// runs only the rest beyond it, from its start along the circle to `end`.
+    fn emit(
+        &mut self,
+        p: &Pending,
+        end: V2,
+        past_full_turn: bool,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
         match p.prog {
             Elem::Line { a, b } => self.emit_line(p, a, b, end, out),
-            Elem::Arc { .. } => self.emit_arc(p, end, out),
+            Elem::Arc { .. } => self.emit_arc(p, end, past_full_turn, out),
         }
     }
 
@@ -1338,17 +1357,23 @@ impl Compensator {
     }
 
     /// An arc along its carrier from the pending start to `end`: checked for running
-    /// backwards (840C 11.12), in two pieces past a full turn (11.14), a full circle closed
-    /// to the bit, its feed adapted (ISG G11).
+    /// backwards (840C 11.12), in two pieces past a full turn (11.14, if `past_full_turn`), a
+    /// full circle closed to the bit, its feed adapted (ISG G11).
     #[inline]
-    fn emit_arc(&mut self, p: &Pending, end: V2, out: &mut Out) -> Result<(), Fault> {
+    fn emit_arc(
+        &mut self,
+        p: &Pending,
+        end: V2,
+        past_full_turn: bool,
+        out: &mut Out,
+    ) -> Result<(), Fault> {
         // The carrier's centre and sense: the programmed ones, but for a circle turned inside
         // out under masking (`carrier`).
         let Elem::Arc { c, ccw, .. } = p.carrier else {
             return Ok(());
         };
         let (total, ccw) = self.arc_sweep(p, end, ccw)?;
-        if let Some(s) = total.filter(|s| *s >= std::f64::consts::TAU - 1e-9) {
+        if let Some(s) = total.filter(|s| past_full_turn && *s >= std::f64::consts::TAU - 1e-9) {
             self.emit_past_full_turn(p, end, c, ccw, s, out);
             return Ok(());
         }
@@ -1442,13 +1467,14 @@ impl Compensator {
     }
 
     /// Ends the compensation at the deselection block (`m`; `None` or no plane move: by the
-    /// offset only). With `reselect` the block starts a new compensation instead of
-    /// retracting (840C 11.6, 808D).
+    /// offset only; `vector`: Fanuc's I J K). With `reselect` the block starts a new
+    /// compensation instead of retracting (840C 11.6, 808D).
     fn exit(
         &mut self,
         tag: Tag,
         m: Option<&Motion>,
         policy: SelectionPolicy,
+        vector: Option<&Pos>,
         reselect: bool,
         out: &mut Out,
     ) -> Result<(), Fault> {
@@ -1472,7 +1498,7 @@ impl Compensator {
         if let (SelectionPolicy::InnerCorner, Some(x)) = (policy, self.inner_exit.take()) {
             return self.exit_at_inner_corner(tag, m, &p, x, out);
         }
-        let (f, dir, w1) = match m {
+        let (f, mut dir, w1) = match m {
             Some(m) => {
                 let (f, w1) = split(&m.end, self.plane);
                 let (s, _) = split(&m.start, self.plane);
@@ -1481,9 +1507,17 @@ impl Compensator {
             }
             None => (p.prog.end(), None, p.w1),
         };
+        let vector = vector.filter(|_| policy == SelectionPolicy::ExitVector);
+        if let Some(v) = vector {
+            // Only the vector's part in the plane counts; none there: the normal position.
+            let (v, _) = split(v, self.plane);
+            dir = (v.len() > EPS).then(|| v.unit());
+        }
         let x = deselection::exit(&p.prog, &p.carrier, f, dir, p.d1, policy, &self.settings())
             .map_err(|x| Self::corner_fault(tag, x))?;
-        self.emit_pending(&p, x.end, out)?;
+        // 0i-MF: an arc the intersection lengthens past a full turn is not traced more than
+        // once; it runs from its start to the intersection.
+        self.emit(&p, x.end, vector.is_none(), out)?;
         self.flush_held(out);
         let w = self.tool_w;
         self.pieces(tag, &x.pieces, w, out);
@@ -1928,5 +1962,105 @@ mod tests {
         assert_eq!(num4(-3.0), "-3");
         assert_eq!(num4(-0.0), "0");
         assert_eq!(num4(0.5), "0.5");
+    }
+
+    /// A Fanuc program through the interpreter and the compensator: (line, role, from, to)
+    /// of every segment.
+    fn fanuc_path(text: &str) -> Vec<(u32, Role, Pos, Pos)> {
+        let (md, tools) = (machine("fanuc"), ToolTable::builtin());
+        let mut interp = Interpreter::new("t", text, &md, &tools);
+        let mut c = compensator("fanuc");
+        let mut out = Out::new();
+        while let Some(b) = interp.next_block().unwrap() {
+            c.block(b, b.motion.as_ref(), &mut out).unwrap();
+        }
+        segments(&mut out)
+            .into_iter()
+            .map(|s| (s.source.line, s.role, s.from, s.to))
+            .collect()
+    }
+
+    /// The path's last two segments: the last element's and the cancel block's.
+    fn assert_exit(got: &[(u32, Role, Pos, Pos)], last: (u32, Pos), retract: (u32, Pos)) {
+        let [.., a, b] = got else { panic!("{got:?}") };
+        assert!(
+            a.0 == last.0 && a.1 == Role::Contour && close(a.3, last.1),
+            "{got:?}"
+        );
+        assert!(b.0 == retract.0 && b.1 == Role::Retract, "{got:?}");
+        assert!(close(b.2, last.1) && close(b.3, retract.1), "{got:?}");
+    }
+
+    /// Fanuc 0i-MF, "Tool movement in offset mode cancel", G40 with I J K, in G17: N30 runs
+    /// east at Y10, tool left at R 10 (D1) on y = 20. N40's I10 J10 is a virtual block
+    /// north-east from (40,10) whose equidistant runs through (40 − 5√2, 10 + 5√2) along
+    /// (1,1): y = 20 at x = 50 − 10√2 ≈ 35.858, where N30 ends; N40 goes from there to its
+    /// programmed point (60, 0) uncompensated.
+    #[test]
+    fn fanuc_g40_with_i_j_ends_the_last_line_at_the_vectors_intersection() {
+        let got = fanuc_path(
+            "N10 G17 G0 X0. Y0.\nN20 G41 D1 G1 X0. Y10. F100.\nN30 X40.\nN40 G40 X60. Y0. I10. J10.\nN50 M30\n",
+        );
+        let x = [50.0 - 10.0 * std::f64::consts::SQRT_2, 20.0, 0.0];
+        assert_exit(&got, (3, x), (4, [60.0, 0.0, 0.0]));
+    }
+
+    /// The same in G18 (Z abscissa, X ordinate) with I K, and a J that is not in the plane:
+    /// N30 runs along +Z at X10, the tool left (+X) on X = 20; the vector (K, I) = (10, 10)
+    /// gives Z = 50 − 10√2 as in G17. Positions are [X, Y, Z].
+    #[test]
+    fn fanuc_g40_with_i_k_in_g18_takes_the_vector_in_the_zx_plane() {
+        let got = fanuc_path(
+            "N10 G18 G0 X0. Z0.\nN20 G41 D1 G1 X10. Z0. F100.\nN30 Z40.\nN40 G40 X0. Z60. I10. J50. K10.\nN50 M30\n",
+        );
+        let x = [20.0, 0.0, 50.0 - 10.0 * std::f64::consts::SQRT_2];
+        assert_exit(&got, (3, x), (4, [0.0, 0.0, 60.0]));
+    }
+
+    /// The last element an arc: N30 counter-clockwise about (0,0) from (20,0) to (0,20), the
+    /// tool inside at R 5 (D2) on r = 15. N40's I0 J−10 (south): virtual equidistant x = 5,
+    /// meeting r = 15 at (5, √200) = (5, 10√2), where N30 ends.
+    #[test]
+    fn fanuc_g40_with_i_j_after_an_arc_ends_it_on_its_equidistant() {
+        let got = fanuc_path(
+            "N10 G0 X30. Y-20.\nN20 G41 D2 G1 X20. Y0. F100.\nN30 G3 X0. Y20. R20.\nN40 G1 G40 X-30. Y0. I0. J-10.\nN50 M30\n",
+        );
+        let x = [5.0, 10.0 * std::f64::consts::SQRT_2, 0.0];
+        assert_exit(&got, (3, x), (4, [-30.0, 0.0, 0.0]));
+    }
+
+    /// 0i-MF: "the tool does not trace the circle more than once". N30 is a full circle
+    /// clockwise about (0,0) from (0,−20), the tool outside at R 5 on r = 25 (from (0,−25),
+    /// heading −X). N40's I0 J10 (north, outer): virtual equidistant x = −5, meeting r = 25
+    /// at (−5, −√600) = (−5, −10√6), just past the circle's end: N30 runs only the
+    /// 11.5° (asin 0.2) from (0,−25) to there, as one arc, not 371.5° in two.
+    #[test]
+    fn fanuc_g40_with_i_j_after_a_full_circle_does_not_go_round_twice() {
+        let got = fanuc_path(
+            "N10 G0 X0. Y-40.\nN20 G41 D2 G1 X0. Y-20. F100.\nN30 G2 J20.\nN40 G1 G40 X0. Y-40. I0. J10.\nN50 M30\n",
+        );
+        let x = [-5.0, -10.0 * 6f64.sqrt(), 0.0];
+        assert_exit(&got, (3, x), (4, [0.0, -40.0, 0.0]));
+        let circle: Vec<_> = got.iter().filter(|s| s.0 == 3).collect();
+        assert_eq!(circle.len(), 1, "{got:?}");
+        assert!(close(circle[0].2, [0.0, -25.0, 0.0]), "{got:?}");
+    }
+
+    /// Without the dialect's rule a vector is ignored: the 840C's G40 block never carries
+    /// one (the front end refuses I J K there), and the modal method decides.
+    #[test]
+    fn only_the_fanuc_rule_takes_an_exit_vector() {
+        let mut b = block("siemens-840c", TrcSide::Off, Some(TrcSide::Off), None);
+        b.exit_vector = Some(Box::new([1.0, 1.0, 0.0]));
+        let mut c = active_left("siemens-840c");
+        let r = c.request(&b, source(), 0.0).unwrap();
+        assert_eq!(r.deselect, Some(b.modal.selection));
+        let mut c = active_left("fanuc");
+        let b = Block {
+            modal: block("fanuc", TrcSide::Off, None, None).modal,
+            ..b
+        };
+        let r = c.request(&b, source(), 0.0).unwrap();
+        assert_eq!(r.deselect, Some(SelectionPolicy::ExitVector));
     }
 }

@@ -203,6 +203,7 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
         preprocess_stop,
         axes,
         message,
+        exit_vector,
     } = b;
     *b_line = line;
     *b_col = col;
@@ -218,4 +219,5 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
     *preprocess_stop = false;
     *axes = None;
     *message = None;
+    *exit_vector = None;
 }

@@ -242,14 +242,15 @@ impl Interpreter<'_> {
         programmed: u16,
         block_col: usize,
     ) -> R<()> {
+        let arc = new.motion.is_arc();
+        let vector = !arc && self.exit_vector(w, new);
         if self.coords.frame.active() && !self.machine_coordinates {
             return self.cartesian_framed(w, new, programmed, block_col);
         }
         let start = self.cur;
         let end = self.end_point(w, new, start)?;
-        let arc = new.motion.is_arc();
         let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
-        if has_centre && !arc {
+        if has_centre && !arc && !vector {
             let at = w
                 .centre
                 .iter()
@@ -259,11 +260,11 @@ impl Interpreter<'_> {
                 .next()
                 .unwrap_or(block_col);
             if self.block.trc == Some(TrcSide::Off) && w.radius.is_none() {
-                // Fanuc: I J K in the cancel block give the last offset vector's direction.
+                // Controls without Fanuc's exit vector (Self::exit_vector).
                 return Err(fault(
                     AlarmCode::NotSupported,
                     at,
-                    "I J K in the compensation cancel block (the exit vector) are not supported",
+                    "I J K in the compensation cancel block (an exit vector) are not supported by this control",
                 ));
             }
             return Err(fault(
@@ -282,6 +283,30 @@ impl Interpreter<'_> {
             end
         };
         self.set_motion(new, start, end, centre, programmed, block_col)
+    }
+
+    /// Fanuc: I J K in a straight block that cancels the compensation are the direction of a
+    /// virtual block the last corner is built against (0i-MF, "Tool movement in offset mode
+    /// cancel"). Always incremental; mapped by the frame like a move. False if not taken.
+    fn exit_vector(&mut self, w: &Words, new: &ModalState) -> bool {
+        if !self.d.trc.exit_vector
+            || self.block.trc != Some(TrcSide::Off)
+            || w.radius.is_some()
+            || w.centre.iter().all(Option::is_none)
+        {
+            return false;
+        }
+        let mut v = [0.0; 3];
+        for (i, c) in w.centre.iter().enumerate() {
+            if let Some(c) = c {
+                v[i] = self.length(*c, new.units);
+            }
+        }
+        if self.coords.frame.active() && !self.machine_coordinates {
+            v = self.coords.frame.turn(v);
+        }
+        self.block.exit_vector = Some(Box::new(v));
+        true
     }
 
     /// [`Self::cartesian`] under an active frame (frames.rs).
@@ -603,6 +628,43 @@ mod tests {
 
     fn end(b: &Block) -> Pos {
         b.motion.unwrap().end
+    }
+
+    /// Fanuc 0i-MF, G40 with I J K: the words are the exit vector, always incremental, in
+    /// mm (G20: ×25.4), turned by the frame (G68 R90: (10, 0) → (0, 10)); the next block
+    /// has none. On the lathe too. Other controls refuse them (alarm 12580 at the I word).
+    #[test]
+    fn i_j_k_in_a_fanuc_cancel_block_are_the_exit_vector() {
+        let b = run(
+            "fanuc",
+            "G41 D1 G1 X0. Y10. F100.\nX40.\nG91 G40 X20. Y-10. I10. J-5.\nG90 X0.\n",
+        )
+        .unwrap();
+        assert_eq!(b[2].exit_vector.as_deref(), Some(&[10.0, -5.0, 0.0]));
+        assert_eq!(end(&b[2]), [60.0, 0.0, 0.0]);
+        assert_eq!(b[3].exit_vector, None);
+        let b = run(
+            "fanuc",
+            "G20 G41 D1 G1 X0. Y1. F10.\nG40 X2. Y0. I0.5 K1.\n",
+        )
+        .unwrap();
+        assert_eq!(b[1].exit_vector.as_deref(), Some(&[12.7, 0.0, 25.4]));
+        let b = run(
+            "fanuc",
+            "G68 X0. Y0. R90.\nG41 D1 G1 X0. Y10. F100.\nG40 X0. Y0. I10. J0.\n",
+        )
+        .unwrap();
+        let v = b[2].exit_vector.as_deref().unwrap();
+        assert!(v[0].abs() < 1e-12 && (v[1] - 10.0).abs() < 1e-12, "{v:?}");
+        // The lathe (G18): I K, I as a radius like a circle's.
+        let b = run(
+            "fanuc-lathe",
+            "G42 G1 X20. Z0. F0.2\nG40 X40. Z5. I1. K-1.\n",
+        )
+        .unwrap();
+        assert_eq!(b[1].exit_vector.as_deref(), Some(&[1.0, 0.0, -1.0]));
+        let a = run("siemens-840c", "G41 D1 G1 X0 Y10 F100\nG40 X0 Y0 I10 J0\n").unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 2, 11));
     }
 
     #[test]
