@@ -471,6 +471,40 @@ mod tests {
     }
 
     #[test]
+    fn arc_then_arc() {
+        // Counter-clockwise about (0,0) from (10,0) to (0,10), then clockwise about
+        // (−10,10): tangents (−1,0) then (0,−1), a left turn.
+        let a = Element::Arc {
+            from: [10.0, 0.0],
+            to: [0.0, 10.0],
+            centre: [0.0, 0.0],
+            ccw: true,
+        };
+        let b = Element::Arc {
+            from: [0.0, 10.0],
+            to: [-10.0, 0.0],
+            centre: [-10.0, 10.0],
+            ccw: false,
+        };
+        // ,R2: the centre is 10 − 2 from (0,0) and 10 + 2 from (−10,10): the circles meet
+        // 3√2 along the line of centres and √46 across it, at (√23 − 3, √23 + 3).
+        let s23 = 23f64.sqrt();
+        let c = [s23 - 3.0, s23 + 3.0];
+        let r = corner(a, b, CornerKind::Round, 2.0).unwrap().unwrap();
+        let t2 = [
+            -10.0 + (c[0] + 10.0) * 10.0 / 12.0,
+            10.0 + (c[1] - 10.0) * 10.0 / 12.0,
+        ];
+        assert_cut(r, [c[0] * 1.25, c[1] * 1.25], t2);
+        assert!(matches!(r.insert, Element::Arc { centre, ccw: true, .. } if near(centre, c)));
+        // ,C2: chords of 2 on both circles, 2·asin(0.1) back from (0,10) and on from it.
+        let t = 2.0 * libm::asin(0.1);
+        let ch = corner(a, b, CornerKind::Chamfer, 2.0).unwrap().unwrap();
+        let (s, co) = (10.0 * t.sin(), 10.0 * t.cos());
+        assert_cut(ch, [s, co], [-10.0 + co, 10.0 - s]);
+    }
+
+    #[test]
     fn tangent_elements_get_nothing_and_too_large_is_refused() {
         // A line into the arc that starts along it: nothing to insert (within 1°).
         let a = line([0.0, 0.0], [20.0, 0.0]);
