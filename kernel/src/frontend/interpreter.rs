@@ -189,19 +189,25 @@ impl<'a> Interpreter<'a> {
     /// play (then a move waits for the next one, build/corner_blocks.rs).
     #[inline]
     fn step(&mut self) -> Result<bool, Alarm> {
-        if self.corners.is_none() {
+        loop {
+            if self.corners.is_some() {
+                if let Some(ready) = self.corner_waiting() {
+                    return Ok(ready);
+                }
+            }
             let produced = self.produce()?;
             if self.corners.is_none() {
                 return Ok(produced);
             }
-            return self.corner_step(Some(produced));
+            if let Some(ready) = self.take_block(produced)? {
+                return Ok(ready);
+            }
         }
-        self.corner_step(None)
     }
 
     /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
     #[inline]
-    pub(super) fn produce(&mut self) -> Result<bool, Alarm> {
+    fn produce(&mut self) -> Result<bool, Alarm> {
         loop {
             if self.finished {
                 return Ok(false);

@@ -50,7 +50,10 @@ pub struct Corners<'a> {
 impl<'a> Interpreter<'a> {
     /// Block build step 10: the block's corner word. It needs a G01, G02 or G03 move in the
     /// plane (no rapid, no cycle or reference point return, no machine coordinates, no
-    /// additional axes); a size of 0 asks for nothing.
+    /// additional axes); a size of 0 asks for nothing. Out of line: the block build of a
+    /// block without the word only tests for it.
+    #[cold]
+    #[inline(never)]
     pub(super) fn corner_request(&mut self, word: CornerWord, new: &ModalState) -> R<()> {
         let at = word.value.at;
         let fits = self.block.motion.filter(|m| {
@@ -120,46 +123,36 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    /// `next_block` while corner words are in play: hands out what waits, or reads on until
-    /// the held block's successor is known. `fresh` is `Some(produced)` when a block was
-    /// just built (and asked for a corner).
-    pub(in crate::frontend) fn corner_step(
-        &mut self,
-        mut fresh: Option<bool>,
-    ) -> Result<bool, Alarm> {
-        loop {
-            let produced = match fresh.take() {
-                Some(p) => p,
-                None => {
-                    if let Some(c) = self.corners.as_deref_mut() {
-                        if let Some(b) = c.out.pop_front() {
-                            self.block = b;
-                            return Ok(true);
-                        }
-                        if let Some(m) = c.modal.take() {
-                            self.block.modal = m;
-                        }
-                        if c.held.is_none() && c.request.is_none() {
-                            self.corners = None;
-                        }
-                    }
-                    let p = self.produce()?;
-                    if self.corners.is_none() {
-                        return Ok(p);
-                    }
-                    p
-                }
-            };
-            if let Some(ready) = self.take_block(produced)? {
-                return Ok(ready);
-            }
+    /// Before the next block is read while corner words are in play: a block waiting to be
+    /// handed out goes out now (`Some(true)`); else the interpreter's modal state comes back
+    /// and reading goes on (`None`). Out of line: `next_block` of a program without corner
+    /// words only tests for them.
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn corner_waiting(&mut self) -> Option<bool> {
+        let c = self.corners.as_deref_mut()?;
+        if let Some(b) = c.out.pop_front() {
+            self.block = b;
+            return Some(true);
         }
+        if let Some(m) = c.modal.take() {
+            self.block.modal = m;
+        }
+        if c.held.is_none() && c.request.is_none() {
+            self.corners = None;
+        }
+        None
     }
 
     /// The block just built (or the program's end, `produced` false) meets the corner
     /// state: a block with a corner word is held; the held block's successor is joined to
     /// it. `Some`: what `next_block` says now; `None`: read on.
-    fn take_block(&mut self, produced: bool) -> Result<Option<bool>, Alarm> {
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn take_block(
+        &mut self,
+        produced: bool,
+    ) -> Result<Option<bool>, Alarm> {
         let Some(c) = self.corners.as_deref_mut() else {
             return Ok(Some(produced));
         };
