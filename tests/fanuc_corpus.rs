@@ -2063,6 +2063,81 @@ fn tool_path(file: &str) -> Vec<(u32, Role, P, P)> {
     out
 }
 
+#[test]
+fn c23_chamfer_corner_r() {
+    // A plate 80 × 40 (and the arc over its top left) milled clockwise under G41 with ,C and
+    // ,R at its corners (0i-MF "Optional angle chamfering and corner rounding"). Each
+    // corner word puts its element between its block's move and the next, and both moves
+    // end and start at the element's ends.
+    let r5 = 5f64.sqrt();
+    let r35 = 35f64.sqrt();
+    let want = [
+        [40.0, -20.0, 0.0],  // N40
+        [40.0, -20.0, 15.0], // N50
+        [40.0, -20.0, 3.0],  // N60
+        [40.0, -20.0, -5.0], // N70
+        [40.0, 0.0, -5.0],   // N80 G41 D2
+        [5.0, 0.0, -5.0],    // N90 X0 ,C5: 5 before the corner (0, 0) …
+        [0.0, 5.0, -5.0],    // … the chamfer to 5 after it, up the left side
+        // N100 Y40 ,R10 into the arc N110 (about (20, 25), radius 25; its tangent at
+        // (0, 40) is (0.6, 0.8): a right turn). The R10 centre is 10 right of X0 and
+        // 25 − 10 from (20, 25): (10, 25 + √125) = (10, 25 + 5√5).
+        [0.0, 25.0 + 5.0 * r5, -5.0], // touches the line at its foot
+        // … and the arc 25 from (20, 25) towards the centre: (20, 25) + 25/15·(−10, 5√5).
+        [20.0 - 50.0 / 3.0, 25.0 + 25.0 * r5 / 3.0, -5.0],
+        // N110 G2 … ,R8 into N120 (along +X: a left turn, concave). The R8 centre is 8
+        // above Y40 and 25 + 8 from (20, 25): x = 20 + √(33² − 23²) = 20 + 4√35.
+        [20.0 + 100.0 * r35 / 33.0, 25.0 + 575.0 / 33.0, -5.0], // (20, 25) + 25/33·(4√35, 23)
+        [20.0 + 4.0 * r35, 40.0, -5.0],                         // its foot on Y40
+        [76.0, 40.0, -5.0],                                     // N120 X80 ,C4
+        [80.0, 36.0, -5.0],                                     // the chamfer
+        [80.0, 6.0, -5.0],                                      // N130 Y0 ,R6: centre (74, 6)
+        [74.0, 0.0, -5.0],                                      // the rounding
+        [35.0, 0.0, -5.0],                                      // N140
+        [35.0, -20.0, -5.0],                                    // N150 G40
+        [35.0, -20.0, 15.0],                                    // N160
+        [35.0, -20.0, 15.0],                                    // N180 G91 G28 Z0.
+        [35.0, -20.0, -80.0],                                   // 0 − H2's 80
+    ];
+    let file = "c23_chamfer_corner_r.nc";
+    let b = run_clean(file, Tape::AsWritten, None, &want, TRIG);
+    // The roundings: R10 clockwise (a right turn), the arc N110, R8 counter-clockwise, R6.
+    assert_arcs(
+        file,
+        &arcs(&b),
+        &[
+            ([10.0, 25.0 + 5.0 * r5, -5.0], false),
+            ([20.0, 25.0, -5.0], false),
+            ([20.0 + 4.0 * r35, 48.0, -5.0], true),
+            ([74.0, 6.0, -5.0], false),
+        ],
+        TRIG,
+    );
+    // Each inserted element is a block of the line that asks for it, at that block's feed:
+    // N130's F600 from its rounding on.
+    let lines: Vec<(u32, f64)> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| (b.line, b.modal.feed))
+        .collect();
+    assert_eq!(
+        &lines[5..16],
+        &[
+            (11, 800.0),
+            (11, 800.0),
+            (12, 800.0),
+            (12, 800.0),
+            (13, 800.0),
+            (13, 800.0),
+            (14, 800.0),
+            (14, 800.0),
+            (15, 600.0),
+            (15, 600.0),
+            (16, 600.0),
+        ]
+    );
+}
+
 // ---------------------------------------------------------------------------------------
 // Programs that must stop with an alarm.
 // ---------------------------------------------------------------------------------------

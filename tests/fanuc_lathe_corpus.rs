@@ -170,6 +170,48 @@ fn t05_taper_g65_macro() {
 }
 
 #[test]
+fn t06_chamfer_corner_r() {
+    // A shaft turned under G42 with ,C and ,R (0i-TF "Optional angle chamfering and corner
+    // rounding"): X is a diameter, the ,C and ,R values are lengths (not halved). Each
+    // element comes between its block's move and the next; (X radius, Z) below.
+    let r5 = 5f64.sqrt();
+    let b = clean(
+        "t06_chamfer_corner_r.nc",
+        &[
+            [5.0, 0.0, 2.0],    // X10 Z2: radius 5
+            [5.0, 0.0, 0.0],    // G42 Z0
+            [9.0, 0.0, 0.0],    // X20 ,C1: 1 before the corner (10, 0) …
+            [10.0, 0.0, -1.0],  // … the chamfer to 1 after it
+            [10.0, 0.0, -13.0], // Z-15 ,R2 into X30 (a right turn in the Z-X plane) …
+            [12.0, 0.0, -15.0], // … about (12, −13)
+            [13.5, 0.0, -15.0], // X30 ,C1.5: radius 15, 1.5 before
+            [15.0, 0.0, -16.5], // the chamfer
+            // W-15 ,R2 into G3 X40 Z-35 R5 (about (15, −35), leaving the corner (15, −30)
+            // along +X: a right turn). The R2 centre is 2 above radius 15 and 5 + 2 from
+            // (15, −35): Z = −35 + √(7² − 2²) = −35 + 3√5.
+            [15.0, 0.0, -35.0 + 3.0 * r5],
+            // It touches the arc at (15, −35) + 5/7·(2, 3√5).
+            [15.0 + 10.0 / 7.0, 0.0, -35.0 + 15.0 * r5 / 7.0],
+            [20.0, 0.0, -35.0], // G3 X40 Z-35 R5
+            [20.0, 0.0, -45.0], // Z-45
+            [25.0, 0.0, 2.0],   // G40 U10 Z2
+        ],
+    );
+    // The roundings are blocks of the lines that carry ,R (10 and 12), clockwise in Z-X.
+    let rounds: Vec<(u32, [f64; 3])> = b
+        .iter()
+        .filter_map(|b| {
+            b.motion
+                .filter(|m| m.kind.is_arc())
+                .map(|m| (b.line, m.center))
+        })
+        .collect();
+    assert_eq!(rounds[0], (10, [12.0, 0.0, -13.0]));
+    assert_eq!(rounds[1].0, 12);
+    assert!((rounds[1].1[2] - (-35.0 + 3.0 * r5)).abs() < 1e-9 && rounds[1].1[0] == 17.0);
+}
+
+#[test]
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);

@@ -221,6 +221,8 @@ const MACRO_VOCABULARY: &[&str] = &[
     "G81", "G83", "G73", "G84", "G87", "G80", "G98", "G99", "Q2.", "Q#1", "K3", "G28", "G30",
     "G52", "G92 X#1", "G10 L2 P1", "L20", "L10", "G51", "G51.1", "G50.1", "G50", "G68", "G69",
     "G68 X0 Y0 R#1", "G81 X#24 Z-1. R1. F100.",
+    // chamfer and corner words
+    ",C", ",R", ",C2.", ",R1.", ",C#1", ",",
 ];
 
 /// The token soup: words of every dialect (and Macro B on a Fanuc machine) with separators.
@@ -279,6 +281,9 @@ const FANUC_WORDS: &[&str] = &[
     "G10 L2 P1 X10.", "G10 L20 P2 Y5.", "G10 L10 P1 R5.", "G10 L12 P2 R3.", "G10 L3 P1",
     "G51.1 X0", "G50.1 X0", "G51 X0 Y0 P2000", "G51 I2000 J1000", "G50", "G68 X0 Y0 R30.",
     "G91 G68 R15.", "G69",
+    // chamfer and corner words, with the moves they need and without
+    ",C1.", ",R2.", ",C#1", ",R[#18+1.]", ",C0", ",C-2.", ",R50.", ",C1. ,R1.", ",r3.",
+    "G1 X10. ,C1.", "G2 X20. Y10. R10. ,R2.", "G3 X0 Y0 I-5. ,C0.5", "G0 X5. ,C1.",
 ];
 #[rustfmt::skip]
 const D808_WORDS: &[&str] = &[

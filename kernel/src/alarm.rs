@@ -78,6 +78,15 @@ pub enum AlarmCode {
     JumpTarget,
     /// Subprogram or macro calls nested deeper than the control allows.
     CallNesting,
+    /// A chamfer or corner word in a block without a G01/G02/G03 move in the plane (840D
+    /// 10882: chamfer or rounding without a traversing motion in the block).
+    CornerWithoutMove,
+    /// The block after a chamfer or corner word is not a move in the same plane, or there
+    /// is none (840D 10880: no traversing block after the one with the chamfer or rounding).
+    CornerNextBlock,
+    /// The chamfer or the rounding does not fit the two moves (840D 10883: chamfer or
+    /// radius must be reduced).
+    CornerTooLarge,
     /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
     /// the number is the Sinumerik user-alarm range of SETAL).
     ProgramAlarm,
@@ -121,6 +130,9 @@ impl AlarmCode {
             AlarmCode::MissingProgram => 14011,
             AlarmCode::JumpTarget => 14080,
             AlarmCode::CallNesting => 14012,
+            AlarmCode::CornerWithoutMove => 10882,
+            AlarmCode::CornerNextBlock => 10880,
+            AlarmCode::CornerTooLarge => 10883,
             AlarmCode::ProgramAlarm => 65000,
             AlarmCode::ProgramMessage => 65001,
         }

@@ -1,8 +1,8 @@
 //! Fanuc-style milling control with cutter compensation C (seed 003).
 
 use super::{
-    g, m, point_code, CycleKind, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect,
-    RadiusWord, Semicolon,
+    g, m, point_code, CornerKind, CornerWordDef, CycleKind, Dialect, DwellWords, GCodeDef, GEffect,
+    MCodeDef, MEffect, RadiusWord, Semicolon,
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -99,6 +99,19 @@ pub(super) static MCODES: &[MCodeDef] = &[
     m(99, Return),
 ];
 
+/// Optional angle chamfering and corner rounding (0i-MF, 0i-TF): `,C` the distance from the
+/// virtual corner to the chamfer's ends, `,R` the rounding's radius; the lathe's too.
+pub(super) static CORNER_WORDS: &[CornerWordDef] = &[
+    CornerWordDef {
+        text: ",C",
+        kind: CornerKind::Chamfer,
+    },
+    CornerWordDef {
+        text: ",R",
+        kind: CornerKind::Round,
+    },
+];
+
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Fanuc,
     gcodes: GCODES,
@@ -108,6 +121,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    corner_words: CORNER_WORDS,
     polar_words: false,
     lims_word: false,
     diameter_words: false,

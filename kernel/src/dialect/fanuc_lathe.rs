@@ -67,6 +67,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    corner_words: super::fanuc::CORNER_WORDS,
     polar_words: false,
     lims_word: false,
     diameter_words: false,

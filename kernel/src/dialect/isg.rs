@@ -83,6 +83,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: true,
     at_commands: &[],
+    corner_words: &[],
     polar_words: false,
     lims_word: false,
     diameter_words: false,

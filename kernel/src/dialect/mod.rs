@@ -14,7 +14,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
     SelectionPolicy, SpindleDir, TrcSide,
 };
-pub use crate::frontend::CycleKind;
+pub use crate::frontend::{CornerKind, CycleKind};
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
 use std::sync::OnceLock;
@@ -225,6 +225,14 @@ pub struct AtCommandDef {
     pub forbidden_with_trc: bool,
 }
 
+/// A word that asks for a chamfer or a rounding between its block's move and the next
+/// (Fanuc `,C` `,R`), as the program writes it (case ignored).
+#[derive(Clone, Copy, Debug)]
+pub struct CornerWordDef {
+    pub text: &'static str,
+    pub kind: CornerKind,
+}
+
 /// What `;` means.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Semicolon {
@@ -281,6 +289,8 @@ pub struct Dialect {
     pub mcodes: &'static [MCodeDef],
     /// `@` commands (840C); empty where `@` starts no word.
     pub at_commands: &'static [AtCommandDef],
+    /// Chamfer and corner words; empty where the control has none (here).
+    pub corner_words: &'static [CornerWordDef],
     /// 880/840C polar coordinates: A (angle), U or B (radius).
     pub polar_words: bool,
     /// 808D `DIAMON`/`DIAMOF`.

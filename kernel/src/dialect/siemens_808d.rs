@@ -78,6 +78,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    corner_words: &[],
     polar_words: false,
     lims_word: true,
     diameter_words: true,

@@ -98,6 +98,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: true,
     variables: false,
     at_commands: AT_COMMANDS,
+    corner_words: &[],
     polar_words: true,
     lims_word: false,
     diameter_words: false,

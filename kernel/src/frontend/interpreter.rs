@@ -9,7 +9,7 @@
 
 use super::block::*;
 use super::block_text::read_block_number;
-use super::build::{CycleMode, Expansion, WorkingArea};
+use super::build::{Corners, CycleMode, Expansion, WorkingArea};
 use super::calls::Calls;
 use super::fault::{fault, Fault, R};
 use super::lexer::{column, Cursor};
@@ -61,6 +61,9 @@ pub struct Interpreter<'a> {
     /// The canned cycle mode in force, and its return level (G98: the initial level).
     pub(super) cycle: Option<CycleMode>,
     pub(super) cycle_to_initial: bool,
+    /// Chamfer and corner words (Fanuc `,C` `,R`): the move that waits for the next one,
+    /// and the blocks to hand out before reading on. `None` while no corner word is in play.
+    pub(super) corners: Option<Box<Corners<'a>>>,
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
     pub(super) finished: bool,
@@ -99,6 +102,7 @@ impl<'a> Interpreter<'a> {
             expansion: None,
             cycle: None,
             cycle_to_initial: true,
+            corners: None,
             machine_coordinates: false,
             finished: false,
             plain_path: true,
@@ -181,9 +185,29 @@ impl<'a> Interpreter<'a> {
         Alarm::at(f.code, self.name, &source, f.message)
     }
 
-    /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
+    /// The next block to hand out: the next one interpreted, unless corner words are in
+    /// play (then a move waits for the next one, build/corner_blocks.rs).
     #[inline]
     fn step(&mut self) -> Result<bool, Alarm> {
+        loop {
+            if self.corners.is_some() {
+                if let Some(ready) = self.corner_waiting() {
+                    return Ok(ready);
+                }
+            }
+            let produced = self.produce()?;
+            if self.corners.is_none() {
+                return Ok(produced);
+            }
+            if let Some(ready) = self.take_block(produced)? {
+                return Ok(ready);
+            }
+        }
+    }
+
+    /// Interprets blocks until one is produced, the program ends, or an alarm is raised.
+    #[inline]
+    fn produce(&mut self) -> Result<bool, Alarm> {
         loop {
             if self.finished {
                 return Ok(false);

@@ -61,7 +61,7 @@ mod word_loop;
 mod words;
 
 pub use block::*;
-pub use build::CycleKind;
+pub use build::{CornerKind, CycleKind};
 pub use interpreter::Interpreter;
 
 use crate::alarm::Alarm;

@@ -12,7 +12,7 @@ use super::lexer::Cursor;
 use super::number;
 use super::words::*;
 use crate::alarm::AlarmCode;
-use crate::dialect::{point_code, GEffect, LengthOffset, RadiusWord, G_CODES};
+use crate::dialect::{point_code, CornerWordDef, GEffect, LengthOffset, RadiusWord, G_CODES};
 
 /// How the word loop goes on after [`Interpreter::special`].
 enum Next {
@@ -168,10 +168,14 @@ impl Interpreter<'_> {
         }
     }
 
-    /// What starts with no letter: an `@` command, a bare dwell time, or a syntax error.
+    /// What starts with no letter: an `@` command, a chamfer or corner word (`,C`), a bare
+    /// dwell time, or a syntax error.
     fn not_a_letter(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
         if !self.d.at_commands.is_empty() && ch == b'@' {
             return at_command(c, w, at);
+        }
+        if let Some(def) = self.d.corner_words.iter().find(|def| c.keyword(def.text)) {
+            return self.corner_word(c, w, def, at);
         }
         if self.d.dwell.bare_seconds && w.bare.is_none() && self.after_dwell_code(w) {
             if let Some((n, next)) = number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
@@ -189,6 +193,35 @@ impl Interpreter<'_> {
             at,
             format!("unexpected character '{shown}'"),
         ))
+    }
+
+    /// A chamfer or corner word of the dialect's table and its value; at most one a block.
+    fn corner_word(
+        &mut self,
+        c: &mut Cursor,
+        w: &mut Words,
+        def: &CornerWordDef,
+        at: usize,
+    ) -> R<Next> {
+        c.i += def.text.len();
+        let value = self.value(c, at, def.text)?;
+        if value.value.is_nan() {
+            // Macro B: a vacant variable leaves the word out.
+            return Ok(Next::Continue);
+        }
+        if let Some(first) = w.corner {
+            return Err(fault(
+                AlarmCode::AddressTwice,
+                at,
+                format!("{} and {} in one block", first.text, def.text),
+            ));
+        }
+        w.corner = Some(CornerWord {
+            kind: def.kind,
+            text: def.text,
+            value,
+        });
+        Ok(Next::Continue)
     }
 
     /// The last G code read is the dwell (ISG `G04 3.0`: a bare number is its time).

@@ -35,6 +35,15 @@ impl Val {
     }
 }
 
+/// A chamfer or corner word (Fanuc `,C` `,R`) with its value.
+#[derive(Clone, Copy, Debug)]
+pub struct CornerWord {
+    pub kind: super::build::CornerKind,
+    /// The word as the dialect writes it, for messages.
+    pub text: &'static str,
+    pub value: Val,
+}
+
 /// The words of one block. The auxiliary words (F S T D M H) also go straight into the block
 /// being built, in program order.
 #[derive(Clone, Default)]
@@ -75,6 +84,8 @@ pub struct Words {
     pub at_codes: heapless::Vec<(u32, u32), 4>,
     /// `DIAMON` (true) or `DIAMOF` (false).
     pub diameter: Option<bool>,
+    /// A chamfer or corner at the end of the block's move.
+    pub corner: Option<CornerWord>,
     /// Where the program wrote the active tool radius.
     pub radius_written: Option<u32>,
     /// A variable was assigned.
@@ -99,6 +110,7 @@ impl Words {
             && self.l.is_none()
             && self.q.is_none()
             && self.lims.is_none()
+            && self.corner.is_none()
             && !self.calculation
     }
 }

@@ -7,6 +7,8 @@
 //! stops, `@` commands, dwell) and [`motion`] (end point, polar coordinates, arcs, working
 //! area).
 
+mod corner_blocks;
+mod corners;
 mod cycles;
 mod expand;
 mod flow;
@@ -18,6 +20,8 @@ mod reference;
 mod settings;
 mod technology;
 
+pub(super) use corner_blocks::Corners;
+pub use corners::CornerKind;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::Expansion;
@@ -68,7 +72,11 @@ impl Interpreter<'_> {
         //    additional axes move only outside compensation (docs/axes.md).
         self.trc_in_linear_block(&new, g.trc_at)?;
         self.additional_outside_trc(&new, w)?;
-        // 10. The block done: position, program end (880 4.2.5: the pole), modal state.
+        // 10. A chamfer or corner word (Fanuc ,C ,R): the move waits for the next one.
+        if let Some(word) = w.corner {
+            self.corner_request(word, &new)?;
+        }
+        // 11. The block done: position, program end (880 4.2.5: the pole), modal state.
         self.finish(new);
         Ok(true)
     }
@@ -125,7 +133,7 @@ impl Interpreter<'_> {
         self.block.calculation = w.calculation;
     }
 
-    /// Step 10: the position moves to the motion's end; M02/M30 end the program and reset
+    /// Step 11: the position moves to the motion's end; M02/M30 end the program and reset
     /// the pole to the zero offset; the new modal state is the block's.
     #[inline(always)]
     fn finish(&mut self, mut new: ModalState) {
