@@ -127,6 +127,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: true,
     macro_b: true,
+    sinumerik: false,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: true,

@@ -73,6 +73,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: true,
     macro_b: true,
+    sinumerik: false,
     incremental_words: true,
     t_selects_offset: true,
     decimal_switch: true,

@@ -89,6 +89,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: false,
     o_numbers: false,
     macro_b: false,
+    sinumerik: false,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

@@ -8,6 +8,7 @@ mod fanuc_lathe;
 mod isg;
 mod siemens_808d;
 mod siemens_840c;
+mod siemens_840d;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -301,6 +302,9 @@ pub struct Dialect {
     pub o_numbers: bool,
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
+    /// The SINUMERIK language (808D/828D/840D sl): R parameters, `X=expr`, DEF, IF/WHILE/FOR/
+    /// REPEAT/LOOP, labels and GOTOF/GOTOB (frontend/sinumerik).
+    pub sinumerik: bool,
     /// Fanuc lathe (G-code system A): U and W are the incremental words of X and Z.
     pub incremental_words: bool,
     /// Fanuc lathe: T aabb selects tool aa and its offset bb (00: none).
@@ -389,6 +393,7 @@ impl Dialect {
             DialectName::Fanuc => &fanuc::DIALECT,
             DialectName::Siemens808D => &siemens_808d::DIALECT,
             DialectName::FanucLathe => &fanuc_lathe::DIALECT,
+            DialectName::Siemens840D => &siemens_840d::DIALECT,
         }
     }
 
@@ -419,7 +424,8 @@ impl Dialect {
     }
 
     fn index(&self) -> &'static [u16; G_CODES] {
-        static INDEX: [OnceLock<Box<[u16; G_CODES]>>; 5] = [
+        static INDEX: [OnceLock<Box<[u16; G_CODES]>>; 6] = [
+            OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
@@ -432,6 +438,7 @@ impl Dialect {
             DialectName::Fanuc => 2,
             DialectName::Siemens808D => 3,
             DialectName::FanucLathe => 4,
+            DialectName::Siemens840D => 5,
         };
         INDEX[i].get_or_init(|| {
             let mut t = Box::new([0u16; G_CODES]);

@@ -16,7 +16,8 @@ use MEffect::*;
 /// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
 pub const G451_LIMIT_DEG: f64 = 100.0;
 
-static GCODES: &[GCodeDef] = &[
+/// The G codes the 808D shares with the 828D/840D sl (siemens_840d.rs).
+pub(super) static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
     g(1, Motion(MotionMode::Linear)),
     g(2, Motion(MotionMode::ArcCw)),
@@ -58,7 +59,7 @@ static GCODES: &[GCodeDef] = &[
     g(710, Units(Units::Mm)),
 ];
 
-static MCODES: &[MCodeDef] = &[
+pub(super) static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
     m(3, Spindle(SpindleDir::Clockwise)),
@@ -84,6 +85,7 @@ pub static DIALECT: Dialect = Dialect {
     diameter_words: true,
     o_numbers: false,
     macro_b: false,
+    sinumerik: false,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

@@ -52,6 +52,8 @@ pub struct Interpreter<'a> {
     pub(super) coords: super::coordinates::Coordinates,
     /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
     pub(super) calls: Calls<'a>,
+    /// SINUMERIK R parameters, user variables and the program's structures and labels.
+    pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
     /// 840C G25/G26.
@@ -98,6 +100,14 @@ impl<'a> Interpreter<'a> {
             calls: Calls::new(name, source.as_bytes()),
             coords: Default::default(),
             structures: Structures::default(),
+            sinumerik: super::sinumerik::statements::Sinumerik {
+                store: super::sinumerik::Store::new(if d.sinumerik {
+                    md.program.r_parameters as usize
+                } else {
+                    0
+                }),
+                ..Default::default()
+            },
             area: WorkingArea::default(),
             expansion: None,
             cycle: None,
@@ -222,6 +232,12 @@ impl<'a> Interpreter<'a> {
                     }
                 }
             }
+            if !self.sinumerik.read && self.d.sinumerik {
+                if let Err(f) = self.read_structure() {
+                    self.finished = true;
+                    return Err(self.alarm(*f));
+                }
+            }
             if self.plain_allowed() && self.plain_line() {
                 return Ok(true);
             }
@@ -301,6 +317,10 @@ impl<'a> Interpreter<'a> {
         let block_col = c.i;
         self.blk_number = read_block_number(&mut c)?;
         c.skip_blanks();
+        if self.d.sinumerik {
+            // A jump label (`LAB1:`): the jumps found it before the program started.
+            super::sinumerik::structure::label(&mut c);
+        }
         if self.is_statement(&c) {
             self.calls.running.started = true;
             return self.statement(c, start, block_col);

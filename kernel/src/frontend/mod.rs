@@ -55,6 +55,7 @@ mod lexer;
 mod macro_b;
 pub mod number;
 mod plain;
+mod sinumerik;
 mod statements;
 mod variables;
 mod word_loop;

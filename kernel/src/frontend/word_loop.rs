@@ -42,6 +42,10 @@ impl Interpreter<'_> {
                 }
             };
             c.i += 1;
+            if self.d.sinumerik && matches!(c.peek(), Some(b'=')) {
+                self.sinumerik_word(c, w, letter, at)?;
+                continue;
+            }
             let v = self.value(c, at, "")?;
             if v.value.is_nan() {
                 // Macro B: a vacant variable leaves its word out.
@@ -54,7 +58,7 @@ impl Interpreter<'_> {
 
     /// Files the word `letter` with its value `v` into its slot.
     #[inline(always)]
-    fn word(&mut self, w: &mut Words, letter: u8, v: Val, at: usize) -> R<()> {
+    pub(super) fn word(&mut self, w: &mut Words, letter: u8, v: Val, at: usize) -> R<()> {
         let d = self.d;
         match letter {
             b'G' => {
@@ -143,6 +147,9 @@ impl Interpreter<'_> {
         let Some(letter) = c.letter() else {
             return self.not_a_letter(c, w, ch, at);
         };
+        if self.d.sinumerik && self.sinumerik_assignment(c, w, at)? {
+            return Ok(Next::Continue);
+        }
         // Multi-letter words: they start with L (LF, LIMS=), C (CR=), D (DIAMON/DIAMOF) or
         // V (V. variables).
         if matches!(letter, b'L' | b'C' | b'D' | b'V') {

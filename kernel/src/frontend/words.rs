@@ -67,6 +67,8 @@ pub struct Words {
     pub q: Option<Val>,
     /// Fanuc lathe: the axes written with their incremental word (U for X, W for Z), as bits.
     pub incremental: u8,
+    /// SINUMERIK `X=AC(…)`: the axes absolute in this block whatever the distance mode, as bits.
+    pub absolute: u8,
     /// Fanuc: the repeat count L of M98.
     pub l: Option<Val>,
     /// Fanuc dwell time in milliseconds.

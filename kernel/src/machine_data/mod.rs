@@ -27,6 +27,8 @@ pub enum DialectName {
     Siemens808D,
     #[serde(rename = "fanuc-lathe")]
     FanucLathe,
+    #[serde(rename = "siemens-840d")]
+    Siemens840D,
 }
 
 impl DialectName {
@@ -37,6 +39,7 @@ impl DialectName {
             DialectName::Fanuc => "fanuc",
             DialectName::Siemens808D => "siemens-808d",
             DialectName::FanucLathe => "fanuc-lathe",
+            DialectName::Siemens840D => "siemens-840d",
         }
     }
 }
@@ -127,6 +130,9 @@ pub struct ProgramData {
     pub optional_stop: bool,
     /// Iterations one program loop may run before alarm 12650 (endless loops are an error).
     pub max_loop_iterations: u32,
+    /// SINUMERIK R parameters R0 … R(n − 1) (840D MD28050 MM_NUM_R_PARAM).
+    #[serde(default = "default_r_parameters")]
+    pub r_parameters: u32,
     /// Canned cycles: the high-speed peck cycle's retraction after each peck, mm (Fanuc
     /// G73 d, parameter 5114).
     #[serde(default = "default_peck")]
@@ -159,6 +165,10 @@ pub enum BoringShift {
     PlusY,
     #[serde(rename = "-Y")]
     MinusY,
+}
+
+fn default_r_parameters() -> u32 {
+    100
 }
 
 fn default_peck() -> f64 {
@@ -486,7 +496,7 @@ impl MachineData {
                 "must be at least 1".into(),
             ));
         }
-        Ok(())
+        whole("program.r_parameters", p.r_parameters, 0, 100_000)
     }
 
     fn validate_trc(&self) -> Result<(), (String, String)> {

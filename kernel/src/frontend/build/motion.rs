@@ -346,6 +346,13 @@ impl Interpreter<'_> {
                         ..*new
                     };
                     self.axis_target(*a, i, &inc, start[i], offset[i])
+                } else if w.absolute & (1 << i) != 0 {
+                    // SINUMERIK AC(): absolute whatever the distance mode.
+                    let abs = ModalState {
+                        distance: Distance::Absolute,
+                        ..*new
+                    };
+                    self.axis_target(*a, i, &abs, start[i], offset[i])
                 } else {
                     self.axis_target(*a, i, new, start[i], offset[i])
                 };

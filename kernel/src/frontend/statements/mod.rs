@@ -20,6 +20,7 @@ impl Interpreter<'_> {
     pub(super) fn is_statement(&self, c: &Cursor) -> bool {
         (self.d.variables && c.peek() == Some(b'$'))
             || (self.d.macro_b && self.is_macro_statement(c))
+            || (self.d.sinumerik && super::sinumerik::statements::Keyword::at(c).is_some())
     }
 
     /// Runs a statement block whose text starts at `start`; true if it produced a block (a
@@ -27,6 +28,9 @@ impl Interpreter<'_> {
     pub(super) fn statement(&mut self, c: Cursor, start: usize, block_col: usize) -> R<bool> {
         if self.d.variables {
             return self.isg_statement(c).map(|()| false);
+        }
+        if self.d.sinumerik {
+            return self.sinumerik_statement(c, start);
         }
         self.present_state_read.set(false);
         // The statement's own place: a jump, a skipped loop or a call moves the reading on.

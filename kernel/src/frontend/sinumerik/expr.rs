@@ -1,0 +1,433 @@
+//! SINUMERIK arithmetic (Programming Manual Job planning, "Arithmetic parameters", "Operators
+//! and arithmetic functions"; docs/research/sinumerik-language.md §4).
+//!
+//! Priority, highest first: NOT B_NOT and the sign; `*` `/` DIV MOD; `+` `-`; B_AND; B_XOR;
+//! B_OR; AND; XOR; OR; the comparisons `==` `<>` `>` `<` `>=` `<=`. The comparisons bind
+//! weakest, so a compound condition is written `(R1>0) AND (R2<5)`, as the manuals do.
+//! Brackets are `( )`; angles are degrees; a value is true when it is not 0.
+
+use super::super::fault::{fault, R};
+use super::super::lexer::Cursor;
+use super::Store;
+use crate::alarm::AlarmCode;
+
+/// Nesting depth beyond which an expression is refused (keeps the recursion bounded).
+const MAX_DEPTH: u32 = 64;
+
+/// Evaluates a full expression.
+pub fn eval(c: &mut Cursor, store: &Store) -> R<f64> {
+    Parser { store, depth: 0 }.comparison(c)
+}
+
+pub fn truthy(v: f64) -> bool {
+    v != 0.0
+}
+
+fn bool_value(b: bool) -> f64 {
+    b as u8 as f64
+}
+
+/// The binary operators below the comparisons, weakest first: each level's words and
+/// what it does.
+type Apply = fn(f64, f64, usize) -> R<f64>;
+const LEVELS: &[&[(&str, Apply)]] = &[
+    &[("OR", |a, b, _| Ok(bool_value(truthy(a) || truthy(b))))],
+    &[("XOR", |a, b, _| Ok(bool_value(truthy(a) != truthy(b))))],
+    &[("AND", |a, b, _| Ok(bool_value(truthy(a) && truthy(b))))],
+    &[("B_OR", |a, b, at| bits(a, b, at, |x, y| x | y))],
+    &[("B_XOR", |a, b, at| bits(a, b, at, |x, y| x ^ y))],
+    &[("B_AND", |a, b, at| bits(a, b, at, |x, y| x & y))],
+    &[
+        ("+", |a, b, at| finite(a + b, at, "sum")),
+        ("-", |a, b, at| finite(a - b, at, "difference")),
+    ],
+    &[
+        ("*", |a, b, at| finite(a * b, at, "product")),
+        ("/", divide),
+        ("DIV", |a, b, at| divide(a, b, at).map(f64::trunc)),
+        ("MOD", |a, b, at| {
+            if b == 0.0 {
+                return Err(fault(AlarmCode::Arithmetic, at, "MOD by 0"));
+            }
+            Ok(a % b)
+        }),
+    ],
+];
+
+fn divide(a: f64, b: f64, at: usize) -> R<f64> {
+    if b == 0.0 {
+        return Err(fault(AlarmCode::Arithmetic, at, "division by 0"));
+    }
+    finite(a / b, at, "quotient")
+}
+
+fn finite(v: f64, at: usize, what: &str) -> R<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(fault(
+            AlarmCode::Arithmetic,
+            at,
+            format!("the {what} is out of range"),
+        ))
+    }
+}
+
+/// A bit operation on two whole numbers (INT).
+fn bits(a: f64, b: f64, at: usize, f: fn(i64, i64) -> i64) -> R<f64> {
+    Ok(f(whole(a, at)?, whole(b, at)?) as f64)
+}
+
+fn whole(v: f64, at: usize) -> R<i64> {
+    if v.fract() != 0.0 || v.abs() > 2_147_483_647.0 {
+        return Err(fault(
+            AlarmCode::Arithmetic,
+            at,
+            format!("{v} is no INT value for a bit operation"),
+        ));
+    }
+    Ok(v as i64)
+}
+
+struct Parser<'s> {
+    store: &'s Store,
+    depth: u32,
+}
+
+impl Parser<'_> {
+    fn enter(&mut self, c: &Cursor) -> R<()> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(fault(
+                AlarmCode::Syntax,
+                c.i,
+                "expression nested too deeply",
+            ));
+        }
+        Ok(())
+    }
+
+    /// `a == b`, … (left to right).
+    fn comparison(&mut self, c: &mut Cursor) -> R<f64> {
+        let mut l = self.level(c, 0)?;
+        loop {
+            c.skip_blanks();
+            let op: &[u8] = match (c.peek(), c.peek_at(1)) {
+                (Some(b'='), Some(b'=')) => b"==",
+                (Some(b'<'), Some(b'>')) => b"<>",
+                (Some(b'<'), Some(b'=')) => b"<=",
+                (Some(b'>'), Some(b'=')) => b">=",
+                (Some(b'<'), Some(b'<')) => {
+                    return Err(fault(
+                        AlarmCode::NotSupported,
+                        c.i,
+                        "string concatenation << is not supported",
+                    ))
+                }
+                (Some(b'<'), _) => b"<",
+                (Some(b'>'), _) => b">",
+                _ => return Ok(l),
+            };
+            c.i += op.len();
+            let r = self.level(c, 0)?;
+            l = bool_value(match op {
+                b"==" => l == r,
+                b"<>" => l != r,
+                b"<=" => l <= r,
+                b">=" => l >= r,
+                b"<" => l < r,
+                _ => l > r,
+            });
+        }
+    }
+
+    /// The binary operators of `LEVELS[k]` and those above it.
+    fn level(&mut self, c: &mut Cursor, k: usize) -> R<f64> {
+        let Some(ops) = LEVELS.get(k) else {
+            return self.unary(c);
+        };
+        let mut v = self.level(c, k + 1)?;
+        'more: loop {
+            c.skip_blanks();
+            for (word, apply) in ops.iter() {
+                if self.operator(c, word) {
+                    let at = c.i;
+                    c.i += word.len();
+                    let r = self.level(c, k + 1)?;
+                    v = apply(v, r, at)?;
+                    continue 'more;
+                }
+            }
+            return Ok(v);
+        }
+    }
+
+    /// Whether operator `word` stands at the cursor (a word operator as a whole word).
+    fn operator(&self, c: &Cursor, word: &str) -> bool {
+        let w = word.as_bytes();
+        if !w[0].is_ascii_alphabetic() {
+            return c.peek() == Some(w[0]);
+        }
+        c.keyword(word) && !matches!(c.peek_at(w.len()), Some(b'_' | b'0'..=b'9'))
+    }
+
+    /// A sign, NOT or B_NOT, then a primary.
+    fn unary(&mut self, c: &mut Cursor) -> R<f64> {
+        c.skip_blanks();
+        self.enter(c)?;
+        let v = match c.peek() {
+            Some(b'-') => {
+                c.i += 1;
+                -self.unary(c)?
+            }
+            Some(b'+') => {
+                c.i += 1;
+                self.unary(c)?
+            }
+            _ if self.operator(c, "NOT") => {
+                c.i += 3;
+                bool_value(!truthy(self.unary(c)?))
+            }
+            _ if self.operator(c, "B_NOT") => {
+                let at = c.i;
+                c.i += 5;
+                !whole(self.unary(c)?, at)? as f64
+            }
+            _ => self.primary(c)?,
+        };
+        self.depth -= 1;
+        Ok(v)
+    }
+
+    /// A number, a bracket, a function, an R parameter or a variable.
+    fn primary(&mut self, c: &mut Cursor) -> R<f64> {
+        c.skip_blanks();
+        let at = c.i;
+        match c.peek() {
+            Some(b'(') => {
+                c.i += 1;
+                let v = self.comparison(c)?;
+                close(c, at)?;
+                Ok(v)
+            }
+            Some(b'0'..=b'9' | b'.') => number(c, at),
+            Some(ch) if ch.is_ascii_alphabetic() || ch == b'_' || ch == b'$' => self.named(c, at),
+            _ => Err(fault(AlarmCode::Syntax, at, "operand expected")),
+        }
+    }
+
+    /// What starts with a name: a function call, an R parameter, TRUE/FALSE or a variable.
+    fn named(&mut self, c: &mut Cursor, at: usize) -> R<f64> {
+        let name = identifier(c);
+        c.skip_blanks();
+        if c.peek() == Some(b'(') {
+            if let Some(f) = FUNCTIONS.iter().find(|f| f.0 == name) {
+                c.i += 1;
+                let args = self.arguments(c, at)?;
+                return (f.1)(&args, at, &name);
+            }
+        }
+        match name.as_str() {
+            "TRUE" => return Ok(1.0),
+            "FALSE" => return Ok(0.0),
+            _ => {}
+        }
+        if let Some(n) = r_number(&name) {
+            return self.store.r(n, at);
+        }
+        if name == "R" && c.peek() == Some(b'[') {
+            c.i += 1;
+            let n = self.comparison(c)?;
+            c.skip_blanks();
+            if c.peek() != Some(b']') {
+                return Err(fault(AlarmCode::Syntax, c.i, "']' expected"));
+            }
+            c.i += 1;
+            return self.store.r(index(n, at)?, at);
+        }
+        self.store.get(&name, at)
+    }
+
+    /// Arguments up to the closing bracket (the opening one is read).
+    fn arguments(&mut self, c: &mut Cursor, at: usize) -> R<heapless::Vec<f64, 3>> {
+        let mut args = heapless::Vec::new();
+        loop {
+            let v = self.comparison(c)?;
+            if args.push(v).is_err() {
+                return Err(fault(AlarmCode::Syntax, c.i, "too many arguments"));
+            }
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') => c.i += 1,
+                Some(b')') => {
+                    c.i += 1;
+                    return Ok(args);
+                }
+                _ => return Err(fault(AlarmCode::Syntax, at, "')' expected")),
+            }
+        }
+    }
+}
+
+fn close(c: &mut Cursor, open: usize) -> R<()> {
+    c.skip_blanks();
+    if c.peek() == Some(b')') {
+        c.i += 1;
+        Ok(())
+    } else {
+        Err(fault(AlarmCode::Syntax, open, "'(' is not closed"))
+    }
+}
+
+fn number(c: &mut Cursor, at: usize) -> R<f64> {
+    match crate::frontend::number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+        Some((n, next)) => {
+            c.i = next;
+            // `1.5EX3`: an exponent (840D).
+            let upper = |b: Option<u8>| b.map(|b| b.to_ascii_uppercase());
+            if (upper(c.peek()), upper(c.peek_at(1))) == (Some(b'E'), Some(b'X')) {
+                c.i += 2;
+                let (e, next) = crate::frontend::number::parse(c.b, c.i)
+                    .filter(|(_, e)| *e <= c.end)
+                    .ok_or_else(|| fault(AlarmCode::Syntax, c.i, "exponent expected after EX"))?;
+                c.i = next;
+                return finite(n.value * libm::pow(10.0, e.value), at, "number");
+            }
+            Ok(n.value)
+        }
+        None => Err(fault(AlarmCode::Syntax, at, "number expected")),
+    }
+}
+
+/// A name: letters, digits and `_` (a system variable starts with `$`), upper-cased.
+pub fn identifier(c: &mut Cursor) -> String {
+    let start = c.i;
+    if c.peek() == Some(b'$') {
+        c.i += 1;
+    }
+    while let Some(ch) = c.peek() {
+        if ch.is_ascii_alphanumeric() || ch == b'_' {
+            c.i += 1;
+        } else {
+            break;
+        }
+    }
+    String::from_utf8_lossy(&c.b[start..c.i]).to_ascii_uppercase()
+}
+
+/// `R12` → 12 (`R01` is R1).
+pub fn r_number(name: &str) -> Option<usize> {
+    let digits = name.strip_prefix('R')?;
+    if digits.is_empty() || digits.len() > 6 || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse().ok()
+}
+
+/// A value used as an index or number: whole and not negative.
+pub fn index(v: f64, at: usize) -> R<usize> {
+    if v < 0.0 || v.fract() != 0.0 || v > 1e6 {
+        return Err(fault(AlarmCode::BadNumber, at, format!("{v} is no index")));
+    }
+    Ok(v as usize)
+}
+
+type Function = fn(&[f64], usize, &str) -> R<f64>;
+
+fn one(args: &[f64], at: usize, name: &str) -> R<f64> {
+    match args {
+        [a] => Ok(*a),
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{name} takes one argument"),
+        )),
+    }
+}
+
+fn domain(ok: bool, v: f64, at: usize, name: &str) -> R<f64> {
+    if ok && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(fault(
+            AlarmCode::Arithmetic,
+            at,
+            format!("{name}: argument out of range"),
+        ))
+    }
+}
+
+/// The arithmetic functions (Job planning, "Arithmetic functions"); angles in degrees.
+static FUNCTIONS: &[(&str, Function)] = &[
+    ("SIN", |a, at, n| Ok(libm::sin(one(a, at, n)?.to_radians()))),
+    ("COS", |a, at, n| Ok(libm::cos(one(a, at, n)?.to_radians()))),
+    ("TAN", |a, at, n| {
+        let v = libm::tan(one(a, at, n)?.to_radians());
+        domain(v.abs() < 1e15, v, at, n)
+    }),
+    ("ASIN", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(x.abs() <= 1.0, libm::asin(x).to_degrees(), at, n)
+    }),
+    ("ACOS", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(x.abs() <= 1.0, libm::acos(x).to_degrees(), at, n)
+    }),
+    ("ATAN2", |a, at, n| match a {
+        [y, x] => Ok(libm::atan2(*y, *x).to_degrees()),
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{n} takes two arguments"),
+        )),
+    }),
+    ("SQRT", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(x >= 0.0, libm::sqrt(x), at, n)
+    }),
+    ("ABS", |a, at, n| Ok(one(a, at, n)?.abs())),
+    ("POT", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(true, x * x, at, n)
+    }),
+    ("TRUNC", |a, at, n| Ok(one(a, at, n)?.trunc())),
+    ("ROUND", |a, at, n| Ok(libm::round(one(a, at, n)?))),
+    ("ROUNDUP", |a, at, n| Ok(libm::ceil(one(a, at, n)?))),
+    ("LN", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(x > 0.0, libm::log(x), at, n)
+    }),
+    ("EXP", |a, at, n| {
+        let x = one(a, at, n)?;
+        domain(true, libm::exp(x), at, n)
+    }),
+    ("MINVAL", |a, at, n| match a {
+        [x, y] => Ok(x.min(*y)),
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{n} takes two arguments"),
+        )),
+    }),
+    ("MAXVAL", |a, at, n| match a {
+        [x, y] => Ok(x.max(*y)),
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{n} takes two arguments"),
+        )),
+    }),
+    ("BOUND", |a, at, n| match a {
+        [lo, hi, x] if lo <= hi => Ok(x.clamp(*lo, *hi)),
+        [_, _, _] => Err(fault(
+            AlarmCode::Arithmetic,
+            at,
+            format!("{n}: minimum above maximum"),
+        )),
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{n} takes three arguments"),
+        )),
+    }),
+];

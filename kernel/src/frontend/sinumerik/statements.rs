@@ -1,0 +1,618 @@
+//! SINUMERIK statements (Job planning, "Flexible NC programming"; docs/sinumerik.md): the
+//! control structures run through the links [`Structure`] found before the program started,
+//! the jumps GOTOF/GOTOB/GOTO/GOTOC to labels and block numbers, DEF, STOPRE, MSG and SETAL,
+//! and assignments to R parameters and user variables among a block's words.
+
+use super::super::fault::{fault, Fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::lexer::Cursor;
+use super::expr::{self, identifier, r_number, truthy};
+use super::structure::{Link, Mark, Structure};
+use super::{Store, Type};
+use crate::alarm::AlarmCode;
+
+/// The words that start a statement block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Keyword {
+    If,
+    Else,
+    EndIf,
+    While,
+    EndWhile,
+    For,
+    EndFor,
+    Repeat,
+    Until,
+    Loop,
+    EndLoop,
+    GotoF,
+    GotoB,
+    Goto,
+    GotoC,
+    Def,
+    Stopre,
+    Msg,
+    Setal,
+}
+
+const KEYWORDS: &[(&str, Keyword)] = &[
+    ("IF", Keyword::If),
+    ("ELSE", Keyword::Else),
+    ("ENDIF", Keyword::EndIf),
+    ("WHILE", Keyword::While),
+    ("ENDWHILE", Keyword::EndWhile),
+    ("FOR", Keyword::For),
+    ("ENDFOR", Keyword::EndFor),
+    ("REPEAT", Keyword::Repeat),
+    ("UNTIL", Keyword::Until),
+    ("LOOP", Keyword::Loop),
+    ("ENDLOOP", Keyword::EndLoop),
+    ("GOTOF", Keyword::GotoF),
+    ("GOTOB", Keyword::GotoB),
+    ("GOTO", Keyword::Goto),
+    ("GOTOC", Keyword::GotoC),
+    ("DEF", Keyword::Def),
+    ("STOPRE", Keyword::Stopre),
+    ("MSG", Keyword::Msg),
+    ("SETAL", Keyword::Setal),
+];
+
+impl Keyword {
+    /// The statement word at the cursor (a whole word), without moving it.
+    pub fn at(c: &Cursor) -> Option<Keyword> {
+        if !c.peek().is_some_and(|b| b.is_ascii_alphabetic()) {
+            return None;
+        }
+        let mut probe = *c;
+        let name = identifier(&mut probe);
+        KEYWORDS.iter().find(|k| k.0 == name).map(|k| k.1)
+    }
+
+    pub fn text(self) -> &'static str {
+        KEYWORDS.iter().find(|k| k.1 == self).map_or("?", |k| k.0)
+    }
+
+    pub fn is_structure(self) -> bool {
+        !matches!(
+            self,
+            Keyword::GotoF
+                | Keyword::GotoB
+                | Keyword::Goto
+                | Keyword::GotoC
+                | Keyword::Def
+                | Keyword::Stopre
+                | Keyword::Msg
+                | Keyword::Setal
+        )
+    }
+
+    fn is_jump(self) -> bool {
+        matches!(
+            self,
+            Keyword::GotoF | Keyword::GotoB | Keyword::Goto | Keyword::GotoC
+        )
+    }
+}
+
+/// Where a jump word stands in the rest of the block (`IF cond GOTOF label`), if one does.
+pub fn jump_in(c: &Cursor) -> Option<usize> {
+    let mut k = c.i;
+    while k < c.end {
+        let b = c.b[k];
+        if b == b';' {
+            return None;
+        }
+        let starts_word = k == c.i || !(c.b[k - 1].is_ascii_alphanumeric() || c.b[k - 1] == b'_');
+        if starts_word && b.is_ascii_alphabetic() {
+            let probe = Cursor::new(c.b, k, c.end);
+            if Keyword::at(&probe).is_some_and(Keyword::is_jump) {
+                return Some(k);
+            }
+        }
+        k += 1;
+    }
+    None
+}
+
+/// The language's state in the interpreter: the variables and the program's structure.
+#[derive(Clone, Debug, Default)]
+pub struct Sinumerik {
+    pub store: Store,
+    pub structure: Structure,
+    /// The structure has been read (before the first block).
+    pub read: bool,
+}
+
+impl Interpreter<'_> {
+    /// Before the first block: the program's structures and labels (a fault names the
+    /// block it belongs to).
+    pub(in crate::frontend) fn read_structure(&mut self) -> R<()> {
+        self.sinumerik.read = true;
+        let end = self.src.len();
+        match Structure::of(self.src, self.pos, end, self.line) {
+            Ok(s) => {
+                self.sinumerik.structure = s;
+                Ok(())
+            }
+            Err((f, line, line_start)) => {
+                (self.blk_line, self.blk_line_start, self.blk_number) = (line, line_start, None);
+                Err(f)
+            }
+        }
+    }
+
+    /// Runs the statement block at `start` (its words from the cursor, after the number and
+    /// the label); true if it produced a block (STOPRE, MSG).
+    pub(in crate::frontend) fn sinumerik_statement(
+        &mut self,
+        mut c: Cursor,
+        start: usize,
+    ) -> R<bool> {
+        let Some(word) = Keyword::at(&c) else {
+            return Ok(false);
+        };
+        let at = c.i;
+        c.i += word.text().len();
+        let link = self.sinumerik.structure.link(start);
+        match (word, link) {
+            (Keyword::If, _) => self.if_block(&mut c, link, start, at)?,
+            (Keyword::Else, Some(Link::Else { after_end })) => self.go(after_end, at, false)?,
+            (Keyword::While, Some(Link::Head { after_end })) => {
+                if !truthy(self.test(&mut c)?) {
+                    self.go(after_end, at, false)?;
+                }
+            }
+            (Keyword::EndWhile, Some(Link::EndWhile { head })) => self.go(head, at, true)?,
+            (Keyword::For, Some(Link::Head { after_end })) => {
+                self.for_start(&mut c, after_end, at)?
+            }
+            (Keyword::EndFor, Some(Link::EndFor { head, body })) => {
+                self.for_next(head, body, at)?
+            }
+            (Keyword::Until, Some(Link::Back { body })) => {
+                if !truthy(self.test(&mut c)?) {
+                    self.go(body, at, true)?;
+                }
+            }
+            (Keyword::EndLoop, Some(Link::Back { body })) => self.go(body, at, true)?,
+            (Keyword::EndIf | Keyword::Repeat | Keyword::Loop, _) => {}
+            (Keyword::GotoF | Keyword::GotoB | Keyword::Goto | Keyword::GotoC, _) => {
+                self.jump(word, &mut c, start, at)?
+            }
+            (Keyword::Def, _) => self.define(&mut c, at)?,
+            (Keyword::Stopre, _) => {
+                self.end_of_statement(&mut c)?;
+                return self.statement_block(at, None).map(|()| true);
+            }
+            (Keyword::Msg, _) => return self.msg(&mut c, at).map(|()| true),
+            (Keyword::Setal, _) => return Err(self.setal(&mut c, at)),
+            _ => {
+                return Err(fault(
+                    AlarmCode::ControlNesting,
+                    at,
+                    format!("{} is not part of a control structure", word.text()),
+                ))
+            }
+        }
+        Ok(false)
+    }
+
+    /// A condition and nothing after it but a comment.
+    fn test(&mut self, c: &mut Cursor) -> R<f64> {
+        let v = expr::eval(c, &self.sinumerik.store)?;
+        self.end_of_statement(c)?;
+        Ok(v)
+    }
+
+    fn end_of_statement(&self, c: &mut Cursor) -> R<()> {
+        c.skip_blanks();
+        match c.peek() {
+            None | Some(b';') => Ok(()),
+            Some(_) => Err(fault(
+                AlarmCode::Syntax,
+                c.i,
+                "end of the statement expected",
+            )),
+        }
+    }
+
+    /// Reading goes on at `to`; a jump back counts against the loop budget.
+    fn go(&mut self, to: Mark, at: usize, back: bool) -> R<()> {
+        if back {
+            self.next_pass(at)?;
+        }
+        (self.pos, self.line, self.line_start) = to;
+        Ok(())
+    }
+
+    /// IF: the structure's branch, or the jump of `IF cond GOTOF label`.
+    fn if_block(&mut self, c: &mut Cursor, link: Option<Link>, start: usize, at: usize) -> R<()> {
+        if let Some(j) = jump_in(c) {
+            let mut cond = Cursor::new(c.b, c.i, j);
+            let v = expr::eval(&mut cond, &self.sinumerik.store)?;
+            self.end_of_statement(&mut cond)?;
+            let mut rest = Cursor::new(c.b, j, c.end);
+            let word = Keyword::at(&rest).unwrap_or(Keyword::Goto);
+            rest.i += word.text().len();
+            return if truthy(v) {
+                self.jump(word, &mut rest, start, j)
+            } else {
+                Ok(())
+            };
+        }
+        let v = self.test(c)?;
+        match link {
+            Some(Link::If { otherwise }) if !truthy(v) => self.go(otherwise, at, false),
+            Some(Link::If { .. }) => Ok(()),
+            _ => Err(fault(
+                AlarmCode::ControlNesting,
+                at,
+                "IF is not part of a control structure",
+            )),
+        }
+    }
+
+    /// `FOR var = a TO b`: the variable starts at a; a loop that does not run goes past its
+    /// ENDFOR.
+    fn for_start(&mut self, c: &mut Cursor, after_end: Mark, at: usize) -> R<()> {
+        let (var, start, end) = self.for_head(c)?;
+        self.assign(&var, start, at)?;
+        // The first pass counts against the program's loop budget too.
+        self.add_passes(1, at)?;
+        if start > end {
+            self.go(after_end, at, false)?;
+        }
+        Ok(())
+    }
+
+    /// ENDFOR: the variable counts up by 1 and the body runs again while it is at most the
+    /// end value (read again from the FOR block).
+    fn for_next(&mut self, head: Mark, body: Mark, at: usize) -> R<()> {
+        let stop = self.src[head.0..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(self.src.len(), |k| head.0 + k);
+        let mut c = Cursor::new(self.src, head.0, stop);
+        c.skip_blanks();
+        super::structure::block_number(&mut c);
+        c.i += Keyword::For.text().len();
+        let (var, _, end) = self.for_head(&mut c).map_err(|mut f| {
+            f.at = at;
+            f
+        })?;
+        let v = self.value_of(&var, at)? + 1.0;
+        self.assign(&var, v, at)?;
+        if v <= end {
+            self.go(body, at, true)?;
+        }
+        Ok(())
+    }
+
+    /// `var = a TO b` after FOR.
+    fn for_head(&mut self, c: &mut Cursor) -> R<(String, f64, f64)> {
+        c.skip_blanks();
+        let var = identifier(c);
+        c.skip_blanks();
+        if var.is_empty() || c.peek() != Some(b'=') {
+            return Err(fault(
+                AlarmCode::Syntax,
+                c.i,
+                "FOR variable = start TO end expected",
+            ));
+        }
+        c.i += 1;
+        let to =
+            to_keyword(c).ok_or_else(|| fault(AlarmCode::Syntax, c.i, "TO expected in FOR"))?;
+        let mut first = Cursor::new(c.b, c.i, to);
+        let start = expr::eval(&mut first, &self.sinumerik.store)?;
+        self.end_of_statement(&mut first)?;
+        c.i = to + 2;
+        let end = self.test(c)?;
+        Ok((var, start, end))
+    }
+
+    /// An R parameter's or a user variable's value.
+    fn value_of(&self, name: &str, at: usize) -> R<f64> {
+        match r_number(name) {
+            Some(n) => self.sinumerik.store.r(n, at),
+            None => self.sinumerik.store.get(name, at),
+        }
+    }
+
+    /// Writes an R parameter or a user variable.
+    pub(in crate::frontend) fn assign(&mut self, name: &str, v: f64, at: usize) -> R<()> {
+        match r_number(name) {
+            Some(n) => self.sinumerik.store.set_r(n, v, at),
+            None => self.sinumerik.store.set(name, v, at),
+        }
+    }
+
+    /// GOTOF / GOTOB / GOTO / GOTOC to a label or a block number (`N100`).
+    fn jump(&mut self, word: Keyword, c: &mut Cursor, start: usize, at: usize) -> R<()> {
+        c.skip_blanks();
+        let target_at = c.i;
+        let target = identifier(c);
+        self.end_of_statement(c)?;
+        let s = &self.sinumerik.structure;
+        let marks = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
+            Some(n) if !target.is_empty() => s.numbers(n),
+            _ => s.labels(&target),
+        };
+        let forward = marks.iter().find(|m| m.0 > start).copied();
+        let backward = marks.iter().rfind(|m| m.0 <= start).copied();
+        let from_start = marks.first().copied();
+        let to = match word {
+            Keyword::GotoF => forward,
+            Keyword::GotoB => backward,
+            _ => forward.or(from_start),
+        };
+        match to {
+            Some(m) => self.go(m, at, m.0 <= start),
+            None if word == Keyword::GotoC => Ok(()),
+            None if target.is_empty() => Err(fault(
+                AlarmCode::Syntax,
+                target_at,
+                "jump destination expected",
+            )),
+            None => Err(fault(
+                AlarmCode::JumpTarget,
+                target_at,
+                format!(
+                    "jump destination {target} not found ({} searches {})",
+                    word.text(),
+                    match word {
+                        Keyword::GotoF => "forward",
+                        Keyword::GotoB => "backward",
+                        _ => "forward, then from the program's start",
+                    }
+                ),
+            )),
+        }
+    }
+
+    /// `DEF INT I, J=2`: user variables. Run again (a jump back before it) it starts the
+    /// variables afresh.
+    fn define(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        c.skip_blanks();
+        let ty_at = c.i;
+        let ty_name = identifier(c);
+        let ty = Type::of(&ty_name).ok_or_else(|| {
+            fault(
+                AlarmCode::NotSupported,
+                ty_at,
+                format!("DEF {ty_name}: the types are INT, REAL and BOOL"),
+            )
+        })?;
+        loop {
+            c.skip_blanks();
+            let name_at = c.i;
+            let name = identifier(c);
+            if name.is_empty()
+                || r_number(&name).is_some()
+                || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some()
+            {
+                return Err(fault(AlarmCode::Syntax, name_at, "variable name expected"));
+            }
+            c.skip_blanks();
+            if c.peek() == Some(b'[') {
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    c.i,
+                    "arrays are not supported",
+                ));
+            }
+            let mut v = 0.0;
+            if c.peek() == Some(b'=') {
+                c.i += 1;
+                v = expr::eval(c, &self.sinumerik.store)?;
+            }
+            self.sinumerik.store.define(&name, ty, v, name_at)?;
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') => c.i += 1,
+                _ => break,
+            }
+        }
+        let _ = at;
+        self.end_of_statement(c)
+    }
+
+    /// A block of its own for the statement at `at`: STOPRE stops preprocessing there, MSG
+    /// carries its text (the operator's message, warning 65001).
+    fn statement_block(&mut self, at: usize, message: Option<Box<str>>) -> R<()> {
+        let col = super::super::lexer::column(self.src, self.blk_line_start, at);
+        let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
+        self.empty_block_at(line, col, number);
+        self.block.program = program;
+        self.block.preprocess_stop = message.is_none();
+        self.block.message = message;
+        Ok(())
+    }
+
+    /// `MSG("text")`: the text as the block's message; `MSG()` clears it (nothing to show).
+    fn msg(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        let text = parenthesised_string(c)?;
+        self.end_of_statement(c)?;
+        self.statement_block(at, None)?;
+        self.block.preprocess_stop = false;
+        if !text.is_empty() {
+            self.block.message = Some(text.into());
+        }
+        Ok(())
+    }
+
+    /// `SETAL(n)`: the program raises alarm n (Job planning: user range 60000 … 69999).
+    fn setal(&mut self, c: &mut Cursor, at: usize) -> Box<Fault> {
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return fault(AlarmCode::Syntax, c.i, "SETAL(alarm number) expected");
+        }
+        let n = match expr::eval(c, &self.sinumerik.store) {
+            Ok(v) => v,
+            Err(f) => return f,
+        };
+        if !(60000.0..=69999.0).contains(&n) || n.fract() != 0.0 {
+            return fault(
+                AlarmCode::BadNumber,
+                at,
+                format!("SETAL({n}): the cycle alarms are 60000 … 69999"),
+            );
+        }
+        fault(
+            AlarmCode::ProgramAlarm,
+            at,
+            format!("SETAL({n}): alarm {n} set by the program"),
+        )
+    }
+}
+
+/// The byte offset of the word TO in `c`'s rest, if it stands there as a word.
+fn to_keyword(c: &Cursor) -> Option<usize> {
+    let mut k = c.i;
+    while k + 1 < c.end {
+        let before = k == c.i || !(c.b[k - 1].is_ascii_alphanumeric() || c.b[k - 1] == b'_');
+        let after =
+            c.b.get(k + 2)
+                .is_none_or(|b| !(b.is_ascii_alphanumeric() || *b == b'_'));
+        if before
+            && after
+            && c.b[k].eq_ignore_ascii_case(&b'T')
+            && c.b[k + 1].eq_ignore_ascii_case(&b'O')
+        {
+            return Some(k);
+        }
+        k += 1;
+    }
+    None
+}
+
+/// `("text")` or `()` at the cursor: the text.
+fn parenthesised_string(c: &mut Cursor) -> R<String> {
+    c.skip_blanks();
+    if c.peek() != Some(b'(') {
+        return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
+    }
+    c.i += 1;
+    c.skip_blanks();
+    let mut text = String::new();
+    if c.peek() == Some(b'"') {
+        let open = c.i;
+        c.i += 1;
+        let from = c.i;
+        while c.peek().is_some_and(|b| b != b'"') {
+            c.i += 1;
+        }
+        if c.peek() != Some(b'"') {
+            return Err(fault(
+                AlarmCode::Syntax,
+                open,
+                "string not closed with '\"'",
+            ));
+        }
+        text = String::from_utf8_lossy(&c.b[from..c.i]).into_owned();
+        c.i += 1;
+        c.skip_blanks();
+    }
+    if c.peek() != Some(b')') {
+        return Err(fault(AlarmCode::Syntax, c.i, "')' expected"));
+    }
+    c.i += 1;
+    Ok(text)
+}
+
+impl Interpreter<'_> {
+    /// `R1=…` or `NAME=…` (a user variable) at the cursor among a block's words: assigned,
+    /// and true; false if the text is no assignment.
+    pub(in crate::frontend) fn sinumerik_assignment(
+        &mut self,
+        c: &mut Cursor,
+        w: &mut super::super::words::Words,
+        at: usize,
+    ) -> R<bool> {
+        let mut probe = *c;
+        let name = identifier(&mut probe);
+        let is_r = r_number(&name).is_some() || name == "R";
+        if !is_r && !self.sinumerik.store.has(&name) {
+            return Ok(false);
+        }
+        let index = if name == "R" && probe.peek() == Some(b'[') {
+            probe.i += 1;
+            let n = expr::eval(&mut probe, &self.sinumerik.store)?;
+            probe.skip_blanks();
+            if probe.peek() != Some(b']') {
+                return Err(fault(AlarmCode::Syntax, probe.i, "']' expected"));
+            }
+            probe.i += 1;
+            Some(expr::index(n, at)?)
+        } else {
+            None
+        };
+        probe.skip_blanks();
+        if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+            return Ok(false);
+        }
+        probe.i += 1;
+        let v = expr::eval(&mut probe, &self.sinumerik.store)?;
+        match index {
+            Some(n) => self.sinumerik.store.set_r(n, v, at)?,
+            None => self.assign(&name, v, at)?,
+        }
+        *c = probe;
+        w.calculation = true;
+        Ok(true)
+    }
+
+    /// `X=expr`, `X=AC(expr)`, `X=IC(expr)` (the cursor on the `=`): the word with its value;
+    /// AC and IC make this axis absolute or incremental in this block only (Fundamentals,
+    /// "Absolute and incremental dimensions").
+    pub(in crate::frontend) fn sinumerik_word(
+        &mut self,
+        c: &mut Cursor,
+        w: &mut super::super::words::Words,
+        letter: u8,
+        at: usize,
+    ) -> R<()> {
+        c.i += 1;
+        c.skip_blanks();
+        let mode = if c.keyword("AC") || c.keyword("IC") {
+            let m = c.letter();
+            let mut probe = *c;
+            probe.i += 2;
+            probe.skip_blanks();
+            (probe.peek() == Some(b'('))
+                .then(|| {
+                    *c = probe;
+                    m
+                })
+                .flatten()
+        } else {
+            None
+        };
+        let value = expr::eval(c, &self.sinumerik.store)?;
+        let axis = matches!(letter, b'X'..=b'Z').then(|| (letter - b'X') as usize);
+        match (mode, axis) {
+            (None, _) => {}
+            (Some(m), Some(i)) => {
+                let bit = 1u8 << i;
+                if m == b'I' {
+                    w.incremental |= bit;
+                } else {
+                    w.absolute |= bit;
+                }
+            }
+            (Some(_), None) => {
+                return Err(fault(
+                    AlarmCode::NotSupported,
+                    at,
+                    "AC()/IC() on an address other than X, Y, Z",
+                ));
+            }
+        }
+        let v = super::super::words::checked(super::super::words::Val {
+            value,
+            at: at as u32,
+            has_point: true,
+        })?;
+        self.word(w, letter, v, at)
+    }
+}

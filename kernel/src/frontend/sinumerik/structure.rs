@@ -1,0 +1,268 @@
+//! The control structures and jump labels of a whole program, read once before it starts.
+//!
+//! Job planning ("Control structures") says the control matches IF/ELSE/ENDIF, WHILE/ENDWHILE,
+//! FOR/ENDFOR, REPEAT/UNTIL and LOOP/ENDLOOP as it interprets; softnc matches them all before
+//! the first block runs, so a structure left open behind an M30 is an alarm too, and running
+//! a structure is a jump to a place known in advance (no search, nothing to unwind when a
+//! GOTO leaves a loop). A block with a structure word cannot be skipped and carries no label
+//! (Job planning, "Control structures").
+
+use super::super::fault::{fault, Fault};
+use super::expr::identifier;
+use super::statements::Keyword;
+use crate::alarm::AlarmCode;
+use std::collections::HashMap;
+
+/// A place in the text: (byte offset, line number, line start) of a block's start.
+pub type Mark = (usize, u32, usize);
+
+/// Where a structure word sends the interpreter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Link {
+    /// IF: a false condition goes on after the ELSE, or after the ENDIF.
+    If { otherwise: Mark },
+    /// ELSE reached at the end of the true branch: on after the ENDIF.
+    Else { after_end: Mark },
+    /// WHILE and FOR: a loop that does not run goes on after its end.
+    Head { after_end: Mark },
+    /// ENDWHILE: back to the WHILE, which tests again.
+    EndWhile { head: Mark },
+    /// ENDFOR: its FOR block (for the variable and the end value) and the body's start.
+    EndFor { head: Mark, body: Mark },
+    /// UNTIL and ENDLOOP: back to the body's start.
+    Back { body: Mark },
+}
+
+/// The structures and labels of one program text.
+#[derive(Clone, Debug, Default)]
+pub struct Structure {
+    links: HashMap<usize, Link>,
+    /// Label name → the blocks that carry it, in text order.
+    labels: HashMap<Box<str>, Vec<Mark>>,
+    /// Block number → its blocks, in text order.
+    numbers: HashMap<u32, Vec<Mark>>,
+}
+
+/// An opened structure while matching: its word, its block, its body's start, and for IF
+/// its ELSE block and what follows it.
+struct Open {
+    word: Keyword,
+    at: Mark,
+    body: Mark,
+    col: usize,
+    otherwise: Option<(Mark, Mark)>,
+}
+
+/// A fault of the structure check, with the block it belongs to (line, line start).
+pub type Located = (Box<Fault>, u32, usize);
+
+impl Structure {
+    pub fn link(&self, block: usize) -> Option<Link> {
+        self.links.get(&block).copied()
+    }
+
+    pub fn labels(&self, name: &str) -> &[Mark] {
+        self.labels.get(name).map_or(&[], Vec::as_slice)
+    }
+
+    pub fn numbers(&self, n: u32) -> &[Mark] {
+        self.numbers.get(&n).map_or(&[], Vec::as_slice)
+    }
+
+    /// Reads `src[start..end]` block by block (first line number `line`).
+    pub fn of(src: &[u8], start: usize, end: usize, line: u32) -> Result<Structure, Located> {
+        let mut s = Structure::default();
+        let mut open: Vec<Open> = Vec::new();
+        let mut at: Mark = (start, line, start);
+        while at.0 < end {
+            let stop = src[at.0..end]
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(end, |k| at.0 + k);
+            let next: Mark = (stop + 1, at.1 + 1, stop + 1);
+            if let Some((word, col)) = s.block(src, at, stop)? {
+                s.structure_word(&mut open, word, at, next, col)?;
+            }
+            at = next;
+        }
+        match open.pop() {
+            Some(o) => Err((
+                fault(
+                    AlarmCode::ControlNesting,
+                    o.col,
+                    format!("{} is not closed by {}", o.word.text(), closer(o.word)),
+                ),
+                o.at.1,
+                o.at.2,
+            )),
+            None => Ok(s),
+        }
+    }
+
+    /// One block: its number and label on record; its structure word, if it has one.
+    fn block(
+        &mut self,
+        src: &[u8],
+        at: Mark,
+        stop: usize,
+    ) -> Result<Option<(Keyword, usize)>, Located> {
+        let mut c = super::super::lexer::Cursor::new(src, at.0, stop);
+        c.skip_blanks();
+        let skipped = c.peek() == Some(b'/');
+        if skipped {
+            c.i += 1;
+            while matches!(c.peek(), Some(b'0'..=b'9')) {
+                c.i += 1;
+            }
+            c.skip_blanks();
+        }
+        if let Some(n) = block_number(&mut c) {
+            self.numbers.entry(n).or_default().push(at);
+        }
+        let label = label(&mut c);
+        let col = c.i;
+        let Some(word) = Keyword::at(&c).filter(|w| w.is_structure() && !is_short_if(*w, &c))
+        else {
+            if let Some(name) = label {
+                self.labels.entry(name.into()).or_default().push(at);
+            }
+            return Ok(None);
+        };
+        let refuse =
+            |what: &str| Err((fault(AlarmCode::Syntax, col, what.to_string()), at.1, at.2));
+        if skipped {
+            return refuse("a block with a control structure cannot be skipped (/)");
+        }
+        if label.is_some() {
+            return refuse("a block with a control structure carries no label");
+        }
+        Ok(Some((word, col)))
+    }
+
+    /// Structure word `word` in the block at `at` (the next block at `next`).
+    fn structure_word(
+        &mut self,
+        open: &mut Vec<Open>,
+        word: Keyword,
+        at: Mark,
+        next: Mark,
+        col: usize,
+    ) -> Result<(), Located> {
+        let opener = match word {
+            Keyword::Else | Keyword::EndIf => Keyword::If,
+            Keyword::EndWhile => Keyword::While,
+            Keyword::EndFor => Keyword::For,
+            Keyword::Until => Keyword::Repeat,
+            Keyword::EndLoop => Keyword::Loop,
+            _ => {
+                open.push(Open {
+                    word,
+                    at,
+                    body: next,
+                    col,
+                    otherwise: None,
+                });
+                return Ok(());
+            }
+        };
+        let top = open
+            .last_mut()
+            .filter(|o| o.word == opener && !(word == Keyword::Else && o.otherwise.is_some()));
+        let Some(o) = top else {
+            let message = match open.last() {
+                Some(o) => format!(
+                    "{} does not close {} (line {})",
+                    word.text(),
+                    o.word.text(),
+                    o.at.1
+                ),
+                None => format!("{} without {}", word.text(), opener.text()),
+            };
+            return Err((fault(AlarmCode::ControlNesting, col, message), at.1, at.2));
+        };
+        if word == Keyword::Else {
+            o.otherwise = Some((at, next));
+            return Ok(());
+        }
+        let Some(o) = open.pop() else { return Ok(()) };
+        match word {
+            Keyword::EndIf => {
+                let otherwise = o.otherwise.map_or(next, |(_, after_else)| after_else);
+                self.links.insert(o.at.0, Link::If { otherwise });
+                if let Some((else_at, _)) = o.otherwise {
+                    self.links.insert(else_at.0, Link::Else { after_end: next });
+                }
+            }
+            Keyword::EndWhile => {
+                self.links.insert(o.at.0, Link::Head { after_end: next });
+                self.links.insert(at.0, Link::EndWhile { head: o.at });
+            }
+            Keyword::EndFor => {
+                self.links.insert(o.at.0, Link::Head { after_end: next });
+                self.links.insert(
+                    at.0,
+                    Link::EndFor {
+                        head: o.at,
+                        body: o.body,
+                    },
+                );
+            }
+            _ => {
+                self.links.insert(at.0, Link::Back { body: o.body });
+            }
+        }
+        Ok(())
+    }
+}
+
+fn closer(w: Keyword) -> &'static str {
+    match w {
+        Keyword::If => "ENDIF",
+        Keyword::While => "ENDWHILE",
+        Keyword::For => "ENDFOR",
+        Keyword::Repeat => "UNTIL",
+        _ => "ENDLOOP",
+    }
+}
+
+/// `N10` or `:10` at the cursor: the number.
+pub fn block_number(c: &mut super::super::lexer::Cursor) -> Option<u32> {
+    if !matches!(c.letter(), Some(b'N')) && c.peek() != Some(b':') {
+        return None;
+    }
+    let digits = c.i + 1;
+    let mut k = digits;
+    while k < c.end && c.b[k].is_ascii_digit() {
+        k += 1;
+    }
+    if k == digits || k - digits > 9 {
+        return None;
+    }
+    let n = std::str::from_utf8(&c.b[digits..k]).ok()?.parse().ok()?;
+    c.i = k;
+    c.skip_blanks();
+    Some(n)
+}
+
+/// A jump label `NAME:` at the cursor (the first two characters letters or `_`): its name.
+pub fn label(c: &mut super::super::lexer::Cursor) -> Option<String> {
+    let first_two =
+        |k: usize| matches!(c.peek_at(k), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+    if !(first_two(0) && first_two(1)) {
+        return None;
+    }
+    let mut probe = *c;
+    let name = identifier(&mut probe);
+    if probe.peek() != Some(b':') || name.starts_with('$') {
+        return None;
+    }
+    probe.i += 1;
+    probe.skip_blanks();
+    *c = probe;
+    Some(name)
+}
+
+/// `IF cond GOTOF label`: an IF that jumps, with no ENDIF (Job planning, "Program jumps").
+fn is_short_if(w: Keyword, c: &super::super::lexer::Cursor) -> bool {
+    w == Keyword::If && super::statements::jump_in(c).is_some()
+}
