@@ -25,7 +25,7 @@ use std::sync::{Mutex, OnceLock};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-const DIALECTS: [&str; 7] = [
+const DIALECTS: [&str; 8] = [
     "siemens-840c",
     "isg",
     "fanuc",
@@ -33,6 +33,7 @@ const DIALECTS: [&str; 7] = [
     "fanuc-5axis",
     "siemens-808d-c",
     "fanuc-lathe",
+    "siemens-840d",
 ];
 
 /// Seconds one interpretation may take before the watchdog calls it a hang.
@@ -41,9 +42,9 @@ const HANG_SECS: u64 = 20;
 /// The shipped machine data of each dialect, with short loops. The 808D is the lathe (X and Z
 /// only, diameter programming), so unconfigured axes are exercised too; the 5-axis mill and
 /// the lathe with C add rotary axes (modulo and not); the Fanuc lathe has U/W increments,
-/// T aabb and G50.
-fn machines() -> &'static [MachineData; 7] {
-    static M: OnceLock<[MachineData; 7]> = OnceLock::new();
+/// T aabb and G50; the 840D speaks the SINUMERIK language.
+fn machines() -> &'static [MachineData; 8] {
+    static M: OnceLock<[MachineData; 8]> = OnceLock::new();
     M.get_or_init(|| {
         DIALECTS.map(|d| {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -242,6 +243,21 @@ fn soup(macro_b: bool) -> impl Strategy<Value = String> {
     })
 }
 
+/// The token soup of the SINUMERIK machine: every dialect's tokens and the language's.
+fn sinumerik_soup() -> impl Strategy<Value = String> {
+    let mut tokens = VOCABULARY.to_vec();
+    tokens.extend_from_slice(SINUMERIK_WORDS);
+    tokens.extend_from_slice(SINUMERIK_STATEMENTS);
+    let token = prop::sample::select(tokens);
+    prop::collection::vec((token, prop::sample::select(SEPARATORS)), 0..60).prop_map(|v| {
+        v.into_iter().fold(String::new(), |mut s, (t, sep)| {
+            s.push_str(t);
+            s.push_str(sep);
+            s
+        })
+    })
+}
+
 /// Words a program of the dialect may well contain: the block soup draws mostly from these, so
 /// that programs run for many blocks (modal state, TRC, loops) before they meet a broken word.
 #[rustfmt::skip]
@@ -290,6 +306,29 @@ const D808_WORDS: &[&str] = &[
     "CR=5", "CR=-10", "DIAMON", "DIAMOF", "G450", "G451", "T1", "T2", "T1 D2", "G700", "G710",
     "G60", "G64", "G53", "G500", "G59", "LIMS=3000", "LIMS=", "LIMS", "LIMS=-1", "G96 S180",
     "G95 F0.2",
+];
+
+/// The SINUMERIK language (840D), valid and broken: words and expressions among a block's
+/// words, and the statements of the block soup.
+#[rustfmt::skip]
+const SINUMERIK_WORDS: &[&str] = &[
+    "R1=5", "R2=R1*2", "R[R1]=1", "R[-1]=1", "R[1.5]=2", "R99=1", "R100=1", "R1=1/0", "R1=",
+    "X=R1", "X=-R1", "X=R1+5", "Y=SIN(30)*R2", "Z=AC(5)", "X=IC(2)", "Y=IC(-R1)", "Z=AC(",
+    "X=(1+2", "X=ATAN2(1,1)", "X=SQRT(-1)", "X=LN(0)", "X=POT(1EX200)", "X=1.5EX3",
+    "X=R1 DIV 0", "X=7 MOD 3", "X=R1 B_AND 3", "X=1.5 B_OR 1", "X=BOUND(1,0,5)", "X=MINVAL(1)",
+    "X=TRUE", "X=NOPE", "I=R1", "CR=R1", "F=R2*100", "CR=", "X=", "=", "R", "R1 =2",
+    "G1 X=R1 Y=R2 F=100", "G2 X=R1 Y0 CR=R1", "DEF", "LAB1:", "LAB2: G1 X1", "N10 LAB3: X2",
+    "I=IC(1)", "X=1<<2", "X=(((((((((1)))))))))",
+];
+#[rustfmt::skip]
+const SINUMERIK_STATEMENTS: &[&str] = &[
+    "R1=R1+1", "R2=R2*2", "DEF INT I=1", "DEF REAL A=2.5, B", "DEF BOOL F=TRUE", "DEF STRING S",
+    "DEF INT I[3]", "DEF INT IF", "IF R1<3", "IF (R1>0) AND (R2<5)", "IF", "ELSE", "ENDIF",
+    "WHILE R1<3", "WHILE 1", "ENDWHILE", "FOR R3=1 TO 3", "FOR R3=3 TO 1", "FOR I=1 TO", "ENDFOR",
+    "REPEAT", "UNTIL R1>2", "UNTIL", "LOOP", "ENDLOOP", "GOTOF LAB1", "GOTOB LAB1", "GOTO LAB2",
+    "GOTOC NOWHERE", "GOTOF N10", "GOTOB N20", "GOTOF", "IF R1>2 GOTOF LAB2", "IF R1<1 GOTOB LAB1",
+    "STOPRE", "MSG(\"text\")", "MSG()", "MSG(\"open", "SETAL(65000)", "SETAL(1)", "/IF 1",
+    "LAB1: IF 1", "LAB1: R1=R1+1", "LAB2: G1 X=R1 F100",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -353,6 +392,7 @@ fn block_soup(which: usize) -> impl Strategy<Value = String> {
         1 => ISG_WORDS,
         2 | 4 => FANUC_WORDS,
         6 => LATHE_WORDS,
+        7 => SINUMERIK_WORDS,
         _ => D808_WORDS,
     };
     let mut words = vec![
@@ -366,10 +406,10 @@ fn block_soup(which: usize) -> impl Strategy<Value = String> {
     if which == 4 {
         words.push((2, prop::sample::select(FIVE_AXIS_WORDS)));
     }
-    let statements = if fanuc {
-        FANUC_STATEMENTS
-    } else {
-        ISG_STATEMENTS
+    let statements = match which {
+        2 | 4 | 6 => FANUC_STATEMENTS,
+        7 => SINUMERIK_STATEMENTS,
+        _ => ISG_STATEMENTS,
     };
     let block = (
         any::<bool>(),
@@ -402,7 +442,7 @@ fn block_soup(which: usize) -> impl Strategy<Value = String> {
                 if numbered {
                     s.push_str(&format!("N{n} "));
                 }
-                if (which == 1 || fanuc) && dice < 3 {
+                if (which == 1 || which == 7 || fanuc) && dice < 3 {
                     s.push_str(stmt);
                 } else {
                     s.push_str(&words.join(" "));
@@ -992,6 +1032,176 @@ mod macro_programs {
     }
 }
 
+/// Structured SINUMERIK programs: nested IF/ELSE, WHILE, FOR, REPEAT and LOOP with R-parameter
+/// counters, moves whose values are expressions, labels and jumps out of loops and back. Every
+/// structure is closed; what ends a run is the program's end, an alarm (an expression out of
+/// range, a jump to a missing label) or the loop budget.
+mod sinumerik_programs {
+    use proptest::prelude::*;
+    use proptest::sample::select;
+
+    #[derive(Clone, Debug)]
+    pub enum Stmt {
+        Move(&'static str),
+        Assign(&'static str),
+        If(&'static str, Vec<Stmt>, Vec<Stmt>),
+        While(&'static str, Vec<Stmt>),
+        For(Vec<Stmt>),
+        Repeat(&'static str, Vec<Stmt>),
+        /// LOOP with an exit to a label after ENDLOOP once R9 passes 2.
+        Loop(Vec<Stmt>),
+        Jump(&'static str),
+    }
+
+    const MOVES: &[&str] = &[
+        "G1 X=R1 Y=R2 F=100+R3",
+        "G1 X=R1*2 Y=-R2",
+        "G0 Z=AC(R3+1)",
+        "X=IC(R1) Y=AC(R2)",
+        "G2 X=R1 Y0 CR=R1+10",
+        "G1 X=SIN(R1*30)*10 Y=COS(R1*30)*10",
+        "G1 X=R[R4] F100",
+        "G41 D1 G1 X=R1+20 Y=R2",
+        "G40 G1 X0 Y0",
+        "G1 X=1/R0",
+        "STOPRE",
+        "MSG(\"pass\")",
+    ];
+    const ASSIGNS: &[&str] = &[
+        "R1=R1+1",
+        "R2=R2*2+1",
+        "R3=R3-1",
+        "R4=(R4+1) MOD 5",
+        "R5=SQRT(ABS(R2))",
+        "R6=ATAN2(R1,R2+1)",
+        "CNT=CNT+1",
+        "R7=R1 DIV 2",
+        "R8=R1 B_AND 3",
+        "R1=R[R4]+1",
+        "R9=R9+1",
+        "R2=ROUND(R2/3)",
+    ];
+    const CONDITIONS: &[&str] = &[
+        "R1<3",
+        "R2>=R1",
+        "(R1>0) AND (R3<2)",
+        "NOT (R1==R2)",
+        "R4<>2",
+        "R1 MOD 2==0",
+        "(R2>1) OR (R3<0)",
+        "CNT<4",
+        "TRUE",
+        "FALSE",
+        "R5<2.5",
+    ];
+    const JUMPS: &[&str] = &[
+        "GOTOF END_1",
+        "GOTOF END_2",
+        "IF R1>2 GOTOF END_1",
+        "IF R1<2 GOTOB TOP",
+        "GOTOC NOWHERE",
+        "GOTO END_2",
+        "IF R2>40 GOTOF MISSING",
+        "GOTOF N9000",
+    ];
+
+    fn stmt() -> impl Strategy<Value = Stmt> {
+        let leaf = prop_oneof![
+            4 => select(MOVES).prop_map(Stmt::Move),
+            4 => select(ASSIGNS).prop_map(Stmt::Assign),
+            1 => select(JUMPS).prop_map(Stmt::Jump),
+        ];
+        leaf.prop_recursive(4, 40, 4, |inner| {
+            let body = || prop::collection::vec(inner.clone(), 0..4);
+            prop_oneof![
+                2 => (select(CONDITIONS), body(), body()).prop_map(|(c, a, b)| Stmt::If(c, a, b)),
+                1 => (select(CONDITIONS), body()).prop_map(|(c, b)| Stmt::While(c, b)),
+                1 => body().prop_map(Stmt::For),
+                1 => (select(CONDITIONS), body()).prop_map(|(c, b)| Stmt::Repeat(c, b)),
+                1 => body().prop_map(Stmt::Loop),
+            ]
+        })
+    }
+
+    struct Out {
+        text: String,
+        labels: u32,
+    }
+
+    impl Out {
+        fn line(&mut self, depth: usize, text: &str) {
+            self.text.push_str(&"  ".repeat(depth));
+            self.text.push_str(text);
+            self.text.push('\n');
+        }
+
+        fn all(&mut self, stmts: &[Stmt], depth: usize) {
+            for s in stmts {
+                self.one(s, depth);
+            }
+        }
+
+        fn one(&mut self, s: &Stmt, depth: usize) {
+            match s {
+                Stmt::Move(t) | Stmt::Assign(t) | Stmt::Jump(t) => self.line(depth, t),
+                Stmt::If(c, a, b) => {
+                    self.line(depth, &format!("IF {c}"));
+                    self.all(a, depth + 1);
+                    if !b.is_empty() {
+                        self.line(depth, "ELSE");
+                        self.all(b, depth + 1);
+                    }
+                    self.line(depth, "ENDIF");
+                }
+                Stmt::While(c, b) => {
+                    self.line(depth, &format!("WHILE {c}"));
+                    self.all(b, depth + 1);
+                    self.line(depth + 1, "R1=R1+1");
+                    self.line(depth, "ENDWHILE");
+                }
+                Stmt::For(b) => {
+                    let v = ["R10", "R11", "R12", "R13", "R14"][depth.min(4)];
+                    self.line(depth, &format!("FOR {v}=1 TO 3"));
+                    self.all(b, depth + 1);
+                    self.line(depth, "ENDFOR");
+                }
+                Stmt::Repeat(c, b) => {
+                    self.line(depth, "REPEAT");
+                    self.all(b, depth + 1);
+                    self.line(depth + 1, "R1=R1+1");
+                    self.line(depth, &format!("UNTIL {c}"));
+                }
+                Stmt::Loop(b) => {
+                    self.labels += 1;
+                    let exit = format!("OUT_{}", self.labels);
+                    self.line(depth, "LOOP");
+                    self.line(depth + 1, "R9=R9+1");
+                    self.line(depth + 1, &format!("IF R9>2 GOTOF {exit}"));
+                    self.all(b, depth + 1);
+                    self.line(depth, "ENDLOOP");
+                    self.line(depth, &format!("{exit}: R9=0"));
+                }
+            }
+        }
+    }
+
+    pub fn program() -> impl Strategy<Value = String> {
+        (prop::collection::vec(stmt(), 1..8), any::<bool>()).prop_map(|(stmts, end_label)| {
+            let mut out = Out {
+                text: "DEF INT CNT=0\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\nTOP: R0=R0+1\n".into(),
+                labels: 0,
+            };
+            out.all(&stmts, 0);
+            out.line(0, "END_1: G0 Z10");
+            if end_label {
+                out.line(0, "END_2: G0 X0 Y0");
+            }
+            out.line(0, "M30");
+            out.text
+        })
+    }
+}
+
 /// Cases per property: `default`, or `PROPTEST_CASES` from the environment (a longer hunt:
 /// `PROPTEST_CASES=20000 cargo test --release --test fuzz_frontend`).
 fn cases(default: u32) -> u32 {
@@ -1006,13 +1216,13 @@ proptest! {
 
     /// Arbitrary bytes, read the way `softnc parse` reads a file.
     #[test]
-    fn random_bytes(which in 0..7usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+    fn random_bytes(which in 0..8usize, bytes in prop::collection::vec(any::<u8>(), 0..300)) {
         check(which, &String::from_utf8_lossy(&bytes))?;
     }
 
     /// Printable ASCII and line ends: reaches deeper than raw bytes.
     #[test]
-    fn random_ascii(which in 0..7usize, src in "[ -~\t\r\n]{0,200}") {
+    fn random_ascii(which in 0..8usize, src in "[ -~\t\r\n]{0,200}") {
         check(which, &src)?;
     }
 
@@ -1074,6 +1284,21 @@ proptest! {
     #[test]
     fn token_soup_fanuc_lathe(src in soup(true)) {
         check(6, &src)?;
+    }
+
+    #[test]
+    fn token_soup_840d(src in sinumerik_soup()) {
+        check(7, &src)?;
+    }
+
+    #[test]
+    fn block_soup_840d(src in block_soup(7)) {
+        check(7, &src)?;
+    }
+
+    #[test]
+    fn sinumerik_programs_840d(src in sinumerik_programs::program()) {
+        check(7, &src)?;
     }
 
     #[test]
@@ -1317,4 +1542,45 @@ fn macro_programs_reach_deep() {
     );
     assert!(ended >= 100, "only {ended} of 1000 runs reach their end");
     assert!(p90 >= 50, "90th percentile of blocks per run: {p90}");
+}
+
+/// The structured SINUMERIK programs run deep: many reach their end, the others stop on an
+/// alarm of the language (a missing label, the loop budget, a value out of range).
+#[test]
+fn sinumerik_programs_reach_deep() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    let strategy = sinumerik_programs::program();
+    let mut outcomes: HashMap<String, usize> = HashMap::new();
+    let mut blocks = Vec::new();
+    for _ in 0..1000 {
+        let src = strategy.new_tree(&mut runner).unwrap().current();
+        let mut n = 0;
+        let mut end = "end of program".to_string();
+        for item in nc_kernel::Interpreter::new("fuzz.nc", &src, &machines()[7], tools()) {
+            match item {
+                Ok(_) => n += 1,
+                Err(a) => {
+                    end = format!("{:?}", a.code);
+                    break;
+                }
+            }
+        }
+        *outcomes.entry(end).or_default() += 1;
+        blocks.push(n);
+    }
+    let ended = outcomes.get("end of program").copied().unwrap_or(0);
+    let mut outcomes: Vec<_> = outcomes.into_iter().collect();
+    outcomes.sort_by_key(|o| std::cmp::Reverse(o.1));
+    println!("{outcomes:?}");
+    blocks.sort_unstable();
+    let p90 = blocks[blocks.len() * 9 / 10];
+    println!(
+        "blocks per run: median {}, 90th percentile {p90}, most {}",
+        blocks[blocks.len() / 2],
+        blocks[blocks.len() - 1]
+    );
+    assert!(ended >= 100, "only {ended} of 1000 runs reach their end");
+    assert!(p90 >= 30, "90th percentile of blocks per run: {p90}");
 }

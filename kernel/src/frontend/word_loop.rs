@@ -32,7 +32,8 @@ impl Interpreter<'_> {
             let upper = ch.to_ascii_uppercase();
             // G, X, Y, Z, I, J, K are plain addresses in every dialect and start no longer
             // word: the bulk of any program, so they skip the checks in `special`.
-            let letter = if matches!(upper, b'G' | b'I'..=b'K' | b'X'..=b'Z') {
+            let letter = if matches!(upper, b'G' | b'I'..=b'K' | b'X'..=b'Z') && !self.long_name(c)
+            {
                 upper
             } else {
                 match self.special(c, w, ch, at)? {
@@ -54,6 +55,13 @@ impl Interpreter<'_> {
             self.word(w, letter, v, at)?;
         }
         Ok(())
+    }
+
+    /// SINUMERIK: a name of more than one letter starts here (`XPOS=`, `GOTOF`), not an
+    /// address.
+    #[inline(always)]
+    fn long_name(&self, c: &Cursor) -> bool {
+        self.d.sinumerik && matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_')
     }
 
     /// Files the word `letter` with its value `v` into its slot.
@@ -156,6 +164,9 @@ impl Interpreter<'_> {
             if let Some(next) = self.multi_letter(c, w, letter, at)? {
                 return Ok(next);
             }
+        }
+        if self.long_name(c) {
+            return Err(self.unknown_name(c, at));
         }
         if !self.known_address(letter) {
             return Err(self.unknown_address(letter, at));
@@ -322,6 +333,19 @@ impl Interpreter<'_> {
             || self.md.axes.of_letter(letter).is_some()
     }
 
+    /// SINUMERIK: a name that is no variable, no word of the dialect and no statement here.
+    #[cold]
+    fn unknown_name(&self, c: &Cursor, at: usize) -> Box<Fault> {
+        let mut probe = *c;
+        let name = super::sinumerik::expr::identifier(&mut probe);
+        let message = if super::sinumerik::statements::Keyword::at(c).is_some() {
+            format!("{name} must stand at the start of its block")
+        } else {
+            format!("{name} is not defined: no variable, word or statement of the language (docs/sinumerik.md lists what is not built yet)")
+        };
+        fault(AlarmCode::UndefinedName, at, message)
+    }
+
     #[cold]
     fn unknown_address(&self, letter: u8, at: usize) -> Box<Fault> {
         fault(
@@ -372,6 +396,15 @@ impl Interpreter<'_> {
                     has_point: true,
                 }),
             };
+        }
+        if self.d.sinumerik && c.peek().is_some() {
+            // `CR=R1+10`, `LIMS=R2`: a SINUMERIK expression.
+            let value = super::sinumerik::expr::eval(c, &self.sinumerik.store)?;
+            return checked(Val {
+                value,
+                at: at as u32,
+                has_point: true,
+            });
         }
         if self.d.variables && starts_operand(c) {
             let v = expr::eval_operand(c, &self.vars)?;

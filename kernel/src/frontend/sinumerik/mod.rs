@@ -154,3 +154,92 @@ impl Store {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::run;
+    use crate::alarm::AlarmCode;
+
+    /// The X end points of a program's moves.
+    fn xs(src: &str) -> Vec<f64> {
+        run("siemens-840d", src)
+            .unwrap_or_else(|a| panic!("{a}"))
+            .iter()
+            .filter_map(|b| b.motion.map(|m| m.end[0]))
+            .collect()
+    }
+
+    fn alarm(src: &str) -> (AlarmCode, u32, u32) {
+        let a = run("siemens-840d", src).unwrap_err();
+        (a.code, a.line, a.col)
+    }
+
+    #[test]
+    fn operators_bind_as_the_priority_table_says() {
+        // * before +; comparisons last: 1+2*3 == 7 is TRUE; 0 AND 1 binds before <.
+        let p = "G1 F1 X=1+2*3\nX=1+2*3==7\nX=2<3 AND 0\nX=7 DIV 2\nX=-7 MOD 3\nX=6 B_AND 3 B_OR 8\nX=NOT 0 + 2\n";
+        // 2<3 AND 0 → 2 < (3 AND 0) → 2 < 0 → 0; NOT 0 + 2 → (NOT 0) + 2 → 3.
+        assert_eq!(xs(p), [7.0, 1.0, 0.0, 3.0, -1.0, 10.0, 3.0]);
+    }
+
+    #[test]
+    fn functions_take_degrees_and_round_half_away_from_zero() {
+        let p = "G1 F1 X=SIN(30)\nX=ATAN2(1,1)\nX=POT(3)\nX=ROUND(-2.5)\nX=TRUNC(-2.5)\nX=BOUND(0,5,9)\nX=1.5EX2\n";
+        let got = xs(p);
+        let want = [0.5, 45.0, 9.0, -3.0, -2.0, 5.0, 150.0];
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12),
+            "{got:?}"
+        );
+    }
+
+    #[test]
+    fn int_variables_round_and_bool_variables_hold_truth() {
+        let p = "DEF INT N=2.5\nDEF BOOL B=-3\nDEF REAL A\nA=N+B\nG1 F1 X=A\n";
+        assert_eq!(xs(p), [4.0]);
+    }
+
+    #[test]
+    fn structures_are_matched_before_the_program_runs() {
+        // The IF behind M30 is never reached, and still refused at its own place.
+        assert_eq!(
+            alarm("G1 F1 X1\nM30\n  IF R1>0\nX2\n"),
+            (AlarmCode::ControlNesting, 3, 3)
+        );
+        assert_eq!(
+            alarm("WHILE 1\nIF 1\nENDWHILE\nENDIF\n"),
+            (AlarmCode::ControlNesting, 3, 1)
+        );
+        assert_eq!(
+            alarm("IF 1\nELSE\nELSE\nENDIF\n"),
+            (AlarmCode::ControlNesting, 3, 1)
+        );
+        assert_eq!(alarm("LAB: IF 1\nENDIF\n"), (AlarmCode::Syntax, 1, 6));
+        assert_eq!(alarm("/IF 1\nENDIF\n"), (AlarmCode::Syntax, 1, 2));
+    }
+
+    #[test]
+    fn a_jump_out_of_a_loop_leaves_nothing_open() {
+        // Ten times out of a WHILE and back in through GOTOB: no structure piles up.
+        let p =
+            "G1 F1\nTOP: R1=R1+1\nWHILE 1\nIF R1>=10 GOTOF END\nGOTOB TOP\nENDWHILE\nEND: X=R1\n";
+        assert_eq!(xs(p), [10.0]);
+    }
+
+    #[test]
+    fn goto_searches_forward_then_from_the_start_and_gotoc_goes_on() {
+        let p = "G1 F1\nR1=R1+1\nIF R1>2 GOTOF OUT\nX=R1\nGOTO N5\nN5 GOTOC NOWHERE\nGOTO TOP\nTOP: GOTO N3\nOUT: X99\n";
+        // GOTO N5 finds N5 forward; GOTO TOP forward; GOTO N3 is not found: alarm.
+        assert_eq!(alarm(p).0, AlarmCode::JumpTarget);
+        let p = "G1 F1\nN3 R1=R1+1\nIF R1>2 GOTOF OUT\nX=R1\nGOTO N3\nOUT: X99\n";
+        assert_eq!(xs(p), [1.0, 2.0, 99.0]);
+    }
+
+    #[test]
+    fn names_longer_than_an_address_are_names() {
+        assert_eq!(alarm("XPOS=1\n"), (AlarmCode::UndefinedName, 1, 1));
+        assert_eq!(alarm("G1 X10 GOTOF A\n"), (AlarmCode::UndefinedName, 1, 8));
+        let p = "DEF REAL XPOS=4, ZZ\nZZ=XPOS*2 G1 F1 X=ZZ\n";
+        assert_eq!(xs(p), [8.0]);
+    }
+}
