@@ -5,9 +5,6 @@
 //! centre offsets are not applied to them). Programs that run cleanly also pass
 //! `softnc check`; programs that must stop name their alarm's code, line and column, and the
 //! moves made before it.
-//!
-//! A test marked `#[ignore = "softnc bug: …"]` is written as the manuals say the control
-//! behaves; softnc does otherwise today.
 
 use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable, TrcSide};
 use std::path::PathBuf;
@@ -441,9 +438,6 @@ fn s18_slot_arcs() {
 }
 
 #[test]
-#[ignore = "softnc bug: DEF INT I is accepted although a name needs two letters at its start \
-            (PG04 p.60, 808T17 p.126); I=I+1 then writes the address I (alarm 12080 \
-            'circle parameters without a circular motion' at N50)"]
 fn s19_def_one_letter_name() {
     let a = stops("s19_def_one_letter_name.mpf", &[], AlarmCode::Syntax, 6, 13);
     assert_eq!(a.number(), 12080);
@@ -477,8 +471,6 @@ fn s21_alarm_if_open() {
 }
 
 #[test]
-#[ignore = "softnc bug: an alarm of the structure check (before the first block) leaves out \
-            the block's N word, which Alarm::block promises where the block has one"]
 fn s21_s22_s29_structure_alarms_name_their_block() {
     for (file, n) in [
         ("s21_alarm_if_open.mpf", "N30"),

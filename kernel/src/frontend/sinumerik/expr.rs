@@ -315,6 +315,15 @@ pub fn identifier(c: &mut Cursor) -> String {
     String::from_utf8_lossy(&c.b[start..c.i]).to_ascii_uppercase()
 }
 
+/// A function's or a constant's name: no variable may take it.
+pub fn is_reserved(name: &str) -> bool {
+    matches!(
+        name,
+        "TRUE" | "FALSE" | "NOT" | "AND" | "OR" | "XOR" | "DIV" | "MOD" | "TO"
+    ) || name.starts_with("B_")
+        || FUNCTIONS.iter().any(|f| f.0 == name)
+}
+
 /// `R12` → 12 (`R01` is R1).
 pub fn r_number(name: &str) -> Option<usize> {
     let digits = name.strip_prefix('R')?;

@@ -57,6 +57,8 @@ struct Variable {
     name: Box<str>,
     ty: Type,
     value: f64,
+    /// Where its DEF stands: reached again, it starts the variable afresh.
+    defined_at: usize,
 }
 
 /// The R parameters and the program's user variables (LUD, one set for the main program).
@@ -129,8 +131,17 @@ impl Store {
         Ok(())
     }
 
-    /// `DEF ty name = v`: a new variable (a name defined twice is an alarm).
+    /// `DEF ty name = v` at `at`: a new variable (a name defined twice is an alarm; the same
+    /// DEF reached again by a jump back starts it afresh).
     pub fn define(&mut self, name: &str, ty: Type, v: f64, at: usize) -> R<()> {
+        if let Some(var) = self
+            .vars
+            .iter_mut()
+            .find(|x| &*x.name == name && x.defined_at == at)
+        {
+            var.value = ty.convert(v, at)?;
+            return Ok(());
+        }
         if self.has(name) {
             return Err(fault(
                 AlarmCode::Syntax,
@@ -150,6 +161,7 @@ impl Store {
             name: name.into(),
             ty,
             value,
+            defined_at: at,
         });
         Ok(())
     }
@@ -195,7 +207,7 @@ mod tests {
 
     #[test]
     fn int_variables_round_and_bool_variables_hold_truth() {
-        let p = "DEF INT N=2.5\nDEF BOOL B=-3\nDEF REAL A\nA=N+B\nG1 F1 X=A\n";
+        let p = "DEF INT NN=2.5\nDEF BOOL BB=-3\nDEF REAL AA\nAA=NN+BB\nG1 F1 X=AA\n";
         assert_eq!(xs(p), [4.0]);
     }
 
@@ -233,6 +245,16 @@ mod tests {
         assert_eq!(alarm(p).0, AlarmCode::JumpTarget);
         let p = "G1 F1\nN3 R1=R1+1\nIF R1>2 GOTOF OUT\nX=R1\nGOTO N3\nOUT: X99\n";
         assert_eq!(xs(p), [1.0, 2.0, 99.0]);
+    }
+
+    #[test]
+    fn names_are_unique_and_a_def_reached_again_starts_afresh() {
+        assert_eq!(alarm("AB1: G1 F1 X1\nAB1: X2\n"), (AlarmCode::Syntax, 2, 1));
+        assert_eq!(alarm("DEF INT I\n"), (AlarmCode::Syntax, 1, 9));
+        assert_eq!(alarm("DEF REAL SIN\n"), (AlarmCode::Syntax, 1, 10));
+        // The DEF runs three times: CNT starts at 1 each time, R1 counts the passes.
+        let p = "G1 F1\nTOP: DEF INT CNT=1\nR1=R1+1 CNT=CNT+R1\nX=CNT\nIF R1<3 GOTOB TOP\n";
+        assert_eq!(xs(p), [2.0, 3.0, 4.0]);
     }
 
     #[test]

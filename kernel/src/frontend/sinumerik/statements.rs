@@ -135,7 +135,12 @@ impl Interpreter<'_> {
                 Ok(())
             }
             Err((f, line, line_start)) => {
-                (self.blk_line, self.blk_line_start, self.blk_number) = (line, line_start, None);
+                (self.blk_line, self.blk_line_start) = (line, line_start);
+                let mut c = Cursor::new(self.src, line_start, self.src.len());
+                c.skip_blanks();
+                self.blk_number = super::super::block_text::read_block_number(&mut c)
+                    .ok()
+                    .flatten();
                 Err(f)
             }
         }
@@ -387,11 +392,12 @@ impl Interpreter<'_> {
             c.skip_blanks();
             let name_at = c.i;
             let name = identifier(c);
-            if name.is_empty()
-                || r_number(&name).is_some()
-                || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some()
-            {
-                return Err(fault(AlarmCode::Syntax, name_at, "variable name expected"));
+            if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    name_at,
+                    format!("'{name}' is no variable name: the first two characters are letters or _, and it is no R parameter, function or statement"),
+                ));
             }
             c.skip_blanks();
             if c.peek() == Some(b'[') {
@@ -464,6 +470,16 @@ impl Interpreter<'_> {
             format!("SETAL({n}): alarm {n} set by the program"),
         )
     }
+}
+
+/// A user variable's name: its first two characters letters or `_` (Fundamentals, "Names"),
+/// no R parameter, no function, no constant.
+fn valid_name(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() >= 2
+        && b[..2].iter().all(|c| c.is_ascii_alphabetic() || *c == b'_')
+        && r_number(name).is_none()
+        && !expr::is_reserved(name)
 }
 
 /// The byte offset of the word TO in `c`'s rest, if it stands there as a word.

@@ -119,12 +119,19 @@ impl Structure {
         if let Some(n) = block_number(&mut c) {
             self.numbers.entry(n).or_default().push(at);
         }
+        let label_at = c.i;
         let label = label(&mut c);
         let col = c.i;
         let Some(word) = Keyword::at(&c).filter(|w| w.is_structure() && !is_short_if(*w, &c))
         else {
             if let Some(name) = label {
-                self.labels.entry(name.into()).or_default().push(at);
+                let marks = self.labels.entry(name.into()).or_default();
+                if let Some(first) = marks.first() {
+                    // Names are unique in a program (Fundamentals, "Names").
+                    let message = format!("label defined twice (first in line {})", first.1);
+                    return Err((fault(AlarmCode::Syntax, label_at, message), at.1, at.2));
+                }
+                marks.push(at);
             }
             return Ok(None);
         };
