@@ -69,6 +69,8 @@ pub struct Interpreter<'a> {
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
     pub(super) finished: bool,
+    /// SINUMERIK: the program's structures are still to be read (before its first block).
+    pub(super) structure_pending: bool,
     /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
     pub(super) plain_path: bool,
     /// The block handed out last, built in place (it is not moved through every layer). Its
@@ -115,6 +117,7 @@ impl<'a> Interpreter<'a> {
             corners: None,
             machine_coordinates: false,
             finished: false,
+            structure_pending: d.sinumerik,
             plain_path: true,
             block: Block::new(0, 0, None, initial_state(d, md)),
         }
@@ -232,11 +235,8 @@ impl<'a> Interpreter<'a> {
                     }
                 }
             }
-            if !self.sinumerik.read && self.d.sinumerik {
-                if let Err(f) = self.read_structure() {
-                    self.finished = true;
-                    return Err(self.alarm(*f));
-                }
+            if self.structure_pending {
+                self.program_structure()?;
             }
             if self.plain_allowed() && self.plain_line() {
                 return Ok(true);
@@ -261,6 +261,16 @@ impl<'a> Interpreter<'a> {
                 }
             }
         }
+    }
+
+    /// SINUMERIK, before the first block: the program's structures and labels.
+    #[cold]
+    #[inline(never)]
+    fn program_structure(&mut self) -> Result<(), Alarm> {
+        self.read_structure().map_err(|f| {
+            self.finished = true;
+            self.alarm(*f)
+        })
     }
 
     /// At the end of the text: a control structure still open, as a fault at its opening

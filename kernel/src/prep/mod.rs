@@ -334,17 +334,8 @@ impl<'a> Preparation<'a> {
     #[inline]
     fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
         let mut seg = self.pop_centre_path()?;
-        if let (Some(w), Some(s)) = (&mut self.whole, &seg) {
-            // More than one only where a run ends and what waited for it is settled.
-            let collect = self.whole_mode == WholeMode::Collect;
-            let mut gouges = Vec::new();
-            w.segment(s, &mut |g| {
-                gouges.push(g);
-                !collect
-            });
-            if gouges.iter().any(|g| self.whole_found(g)) {
-                seg = None;
-            }
+        if self.whole.is_some() && seg.is_some() && self.whole_segment(seg.as_ref()) {
+            seg = None;
         }
         if let Some(s) = &mut seg {
             if !self.tip.idle() {
@@ -438,6 +429,23 @@ impl<'a> Preparation<'a> {
             w.set_plane(plane);
             w.element(source, e, r, side);
         }
+    }
+
+    /// A path segment for the whole-program check: true when a violation settled at it ends
+    /// preparation (more than one is settled only where a run ends). Out of line: the
+    /// per-segment path stays small when the check is off.
+    #[inline(never)]
+    fn whole_segment(&mut self, seg: Option<&Segment>) -> bool {
+        let (Some(w), Some(s)) = (&mut self.whole, seg) else {
+            return false;
+        };
+        let collect = self.whole_mode == WholeMode::Collect;
+        let mut gouges = Vec::new();
+        w.segment(s, &mut |g| {
+            gouges.push(g);
+            !collect
+        });
+        gouges.iter().any(|g| self.whole_found(g))
     }
 
     /// The program's end for the whole-program check: the violations that waited for the end

@@ -119,15 +119,13 @@ pub fn jump_in(c: &Cursor) -> Option<usize> {
 pub struct Sinumerik {
     pub store: Store,
     pub structure: Structure,
-    /// The structure has been read (before the first block).
-    pub read: bool,
 }
 
 impl Interpreter<'_> {
     /// Before the first block: the program's structures and labels (a fault names the
     /// block it belongs to).
     pub(in crate::frontend) fn read_structure(&mut self) -> R<()> {
-        self.sinumerik.read = true;
+        self.structure_pending = false;
         let end = self.src.len();
         match Structure::of(self.src, self.pos, end, self.line) {
             Ok(s) => {
