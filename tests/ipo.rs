@@ -389,6 +389,7 @@ fn md_for(dir: &str) -> Option<&'static str> {
         "siemens-808d-c" => Some("siemens-808d-c.toml"),
         "fanuc-5axis" => Some("fanuc-5axis.toml"),
         "fanuc-lathe" => Some("fanuc-lathe.toml"),
+        "siemens-840d" => Some("siemens-840d.toml"),
         _ => None,
     }
 }

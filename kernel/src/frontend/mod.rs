@@ -22,8 +22,9 @@
 //! - **Statements of each language** are a module each under `statements/`: `isg.rs`
 //!   (`$IF`, `$FOR`, `$WHILE`, `V.` assignments) and `fanuc.rs` (Custom Macro B: `#`
 //!   assignments, `IF … GOTO`/`THEN`, `WHILE … DO … END`, `GOTO`, G65/G66 calls); the
-//!   Sinumerik high-level language goes beside them. `statements/mod.rs` tells a statement
-//!   block from a block of words for the dialect.
+//!   SINUMERIK language is `sinumerik/` (its store, expressions, statements and the
+//!   structure read before the first block). `statements/mod.rs` tells a statement block
+//!   from a block of words for the dialect.
 //! - **Variable stores**: `variables.rs` (ISG `V.`), `macro_b/` (Fanuc local, common and
 //!   kept `#` ranges, the system variables bound to the interpreter's state); the locals a
 //!   call level owns move with that level.
