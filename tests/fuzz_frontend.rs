@@ -318,7 +318,9 @@ const SINUMERIK_WORDS: &[&str] = &[
     "X=R1 DIV 0", "X=7 MOD 3", "X=R1 B_AND 3", "X=1.5 B_OR 1", "X=BOUND(1,0,5)", "X=MINVAL(1)",
     "X=TRUE", "X=NOPE", "I=R1", "CR=R1", "F=R2*100", "CR=", "X=", "=", "R", "R1 =2",
     "G1 X=R1 Y=R2 F=100", "G2 X=R1 Y0 CR=R1", "DEF", "LAB1:", "LAB2: G1 X1", "N10 LAB3: X2",
-    "I=IC(1)", "X=1<<2", "X=(((((((((1)))))))))",
+    "I=IC(1)", "X=1<<2", "X=(((((((((1)))))))))", "CHF=2", "CHR=R1", "RND=5", "RND=-1",
+    "CHF=", "CHF=1000", "G1 X10 CHF=2", "G2 X0 Y10 CR=10 RND=2", "G0 X5 RND=1", "CHR=1 RND=1",
+    "XR1",
 ];
 #[rustfmt::skip]
 const SINUMERIK_STATEMENTS: &[&str] = &[

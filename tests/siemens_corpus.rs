@@ -600,3 +600,31 @@ fn s31_alarm_gotob_label_below() {
     );
     assert_eq!(a.number(), 14080);
 }
+
+#[test]
+fn s32_chf_chr_rnd_g41() {
+    let f = "s32_chf_chr_rnd_g41.mpf";
+    let b = clean(
+        f,
+        &[
+            [-15.0, -15.0, 2.0],
+            [-15.0, -15.0, -3.0],
+            [0.0, 0.0, -3.0],   // G41
+            [0.0, 32.0, -3.0],  // to the rounding: 40 − 8
+            [8.0, 40.0, -3.0],  // RND=8, centre (8, 32)
+            [55.0, 40.0, -3.0], // to the chamfer: 60 − 5
+            [60.0, 35.0, -3.0], // CHF=5√2: legs 5
+            [60.0, 4.0, -3.0],  // CHR=4
+            [56.0, 0.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [-15.0, -15.0, -3.0], // G40
+            [-15.0, -15.0, 20.0],
+        ],
+    );
+    let round = b
+        .iter()
+        .filter_map(|b| b.motion)
+        .find(|m| m.kind == MotionKind::ArcCw)
+        .expect("the rounding");
+    assert!((round.center[0] - 8.0).abs() <= TOL && (round.center[1] - 32.0).abs() <= TOL);
+}

@@ -2,11 +2,28 @@
 //! language (frontend/sinumerik; docs/sinumerik.md). Machine data: config/siemens-840d.toml.
 
 use super::siemens_808d::{G451_LIMIT_DEG, GCODES, MCODES};
-use super::{Dialect, DwellWords, RadiusWord, Semicolon};
+use super::{CornerKind, CornerWordDef, Dialect, DwellWords, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{CornerPolicy, MotionMode, SelectionPolicy};
 use crate::machine_data::DialectName;
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
+
+/// Chamfer and rounding between two contour blocks (Fundamentals, "Chamfer, rounding"): CHF=
+/// the chamfer's length, CHR= its leg, RND= the rounding's radius.
+static CORNER_WORDS: &[CornerWordDef] = &[
+    CornerWordDef {
+        text: "CHF=",
+        kind: CornerKind::ChamferLength,
+    },
+    CornerWordDef {
+        text: "CHR=",
+        kind: CornerKind::Chamfer,
+    },
+    CornerWordDef {
+        text: "RND=",
+        kind: CornerKind::Round,
+    },
+];
 
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Siemens840D,
@@ -17,7 +34,7 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
-    corner_words: &[],
+    corner_words: CORNER_WORDS,
     polar_words: false,
     lims_word: true,
     diameter_words: true,

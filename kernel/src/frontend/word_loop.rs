@@ -166,6 +166,14 @@ impl Interpreter<'_> {
             }
         }
         if self.long_name(c) {
+            if let Some(def) = self
+                .d
+                .corner_words
+                .iter()
+                .find(|def| starts_with(c, def.text))
+            {
+                return self.corner_word(c, w, def, at);
+            }
             return Err(self.unknown_name(c, at));
         }
         if !self.known_address(letter) {
@@ -222,7 +230,7 @@ impl Interpreter<'_> {
         at: usize,
     ) -> R<Next> {
         c.i += def.text.len();
-        let value = self.value(c, at, def.text)?;
+        let value = self.equals_value(c, at, def.text)?;
         if value.value.is_nan() {
             // Macro B: a vacant variable leaves the word out.
             return Ok(Next::Continue);
@@ -308,7 +316,21 @@ impl Interpreter<'_> {
             ));
         }
         c.i += 1;
-        self.value(c, at, word)
+        self.equals_value(c, at, word)
+    }
+
+    /// The value after a `NAME=` word: on SINUMERIK a whole expression (`CR=R1*2`), else a
+    /// value as any word's.
+    fn equals_value(&mut self, c: &mut Cursor, at: usize, word: &'static str) -> R<Val> {
+        if !self.d.sinumerik {
+            return self.value(c, at, word);
+        }
+        let value = super::sinumerik::expr::eval(c, &self.sinumerik.store)?;
+        checked(Val {
+            value,
+            at: at as u32,
+            has_point: true,
+        })
     }
 
     /// Whether `letter` is an address of the dialect.
@@ -396,15 +418,6 @@ impl Interpreter<'_> {
                     has_point: true,
                 }),
             };
-        }
-        if self.d.sinumerik && c.peek().is_some() {
-            // `CR=R1+10`, `LIMS=R2`: a SINUMERIK expression.
-            let value = super::sinumerik::expr::eval(c, &self.sinumerik.store)?;
-            return checked(Val {
-                value,
-                at: at as u32,
-                has_point: true,
-            });
         }
         if self.d.variables && starts_operand(c) {
             let v = expr::eval_operand(c, &self.vars)?;
@@ -530,4 +543,12 @@ fn g_code(v: f64, at: usize, dialect: &str) -> R<u16> {
             format!("G{v} is not a {dialect} G code"),
         ))
     }
+}
+
+/// Whether the text at the cursor starts with `text` (ASCII, any case): a word that ends in
+/// `=` (`CHF=`), whatever follows it.
+fn starts_with(c: &Cursor, text: &str) -> bool {
+    text.bytes()
+        .enumerate()
+        .all(|(k, t)| c.peek_at(k).is_some_and(|b| b.eq_ignore_ascii_case(&t)))
 }

@@ -263,7 +263,7 @@ impl<'a> Interpreter<'a> {
         self.finished = true;
         self.corners = None;
         let what = match r.kind {
-            CornerKind::Chamfer => "chamfer",
+            CornerKind::Chamfer | CornerKind::ChamferLength => "chamfer",
             CornerKind::Round => "corner rounding",
         };
         let message = format!("{what} {}{}: {why}", r.word, r.size);

@@ -12,8 +12,12 @@ pub type V = [f64; 2];
 /// What a corner word asks for between two moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CornerKind {
-    /// A line from the point at the size's distance before the corner to the one after it.
+    /// A line from the point at the size's distance before the corner to the one after it
+    /// (Fanuc `,C`, Sinumerik CHR=: the leg).
     Chamfer,
+    /// A chamfer whose own length is the size, its legs equal (Sinumerik CHF=, Fundamentals
+    /// "Chamfer, rounding").
+    ChamferLength,
     /// An arc of the size as radius, tangent to both elements.
     Round,
 }
@@ -77,6 +81,9 @@ pub fn corner(
     }
     match kind {
         CornerKind::Chamfer => chamfer(first, second, size).map(Some),
+        CornerKind::ChamferLength => {
+            chamfer(first, second, leg_for(first, second, size)?).map(Some)
+        }
         CornerKind::Round => round(first, second, size, turn > 0.0).map(Some),
     }
 }
@@ -93,6 +100,46 @@ fn chamfer(first: Element, second: Element, c: f64) -> Result<Cornered, CornerEr
         second_start: b,
         insert: Element::Line { from: a, to: b },
     })
+}
+
+/// The leg that gives a chamfer of length `len`: on lines 2·leg·cos(turn / 2) = len; on arcs
+/// found by bisection (the chamfer grows with its legs until an element is used up).
+fn leg_for(first: Element, second: Element, len: f64) -> Result<f64, CornerError> {
+    if let (Element::Line { .. }, Element::Line { .. }) = (first, second) {
+        let p = first.end();
+        let (t1, t2) = (first.tangent_at(p), second.tangent_at(p));
+        let turn = libm::atan2(cross(t1, t2), dot(t1, t2));
+        return Ok(len / (2.0 * libm::cos(turn / 2.0)));
+    }
+    let span = |d: f64| -> Option<f64> {
+        Some(dist(
+            first.at_distance_from_end(d)?,
+            second.at_distance_from_start(d)?,
+        ))
+    };
+    // Too short below `lo`; `hi` too long or past an element's end.
+    let (mut lo, mut hi) = (0.0, len);
+    while span(hi).is_some_and(|s| s < len) {
+        lo = hi;
+        hi *= 2.0;
+        if hi > 1e9 {
+            return Err(CornerError::TooLarge);
+        }
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        match span(mid) {
+            Some(s) if s < len => lo = mid,
+            _ => hi = mid,
+        }
+        if hi - lo <= 1e-12 * len.max(1.0) {
+            break;
+        }
+    }
+    match span(hi) {
+        Some(s) if (s - len).abs() <= 1e-9 * len.max(1.0) => Ok(hi),
+        _ => Err(CornerError::TooLarge),
+    }
 }
 
 /// The rounding of radius `r`: its centre is where the two elements' parallels at distance
@@ -401,6 +448,50 @@ mod tests {
         let r = corner(a, b, CornerKind::Round, 8.0).unwrap().unwrap();
         assert!(
             matches!(r.insert, Element::Arc { centre, ccw: false, .. } if near(centre, [42.0, -8.0]))
+        );
+    }
+
+    #[test]
+    fn a_chamfer_of_a_given_length_has_equal_legs() {
+        // CHF=6 at a 60° turn: legs 6 / (2 cos 30°) = 2√3; from (40 − 2√3, 0) to
+        // (40 + √3, 3), 6 apart.
+        let s3 = 3f64.sqrt();
+        let (a, b) = (
+            line([0.0, 0.0], [40.0, 0.0]),
+            line([40.0, 0.0], [50.0, 10.0 * s3]),
+        );
+        let c = corner(a, b, CornerKind::ChamferLength, 6.0)
+            .unwrap()
+            .unwrap();
+        assert_cut(c, [40.0 - 2.0 * s3, 0.0], [40.0 + s3, 3.0]);
+        // Onto an arc (about (60, 0), R20, clockwise from (40, 0) up to (60, 20): a left turn
+        // of 90°): the legs are chords, equal, and the chamfer is 6 long.
+        let arc = Element::Arc {
+            from: [40.0, 0.0],
+            to: [60.0, 20.0],
+            centre: [60.0, 0.0],
+            ccw: false,
+        };
+        let c = corner(a, arc, CornerKind::ChamferLength, 6.0)
+            .unwrap()
+            .unwrap();
+        let p = [40.0, 0.0];
+        assert!(
+            (dist(c.first_end, c.second_start) - 6.0).abs() < 1e-9,
+            "{c:?}"
+        );
+        assert!(
+            (dist(c.first_end, p) - dist(c.second_start, p)).abs() < 1e-9,
+            "{c:?}"
+        );
+        assert!(
+            (dist(c.second_start, [60.0, 0.0]) - 20.0).abs() < 1e-9,
+            "{c:?}"
+        );
+        // Longer than the elements allow.
+        assert_eq!(
+            corner(a, arc, CornerKind::ChamferLength, 90.0),
+            Err(CornerError::TooLarge)
         );
     }
 
