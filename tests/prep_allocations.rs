@@ -54,7 +54,13 @@ fn allocations(blocks: usize, dialect: &str, threaded: bool) -> (u64, u64) {
 #[test]
 fn preparation_does_not_allocate_per_block() {
     for threaded in [false, true] {
-        for dialect in ["siemens-840c", "isg", "fanuc", "siemens-808d"] {
+        for dialect in [
+            "siemens-840c",
+            "isg",
+            "fanuc",
+            "siemens-808d",
+            "siemens-840d",
+        ] {
             // One-time lazy initialisation in std is not the preparation's doing.
             allocations(10, dialect, threaded);
             let (small, s1) = allocations(2_000, dialect, threaded);

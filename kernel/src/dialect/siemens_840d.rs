@@ -10,7 +10,7 @@ use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, Tr
 
 /// Chamfer and rounding between two contour blocks (Fundamentals, "Chamfer, rounding"): CHF=
 /// the chamfer's length, CHR= its leg, RND= the rounding's radius.
-static CORNER_WORDS: &[CornerWordDef] = &[
+pub(super) static CORNER_WORDS: &[CornerWordDef] = &[
     CornerWordDef {
         text: "CHF=",
         kind: CornerKind::ChamferLength,

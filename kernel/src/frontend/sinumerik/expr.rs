@@ -301,6 +301,12 @@ fn number(c: &mut Cursor, at: usize) -> R<f64> {
 
 /// A name: letters, digits and `_` (a system variable starts with `$`), upper-cased.
 pub fn identifier(c: &mut Cursor) -> String {
+    let span = identifier_span(c);
+    String::from_utf8_lossy(span).to_ascii_uppercase()
+}
+
+/// The bytes of the name at the cursor, as written (nothing allocated): the cursor moves past.
+pub fn identifier_span<'a>(c: &mut Cursor<'a>) -> &'a [u8] {
     let start = c.i;
     if c.peek() == Some(b'$') {
         c.i += 1;
@@ -312,7 +318,7 @@ pub fn identifier(c: &mut Cursor) -> String {
             break;
         }
     }
-    String::from_utf8_lossy(&c.b[start..c.i]).to_ascii_uppercase()
+    &c.b[start..c.i]
 }
 
 /// A function's or a constant's name: no variable may take it.

@@ -64,7 +64,10 @@ struct Variable {
 /// The R parameters and the program's user variables (LUD, one set for the main program).
 #[derive(Clone, Debug, Default)]
 pub struct Store {
+    /// R0 … R(count − 1); allocated at the first write (a program without R parameters
+    /// allocates nothing for them).
     r: Vec<f64>,
+    count: usize,
     vars: Vec<Variable>,
 }
 
@@ -75,18 +78,27 @@ impl Store {
     /// `count` R parameters, R0 … R(count − 1), all 0 (machine data `program.r_parameters`).
     pub fn new(count: usize) -> Self {
         Store {
-            r: vec![0.0; count],
+            r: Vec::new(),
+            count,
             vars: Vec::new(),
         }
     }
 
     pub fn r(&self, n: usize, at: usize) -> R<f64> {
-        self.r.get(n).copied().ok_or_else(|| self.no_r(n, at))
+        if n >= self.count {
+            return Err(self.no_r(n, at));
+        }
+        Ok(self.r.get(n).copied().unwrap_or(0.0))
     }
 
     pub fn set_r(&mut self, n: usize, v: f64, at: usize) -> R<()> {
-        let no = self.no_r(n, at);
-        *self.r.get_mut(n).ok_or(no)? = v;
+        if n >= self.count {
+            return Err(self.no_r(n, at));
+        }
+        if self.r.is_empty() {
+            self.r = vec![0.0; self.count];
+        }
+        self.r[n] = v;
         Ok(())
     }
 
@@ -97,7 +109,7 @@ impl Store {
             at,
             format!(
                 "R{n} does not exist: R0 … R{} (machine data program.r_parameters)",
-                self.r.len().saturating_sub(1)
+                self.count.saturating_sub(1)
             ),
         )
     }
@@ -112,6 +124,13 @@ impl Store {
                 format!("{name} is not defined (DEF)"),
             )),
         }
+    }
+
+    /// Whether `name` (as written, any case) is a user variable.
+    pub fn has_name(&self, name: &[u8]) -> bool {
+        self.vars
+            .iter()
+            .any(|v| v.name.as_bytes().eq_ignore_ascii_case(name))
     }
 
     /// Whether `name` is a user variable.

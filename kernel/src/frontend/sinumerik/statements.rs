@@ -64,8 +64,11 @@ impl Keyword {
             return None;
         }
         let mut probe = *c;
-        let name = identifier(&mut probe);
-        KEYWORDS.iter().find(|k| k.0 == name).map(|k| k.1)
+        let name = expr::identifier_span(&mut probe);
+        KEYWORDS
+            .iter()
+            .find(|k| k.0.as_bytes().eq_ignore_ascii_case(name))
+            .map(|k| k.1)
     }
 
     pub fn text(self) -> &'static str {
@@ -337,13 +340,18 @@ impl Interpreter<'_> {
         let target = identifier(c);
         self.end_of_statement(c)?;
         let s = &self.sinumerik.structure;
-        let marks = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
-            Some(n) if !target.is_empty() => s.numbers(n),
-            _ => s.labels(&target),
+        let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
+            Some(n) => s.numbered(self.src, n, start),
+            None => {
+                let marks = s.labels(&target);
+                super::structure::Numbered {
+                    first: marks.first().copied(),
+                    backward: marks.iter().rfind(|m| m.0 <= start).copied(),
+                    forward: marks.iter().find(|m| m.0 > start).copied(),
+                }
+            }
         };
-        let forward = marks.iter().find(|m| m.0 > start).copied();
-        let backward = marks.iter().rfind(|m| m.0 <= start).copied();
-        let from_start = marks.first().copied();
+        let (forward, backward, from_start) = (found.forward, found.backward, found.first);
         let to = match word {
             Keyword::GotoF => forward,
             Keyword::GotoB => backward,
@@ -544,11 +552,14 @@ impl Interpreter<'_> {
         at: usize,
     ) -> R<bool> {
         let mut probe = *c;
-        let name = identifier(&mut probe);
-        let is_r = r_number(&name).is_some() || name == "R";
-        if !is_r && !self.sinumerik.store.has(&name) {
+        // Most words are no assignment: told from the bytes, nothing allocated.
+        let span = expr::identifier_span(&mut probe);
+        let r_like =
+            matches!(span.first(), Some(b'R' | b'r')) && span[1..].iter().all(u8::is_ascii_digit);
+        if !r_like && !self.sinumerik.store.has_name(span) {
             return Ok(false);
         }
+        let name = String::from_utf8_lossy(span).to_ascii_uppercase();
         let index = if name == "R" && probe.peek() == Some(b'[') {
             probe.i += 1;
             let n = expr::eval(&mut probe, &self.sinumerik.store)?;

@@ -8,7 +8,6 @@
 //! (Job planning, "Control structures").
 
 use super::super::fault::{fault, Fault};
-use super::expr::identifier;
 use super::statements::Keyword;
 use crate::alarm::AlarmCode;
 use std::collections::HashMap;
@@ -39,8 +38,19 @@ pub struct Structure {
     links: HashMap<usize, Link>,
     /// Label name → the blocks that carry it, in text order.
     labels: HashMap<Box<str>, Vec<Mark>>,
-    /// Block number → its blocks, in text order.
-    numbers: HashMap<u32, Vec<Mark>>,
+    /// The program's text: its first block, its end. Block numbers are looked for in it
+    /// when a jump names one (not indexed: a program numbers every block, and the index
+    /// would grow with its length).
+    text: (Mark, usize),
+}
+
+/// The blocks numbered n around a place: the first in the program, the last at or before
+/// the place and the first after it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Numbered {
+    pub first: Option<Mark>,
+    pub backward: Option<Mark>,
+    pub forward: Option<Mark>,
 }
 
 /// An opened structure while matching: its word, its block, its body's start, and for IF
@@ -65,13 +75,43 @@ impl Structure {
         self.labels.get(name).map_or(&[], Vec::as_slice)
     }
 
-    pub fn numbers(&self, n: u32) -> &[Mark] {
-        self.numbers.get(&n).map_or(&[], Vec::as_slice)
+    /// The blocks numbered `n` around the block at `here` (a scan of the text).
+    pub fn numbered(&self, src: &[u8], n: u32, here: usize) -> Numbered {
+        let (mut at, end) = self.text;
+        let mut found = Numbered::default();
+        while at.0 < end && found.forward.is_none() {
+            let stop = src[at.0..end]
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(end, |k| at.0 + k);
+            let mut c = super::super::lexer::Cursor::new(src, at.0, stop);
+            c.skip_blanks();
+            if c.peek() == Some(b'/') {
+                c.i += 1;
+                while matches!(c.peek(), Some(b'0'..=b'9')) {
+                    c.i += 1;
+                }
+                c.skip_blanks();
+            }
+            if block_number(&mut c) == Some(n) {
+                found.first.get_or_insert(at);
+                if at.0 <= here {
+                    found.backward = Some(at);
+                } else {
+                    found.forward = Some(at);
+                }
+            }
+            at = (stop + 1, at.1 + 1, stop + 1);
+        }
+        found
     }
 
     /// Reads `src[start..end]` block by block (first line number `line`).
     pub fn of(src: &[u8], start: usize, end: usize, line: u32) -> Result<Structure, Located> {
-        let mut s = Structure::default();
+        let mut s = Structure {
+            text: ((start, line, start), end),
+            ..Structure::default()
+        };
         let mut open: Vec<Open> = Vec::new();
         let mut at: Mark = (start, line, start);
         while at.0 < end {
@@ -116,9 +156,7 @@ impl Structure {
             }
             c.skip_blanks();
         }
-        if let Some(n) = block_number(&mut c) {
-            self.numbers.entry(n).or_default().push(at);
-        }
+        block_number(&mut c);
         let label_at = c.i;
         let label = label(&mut c);
         let col = c.i;
@@ -259,10 +297,11 @@ pub fn label(c: &mut super::super::lexer::Cursor) -> Option<String> {
         return None;
     }
     let mut probe = *c;
-    let name = identifier(&mut probe);
-    if probe.peek() != Some(b':') || name.starts_with('$') {
+    let span = super::expr::identifier_span(&mut probe);
+    if probe.peek() != Some(b':') || span.first() == Some(&b'$') {
         return None;
     }
+    let name = String::from_utf8_lossy(span).to_ascii_uppercase();
     probe.i += 1;
     probe.skip_blanks();
     *c = probe;
