@@ -114,14 +114,17 @@ impl Structure {
         };
         let mut open: Vec<Open> = Vec::new();
         let mut at: Mark = (start, line, start);
-        while at.0 < end {
-            let stop = src[at.0..end]
-                .iter()
-                .position(|&b| b == b'\n')
-                .map_or(end, |k| at.0 + k);
+        // Line ends found by SIMD search: the whole text is read once, before the first block.
+        let ends = memchr::memchr_iter(b'\n', &src[start..end]).map(|k| start + k);
+        for stop in ends.chain(std::iter::once(end)) {
+            if at.0 >= end {
+                break;
+            }
             let next: Mark = (stop + 1, at.1 + 1, stop + 1);
-            if let Some((word, col)) = s.block(src, at, stop)? {
-                s.structure_word(&mut open, word, at, next, col)?;
+            if may_hold_name(&src[at.0..stop]) {
+                if let Some((word, col)) = s.block(src, at, stop)? {
+                    s.structure_word(&mut open, word, at, next, col)?;
+                }
             }
             at = next;
         }
@@ -157,6 +160,13 @@ impl Structure {
             c.skip_blanks();
         }
         block_number(&mut c);
+        // A label or a structure word starts with two letters (or `_`): most blocks
+        // (`G1 X…`) are done here.
+        let name_char =
+            |k: usize| matches!(c.peek_at(k), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+        if !(name_char(0) && name_char(1)) {
+            return Ok(None);
+        }
         let label_at = c.i;
         let label = label(&mut c);
         let col = c.i;
@@ -267,6 +277,21 @@ fn closer(w: Keyword) -> &'static str {
         Keyword::For => "ENDFOR",
         Keyword::Repeat => "UNTIL",
         _ => "ENDLOOP",
+    }
+}
+
+/// Whether a block's text may hold a label or a structure word: after blanks, a skip mark,
+/// a block number, or two name characters. Most blocks (`G1 X…`) are told by two bytes.
+#[inline]
+fn may_hold_name(b: &[u8]) -> bool {
+    let i = b
+        .iter()
+        .position(|&c| c != b' ' && c != b'\t')
+        .unwrap_or(b.len());
+    let name = |c: Option<&u8>| c.is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_');
+    match b.get(i) {
+        Some(b'/' | b':' | b'N' | b'n') => true,
+        c => name(c) && name(b.get(i + 1)),
     }
 }
 
