@@ -99,8 +99,14 @@ fn a_violation_200_blocks_on_is_refused_at_load_with_both_lines() {
 
 #[test]
 fn softnc_check_names_both_places() {
-    let prog = scratch("whole-far.mpf");
-    std::fs::write(&prog, far_program()).unwrap();
+    check_names_lines_4_and_207("whole-far.mpf", &far_program());
+}
+
+/// `softnc check` on `text` (as file `name`) fails naming the pair of lines 4 and 207 both
+/// ways.
+fn check_names_lines_4_and_207(name: &str, text: &str) {
+    let prog = scratch(name);
+    std::fs::write(&prog, text).unwrap();
     let out = std::process::Command::new(EXE)
         .arg("check")
         .arg(&prog)
@@ -109,12 +115,12 @@ fn softnc_check_names_both_places() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("whole-far.mpf:4:1: alarm 3021")
+        stderr.contains(&format!("{name}:4:1: alarm 3021"))
             && stderr.contains("of the contour of line 207"),
         "{stderr}"
     );
     assert!(
-        stderr.contains("whole-far.mpf:207:1: alarm 3021")
+        stderr.contains(&format!("{name}:207:1: alarm 3021"))
             && stderr.contains("of the contour of line 4 "),
         "{stderr}"
     );
@@ -285,23 +291,5 @@ fn a_far_violation_inside_a_closed_profile_is_still_reported() {
         "G1 X0 Y18\n",
         "G1 X0 Y18\nG1 X-20 Y18\nG1 X-20 Y0\nG1 X-30 Y-10\n",
     );
-    let prog = scratch("far-closed.mpf");
-    std::fs::write(&prog, text).unwrap();
-    let out = std::process::Command::new(EXE)
-        .arg("check")
-        .arg(&prog)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("far-closed.mpf:4:1: alarm 3021")
-            && stderr.contains("of the contour of line 207"),
-        "{stderr}"
-    );
-    assert!(
-        stderr.contains("far-closed.mpf:207:1: alarm 3021")
-            && stderr.contains("of the contour of line 4 "),
-        "{stderr}"
-    );
+    check_names_lines_4_and_207("far-closed.mpf", &text);
 }

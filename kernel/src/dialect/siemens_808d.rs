@@ -16,8 +16,7 @@ use MEffect::*;
 /// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
 pub const G451_LIMIT_DEG: f64 = 100.0;
 
-/// The G codes the 808D shares with the 828D/840D sl (siemens_840d.rs).
-pub(super) static GCODES: &[GCodeDef] = &[
+static GCODES: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
     g(1, Motion(MotionMode::Linear)),
     g(2, Motion(MotionMode::ArcCw)),
@@ -59,7 +58,7 @@ pub(super) static GCODES: &[GCodeDef] = &[
     g(710, Units(Units::Mm)),
 ];
 
-pub(super) static MCODES: &[MCodeDef] = &[
+static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
     m(3, Spindle(SpindleDir::Clockwise)),
@@ -70,7 +69,10 @@ pub(super) static MCODES: &[MCodeDef] = &[
     m(30, Stop(ProgramStop::EndRewind)),
 ];
 
-pub static DIALECT: Dialect = Dialect {
+pub static DIALECT: Dialect = BASE;
+
+/// The 808D's table: the 840D's too, under its own name (siemens_840d.rs).
+pub(super) const BASE: Dialect = Dialect {
     name: DialectName::Siemens808D,
     gcodes: GCODES,
     mcodes: MCODES,
