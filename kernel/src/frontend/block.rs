@@ -554,6 +554,19 @@ impl Block {
     }
 
     /// The N word as written, or `L<line>` for a block without one.
+    /// The block's place in the program, as the path and alarms carry it (`seq`: its number
+    /// in execution order, where the caller counts one).
+    #[inline]
+    pub fn source(&self, seq: u32) -> crate::segment::Source {
+        crate::segment::Source {
+            number: self.number,
+            line: self.line,
+            col: self.col,
+            seq,
+            program: self.program,
+        }
+    }
+
     pub fn label(&self) -> String {
         match self.number {
             Some(n) => n.to_string(),

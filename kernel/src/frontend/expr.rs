@@ -39,16 +39,7 @@ struct Parser<'v> {
 
 impl Parser<'_> {
     fn enter(&mut self, c: &Cursor) -> R<()> {
-        self.depth += 1;
-        if self.depth > MAX_DEPTH {
-            Err(fault(
-                AlarmCode::Syntax,
-                c.i,
-                "expression nested too deeply",
-            ))
-        } else {
-            Ok(())
-        }
+        deeper(&mut self.depth, c.i)
     }
 
     fn or(&mut self, c: &mut Cursor) -> R<f64> {
@@ -308,7 +299,18 @@ fn func(name: &str) -> Option<Func> {
     })
 }
 
-fn finite(v: f64, at: usize, what: &str) -> R<f64> {
+/// One nesting level more in an expression parser (any language's): refused beyond
+/// `MAX_DEPTH`, which keeps the recursion bounded.
+pub(super) fn deeper(depth: &mut u32, at: usize) -> R<()> {
+    *depth += 1;
+    if *depth > MAX_DEPTH {
+        return Err(fault(AlarmCode::Syntax, at, "expression nested too deeply"));
+    }
+    Ok(())
+}
+
+/// `v`, the result `what` of an operation, if it is a finite number (alarm 14000 if not).
+pub(super) fn finite(v: f64, at: usize, what: &str) -> R<f64> {
     if v.is_finite() {
         Ok(v)
     } else {

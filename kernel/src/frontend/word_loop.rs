@@ -326,11 +326,7 @@ impl Interpreter<'_> {
             return self.value(c, at, word);
         }
         let value = super::sinumerik::expr::eval(c, &self.sinumerik.store)?;
-        checked(Val {
-            value,
-            at: at as u32,
-            has_point: true,
-        })
+        checked(Val::computed(value, at))
     }
 
     /// Whether `letter` is an address of the dialect.
@@ -407,25 +403,13 @@ impl Interpreter<'_> {
             let v = crate::frontend::macro_b::expr::operand(c, &*self)?;
             return match v {
                 // Vacant: the word loop leaves the word out.
-                None => Ok(Val {
-                    value: f64::NAN,
-                    at: at as u32,
-                    has_point: true,
-                }),
-                Some(value) => checked(Val {
-                    value,
-                    at: at as u32,
-                    has_point: true,
-                }),
+                None => Ok(Val::computed(f64::NAN, at)),
+                Some(value) => checked(Val::computed(value, at)),
             };
         }
         if self.d.variables && starts_operand(c) {
             let v = expr::eval_operand(c, &self.vars)?;
-            return checked(Val {
-                value: v,
-                at: at as u32,
-                has_point: true,
-            });
+            return checked(Val::computed(v, at));
         }
         match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
             Some((n, next)) => {

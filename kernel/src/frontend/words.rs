@@ -30,6 +30,15 @@ impl Val {
         }
     }
 
+    /// A value an expression computed for the word at `at` (a decimal point implied).
+    pub fn computed(value: f64, at: usize) -> Self {
+        Val {
+            value,
+            at: at as u32,
+            has_point: true,
+        }
+    }
+
     pub fn pos(self) -> usize {
         self.at as usize
     }

@@ -159,13 +159,7 @@ impl<'a> Front<'a> {
                 .push(message(self.name, self.programs, block, m));
         }
         let info = BlockInfo {
-            source: Source {
-                number: block.number,
-                line: block.line,
-                col: block.col,
-                seq: self.blocks,
-                program: block.program,
-            },
+            source: block.source(self.blocks),
             plane: block.modal.plane,
             masking: block.modal.masking,
             side: match block.modal.trc {
@@ -412,13 +406,7 @@ const SPIN: u32 = 20_000;
 /// Alarm 10754 for a block that moves additional axes while compensation is still active.
 #[cold]
 fn additional_under_trc(main: &str, programs: &crate::ProgramLibrary, b: &Block) -> Alarm {
-    let source = Source {
-        number: b.number,
-        line: b.line,
-        col: b.col,
-        seq: 0,
-        program: b.program,
-    };
+    let source = b.source(0);
     Alarm::at(
         crate::alarm::AlarmCode::ForbiddenWithTrc,
         source.program_name(main, programs),
@@ -430,13 +418,7 @@ fn additional_under_trc(main: &str, programs: &crate::ProgramLibrary, b: &Block)
 /// The program's message for the operator (`#3006`), as a warning at its block.
 #[cold]
 fn message(main: &str, programs: &crate::ProgramLibrary, b: &Block, text: &str) -> Alarm {
-    let source = Source {
-        number: b.number,
-        line: b.line,
-        col: b.col,
-        seq: 0,
-        program: b.program,
-    };
+    let source = b.source(0);
     let name = source.program_name(main, programs);
     Alarm::at(crate::AlarmCode::ProgramMessage, name, &source, text)
 }
@@ -464,16 +446,7 @@ fn closing_element(interp: &Interpreter) -> Option<(Motion, Source)> {
             return last;
         }
         if let Some(m) = b.motion.filter(|m| m.moves_in_plane(1e-9)) {
-            last = Some((
-                m,
-                Source {
-                    number: b.number,
-                    line: b.line,
-                    col: b.col,
-                    seq: 0,
-                    program: b.program,
-                },
-            ));
+            last = Some((m, b.source(0)));
         }
     }
     None

@@ -280,8 +280,8 @@ impl WholeCheck {
                 break;
             }
         }
+        // Drained: empty, its capacity kept for the next run.
         self.pending = pending;
-        self.pending.clear();
     }
 
     /// The element of block `seq`, if the run has one (elements come in block order).

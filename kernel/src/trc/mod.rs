@@ -526,13 +526,7 @@ impl Compensator {
     fn begin(&mut self, b: &Block, motion: Option<&Motion>) -> Tag {
         self.seq = self.seq.wrapping_add(1);
         let tag = Tag {
-            source: Source {
-                number: b.number,
-                line: b.line,
-                col: b.col,
-                seq: self.seq,
-                program: b.program,
-            },
+            source: b.source(self.seq),
             feed: b.modal.feed,
             per_rev: b.modal.feed_per_rev,
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),

@@ -6,13 +6,11 @@
 //! weakest, so a compound condition is written `(R1>0) AND (R2<5)`, as the manuals do.
 //! Brackets are `( )`; angles are degrees; a value is true when it is not 0.
 
+use super::super::expr::finite;
 use super::super::fault::{fault, R};
 use super::super::lexer::Cursor;
 use super::Store;
 use crate::alarm::AlarmCode;
-
-/// Nesting depth beyond which an expression is refused (keeps the recursion bounded).
-const MAX_DEPTH: u32 = 64;
 
 /// Evaluates a full expression.
 pub fn eval(c: &mut Cursor, store: &Store) -> R<f64> {
@@ -61,18 +59,6 @@ fn divide(a: f64, b: f64, at: usize) -> R<f64> {
     finite(a / b, at, "quotient")
 }
 
-fn finite(v: f64, at: usize, what: &str) -> R<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(fault(
-            AlarmCode::Arithmetic,
-            at,
-            format!("the {what} is out of range"),
-        ))
-    }
-}
-
 /// A bit operation on two whole numbers (INT).
 fn bits(a: f64, b: f64, at: usize, f: fn(i64, i64) -> i64) -> R<f64> {
     Ok(f(whole(a, at)?, whole(b, at)?) as f64)
@@ -96,15 +82,7 @@ struct Parser<'s> {
 
 impl Parser<'_> {
     fn enter(&mut self, c: &Cursor) -> R<()> {
-        self.depth += 1;
-        if self.depth > MAX_DEPTH {
-            return Err(fault(
-                AlarmCode::Syntax,
-                c.i,
-                "expression nested too deeply",
-            ));
-        }
-        Ok(())
+        super::super::expr::deeper(&mut self.depth, c.i)
     }
 
     /// `a == b`, … (left to right).

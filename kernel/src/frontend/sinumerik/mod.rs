@@ -133,11 +133,6 @@ impl Store {
             .any(|v| v.name.as_bytes().eq_ignore_ascii_case(name))
     }
 
-    /// Whether `name` is a user variable.
-    pub fn has(&self, name: &str) -> bool {
-        self.vars.iter().any(|v| &*v.name == name)
-    }
-
     pub fn set(&mut self, name: &str, v: f64, at: usize) -> R<()> {
         let Some(var) = self.vars.iter_mut().find(|x| &*x.name == name) else {
             return Err(fault(
@@ -161,7 +156,7 @@ impl Store {
             var.value = ty.convert(v, at)?;
             return Ok(());
         }
-        if self.has(name) {
+        if self.has_name(name.as_bytes()) {
             return Err(fault(
                 AlarmCode::Syntax,
                 at,

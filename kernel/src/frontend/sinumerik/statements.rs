@@ -185,7 +185,7 @@ impl Interpreter<'_> {
             (Keyword::GotoF | Keyword::GotoB | Keyword::Goto | Keyword::GotoC, _) => {
                 self.jump(word, &mut c, start, at)?
             }
-            (Keyword::Def, _) => self.define(&mut c, at)?,
+            (Keyword::Def, _) => self.define(&mut c)?,
             (Keyword::Stopre, _) => {
                 self.end_of_statement(&mut c)?;
                 return self.statement_block(at, None).map(|()| true);
@@ -383,7 +383,7 @@ impl Interpreter<'_> {
 
     /// `DEF INT I, J=2`: user variables. Run again (a jump back before it) it starts the
     /// variables afresh.
-    fn define(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+    fn define(&mut self, c: &mut Cursor) -> R<()> {
         c.skip_blanks();
         let ty_at = c.i;
         let ty_name = identifier(c);
@@ -425,7 +425,6 @@ impl Interpreter<'_> {
                 _ => break,
             }
         }
-        let _ = at;
         self.end_of_statement(c)
     }
 
@@ -633,11 +632,7 @@ impl Interpreter<'_> {
                 ));
             }
         }
-        let v = super::super::words::checked(super::super::words::Val {
-            value,
-            at: at as u32,
-            has_point: true,
-        })?;
+        let v = super::super::words::checked(super::super::words::Val::computed(value, at))?;
         self.word(w, letter, v, at)
     }
 }
