@@ -331,6 +331,10 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "GOTOC NOWHERE", "GOTOF N10", "GOTOB N20", "GOTOF", "IF R1>2 GOTOF LAB2", "IF R1<1 GOTOB LAB1",
     "STOPRE", "MSG(\"text\")", "MSG()", "MSG(\"open", "SETAL(65000)", "SETAL(1)", "/IF 1",
     "LAB1: IF 1", "LAB1: R1=R1+1", "LAB2: G1 X=R1 F100",
+    "CYCLE81(10, 0, 2, -5)", "CYCLE82(R1, 0, 2, , 3, -2)", "CYCLE83(10, 0, 1, -20, , -5, , 2, 1, 1, 0.5, 1)",
+    "CYCLE83(10, 0, 1, -20, , , 0.001, 0, , , , 0)", "CYCLE84(10, 0, 2, -8, , 0, 3, 6)", "CYCLE84(10,0,2,-8)",
+    "CYCLE840(10, 0, 2, -8, , 0, 0, 5, 0, 0, 1.5)", "CYCLE85(10, 0, 2, -9, , 1, R1, 0)", "CYCLE86(10, 0, 2, -9, , 0, 3, 1, 1, 1)",
+    "CYCLE87(10, 0, 2, -9, , 9)", "CYCLE88(10, 0, 2, -9, , -1, 4)", "CYCLE89(0, 0, 2, 0)", "CYCLE81(", "CYCLE81(1,2,3,4,5,6)",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -1068,6 +1072,8 @@ mod sinumerik_programs {
         "G1 X=1/R0",
         "STOPRE",
         "MSG(\"pass\")",
+        "CYCLE81(10, 0, 2, -R1-1)",
+        "CYCLE83(10, 0, 1, -20, , -R1-1, , 2, , , 0.5, R4 MOD 2)",
     ];
     const ASSIGNS: &[&str] = &[
         "R1=R1+1",

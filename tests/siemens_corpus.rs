@@ -628,3 +628,62 @@ fn s32_chf_chr_rnd_g41() {
         .expect("the rounding");
     assert!((round.center[0] - 8.0).abs() <= TOL && (round.center[1] - 32.0).abs() <= TOL);
 }
+
+#[test]
+fn s50_drilling_cycles_plate() {
+    let z = |z: f64| [70.0, 15.0, z];
+    let mut want = vec![
+        [20.0, 15.0, 50.0],
+        [20.0, 15.0, 2.0], // CYCLE81
+        [20.0, 15.0, -12.0],
+        [20.0, 15.0, 10.0],
+        [45.0, 15.0, 10.0],
+        [45.0, 15.0, 2.0], // CYCLE82, DPR 6
+        [45.0, 15.0, -6.0],
+        [45.0, 15.0, 10.0],
+        [70.0, 15.0, 10.0],
+    ];
+    // CYCLE83: depths 10 16 20 24 25, out to Z1 and back to 0.6 above each.
+    for v in [
+        1.0, -10.0, 1.0, -9.4, -16.0, 1.0, -15.4, -20.0, 1.0, -19.4, -24.0, 1.0, -23.4, -25.0,
+        10.0, 50.0,
+    ] {
+        want.push(z(v));
+    }
+    let b = clean("s50_drilling_cycles_plate.mpf", &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [1.5]);
+}
+
+#[test]
+fn s51_tapping_and_boring_cycles() {
+    let b = clean(
+        "s51_tapping_and_boring_cycles.mpf",
+        &[
+            [0.0, 0.0, 20.0],
+            [0.0, 0.0, 2.0], // CYCLE84, PIT 1.5 at S400
+            [0.0, 0.0, -15.0],
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, 5.0],
+            [30.0, 0.0, 5.0],
+            [30.0, 0.0, 2.0], // CYCLE85, FFR 60 in, RFF 200 out
+            [30.0, 0.0, -20.0],
+            [30.0, 0.0, 2.0],
+            [30.0, 0.0, 5.0],
+            [60.0, 0.0, 5.0],
+            [60.0, 0.0, 2.0], // CYCLE89
+            [60.0, 0.0, -20.0],
+            [60.0, 0.0, 2.0],
+            [60.0, 0.0, 5.0],
+            [60.0, 0.0, 50.0],
+        ],
+    );
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some_and(|m| m.kind == MotionKind::Linear))
+        .map(|b| b.modal.feed)
+        .collect();
+    assert_eq!(feeds, [600.0, 600.0, 60.0, 200.0, 80.0, 80.0]);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [0.5, 1.0]);
+}

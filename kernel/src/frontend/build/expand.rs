@@ -8,6 +8,7 @@
 use super::super::block::*;
 use super::super::fault::R;
 use super::super::interpreter::Interpreter;
+use super::super::sinumerik::cycles::CycleRun;
 use super::cycles::Drilling;
 
 /// One move or action of an expanded block.
@@ -19,11 +20,18 @@ pub enum Step {
         to: Pos,
         rapid: bool,
         axes: Option<Additional>,
+        /// The feed of this move alone (a SINUMERIK cycle's own feeds); `None`: the modal
+        /// feed.
+        feed: Option<f64>,
     },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
     Spindle(SpindleDir),
+    /// The spindle's speed (rev/min); its S word goes to the PLC.
+    Speed(f64),
+    /// A program stop inside the expansion (SINUMERIK CYCLE87: M0 for the operator).
+    Stop(ProgramStop),
 }
 
 /// The steps still to come of the block being expanded, and the program stop of its block
@@ -40,6 +48,8 @@ enum Steps {
     Fixed(heapless::Deque<Step, 8>),
     /// A drilling cycle's remaining holes and pecks.
     Drilling(Drilling),
+    /// A SINUMERIK drilling cycle's remaining moves.
+    Cycle(Box<CycleRun>),
 }
 
 impl Expansion {
@@ -62,10 +72,18 @@ impl Expansion {
         }
     }
 
+    pub fn cycle(c: CycleRun) -> Self {
+        Expansion {
+            steps: Steps::Cycle(Box::new(c)),
+            stop: None,
+        }
+    }
+
     fn next(&mut self) -> Option<Step> {
         match &mut self.steps {
             Steps::Fixed(q) => q.pop_front(),
             Steps::Drilling(d) => d.next(),
+            Steps::Cycle(c) => c.next(),
         }
     }
 
@@ -74,6 +92,7 @@ impl Expansion {
         match &mut self.steps {
             Steps::Fixed(q) => q.is_empty(),
             Steps::Drilling(d) => d.done(),
+            Steps::Cycle(c) => c.done(),
         }
     }
 }
@@ -81,7 +100,7 @@ impl Expansion {
 impl Interpreter<'_> {
     /// The first step of the expansion just set, into the programmed block; the block's
     /// program stop waits for the last step.
-    pub(super) fn expand_first(&mut self, new: &mut ModalState) {
+    pub(in crate::frontend) fn expand_first(&mut self, new: &mut ModalState) {
         if let Some(step) = self.expansion.as_mut().and_then(Expansion::next) {
             self.apply_step(step, new);
         }
@@ -121,7 +140,15 @@ impl Interpreter<'_> {
     fn apply_step(&mut self, step: Step, modal: &mut ModalState) {
         let blk = &mut self.block;
         match step {
-            Step::Move { to, rapid, axes } => {
+            Step::Move {
+                to,
+                rapid,
+                axes,
+                feed,
+            } => {
+                if let Some(f) = feed {
+                    modal.feed = f;
+                }
                 if let Some(a) = axes.filter(|a| *a != self.cur_add) {
                     blk.axes = Some(AxisMove {
                         from: self.cur_add,
@@ -155,6 +182,14 @@ impl Interpreter<'_> {
                 self.cur = to;
             }
             Step::Dwell(s) => blk.dwell = Some(s),
+            Step::Speed(s) => {
+                modal.spindle = s;
+                let _ = blk.words.push(AuxWord {
+                    address: b'S',
+                    value: s,
+                });
+            }
+            Step::Stop(stop) => blk.stop = Some(stop),
             Step::Spindle(dir) => {
                 modal.spindle_dir = dir;
                 let code = self

@@ -24,7 +24,7 @@ pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
-pub(super) use expand::Expansion;
+pub(super) use expand::{Expansion, Step};
 pub(super) use motion::{in_range, WorkingArea};
 
 use super::block::{Block, BlockNo, ModalState};

@@ -7,6 +7,7 @@
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
 
+pub(super) mod cycles;
 pub(super) mod expr;
 pub(super) mod statements;
 pub(super) mod structure;

@@ -33,6 +33,8 @@ pub enum Keyword {
     Stopre,
     Msg,
     Setal,
+    /// A drilling cycle call (CYCLE81 … CYCLE89, CYCLE840; cycles/mod.rs).
+    Cycle,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -55,6 +57,16 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("STOPRE", Keyword::Stopre),
     ("MSG", Keyword::Msg),
     ("SETAL", Keyword::Setal),
+    ("CYCLE81", Keyword::Cycle),
+    ("CYCLE82", Keyword::Cycle),
+    ("CYCLE83", Keyword::Cycle),
+    ("CYCLE84", Keyword::Cycle),
+    ("CYCLE840", Keyword::Cycle),
+    ("CYCLE85", Keyword::Cycle),
+    ("CYCLE86", Keyword::Cycle),
+    ("CYCLE87", Keyword::Cycle),
+    ("CYCLE88", Keyword::Cycle),
+    ("CYCLE89", Keyword::Cycle),
 ];
 
 impl Keyword {
@@ -86,6 +98,7 @@ impl Keyword {
                 | Keyword::Stopre
                 | Keyword::Msg
                 | Keyword::Setal
+                | Keyword::Cycle
         )
     }
 
@@ -158,6 +171,11 @@ impl Interpreter<'_> {
             return Ok(false);
         };
         let at = c.i;
+        if word == Keyword::Cycle {
+            self.drilling_cycle(&mut c, at)?;
+            self.end_of_statement(&mut c)?;
+            return Ok(true);
+        }
         c.i += word.text().len();
         let link = self.sinumerik.structure.link(start);
         match (word, link) {
