@@ -90,6 +90,21 @@ pub enum AlarmCode {
     /// A SINUMERIK drilling cycle's parameters contradict each other or lie out of range
     /// (840D 61101 "reference plane defined incorrectly" and its neighbours).
     CycleParameter,
+    /// A SINUMERIK smooth approach finds no contour element to lead onto: more blocks
+    /// without a traversing motion than the control allows between it and the contour, or
+    /// the program ends first (840D 10740, "too many empty blocks in WAB programming").
+    SarBlocks,
+    /// The moves of a smooth approach or retraction along the tool axis would turn back
+    /// (840D 10741, "direction reversal with WAB infeed motion").
+    SarReversal,
+    /// A smooth approach's or retraction's distance is invalid or missing: DISR for a circle,
+    /// a line of no length, a programmed circle of no radius, a negative DISCL or DISRP
+    /// (840D 10742, "WAB distance invalid or not programmed").
+    SarDistance,
+    /// A smooth approach or retraction has no direction: the contour element it joins does
+    /// not move in the plane, or the side of its circle cannot be found (840D 10744, "no
+    /// valid WAB direction defined").
+    SarDirection,
     /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
     /// the number is the Sinumerik user-alarm range of SETAL).
     ProgramAlarm,
@@ -137,6 +152,10 @@ impl AlarmCode {
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,
             AlarmCode::CycleParameter => 61101,
+            AlarmCode::SarBlocks => 10740,
+            AlarmCode::SarReversal => 10741,
+            AlarmCode::SarDistance => 10742,
+            AlarmCode::SarDirection => 10744,
             AlarmCode::ProgramAlarm => 65000,
             AlarmCode::ProgramMessage => 65001,
         }

@@ -122,6 +122,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: &[],
     corner_words: CORNER_WORDS,
+    named_codes: &[],
     polar_words: false,
     lims_word: false,
     diameter_words: false,

@@ -68,6 +68,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: &[],
     corner_words: super::fanuc::CORNER_WORDS,
+    named_codes: &[],
     polar_words: false,
     lims_word: false,
     diameter_words: false,

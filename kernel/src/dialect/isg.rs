@@ -84,6 +84,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: true,
     at_commands: &[],
     corner_words: &[],
+    named_codes: &[],
     polar_words: false,
     lims_word: false,
     diameter_words: false,

@@ -15,7 +15,7 @@ use crate::frontend::block::{
     CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
     SelectionPolicy, SpindleDir, TrcSide,
 };
-pub use crate::frontend::{CornerKind, CycleKind};
+pub use crate::frontend::{CornerKind, CycleKind, SarContour, SarPath, SarSide};
 use crate::machine_data::{DialectName, Units};
 use crate::trc::TrcRules;
 use std::sync::OnceLock;
@@ -60,7 +60,7 @@ pub enum GEffect {
     Corner(CornerPolicy),
     /// Block-level selection method (840C G455/G456, ISG G05): non-modal.
     Approach(SelectionPolicy),
-    /// Modal selection method (ISG G138…G239).
+    /// Modal selection method (ISG G138…G239; SINUMERIK NORM, KONT).
     Selection(SelectionPolicy),
     FeedAdaption(FeedAdaption),
     /// ISG contour masking G140 (false) / G141 (true).
@@ -117,6 +117,17 @@ pub enum GEffect {
     ModalMacroCall,
     /// Cancels the modal macro call (Fanuc G67).
     ModalMacroCancel,
+    /// Smooth approach (SINUMERIK G147 G247 G347, non-modal): the tool reaches the contour's
+    /// start tangentially along a line, a quarter or a half circle (frontend/build/smooth.rs).
+    SmoothApproach(SarContour),
+    /// Smooth retraction (SINUMERIK G148 G248 G348, non-modal): the tool leaves the contour's
+    /// end tangentially.
+    SmoothRetraction(SarContour),
+    /// The side a smooth approach or retraction takes (modal: SINUMERIK G140 … G143).
+    SmoothSide(SarSide),
+    /// How a smooth approach or retraction moves along the tool axis (modal: SINUMERIK G340
+    /// in space, G341 axis first).
+    SmoothPath(SarPath),
     /// A code the dialect defines that softnc recognises but does not implement.
     Unsupported(&'static str),
 }
@@ -152,6 +163,9 @@ impl GEffect {
             GEffect::Scaling(_) => 29,
             GEffect::Rotation(_) => 30,
             GEffect::PolarCoordinates(_) => 31,
+            GEffect::SmoothApproach(_) | GEffect::SmoothRetraction(_) => 40,
+            GEffect::SmoothSide(_) => 41,
+            GEffect::SmoothPath(_) => 42,
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
@@ -234,6 +248,14 @@ pub struct CornerWordDef {
     pub kind: CornerKind,
 }
 
+/// A G function the program writes as a name (SINUMERIK `NORM`, `KONT`), with its effect.
+/// The whole name must match: `KONT` is not the start of `KONTC`.
+#[derive(Clone, Copy, Debug)]
+pub struct NamedCodeDef {
+    pub text: &'static str,
+    pub effect: GEffect,
+}
+
 /// What `;` means.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Semicolon {
@@ -292,6 +314,8 @@ pub struct Dialect {
     pub at_commands: &'static [AtCommandDef],
     /// Chamfer and corner words; empty where the control has none (here).
     pub corner_words: &'static [CornerWordDef],
+    /// G functions written as names (SINUMERIK NORM, KONT …); empty elsewhere.
+    pub named_codes: &'static [NamedCodeDef],
     /// 880/840C polar coordinates: A (angle), U or B (radius).
     pub polar_words: bool,
     /// 808D `DIAMON`/`DIAMOF`.

@@ -1,7 +1,8 @@
 //! SINUMERIK 808D turning (seed 004).
 
 use super::{
-    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
+    g, m, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef, MEffect, RadiusWord, SarContour,
+    SarPath, SarSide, Semicolon,
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -46,6 +47,20 @@ static GCODES: &[GCodeDef] = &[
     g(95, FeedPerRevolution(true)),
     g(96, ConstantSurfaceSpeed(true)),
     g(97, ConstantSurfaceSpeed(false)),
+    // Smooth approach and retraction (840D sl Fundamentals "Approach and retraction"): the
+    // side (group 43), the contour (non-modal), the infeed (group 44).
+    g(140, SmoothSide(SarSide::Compensation)),
+    g(141, SmoothSide(SarSide::Left)),
+    g(142, SmoothSide(SarSide::Right)),
+    g(143, SmoothSide(SarSide::Position)),
+    g(147, SmoothApproach(SarContour::Line)),
+    g(148, SmoothRetraction(SarContour::Line)),
+    g(247, SmoothApproach(SarContour::Quadrant)),
+    g(248, SmoothRetraction(SarContour::Quadrant)),
+    g(340, SmoothPath(SarPath::Spatial)),
+    g(341, SmoothPath(SarPath::AxisFirst)),
+    g(347, SmoothApproach(SarContour::Semicircle)),
+    g(348, SmoothRetraction(SarContour::Semicircle)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
     g(500, WorkOffset(0)),
     g(
@@ -82,6 +97,7 @@ pub(super) const BASE: Dialect = Dialect {
     variables: false,
     at_commands: &[],
     corner_words: super::siemens_840d::CORNER_WORDS,
+    named_codes: super::siemens_840d::NAMED_CODES,
     polar_words: false,
     lims_word: true,
     diameter_words: true,

@@ -99,6 +99,7 @@ pub static DIALECT: Dialect = Dialect {
     variables: false,
     at_commands: AT_COMMANDS,
     corner_words: &[],
+    named_codes: &[],
     polar_words: true,
     lims_word: false,
     diameter_words: false,

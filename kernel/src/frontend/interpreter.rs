@@ -9,7 +9,7 @@
 
 use super::block::*;
 use super::block_text::read_block_number;
-use super::build::{Corners, CycleMode, Expansion, WorkingArea};
+use super::build::{Corners, CycleMode, Expansion, Smooth, WorkingArea};
 use super::calls::Calls;
 use super::fault::{fault, Fault, R};
 use super::lexer::{column, Cursor};
@@ -66,6 +66,10 @@ pub struct Interpreter<'a> {
     /// Chamfer and corner words (Fanuc `,C` `,R`): the move that waits for the next one,
     /// and the blocks to hand out before reading on. `None` while no corner word is in play.
     pub(super) corners: Option<Box<Corners<'a>>>,
+    /// SINUMERIK compensation words (G140 … G348, DISC): their modal settings, a smooth
+    /// approach waiting for its contour element and the blocks it becomes. `None` until a
+    /// program uses one (build/smooth.rs).
+    pub(super) smooth: Option<Box<Smooth<'a>>>,
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
     pub(super) finished: bool,
@@ -115,6 +119,7 @@ impl<'a> Interpreter<'a> {
             cycle: None,
             cycle_to_initial: true,
             corners: None,
+            smooth: None,
             machine_coordinates: false,
             finished: false,
             structure_pending: d.sinumerik,
@@ -198,10 +203,27 @@ impl<'a> Interpreter<'a> {
         Alarm::at(f.code, self.name, &source, f.message)
     }
 
-    /// The next block to hand out: the next one interpreted, unless corner words are in
-    /// play (then a move waits for the next one, build/corner_blocks.rs).
+    /// The next block to hand out: the next one interpreted, unless compensation words are
+    /// in play (a smooth approach waits for its contour element, build/smooth.rs).
     #[inline]
     fn step(&mut self) -> Result<bool, Alarm> {
+        if self.smooth.is_some() {
+            return self.smooth_step();
+        }
+        let produced = self.corner_step()?;
+        if self.smooth.is_some() {
+            if let Some(ready) = self.smooth_took(produced)? {
+                return Ok(ready);
+            }
+            return self.smooth_step();
+        }
+        Ok(produced)
+    }
+
+    /// The next block interpreted, unless corner words are in play (then a move waits for
+    /// the next one, build/corner_blocks.rs).
+    #[inline]
+    pub(super) fn corner_step(&mut self) -> Result<bool, Alarm> {
         loop {
             if self.corners.is_some() {
                 if let Some(ready) = self.corner_waiting() {

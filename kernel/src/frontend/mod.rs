@@ -64,6 +64,7 @@ mod words;
 
 pub use block::*;
 pub use build::{CornerKind, CycleKind};
+pub use sinumerik::approach::{SarContour, SarPath, SarSide};
 pub use interpreter::Interpreter;
 
 use crate::alarm::Alarm;

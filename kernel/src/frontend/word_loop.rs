@@ -166,6 +166,9 @@ impl Interpreter<'_> {
             }
         }
         if self.long_name(c) {
+            if self.compensation_word(c, w, at)? {
+                return Ok(Next::Continue);
+            }
             if let Some(def) = self
                 .d
                 .corner_words

@@ -101,6 +101,8 @@ pub struct Words {
     pub radius_written: Option<u32>,
     /// A variable was assigned.
     pub calculation: bool,
+    /// SINUMERIK compensation words (NORM, KONT, DISC=, DISR= …): rare, so boxed.
+    pub compensation: Option<Box<super::sinumerik::compensation::CompensationWords>>,
 }
 
 impl Words {
@@ -122,6 +124,7 @@ impl Words {
             && self.q.is_none()
             && self.lims.is_none()
             && self.corner.is_none()
+            && self.compensation.is_none()
             && !self.calculation
     }
 }

@@ -37,6 +37,8 @@ pub(super) struct BlockCodes {
     pub setting: Option<super::settings::Setting>,
     /// A block that programs the frame (G51.1 G50.1 G51 G50 G68 G69).
     pub frame: Option<super::frames::FramePart>,
+    /// A smooth approach or retraction (SINUMERIK G147 … G348) and where it was written.
+    pub sar: Option<(GEffect, u32)>,
 }
 
 impl Interpreter<'_> {
@@ -134,6 +136,7 @@ impl Interpreter<'_> {
             reference: None,
             setting: None,
             frame: None,
+            sar: None,
             length: false,
             spindle_limit: false,
         };
@@ -222,6 +225,9 @@ impl Interpreter<'_> {
             GEffect::Scaling(on) => g.frame = Some(FramePart::Scale(on)),
             GEffect::Rotation(on) => g.frame = Some(FramePart::Rotation(on)),
             GEffect::ModalMacroCancel => self.calls.modal = None,
+            GEffect::SmoothApproach(_) | GEffect::SmoothRetraction(_) => g.sar = Some((effect, at)),
+            GEffect::SmoothSide(side) => self.smooth_state().side = side,
+            GEffect::SmoothPath(path) => self.smooth_state().path = path,
             GEffect::MacroCall | GEffect::ModalMacroCall => {
                 return Err(fault(
                     AlarmCode::Syntax,

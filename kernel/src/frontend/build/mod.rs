@@ -18,6 +18,7 @@ mod motion;
 mod polar;
 mod reference;
 mod settings;
+mod smooth;
 mod technology;
 
 pub(super) use corner_blocks::Corners;
@@ -25,6 +26,7 @@ pub use corners::CornerKind;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};
+pub(super) use smooth::Smooth;
 pub(super) use motion::{in_range, WorkingArea};
 
 use super::block::{Block, BlockNo, ModalState};
@@ -37,6 +39,12 @@ impl Interpreter<'_> {
     /// Turns a block's collected words into the block, in the order of execution.
     #[inline]
     pub(in crate::frontend) fn build(&mut self, w: &Words, block_col: usize) -> R<bool> {
+        // A smooth retraction leaves the contour element of the block built before it.
+        let last = if self.d.sinumerik {
+            self.block.motion
+        } else {
+            None
+        };
         // 1. The block at its place in the text, nothing programmed yet.
         self.begin(w, block_col);
         // 2. G codes looked up and checked against each other and the active TRC (840C 11.4).
@@ -54,6 +62,10 @@ impl Interpreter<'_> {
             self.cycle = Some(CycleMode::new(kind, initial, self.cycle));
         }
         self.diameter_switch(w, &mut new);
+        // SINUMERIK NORM/KONT, DISC= and the corner under it (build/smooth.rs).
+        if w.compensation.is_some() || self.smooth.is_some() {
+            self.compensation_words(w, &codes, &g, &mut new)?;
+        }
         // 5. Feed and spindle speed; a dwell block's F is its time.
         if g.dwell.is_none() {
             self.feed(w, &mut new)?;
@@ -66,8 +78,11 @@ impl Interpreter<'_> {
         self.m_functions(w, &mut new)?;
         // 8. The axis words: a dwell time, the working area's limits, a setting (G92 G52
         //    G10), a reference point return or a canned cycle (expanded into several
-        //    moves), or the motion.
-        self.axis_words(w, &g, &mut new, block_col)?;
+        //    moves), a smooth approach or retraction, or the motion.
+        match g.sar {
+            Some(sar) => self.smooth_block(w, &g, &mut new, sar, last)?,
+            None => self.axis_words(w, &g, &mut new, block_col)?,
+        }
         // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);
         //    additional axes move only outside compensation (docs/axes.md).
         self.trc_in_linear_block(&new, g.trc_at)?;

@@ -6,7 +6,11 @@
 //! - [`expr`]: arithmetic, comparisons, logic and the functions.
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
+//! - [`compensation`]: NORM, KONT, DISC= and the smooth approach's DISR=, DISCL=, DISRP=,
+//!   FAD= among a block's words; [`approach`]: the smooth approach's geometry.
 
+pub(super) mod approach;
+pub(super) mod compensation;
 pub(super) mod cycles;
 pub(super) mod expr;
 pub(super) mod statements;

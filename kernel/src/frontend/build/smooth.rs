@@ -1,0 +1,1032 @@
+//! SINUMERIK compensation words in the block build and the block stream (840D sl
+//! Fundamentals "Tool radius compensation"; docs/sinumerik.md "Compensation words"):
+//!
+//! - NORM and KONT choose the compensation's approach and retraction (the dialect table maps
+//!   them onto selection policies); DISC= with G450 chooses between the transition circle
+//!   (0) and the intersection (100).
+//! - The smooth approach (G147 G247 G347) is held, like a block with a chamfer word
+//!   ([`super::corner_blocks`]), until the contour element it leads onto is built: its
+//!   contour depends on that element's direction. It then goes out as programmed blocks
+//!   before compensation — the infeed P0 → P1 → P2 → P3 and the approach contour P3 → P4,
+//!   tangent to the element ([`crate::frontend::sinumerik::approach`] has the geometry) —
+//!   followed by the held blocks and the element. The first of them selects the
+//!   compensation, straight to its normal position, so that the equidistant of the approach
+//!   contour is the tool centre's path.
+//! - The smooth retraction (G148 G248 G348) knows all it needs when its block is built (the
+//!   last contour element is the block before it): its blocks go out in its place.
+
+use super::super::block::*;
+use super::super::fault::{fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::lexer::column;
+use super::super::sinumerik::approach::{
+    self, Contour, Heights, Joint, Level, Piece, Request, SarContour, SarError, SarPath, SarSide,
+    Tool, V,
+};
+use super::super::sinumerik::compensation::{CompensationWords, LevelWord};
+use super::super::words::Words;
+use super::gcodes::{BlockCodes, Codes};
+use crate::alarm::{Alarm, AlarmCode};
+use crate::dialect::{Dialect, GEffect};
+use crate::segment::Source;
+use std::collections::VecDeque;
+
+/// At most this many blocks without a traversing motion may stand between a smooth approach
+/// and the contour element it leads onto (808D Programming and Operating Manual, milling,
+/// "Smooth approach and retraction": 5).
+const BLOCKS_BETWEEN: usize = 5;
+
+/// Lengths below this count as zero (mm).
+const EPS: f64 = 1e-9;
+
+/// The compensation words' state: the modal settings, an approach waiting for its contour
+/// element, and the blocks to hand out. `None` in the interpreter until a program uses one
+/// of the words, so that a program without them pays nothing.
+#[derive(Clone, Debug)]
+pub struct Smooth<'a> {
+    /// G140 … G143 in force.
+    pub side: SarSide,
+    /// G340 / G341 in force.
+    pub path: SarPath,
+    /// DISC in force: 0 (transition circle) or 100 (intersection).
+    disc: u8,
+    /// G450 is the corner code in force (DISC acts only under it).
+    g450: bool,
+    hold: Option<Box<Hold<'a>>>,
+    /// Blocks to hand out before the next one is read.
+    out: VecDeque<Block>,
+    /// The interpreter's modal state (the last block built's) while they are handed out.
+    modal: Option<ModalState>,
+}
+
+/// A smooth approach waiting for the contour element.
+#[derive(Clone, Debug)]
+struct Hold<'a> {
+    req: Request,
+    fad: Option<Pace>,
+    /// The approach block as built; `None` until it is complete.
+    sar: Option<Block>,
+    /// Where the tool stands before it (P0), and the modal state in force there.
+    p0: Pos,
+    old: ModalState,
+    /// P4: the approach block's end if it programs an axis of the plane, else the end of the
+    /// next block that moves (NCP19 p.278), which is then held too.
+    p4: Option<Pos>,
+    p4_block: Option<Block>,
+    /// Blocks without a traversing motion before P4 is known, and after.
+    before: Vec<Block>,
+    after: Vec<Block>,
+    /// The approach code's place, for the alarms the later blocks raise.
+    source: Source,
+    name: &'a str,
+}
+
+/// How a generated block moves: at rapid, or at a feed (mm/min, or mm/rev).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pace {
+    rapid: bool,
+    feed: f64,
+    per_rev: bool,
+}
+
+impl Pace {
+    fn feed(feed: f64, per_rev: bool) -> Pace {
+        Pace {
+            rapid: false,
+            feed,
+            per_rev,
+        }
+    }
+}
+
+impl<'a> Interpreter<'a> {
+    /// The compensation words' state, created at the first use.
+    pub(super) fn smooth_state(&mut self) -> &mut Smooth<'a> {
+        let g450 = self.block.modal.corner == CornerPolicy::TransitionCircle;
+        self.smooth.get_or_insert_with(|| {
+            Box::new(Smooth {
+                side: SarSide::default(),
+                path: SarPath::default(),
+                disc: 0,
+                g450,
+                hold: None,
+                out: VecDeque::new(),
+                modal: None,
+            })
+        })
+    }
+
+    /// Block build step 4, the named G functions (NORM, KONT, …), DISC and the corner it
+    /// sets; SAR parameters belong to a SAR block. Out of line: only blocks with these words,
+    /// or programs that use them, come here.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn compensation_words(
+        &mut self,
+        w: &Words,
+        codes: &Codes,
+        g: &BlockCodes,
+        new: &mut ModalState,
+    ) -> R<()> {
+        if let Some(cw) = w.compensation.as_deref() {
+            self.named_codes(cw, codes, new)?;
+            if let Some(v) = cw.disc {
+                let disc = disc_value(v.value, v.at)?;
+                self.smooth_state().disc = disc;
+            }
+            if let (None, Some((at, name))) = (g.sar, cw.sar_parameter()) {
+                let sar = self.d.codes_of(&[
+                    GEffect::SmoothApproach(SarContour::Line),
+                    GEffect::SmoothRetraction(SarContour::Line),
+                ]);
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    at,
+                    format!("{name} belongs to a smooth approach or retraction block ({sar} …)"),
+                ));
+            }
+        }
+        let corner_code = codes.iter().find_map(|(def, _)| match def.effect {
+            GEffect::Corner(c) => Some(c),
+            _ => None,
+        });
+        let intersection = self.d.initial_corner_intersection;
+        let s = self.smooth_state();
+        if let Some(c) = corner_code {
+            s.g450 = c == CornerPolicy::TransitionCircle;
+        }
+        // Fundamentals "G450 DISC": 0 the transition circle, 100 the intersection of the
+        // equidistants, which is the dialect's intersection policy (the 808D/840D G451's).
+        if s.g450 {
+            new.corner = if s.disc == 100 {
+                intersection
+            } else {
+                CornerPolicy::TransitionCircle
+            };
+        }
+        Ok(())
+    }
+
+    /// NORM, KONT, KONTC, KONTT: one of a group a block, not with a G code of the group;
+    /// what softnc does not build is alarm 12580.
+    fn named_codes(&self, cw: &CompensationWords, codes: &Codes, new: &mut ModalState) -> R<()> {
+        for (k, &(def, at)) in cw.codes.iter().enumerate() {
+            let numbered = codes.iter().map(|(d, _)| (d.effect, ""));
+            let named = cw.codes[..k].iter().map(|(d, _)| (d.effect, d.text));
+            if let Some((_, other)) = numbered
+                .chain(named)
+                .find(|(e, _)| Dialect::same_group(*e, def.effect))
+            {
+                return Err(fault(
+                    AlarmCode::SameGroupTwice,
+                    at,
+                    format!("{} and {other} belong to the same group", def.text),
+                ));
+            }
+            match def.effect {
+                GEffect::Selection(sp) => new.selection = sp,
+                GEffect::Unsupported(what) => {
+                    return Err(fault(
+                        AlarmCode::NotSupported,
+                        at,
+                        format!("{what} is not supported by softnc"),
+                    ))
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+/// DISC=: 0 … 100 (Fundamentals "G450 DISC": type INT). softnc builds the two ends; the
+/// conic in between is alarm 12580.
+fn disc_value(v: f64, at: u32) -> R<u8> {
+    if !(0.0..=100.0).contains(&v) || v.fract() != 0.0 {
+        return Err(fault(
+            AlarmCode::BadNumber,
+            at,
+            format!("DISC={v}: the overshoot is a whole number from 0 to 100"),
+        ));
+    }
+    if v != 0.0 && v != 100.0 {
+        return Err(fault(
+            AlarmCode::NotSupported,
+            at,
+            format!("DISC={v}: softnc builds the transition circle (DISC=0) and the intersection (DISC=100), not the curve between them"),
+        ));
+    }
+    Ok(v as u8)
+}
+
+/// `p`'s coordinates in `plane`: the point in the plane, and the height on the normal axis.
+fn split(p: &Pos, plane: Plane) -> (V, f64) {
+    (
+        [p[plane.abscissa as usize], p[plane.ordinate as usize]],
+        p[plane.normal as usize],
+    )
+}
+
+/// The position at `v` in `plane` and height `z`.
+fn join(v: V, z: f64, plane: Plane) -> Pos {
+    let mut p = [0.0; 3];
+    p[plane.abscissa as usize] = v[0];
+    p[plane.ordinate as usize] = v[1];
+    p[plane.normal as usize] = z;
+    p
+}
+
+/// The axes of `plane` as [`Motion::programmed`] bits.
+fn plane_bits(plane: Plane) -> u16 {
+    1 << plane.abscissa | 1 << plane.ordinate
+}
+
+/// The unit tangent of `m` in its plane at its start or end (`None`: it does not move in the
+/// plane).
+fn tangent_of(m: &Motion, at_end: bool) -> Option<V> {
+    let (a, _) = split(&m.start, m.plane);
+    let (b, _) = split(&m.end, m.plane);
+    let centre = m
+        .kind
+        .is_arc()
+        .then(|| (split(&m.center, m.plane).0, m.kind == MotionKind::ArcCcw));
+    approach::tangent(a, b, centre, at_end)
+}
+
+/// The blocks a SAR plan becomes: each starts where the last ended, with the SAR block's
+/// place and its modal state, changed by what the move needs.
+struct Gen {
+    plane: Plane,
+    template: Block,
+    at: Pos,
+    blocks: Vec<Block>,
+}
+
+impl Gen {
+    fn new(template: &Block, at: Pos) -> Gen {
+        let mut t = Block::new(template.line, template.col, template.number, template.modal);
+        t.program = template.program;
+        Gen {
+            plane: template.modal.plane,
+            template: t,
+            at,
+            blocks: Vec::new(),
+        }
+    }
+
+    /// A straight move to `to`; `always`: also when it moves nothing (a selection or
+    /// deselection block, which must program the plane's axes).
+    fn line(&mut self, to: Pos, pace: Pace, always: bool) -> Option<&mut Block> {
+        let moved = (0..3).any(|i| (to[i] - self.at[i]).abs() > EPS);
+        if !moved && !always {
+            return None;
+        }
+        let bits = (0..3).fold(plane_bits(self.plane), |b, i| {
+            b | u16::from((to[i] - self.at[i]).abs() > EPS) << i
+        });
+        let kind = if pace.rapid {
+            MotionKind::Rapid
+        } else {
+            MotionKind::Linear
+        };
+        let m = Motion {
+            kind,
+            plane: self.plane,
+            start: self.at,
+            end: to,
+            center: to,
+            programmed: bits,
+        };
+        Some(self.push(m, pace))
+    }
+
+    /// The approach or retraction contour, ending at height `z_end`.
+    fn element(&mut self, e: &Piece, z_end: f64, pace: Pace) -> &mut Block {
+        let plane = self.plane;
+        let (_, z0) = split(&self.at, plane);
+        let bits = plane_bits(plane) | u16::from((z_end - z0).abs() > EPS) << plane.normal;
+        let m = match *e {
+            Piece::Line { to, .. } => Motion {
+                kind: MotionKind::Linear,
+                plane,
+                start: self.at,
+                end: join(to, z_end, plane),
+                center: join(to, z_end, plane),
+                programmed: bits,
+            },
+            Piece::Arc { to, centre, ccw, .. } => Motion {
+                kind: if ccw {
+                    MotionKind::ArcCcw
+                } else {
+                    MotionKind::ArcCw
+                },
+                plane,
+                start: self.at,
+                end: join(to, z_end, plane),
+                center: join(centre, z0, plane),
+                programmed: bits,
+            },
+        };
+        self.push(m, pace)
+    }
+
+    fn push(&mut self, m: Motion, pace: Pace) -> &mut Block {
+        let mut b = self.template.clone();
+        b.modal.motion = match m.kind {
+            MotionKind::Rapid => MotionMode::Rapid,
+            MotionKind::Linear => MotionMode::Linear,
+            MotionKind::ArcCw => MotionMode::ArcCw,
+            MotionKind::ArcCcw => MotionMode::ArcCcw,
+        };
+        b.modal.feed = pace.feed;
+        b.modal.feed_per_rev = pace.per_rev;
+        b.motion = Some(m);
+        self.at = m.end;
+        self.blocks.push(b);
+        let last = self.blocks.len() - 1;
+        &mut self.blocks[last]
+    }
+
+    /// The SAR block's words go with the first block, its stop, message and exact stop with
+    /// the last (they act where the programmed block ends).
+    fn finish(mut self, sar: &Block) -> Vec<Block> {
+        if let Some(first) = self.blocks.first_mut() {
+            first.words = sar.words.clone();
+            first.offset_changed = sar.offset_changed;
+            first.calculation = sar.calculation;
+        }
+        if let Some(last) = self.blocks.last_mut() {
+            last.stop = sar.stop;
+            last.message = sar.message.clone();
+            last.exact_stop = sar.exact_stop;
+        }
+        self.blocks
+    }
+}
+
+/// The SAR error as a fault at the SAR code.
+fn sar_fault(e: SarError, at: u32) -> Box<super::super::fault::Fault> {
+    let (code, why) = sar_alarm(e);
+    fault(code, at, why)
+}
+
+fn sar_alarm(e: SarError) -> (AlarmCode, String) {
+    match e {
+        SarError::Distance(m) => (AlarmCode::SarDistance, m),
+        SarError::Direction(m) => (AlarmCode::SarDirection, m),
+        SarError::Reversal(m) => (AlarmCode::SarReversal, m),
+    }
+}
+
+/// What the block's words ask of the SAR: DISR, DISCL, DISRP in mm (inch converted), DISCL
+/// and DISRP as distances (not negative) or positions on the tool axis, FAD as a pace.
+struct Words2 {
+    disr: Option<f64>,
+    discl: Option<Level>,
+    disrp: Option<Level>,
+    fad: Option<Pace>,
+}
+
+impl Interpreter<'_> {
+    /// DISR DISCL DISRP FAD of the block, checked.
+    fn sar_words(&self, w: &Words, new: &ModalState) -> R<Words2> {
+        let cw = w.compensation.as_deref();
+        let units = new.units;
+        let disr = cw.and_then(|c| c.disr).map(|v| self.length(v, units));
+        let discl = cw
+            .and_then(|c| c.discl)
+            .map(|l| self.level(l, new, "DISCL"))
+            .transpose()?;
+        let disrp = cw
+            .and_then(|c| c.disrp)
+            .map(|l| self.level(l, new, "DISRP"))
+            .transpose()?;
+        let fad = match cw.and_then(|c| c.fad) {
+            None => None,
+            Some(f) => {
+                if f.value.value <= 0.0 {
+                    return Err(fault(
+                        AlarmCode::BadNumber,
+                        f.value.at,
+                        "the feed FAD must be positive",
+                    ));
+                }
+                let per_rev = f.per_rev.unwrap_or(new.feed_per_rev);
+                // A feed per revolution is mm/rev, not converted (as F under G95).
+                let scale = if units == crate::machine_data::Units::Inch {
+                    25.4
+                } else {
+                    1.0
+                };
+                Some(Pace::feed(f.value.value * scale, per_rev))
+            }
+        };
+        Ok(Words2 {
+            disr,
+            discl,
+            disrp,
+            fad,
+        })
+    }
+
+    /// DISCL= or DISRP=: a distance (not negative) or with AC() a position on the tool axis.
+    fn level(&self, l: LevelWord, new: &ModalState, name: &str) -> R<Level> {
+        let normal = new.plane.normal as usize;
+        if l.absolute {
+            let abs = ModalState {
+                distance: Distance::Absolute,
+                ..*new
+            };
+            let zero = self.zero(new.work_offset);
+            let z = self.axis_target(l.value, normal, &abs, 0.0, zero[normal]);
+            return Ok(Level::At(z));
+        }
+        let v = self.length(l.value, new.units);
+        if v < 0.0 {
+            return Err(fault(
+                AlarmCode::SarDistance,
+                l.value.at,
+                format!("{name}={}: a distance from the machining plane is not negative", l.value.value),
+            ));
+        }
+        Ok(Level::Distance(v))
+    }
+}
+
+/// What may not stand in a SAR block (alarm 12580 at the SAR code): a block that is not a
+/// plain move.
+fn sar_block_alone(w: &Words, g: &BlockCodes) -> Option<&'static str> {
+    if g.dwell.is_some() {
+        Some("a dwell")
+    } else if g.working_area.is_some() || g.setting.is_some() || g.frame.is_some() {
+        Some("a setting")
+    } else if g.reference.is_some() || g.cycle.is_some() {
+        Some("a cycle or a reference point return")
+    } else if w.corner.is_some() {
+        Some("a chamfer or rounding")
+    } else if w.additional.iter().any(Option::is_some) {
+        Some("an additional axis")
+    } else if w.centre.iter().any(Option::is_some) || w.radius.is_some() {
+        Some("circle parameters")
+    } else {
+        None
+    }
+}
+
+impl<'a> Interpreter<'a> {
+    /// Block build step 8 for a SAR block: its axis words are P4 (approach) or P0
+    /// (retraction). The approach waits for its contour element; the retraction's blocks are
+    /// ready now.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn smooth_block(
+        &mut self,
+        w: &Words,
+        g: &BlockCodes,
+        new: &mut ModalState,
+        (effect, at): (GEffect, u32),
+        last: Option<Motion>,
+    ) -> R<()> {
+        let refused = sar_block_alone(w, g).map(|s| s.to_string()).or_else(|| {
+            (self.coords.frame.active() || self.machine_coordinates || self.corners.is_some())
+                .then(|| "a frame, machine coordinates or a pending chamfer".to_string())
+        });
+        if let Some(what) = refused {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                format!("a smooth approach or retraction with {what} is not supported by softnc"),
+            ));
+        }
+        let (contour, retract) = match effect {
+            GEffect::SmoothRetraction(c) => (c, true),
+            GEffect::SmoothApproach(c) => (c, false),
+            _ => return Ok(()),
+        };
+        let words = self.sar_words(w, new)?;
+        let s = self.smooth_state();
+        let req = Request {
+            contour,
+            retract,
+            side: s.side,
+            path: s.path,
+            disr: words.disr,
+            discl: words.discl,
+            disrp: words.disrp,
+        };
+        let start = self.cur;
+        let end = self.end_point(w, new, start)?;
+        let programmed = (0..3).fold(0u16, |b, i| b | u16::from(w.axis[i].is_some()) << i);
+        // The G40/G41/G42 of the block go with the blocks it becomes.
+        self.block.trc = None;
+        if retract {
+            return self.retraction(req, words.fad, new, end, programmed, last, at);
+        }
+        self.approach(req, words.fad, new, end, programmed, at)
+    }
+
+    /// A smooth approach: held (the stream completes it, [`Self::smooth_took`]).
+    fn approach(
+        &mut self,
+        req: Request,
+        fad: Option<Pace>,
+        new: &ModalState,
+        end: Pos,
+        programmed: u16,
+        at: u32,
+    ) -> R<()> {
+        if new.trc == TrcSide::Off && self.block.modal.trc != TrcSide::Off {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "a smooth approach cannot deselect the compensation",
+            ));
+        }
+        let start = self.cur;
+        self.block.motion = Some(Motion {
+            kind: MotionKind::Linear,
+            plane: new.plane,
+            start,
+            end,
+            center: end,
+            programmed,
+        });
+        let source = self.source_at(at);
+        let p4 = (programmed & plane_bits(new.plane) != 0).then_some(end);
+        let hold = Hold {
+            req,
+            fad,
+            sar: None,
+            p0: start,
+            old: self.block.modal,
+            p4,
+            p4_block: None,
+            before: Vec::new(),
+            after: Vec::new(),
+            source,
+            name: self.name,
+        };
+        self.smooth_state().hold = Some(Box::new(hold));
+        Ok(())
+    }
+
+    /// The block's place with the column of byte offset `at`.
+    fn source_at(&self, at: u32) -> Source {
+        Source {
+            number: self.blk_number,
+            line: self.blk_line,
+            col: column(self.src, self.blk_line_start, at as usize),
+            seq: 0,
+            program: self.calls.running.program,
+        }
+    }
+}
+
+/// The retraction's point P0 as the block programs it (NCP19 p.279; PG04 8-50): a plane
+/// axis programmed (the other is modal) → the full way to P0; only the tool axis → the way
+/// ends at P1 (and on to P0, the plane's position unchanged, when the block also deselects);
+/// nothing → it ends at P2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum RetractEnd {
+    Full,
+    AxisOnly,
+    None,
+}
+
+/// What a retraction is built from.
+struct Retraction {
+    req: Request,
+    fad: Option<Pace>,
+    /// P4 (where the tool stands) and P0 (the programmed end).
+    p4: Pos,
+    p0: Pos,
+    end: RetractEnd,
+    /// The compensation before the block, and whether the block deselects it.
+    tool: Tool,
+    deselect: bool,
+    old: ModalState,
+}
+
+impl Interpreter<'_> {
+    /// A smooth retraction: its blocks replace the SAR block in the stream.
+    #[allow(clippy::too_many_arguments)]
+    fn retraction(
+        &mut self,
+        req: Request,
+        fad: Option<Pace>,
+        new: &ModalState,
+        p0: Pos,
+        programmed: u16,
+        last: Option<Motion>,
+        at: u32,
+    ) -> R<()> {
+        let old = self.block.modal;
+        if new.trc != TrcSide::Off && new.trc != old.trc {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "a smooth retraction cannot select the compensation",
+            ));
+        }
+        let t = last.and_then(|m| tangent_of(&m, true)).ok_or_else(|| {
+            fault(
+                AlarmCode::SarDirection,
+                at,
+                "a smooth retraction leaves the contour element in the block before it, which must move in the plane",
+            )
+        })?;
+        let plane = new.plane;
+        let end = if programmed & plane_bits(plane) != 0 {
+            RetractEnd::Full
+        } else if programmed & 1 << plane.normal != 0 {
+            RetractEnd::AxisOnly
+        } else {
+            RetractEnd::None
+        };
+        let r = Retraction {
+            req,
+            fad,
+            p4: self.cur,
+            p0,
+            end,
+            tool: Tool {
+                on: old.trc != TrcSide::Off,
+                left: old.trc == TrcSide::Left,
+                radius: old.radius,
+            },
+            deselect: old.trc != TrcSide::Off && new.trc == TrcSide::Off,
+            old,
+        };
+        let blocks = self.retraction_blocks(&r, t, new).map_err(|e| match e {
+            Fail::Sar(e) => sar_fault(e, at),
+            Fail::Feed => no_feed(at),
+        })?;
+        self.block.motion = blocks.last().and_then(|b| b.motion);
+        self.smooth_state().out.extend(blocks);
+        Ok(())
+    }
+}
+
+/// The block deselects the compensation straight from the last element's normal position,
+/// if a deselection is `pending`.
+fn deselection(b: &mut Block, pending: &mut bool) {
+    if std::mem::take(pending) {
+        b.trc = Some(TrcSide::Off);
+        b.approach = Some(SelectionPolicy::NormalPosition);
+    }
+}
+
+/// Why a SAR plan fails: its geometry, or a move without a feed.
+enum Fail {
+    Sar(SarError),
+    Feed,
+}
+
+impl From<SarError> for Fail {
+    fn from(e: SarError) -> Fail {
+        Fail::Sar(e)
+    }
+}
+
+#[cold]
+fn no_feed(at: u32) -> Box<super::super::fault::Fault> {
+    fault(
+        AlarmCode::NoFeed,
+        at,
+        "no feed programmed (F) for the smooth approach or retraction",
+    )
+}
+
+/// A feed pace, if there is a feed.
+fn feed_pace(m: &ModalState) -> Result<Pace, Fail> {
+    if m.feed > 0.0 {
+        Ok(Pace::feed(m.feed, m.feed_per_rev))
+    } else {
+        Err(Fail::Feed)
+    }
+}
+
+impl Interpreter<'_> {
+    /// The retraction's blocks (NCP19 p.276, p.280): the contour from P4 (at the old feed, or
+    /// FAD under G340), under G341 the slow lift to P2 (FAD), then P1 and P0 at the block's
+    /// own motion. A deselection goes with the first block after the contour, in tool-centre
+    /// coordinates, straight from the contour's normal position.
+    fn retraction_blocks(&self, r: &Retraction, t: V, new: &ModalState) -> Result<Vec<Block>, Fail> {
+        let plane = new.plane;
+        let (p4, z4) = split(&r.p4, plane);
+        let (p0, z_prog) = split(&r.p0, plane);
+        let given = (r.end == RetractEnd::Full).then_some(p0);
+        let joint = Joint {
+            p4,
+            t,
+            other: given,
+        };
+        let contour = approach::contour(&r.req, &r.tool, &joint)?;
+        let mut req = r.req;
+        let z0 = if r.end == RetractEnd::None {
+            // Ends at P2: DISCL above the plane (DISCL=0 or none: in the plane).
+            req.disrp = None;
+            match req.discl {
+                Some(Level::Distance(v)) => z4 + v,
+                Some(Level::At(z)) => z,
+                None => z4,
+            }
+        } else {
+            z_prog
+        };
+        let h = approach::heights(&req, z0, z4)?;
+        let old_feed = feed_pace(&r.old)?;
+        let slow = r.fad.unwrap_or(old_feed);
+        let own = if new.motion.kind() == MotionKind::Rapid {
+            Pace {
+                rapid: true,
+                ..Pace::feed(new.feed, new.feed_per_rev)
+            }
+        } else {
+            feed_pace(new)?
+        };
+        let mut template = self.block.clone();
+        template.modal = ModalState { trc: r.old.trc, ..*new };
+        let mut gen = Gen::new(&template, r.p4);
+        let first = if req.path == SarPath::Spatial { slow } else { old_feed };
+        gen.element(&contour.element, h.z3, first);
+        let far = if r.deselect { contour.tool_far } else { contour.far };
+        let mut steps = vec![(join(far, h.z2, plane), slow), (join(far, h.z1, plane), own)];
+        let to_p0 = r.end == RetractEnd::Full || (r.end == RetractEnd::AxisOnly && r.deselect);
+        if to_p0 {
+            steps.push((r.p0, own));
+        }
+        // The deselection goes with the first block after the contour; a block of its own,
+        // moving nothing, where none follows.
+        // Moves are told in the coordinates after the contour (the tool centre's when the
+        // block deselects: the deselection itself moves nothing).
+        let mut pending = r.deselect;
+        let mut here = join(far, h.z3, plane);
+        for &(to, pace) in &steps {
+            if (0..3).all(|i| (to[i] - here[i]).abs() <= EPS) {
+                continue;
+            }
+            here = to;
+            if let Some(b) = gen.line(to, pace, true) {
+                b.modal.trc = new.trc;
+                deselection(b, &mut pending);
+            }
+        }
+        if pending {
+            let here = gen.at;
+            if let Some(b) = gen.line(here, own, true) {
+                b.modal.trc = new.trc;
+                deselection(b, &mut pending);
+            }
+        }
+        Ok(gen.finish(&self.block))
+    }
+}
+
+/// What the stream does with a block while an approach is held.
+enum Took {
+    /// Hand out what is queued.
+    Ready,
+    /// Read the next block.
+    ReadOn,
+}
+
+impl<'a> Interpreter<'a> {
+    /// `next_block` while compensation words are in play: queued blocks first, then the
+    /// next block, which an approach may hold. Out of line: a program without the words
+    /// never comes here.
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn smooth_step(&mut self) -> Result<bool, Alarm> {
+        loop {
+            if let Some(ready) = self.smooth_waiting() {
+                return Ok(ready);
+            }
+            let produced = self.corner_step()?;
+            if let Some(ready) = self.smooth_took(produced)? {
+                return Ok(ready);
+            }
+        }
+    }
+
+    /// A queued block goes out now (`Some(true)`); else the interpreter's modal state comes
+    /// back and reading goes on.
+    fn smooth_waiting(&mut self) -> Option<bool> {
+        let s = self.smooth.as_deref_mut()?;
+        if let Some(b) = s.out.pop_front() {
+            self.block = b;
+            return Some(true);
+        }
+        if let Some(m) = s.modal.take() {
+            self.block.modal = m;
+        }
+        None
+    }
+
+    /// The block just built (or the program's end, `produced` false) meets the state: a
+    /// retraction's blocks go out in its place, an approach holds it. `Some`: what
+    /// `next_block` says now; `None`: read on.
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn smooth_took(
+        &mut self,
+        produced: bool,
+    ) -> Result<Option<bool>, Alarm> {
+        let Some(s) = self.smooth.as_deref_mut() else {
+            return Ok(Some(produced));
+        };
+        if s.hold.is_none() {
+            if !produced || s.out.is_empty() {
+                return Ok(Some(produced));
+            }
+            // A retraction: its blocks instead of the SAR block.
+            s.modal = Some(self.block.modal);
+            return Ok(self.smooth_waiting());
+        }
+        match self.hold_next(produced)? {
+            Took::ReadOn => Ok(None),
+            Took::Ready => Ok(self.smooth_waiting()),
+        }
+    }
+
+    /// The held approach meets the next block: the approach block itself, a block without a
+    /// traversing motion (held), the block that gives P4 (held), or the contour element.
+    fn hold_next(&mut self, produced: bool) -> Result<Took, Alarm> {
+        let Some(h) = self.smooth.as_deref_mut().and_then(|s| s.hold.as_deref_mut()) else {
+            return Ok(Took::ReadOn);
+        };
+        if h.sar.is_none() {
+            // The approach block, complete now.
+            h.sar = Some(self.block.clone());
+            return Ok(Took::ReadOn);
+        }
+        if !produced {
+            return Err(self.hold_alarm(
+                AlarmCode::SarBlocks,
+                "the program ends before the contour element the smooth approach leads onto".into(),
+            ));
+        }
+        let b = &self.block;
+        if b.trc.is_some() {
+            return Err(self.hold_alarm(
+                AlarmCode::NotSupported,
+                "G40/G41/G42 between a smooth approach and its contour element is not supported".into(),
+            ));
+        }
+        let traversing = b.motion.is_some_and(|m| {
+            m.kind.is_arc() || (0..3).any(|i| (m.end[i] - m.start[i]).abs() > EPS)
+        });
+        if !traversing {
+            if b.stop.is_some_and(|s| s.ends_program()) || h.before.len() + h.after.len() >= BLOCKS_BETWEEN {
+                let why = format!("more than {BLOCKS_BETWEEN} blocks without a traversing motion, or the program's end, before the contour element the smooth approach leads onto");
+                return Err(self.hold_alarm(AlarmCode::SarBlocks, why));
+            }
+            let list = if h.p4.is_none() { &mut h.before } else { &mut h.after };
+            list.push(b.clone());
+            return Ok(Took::ReadOn);
+        }
+        if h.p4.is_none() {
+            h.p4 = b.motion.map(|m| m.end);
+            h.p4_block = Some(b.clone());
+            return Ok(Took::ReadOn);
+        }
+        self.release()?;
+        Ok(Took::Ready)
+    }
+
+    /// The contour element is the block just built: the approach's blocks, the held ones and
+    /// the element go into the queue.
+    fn release(&mut self) -> Result<(), Alarm> {
+        let Some(h) = self.smooth.as_deref_mut().and_then(|s| s.hold.take()) else {
+            return Ok(());
+        };
+        let blocks = match self.approach_blocks(&h) {
+            Ok(b) => b,
+            Err(Fail::Sar(e)) => {
+                let (code, why) = sar_alarm(e);
+                return Err(self.alarm_at(code, &h, why));
+            }
+            Err(Fail::Feed) => {
+                let why = "no feed programmed (F) for the smooth approach".to_string();
+                return Err(self.alarm_at(AlarmCode::NoFeed, &h, why));
+            }
+        };
+        let element = self.block.clone();
+        let Some(s) = self.smooth.as_deref_mut() else {
+            return Ok(());
+        };
+        s.modal = Some(element.modal);
+        s.out.extend(h.before);
+        s.out.extend(blocks);
+        if let Some(b) = h.p4_block.filter(|b| !b.words.is_empty() || b.stop.is_some()) {
+            // The block that gave P4 moves with the approach; its words act at P4.
+            s.out.push_back(Block { motion: None, ..b });
+        }
+        s.out.extend(h.after);
+        s.out.push_back(element);
+        Ok(())
+    }
+
+    /// The approach's blocks for the contour element just built (NCP19 p.276, p.280): P0 →
+    /// P1 selects the compensation, P1 → P2 (→ P3 under G341) at the speed before the block,
+    /// G341's slow infeed P2 → P3 at FAD, the contour P3 → P4 at FAD (G340) or F.
+    fn approach_blocks(&self, h: &Hold) -> Result<Vec<Block>, Fail> {
+        let (Some(sar), Some(p4)) = (&h.sar, h.p4) else {
+            return Ok(Vec::new());
+        };
+        let new = sar.modal;
+        let plane = new.plane;
+        let t = self
+            .block
+            .motion
+            .filter(|m| m.plane == plane)
+            .and_then(|m| tangent_of(&m, false))
+            .ok_or_else(|| {
+                SarError::Direction(format!(
+                    "the block after the smooth approach must be a line or a circle in the {} plane",
+                    plane.name()
+                ))
+            })?;
+        let tool = Tool {
+            on: new.trc != TrcSide::Off,
+            left: new.trc == TrcSide::Left,
+            radius: new.radius,
+        };
+        let (p4v, z4) = split(&p4, plane);
+        let (p0v, z0) = split(&h.p0, plane);
+        let joint = Joint {
+            p4: p4v,
+            t,
+            other: Some(p0v),
+        };
+        let contour = approach::contour(&h.req, &tool, &joint)?;
+        let heights = approach::heights(&h.req, z0, z4)?;
+        let programmed = feed_pace(&new)?;
+        let before = if h.old.motion.kind() == MotionKind::Rapid {
+            Pace {
+                rapid: true,
+                ..Pace::feed(h.old.feed, h.old.feed_per_rev)
+            }
+        } else {
+            feed_pace(&h.old)?
+        };
+        let slow = h.fad.unwrap_or(programmed);
+        let paces = [before, slow, programmed];
+        Ok(approach_moves(sar, h, &contour, heights, z4, paces, tool.on))
+    }
+
+    /// An alarm at the held approach's code; the interpreter stops.
+    #[cold]
+    fn hold_alarm(&mut self, code: AlarmCode, why: String) -> Alarm {
+        let h = self
+            .smooth
+            .as_deref_mut()
+            .and_then(|s| s.hold.take());
+        match h {
+            Some(h) => self.alarm_at(code, &h, why),
+            None => Alarm::at(code, self.name, &self.block.source(0), why),
+        }
+    }
+
+    #[cold]
+    fn alarm_at(&mut self, code: AlarmCode, h: &Hold, why: String) -> Alarm {
+        self.finished = true;
+        if let Some(s) = self.smooth.as_deref_mut() {
+            s.hold = None;
+            s.out.clear();
+        }
+        Alarm::at(code, h.name, &h.source, why)
+    }
+}
+
+/// The approach's moves from P0: `paces` are the speed before the block, the slow infeed's
+/// and the programmed feed. With compensation the first move is the selection block, to the
+/// normal position of the approach contour's start, even where it moves nothing.
+fn approach_moves(
+    sar: &Block,
+    h: &Hold,
+    contour: &Contour,
+    z: Heights,
+    z4: f64,
+    [before, slow, programmed]: [Pace; 3],
+    trc: bool,
+) -> Vec<Block> {
+    let plane = sar.modal.plane;
+    let far = |z| join(contour.far, z, plane);
+    let mut gen = Gen::new(sar, h.p0);
+    if let Some(b) = gen.line(far(z.z1), before, trc) {
+        if trc {
+            b.trc = Some(sar.modal.trc);
+            b.approach = Some(SelectionPolicy::NormalPosition);
+        }
+    }
+    gen.line(far(z.z2), before, false);
+    gen.line(far(z.z3), slow, false);
+    let pace = if h.req.path == SarPath::Spatial {
+        slow
+    } else {
+        programmed
+    };
+    gen.element(&contour.element, z4, pace);
+    gen.finish(sar)
+}

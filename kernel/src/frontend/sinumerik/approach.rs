@@ -1,0 +1,337 @@
+//! Smooth approach and retraction (SAR) as geometry (840D sl Fundamentals "Smooth approach
+//! and retraction", FM W1 "Smooth approach and retraction"): the contour element that leads
+//! tangentially onto the first contour element, or off the last one, and the heights of the
+//! points P0 … P4 along the tool axis. The element is a programmed one: the compensation
+//! makes its equidistant, and its size is chosen so that this equidistant is the tool-centre
+//! path the manual gives. Dialect-free (the G codes are the dialect table's); the block
+//! stream is build/smooth.rs.
+//!
+//! ```text
+//!   approach, G41, G247 (quadrant), the contour along t from P4:
+//!
+//!        C = P4 + (d + σ·DISR)·l          l = t turned left, d = the signed offset
+//!       /|
+//!   A  / | r = DISR + σ·d                 programmed quarter circle A → P4 about C
+//!    \/  |                                its equidistant: radius DISR about C, the tool
+//!     \  |                                centre's path (Fundamentals: "DISR … radius of
+//!      `-P4 ──────── t ──────►            the tool center point path")
+//! ```
+
+/// A point in the plane: (abscissa, ordinate).
+pub type V = [f64; 2];
+
+/// G147/G148, G247/G248, G347/G348: the approach or retraction contour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SarContour {
+    /// A straight line along the contour's tangent.
+    Line,
+    /// A quarter circle.
+    Quadrant,
+    /// A half circle.
+    Semicircle,
+}
+
+/// G140 … G143: the side the contour is approached from or left to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SarSide {
+    /// G140: the compensation's side (G41 left, G42 right); without compensation as G143.
+    #[default]
+    Compensation,
+    /// G141
+    Left,
+    /// G142
+    Right,
+    /// G143: the side of the start (approach) or end point (retraction) relative to the
+    /// contour's tangent.
+    Position,
+}
+
+/// G340 / G341: how the approach moves along the tool axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SarPath {
+    /// G340: the approach contour descends from the safety clearance to the plane (a helix
+    /// for the circles).
+    #[default]
+    Spatial,
+    /// G341: infeed along the tool axis to the plane first, the contour in the plane.
+    AxisFirst,
+}
+
+/// A height along the tool axis as DISCL= and DISRP= give it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Level {
+    /// A distance from the machining plane, mm, on the side the tool comes from.
+    Distance(f64),
+    /// `=AC(…)`: the position on the tool axis (basic coordinates).
+    At(f64),
+}
+
+/// What a SAR block asks for, lengths in mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Request {
+    pub contour: SarContour,
+    pub retract: bool,
+    pub side: SarSide,
+    pub path: SarPath,
+    pub disr: Option<f64>,
+    pub discl: Option<Level>,
+    pub disrp: Option<Level>,
+}
+
+/// The compensation the approach ends in (or the retraction starts from).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tool {
+    /// G41/G42 in force.
+    pub on: bool,
+    /// G41 (true) or G42.
+    pub left: bool,
+    /// The tool radius as the offset holds it (negative swaps the side).
+    pub radius: f64,
+}
+
+impl Tool {
+    /// The signed offset of the equidistant to the left of the direction of travel.
+    pub fn d(&self) -> f64 {
+        match (self.on, self.left) {
+            (false, _) => 0.0,
+            (true, true) => self.radius,
+            (true, false) => -self.radius,
+        }
+    }
+}
+
+/// Where the approach meets the contour (or the retraction leaves it): P4, the contour's
+/// tangent there (a unit vector in the direction of travel), and the point the side is taken
+/// from under G143 (P0), if it is known.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Joint {
+    pub p4: V,
+    pub t: V,
+    pub other: Option<V>,
+}
+
+/// One element in the plane, in the direction of travel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Piece {
+    Line { from: V, to: V },
+    Arc { from: V, to: V, centre: V, ccw: bool },
+}
+
+/// The approach or retraction contour: the programmed element (from its far end A to P4 on
+/// approach, from P4 to A on retraction) and the tool centre at A.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contour {
+    pub element: Piece,
+    pub far: V,
+    pub tool_far: V,
+}
+
+/// Why no SAR contour exists, with the alarm the control gives.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SarError {
+    /// DISR (or DISCL, DISRP) invalid or missing (840D 10742).
+    Distance(String),
+    /// No side for the circle (840D 10744).
+    Direction(String),
+    /// The infeed would turn back along the tool axis (840D 10741).
+    Reversal(String),
+}
+
+/// Lengths below this count as zero (mm).
+const EPS: f64 = 1e-9;
+
+/// The SAR contour at `j` for the compensation `tool` (NCP19 p.273, FM W1 "DISR"): a line of
+/// DISR plus the tool radius (counted when the compensation is on and it is positive), or a
+/// circle whose equidistant, the tool centre's path, has the radius DISR.
+pub fn contour(req: &Request, tool: &Tool, j: &Joint) -> Result<Contour, SarError> {
+    let d = tool.d();
+    let l = left(j.t);
+    // Approach: A lies behind P4 (against t); retraction: ahead of it.
+    let ahead = if req.retract { 1.0 } else { -1.0 };
+    if req.contour == SarContour::Line {
+        let disr = req.disr.unwrap_or(0.0);
+        let len = disr + if tool.on { tool.radius.max(0.0) } else { 0.0 };
+        if len <= EPS {
+            return Err(SarError::Distance(format!(
+                "the straight approach or retraction would be {len:.4} mm long (DISR={disr} plus the tool radius)"
+            )));
+        }
+        let far = add(j.p4, scale(j.t, ahead * len));
+        let (from, to) = ends(req.retract, far, j.p4);
+        let element = Piece::Line { from, to };
+        let tool_far = add(far, scale(l, d));
+        return Ok(Contour {
+            element,
+            far,
+            tool_far,
+        });
+    }
+    let rho = req
+        .disr
+        .ok_or_else(|| SarError::Distance("a circle needs its radius DISR=".to_string()))?;
+    if rho <= EPS {
+        return Err(SarError::Distance(format!(
+            "DISR={rho}: the radius of the tool centre's circle must be positive"
+        )));
+    }
+    let sigma = side(req, tool, j)?;
+    // Tool on the circle's inside (σ·d > 0): the programmed circle is larger by the radius.
+    let r = rho + sigma * d;
+    if r <= EPS {
+        return Err(SarError::Distance(format!(
+            "DISR={rho} is smaller than the tool radius {:.4} on the outside of the circle: the programmed circle would have the radius {r:.4}",
+            d.abs()
+        )));
+    }
+    let centre = add(j.p4, scale(l, sigma * r));
+    let (far, tool_far) = match req.contour {
+        SarContour::Semicircle => (
+            add(centre, scale(l, sigma * r)),
+            add(centre, scale(l, sigma * rho)),
+        ),
+        _ => (
+            add(centre, scale(j.t, ahead * r)),
+            add(centre, scale(j.t, ahead * rho)),
+        ),
+    };
+    let (from, to) = ends(req.retract, far, j.p4);
+    Ok(Contour {
+        element: Piece::Arc {
+            from,
+            to,
+            centre,
+            ccw: sigma > 0.0,
+        },
+        far,
+        tool_far,
+    })
+}
+
+/// The element's ends in the direction of travel.
+fn ends(retract: bool, far: V, p4: V) -> (V, V) {
+    if retract {
+        (p4, far)
+    } else {
+        (far, p4)
+    }
+}
+
+/// +1 for a circle on the left of the tangent, −1 on the right (G140 … G143, FM W1 "Modal G
+/// code for the approach and retraction direction").
+fn side(req: &Request, tool: &Tool, j: &Joint) -> Result<f64, SarError> {
+    let d = tool.d();
+    match req.side {
+        SarSide::Left => Ok(1.0),
+        SarSide::Right => Ok(-1.0),
+        // A radius of 0 counts as positive.
+        SarSide::Compensation if tool.on && d != 0.0 => Ok(d.signum()),
+        SarSide::Compensation if tool.on => Ok(if tool.left { 1.0 } else { -1.0 }),
+        // G143, and G140 without compensation.
+        _ => {
+            let Some(p0) = j.other else {
+                return Err(SarError::Direction(
+                    "the side of the circle comes from the end point, which the block does not program (G143, or G140 without compensation)".to_string(),
+                ));
+            };
+            let c = cross(j.t, sub(p0, j.p4));
+            if c.abs() <= EPS * len(sub(p0, j.p4)).max(1.0) {
+                return Err(SarError::Direction(
+                    "the point lies on the contour's tangent: it is neither left nor right of it (G143)".to_string(),
+                ));
+            }
+            Ok(c.signum())
+        }
+    }
+}
+
+/// The heights of P1, P2 and P3 along the tool axis (NCP19 p.276; FM W1 "DISCL", "DISRP").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Heights {
+    pub z1: f64,
+    pub z2: f64,
+    pub z3: f64,
+}
+
+/// Heights for P0 at `z0` and P4 at `z4`. P1 lies at DISRP, else at P0's height; P2 at DISCL.
+/// G340 (`Spatial`): P3 coincides with P2, and without DISCL (or DISCL=0) with P1, so that
+/// the contour descends from there. G341: P3 lies in the plane, and P2 without DISCL there
+/// too. Distances count on the side of the plane P0 lies on. No move may turn back along
+/// the tool axis (FM W1: "it is not permitted to change direction").
+pub fn heights(req: &Request, z0: f64, z4: f64) -> Result<Heights, SarError> {
+    let s = if z0 >= z4 { 1.0 } else { -1.0 };
+    let level = |l: Level| match l {
+        Level::Distance(v) => z4 + s * v,
+        Level::At(z) => z,
+    };
+    let z1 = req.disrp.map_or(z0, level);
+    let clearance = match req.discl {
+        Some(Level::Distance(v)) if v == 0.0 && req.path == SarPath::Spatial => None,
+        other => other.map(level),
+    };
+    let h = match req.path {
+        SarPath::Spatial => {
+            let z = clearance.unwrap_or(z1);
+            Heights { z1, z2: z, z3: z }
+        }
+        SarPath::AxisFirst => Heights {
+            z1,
+            z2: clearance.unwrap_or(z4),
+            z3: z4,
+        },
+    };
+    let way = z4 - z0;
+    let seq = [z0, h.z1, h.z2, h.z3, z4];
+    for w in seq.windows(2) {
+        let step = w[1] - w[0];
+        if step.abs() > EPS && (way.abs() <= EPS || step.signum() != way.signum()) {
+            return Err(SarError::Reversal(format!(
+                "the moves along the tool axis turn back: P0 {z0:.4}, P1 {:.4}, P2 {:.4}, P3 {:.4}, P4 {z4:.4} (DISRP, DISCL)",
+                h.z1, h.z2, h.z3
+            )));
+        }
+    }
+    Ok(h)
+}
+
+/// The unit tangent of a move in the plane at its start (`at_end` false) or end: a line's
+/// direction, an arc's tangent there; `None` for a move that does not move in the plane.
+pub fn tangent(from: V, to: V, centre: Option<(V, bool)>, at_end: bool) -> Option<V> {
+    let t = match centre {
+        Some((c, ccw)) => {
+            let r = sub(if at_end { to } else { from }, c);
+            if ccw {
+                left(r)
+            } else {
+                scale(left(r), -1.0)
+            }
+        }
+        None => sub(to, from),
+    };
+    let n = len(t);
+    (n > EPS).then(|| scale(t, 1.0 / n))
+}
+
+fn add(a: V, b: V) -> V {
+    [a[0] + b[0], a[1] + b[1]]
+}
+
+fn sub(a: V, b: V) -> V {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn scale(a: V, k: f64) -> V {
+    [a[0] * k, a[1] * k]
+}
+
+fn cross(a: V, b: V) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn len(a: V) -> f64 {
+    libm::hypot(a[0], a[1])
+}
+
+/// `a` turned 90° counter-clockwise.
+fn left(a: V) -> V {
+    [-a[1], a[0]]
+}
