@@ -127,7 +127,9 @@ pub fn skip_prefix(c: &mut Cursor) {
 
 /// Reads `N<digits>` at the cursor, if there is an N; a fault points at the N.
 pub fn read_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
-    if c.letter() != Some(b'N') {
+    // A name that starts with N (SINUMERIK `NORM`, a variable) is no block number.
+    let name = matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+    if c.letter() != Some(b'N') || name {
         return Ok(None);
     }
     let at = c.i;
@@ -178,6 +180,7 @@ mod tests {
         assert_eq!((n.value, n.to_string()), (5, "N05".to_string()));
         assert_eq!(number("X1").unwrap(), None);
         assert_eq!(number("N X1").unwrap_err().code, AlarmCode::Syntax);
+        assert_eq!(number("NORM X1").unwrap(), None);
         // u32::MAX + 1
         assert_eq!(
             number("N4294967296").unwrap_err().code,

@@ -488,8 +488,10 @@ impl<'a> Interpreter<'a> {
         last: Option<Motion>,
     ) -> R<()> {
         let refused = sar_block_alone(w, g).map(|s| s.to_string()).or_else(|| {
+            let waiting = self.smooth.as_ref().is_some_and(|s| s.hold.is_some());
             (self.coords.frame.active() || self.machine_coordinates || self.corners.is_some())
                 .then(|| "a frame, machine coordinates or a pending chamfer".to_string())
+                .or(waiting.then(|| "an approach still waiting for its contour".to_string()))
         });
         if let Some(what) = refused {
             return Err(fault(
@@ -773,7 +775,6 @@ impl Interpreter<'_> {
             }
         }
         if pending {
-            let here = gen.at;
             if let Some(b) = gen.line(here, own, true) {
                 b.modal.trc = new.trc;
                 deselection(b, &mut pending);
@@ -1029,4 +1030,121 @@ fn approach_moves(
     };
     gen.element(&contour.element, z4, pace);
     gen.finish(sar)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::run;
+    use crate::alarm::AlarmCode;
+    use crate::frontend::{Block, CornerPolicy, MotionKind, SelectionPolicy, TrcSide};
+
+    const D840: &str = "siemens-840d";
+
+    fn blocks(src: &str) -> Vec<Block> {
+        run(D840, src).unwrap_or_else(|a| panic!("{a}"))
+    }
+
+    /// (line, kind, end) of every move.
+    fn moves(src: &str) -> Vec<(u32, MotionKind, [f64; 3])> {
+        blocks(src)
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (b.line, m.kind, m.end)))
+            .collect()
+    }
+
+    fn alarm(src: &str) -> (AlarmCode, u32, u32) {
+        let a = run(D840, src).expect_err("an alarm");
+        (a.code, a.line, a.col)
+    }
+
+    /// NORM and KONT are modal (group 17): the selection policy of the blocks after them.
+    #[test]
+    fn norm_and_kont_choose_the_selection_policy() {
+        let b = blocks("G1 F100 X1\nKONT X2\nX3\nNORM X4\n");
+        let sel: Vec<SelectionPolicy> = b.iter().map(|b| b.modal.selection).collect();
+        use SelectionPolicy::*;
+        assert_eq!(sel, [NormalPosition, Compensated, Compensated, NormalPosition]);
+        assert_eq!(alarm("G1 F100 NORM KONT X1\n"), (AlarmCode::SameGroupTwice, 1, 14));
+        assert_eq!(alarm("N5 KONTC G41 D2 X1\n"), (AlarmCode::NotSupported, 1, 4));
+        assert_eq!(alarm("KONTT\n").0, AlarmCode::NotSupported);
+    }
+
+    /// DISC= under G450: 0 the transition circle, 100 the intersection (the 840D's G451
+    /// policy); it waits under G451 and comes back with G450. Between: 12580.
+    #[test]
+    fn disc_chooses_between_circle_and_intersection() {
+        let b = blocks("G450 DISC=100\nDISC=0\nG451\nDISC=100 X1\nG450\n");
+        let corners: Vec<CornerPolicy> = b.iter().map(|b| b.modal.corner).collect();
+        let inter = CornerPolicy::IntersectionLimited { limit_deg: 100.0 };
+        assert_eq!(
+            corners,
+            [inter, CornerPolicy::TransitionCircle, inter, inter, inter]
+        );
+        assert_eq!(alarm("G450 DISC=50\n"), (AlarmCode::NotSupported, 1, 6));
+        assert_eq!(alarm("DISC=101\n").0, AlarmCode::BadNumber);
+        assert_eq!(alarm("DISC=2.5\n").0, AlarmCode::BadNumber);
+        // The SAR distances belong to a SAR block.
+        assert_eq!(alarm("G1 F100 X1 DISR=5\n"), (AlarmCode::Syntax, 1, 12));
+        assert_eq!(alarm("DISR 5\n"), (AlarmCode::Syntax, 1, 1));
+    }
+
+    /// NCP19 p.278: the approach block without an axis of the plane takes P4 from the next
+    /// block that moves; blocks without motion between stay in order before (or after) the
+    /// approach. G147 without compensation: the line is DISR = 4 long, against the direction
+    /// of the contour (+X): from (16, 0) to P4 (20, 0). G340 without DISCL: P1 = P3 = (16,
+    /// 0, 10) at P0's height, the line descends to −2.
+    #[test]
+    fn the_approach_waits_for_p4_and_its_contour() {
+        let src = "G0 X0 Y0 Z10\nG147 DISR=4 F200\nM8\nG1 X20 Y0 Z-2\nM9\nX30\nM30\n";
+        let b = blocks(src);
+        let lines: Vec<u32> = b.iter().map(|b| b.line).collect();
+        assert_eq!(lines, [1, 3, 2, 2, 5, 6, 7], "M8 first, the approach, M9, the contour");
+        let got = moves(src);
+        use MotionKind::*;
+        assert_eq!(
+            got,
+            [
+                (1, Rapid, [0.0, 0.0, 10.0]),
+                (2, Rapid, [16.0, 0.0, 10.0]),
+                (2, Linear, [20.0, 0.0, -2.0]),
+                (6, Linear, [30.0, 0.0, -2.0]),
+            ]
+        );
+        assert_eq!(b[3].modal.feed, 200.0);
+    }
+
+    /// The approach with compensation: the first block selects it straight to the normal
+    /// position (G41 and NORM-like whatever KONT says), the infeed follows.
+    #[test]
+    fn the_first_approach_block_selects_the_compensation() {
+        let src = "G0 X-30 Y-30 Z20 T5 D2 KONT\nG41 G147 DISR=3 DISCL=2 X0 Y0 Z-5 F400\nG1 Y40\n";
+        let b = blocks(src);
+        let m: Vec<&Block> = b.iter().filter(|b| b.line == 2).collect();
+        assert_eq!(m.len(), 3);
+        assert_eq!((m[0].trc, m[0].approach), (Some(TrcSide::Left), Some(SelectionPolicy::NormalPosition)));
+        assert!(m[1..].iter().all(|b| b.trc.is_none() && b.modal.trc == TrcSide::Left));
+        // DISR + R = 8 behind (0, 0) against +Y: (0, −8); DISCL=2 above Z−5: −3.
+        let ends: Vec<[f64; 3]> = m.iter().map(|b| b.motion.unwrap().end).collect();
+        assert_eq!(ends, [[0.0, -8.0, 20.0], [0.0, -8.0, -3.0], [0.0, 0.0, -5.0]]);
+    }
+
+    /// Alarms at the SAR code: no contour element (program end, more than 5 empty blocks),
+    /// a contour element out of the plane, a circle without DISR, a reversal along Z, a
+    /// retraction without a contour element before it.
+    #[test]
+    fn what_the_approach_refuses_and_where() {
+        let pre = "G0 X0 Y0 Z10 T5 D2\n";
+        let a = |s: &str| alarm(&format!("{pre}{s}"));
+        assert_eq!(a("G41 G147 DISR=2 X5 Y0 F100\n"), (AlarmCode::SarBlocks, 2, 5));
+        let empty = "M8\nM9\nM8\nM9\nM8\nM9\n";
+        assert_eq!(a(&format!("G147 DISR=2 X5 F100\n{empty}G1 X9\n")).0, AlarmCode::SarBlocks);
+        assert_eq!(a("G147 DISR=2 X5 F100\nM30\n").0, AlarmCode::SarBlocks);
+        assert_eq!(a("G147 DISR=2 X5 F100\nG1 Z-5\n"), (AlarmCode::SarDirection, 2, 1));
+        assert_eq!(a("G41 G247 X5 F100\nG1 Y5\n"), (AlarmCode::SarDistance, 2, 5));
+        assert_eq!(a("G0 Z-4\nG147 DISR=2 DISCL=2 X5 Z-5 F100\nG1 Y9\n"), (AlarmCode::SarReversal, 3, 1));
+        assert_eq!(a("G1 F100 Z0\nG248 DISR=2 X5\n"), (AlarmCode::SarDirection, 3, 1));
+        assert_eq!(a("G147 DISR=2 X5\nG1 Y9\n").0, AlarmCode::NoFeed);
+        assert_eq!(a("G147 G4 F1\n"), (AlarmCode::NotSupported, 2, 1));
+        assert_eq!(a("G147 DISCL=-1 X5 F100\n"), (AlarmCode::SarDistance, 2, 6));
+    }
 }

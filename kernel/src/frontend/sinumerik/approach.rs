@@ -335,3 +335,209 @@ fn len(a: V) -> f64 {
 fn left(a: V) -> V {
     [-a[1], a[0]]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: V, b: V) -> bool {
+        (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12
+    }
+
+    fn req(contour: SarContour, retract: bool, side: SarSide, disr: f64) -> Request {
+        Request {
+            contour,
+            retract,
+            side,
+            path: SarPath::Spatial,
+            disr: Some(disr),
+            discl: None,
+            disrp: None,
+        }
+    }
+
+    const G41_R5: Tool = Tool {
+        on: true,
+        left: true,
+        radius: 5.0,
+    };
+    const OFF: Tool = Tool {
+        on: false,
+        left: true,
+        radius: 5.0,
+    };
+    /// The contour goes up the Y axis from P4 = (0, 0); left of it is −X.
+    const UP: Joint = Joint {
+        p4: [0.0, 0.0],
+        t: [0.0, 1.0],
+        other: None,
+    };
+
+    /// G147, G41 R 5, DISR=3: the line is DISR + R = 8 long, behind P4: A = (0, −8); the
+    /// tool centre there is 5 to the left: (−5, −8).
+    #[test]
+    fn the_line_is_disr_plus_the_tool_radius_long() {
+        let c = contour(&req(SarContour::Line, false, SarSide::Compensation, 3.0), &G41_R5, &UP)
+            .unwrap();
+        assert_eq!(
+            c.element,
+            Piece::Line {
+                from: [0.0, -8.0],
+                to: [0.0, 0.0]
+            }
+        );
+        assert!(close(c.tool_far, [-5.0, -8.0]));
+        // Without compensation the radius does not count: 3 long.
+        let c = contour(&req(SarContour::Line, false, SarSide::Compensation, 3.0), &OFF, &UP)
+            .unwrap();
+        assert!(close(c.far, [0.0, -3.0]) && close(c.tool_far, c.far));
+        // DISR may be negative down to the radius: −4 leaves 1 mm, −5 nothing.
+        let r = req(SarContour::Line, false, SarSide::Compensation, -4.0);
+        assert!(close(contour(&r, &G41_R5, &UP).unwrap().far, [0.0, -1.0]));
+        let r = req(SarContour::Line, false, SarSide::Compensation, -5.0);
+        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+    }
+
+    /// G247, G41 R 5, DISR=10 (G140: from the left, l = (−1, 0)): the tool centre's circle
+    /// has the radius 10 and ends at (−5, 0), so its centre is (−15, 0); the programmed
+    /// circle about it has the radius 10 + 5 = 15 and ends at P4. A quarter before P4,
+    /// against t: A = (−15, −15), the tool centre (−15, −10); counter-clockwise.
+    #[test]
+    fn the_quadrant_is_the_tool_centres_circle_of_radius_disr() {
+        let r = req(SarContour::Quadrant, false, SarSide::Compensation, 10.0);
+        let c = contour(&r, &G41_R5, &UP).unwrap();
+        assert_eq!(
+            c.element,
+            Piece::Arc {
+                from: [-15.0, -15.0],
+                to: [0.0, 0.0],
+                centre: [-15.0, 0.0],
+                ccw: true
+            }
+        );
+        assert!(close(c.tool_far, [-15.0, -10.0]));
+        // G142 (from the right) under G41: the tool runs outside the circle, which is
+        // smaller by the radius: 8 − 5 = 3 about (3, 0), from (3, −3); the tool centre from
+        // (3, −8) on its radius 8. DISR=3 leaves no programmed circle.
+        let r = req(SarContour::Quadrant, false, SarSide::Right, 8.0);
+        let c = contour(&r, &G41_R5, &UP).unwrap();
+        assert_eq!(
+            c.element,
+            Piece::Arc {
+                from: [3.0, -3.0],
+                to: [0.0, 0.0],
+                centre: [3.0, 0.0],
+                ccw: false
+            }
+        );
+        assert!(close(c.tool_far, [3.0, -8.0]));
+        let r = req(SarContour::Quadrant, false, SarSide::Right, 3.0);
+        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+        let r = Request {
+            disr: None,
+            ..req(SarContour::Quadrant, false, SarSide::Left, 1.0)
+        };
+        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+    }
+
+    /// G347 without compensation, G143, the contour along +X from (0, 0), the start at
+    /// (20, −30): t × (P0 − P4) = 1·(−30) − 0·20 < 0, right of the tangent. The half circle of
+    /// radius 5 lies right of the contour, centre (0, −5), from (0, −10) clockwise.
+    #[test]
+    fn g143_takes_the_side_of_the_start_point() {
+        let j = Joint {
+            p4: [0.0, 0.0],
+            t: [1.0, 0.0],
+            other: Some([20.0, -30.0]),
+        };
+        let r = req(SarContour::Semicircle, false, SarSide::Position, 5.0);
+        let c = contour(&r, &OFF, &j).unwrap();
+        assert_eq!(
+            c.element,
+            Piece::Arc {
+                from: [0.0, -10.0],
+                to: [0.0, 0.0],
+                centre: [0.0, -5.0],
+                ccw: false
+            }
+        );
+        // G140 without compensation is G143; a start on the tangent has no side.
+        let r = req(SarContour::Semicircle, false, SarSide::Compensation, 5.0);
+        assert_eq!(contour(&r, &OFF, &j).unwrap(), c);
+        let on_line = Joint {
+            other: Some([-20.0, 0.0]),
+            ..j
+        };
+        assert!(matches!(contour(&r, &OFF, &on_line), Err(SarError::Direction(_))));
+        assert!(matches!(contour(&r, &OFF, &UP), Err(SarError::Direction(_))));
+    }
+
+    /// G248, G41 R 5, DISR=8, the last element going −X into P4 = (0, 0): l = (0, −1). The
+    /// circle continues ahead: centre (0, −13) (8 + 5 below), radius 13, a quarter on to
+    /// (−13, −13); the tool centre's circle of radius 8 from (0, −5) to (−8, −13).
+    #[test]
+    fn the_retraction_runs_ahead_of_p4() {
+        let j = Joint {
+            p4: [0.0, 0.0],
+            t: [-1.0, 0.0],
+            other: None,
+        };
+        let r = req(SarContour::Quadrant, true, SarSide::Compensation, 8.0);
+        let c = contour(&r, &G41_R5, &j).unwrap();
+        assert_eq!(
+            c.element,
+            Piece::Arc {
+                from: [0.0, 0.0],
+                to: [-13.0, -13.0],
+                centre: [0.0, -13.0],
+                ccw: true
+            }
+        );
+        assert!(close(c.tool_far, [-8.0, -13.0]));
+        // G148 DISR=3: 8 ahead, to (−8, 0), the tool centre (−8, −5).
+        let r = req(SarContour::Line, true, SarSide::Compensation, 3.0);
+        let c = contour(&r, &G41_R5, &j).unwrap();
+        assert!(close(c.far, [-8.0, 0.0]) && close(c.tool_far, [-8.0, -5.0]));
+    }
+
+    /// Heights from P0 at 20 to P4 at −5: G340 with DISCL=2 descends along the contour from
+    /// −3; G341 with DISCL=AC(3) goes down to 3, then slowly to −5; G340 without DISCL from
+    /// P0's height; DISRP=10 puts P1 at 5.
+    #[test]
+    fn the_heights_follow_discl_and_disrp() {
+        let mut r = req(SarContour::Line, false, SarSide::Compensation, 3.0);
+        r.discl = Some(Level::Distance(2.0));
+        let h = |r: &Request| heights(r, 20.0, -5.0).map(|h| (h.z1, h.z2, h.z3));
+        assert_eq!(h(&r), Ok((20.0, -3.0, -3.0)));
+        r.discl = Some(Level::Distance(0.0));
+        assert_eq!(h(&r), Ok((20.0, 20.0, 20.0)));
+        r.discl = None;
+        assert_eq!(h(&r), Ok((20.0, 20.0, 20.0)));
+        r.path = SarPath::AxisFirst;
+        r.discl = Some(Level::At(3.0));
+        assert_eq!(h(&r), Ok((20.0, 3.0, -5.0)));
+        r.disrp = Some(Level::Distance(10.0));
+        r.discl = Some(Level::Distance(2.0));
+        assert_eq!(h(&r), Ok((5.0, -3.0, -5.0)));
+        // From below the plane the distances count downwards: −20 → −15 (DISRP) → −7.
+        assert_eq!(
+            heights(&r, -20.0, -5.0).map(|h| (h.z1, h.z2, h.z3)),
+            Ok((-15.0, -7.0, -5.0))
+        );
+        // P0 at −4, just above the plane: DISCL=2 would go up to −3 and down again.
+        r.disrp = None;
+        assert!(matches!(heights(&r, -4.0, -5.0), Err(SarError::Reversal(_))));
+    }
+
+    /// A line's direction; an arc's tangent, counter-clockwise the radius turned left.
+    #[test]
+    fn tangents_at_start_and_end() {
+        let arc = Some(([0.0, 0.0], true));
+        assert_eq!(tangent([1.0, 0.0], [0.0, 1.0], arc, false), Some([0.0, 1.0]));
+        assert_eq!(tangent([1.0, 0.0], [0.0, 1.0], arc, true), Some([-1.0, 0.0]));
+        let cw = Some(([0.0, 0.0], false));
+        assert_eq!(tangent([1.0, 0.0], [0.0, -1.0], cw, false), Some([0.0, -1.0]));
+        assert_eq!(tangent([2.0, 2.0], [2.0, 2.0], None, false), None);
+        assert_eq!(tangent([0.0, 0.0], [0.0, -4.0], None, true), Some([0.0, -1.0]));
+    }
+}
