@@ -687,3 +687,480 @@ fn s51_tapping_and_boring_cycles() {
     let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
     assert_eq!(dwells, [0.5, 1.0]);
 }
+
+/// Compensation words (docs/sinumerik.md "Compensation words"): smooth approach and
+/// retraction, NORM/KONT, DISC. The programmed end points by hand, and for s70 … s75 the
+/// tool centre's path (the prepared segments, T5 D2: radius 5, length 80 added to Z) by
+/// hand; s71's also against cavalier_contours' offset of the programmed chain.
+mod compensation_words {
+    use super::*;
+    use cavalier_contours::core::math::Vector2;
+    use cavalier_contours::polyline::{PlineSource, PlineSourceMut, Polyline};
+    use nc_kernel::{prepare, Role, Segment, Shape};
+
+    /// The tool length of D2 on Z.
+    const L: f64 = 80.0;
+
+    fn tool_path(file: &str) -> Vec<Segment> {
+        let text = std::fs::read_to_string(path_of(file)).expect("program");
+        prepare(file, &text, &machine(), &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"))
+    }
+
+    /// One expected tool-centre segment: role, from, to, and an arc's centre and direction.
+    type Want = (Role, P, P, Option<([f64; 2], bool)>);
+
+    fn line(role: Role, from: P, to: P) -> Want {
+        (role, from, to, None)
+    }
+
+    fn arc(role: Role, from: P, to: P, c: [f64; 2], ccw: bool) -> Want {
+        (role, from, to, Some((c, ccw)))
+    }
+
+    /// Z of a programmed height with the tool length.
+    fn z(v: f64) -> f64 {
+        v + L
+    }
+
+    fn assert_path(file: &str, got: &[Segment], want: &[Want]) {
+        let near = |a: P, b: P| (0..3).all(|i| (a[i] - b[i]).abs() <= TOL);
+        for (k, (s, w)) in got.iter().zip(want).enumerate() {
+            let shape_ok = match (s.shape, w.3) {
+                (Shape::Line, None) => true,
+                (Shape::Arc { center, ccw, .. }, Some((c, wccw))) => {
+                    (center[0] - c[0]).abs() <= TOL
+                        && (center[1] - c[1]).abs() <= TOL
+                        && ccw == wccw
+                }
+                _ => false,
+            };
+            assert!(
+                s.role == w.0 && near(s.from, w.1) && near(s.to, w.2) && shape_ok,
+                "{file}: segment {k}: {s:?}\nby hand {w:?}"
+            );
+        }
+        assert_eq!(got.len(), want.len(), "{file}: number of segments: {got:?}");
+    }
+
+    #[test]
+    fn s70_g147_g148_square() {
+        let f = "s70_g147_g148_square.mpf";
+        clean(
+            f,
+            &[
+                [-30.0, -30.0, 20.0],
+                [0.0, -8.0, 20.0], // N30: A = P4 − (DISR + R)·t = (0, 0) − 8·(0, 1)
+                [0.0, -8.0, -3.0], // DISCL=2 above Z−5
+                [0.0, 0.0, -5.0],  // the approach line to P4
+                [0.0, 40.0, -5.0],
+                [40.0, 40.0, -5.0],
+                [40.0, 0.0, -5.0],
+                [0.0, 0.0, -5.0],
+                [-8.0, 0.0, -3.0],  // N80: 8 ahead of P4 along −X, up to DISCL
+                [-8.0, -5.0, 20.0], // the deselection, tool centre (−8, 0) + 5·(0, −1)
+                [-30.0, -30.0, 20.0],
+            ],
+        );
+        // The tool centre: the approach line at x = −5 (R left of +Y) from y = −8, DISR + R
+        // long; the square's equidistant with transition circles of R about the corners;
+        // the retraction line at y = −5 (R left of −X) to x = −8.
+        use Role::*;
+        let want = [
+            line(Uncompensated, [0.0, 0.0, 0.0], [-30.0, -30.0, z(20.0)]),
+            line(Approach, [-30.0, -30.0, z(20.0)], [-5.0, -8.0, z(20.0)]),
+            line(Contour, [-5.0, -8.0, z(20.0)], [-5.0, -8.0, z(-3.0)]),
+            line(Contour, [-5.0, -8.0, z(-3.0)], [-5.0, 0.0, z(-5.0)]),
+            line(Contour, [-5.0, 0.0, z(-5.0)], [-5.0, 40.0, z(-5.0)]),
+            arc(
+                Corner,
+                [-5.0, 40.0, z(-5.0)],
+                [0.0, 45.0, z(-5.0)],
+                [0.0, 40.0],
+                false,
+            ),
+            line(Contour, [0.0, 45.0, z(-5.0)], [40.0, 45.0, z(-5.0)]),
+            arc(
+                Corner,
+                [40.0, 45.0, z(-5.0)],
+                [45.0, 40.0, z(-5.0)],
+                [40.0, 40.0],
+                false,
+            ),
+            line(Contour, [45.0, 40.0, z(-5.0)], [45.0, 0.0, z(-5.0)]),
+            arc(
+                Corner,
+                [45.0, 0.0, z(-5.0)],
+                [40.0, -5.0, z(-5.0)],
+                [40.0, 0.0],
+                false,
+            ),
+            line(Contour, [40.0, -5.0, z(-5.0)], [0.0, -5.0, z(-5.0)]),
+            line(Contour, [0.0, -5.0, z(-5.0)], [-8.0, -5.0, z(-3.0)]),
+            line(Retract, [-8.0, -5.0, z(-3.0)], [-8.0, -5.0, z(20.0)]),
+            line(
+                Uncompensated,
+                [-8.0, -5.0, z(20.0)],
+                [-30.0, -30.0, z(20.0)],
+            ),
+        ];
+        assert_path(f, &tool_path(f), &want);
+        // The approach's infeed at the speed before it (G0), its line at F.
+        let b = run(f).0;
+        let n30: Vec<(MotionKind, f64)> = b
+            .iter()
+            .filter(|b| b.number.is_some_and(|n| n.value == 30))
+            .filter_map(|b| b.motion.map(|m| (m.kind, b.modal.feed)))
+            .collect();
+        assert_eq!(
+            n30,
+            [
+                (MotionKind::Rapid, 0.0),
+                (MotionKind::Rapid, 0.0),
+                (MotionKind::Linear, 400.0)
+            ]
+        );
+        assert_eq!(block(f, &b, 30).trc, Some(TrcSide::Left));
+    }
+
+    /// The tool path of s71 (hand values in the program's header).
+    fn s71_want() -> Vec<Want> {
+        use Role::*;
+        vec![
+            line(Uncompensated, [0.0, 0.0, 0.0], [-40.0, -20.0, z(20.0)]),
+            line(Approach, [-40.0, -20.0, z(20.0)], [-15.0, -10.0, z(20.0)]),
+            line(Contour, [-15.0, -10.0, z(20.0)], [-15.0, -10.0, z(3.0)]),
+            line(Contour, [-15.0, -10.0, z(3.0)], [-15.0, -10.0, z(-5.0)]),
+            arc(
+                Contour,
+                [-15.0, -10.0, z(-5.0)],
+                [-5.0, 0.0, z(-5.0)],
+                [-15.0, 0.0],
+                true,
+            ),
+            line(Contour, [-5.0, 0.0, z(-5.0)], [-5.0, 40.0, z(-5.0)]),
+            arc(
+                Corner,
+                [-5.0, 40.0, z(-5.0)],
+                [0.0, 45.0, z(-5.0)],
+                [0.0, 40.0],
+                false,
+            ),
+            line(Contour, [0.0, 45.0, z(-5.0)], [40.0, 45.0, z(-5.0)]),
+            arc(
+                Corner,
+                [40.0, 45.0, z(-5.0)],
+                [45.0, 40.0, z(-5.0)],
+                [40.0, 40.0],
+                false,
+            ),
+            line(Contour, [45.0, 40.0, z(-5.0)], [45.0, 0.0, z(-5.0)]),
+            arc(
+                Corner,
+                [45.0, 0.0, z(-5.0)],
+                [40.0, -5.0, z(-5.0)],
+                [40.0, 0.0],
+                false,
+            ),
+            line(Contour, [40.0, -5.0, z(-5.0)], [0.0, -5.0, z(-5.0)]),
+            arc(
+                Contour,
+                [0.0, -5.0, z(-5.0)],
+                [-8.0, -13.0, z(-5.0)],
+                [0.0, -13.0],
+                true,
+            ),
+            line(Retract, [-8.0, -13.0, z(-5.0)], [-8.0, -13.0, z(3.0)]),
+            line(Uncompensated, [-8.0, -13.0, z(3.0)], [-8.0, -13.0, z(20.0)]),
+            line(
+                Uncompensated,
+                [-8.0, -13.0, z(20.0)],
+                [-40.0, -20.0, z(20.0)],
+            ),
+        ]
+    }
+
+    #[test]
+    fn s71_g247_g248_g341_fad() {
+        let f = "s71_g247_g248_g341_fad.mpf";
+        let b = clean(
+            f,
+            &[
+                [-40.0, -20.0, 20.0],
+                [-15.0, -15.0, 20.0], // A: the quarter's start, 15 below its centre (−15, 0)
+                [-15.0, -15.0, 3.0],  // DISCL=AC(3)
+                [-15.0, -15.0, -5.0], // G341: down to the plane at FAD
+                [0.0, 0.0, -5.0],     // the quarter circle, radius 15
+                [0.0, 40.0, -5.0],
+                [40.0, 40.0, -5.0],
+                [40.0, 0.0, -5.0],
+                [0.0, 0.0, -5.0],
+                [-13.0, -13.0, -5.0], // N90: radius 13 about (0, −13), in the plane
+                [-8.0, -13.0, 3.0],   // the deselection, up at FAD (tool centre)
+                [-8.0, -13.0, 20.0],
+                [-40.0, -20.0, 20.0],
+            ],
+        );
+        let feeds: Vec<(MotionKind, f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.kind, b.modal.feed)))
+            .collect();
+        use MotionKind::*;
+        assert_eq!(
+            feeds[1..5],
+            [(Rapid, 0.0), (Rapid, 0.0), (Linear, 100.0), (ArcCcw, 400.0)]
+        );
+        assert_eq!(
+            feeds[9..],
+            [
+                (ArcCcw, 400.0),
+                (Linear, 100.0),
+                (Linear, 400.0),
+                (Linear, 400.0)
+            ]
+        );
+        let path = tool_path(f);
+        assert_path(f, &path, &s71_want());
+        same_as_cavalier(f, &path);
+    }
+
+    /// cavalier_contours' offset of s71's programmed contour (R 5 to the left) traces
+    /// softnc's tool path: the approach quarter with the first two edges, and the last two
+    /// edges with the retraction quarter, each as an open chain of its own (together they
+    /// would lie closer than R to each other's leads: air, which cavalier cuts away).
+    fn same_as_cavalier(file: &str, path: &[Segment]) {
+        // Bulge tan(sweep/4): a quarter ccw is tan(22.5°).
+        let q = (std::f64::consts::PI / 8.0).tan();
+        let approach = [
+            (-15.0, -15.0, q),
+            (0.0, 0.0, 0.0),
+            (0.0, 40.0, 0.0),
+            (40.0, 40.0, 0.0),
+        ];
+        let retraction = [
+            (40.0, 40.0, 0.0),
+            (40.0, 0.0, 0.0),
+            (0.0, 0.0, q),
+            (-13.0, -13.0, 0.0),
+        ];
+        let in_plane: Vec<&Segment> = path
+            .iter()
+            .filter(|s| matches!(s.role, Role::Contour | Role::Corner))
+            .filter(|s| (s.from[0] - s.to[0]).hypot(s.from[1] - s.to[1]) > 1e-9)
+            .collect();
+        // The approach quarter, N50, its corner, N60 | N70, its corner, N80, the quarter.
+        let (first, second) = (&in_plane[..4], &in_plane[5..]);
+        for (chain, segs, from, to) in [
+            (&approach, first, [-15.0, -10.0], [40.0, 45.0]),
+            (&retraction, second, [45.0, 40.0], [-8.0, -13.0]),
+        ] {
+            let mut pl: Polyline<f64> = Polyline::new();
+            for &(x, y, bulge) in chain {
+                pl.add(x, y, bulge);
+            }
+            let cav = pl.parallel_offset(5.0);
+            assert_eq!(cav.len(), 1, "{file}: cavalier's offset in one piece");
+            let cav = &cav[0];
+            for s in segs {
+                for p in [s.from, s.to] {
+                    let d = cav
+                        .closest_point(Vector2::new(p[0], p[1]), 1e-9)
+                        .map_or(f64::INFINITY, |c| c.distance);
+                    assert!(
+                        d < 1e-5,
+                        "{file}: {p:?} of {s:?} is {d} mm off cavalier's offset"
+                    );
+                }
+            }
+            let (a, b) = (cav.at(0).pos(), cav.at(cav.vertex_count() - 1).pos());
+            let near = |v: Vector2<f64>, w: [f64; 2]| (v.x - w[0]).hypot(v.y - w[1]) < 1e-5;
+            assert!(
+                near(a, from) && near(b, to),
+                "{file}: cavalier from {a:?} to {b:?}"
+            );
+            assert!(near(Vector2::new(segs[0].from[0], segs[0].from[1]), from));
+            let last = segs[segs.len() - 1];
+            assert!(near(Vector2::new(last.to[0], last.to[1]), to));
+        }
+    }
+
+    #[test]
+    fn s72_g347_g348_circle_helix() {
+        let f = "s72_g347_g348_circle_helix.mpf";
+        let b = clean(
+            f,
+            &[
+                [50.0, -20.0, 10.0],
+                [42.0, 0.0, 10.0], // A, opposite P4 across the centre (31, 0)
+                [42.0, 0.0, -2.0], // DISCL=4 above −6
+                [20.0, 0.0, -6.0], // the half circle (a helix down 4)
+                [20.0, 0.0, -6.0], // N40: the full circle
+                [46.0, 0.0, 12.0], // N50: radius 13 about (33, 0), rising to Z12
+                [60.0, 10.0, 12.0],
+            ],
+        );
+        let approach = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m, b.modal.feed)))
+            .nth(3)
+            .unwrap();
+        assert_eq!(approach.0.kind, MotionKind::ArcCw);
+        assert_eq!(
+            (approach.0.center[0], approach.0.center[1], approach.1),
+            (31.0, 0.0, 150.0)
+        );
+        use Role::*;
+        let want = [
+            line(Uncompensated, [0.0, 0.0, 0.0], [50.0, -20.0, z(10.0)]),
+            line(Approach, [50.0, -20.0, z(10.0)], [37.0, 0.0, z(10.0)]),
+            line(Contour, [37.0, 0.0, z(10.0)], [37.0, 0.0, z(-2.0)]),
+            // The tool centre's half circle: radius DISR = 6 about (31, 0), 5 off the boss.
+            arc(
+                Contour,
+                [37.0, 0.0, z(-2.0)],
+                [25.0, 0.0, z(-6.0)],
+                [31.0, 0.0],
+                false,
+            ),
+            arc(
+                Contour,
+                [25.0, 0.0, z(-6.0)],
+                [25.0, 0.0, z(-6.0)],
+                [0.0, 0.0],
+                true,
+            ),
+            // Radius 8 about (33, 0) from (25, 0) over the top to (41, 0).
+            arc(
+                Contour,
+                [25.0, 0.0, z(-6.0)],
+                [41.0, 0.0, z(12.0)],
+                [33.0, 0.0],
+                false,
+            ),
+            line(Retract, [41.0, 0.0, z(12.0)], [60.0, 10.0, z(12.0)]),
+        ];
+        assert_path(f, &tool_path(f), &want);
+    }
+
+    /// Behind the contour: KONT goes round the start point by the transition circle, NORM
+    /// straight to the normal position (the programs' headers).
+    #[test]
+    fn s73_s74_kont_and_norm_behind_the_contour() {
+        let ends = [
+            [20.0, -20.0, -5.0],
+            [0.0, 0.0, -5.0],
+            [0.0, 40.0, -5.0],
+            [40.0, 40.0, -5.0],
+            [40.0, 0.0, -5.0],
+            [0.0, 0.0, -5.0],
+            [20.0, -20.0, -5.0],
+            [20.0, -20.0, 20.0],
+        ];
+        let h = 5.0 / 2f64.sqrt(); // (0, 0) + 5·(−1, −1)/√2
+        for (f, kont) in [
+            ("s73_kont_behind_the_contour.mpf", true),
+            ("s74_norm_behind_the_contour.mpf", false),
+        ] {
+            clean(f, &ends);
+            let p = tool_path(f);
+            let of = |n: u32| -> Vec<&Segment> {
+                p.iter()
+                    .filter(|s| s.source.number.is_some_and(|b| b.value == n))
+                    .collect()
+            };
+            let (n30, n40) = (of(30), of(40));
+            let near = |a: P, x: f64, y: f64| (a[0] - x).abs() <= TOL && (a[1] - y).abs() <= TOL;
+            assert!(near(n30[0].from, 20.0, -20.0), "{f}: {n30:?}");
+            if kont {
+                assert!(near(n30[0].to, -h, -h), "{f}: {n30:?}");
+                assert!(
+                    matches!(n40[0].shape, Shape::Arc { ccw: false, center, .. } if center[0] == 0.0 && center[1] == 0.0)
+                );
+                assert!(
+                    near(n40[0].to, -5.0, 0.0) && n40[0].role == Role::Corner,
+                    "{f}: {n40:?}"
+                );
+            } else {
+                assert!(near(n30[0].to, -5.0, 0.0), "{f}: {n30:?}");
+                assert_eq!(n40[0].role, Role::Contour, "{f}: no corner");
+            }
+            assert!(near(n40.last().unwrap().to, -5.0, 40.0), "{f}: {n40:?}");
+        }
+    }
+
+    #[test]
+    fn s75_disc_intersection() {
+        let f = "s75_disc_intersection.mpf";
+        let sq = [
+            [0.0, 40.0, -5.0],
+            [40.0, 40.0, -5.0],
+            [40.0, 0.0, -5.0],
+            [0.0, 0.0, -5.0],
+        ];
+        let mut want = vec![[-20.0, 0.0, -5.0], [0.0, 0.0, -5.0]];
+        want.extend(sq);
+        want.extend(sq);
+        want.push([-20.0, 0.0, -5.0]);
+        clean(f, &want);
+        // First lap: the corners are the intersections of the equidistants x = −5, y = 45,
+        // x = 45, y = −5; the second (DISC=0) has transition circles again.
+        let p = tool_path(f);
+        let ends: Vec<[f64; 2]> = p[2..6].iter().map(|s| [s.to[0], s.to[1]]).collect();
+        assert_eq!(
+            ends,
+            [[-5.0, 45.0], [45.0, 45.0], [45.0, -5.0], [0.0, -5.0]]
+        );
+        assert!(p[2..6].iter().all(|s| s.role == Role::Contour));
+        let circles = p.iter().filter(|s| s.role == Role::Corner).count();
+        assert_eq!(
+            circles, 4,
+            "{f}: N80 … N110 start with a transition circle each"
+        );
+    }
+
+    #[test]
+    fn s76_alarm_disc_50() {
+        stops(
+            "s76_alarm_disc_50.mpf",
+            &[[0.0, 0.0, 5.0]],
+            AlarmCode::NotSupported,
+            7,
+            9,
+        );
+    }
+
+    #[test]
+    fn s77_alarm_g247_without_disr() {
+        let a = stops(
+            "s77_alarm_g247_without_disr.mpf",
+            &[[0.0, 0.0, 5.0]],
+            AlarmCode::SarDistance,
+            6,
+            12,
+        );
+        assert_eq!(a.number(), 10742);
+    }
+
+    #[test]
+    fn s78_alarm_sar_empty_blocks() {
+        let a = stops(
+            "s78_alarm_sar_empty_blocks.mpf",
+            &[[0.0, 0.0, 5.0]],
+            AlarmCode::SarBlocks,
+            5,
+            9,
+        );
+        assert_eq!(a.number(), 10740);
+    }
+
+    #[test]
+    fn s79_alarm_sar_contour_along_z() {
+        let a = stops(
+            "s79_alarm_sar_contour_along_z.mpf",
+            &[[0.0, 0.0, 5.0]],
+            AlarmCode::SarDirection,
+            5,
+            12,
+        );
+        assert_eq!(a.number(), 10744);
+    }
+}

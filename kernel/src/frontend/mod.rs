@@ -64,8 +64,8 @@ mod words;
 
 pub use block::*;
 pub use build::{CornerKind, CycleKind};
-pub use sinumerik::approach::{SarContour, SarPath, SarSide};
 pub use interpreter::Interpreter;
+pub use sinumerik::approach::{SarContour, SarPath, SarSide};
 
 use crate::alarm::Alarm;
 use crate::machine_data::MachineData;

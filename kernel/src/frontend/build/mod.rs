@@ -26,8 +26,8 @@ pub use corners::CornerKind;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};
-pub(super) use smooth::Smooth;
 pub(super) use motion::{in_range, WorkingArea};
+pub(super) use smooth::Smooth;
 
 use super::block::{Block, BlockNo, ModalState};
 use super::fault::R;

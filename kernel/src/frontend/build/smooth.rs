@@ -151,7 +151,10 @@ impl<'a> Interpreter<'a> {
             _ => None,
         });
         let intersection = self.d.initial_corner_intersection;
-        let s = self.smooth_state();
+        // NORM and KONT alone leave the state alone (and the stream on its fast way).
+        let Some(s) = self.smooth.as_deref_mut() else {
+            return Ok(());
+        };
         if let Some(c) = corner_code {
             s.g450 = c == CornerPolicy::TransitionCircle;
         }
@@ -314,7 +317,9 @@ impl Gen {
                 center: join(to, z_end, plane),
                 programmed: bits,
             },
-            Piece::Arc { to, centre, ccw, .. } => Motion {
+            Piece::Arc {
+                to, centre, ccw, ..
+            } => Motion {
                 kind: if ccw {
                     MotionKind::ArcCcw
                 } else {
@@ -446,7 +451,10 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::SarDistance,
                 l.value.at,
-                format!("{name}={}: a distance from the machining plane is not negative", l.value.value),
+                format!(
+                    "{name}={}: a distance from the machining plane is not negative",
+                    l.value.value
+                ),
             ));
         }
         Ok(Level::Distance(v))
@@ -713,7 +721,12 @@ impl Interpreter<'_> {
     /// FAD under G340), under G341 the slow lift to P2 (FAD), then P1 and P0 at the block's
     /// own motion. A deselection goes with the first block after the contour, in tool-centre
     /// coordinates, straight from the contour's normal position.
-    fn retraction_blocks(&self, r: &Retraction, t: V, new: &ModalState) -> Result<Vec<Block>, Fail> {
+    fn retraction_blocks(
+        &self,
+        r: &Retraction,
+        t: V,
+        new: &ModalState,
+    ) -> Result<Vec<Block>, Fail> {
         let plane = new.plane;
         let (p4, z4) = split(&r.p4, plane);
         let (p0, z_prog) = split(&r.p0, plane);
@@ -748,12 +761,26 @@ impl Interpreter<'_> {
             feed_pace(new)?
         };
         let mut template = self.block.clone();
-        template.modal = ModalState { trc: r.old.trc, ..*new };
+        template.modal = ModalState {
+            trc: r.old.trc,
+            ..*new
+        };
         let mut gen = Gen::new(&template, r.p4);
-        let first = if req.path == SarPath::Spatial { slow } else { old_feed };
+        let first = if req.path == SarPath::Spatial {
+            slow
+        } else {
+            old_feed
+        };
         gen.element(&contour.element, h.z3, first);
-        let far = if r.deselect { contour.tool_far } else { contour.far };
-        let mut steps = vec![(join(far, h.z2, plane), slow), (join(far, h.z1, plane), own)];
+        let far = if r.deselect {
+            contour.tool_far
+        } else {
+            contour.far
+        };
+        let mut steps = vec![
+            (join(far, h.z2, plane), slow),
+            (join(far, h.z1, plane), own),
+        ];
         let to_p0 = r.end == RetractEnd::Full || (r.end == RetractEnd::AxisOnly && r.deselect);
         if to_p0 {
             steps.push((r.p0, own));
@@ -853,7 +880,11 @@ impl<'a> Interpreter<'a> {
     /// The held approach meets the next block: the approach block itself, a block without a
     /// traversing motion (held), the block that gives P4 (held), or the contour element.
     fn hold_next(&mut self, produced: bool) -> Result<Took, Alarm> {
-        let Some(h) = self.smooth.as_deref_mut().and_then(|s| s.hold.as_deref_mut()) else {
+        let Some(h) = self
+            .smooth
+            .as_deref_mut()
+            .and_then(|s| s.hold.as_deref_mut())
+        else {
             return Ok(Took::ReadOn);
         };
         if h.sar.is_none() {
@@ -869,20 +900,30 @@ impl<'a> Interpreter<'a> {
         }
         let b = &self.block;
         if b.trc.is_some() {
-            return Err(self.hold_alarm(
-                AlarmCode::NotSupported,
-                "G40/G41/G42 between a smooth approach and its contour element is not supported".into(),
-            ));
+            let trc = self.d.codes_of(&[
+                GEffect::Trc(TrcSide::Off),
+                GEffect::Trc(TrcSide::Left),
+                GEffect::Trc(TrcSide::Right),
+            ]);
+            let why =
+                format!("{trc} between a smooth approach and its contour element is not supported");
+            return Err(self.hold_alarm(AlarmCode::NotSupported, why));
         }
         let traversing = b.motion.is_some_and(|m| {
             m.kind.is_arc() || (0..3).any(|i| (m.end[i] - m.start[i]).abs() > EPS)
         });
         if !traversing {
-            if b.stop.is_some_and(|s| s.ends_program()) || h.before.len() + h.after.len() >= BLOCKS_BETWEEN {
+            if b.stop.is_some_and(|s| s.ends_program())
+                || h.before.len() + h.after.len() >= BLOCKS_BETWEEN
+            {
                 let why = format!("more than {BLOCKS_BETWEEN} blocks without a traversing motion, or the program's end, before the contour element the smooth approach leads onto");
                 return Err(self.hold_alarm(AlarmCode::SarBlocks, why));
             }
-            let list = if h.p4.is_none() { &mut h.before } else { &mut h.after };
+            let list = if h.p4.is_none() {
+                &mut h.before
+            } else {
+                &mut h.after
+            };
             list.push(b.clone());
             return Ok(Took::ReadOn);
         }
@@ -919,7 +960,10 @@ impl<'a> Interpreter<'a> {
         s.modal = Some(element.modal);
         s.out.extend(h.before);
         s.out.extend(blocks);
-        if let Some(b) = h.p4_block.filter(|b| !b.words.is_empty() || b.stop.is_some()) {
+        if let Some(b) = h
+            .p4_block
+            .filter(|b| !b.words.is_empty() || b.stop.is_some())
+        {
             // The block that gave P4 moves with the approach; its words act at P4.
             s.out.push_back(Block { motion: None, ..b });
         }
@@ -973,16 +1017,15 @@ impl<'a> Interpreter<'a> {
         };
         let slow = h.fad.unwrap_or(programmed);
         let paces = [before, slow, programmed];
-        Ok(approach_moves(sar, h, &contour, heights, z4, paces, tool.on))
+        Ok(approach_moves(
+            sar, h, &contour, heights, z4, paces, tool.on,
+        ))
     }
 
     /// An alarm at the held approach's code; the interpreter stops.
     #[cold]
     fn hold_alarm(&mut self, code: AlarmCode, why: String) -> Alarm {
-        let h = self
-            .smooth
-            .as_deref_mut()
-            .and_then(|s| s.hold.take());
+        let h = self.smooth.as_deref_mut().and_then(|s| s.hold.take());
         match h {
             Some(h) => self.alarm_at(code, &h, why),
             None => Alarm::at(code, self.name, &self.block.source(0), why),
@@ -1063,9 +1106,18 @@ mod tests {
         let b = blocks("G1 F100 X1\nKONT X2\nX3\nNORM X4\n");
         let sel: Vec<SelectionPolicy> = b.iter().map(|b| b.modal.selection).collect();
         use SelectionPolicy::*;
-        assert_eq!(sel, [NormalPosition, Compensated, Compensated, NormalPosition]);
-        assert_eq!(alarm("G1 F100 NORM KONT X1\n"), (AlarmCode::SameGroupTwice, 1, 14));
-        assert_eq!(alarm("N5 KONTC G41 D2 X1\n"), (AlarmCode::NotSupported, 1, 4));
+        assert_eq!(
+            sel,
+            [NormalPosition, Compensated, Compensated, NormalPosition]
+        );
+        assert_eq!(
+            alarm("G1 F100 NORM KONT X1\n"),
+            (AlarmCode::SameGroupTwice, 1, 14)
+        );
+        assert_eq!(
+            alarm("N5 KONTC G41 D2 X1\n"),
+            (AlarmCode::NotSupported, 1, 4)
+        );
         assert_eq!(alarm("KONTT\n").0, AlarmCode::NotSupported);
     }
 
@@ -1098,7 +1150,11 @@ mod tests {
         let src = "G0 X0 Y0 Z10\nG147 DISR=4 F200\nM8\nG1 X20 Y0 Z-2\nM9\nX30\nM30\n";
         let b = blocks(src);
         let lines: Vec<u32> = b.iter().map(|b| b.line).collect();
-        assert_eq!(lines, [1, 3, 2, 2, 5, 6, 7], "M8 first, the approach, M9, the contour");
+        assert_eq!(
+            lines,
+            [1, 3, 2, 2, 5, 6, 7],
+            "M8 first, the approach, M9, the contour"
+        );
         let got = moves(src);
         use MotionKind::*;
         assert_eq!(
@@ -1121,11 +1177,19 @@ mod tests {
         let b = blocks(src);
         let m: Vec<&Block> = b.iter().filter(|b| b.line == 2).collect();
         assert_eq!(m.len(), 3);
-        assert_eq!((m[0].trc, m[0].approach), (Some(TrcSide::Left), Some(SelectionPolicy::NormalPosition)));
-        assert!(m[1..].iter().all(|b| b.trc.is_none() && b.modal.trc == TrcSide::Left));
+        assert_eq!(
+            (m[0].trc, m[0].approach),
+            (Some(TrcSide::Left), Some(SelectionPolicy::NormalPosition))
+        );
+        assert!(m[1..]
+            .iter()
+            .all(|b| b.trc.is_none() && b.modal.trc == TrcSide::Left));
         // DISR + R = 8 behind (0, 0) against +Y: (0, −8); DISCL=2 above Z−5: −3.
         let ends: Vec<[f64; 3]> = m.iter().map(|b| b.motion.unwrap().end).collect();
-        assert_eq!(ends, [[0.0, -8.0, 20.0], [0.0, -8.0, -3.0], [0.0, 0.0, -5.0]]);
+        assert_eq!(
+            ends,
+            [[0.0, -8.0, 20.0], [0.0, -8.0, -3.0], [0.0, 0.0, -5.0]]
+        );
     }
 
     /// Alarms at the SAR code: no contour element (program end, more than 5 empty blocks),
@@ -1135,14 +1199,32 @@ mod tests {
     fn what_the_approach_refuses_and_where() {
         let pre = "G0 X0 Y0 Z10 T5 D2\n";
         let a = |s: &str| alarm(&format!("{pre}{s}"));
-        assert_eq!(a("G41 G147 DISR=2 X5 Y0 F100\n"), (AlarmCode::SarBlocks, 2, 5));
+        assert_eq!(
+            a("G41 G147 DISR=2 X5 Y0 F100\n"),
+            (AlarmCode::SarBlocks, 2, 5)
+        );
         let empty = "M8\nM9\nM8\nM9\nM8\nM9\n";
-        assert_eq!(a(&format!("G147 DISR=2 X5 F100\n{empty}G1 X9\n")).0, AlarmCode::SarBlocks);
+        assert_eq!(
+            a(&format!("G147 DISR=2 X5 F100\n{empty}G1 X9\n")).0,
+            AlarmCode::SarBlocks
+        );
         assert_eq!(a("G147 DISR=2 X5 F100\nM30\n").0, AlarmCode::SarBlocks);
-        assert_eq!(a("G147 DISR=2 X5 F100\nG1 Z-5\n"), (AlarmCode::SarDirection, 2, 1));
-        assert_eq!(a("G41 G247 X5 F100\nG1 Y5\n"), (AlarmCode::SarDistance, 2, 5));
-        assert_eq!(a("G0 Z-4\nG147 DISR=2 DISCL=2 X5 Z-5 F100\nG1 Y9\n"), (AlarmCode::SarReversal, 3, 1));
-        assert_eq!(a("G1 F100 Z0\nG248 DISR=2 X5\n"), (AlarmCode::SarDirection, 3, 1));
+        assert_eq!(
+            a("G147 DISR=2 X5 F100\nG1 Z-5\n"),
+            (AlarmCode::SarDirection, 2, 1)
+        );
+        assert_eq!(
+            a("G41 G247 X5 F100\nG1 Y5\n"),
+            (AlarmCode::SarDistance, 2, 5)
+        );
+        assert_eq!(
+            a("G0 Z-4\nG147 DISR=2 DISCL=2 X5 Z-5 F100\nG1 Y9\n"),
+            (AlarmCode::SarReversal, 3, 1)
+        );
+        assert_eq!(
+            a("G1 F100 Z0\nG248 DISR=2 X5\n"),
+            (AlarmCode::SarDirection, 3, 1)
+        );
         assert_eq!(a("G147 DISR=2 X5\nG1 Y9\n").0, AlarmCode::NoFeed);
         assert_eq!(a("G147 G4 F1\n"), (AlarmCode::NotSupported, 2, 1));
         assert_eq!(a("G147 DISCL=-1 X5 F100\n"), (AlarmCode::SarDistance, 2, 6));

@@ -113,8 +113,16 @@ pub struct Joint {
 /// One element in the plane, in the direction of travel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Piece {
-    Line { from: V, to: V },
-    Arc { from: V, to: V, centre: V, ccw: bool },
+    Line {
+        from: V,
+        to: V,
+    },
+    Arc {
+        from: V,
+        to: V,
+        centre: V,
+        ccw: bool,
+    },
 }
 
 /// The approach or retraction contour: the programmed element (from its far end A to P4 on
@@ -230,13 +238,13 @@ fn side(req: &Request, tool: &Tool, j: &Joint) -> Result<f64, SarError> {
         _ => {
             let Some(p0) = j.other else {
                 return Err(SarError::Direction(
-                    "the side of the circle comes from the end point, which the block does not program (G143, or G140 without compensation)".to_string(),
+                    "the circle's side is to come from the end point (side by position, or the compensation's side without compensation), which the block does not program".to_string(),
                 ));
             };
             let c = cross(j.t, sub(p0, j.p4));
             if c.abs() <= EPS * len(sub(p0, j.p4)).max(1.0) {
                 return Err(SarError::Direction(
-                    "the point lies on the contour's tangent: it is neither left nor right of it (G143)".to_string(),
+                    "the start or end point lies on the contour's tangent: it is neither left nor right of it, and the circle has no side".to_string(),
                 ));
             }
             Ok(c.signum())
@@ -377,8 +385,12 @@ mod tests {
     /// tool centre there is 5 to the left: (−5, −8).
     #[test]
     fn the_line_is_disr_plus_the_tool_radius_long() {
-        let c = contour(&req(SarContour::Line, false, SarSide::Compensation, 3.0), &G41_R5, &UP)
-            .unwrap();
+        let c = contour(
+            &req(SarContour::Line, false, SarSide::Compensation, 3.0),
+            &G41_R5,
+            &UP,
+        )
+        .unwrap();
         assert_eq!(
             c.element,
             Piece::Line {
@@ -388,14 +400,21 @@ mod tests {
         );
         assert!(close(c.tool_far, [-5.0, -8.0]));
         // Without compensation the radius does not count: 3 long.
-        let c = contour(&req(SarContour::Line, false, SarSide::Compensation, 3.0), &OFF, &UP)
-            .unwrap();
+        let c = contour(
+            &req(SarContour::Line, false, SarSide::Compensation, 3.0),
+            &OFF,
+            &UP,
+        )
+        .unwrap();
         assert!(close(c.far, [0.0, -3.0]) && close(c.tool_far, c.far));
         // DISR may be negative down to the radius: −4 leaves 1 mm, −5 nothing.
         let r = req(SarContour::Line, false, SarSide::Compensation, -4.0);
         assert!(close(contour(&r, &G41_R5, &UP).unwrap().far, [0.0, -1.0]));
         let r = req(SarContour::Line, false, SarSide::Compensation, -5.0);
-        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+        assert!(matches!(
+            contour(&r, &G41_R5, &UP),
+            Err(SarError::Distance(_))
+        ));
     }
 
     /// G247, G41 R 5, DISR=10 (G140: from the left, l = (−1, 0)): the tool centre's circle
@@ -432,12 +451,18 @@ mod tests {
         );
         assert!(close(c.tool_far, [3.0, -8.0]));
         let r = req(SarContour::Quadrant, false, SarSide::Right, 3.0);
-        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+        assert!(matches!(
+            contour(&r, &G41_R5, &UP),
+            Err(SarError::Distance(_))
+        ));
         let r = Request {
             disr: None,
             ..req(SarContour::Quadrant, false, SarSide::Left, 1.0)
         };
-        assert!(matches!(contour(&r, &G41_R5, &UP), Err(SarError::Distance(_))));
+        assert!(matches!(
+            contour(&r, &G41_R5, &UP),
+            Err(SarError::Distance(_))
+        ));
     }
 
     /// G347 without compensation, G143, the contour along +X from (0, 0), the start at
@@ -468,8 +493,14 @@ mod tests {
             other: Some([-20.0, 0.0]),
             ..j
         };
-        assert!(matches!(contour(&r, &OFF, &on_line), Err(SarError::Direction(_))));
-        assert!(matches!(contour(&r, &OFF, &UP), Err(SarError::Direction(_))));
+        assert!(matches!(
+            contour(&r, &OFF, &on_line),
+            Err(SarError::Direction(_))
+        ));
+        assert!(matches!(
+            contour(&r, &OFF, &UP),
+            Err(SarError::Direction(_))
+        ));
     }
 
     /// G248, G41 R 5, DISR=8, the last element going −X into P4 = (0, 0): l = (0, −1). The
@@ -526,18 +557,33 @@ mod tests {
         );
         // P0 at −4, just above the plane: DISCL=2 would go up to −3 and down again.
         r.disrp = None;
-        assert!(matches!(heights(&r, -4.0, -5.0), Err(SarError::Reversal(_))));
+        assert!(matches!(
+            heights(&r, -4.0, -5.0),
+            Err(SarError::Reversal(_))
+        ));
     }
 
     /// A line's direction; an arc's tangent, counter-clockwise the radius turned left.
     #[test]
     fn tangents_at_start_and_end() {
         let arc = Some(([0.0, 0.0], true));
-        assert_eq!(tangent([1.0, 0.0], [0.0, 1.0], arc, false), Some([0.0, 1.0]));
-        assert_eq!(tangent([1.0, 0.0], [0.0, 1.0], arc, true), Some([-1.0, 0.0]));
+        assert_eq!(
+            tangent([1.0, 0.0], [0.0, 1.0], arc, false),
+            Some([0.0, 1.0])
+        );
+        assert_eq!(
+            tangent([1.0, 0.0], [0.0, 1.0], arc, true),
+            Some([-1.0, 0.0])
+        );
         let cw = Some(([0.0, 0.0], false));
-        assert_eq!(tangent([1.0, 0.0], [0.0, -1.0], cw, false), Some([0.0, -1.0]));
+        assert_eq!(
+            tangent([1.0, 0.0], [0.0, -1.0], cw, false),
+            Some([0.0, -1.0])
+        );
         assert_eq!(tangent([2.0, 2.0], [2.0, 2.0], None, false), None);
-        assert_eq!(tangent([0.0, 0.0], [0.0, -4.0], None, true), Some([0.0, -1.0]));
+        assert_eq!(
+            tangent([0.0, 0.0], [0.0, -4.0], None, true),
+            Some([0.0, -1.0])
+        );
     }
 }
