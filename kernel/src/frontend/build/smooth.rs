@@ -417,7 +417,7 @@ impl Interpreter<'_> {
                     ));
                 }
                 let per_rev = f.per_rev.unwrap_or(new.feed_per_rev);
-                // A feed per revolution is mm/rev, not converted (as F under G95).
+                // Inch per minute or per revolution, converted as F is.
                 let scale = if units == crate::machine_data::Units::Inch {
                     25.4
                 } else {
@@ -514,6 +514,17 @@ impl<'a> Interpreter<'a> {
             _ => return Ok(()),
         };
         let words = self.sar_words(w, new)?;
+        let normal = new.plane.normal as usize;
+        if !self.md.has_axis(normal) && (words.discl.is_some() || words.disrp.is_some()) {
+            return Err(fault(
+                AlarmCode::UnknownAddress,
+                at,
+                format!(
+                    "DISCL= and DISRP= move along {}, which this machine does not have",
+                    AXIS_NAMES[normal]
+                ),
+            ));
+        }
         let s = self.smooth_state();
         let req = Request {
             contour,
