@@ -385,7 +385,7 @@ fn sar_alarm(e: SarError) -> (AlarmCode, String) {
 
 /// What the block's words ask of the SAR: DISR, DISCL, DISRP in mm (inch converted), DISCL
 /// and DISRP as distances (not negative) or positions on the tool axis, FAD as a pace.
-struct Words2 {
+struct SarWords {
     disr: Option<f64>,
     discl: Option<Level>,
     disrp: Option<Level>,
@@ -394,7 +394,7 @@ struct Words2 {
 
 impl Interpreter<'_> {
     /// DISR DISCL DISRP FAD of the block, checked.
-    fn sar_words(&self, w: &Words, new: &ModalState) -> R<Words2> {
+    fn sar_words(&self, w: &Words, new: &ModalState) -> R<SarWords> {
         let cw = w.compensation.as_deref();
         let units = new.units;
         let disr = cw.and_then(|c| c.disr).map(|v| self.length(v, units));
@@ -426,7 +426,7 @@ impl Interpreter<'_> {
                 Some(Pace::feed(f.value.value * scale, per_rev))
             }
         };
-        Ok(Words2 {
+        Ok(SarWords {
             disr,
             discl,
             disrp,
@@ -748,36 +748,17 @@ impl Interpreter<'_> {
             other: given,
         };
         let contour = approach::contour(&r.req, &r.tool, &joint)?;
-        let mut req = r.req;
-        let z0 = if r.end == RetractEnd::None {
-            // Ends at P2: DISCL above the plane (DISCL=0 or none: in the plane).
-            req.disrp = None;
-            match req.discl {
-                Some(Level::Distance(v)) => z4 + v,
-                Some(Level::At(z)) => z,
-                None => z4,
-            }
-        } else {
-            z_prog
-        };
-        let h = approach::heights(&req, z0, z4)?;
+        let h = retraction_heights(r, z4, z_prog)?;
         let old_feed = feed_pace(&r.old)?;
         let slow = r.fad.unwrap_or(old_feed);
-        let own = if new.motion.kind() == MotionKind::Rapid {
-            Pace {
-                rapid: true,
-                ..Pace::feed(new.feed, new.feed_per_rev)
-            }
-        } else {
-            feed_pace(new)?
-        };
+        let own = own_pace(new)?;
         let mut template = self.block.clone();
         template.modal = ModalState {
             trc: r.old.trc,
             ..*new
         };
         let mut gen = Gen::new(&template, r.p4);
-        let first = if req.path == SarPath::Spatial {
+        let first = if r.req.path == SarPath::Spatial {
             slow
         } else {
             old_feed
@@ -792,33 +773,73 @@ impl Interpreter<'_> {
             (join(far, h.z2, plane), slow),
             (join(far, h.z1, plane), own),
         ];
-        let to_p0 = r.end == RetractEnd::Full || (r.end == RetractEnd::AxisOnly && r.deselect);
-        if to_p0 {
+        if r.end == RetractEnd::Full || (r.end == RetractEnd::AxisOnly && r.deselect) {
             steps.push((r.p0, own));
         }
-        // The deselection goes with the first block after the contour; a block of its own,
-        // moving nothing, where none follows.
-        // Moves are told in the coordinates after the contour (the tool centre's when the
-        // block deselects: the deselection itself moves nothing).
-        let mut pending = r.deselect;
-        let mut here = join(far, h.z3, plane);
-        for &(to, pace) in &steps {
-            if (0..3).all(|i| (to[i] - here[i]).abs() <= EPS) {
-                continue;
-            }
-            here = to;
-            if let Some(b) = gen.line(to, pace, true) {
-                b.modal.trc = new.trc;
-                deselection(b, &mut pending);
-            }
-        }
-        if pending {
-            if let Some(b) = gen.line(here, own, true) {
-                b.modal.trc = new.trc;
-                deselection(b, &mut pending);
-            }
-        }
+        let here = join(far, h.z3, plane);
+        after_contour(&mut gen, here, &steps, r.deselect, own, new.trc);
         Ok(gen.finish(&self.block))
+    }
+}
+
+/// The heights of a retraction: P0's is the programmed one, or where it ends at P2 (no axis
+/// programmed) DISCL above the plane (DISCL=0 or none: in the plane), without a P1.
+fn retraction_heights(r: &Retraction, z4: f64, z_prog: f64) -> Result<Heights, Fail> {
+    let mut req = r.req;
+    let z0 = if r.end == RetractEnd::None {
+        req.disrp = None;
+        match req.discl {
+            Some(Level::Distance(v)) => z4 + v,
+            Some(Level::At(z)) => z,
+            None => z4,
+        }
+    } else {
+        z_prog
+    };
+    Ok(approach::heights(&req, z0, z4)?)
+}
+
+/// The block's own motion: rapid under G0, else its feed.
+fn own_pace(new: &ModalState) -> Result<Pace, Fail> {
+    if new.motion.kind() == MotionKind::Rapid {
+        Ok(Pace {
+            rapid: true,
+            ..Pace::feed(new.feed, new.feed_per_rev)
+        })
+    } else {
+        feed_pace(new)
+    }
+}
+
+/// The retraction's moves after its contour, from `here` (in the coordinates after the
+/// contour: the tool centre's when the block deselects, for the deselection itself moves
+/// nothing). The deselection goes with the first of them; a block of its own, moving
+/// nothing, where none moves.
+fn after_contour(
+    gen: &mut Gen,
+    here: Pos,
+    steps: &[(Pos, Pace)],
+    deselect: bool,
+    own: Pace,
+    trc: TrcSide,
+) {
+    let mut pending = deselect;
+    let mut here = here;
+    for &(to, pace) in steps {
+        if (0..3).all(|i| (to[i] - here[i]).abs() <= EPS) {
+            continue;
+        }
+        here = to;
+        if let Some(b) = gen.line(to, pace, true) {
+            b.modal.trc = trc;
+            deselection(b, &mut pending);
+        }
+    }
+    if pending {
+        if let Some(b) = gen.line(here, own, true) {
+            b.modal.trc = trc;
+            deselection(b, &mut pending);
+        }
     }
 }
 

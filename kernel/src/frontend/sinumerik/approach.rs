@@ -157,22 +157,7 @@ pub fn contour(req: &Request, tool: &Tool, j: &Joint) -> Result<Contour, SarErro
     // Approach: A lies behind P4 (against t); retraction: ahead of it.
     let ahead = if req.retract { 1.0 } else { -1.0 };
     if req.contour == SarContour::Line {
-        let disr = req.disr.unwrap_or(0.0);
-        let len = disr + if tool.on { tool.radius.max(0.0) } else { 0.0 };
-        if len <= EPS {
-            return Err(SarError::Distance(format!(
-                "the straight approach or retraction would be {len:.4} mm long (DISR={disr} plus the tool radius)"
-            )));
-        }
-        let far = add(j.p4, scale(j.t, ahead * len));
-        let (from, to) = ends(req.retract, far, j.p4);
-        let element = Piece::Line { from, to };
-        let tool_far = add(far, scale(l, d));
-        return Ok(Contour {
-            element,
-            far,
-            tool_far,
-        });
+        return line(req, tool, j);
     }
     let rho = req
         .disr
@@ -212,6 +197,25 @@ pub fn contour(req: &Request, tool: &Tool, j: &Joint) -> Result<Contour, SarErro
         },
         far,
         tool_far,
+    })
+}
+
+/// G147/G148: the line along the tangent, DISR plus the tool radius long.
+fn line(req: &Request, tool: &Tool, j: &Joint) -> Result<Contour, SarError> {
+    let ahead = if req.retract { 1.0 } else { -1.0 };
+    let disr = req.disr.unwrap_or(0.0);
+    let len = disr + if tool.on { tool.radius.max(0.0) } else { 0.0 };
+    if len <= EPS {
+        return Err(SarError::Distance(format!(
+            "the straight approach or retraction would be {len:.4} mm long (DISR={disr} plus the tool radius)"
+        )));
+    }
+    let far = add(j.p4, scale(j.t, ahead * len));
+    let (from, to) = ends(req.retract, far, j.p4);
+    Ok(Contour {
+        element: Piece::Line { from, to },
+        far,
+        tool_far: add(far, scale(left(j.t), tool.d())),
     })
 }
 
