@@ -335,6 +335,8 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "CYCLE83(10, 0, 1, -20, , , 0.001, 0, , , , 0)", "CYCLE84(10, 0, 2, -8, , 0, 3, 6)", "CYCLE84(10,0,2,-8)",
     "CYCLE840(10, 0, 2, -8, , 0, 0, 5, 0, 0, 1.5)", "CYCLE85(10, 0, 2, -9, , 1, R1, 0)", "CYCLE86(10, 0, 2, -9, , 0, 3, 1, 1, 1)",
     "CYCLE87(10, 0, 2, -9, , 9)", "CYCLE88(10, 0, 2, -9, , -1, 4)", "CYCLE89(0, 0, 2, 0)", "CYCLE81(", "CYCLE81(1,2,3,4,5,6)",
+    "CASE(R1) OF 1 GOTOF LAB2 2 GOTOB LAB1 DEFAULT GOTOF LAB2", "CASE(R1) OF", "CASE R1", "CASE(R1) OF 1.5 GOTOF LAB2",
+    "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -1073,6 +1075,7 @@ mod sinumerik_programs {
         "STOPRE",
         "MSG(\"pass\")",
         "CYCLE81(10, 0, 2, -R1-1)",
+        "R6=$P_EP[X]+$AA_IW[Y]",
         "CYCLE83(10, 0, 1, -20, , -R1-1, , 2, , , 0.5, R4 MOD 2)",
     ];
     const ASSIGNS: &[&str] = &[
@@ -1111,6 +1114,8 @@ mod sinumerik_programs {
         "GOTO END_2",
         "IF R2>40 GOTOF MISSING",
         "GOTOF N9000",
+        "CASE(R4) OF 1 GOTOF END_1 2 GOTOB TOP DEFAULT GOTOF END_2",
+        "CASE(R1 MOD 3) OF 0 GOTOF END_1",
     ];
 
     fn stmt() -> impl Strategy<Value = Stmt> {

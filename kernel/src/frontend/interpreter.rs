@@ -327,9 +327,11 @@ impl<'a> Interpreter<'a> {
         let block_col = c.i;
         self.blk_number = read_block_number(&mut c)?;
         c.skip_blanks();
+        let mut system = false;
         if self.d.sinumerik {
             // A jump label (`LAB1:`): the jumps found it before the program started.
             super::sinumerik::structure::label(&mut c);
+            system = self.reads_system(start, end);
         }
         if self.is_statement(&c) {
             self.calls.running.started = true;
@@ -342,6 +344,9 @@ impl<'a> Interpreter<'a> {
         self.block.words.clear();
         self.present_state_read.set(false);
         self.words(&mut c, &mut words)?;
+        if system && self.sinumerik.store.main_run_read.take() {
+            self.present_state_read.set(true);
+        }
         if self.blk_number.is_none() && words.is_empty() && self.block.words.is_empty() {
             // A line holding only a comment is no block.
             return Ok(false);

@@ -128,7 +128,7 @@ impl Interpreter<'_> {
     }
 
     /// Where the tool stands in program coordinates: back through the zero and the frame.
-    pub(super) fn program_position(&self, new: &ModalState, at: usize) -> R<Pos> {
+    pub(in crate::frontend) fn program_position(&self, new: &ModalState, at: usize) -> R<Pos> {
         let zero = self.zero(new.work_offset);
         let rel = std::array::from_fn(|i| self.cur[i] - zero[i]);
         self.coords.frame.invert(rel).ok_or_else(|| {

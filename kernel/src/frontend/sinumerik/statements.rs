@@ -35,6 +35,7 @@ pub enum Keyword {
     Setal,
     /// A drilling cycle call (CYCLE81 … CYCLE89, CYCLE840; cycles/mod.rs).
     Cycle,
+    Case,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -57,6 +58,7 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("STOPRE", Keyword::Stopre),
     ("MSG", Keyword::Msg),
     ("SETAL", Keyword::Setal),
+    ("CASE", Keyword::Case),
     ("CYCLE81", Keyword::Cycle),
     ("CYCLE82", Keyword::Cycle),
     ("CYCLE83", Keyword::Cycle),
@@ -99,6 +101,7 @@ impl Keyword {
                 | Keyword::Msg
                 | Keyword::Setal
                 | Keyword::Cycle
+                | Keyword::Case
         )
     }
 
@@ -108,6 +111,52 @@ impl Keyword {
             Keyword::GotoF | Keyword::GotoB | Keyword::Goto | Keyword::GotoC
         )
     }
+}
+
+/// A CASE constant: a whole number, signed.
+fn case_constant(c: &mut Cursor) -> R<f64> {
+    let at = c.i;
+    let sign = if c.peek() == Some(b'-') {
+        c.i += 1;
+        -1.0
+    } else {
+        1.0
+    };
+    match crate::frontend::number::parse(c.b, c.i).filter(|(n, e)| *e <= c.end && !n.has_point) {
+        Some((n, next)) => {
+            c.i = next;
+            Ok(sign * n.value)
+        }
+        None => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            "a whole-number constant or DEFAULT expected",
+        )),
+    }
+}
+
+/// A CASE branch's jump: the word, its destination and where that stands.
+fn case_jump(c: &mut Cursor) -> R<(Keyword, String, usize)> {
+    c.skip_blanks();
+    let Some(word) = Keyword::at(c).filter(|w| w.is_jump()) else {
+        return Err(fault(
+            AlarmCode::Syntax,
+            c.i,
+            "GOTOF, GOTOB, GOTO or GOTOC expected",
+        ));
+    };
+    c.i += word.text().len();
+    c.skip_blanks();
+    let target_at = c.i;
+    let target = identifier(c);
+    if target.is_empty() {
+        return Err(fault(
+            AlarmCode::Syntax,
+            target_at,
+            "jump destination expected",
+        ));
+    }
+    Ok((word, target, target_at))
 }
 
 /// Where a jump word stands in the rest of the block (`IF cond GOTOF label`), if one does.
@@ -204,6 +253,7 @@ impl Interpreter<'_> {
                 self.jump(word, &mut c, start, at)?
             }
             (Keyword::Def, _) => self.define(&mut c)?,
+            (Keyword::Case, _) => self.case(&mut c, start, at)?,
             (Keyword::Stopre, _) => {
                 self.end_of_statement(&mut c)?;
                 return self.statement_block(at, None).map(|()| true);
@@ -357,11 +407,64 @@ impl Interpreter<'_> {
         let target_at = c.i;
         let target = identifier(c);
         self.end_of_statement(c)?;
+        self.jump_to(word, &target, target_at, start, at)
+    }
+
+    /// `CASE(expr) OF c GOTOF dest … DEFAULT GOTOF dest` (Job planning, "Program jumps"):
+    /// the first constant equal to the value picks its jump, else DEFAULT; with neither,
+    /// reading goes on with the next block. The whole list is read before the jump.
+    fn case(&mut self, c: &mut Cursor, start: usize, at: usize) -> R<()> {
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "CASE(expression) expected"));
+        }
+        let v = expr::eval(c, &self.sinumerik.store)?;
+        c.skip_blanks();
+        if !c.keyword("OF") {
+            return Err(fault(AlarmCode::Syntax, c.i, "OF expected"));
+        }
+        c.i += 2;
+        let (mut chosen, mut default) = (None, None);
+        loop {
+            c.skip_blanks();
+            if matches!(c.peek(), None | Some(b';')) {
+                break;
+            }
+            let is_default = c.keyword("DEFAULT");
+            let key = if is_default {
+                c.i += "DEFAULT".len();
+                None
+            } else {
+                Some(case_constant(c)?)
+            };
+            let branch = case_jump(c)?;
+            if is_default {
+                default = Some(branch);
+            } else if chosen.is_none() && key == Some(v) {
+                chosen = Some(branch);
+            }
+        }
+        match chosen.or(default) {
+            Some((word, target, target_at)) => self.jump_to(word, &target, target_at, start, at),
+            None => Ok(()),
+        }
+    }
+
+    /// Reading goes on at jump destination `target` (a label or `N…`) of `word`, searched
+    /// from the block at `start`.
+    fn jump_to(
+        &mut self,
+        word: Keyword,
+        target: &str,
+        target_at: usize,
+        start: usize,
+        at: usize,
+    ) -> R<()> {
         let s = &self.sinumerik.structure;
         let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
             Some(n) => s.numbered(self.src, n, start),
             None => {
-                let marks = s.labels(&target);
+                let marks = s.labels(target);
                 super::structure::Numbered {
                     first: marks.first().copied(),
                     backward: marks.iter().rfind(|m| m.0 <= start).copied(),
