@@ -33,6 +33,14 @@ pub enum Keyword {
     Stopre,
     Msg,
     Setal,
+    Trans,
+    ATrans,
+    Rot,
+    ARot,
+    Scale,
+    AScale,
+    Mirror,
+    AMirror,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -55,6 +63,14 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("STOPRE", Keyword::Stopre),
     ("MSG", Keyword::Msg),
     ("SETAL", Keyword::Setal),
+    ("TRANS", Keyword::Trans),
+    ("ATRANS", Keyword::ATrans),
+    ("ROT", Keyword::Rot),
+    ("AROT", Keyword::ARot),
+    ("SCALE", Keyword::Scale),
+    ("ASCALE", Keyword::AScale),
+    ("MIRROR", Keyword::Mirror),
+    ("AMIRROR", Keyword::AMirror),
 ];
 
 impl Keyword {
@@ -76,16 +92,34 @@ impl Keyword {
     }
 
     pub fn is_structure(self) -> bool {
-        !matches!(
+        matches!(
             self,
-            Keyword::GotoF
-                | Keyword::GotoB
-                | Keyword::Goto
-                | Keyword::GotoC
-                | Keyword::Def
-                | Keyword::Stopre
-                | Keyword::Msg
-                | Keyword::Setal
+            Keyword::If
+                | Keyword::Else
+                | Keyword::EndIf
+                | Keyword::While
+                | Keyword::EndWhile
+                | Keyword::For
+                | Keyword::EndFor
+                | Keyword::Repeat
+                | Keyword::Until
+                | Keyword::Loop
+                | Keyword::EndLoop
+        )
+    }
+
+    /// A frame statement (TRANS … AMIRROR).
+    fn is_frame(self) -> bool {
+        matches!(
+            self,
+            Keyword::Trans
+                | Keyword::ATrans
+                | Keyword::Rot
+                | Keyword::ARot
+                | Keyword::Scale
+                | Keyword::AScale
+                | Keyword::Mirror
+                | Keyword::AMirror
         )
     }
 
@@ -192,6 +226,7 @@ impl Interpreter<'_> {
             }
             (Keyword::Msg, _) => return self.msg(&mut c, at).map(|()| true),
             (Keyword::Setal, _) => return Err(self.setal(&mut c, at)),
+            (w, _) if w.is_frame() => self.frame_statement(w, &mut c, at)?,
             _ => {
                 return Err(fault(
                     AlarmCode::ControlNesting,
