@@ -722,13 +722,20 @@ fn s62_mirror_g41_tool_centre_path() {
     };
     let arc = |s: &Segment, a: (f64, f64), b: (f64, f64), c: (f64, f64), r: f64, what: &str| {
         let Shape::Arc {
-            center, ccw, r0, r1, ..
+            center,
+            ccw,
+            r0,
+            r1,
+            ..
         } = s.shape
         else {
             panic!("{what}: not an arc: {s:?}");
         };
         assert!(ccw, "{what}: counter-clockwise");
-        assert!((r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL, "{what}: radius {r0}");
+        assert!(
+            (r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL,
+            "{what}: radius {r0}"
+        );
         xy(center, c.0, c.1, what);
         xy(s.from, a.0, a.1, what);
         xy(s.to, b.0, b.1, what);
@@ -745,11 +752,25 @@ fn s62_mirror_g41_tool_centre_path() {
         n90.iter().map(|s| s.role).collect::<Vec<_>>(),
         [Role::Corner, Role::Contour]
     );
-    arc(&n90[0], (-5.0, 30.0), (-10.0, 35.0), (-10.0, 30.0), 5.0, "N90 corner");
+    arc(
+        &n90[0],
+        (-5.0, 30.0),
+        (-10.0, 35.0),
+        (-10.0, 30.0),
+        5.0,
+        "N90 corner",
+    );
     line(&n90[1], (-10.0, 35.0), (-40.0, 35.0), "N90");
     let n100 = of(100);
     assert_eq!(n100.len(), 1, "tangent: no corner");
-    arc(&n100[0], (-40.0, 35.0), (-55.0, 20.0), (-40.0, 20.0), 15.0, "N100");
+    arc(
+        &n100[0],
+        (-40.0, 35.0),
+        (-55.0, 20.0),
+        (-40.0, 20.0),
+        15.0,
+        "N100",
+    );
     let n110 = of(110);
     assert_eq!(n110.len(), 1, "tangent: no corner");
     line(&n110[0], (-55.0, 20.0), (-55.0, 0.0), "N110");
@@ -758,7 +779,14 @@ fn s62_mirror_g41_tool_centre_path() {
         n120.iter().map(|s| s.role).collect::<Vec<_>>(),
         [Role::Corner, Role::Contour]
     );
-    arc(&n120[0], (-55.0, 0.0), (-50.0, -5.0), (-50.0, 0.0), 5.0, "N120 corner");
+    arc(
+        &n120[0],
+        (-55.0, 0.0),
+        (-50.0, -5.0),
+        (-50.0, 0.0),
+        5.0,
+        "N120 corner",
+    );
     line(&n120[1], (-50.0, -5.0), (-10.0, -5.0), "N120");
     // The same contour written mirrored by hand, with G42 and G3, gives the same path.
     let by_hand = text

@@ -39,8 +39,7 @@ impl Interpreter<'_> {
         }
         let fw = self.frame_statement_words(c, word)?;
         let step = self.frame_step(word, &fw)?;
-        let old = self.coords.frame;
-        let frame = &mut self.coords.frame;
+        let mut frame = self.coords.frame;
         if matches!(
             word,
             Keyword::Trans | Keyword::Rot | Keyword::Scale | Keyword::Mirror
@@ -50,7 +49,6 @@ impl Interpreter<'_> {
             frame.chain(&step);
         }
         if let Some(k) = (0..3).find(|&k| !self.md.has_axis(k) && !frame.keeps_axis(k)) {
-            self.coords.frame = old;
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
@@ -61,6 +59,7 @@ impl Interpreter<'_> {
                 ),
             ));
         }
+        self.coords.frame = frame;
         Ok(())
     }
 
@@ -371,6 +370,44 @@ mod tests {
         let e = ends_md(&lathe, "TRANS Z-5\nG0 X40 Z0\nG1 X50 Z-10 F0.2\n");
         near(e[0], [20.0, 0.0, -5.0]);
         near(e[1], [25.0, 0.0, -15.0]);
+    }
+
+    #[test]
+    fn a_rounding_turns_with_the_frame() {
+        // Program: (0, 0) → (10, 0) RND=2 → (10, 10), a left turn: tangent points (8, 0) and
+        // (10, 2), centre (8, 2), counter-clockwise. ROT RPL=90 maps (x, y) to (−y, x):
+        // (0, 8), then the arc to (−2, 10) about (−2, 8), then (−10, 10).
+        let b = run_md(
+            &md(&[]),
+            "ROT RPL=90\nG0 X0 Y0\nG1 X10 Y0 RND=2 F100\nX10 Y10\n",
+        )
+        .unwrap();
+        let m: Vec<_> = b.iter().filter_map(|b| b.motion).collect();
+        near(m[1].end, [0.0, 8.0, 0.0]);
+        assert_eq!(m[2].kind, MotionKind::ArcCcw);
+        near(m[2].end, [-2.0, 10.0, 0.0]);
+        near(m[2].center, [-2.0, 8.0, 0.0]);
+        near(m[3].end, [-10.0, 10.0, 0.0]);
+    }
+
+    #[test]
+    fn a_lathe_turns_in_its_plane_only() {
+        // 808D, G18 (Z abscissa, X ordinate), no Y axis: RPL=90 turns Z towards X, so Z10
+        // goes to X10 (radius); a frame that would move Y is refused at its statement.
+        let lathe = MachineData::load(
+            Some(
+                &std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                    .join("../config/siemens-808d.toml"),
+            ),
+            &[],
+        )
+        .unwrap();
+        let e = ends_md(&lathe, "ROT RPL=90\nG0 X0 Z10\n");
+        near(e[0], [10.0, 0.0, 0.0]);
+        for src in ["ROT Z30\n", "TRANS Y5\n", "N5 AROT X10\n"] {
+            let a = run_md(&lathe, src).unwrap_err();
+            assert_eq!(a.code, AlarmCode::NotSupported, "{src}");
+        }
     }
 
     #[test]
