@@ -1,6 +1,7 @@
-//! The frame in the block build (frame.rs holds the map): the blocks that program it
-//! (Fanuc G51.1/G50.1 mirror, G51/G50 scaling, G68/G69 rotation) and the motion of a block
-//! while it is active, computed in program coordinates and then mapped.
+//! The frame in the block build (frame.rs holds the map): the blocks that program it on
+//! Fanuc (G51.1/G50.1 mirror, G51/G50 scaling, G68/G69 rotation; SINUMERIK's statements are
+//! sinumerik/frames.rs) and the motion of a block while it is active, computed in program
+//! coordinates and then mapped.
 
 use super::super::block::*;
 use super::super::fault::{fault, R};
