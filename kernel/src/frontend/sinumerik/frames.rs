@@ -106,10 +106,12 @@ impl Interpreter<'_> {
             let at = c.i;
             match c.peek() {
                 None | Some(b';') => break,
-                Some(b'(') if !c.skip_comment() => {
-                    return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"))
+                Some(b'(') => {
+                    if !c.skip_comment() {
+                        return Err(fault(AlarmCode::Syntax, at, "comment not closed with ')'"));
+                    }
+                    continue;
                 }
-                Some(b'(') => continue,
                 _ => {}
             }
             if c.keyword("RPL") {
@@ -421,6 +423,8 @@ mod tests {
         assert_eq!(alarm("TRANS RPL=5\n"), (AlarmCode::Syntax, 1, 7));
         assert_eq!(alarm("ROT X10 RPL=5\n"), (AlarmCode::Syntax, 1, 9));
         assert_eq!(alarm("TRANS X1 X2\n"), (AlarmCode::AddressTwice, 1, 10));
+        assert_eq!(alarm("TRANS X1 (shift\n"), (AlarmCode::Syntax, 1, 10));
+        assert!(run_md(&md(&[]), "TRANS X1 (shift) ; zero\nG0 X0\n").is_ok());
         assert_eq!(alarm("SCALE X0\n"), (AlarmCode::BadNumber, 1, 7));
         // Unequal scale on the plane's axes: no circle (the line is fine).
         assert_eq!(
