@@ -687,3 +687,291 @@ fn s51_tapping_and_boring_cycles() {
     let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
     assert_eq!(dwells, [0.5, 1.0]);
 }
+
+#[test]
+fn s60_trans_arot_atrans() {
+    clean(
+        "s60_trans_arot_atrans.mpf",
+        &[
+            [0.0, 0.0, 5.0],
+            [10.0, 5.0, 5.0],  // zero (10, 5)
+            [7.0, 7.0, 5.0],   // (2, 3) → (10 − 3, 5 + 2)
+            [7.0, 12.0, 5.0],  // G91 X5 along the turned X (+Y)
+            [10.0, 12.0, 5.0], // (7, 0) → (10 − 0, 5 + 7)
+            [0.0, 0.0, 5.0],   // TRANS alone: no frame
+        ],
+    );
+}
+
+#[test]
+fn s61_scale_ascale_arc() {
+    let f = "s61_scale_ascale_arc.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [20.0, 0.0, 2.0], // X10 · 2
+            [0.0, 20.0, 2.0], // G3 CR=10 scaled to radius 20
+            [10.0, 0.0, 2.0], // ATRANS X5 scaled: zero at 10
+            [20.0, 0.0, 2.0], // ASCALE 0.5: p + (10, 0)
+            [0.0, 0.0, 20.0],
+        ],
+    );
+    let arc = block(f, &b, 50).motion.unwrap();
+    assert_eq!(arc.kind, MotionKind::ArcCcw);
+    assert!(arc.center[0].abs() <= TOL && arc.center[1].abs() <= TOL);
+}
+
+/// s62's programmed points, mirrored: G41 became G42, G2 became G3.
+#[test]
+fn s62_mirror_g41_contour() {
+    let f = "s62_mirror_g41_contour.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, -10.0, 2.0],
+            [0.0, -10.0, -3.0],
+            [-10.0, 0.0, -3.0], // G41 → G42
+            [-10.0, 30.0, -3.0],
+            [-40.0, 30.0, -3.0],
+            [-50.0, 20.0, -3.0], // G2 → G3 about (−40, 20)
+            [-50.0, 0.0, -3.0],
+            [-10.0, 0.0, -3.0],
+            [0.0, -10.0, -3.0], // G40
+            [0.0, -10.0, 20.0],
+        ],
+    );
+    for n in [70, 80, 90, 100, 110, 120] {
+        assert_eq!(block(f, &b, n).modal.trc, TrcSide::Right, "{f}: N{n}");
+    }
+    let arc = block(f, &b, 100).motion.unwrap();
+    assert_eq!(arc.kind, MotionKind::ArcCcw);
+    assert!((arc.center[0] + 40.0).abs() <= TOL && (arc.center[1] - 20.0).abs() <= TOL);
+}
+
+/// The tool-centre path of s62 (D2: radius 5), worked out by hand in the program's header:
+/// the mirrored contour runs counter-clockwise and G42 keeps the tool outside it, on the
+/// exact equidistant: the sides 5 mm out, the arc at radius 15, transition circles of
+/// radius 5 about the two outer corners.
+#[test]
+fn s62_mirror_g41_tool_centre_path() {
+    use nc_kernel::{Role, Segment, Shape};
+    let f = "s62_mirror_g41_contour.mpf";
+    let text = std::fs::read_to_string(path_of(f)).unwrap();
+    let path = nc_kernel::prepare(f, &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    let of = |n: u32| -> Vec<Segment> {
+        path.iter()
+            .filter(|s| s.source.number.map(|b| b.value) == Some(n))
+            .copied()
+            .collect()
+    };
+    let xy = |p: P, x: f64, y: f64, what: &str| {
+        assert!(
+            (p[0] - x).abs() <= TOL && (p[1] - y).abs() <= TOL,
+            "{what}: ({}, {}), by hand ({x}, {y})",
+            p[0],
+            p[1]
+        );
+    };
+    let line = |s: &Segment, a: (f64, f64), b: (f64, f64), what: &str| {
+        assert_eq!(s.shape, Shape::Line, "{what}");
+        xy(s.from, a.0, a.1, what);
+        xy(s.to, b.0, b.1, what);
+    };
+    let arc = |s: &Segment, a: (f64, f64), b: (f64, f64), c: (f64, f64), r: f64, what: &str| {
+        let Shape::Arc {
+            center,
+            ccw,
+            r0,
+            r1,
+            ..
+        } = s.shape
+        else {
+            panic!("{what}: not an arc: {s:?}");
+        };
+        assert!(ccw, "{what}: counter-clockwise");
+        assert!(
+            (r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL,
+            "{what}: radius {r0}"
+        );
+        xy(center, c.0, c.1, what);
+        xy(s.from, a.0, a.1, what);
+        xy(s.to, b.0, b.1, what);
+    };
+    let n70 = of(70);
+    assert_eq!(n70.len(), 1);
+    assert_eq!(n70[0].role, Role::Approach);
+    xy(n70[0].to, -5.0, 0.0, "N70: normal position of N80's start");
+    let n80 = of(80);
+    assert_eq!(n80.len(), 1);
+    line(&n80[0], (-5.0, 0.0), (-5.0, 30.0), "N80");
+    let n90 = of(90);
+    assert_eq!(
+        n90.iter().map(|s| s.role).collect::<Vec<_>>(),
+        [Role::Corner, Role::Contour]
+    );
+    arc(
+        &n90[0],
+        (-5.0, 30.0),
+        (-10.0, 35.0),
+        (-10.0, 30.0),
+        5.0,
+        "N90 corner",
+    );
+    line(&n90[1], (-10.0, 35.0), (-40.0, 35.0), "N90");
+    let n100 = of(100);
+    assert_eq!(n100.len(), 1, "tangent: no corner");
+    arc(
+        &n100[0],
+        (-40.0, 35.0),
+        (-55.0, 20.0),
+        (-40.0, 20.0),
+        15.0,
+        "N100",
+    );
+    let n110 = of(110);
+    assert_eq!(n110.len(), 1, "tangent: no corner");
+    line(&n110[0], (-55.0, 20.0), (-55.0, 0.0), "N110");
+    let n120 = of(120);
+    assert_eq!(
+        n120.iter().map(|s| s.role).collect::<Vec<_>>(),
+        [Role::Corner, Role::Contour]
+    );
+    arc(
+        &n120[0],
+        (-55.0, 0.0),
+        (-50.0, -5.0),
+        (-50.0, 0.0),
+        5.0,
+        "N120 corner",
+    );
+    line(&n120[1], (-50.0, -5.0), (-10.0, -5.0), "N120");
+    // The same contour written mirrored by hand, with G42 and G3, gives the same path.
+    let by_hand = text
+        .replace("N30 MIRROR X0", "")
+        .replace("N70 G41 X10", "N70 G42 X-10")
+        .replace("N90 X40", "N90 X-40")
+        .replace("N100 G2 X50", "N100 G3 X-50")
+        .replace("N120 X10", "N120 X-10");
+    let other = nc_kernel::prepare(f, &by_hand, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    assert_eq!(path.len(), other.len());
+    for (a, b) in path.iter().zip(&other) {
+        assert_eq!(a.role, b.role);
+        xy(a.from, b.from[0], b.from[1], "mirrored by hand");
+        xy(a.to, b.to[0], b.to[1], "mirrored by hand");
+    }
+}
+
+#[test]
+fn s63_mirror_both_axes() {
+    let f = "s63_mirror_both_axes.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [-20.0, 0.0, 2.0],
+            [-30.0, -10.0, 2.0], // a half turn: still CW
+            [40.0, -10.0, 2.0],
+            [50.0, 0.0, 2.0], // Y mirrored: CCW becomes CW
+            [0.0, 0.0, 20.0],
+        ],
+    );
+    let n50 = block(f, &b, 50).motion.unwrap();
+    assert_eq!(n50.kind, MotionKind::ArcCw);
+    assert!((n50.center[0] + 30.0).abs() <= TOL && n50.center[1].abs() <= TOL);
+    let n80 = block(f, &b, 80).motion.unwrap();
+    assert_eq!(n80.kind, MotionKind::ArcCw);
+    assert!((n80.center[0] - 50.0).abs() <= TOL && (n80.center[1] + 10.0).abs() <= TOL);
+}
+
+#[test]
+fn s64_rot_pattern_for() {
+    let mut want = Vec::new();
+    for (cx, cy) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
+        // The slot's direction after (k − 1) quarter turns.
+        want.extend([
+            [20.0 * cx, 20.0 * cy, 2.0],
+            [20.0 * cx, 20.0 * cy, -2.0],
+            [30.0 * cx, 30.0 * cy, -2.0],
+            [30.0 * cx, 30.0 * cy, 2.0],
+        ]);
+    }
+    want.push([0.0, 0.0, 2.0]);
+    want.insert(0, [0.0, 0.0, 2.0]);
+    clean("s64_rot_pattern_for.mpf", &want);
+}
+
+#[test]
+fn s65_supa_g53_g153() {
+    clean(
+        "s65_supa_g53_g153.mpf",
+        &[
+            [100.0, 50.0, 10.0],
+            [100.0, 50.0, 20.0], // SUPA Z20
+            [10.0, 10.0, 20.0],  // G53
+            [20.0, 10.0, 20.0],  // G153
+            [110.0, 50.0, 20.0], // the frame again
+            [0.0, 0.0, 20.0],
+        ],
+    );
+}
+
+#[test]
+fn s66_alarm_atrans_under_g41() {
+    let a = stops(
+        "s66_alarm_atrans_under_g41.mpf",
+        &[
+            [-10.0, -10.0, 2.0],
+            [-10.0, -10.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [0.0, 20.0, -3.0],
+        ],
+        AlarmCode::ForbiddenWithTrc,
+        11,
+        5,
+    );
+    assert_eq!(a.number(), 10754);
+    assert!(a.message.contains("ATRANS"), "{a}");
+}
+
+#[test]
+fn s67_alarm_scale_unequal_arc() {
+    let a = stops(
+        "s67_alarm_scale_unequal_arc.mpf",
+        &[[0.0, 0.0, 2.0], [20.0, 0.0, 2.0]],
+        AlarmCode::NotSupported,
+        8,
+        1,
+    );
+    assert_eq!(a.number(), 12580);
+}
+
+#[test]
+fn s68_alarm_g41_tilted_plane() {
+    let (s, c) = 20f64.to_radians().sin_cos();
+    let a = stops(
+        "s68_alarm_g41_tilted_plane.mpf",
+        &[[0.0, 0.0, 0.0], [10.0 * c, 0.0, -10.0 * s]],
+        AlarmCode::NotSupported,
+        9,
+        11,
+    );
+    assert_eq!(a.number(), 12580);
+}
+
+#[test]
+fn s69_mirror_incremental() {
+    clean(
+        "s69_mirror_incremental.mpf",
+        &[
+            [5.0, 5.0, 2.0],
+            [10.0, -10.0, 2.0],
+            [15.0, -15.0, 2.0], // G91 X5 Y5
+            [15.0, -20.0, 2.0], // Y=AC(20)
+            [10.0, -20.0, 2.0], // X=IC(−5)
+            [0.0, 0.0, 2.0],
+        ],
+    );
+}

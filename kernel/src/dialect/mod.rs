@@ -185,6 +185,17 @@ pub(crate) const fn g_no_trc(code: u16, effect: GEffect) -> GCodeDef {
     }
 }
 
+/// Table `a` followed by table `b`, as one (the tables are statics, built at compile time).
+pub(crate) const fn concat<const N: usize>(a: &[GCodeDef], b: &[GCodeDef]) -> [GCodeDef; N] {
+    let mut out = [g(0, GEffect::Dwell); N];
+    let mut k = 0;
+    while k < N {
+        out[k] = if k < a.len() { a[k] } else { b[k - a.len()] };
+        k += 1;
+    }
+    out
+}
+
 /// What an M function does, independent of its number. Only the functions the front end acts
 /// on have a row; every other M word is an auxiliary function, handed on as written.
 #[derive(Clone, Copy, Debug, PartialEq)]

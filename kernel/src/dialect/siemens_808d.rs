@@ -16,7 +16,8 @@ use MEffect::*;
 /// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
 pub const G451_LIMIT_DEG: f64 = 100.0;
 
-static GCODES: &[GCodeDef] = &[
+/// The G codes the 808D and the 840D share (siemens_840d.rs adds its own).
+pub(super) const COMMON: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
     g(1, Motion(MotionMode::Linear)),
     g(2, Motion(MotionMode::ArcCw)),
@@ -30,12 +31,12 @@ static GCODES: &[GCodeDef] = &[
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
     g(53, MachineCoordinates),
+    // Also the basic frame (none in softnc): as G53 here.
+    g(153, MachineCoordinates),
     g(54, WorkOffset(1)),
     g(55, WorkOffset(2)),
     g(56, WorkOffset(3)),
     g(57, WorkOffset(4)),
-    g(58, WorkOffset(5)),
-    g(59, WorkOffset(6)),
     g(60, ExactStopModal(true)),
     g(64, ExactStopModal(false)),
     g(70, Units(Units::Inch)),
@@ -58,6 +59,10 @@ static GCODES: &[GCodeDef] = &[
     g(710, Units(Units::Mm)),
 ];
 
+/// The 808D's own: two more settable zero offsets.
+static GCODES: [GCodeDef; COMMON.len() + 2] =
+    super::concat(COMMON, &[g(58, WorkOffset(5)), g(59, WorkOffset(6))]);
+
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
     m(1, Stop(ProgramStop::OptionalStop)),
@@ -74,7 +79,7 @@ pub static DIALECT: Dialect = BASE;
 /// The 808D's table: the 840D's too, under its own name (siemens_840d.rs).
 pub(super) const BASE: Dialect = Dialect {
     name: DialectName::Siemens808D,
-    gcodes: GCODES,
+    gcodes: &GCODES,
     mcodes: MCODES,
     semicolon: Semicolon::Comment,
     radius_word: RadiusWord::CrEquals,

@@ -158,6 +158,12 @@ impl Interpreter<'_> {
         if self.d.sinumerik && self.sinumerik_assignment(c, w, at)? {
             return Ok(Next::Continue);
         }
+        if self.d.sinumerik && letter == b'S' && c.keyword("SUPA") {
+            // Fundamentals, "Frame suppression": G153's suppression and more, this block.
+            c.i += 4;
+            w.suppress = true;
+            return Ok(Next::Continue);
+        }
         // Multi-letter words: they start with L (LF, LIMS=), C (CR=), D (DIAMON/DIAMOF) or
         // V (V. variables).
         if matches!(letter, b'L' | b'C' | b'D' | b'V') {

@@ -101,6 +101,8 @@ pub struct Words {
     pub radius_written: Option<u32>,
     /// A variable was assigned.
     pub calculation: bool,
+    /// SINUMERIK `SUPA`: zero offsets and frames suppressed in this block.
+    pub suppress: bool,
 }
 
 impl Words {
@@ -123,6 +125,7 @@ impl Words {
             && self.lims.is_none()
             && self.corner.is_none()
             && !self.calculation
+            && !self.suppress
     }
 }
 

@@ -109,18 +109,20 @@ impl<'a> Interpreter<'a> {
         Ok(())
     }
 
-    /// Under G51 the corner scales with the contour; a plane scaled unevenly has no corner.
+    /// Under a scaling frame the corner scales with the contour; a plane scaled unevenly (or
+    /// tilted by the frame) has no corner.
     fn corner_scale(&self, plane: Plane, at: u32) -> R<f64> {
         let frame = &self.coords.frame;
-        match frame.scale {
-            None => Ok(1.0),
-            Some((s, _)) if frame.keeps_circles(plane) => Ok(s[plane.abscissa as usize].abs()),
-            Some(_) => Err(fault(
+        if !frame.active() {
+            return Ok(1.0);
+        }
+        frame.plane_scale(plane).ok_or_else(|| {
+            fault(
                 AlarmCode::NotSupported,
                 at,
                 "a chamfer or corner needs the same scale on both axes of the plane",
-            )),
-        }
+            )
+        })
     }
 
     /// Before the next block is read while corner words are in play: a block waiting to be

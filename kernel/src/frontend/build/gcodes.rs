@@ -109,7 +109,11 @@ impl Interpreter<'_> {
 
     /// `what` (a code as written) may not stand in a block while TRC is active.
     #[cold]
-    pub(super) fn forbidden_with_trc(&self, what: &str, at: impl Offset) -> Box<Fault> {
+    pub(in crate::frontend) fn forbidden_with_trc(
+        &self,
+        what: &str,
+        at: impl Offset,
+    ) -> Box<Fault> {
         let trc_on = self
             .d
             .codes_of(&[GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)]);
@@ -276,7 +280,11 @@ impl Interpreter<'_> {
             && old_trc != TrcSide::Off
             && new.trc != TrcSide::Off
             && new.trc != old_trc;
-        if let (Some(_), Some(at)) = (blk.trc, trc_at) {
+        if let (Some(side), Some(at)) = (blk.trc, trc_at) {
+            let frame = &self.coords.frame;
+            if side != TrcSide::Off && frame.active() && !frame.keeps_plane(new.plane) {
+                return Err(tilted_plane(new.plane, at));
+            }
             let arc = new.motion.is_arc();
             if arc && !fanuc_side_change && (blk.motion.is_some() || d.trc_codes_need_linear_mode) {
                 return Err(self.trc_not_linear(at));
@@ -301,6 +309,20 @@ impl Interpreter<'_> {
             ),
         )
     }
+}
+
+/// Compensation works in its plane; a frame that tilts it (a rotation about another axis)
+/// leaves no plane to compensate in (docs/sinumerik.md, "Frames").
+#[cold]
+fn tilted_plane(plane: Plane, at: u32) -> Box<Fault> {
+    fault(
+        AlarmCode::NotSupported,
+        at,
+        format!(
+            "tool radius compensation in the {} plane while the frame tilts it",
+            plane.name()
+        ),
+    )
 }
 
 /// A modal selection method; ISG inner-corner selection cannot be switched on while TRC is

@@ -46,6 +46,8 @@ impl Interpreter<'_> {
         // 4. The G codes' effects, and modal switches written as words (808D DIAMON).
         let mut new = self.block.modal;
         let g = self.g_effects(&codes, &mut new)?;
+        // SINUMERIK SUPA: as G53, for every zero offset and frame softnc has.
+        self.machine_coordinates |= w.suppress;
         if let Some(at) = g.numbered_at {
             self.numbered_work_offset(w, at, &mut new)?;
         }

@@ -234,7 +234,8 @@ impl Interpreter<'_> {
         ))
     }
 
-    /// A line or an arc to the axis words' end point.
+    /// A line or an arc to the axis words' end point; under a frame (frames.rs) the points
+    /// are worked out in program coordinates and then mapped.
     fn cartesian(
         &mut self,
         w: &Words,
@@ -244,11 +245,12 @@ impl Interpreter<'_> {
     ) -> R<()> {
         let arc = new.motion.is_arc();
         let vector = !arc && self.exit_vector(w, new);
-        if self.coords.frame.active() && !self.machine_coordinates {
-            return self.cartesian_framed(w, new, programmed, block_col);
-        }
-        let start = self.cur;
-        let end = self.end_point(w, new, start)?;
+        let framed = self.coords.frame.active() && !self.machine_coordinates;
+        let (start, end) = if framed {
+            self.framed_points(w, new, block_col)?
+        } else {
+            (self.cur, self.end_point(w, new, self.cur)?)
+        };
         let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
         if has_centre && !arc && !vector {
             let at = w
@@ -277,11 +279,17 @@ impl Interpreter<'_> {
             return Ok(());
         }
         feed_programmed(new, block_col)?;
+        if framed && arc {
+            self.frame_keeps_circles(new, block_col)?;
+        }
         let centre = if arc {
             self.arc_centre(w, new, start, end, block_col)?
         } else {
             end
         };
+        if framed {
+            return self.set_framed_motion(new, end, centre, programmed, block_col);
+        }
         self.set_motion(new, start, end, centre, programmed, block_col)
     }
 
@@ -307,30 +315,6 @@ impl Interpreter<'_> {
         }
         self.block.exit_vector = Some(Box::new(v));
         true
-    }
-
-    /// [`Self::cartesian`] under an active frame (frames.rs).
-    fn cartesian_framed(
-        &mut self,
-        w: &Words,
-        new: &ModalState,
-        programmed: u16,
-        block_col: usize,
-    ) -> R<()> {
-        let Some((end, centre, flip)) = self.framed_motion(w, new, programmed, block_col)? else {
-            return Ok(());
-        };
-        feed_programmed(new, block_col)?;
-        let start = self.cur;
-        self.set_motion(new, start, end, centre, programmed, block_col)?;
-        if let (true, Some(m)) = (flip, self.block.motion.as_mut()) {
-            m.kind = match m.kind {
-                MotionKind::ArcCw => MotionKind::ArcCcw,
-                MotionKind::ArcCcw => MotionKind::ArcCw,
-                k => k,
-            };
-        }
-        Ok(())
     }
 
     /// The end point of the axis words; the axes not written stay where they are.
@@ -365,7 +349,7 @@ impl Interpreter<'_> {
     }
 
     /// The centre of an arc from `start` to `end`, from I J K in the plane or a radius.
-    fn arc_centre(
+    pub(super) fn arc_centre(
         &self,
         w: &Words,
         new: &ModalState,
@@ -537,7 +521,7 @@ impl Interpreter<'_> {
 
     /// The motion, once its end point is checked against the working area.
     #[inline(always)]
-    fn set_motion(
+    pub(super) fn set_motion(
         &mut self,
         new: &ModalState,
         start: Pos,

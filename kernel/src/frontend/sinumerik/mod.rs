@@ -5,10 +5,12 @@
 //!
 //! - [`expr`]: arithmetic, comparisons, logic and the functions.
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
+//! - [`frames`]: the frame statements TRANS, ROT, SCALE, MIRROR and their additive forms.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
 
 pub(super) mod cycles;
 pub(super) mod expr;
+mod frames;
 pub(super) mod statements;
 pub(super) mod structure;
 pub(super) mod system;

@@ -36,6 +36,14 @@ pub enum Keyword {
     /// A drilling cycle call (CYCLE81 … CYCLE89, CYCLE840; cycles/mod.rs).
     Cycle,
     Case,
+    Trans,
+    ATrans,
+    Rot,
+    ARot,
+    Scale,
+    AScale,
+    Mirror,
+    AMirror,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -69,6 +77,14 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("CYCLE87", Keyword::Cycle),
     ("CYCLE88", Keyword::Cycle),
     ("CYCLE89", Keyword::Cycle),
+    ("TRANS", Keyword::Trans),
+    ("ATRANS", Keyword::ATrans),
+    ("ROT", Keyword::Rot),
+    ("AROT", Keyword::ARot),
+    ("SCALE", Keyword::Scale),
+    ("ASCALE", Keyword::AScale),
+    ("MIRROR", Keyword::Mirror),
+    ("AMIRROR", Keyword::AMirror),
 ];
 
 impl Keyword {
@@ -90,18 +106,34 @@ impl Keyword {
     }
 
     pub fn is_structure(self) -> bool {
-        !matches!(
+        matches!(
             self,
-            Keyword::GotoF
-                | Keyword::GotoB
-                | Keyword::Goto
-                | Keyword::GotoC
-                | Keyword::Def
-                | Keyword::Stopre
-                | Keyword::Msg
-                | Keyword::Setal
-                | Keyword::Cycle
-                | Keyword::Case
+            Keyword::If
+                | Keyword::Else
+                | Keyword::EndIf
+                | Keyword::While
+                | Keyword::EndWhile
+                | Keyword::For
+                | Keyword::EndFor
+                | Keyword::Repeat
+                | Keyword::Until
+                | Keyword::Loop
+                | Keyword::EndLoop
+        )
+    }
+
+    /// A frame statement (TRANS … AMIRROR).
+    fn is_frame(self) -> bool {
+        matches!(
+            self,
+            Keyword::Trans
+                | Keyword::ATrans
+                | Keyword::Rot
+                | Keyword::ARot
+                | Keyword::Scale
+                | Keyword::AScale
+                | Keyword::Mirror
+                | Keyword::AMirror
         )
     }
 
@@ -260,6 +292,7 @@ impl Interpreter<'_> {
             }
             (Keyword::Msg, _) => return self.msg(&mut c, at).map(|()| true),
             (Keyword::Setal, _) => return Err(self.setal(&mut c, at)),
+            (w, _) if w.is_frame() => self.frame_statement(w, &mut c, at)?,
             _ => {
                 return Err(fault(
                     AlarmCode::ControlNesting,
