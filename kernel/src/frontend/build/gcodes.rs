@@ -27,7 +27,7 @@ pub(super) struct BlockCodes {
     pub numbered_at: Option<u32>,
     /// A tool length compensation code was written (Fanuc G43/G44/G49).
     pub length: bool,
-    /// The block's S is the spindle speed limit (840C G92).
+    /// The block's S is the spindle speed limit (840C G92, G26).
     pub spindle_limit: bool,
     /// A canned cycle code was written (Fanuc G81 …).
     pub cycle: Option<super::cycles::CycleKind>,
@@ -187,7 +187,11 @@ impl Interpreter<'_> {
                     new.length_comp = c;
                     g.length = true;
                 }
-                GEffect::WorkingArea { max } => g.working_area = Some(max),
+                GEffect::WorkingArea { max } => {
+                    g.working_area = Some(max);
+                    // 880: "maximum working area limitation/spindle speed limitation S".
+                    g.spindle_limit |= max;
+                }
                 GEffect::PoleHere => new.pole = self.cur,
                 GEffect::Unsupported(_) => {}
                 other => self.program_effect(other, code, at, &mut g)?,

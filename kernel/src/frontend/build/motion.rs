@@ -561,9 +561,10 @@ impl Interpreter<'_> {
     /// Step 8, 840C G25 (min) / G26 (max): the axis words are limits, in mm without zero
     /// offset (docs/dialects.md, "Working area G25/G26").
     pub(super) fn working_area(&mut self, w: &Words, max: bool, units: Units) {
-        self.area.limited = true;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
+                // Only a limit written takes the plain path away (G26 S alone limits nothing).
+                self.area.limited = true;
                 let v = self.length(*a, units);
                 if max {
                     self.area.max[i] = v;
