@@ -126,6 +126,7 @@ pub fn skip_prefix(c: &mut Cursor) {
 }
 
 /// Reads `N<digits>` at the cursor, if there is an N; a fault points at the N.
+#[inline]
 pub fn read_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
     if c.letter() != Some(b'N') {
         return Ok(None);
@@ -142,6 +143,7 @@ pub fn read_main_or_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
 }
 
 /// The digits after the `N` or `:` at the cursor.
+#[inline]
 fn number_after(c: &mut Cursor) -> R<Option<BlockNo>> {
     let at = c.i;
     c.i += 1;

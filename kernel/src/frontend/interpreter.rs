@@ -361,7 +361,7 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         self.calls.running.started = true;
-        if self.d.at_language && words.calculation && words.only_calculation() {
+        if words.calculation && self.d.at_language && words.only_calculation() {
             // 840C: a block of the language alone is a statement, not a block.
             if self.block.words.is_empty() {
                 return self.c840_block_end().map(|()| false);
@@ -373,7 +373,7 @@ impl<'a> Interpreter<'a> {
         if self.expansion.is_none() {
             self.after_block()?;
         }
-        if self.d.at_language {
+        if self.c840.jump.is_some() {
             self.c840_block_end()?;
         }
         Ok(built)

@@ -677,14 +677,14 @@ mod tests {
         assert_eq!(alarm("@613 R1 K-4\n"), (AlarmCode::Arithmetic, 1, 9));
         assert_eq!(alarm("@630 R1 K\n"), (AlarmCode::BadNumber, 1, 9));
         assert_eq!(alarm("@715\n"), (AlarmCode::NotSupported, 1, 1));
-        assert_eq!(alarm("@630 R100 K1\n"), (AlarmCode::UndefinedName, 1, 6));
+        assert_eq!(alarm("@630 R1300 K1\n"), (AlarmCode::UndefinedName, 1, 6));
         assert_eq!(alarm("R1=0 R2=-1\n@610 R3 P2\n"), (AlarmCode::BadNumber, 2, 9));
         assert_eq!(alarm("R1=5/0\n"), (AlarmCode::Arithmetic, 1, 5));
         assert_eq!(alarm("R1 5\n"), (AlarmCode::Syntax, 1, 4));
         assert_eq!(alarm("R=5\n"), (AlarmCode::Syntax, 1, 1));
         assert_eq!(alarm("R1=*2\n"), (AlarmCode::BadNumber, 1, 4));
         assert_eq!(alarm("G R1\n"), (AlarmCode::Syntax, 1, 3));
-        assert_eq!(alarm("G0 X R100\n"), (AlarmCode::UndefinedName, 1, 6));
+        assert_eq!(alarm("G0 X R1300\n"), (AlarmCode::UndefinedName, 1, 6));
     }
 
     #[test]
