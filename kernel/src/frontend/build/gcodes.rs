@@ -29,6 +29,8 @@ pub(super) struct BlockCodes {
     pub length: bool,
     /// The block's S is the spindle speed limit (840C G92, G26).
     pub spindle_limit: bool,
+    /// A spindle limit code (840C G92): the block sets the limit and nothing else.
+    pub limit_only: bool,
     /// A canned cycle code was written (Fanuc G81 …).
     pub cycle: Option<super::cycles::CycleKind>,
     /// A reference point return (its code; true for the second reference, G30).
@@ -136,6 +138,7 @@ impl Interpreter<'_> {
             frame: None,
             length: false,
             spindle_limit: false,
+            limit_only: false,
         };
         self.machine_coordinates = false;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
@@ -182,7 +185,10 @@ impl Interpreter<'_> {
                     new.feed_per_rev = on;
                 }
                 GEffect::ConstantSurfaceSpeed(on) => new.css = on,
-                GEffect::SpindleLimit => g.spindle_limit = true,
+                GEffect::SpindleLimit => {
+                    g.spindle_limit = true;
+                    g.limit_only = true;
+                }
                 GEffect::ToolLength(c) => {
                     new.length_comp = c;
                     g.length = true;

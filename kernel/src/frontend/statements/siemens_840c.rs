@@ -688,6 +688,24 @@ mod tests {
     }
 
     #[test]
+    fn the_spindle_limit_is_g92_s_or_g26_s() {
+        let b = run("siemens-840c", "G92 S2500\nG26 S1800 X50\nG96 S200\n").unwrap();
+        assert_eq!(b[0].modal.spindle_limit, 2500.0);
+        // G26's S is the limit, its X the working area's; neither is the speed.
+        assert_eq!((b[1].modal.spindle_limit, b[1].modal.spindle), (1800.0, 0.0));
+        assert!(b[1].motion.is_none());
+        // G26 S alone limits no axis.
+        assert_eq!(xs("G26 S1800\nG0 X60\n"), [60.0]);
+        assert_eq!(alarm("G26 X50\nG0 X60\n"), (AlarmCode::WorkingArea, 2, 1));
+        // G92 sets no actual value here, and TRC forbids it (11.4).
+        assert_eq!(alarm("G92 S100 X10\n"), (AlarmCode::NotSupported, 1, 10));
+        assert_eq!(
+            alarm("G0 X0 Y0 D1\nG41 G1 X10 F100\nG92 S100\n"),
+            (AlarmCode::ForbiddenWithTrc, 3, 1)
+        );
+    }
+
+    #[test]
     fn the_preprocessing_stop_stays_a_block_and_other_dialects_have_no_r() {
         let b = run("siemens-840c", "R1=1 @714\n").unwrap();
         assert!(b[0].preprocess_stop && b[0].calculation);
