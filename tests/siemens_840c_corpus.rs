@@ -127,7 +127,10 @@ fn k01_r_parameter_arithmetic() {
     );
     // Blocks of assignments alone are statements: they hand out no block.
     assert_eq!(numbers(&b), [10, 30, 50, 70, 90, 100, 110, 120], "{f}");
-    assert!(block(f, &b, 70).calculation, "N70 assigns R8 among its words");
+    assert!(
+        block(f, &b, 70).calculation,
+        "N70 assigns R8 among its words"
+    );
     assert_eq!(block(f, &b, 110).modal.feed, 25.0, "{f}: F R2");
 }
 
@@ -136,7 +139,12 @@ fn k02_counted_loop() {
     let f = "k02_counted_loop.mpf";
     let mut want = vec![[-20.0, 0.0, 5.0]];
     for z in [-1.5, -3.0, -4.5, -6.0] {
-        want.extend([[-20.0, 0.0, z], [120.0, 0.0, z], [120.0, 0.0, 5.0], [-20.0, 0.0, 5.0]]);
+        want.extend([
+            [-20.0, 0.0, z],
+            [120.0, 0.0, z],
+            [120.0, 0.0, 5.0],
+            [-20.0, 0.0, 5.0],
+        ]);
     }
     want.push([-20.0, 0.0, 50.0]);
     let b = clean(f, &want);
@@ -165,7 +173,9 @@ fn k03_hole_pattern_trig() {
     let b = clean(f, &want);
     let drills = b.iter().filter(|b| b.number.is_some_and(|n| n.value == 90));
     assert!(
-        drills.clone().all(|b| b.motion.unwrap().kind == MotionKind::Linear),
+        drills
+            .clone()
+            .all(|b| b.motion.unwrap().kind == MotionKind::Linear),
         "{f}"
     );
     assert_eq!(drills.count(), 6, "{f}");
@@ -192,9 +202,17 @@ fn k04_feed_and_cutting_speed() {
     assert_eq!((m(50).css, m(50).spindle), (false, 1000.0));
     assert_eq!(m(60).spindle_limit, 2500.0, "G92 S");
     assert!(block(f, &b, 60).motion.is_none());
-    assert_eq!((m(70).css, m(70).spindle, m(70).feed), (true, 200.0, 0.2), "S R5");
+    assert_eq!(
+        (m(70).css, m(70).spindle, m(70).feed),
+        (true, 200.0, 0.2),
+        "S R5"
+    );
     assert_eq!(m(80).spindle_limit, 1800.0, "G26 S");
-    assert_eq!((m(80).css, m(80).spindle), (true, 200.0), "G26's S is no speed");
+    assert_eq!(
+        (m(80).css, m(80).spindle),
+        (true, 200.0),
+        "G26's S is no speed"
+    );
     assert!(block(f, &b, 80).motion.is_none());
     assert_eq!(
         (m(100).css, m(100).spindle, m(100).spindle_limit),
@@ -264,5 +282,9 @@ fn k07_alarm_missing_block() {
 fn k08_case_block_main_blocks() {
     let f = "k08_case_block_main_blocks.mpf";
     let b = clean(f, &[[0.0, 0.0, 5.0], [0.0, 0.0, -4.0], [0.0, 0.0, 50.0]]);
-    assert_eq!(numbers(&b), [10, 30, 200, 400, 410], "{f}: the branch taken");
+    assert_eq!(
+        numbers(&b),
+        [10, 30, 200, 400, 410],
+        "{f}: the branch taken"
+    );
 }

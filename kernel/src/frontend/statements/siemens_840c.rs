@@ -233,13 +233,15 @@ impl Interpreter<'_> {
                 let n = parameter_number(c, at)?;
                 self.c840.r.get(n, at)?
             }
-            Some(b'0'..=b'9' | b'.') => match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
-                Some((n, next)) => {
-                    c.i = next;
-                    n.value
+            Some(b'0'..=b'9' | b'.') => {
+                match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
+                    Some((n, next)) => {
+                        c.i = next;
+                        n.value
+                    }
+                    None => return Err(operand_expected(at)),
                 }
-                None => return Err(operand_expected(at)),
-            },
+            }
             _ => return Err(operand_expected(at)),
         };
         Ok(if neg { -v } else { v })
@@ -286,7 +288,7 @@ impl Interpreter<'_> {
 
     /// A case block: `R` then value/destination pairs; the first value equal to R jumps.
     fn at_case(&mut self, ops: &Operands, code: u32, at: usize, end: usize) -> R<()> {
-        if ops.len() % 2 == 0 {
+        if ops.len().is_multiple_of(2) {
             return Err(fault(
                 AlarmCode::MissingValue,
                 end,
@@ -348,7 +350,10 @@ impl Interpreter<'_> {
             Err(fault(
                 AlarmCode::BadNumber,
                 op.at,
-                format!("P{}: R{} holds {p}, no parameter number", op.value, op.value),
+                format!(
+                    "P{}: R{} holds {p}, no parameter number",
+                    op.value, op.value
+                ),
             ))
         }
     }
@@ -525,7 +530,11 @@ fn skip_blanks_and_comments(c: &mut Cursor) -> R<()> {
         }
         let open = c.i;
         if !c.skip_comment() {
-            return Err(fault(AlarmCode::Syntax, open, "comment not closed with ')'"));
+            return Err(fault(
+                AlarmCode::Syntax,
+                open,
+                "comment not closed with ')'",
+            ));
         }
     }
 }
@@ -541,7 +550,14 @@ fn operand_expected(at: usize) -> Box<Fault> {
 
 /// The first (or, `last`, the last) block numbered `n` whose line starts between `from` and
 /// `until` (both included): where reading goes on.
-fn find_block(src: &[u8], from: Mark, until: usize, n: u32, colon: bool, last: bool) -> Option<Mark> {
+fn find_block(
+    src: &[u8],
+    from: Mark,
+    until: usize,
+    n: u32,
+    colon: bool,
+    last: bool,
+) -> Option<Mark> {
     let (mut i, mut line) = (from.2, from.1);
     let mut found = None;
     while i <= until && i < src.len() {
@@ -570,7 +586,10 @@ mod tests {
 
     fn ends(src: &str) -> Vec<[f64; 3]> {
         let blocks: Vec<Block> = run("siemens-840c", src).unwrap_or_else(|a| panic!("{a}"));
-        blocks.iter().filter_map(|b| b.motion.map(|m| m.end)).collect()
+        blocks
+            .iter()
+            .filter_map(|b| b.motion.map(|m| m.end))
+            .collect()
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
@@ -638,7 +657,10 @@ mod tests {
             assert!((0..3).all(|i| (g[i] - w[i]).abs() < 1e-12), "{e:?}");
         }
         // P: R10 holds 3, so P10 is R3.
-        assert_eq!(xs("R10=3 R3=42\n@610 R1 P10\n@620 P10\nG0 X R1 Y R3\n"), [42.0]);
+        assert_eq!(
+            xs("R10=3 R3=42\n@610 R1 P10\n@620 P10\nG0 X R1 Y R3\n"),
+            [42.0]
+        );
         assert_eq!(ends("R10=3 R3=42\n@620 P10\nG0 X R3\n"), [[43.0, 0.0, 0.0]]);
     }
 
@@ -658,10 +680,7 @@ mod tests {
             alarm("N10 @122 R1 K0 K-99\n"),
             (AlarmCode::JumpTarget, 1, 16)
         );
-        assert_eq!(
-            alarm("@100 K1.5\n"),
-            (AlarmCode::BadNumber, 1, 6)
-        );
+        assert_eq!(alarm("@100 K1.5\n"), (AlarmCode::BadNumber, 1, 6));
         // The operands are the command's; a word after them is the block's (here a centre K
         // without a circle).
         let a = run("siemens-840c", "@100 K1 K2\nN1 X1\n").unwrap_err();
@@ -678,7 +697,10 @@ mod tests {
         assert_eq!(alarm("@630 R1 K\n"), (AlarmCode::BadNumber, 1, 9));
         assert_eq!(alarm("@715\n"), (AlarmCode::NotSupported, 1, 1));
         assert_eq!(alarm("@630 R1300 K1\n"), (AlarmCode::UndefinedName, 1, 6));
-        assert_eq!(alarm("R1=0 R2=-1\n@610 R3 P2\n"), (AlarmCode::BadNumber, 2, 9));
+        assert_eq!(
+            alarm("R1=0 R2=-1\n@610 R3 P2\n"),
+            (AlarmCode::BadNumber, 2, 9)
+        );
         assert_eq!(alarm("R1=5/0\n"), (AlarmCode::Arithmetic, 1, 5));
         assert_eq!(alarm("R1 5\n"), (AlarmCode::Syntax, 1, 4));
         assert_eq!(alarm("R=5\n"), (AlarmCode::Syntax, 1, 1));
@@ -692,7 +714,10 @@ mod tests {
         let b = run("siemens-840c", "G92 S2500\nG26 S1800 X50\nG96 S200\n").unwrap();
         assert_eq!(b[0].modal.spindle_limit, 2500.0);
         // G26's S is the limit, its X the working area's; neither is the speed.
-        assert_eq!((b[1].modal.spindle_limit, b[1].modal.spindle), (1800.0, 0.0));
+        assert_eq!(
+            (b[1].modal.spindle_limit, b[1].modal.spindle),
+            (1800.0, 0.0)
+        );
         assert!(b[1].motion.is_none());
         // G26 S alone limits no axis.
         assert_eq!(xs("G26 S1800\nG0 X60\n"), [60.0]);
