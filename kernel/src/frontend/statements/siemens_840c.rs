@@ -134,8 +134,8 @@ impl Interpreter<'_> {
         if c.peek() != Some(b'=') {
             return Err(fault(
                 AlarmCode::Syntax,
-                c.i,
-                format!("R{n} must be followed by '=' and its value"),
+                at,
+                format!("R{n} is an R parameter: '=' and its value must follow (an arc's radius is CR=)"),
             ));
         }
         c.i += 1;
@@ -702,7 +702,7 @@ mod tests {
             (AlarmCode::BadNumber, 2, 9)
         );
         assert_eq!(alarm("R1=5/0\n"), (AlarmCode::Arithmetic, 1, 5));
-        assert_eq!(alarm("R1 5\n"), (AlarmCode::Syntax, 1, 4));
+        assert_eq!(alarm("R1 5\n"), (AlarmCode::Syntax, 1, 1));
         assert_eq!(alarm("R=5\n"), (AlarmCode::Syntax, 1, 1));
         assert_eq!(alarm("R1=*2\n"), (AlarmCode::BadNumber, 1, 4));
         assert_eq!(alarm("G R1\n"), (AlarmCode::Syntax, 1, 3));
