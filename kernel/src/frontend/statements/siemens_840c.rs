@@ -434,7 +434,9 @@ impl Interpreter<'_> {
     }
 
     /// At the end of a block: the jump its `@` command asked for, if any. Not found is an
-    /// alarm at the destination.
+    /// alarm at the destination. Out of line: the plain path's caller stays as it was.
+    #[cold]
+    #[inline(never)]
     pub(in crate::frontend) fn c840_block_end(&mut self) -> R<()> {
         let Some(j) = self.c840.jump.take() else {
             return Ok(());
