@@ -654,6 +654,11 @@ mod tests {
             (AtEffect::PreprocessStop, true)
         );
         assert!(c.at_command(715).is_none() && i.at_commands.is_empty());
+        let effect = |code| c.at_command(code).map(|def| def.effect);
+        assert_eq!(effect(124), Some(AtEffect::JumpIf(Compare::Less)));
+        assert_eq!(effect(630), Some(AtEffect::Function(AtFunction::Sin)));
+        assert!(!c.at_command(100).unwrap().forbidden_with_trc);
+        assert_eq!(AtFunction::Hypot.sources(), 2);
         // Every stop a table maps to is named after the M function that programs it.
         for name in [
             DialectName::Siemens840C,
