@@ -121,6 +121,8 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    at_language: false,
+    main_block_colon: false,
     corner_words: CORNER_WORDS,
     polar_words: false,
     lims_word: false,

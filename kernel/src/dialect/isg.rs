@@ -83,6 +83,8 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: false,
     variables: true,
     at_commands: &[],
+    at_language: false,
+    main_block_colon: false,
     corner_words: &[],
     polar_words: false,
     lims_word: false,

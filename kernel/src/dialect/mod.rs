@@ -83,7 +83,8 @@ pub enum GEffect {
     SpindleLimit,
     /// Cancels the modal canned cycle (Fanuc G80).
     CycleCancel,
-    /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
+    /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words; the
+    /// max block's S is the spindle speed limit (880 program key).
     WorkingArea {
         max: bool,
     },
@@ -221,11 +222,78 @@ pub(crate) const fn m(code: u16, effect: MEffect) -> MCodeDef {
     MCodeDef { code, effect }
 }
 
-/// What an `@` command does, independent of its number.
+/// What an `@` command does, independent of its number. The commands with operands (all but
+/// the preprocessing stop) belong to the 880/840C language (`Dialect::at_language`): their
+/// operands are K constants, R parameters and P pointers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AtEffect {
     /// Stop decoding until the block buffer is empty (840C @714).
     PreprocessStop,
+    /// Jump to a block number; its sign gives the direction of the search.
+    Jump,
+    /// Jump if the comparison of an R parameter with a value holds.
+    JumpIf(Compare),
+    /// Jump to the destination paired with the first value equal to an R parameter; none
+    /// equal: on with the next block.
+    Case,
+    /// An R parameter gets a function of its operands.
+    Function(AtFunction),
+}
+
+/// A comparison of a conditional jump: R parameter against value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compare {
+    NotEqual,
+    Equal,
+    LessOrEqual,
+    Less,
+    GreaterOrEqual,
+    Greater,
+}
+
+impl Compare {
+    pub fn holds(self, a: f64, b: f64) -> bool {
+        match self {
+            Compare::NotEqual => a != b,
+            Compare::Equal => a == b,
+            Compare::LessOrEqual => a <= b,
+            Compare::Less => a < b,
+            Compare::GreaterOrEqual => a >= b,
+            Compare::Greater => a > b,
+        }
+    }
+}
+
+/// A function an `@` command computes into its first operand, an R parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtFunction {
+    /// |a|
+    Abs,
+    /// √a
+    Sqrt,
+    /// √(a² + b²)
+    Hypot,
+    /// The parameter itself plus 1.
+    Increment,
+    /// The parameter itself minus 1.
+    Decrement,
+    /// The parameter's own integer part (toward 0).
+    IntegerPart,
+    /// Sine of a, a in degrees.
+    Sin,
+    /// Cosine of a, a in degrees.
+    Cos,
+}
+
+impl AtFunction {
+    /// Operands after the result parameter (0: the function works on the result itself).
+    pub fn sources(self) -> usize {
+        match self {
+            AtFunction::Increment | AtFunction::Decrement | AtFunction::IntegerPart => 0,
+            AtFunction::Hypot => 2,
+            _ => 1,
+        }
+    }
 }
 
 /// One row of a dialect's `@`-command table.
@@ -301,6 +369,12 @@ pub struct Dialect {
     pub mcodes: &'static [MCodeDef],
     /// `@` commands (840C); empty where `@` starts no word.
     pub at_commands: &'static [AtCommandDef],
+    /// The 880/840C language: R parameters assigned among a block's words (`R1=R2+5`) and read
+    /// by an address (`X R1`), the `@` commands' operands, jumps to block numbers
+    /// (frontend/statements/siemens_840c.rs).
+    pub at_language: bool,
+    /// 880/840C main blocks: `:` instead of `N` before the block number.
+    pub main_block_colon: bool,
     /// Chamfer and corner words; empty where the control has none (here).
     pub corner_words: &'static [CornerWordDef],
     /// 880/840C polar coordinates: A (angle), U or B (radius).
@@ -419,6 +493,7 @@ impl Dialect {
             || (letter == b'L' && self.macro_b)
             || (matches!(letter, b'U' | b'W') && self.incremental_words)
             || (letter == b'Q' && self.has_cycles())
+            || (letter == b'R' && self.at_language)
     }
 
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
@@ -590,6 +665,11 @@ mod tests {
             (AtEffect::PreprocessStop, true)
         );
         assert!(c.at_command(715).is_none() && i.at_commands.is_empty());
+        let effect = |code| c.at_command(code).map(|def| def.effect);
+        assert_eq!(effect(124), Some(AtEffect::JumpIf(Compare::Less)));
+        assert_eq!(effect(630), Some(AtEffect::Function(AtFunction::Sin)));
+        assert!(!c.at_command(100).unwrap().forbidden_with_trc);
+        assert_eq!(AtFunction::Hypot.sources(), 2);
         // Every stop a table maps to is named after the M function that programs it.
         for name in [
             DialectName::Siemens840C,

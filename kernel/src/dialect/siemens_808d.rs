@@ -86,6 +86,8 @@ pub(super) const BASE: Dialect = Dialect {
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    at_language: false,
+    main_block_colon: false,
     corner_words: super::siemens_840d::CORNER_WORDS,
     polar_words: false,
     lims_word: true,

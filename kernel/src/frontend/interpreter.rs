@@ -8,7 +8,7 @@
 //! build ([`build`](super::build)).
 
 use super::block::*;
-use super::block_text::read_block_number;
+use super::block_text::{read_block_number, read_main_or_block_number};
 use super::build::{Corners, CycleMode, Expansion, WorkingArea};
 use super::calls::Calls;
 use super::fault::{fault, Fault, R};
@@ -54,6 +54,8 @@ pub struct Interpreter<'a> {
     pub(super) calls: Calls<'a>,
     /// SINUMERIK R parameters, user variables and the program's structures and labels.
     pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
+    /// 840C R parameters and the jump an `@` command asked for.
+    pub(super) c840: super::statements::siemens_840c::Language,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
     /// 840C G25/G26.
@@ -109,6 +111,14 @@ impl<'a> Interpreter<'a> {
                     0
                 }),
                 ..Default::default()
+            },
+            c840: super::statements::siemens_840c::Language {
+                r: super::statements::siemens_840c::RParameters::new(if d.at_language {
+                    md.program.r_parameters as usize
+                } else {
+                    0
+                }),
+                jump: None,
             },
             area: WorkingArea::default(),
             expansion: None,
@@ -325,7 +335,11 @@ impl<'a> Interpreter<'a> {
         }
         self.block.program = self.calls.running.program;
         let block_col = c.i;
-        self.blk_number = read_block_number(&mut c)?;
+        self.blk_number = if self.d.main_block_colon {
+            read_main_or_block_number(&mut c)?
+        } else {
+            read_block_number(&mut c)?
+        };
         c.skip_blanks();
         let mut system = false;
         if self.d.sinumerik {
@@ -352,11 +366,20 @@ impl<'a> Interpreter<'a> {
             return Ok(false);
         }
         self.calls.running.started = true;
+        if words.calculation && self.d.at_language && words.only_calculation() {
+            // 840C: a block of the language alone is a statement, not a block.
+            if self.block.words.is_empty() {
+                return self.c840_block_end().map(|()| false);
+            }
+        }
         let built = self.build(&words, block_col)?;
         // A word read the present position (#5041 …): the block stops preprocessing.
         self.block.preprocess_stop |= self.present_state_read.get();
         if self.expansion.is_none() {
             self.after_block()?;
+        }
+        if self.c840.jump.is_some() {
+            self.c840_block_end()?;
         }
         Ok(built)
     }

@@ -164,6 +164,10 @@ impl Interpreter<'_> {
             w.suppress = true;
             return Ok(Next::Continue);
         }
+        if self.d.at_language && letter == b'R' {
+            // 840C: `R1=…` (statements/siemens_840c.rs).
+            return self.c840_assignment(c, w, at).map(|()| Next::Continue);
+        }
         // Multi-letter words: they start with L (LF, LIMS=), C (CR=), D (DIAMON/DIAMOF) or
         // V (V. variables).
         if matches!(letter, b'L' | b'C' | b'D' | b'V') {
@@ -204,7 +208,7 @@ impl Interpreter<'_> {
     /// dwell time, or a syntax error.
     fn not_a_letter(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
         if !self.d.at_commands.is_empty() && ch == b'@' {
-            return at_command(c, w, at);
+            return self.at_command(c, w, at);
         }
         if let Some(def) = self.d.corner_words.iter().find(|def| c.keyword(def.text)) {
             return self.corner_word(c, w, def, at);
@@ -417,6 +421,11 @@ impl Interpreter<'_> {
             let v = expr::eval_operand(c, &self.vars)?;
             return checked(Val::computed(v, at));
         }
+        if self.d.at_language {
+            if let Some(v) = self.c840_address_value(c, at)? {
+                return checked(Val::computed(v, at));
+            }
+        }
         match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
             Some((n, next)) => {
                 c.i = next;
@@ -450,22 +459,36 @@ fn starts_operand(c: &Cursor) -> bool {
     )
 }
 
-/// An `@` command: its number (docs/dialects.md, "840C @714").
-fn at_command(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-    c.i += 1;
-    let (n, next) = number::parse(c.b, c.i)
-        .filter(|(n, e)| *e <= c.end && !n.has_point)
-        .ok_or_else(|| {
-            fault(
-                AlarmCode::Syntax,
+impl Interpreter<'_> {
+    /// An `@` command: its number, looked up in the dialect's table, and in the 840C's
+    /// language its operands (docs/sinumerik.md, "The 840C's R parameters and @ commands").
+    fn at_command(&mut self, c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
+        c.i += 1;
+        let (n, next) = number::parse(c.b, c.i)
+            .filter(|(n, e)| *e <= c.end && !n.has_point)
+            .ok_or_else(|| {
+                fault(
+                    AlarmCode::Syntax,
+                    at,
+                    "@ must be followed by a command number",
+                )
+            })?;
+        c.i = next;
+        let code = int_value(n.value, at, "@ command")?;
+        let Some(def) = self.d.at_command(code) else {
+            return Err(fault(
+                AlarmCode::NotSupported,
                 at,
-                "@ must be followed by a command number",
-            )
-        })?;
-    c.i = next;
-    let code = int_value(n.value, at, "@ command")?;
-    push(&mut w.at_codes, (code, at as u32), at)?;
-    Ok(Next::Continue)
+                format!("@{code} is not supported by softnc"),
+            ));
+        };
+        if self.d.at_language {
+            self.c840_at(c, w, def.effect, code, at)?;
+        } else {
+            push(&mut w.at_codes, (code, at as u32), at)?;
+        }
+        Ok(Next::Continue)
+    }
 }
 
 /// `LF` as a word of its own: not followed by a letter, digit, point or sign.

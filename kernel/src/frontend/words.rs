@@ -108,6 +108,12 @@ pub struct Words {
 impl Words {
     /// No word at all besides the auxiliary ones (which the caller checks).
     pub fn is_empty(&self) -> bool {
+        self.only_calculation() && !self.calculation
+    }
+
+    /// No word besides assignments and the language's commands (and the auxiliary ones,
+    /// which the caller checks).
+    pub fn only_calculation(&self) -> bool {
         self.g.is_empty()
             && self.axis.iter().all(Option::is_none)
             && self.additional.iter().all(Option::is_none)
@@ -124,7 +130,6 @@ impl Words {
             && self.q.is_none()
             && self.lims.is_none()
             && self.corner.is_none()
-            && !self.calculation
             && !self.suppress
     }
 }

@@ -14,23 +14,20 @@ use crate::dialect::{AtEffect, MEffect};
 use crate::machine_data::DecimalInput;
 
 impl Interpreter<'_> {
-    /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC
-    /// is active (840C 11.4).
+    /// Step 3: `@` commands that act on the block (the word loop looked them up in the
+    /// dialect's table and ran the language's); some are forbidden while TRC is active (840C
+    /// 11.4).
     #[inline(always)]
     pub(super) fn at_commands(&mut self, w: &Words) -> R<()> {
         for &(code, at) in &w.at_codes {
             let Some(def) = self.d.at_command(code) else {
-                return Err(fault(
-                    AlarmCode::NotSupported,
-                    at,
-                    format!("@{code} is not supported by softnc"),
-                ));
+                continue;
             };
             if def.forbidden_with_trc && self.block.modal.trc != TrcSide::Off {
                 return Err(self.forbidden_with_trc(&format!("@{code}"), at));
             }
-            match def.effect {
-                AtEffect::PreprocessStop => self.block.preprocess_stop = true,
+            if def.effect == AtEffect::PreprocessStop {
+                self.block.preprocess_stop = true;
             }
         }
         Ok(())

@@ -27,8 +27,10 @@ pub(super) struct BlockCodes {
     pub numbered_at: Option<u32>,
     /// A tool length compensation code was written (Fanuc G43/G44/G49).
     pub length: bool,
-    /// The block's S is the spindle speed limit (840C G92).
+    /// The block's S is the spindle speed limit (840C G92, G26).
     pub spindle_limit: bool,
+    /// A spindle limit code (840C G92): the block sets the limit and nothing else.
+    pub limit_only: bool,
     /// A canned cycle code was written (Fanuc G81 …).
     pub cycle: Option<super::cycles::CycleKind>,
     /// A reference point return (its code; true for the second reference, G30).
@@ -140,6 +142,7 @@ impl Interpreter<'_> {
             frame: None,
             length: false,
             spindle_limit: false,
+            limit_only: false,
         };
         self.machine_coordinates = false;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
@@ -186,12 +189,19 @@ impl Interpreter<'_> {
                     new.feed_per_rev = on;
                 }
                 GEffect::ConstantSurfaceSpeed(on) => new.css = on,
-                GEffect::SpindleLimit => g.spindle_limit = true,
+                GEffect::SpindleLimit => {
+                    g.spindle_limit = true;
+                    g.limit_only = true;
+                }
                 GEffect::ToolLength(c) => {
                     new.length_comp = c;
                     g.length = true;
                 }
-                GEffect::WorkingArea { max } => g.working_area = Some(max),
+                GEffect::WorkingArea { max } => {
+                    g.working_area = Some(max);
+                    // 880: "maximum working area limitation/spindle speed limitation S".
+                    g.spindle_limit |= max;
+                }
                 GEffect::PoleHere => new.pole = self.cur,
                 GEffect::Unsupported(_) => {}
                 other => self.program_effect(other, code, at, &mut g)?,

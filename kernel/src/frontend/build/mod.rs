@@ -95,6 +95,9 @@ impl Interpreter<'_> {
             self.no_additional_axes(w, "a dwell block")?;
             return self.dwell(w, code, block_col);
         }
+        if g.limit_only {
+            self.no_set_actual_value(w)?;
+        }
         if let Some(max) = g.working_area {
             self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
             self.working_area(w, max, new.units);

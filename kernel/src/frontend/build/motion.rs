@@ -209,6 +209,29 @@ impl Interpreter<'_> {
         }
     }
 
+    /// A spindle limit block (840C G92 S) has no axis words: the same code as a "set actual
+    /// value" is not built, and its axes must not be read as a move.
+    pub(super) fn no_set_actual_value(&self, w: &Words) -> R<()> {
+        let written = |axes: &[Option<Val>], first: usize| {
+            let mut it = axes.iter().enumerate();
+            it.find_map(|(k, a)| a.map(|a| (k + first, a)))
+        };
+        match written(&w.axis, 0).or_else(|| written(&w.additional, 3)) {
+            Some((k, a)) => {
+                let code = self.d.codes_of(&[crate::dialect::GEffect::SpindleLimit]);
+                Err(fault(
+                    AlarmCode::NotSupported,
+                    a.at,
+                    format!(
+                        "{code} with axis words ({} here: setting the actual value) is not supported; with S it is the spindle speed limit",
+                        AXIS_NAMES[k]
+                    ),
+                ))
+            }
+            None => Ok(()),
+        }
+    }
+
     /// Additional axes move only in blocks neither inside a compensation run nor selecting
     /// or deselecting one: the tool radius compensation works in the plane of the geometry
     /// axes, and its inserted pieces could not share out a rotary move (docs/axes.md).
@@ -545,9 +568,10 @@ impl Interpreter<'_> {
     /// Step 8, 840C G25 (min) / G26 (max): the axis words are limits, in mm without zero
     /// offset (docs/dialects.md, "Working area G25/G26").
     pub(super) fn working_area(&mut self, w: &Words, max: bool, units: Units) {
-        self.area.limited = true;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
+                // Only a limit written takes the plain path away (G26 S alone limits nothing).
+                self.area.limited = true;
                 let v = self.length(*a, units);
                 if max {
                     self.area.max[i] = v;

@@ -5,9 +5,12 @@
 //!
 //! - [`isg`]: ISG `$IF`/`$ELSEIF`/`$ELSE`/`$ENDIF`, `$FOR`, `$WHILE`, `V.` assignments.
 //! - [`fanuc`]: Fanuc Custom Macro B `#i = …`, `IF`, `GOTO`, `WHILE … DO`/`END`, G65/G66.
+//! - [`siemens_840c`]: the 840C's R parameters (`R1=…`, `X R1`) and `@` commands with
+//!   operands; they stand among a block's words, so the word loop reads them.
 
 pub(super) mod fanuc;
 pub(super) mod isg;
+pub(super) mod siemens_840c;
 
 use super::fault::R;
 use super::interpreter::Interpreter;
