@@ -86,6 +86,7 @@ pub static DIALECT: Dialect = Dialect {
         f_seconds: false,
         p_millis: true,
         bare_seconds: false,
+        s_revolutions: false,
     },
     trc_not_linear: AlarmCode::FanucTrcNotLinear,
     trc_codes_need_linear_mode: true,

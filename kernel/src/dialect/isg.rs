@@ -102,6 +102,7 @@ pub static DIALECT: Dialect = Dialect {
         f_seconds: false,
         p_millis: false,
         bare_seconds: true,
+        s_revolutions: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
     trc_codes_need_linear_mode: false,

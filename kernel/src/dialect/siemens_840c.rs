@@ -117,6 +117,7 @@ pub static DIALECT: Dialect = Dialect {
         f_seconds: true,
         p_millis: false,
         bare_seconds: false,
+        s_revolutions: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
     trc_codes_need_linear_mode: false,

@@ -6,10 +6,12 @@
 //! - [`expr`]: arithmetic, comparisons, logic and the functions.
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
+//! - [`words`]: the path words of more than one letter (CIP, CT, AP=, RP=, TURN=, RNDM= …).
 
 pub(super) mod expr;
 pub(super) mod statements;
 pub(super) mod structure;
+pub(super) mod words;
 
 use super::fault::{fault, R};
 use crate::alarm::AlarmCode;
