@@ -56,7 +56,8 @@ pub enum GEffect {
     Plane(Plane),
     /// Inch or mm for lengths and feeds.
     Units(Units),
-    /// Inch or mm for lengths only; F keeps its unit (SINUMERIK G70/G71).
+    /// Inch or mm for lengths only; F is in the basic system, machine data's units
+    /// (SINUMERIK G70/G71).
     GeometryUnits(Units),
     Distance(Distance),
     Trc(TrcSide),

@@ -430,7 +430,7 @@ pub struct ModalState {
     pub distance: Distance,
     pub units: Units,
     /// The unit F is written in: `units`, except on SINUMERIK, where G70/G71 switch only
-    /// the geometry and G700/G710 the feed as well.
+    /// the geometry (F in machine data's units) and G700/G710 the feed as well.
     pub feed_units: Units,
     /// Path feed, mm/min.
     pub feed: f64,

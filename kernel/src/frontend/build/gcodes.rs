@@ -160,7 +160,11 @@ impl Interpreter<'_> {
                     new.units = u;
                     new.feed_units = u;
                 }
-                GEffect::GeometryUnits(u) => new.units = u,
+                GEffect::GeometryUnits(u) => {
+                    // F is in the basic system (808D "Inch and metric dimensioning").
+                    new.units = u;
+                    new.feed_units = self.md.program.units;
+                }
                 GEffect::Distance(x) => new.distance = x,
                 GEffect::Trc(side) => {
                     // A frame that turns the plane over turns G41 into G42 (frame.rs).
