@@ -451,6 +451,19 @@ mod tests {
             (None, Some("M30"))
         );
         assert_eq!(moves("G3 X-10 Y0 I-5 TURN=0 F1\n").len(), 1);
+        // CT continues the helix's last piece, also while RNDM holds blocks back: at
+        // (−10,0) counter-clockwise about (0,0) it heads −Y; to (−20,−10): n = (1,0),
+        // n·d = −10, s = −10: centre (−20,0), clockwise.
+        for rndm in ["", "RNDM=1 "] {
+            let got = moves(&format!(
+                "G0 X10 Y0\n{rndm}G3 X-10 Y0 I-10 TURN=1 F100\nCT X-20 Y-10\n"
+            ));
+            let ct = got.last().unwrap();
+            assert!(
+                ct.0 == ArcCw && near(ct.2, [-20.0, 0.0, 0.0]),
+                "{rndm}{got:?}"
+            );
+        }
         assert_eq!(
             alarm("G3 X-10 Y0 I-5 TURN=1.5 F1\n"),
             (AlarmCode::BadNumber, 1, 16)

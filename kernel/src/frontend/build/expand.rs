@@ -171,13 +171,16 @@ impl Interpreter<'_> {
             self.after_block()?;
             return Ok(false);
         };
-        self.remember_move();
         let b = &mut self.block;
         let (line, col, number) = (b.line, b.col, b.number);
         super::reset(b, line, col, number);
         b.words.clear();
         let mut modal = b.modal;
         self.apply_step(step, &mut modal);
+        if let (true, Some(m)) = (self.d.sinumerik, self.block.motion) {
+            // The element a SINUMERIK CT continues (a helix's last turn).
+            self.last_move = Some(m);
+        }
         self.block.modal = modal;
         if let Some(e) = self.expansion.as_mut() {
             if e.done() {

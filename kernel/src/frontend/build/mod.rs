@@ -221,7 +221,8 @@ impl Interpreter<'_> {
 impl Interpreter<'_> {
     /// SINUMERIK CT: the move of the block handed out last (a plain block's too) is the
     /// path element the next tangent circle continues. Called before the block is reset;
-    /// while corner elements are in play the blocks built are remembered instead (finish).
+    /// while corner elements are in play the blocks built are remembered instead (finish),
+    /// and an expansion's moves as they are made (`next_expanded`).
     #[inline(always)]
     pub(in crate::frontend) fn remember_move(&mut self) {
         if self.d.sinumerik && self.corners.is_none() {

@@ -246,14 +246,14 @@ mod tests {
 
     #[test]
     fn sinumerik_inch_codes_switch_the_feed_only_with_g700() {
-        // 808D "Inch and metric dimensioning": G70 lengths in inch, F still mm/min; G700
-        // both. X1 is 25.4 mm either way.
+        // 808D "Inch and metric dimensioning": G70 lengths in inch, F in the machine's
+        // mm/min; G700 both. X1 is 25.4 mm either way; G71 F10 is 10 mm/min again.
         let b = run("siemens-840d", "G70 F10 G1 X1\nG700 F10 X2\nG71 F10\n").unwrap();
         let got: Vec<(f64, f64)> = b
             .iter()
             .map(|b| (b.modal.feed, b.motion.map_or(0.0, |m| m.end[0])))
             .collect();
-        assert_eq!(got, [(10.0, 25.4), (254.0, 50.8), (254.0, 0.0)]);
+        assert_eq!(got, [(10.0, 25.4), (254.0, 50.8), (10.0, 0.0)]);
     }
 
     #[test]
