@@ -126,6 +126,7 @@ pub static DIALECT: Dialect = Dialect {
     lims_word: false,
     diameter_words: false,
     o_numbers: true,
+    helix_turns: 0,
     macro_b: true,
     sinumerik: false,
     incremental_words: false,

@@ -88,6 +88,7 @@ pub static DIALECT: Dialect = Dialect {
     lims_word: false,
     diameter_words: false,
     o_numbers: false,
+    helix_turns: 0,
     macro_b: false,
     sinumerik: false,
     incremental_words: false,

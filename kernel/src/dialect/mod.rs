@@ -311,6 +311,8 @@ pub struct Dialect {
     pub lims_word: bool,
     /// Fanuc `O` program numbers.
     pub o_numbers: bool,
+    /// The most full turns a helix takes before its end point (SINUMERIK `TURN=`).
+    pub helix_turns: u16,
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
     /// The SINUMERIK language (808D/828D/840D sl): R parameters, `X=expr`, DEF, IF/WHILE/FOR/

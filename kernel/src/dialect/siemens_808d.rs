@@ -93,6 +93,8 @@ pub(super) const BASE: Dialect = Dialect {
     lims_word: true,
     diameter_words: true,
     o_numbers: false,
+    // Fundamentals, "Helical interpolation (G2/G3, TURN)": TURN= 0 … 999.
+    helix_turns: 999,
     macro_b: false,
     sinumerik: true,
     incremental_words: false,

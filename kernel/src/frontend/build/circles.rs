@@ -13,9 +13,6 @@ use super::motion::{diameter_factor, feed_programmed};
 use crate::alarm::AlarmCode;
 use crate::dialect::GEffect;
 
-/// The most full turns TURN= takes (Fundamentals, "Helical interpolation": 0 … 999).
-pub const MAX_TURNS: f64 = 999.0;
-
 /// An intermediate point closer than this to the line through start and end point gives no
 /// circle (mm).
 const COLLINEAR: f64 = 1e-6;
@@ -191,12 +188,12 @@ impl Interpreter<'_> {
     /// (G2/G3, TURN)": first the full circles, then the end point). The first turn is the
     /// block's move; the rest follow as moves of their own.
     pub(super) fn helix_turns(&mut self, turn: Val, new: &ModalState) -> R<()> {
-        let n = turn.value;
-        if !(0.0..=MAX_TURNS).contains(&n) || n.fract() != 0.0 {
+        let (n, most) = (turn.value, self.d.helix_turns);
+        if !(0.0..=most as f64).contains(&n) || n.fract() != 0.0 {
             return Err(fault(
                 AlarmCode::BadNumber,
                 turn.at,
-                format!("TURN= is a whole number from 0 to {MAX_TURNS}, not {n}"),
+                format!("TURN= is a whole number from 0 to {most}, not {n}"),
             ));
         }
         let arc = self.block.motion.filter(|m| m.kind.is_arc());
