@@ -975,3 +975,355 @@ fn s69_mirror_incremental() {
         ],
     );
 }
+
+/// The moves' kinds and centres, for the circles' checks.
+fn arcs(b: &[Block]) -> Vec<(MotionKind, P)> {
+    b.iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| m.kind.is_arc())
+        .map(|m| (m.kind, m.center))
+        .collect()
+}
+
+fn assert_arcs(file: &str, b: &[Block], want: &[(MotionKind, P)]) {
+    let got = arcs(b);
+    assert_eq!(got.len(), want.len(), "{file}: arcs {got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            g.0 == w.0 && (0..3).all(|i| (g.1[i] - w.1[i]).abs() <= TOL),
+            "{file}: arc {g:?}, by hand {w:?}"
+        );
+    }
+}
+
+#[test]
+fn s80_polar_poles() {
+    let r = 20.0 * 2f64.sqrt();
+    let f = "s80_polar_poles.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [70.0, 20.0, 2.0],         // pole (30, 20), RP 40 at 0°
+            [30.0, 60.0, 2.0],         // AP=90, RP kept
+            [30.0 - r, 20.0 + r, 2.0], // AP=IC(45): 135°
+            [40.0, 20.0, 2.0],         // G91 AP=−135: 0°, RP=10
+            [45.0, 5.0, -3.0],         // G110: pole (45, 20); 270°, Z as written
+            [10.0, 30.0, -3.0],        // G112: pole (30, 30); 180°
+            [0.0, 25.0, -3.0],         // G111 RP=50 AP=90: pole (0, 50); −90°
+            [0.0, 25.0, 20.0],
+        ],
+    );
+    // The pole blocks move nothing.
+    for n in [30, 80, 100, 120] {
+        assert!(block(f, &b, n).motion.is_none(), "{f}: N{n}");
+    }
+}
+
+#[test]
+fn s81_polar_hole_circle() {
+    let at = |deg: f64, r: f64| {
+        let a = deg.to_radians();
+        (50.0 + r * a.cos(), 50.0 + r * a.sin())
+    };
+    let mut want = vec![[0.0, 0.0, 2.0]];
+    for k in 0..6 {
+        let (x, y) = at(15.0 + 60.0 * k as f64, 25.0);
+        want.extend([[x, y, 2.0], [x, y, -5.0], [x, y, 2.0]]);
+    }
+    want.extend([
+        [90.0, 50.0, 2.0],
+        [90.0, 50.0, -2.0],
+        [50.0, 90.0, -2.0], // G3 AP=90 about the pole, radius 40
+        [10.0, 50.0, -2.0], // AP=IC(90): 180°
+        [50.0, 90.0, -4.0], // G2 AP=90 with Z: a helix
+        [50.0, 90.0, 20.0],
+    ]);
+    let f = "s81_polar_hole_circle.mpf";
+    let b = clean(f, &want);
+    let c = |z: f64| [50.0, 50.0, z];
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, c(-2.0)),
+            (MotionKind::ArcCcw, c(-2.0)),
+            (MotionKind::ArcCw, c(-2.0)),
+        ],
+    );
+}
+
+#[test]
+fn s82_cip() {
+    let f = "s82_cip.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -2.0],
+            [40.0, 0.0, -2.0], // over (20, 20)
+            [40.0, -10.0, -2.0],
+            [0.0, -10.0, -2.0], // G91: over (20, −30)
+            [0.0, 0.0, -2.0],
+            [30.0, 30.0, -2.0], // X=IC(30) Y=IC(30) over I1=AC(30) J1=AC(0)
+            [30.0, 30.0, 20.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCw, [20.0, 0.0, -2.0]),
+            (MotionKind::ArcCw, [20.0, -10.0, -2.0]),
+            (MotionKind::ArcCcw, [15.0, 15.0, -2.0]),
+        ],
+    );
+}
+
+#[test]
+fn s83_ct() {
+    let f = "s83_ct.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -1.0],
+            [20.0, 0.0, -1.0],
+            [40.0, 20.0, -1.0], // CT about (20, 20)
+            [20.0, 40.0, -1.0], // CT about (20, 20) again
+            [0.0, 40.0, -1.0],  // on the tangent: a line
+            [0.0, 30.0, -1.0],
+            [10.0, 20.0, -3.0], // CT about (10, 30) with Z
+            [10.0, 20.0, 20.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [20.0, 20.0, -1.0]),
+            (MotionKind::ArcCcw, [20.0, 20.0, -1.0]),
+            (MotionKind::ArcCcw, [10.0, 30.0, -1.0]),
+        ],
+    );
+    assert_eq!(block(f, &b, 70).motion.unwrap().kind, MotionKind::Linear);
+}
+
+#[test]
+fn s84_helix_turn() {
+    let f = "s84_helix_turn.mpf";
+    let b = clean(
+        f,
+        &[
+            [50.0, 30.0, 5.0],
+            [50.0, 30.0, 0.0],
+            [50.0, 30.0, -2.0], // TURN=2 on a full circle: three turns of −2
+            [50.0, 30.0, -4.0],
+            [50.0, 30.0, -6.0],
+            [50.0, 30.0, -8.0], // TURN=1 and a half circle: 3 over 3π, −2 a turn
+            [30.0, 30.0, -9.0],
+            [40.0, 30.0, -9.0],
+            [40.0, 30.0, 20.0],
+        ],
+    );
+    let c = |z: f64| [40.0, 30.0, z];
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCw, c(0.0)),
+            (MotionKind::ArcCw, c(-2.0)),
+            (MotionKind::ArcCw, c(-4.0)),
+            (MotionKind::ArcCcw, c(-6.0)),
+            (MotionKind::ArcCcw, c(-8.0)),
+        ],
+    );
+    // Every turn belongs to its programmed block.
+    let lines: Vec<u32> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| b.line)
+        .collect();
+    assert_eq!(lines, [13, 14, 15, 15, 15, 16, 16, 17, 18]);
+}
+
+#[test]
+fn s85_rndm_frc() {
+    let f = "s85_rndm_frc.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -2.0],
+            [55.0, 0.0, -2.0],
+            [60.0, 5.0, -2.0], // RNDM=5 about (55, 5)
+            [60.0, 32.0, -2.0],
+            [52.0, 40.0, -2.0], // RND=8 about (52, 32)
+            [3.0, 40.0, -2.0],
+            [0.0, 37.0, -2.0], // CHR=3
+            [0.0, 0.0, -2.0],  // RNDM=0: no rounding at (0, 0)
+            [30.0, 0.0, -2.0],
+            [30.0, 0.0, 20.0],
+        ],
+    );
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| b.modal.feed)
+        .collect();
+    assert_eq!(
+        feeds[1..10],
+        [500.0, 500.0, 100.0, 500.0, 60.0, 500.0, 100.0, 500.0, 500.0],
+        "{f}: FRCM 100, FRC 60 for N50's element only"
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [55.0, 5.0, -2.0]),
+            (MotionKind::ArcCcw, [52.0, 32.0, -2.0]),
+        ],
+    );
+}
+
+/// The tool-centre path of a program: `softnc path`'s segments.
+fn tool_centre(file: &str) -> Vec<nc_kernel::Segment> {
+    let text = std::fs::read_to_string(path_of(file)).expect("program");
+    nc_kernel::prepare(file, &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{file}: {a}"))
+}
+
+#[test]
+fn s86_rnd_g41_equidistant() {
+    use nc_kernel::{Role, Shape};
+    let f = "s86_rnd_g41_equidistant.mpf";
+    clean(
+        f,
+        &[
+            [-20.0, -20.0, 2.0],
+            [-20.0, -20.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [0.0, 30.0, -3.0],
+            [10.0, 40.0, -3.0], // RND=10 about (10, 30)
+            [40.0, 40.0, -3.0],
+            [50.0, 30.0, -3.0], // RND=10 about (40, 30)
+            [50.0, 0.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [-20.0, -20.0, -3.0],
+            [-20.0, -20.0, 20.0],
+        ],
+    );
+    // The tool centre, by hand (the header): offset 5 to the left; the roundings' equidistants
+    // are arcs about their centres with radius 15. (from, to, centre) in X Y; Z is −3 plus
+    // the tool length 80.
+    type Xy = [f64; 2];
+    let want: [(Role, Xy, Xy, Option<Xy>); 9] = [
+        (Role::Approach, [-20.0, -20.0], [-5.0, 0.0], None),
+        (Role::Contour, [-5.0, 0.0], [-5.0, 30.0], None),
+        (
+            Role::Contour,
+            [-5.0, 30.0],
+            [10.0, 45.0],
+            Some([10.0, 30.0]),
+        ),
+        (Role::Contour, [10.0, 45.0], [40.0, 45.0], None),
+        (
+            Role::Contour,
+            [40.0, 45.0],
+            [55.0, 30.0],
+            Some([40.0, 30.0]),
+        ),
+        (Role::Contour, [55.0, 30.0], [55.0, 0.0], None),
+        (Role::Corner, [55.0, 0.0], [50.0, -5.0], Some([50.0, 0.0])),
+        (Role::Contour, [50.0, -5.0], [0.0, -5.0], None),
+        (Role::Retract, [0.0, -5.0], [-20.0, -20.0], None),
+    ];
+    let segs = tool_centre(f);
+    let in_plane: Vec<_> = segs
+        .iter()
+        .filter(|s| s.from[2] == -3.0 + 80.0 && s.to[2] == -3.0 + 80.0)
+        .collect();
+    assert_eq!(in_plane.len(), want.len(), "{f}: {in_plane:#?}");
+    let xy = |p: [f64; 3]| [p[0], p[1]];
+    let near = |a: Xy, b: Xy| (a[0] - b[0]).abs() <= TOL && (a[1] - b[1]).abs() <= TOL;
+    for (s, (role, from, to, centre)) in in_plane.iter().zip(want) {
+        assert!(
+            s.role == role && near(xy(s.from), from) && near(xy(s.to), to),
+            "{f}: {s:?}, by hand {role:?} {from:?} -> {to:?}"
+        );
+        match (s.shape, centre) {
+            (Shape::Line, None) => {}
+            (
+                Shape::Arc {
+                    center,
+                    r0,
+                    r1,
+                    ccw,
+                    ..
+                },
+                Some(c),
+            ) => {
+                let r = if role == Role::Corner { 5.0 } else { 15.0 };
+                assert!(near(xy(center), c) && !ccw, "{f}: {s:?}");
+                assert!((r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL, "{f}: {s:?}");
+            }
+            _ => panic!("{f}: {s:?}, by hand centre {centre:?}"),
+        }
+    }
+}
+
+#[test]
+fn s87_dwell_units_exact_stop() {
+    let f = "s87_dwell_units_exact_stop.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -1.0],
+            [10.0, 0.0, -1.0],
+            [20.0, 0.0, -1.0],
+            [25.4, 0.0, -1.0],  // G700 X1
+            [25.4, 25.4, -1.0], // G70 Y1
+            [30.0, 0.0, -1.0],
+            [30.0, 0.0, 20.0],
+        ],
+    );
+    assert_eq!(block(f, &b, 40).dwell, Some(1.5));
+    assert_eq!(
+        block(f, &b, 50).dwell,
+        Some(1.5),
+        "{f}: 30 rev at 1200 rev/min"
+    );
+    assert!(block(f, &b, 50).words.is_empty(), "{f}: G4's S is no speed");
+    let stops = |n: u32| (block(f, &b, n).exact_stop, block(f, &b, n).modal.exact_stop);
+    assert_eq!(
+        [stops(60), stops(70), stops(80)],
+        [(true, false), (false, true), (false, false)]
+    );
+    let feed = |n: u32| block(f, &b, n).modal.feed;
+    assert_eq!([feed(90), feed(100), feed(110)], [254.0, 10.0, 500.0]);
+}
+
+#[test]
+fn s88_alarm_cip_collinear() {
+    let a = stops(
+        "s88_alarm_cip_collinear.mpf",
+        &[[0.0, 0.0, 2.0], [0.0, 0.0, -1.0]],
+        AlarmCode::ArcEndPoint,
+        7,
+        17,
+    );
+    assert_eq!(a.number(), 14040);
+}
+
+#[test]
+fn s89_alarm_ct_without_element() {
+    let a = stops(
+        "s89_alarm_ct_without_element.mpf",
+        &[],
+        AlarmCode::MissingValue,
+        5,
+        5,
+    );
+    assert_eq!(a.number(), 14045);
+}

@@ -12,8 +12,8 @@ mod siemens_840d;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
-    SelectionPolicy, SpindleDir, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, FeedType, LengthComp, MotionMode, Plane, PoleOrigin,
+    ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
 };
 pub use crate::frontend::{CornerKind, CycleKind};
 use crate::machine_data::{DialectName, Units};
@@ -54,7 +54,11 @@ pub enum GEffect {
     /// Modal exact stop on (true) or continuous-path mode (false).
     ExactStopModal(bool),
     Plane(Plane),
+    /// Inch or mm for lengths and feeds.
     Units(Units),
+    /// Inch or mm for lengths only; F is in the basic system, machine data's units
+    /// (SINUMERIK G70/G71).
+    GeometryUnits(Units),
     Distance(Distance),
     Trc(TrcSide),
     Corner(CornerPolicy),
@@ -79,6 +83,10 @@ pub enum GEffect {
     FeedPerRevolution(bool),
     /// Constant surface speed on (true) or spindle speed in rev/min (false): G96/G97.
     ConstantSurfaceSpeed(bool),
+    /// Feed type and constant cutting speed in one group (SINUMERIK G94 … G97).
+    FeedType(FeedType),
+    /// The block defines the pole of polar coordinates (SINUMERIK G110, G111, G112).
+    Pole(PoleOrigin),
     /// The block's S is the spindle speed limit (840C G92).
     SpindleLimit,
     /// Cancels the modal canned cycle (Fanuc G80).
@@ -131,7 +139,7 @@ impl GEffect {
             GEffect::ExactStopBlock => 3,
             GEffect::ExactStopModal(_) => 4,
             GEffect::Plane(_) => 5,
-            GEffect::Units(_) => 6,
+            GEffect::Units(_) | GEffect::GeometryUnits(_) => 6,
             GEffect::Distance(_) => 7,
             GEffect::Trc(_) => 8,
             GEffect::Corner(_) => 9,
@@ -142,7 +150,7 @@ impl GEffect {
             GEffect::WorkOffset(_) | GEffect::NumberedWorkOffset => 14,
             GEffect::MachineCoordinates => 18,
             GEffect::ToolLength(_) => 19,
-            GEffect::FeedPerRevolution(_) => 20,
+            GEffect::FeedPerRevolution(_) | GEffect::FeedType(_) => 20,
             GEffect::ConstantSurfaceSpeed(_) => 21,
             GEffect::SpindleLimit => 22,
             GEffect::CycleCancel | GEffect::Cycle(_) => 23,
@@ -156,6 +164,7 @@ impl GEffect {
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
+            GEffect::Pole(_) => 32,
             GEffect::Unsupported(_) => 17,
         }
     }
@@ -352,6 +361,8 @@ pub struct DwellWords {
     pub p_millis: bool,
     /// A bare number after G04 (ISG `G04 3.0`).
     pub bare_seconds: bool,
+    /// Spindle revolutions under S (SINUMERIK `G4 S…`).
+    pub s_revolutions: bool,
 }
 
 /// Lexical and structural rules of one control's program language.
@@ -385,6 +396,8 @@ pub struct Dialect {
     pub lims_word: bool,
     /// Fanuc `O` program numbers.
     pub o_numbers: bool,
+    /// The most full turns a helix takes before its end point (SINUMERIK `TURN=`).
+    pub helix_turns: u16,
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
     /// The SINUMERIK language (808D/828D/840D sl): R parameters, `X=expr`, DEF, IF/WHILE/FOR/

@@ -5,7 +5,8 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
+    CornerPolicy, Distance, FeedType, MotionMode, Plane, PoleOrigin, ProgramStop, SelectionPolicy,
+    SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -39,14 +40,20 @@ pub(super) const COMMON: &[GCodeDef] = &[
     g(57, WorkOffset(4)),
     g(60, ExactStopModal(true)),
     g(64, ExactStopModal(false)),
-    g(70, Units(Units::Inch)),
-    g(71, Units(Units::Mm)),
+    // 808D "Inch and metric dimensioning": G70/G71 the geometry only, G700/G710 the feed too.
+    g(70, GeometryUnits(Units::Inch)),
+    g(71, GeometryUnits(Units::Mm)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
-    g(94, FeedPerRevolution(false)),
-    g(95, FeedPerRevolution(true)),
-    g(96, ConstantSurfaceSpeed(true)),
-    g(97, ConstantSurfaceSpeed(false)),
+    // Fundamentals, "Feedrate control": one group; G96 switches G95 on, G97 keeps the type.
+    g(94, FeedType(FeedType::PerMinute)),
+    g(95, FeedType(FeedType::PerRevolution)),
+    g(96, FeedType(FeedType::CuttingSpeed)),
+    g(97, FeedType(FeedType::CuttingSpeedOff)),
+    // Fundamentals, "Defining the pole": from the last position, the zero, the last pole.
+    g(110, Pole(PoleOrigin::LastPosition)),
+    g(111, Pole(PoleOrigin::WorkZero)),
+    g(112, Pole(PoleOrigin::LastPole)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
     g(500, WorkOffset(0)),
     g(
@@ -93,6 +100,8 @@ pub(super) const BASE: Dialect = Dialect {
     lims_word: true,
     diameter_words: true,
     o_numbers: false,
+    // Fundamentals, "Helical interpolation (G2/G3, TURN)": TURN= 0 … 999.
+    helix_turns: 999,
     macro_b: false,
     sinumerik: true,
     incremental_words: false,
@@ -107,6 +116,8 @@ pub(super) const BASE: Dialect = Dialect {
         f_seconds: true,
         p_millis: false,
         bare_seconds: false,
+        // Fundamentals, "Dwell time (G4)": S is the master spindle's revolutions.
+        s_revolutions: true,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
     trc_codes_need_linear_mode: false,

@@ -70,6 +70,11 @@ pub struct Interpreter<'a> {
     pub(super) corners: Option<Box<Corners<'a>>>,
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
+    /// SINUMERIK polar coordinates: the pole, the last polar angle and radius (G110 … G112,
+    /// AP=, RP=).
+    pub(super) polar: super::build::Polar,
+    /// SINUMERIK: the last path element, which CT continues tangentially.
+    pub(super) last_move: Option<Motion>,
     pub(super) finished: bool,
     /// SINUMERIK: the program's structures are still to be read (before its first block).
     pub(super) structure_pending: bool,
@@ -126,6 +131,8 @@ impl<'a> Interpreter<'a> {
             cycle_to_initial: true,
             corners: None,
             machine_coordinates: false,
+            polar: Default::default(),
+            last_move: None,
             finished: false,
             structure_pending: d.sinumerik,
             plain_path: true,
@@ -303,6 +310,7 @@ impl<'a> Interpreter<'a> {
             && self.cycle.is_none()
             && !self.coords.frame.active()
             && self.coords.polar.is_none()
+            && self.corners.is_none()
     }
 
     /// At the end of a called program's text: it has no M99 (a fault at its O line).
@@ -401,6 +409,7 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         plane,
         distance: Distance::Absolute,
         units: md.program.units,
+        feed_units: md.program.units,
         feed: 0.0,
         spindle: 0.0,
         spindle_dir: SpindleDir::Stop,
@@ -415,6 +424,7 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         exact_stop: false,
         work_offset: d.initial_work_offset,
         diameter: md.program.diameter_programming,
+        radius_incremental: false,
         tool: None,
         d: 0,
         radius: 0.0,

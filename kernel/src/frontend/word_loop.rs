@@ -43,9 +43,18 @@ impl Interpreter<'_> {
                 }
             };
             c.i += 1;
-            if self.d.sinumerik && matches!(c.peek(), Some(b'=')) {
-                self.sinumerik_word(c, w, letter, at)?;
-                continue;
+            if self.d.sinumerik {
+                match (c.peek(), letter) {
+                    (Some(b'='), _) => {
+                        self.sinumerik_word(c, w, letter, at)?;
+                        continue;
+                    }
+                    (Some(b'1'), b'I'..=b'K') if c.peek_at(1) == Some(b'=') => {
+                        self.intermediate_word(c, w, letter, at)?;
+                        continue;
+                    }
+                    _ => {}
+                }
             }
             let v = self.value(c, at, "")?;
             if v.value.is_nan() {
@@ -155,7 +164,9 @@ impl Interpreter<'_> {
         let Some(letter) = c.letter() else {
             return self.not_a_letter(c, w, ch, at);
         };
-        if self.d.sinumerik && self.sinumerik_assignment(c, w, at)? {
+        if self.d.sinumerik
+            && (self.sinumerik_assignment(c, w, at)? || self.sinumerik_path_word(c, w, at)?)
+        {
             return Ok(Next::Continue);
         }
         if self.d.sinumerik && letter == b'S' && c.keyword("SUPA") {
@@ -267,7 +278,7 @@ impl Interpreter<'_> {
             .is_some_and(|def| def.effect == GEffect::Dwell)
     }
 
-    /// The multi-letter words of the dialect (`LF`, `CR=`, `DIAMON`/`DIAMOF`, `V.` variable
+    /// The multi-letter words of the dialect (`LF`, `CR=`, `DIAMON`/`DIAMOF`/`DIAM90`, `V.` variable
     /// assignments); `None` if the text at the cursor is none of them.
     fn multi_letter(
         &mut self,
@@ -286,7 +297,7 @@ impl Interpreter<'_> {
         {
             return self.cr_equals(c, w, at).map(Some);
         }
-        if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
+        if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF") || c.keyword("DIAM90")) {
             return diameter_switch(c, w, at).map(Some);
         }
         if d.lims_word && c.keyword("LIMS") {
@@ -521,15 +532,22 @@ fn lf_block_end(c: &mut Cursor) -> R<Next> {
     }
 }
 
-/// 808D `DIAMON` / `DIAMOF`: diameter programming on or off.
+/// 808D `DIAMON` / `DIAMOF` / `DIAM90`: diameter programming on, off, or for absolute
+/// dimensions only (808D Turning, "Positional data").
 fn diameter_switch(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-    let on = c.keyword("DIAMON");
+    let word = if c.keyword("DIAMON") {
+        DiameterWord::On
+    } else if c.keyword("DIAMOF") {
+        DiameterWord::Off
+    } else {
+        DiameterWord::Absolute
+    };
     c.i += 6;
-    if w.diameter.replace(on).is_some() {
+    if w.diameter.replace(word).is_some() {
         return Err(fault(
             AlarmCode::AddressTwice,
             at,
-            "DIAMON/DIAMOF twice in one block",
+            "DIAMON/DIAMOF/DIAM90 twice in one block",
         ));
     }
     Ok(Next::Continue)

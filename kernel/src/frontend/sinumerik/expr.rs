@@ -375,6 +375,7 @@ pub fn is_reserved(name: &str) -> bool {
         "TRUE" | "FALSE" | "NOT" | "AND" | "OR" | "XOR" | "DIV" | "MOD" | "TO"
     ) || name.starts_with("B_")
         || FUNCTIONS.iter().any(|f| f.0 == name)
+        || super::words::is_path_word(name)
 }
 
 /// `R12` → 12 (`R01` is R1).

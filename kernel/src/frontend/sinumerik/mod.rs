@@ -7,6 +7,7 @@
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
 //! - [`frames`]: the frame statements TRANS, ROT, SCALE, MIRROR and their additive forms.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
+//! - [`words`]: the path words of more than one letter (CIP, CT, AP=, RP=, TURN=, RNDM= …).
 
 pub(super) mod cycles;
 pub(super) mod expr;
@@ -14,6 +15,7 @@ mod frames;
 pub(super) mod statements;
 pub(super) mod structure;
 pub(super) mod system;
+pub(super) mod words;
 
 use super::fault::{fault, R};
 use crate::alarm::AlarmCode;

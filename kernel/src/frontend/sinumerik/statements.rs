@@ -741,8 +741,8 @@ impl Interpreter<'_> {
     }
 
     /// `X=expr`, `X=AC(expr)`, `X=IC(expr)` (the cursor on the `=`): the word with its value;
-    /// AC and IC make this axis absolute or incremental in this block only (Fundamentals,
-    /// "Absolute and incremental dimensions").
+    /// AC and IC make this axis absolute or incremental in this block only, and `I=AC(…)` a
+    /// centre coordinate absolute (Fundamentals, "Absolute and incremental dimensions").
     pub(in crate::frontend) fn sinumerik_word(
         &mut self,
         c: &mut Cursor,
@@ -752,37 +752,29 @@ impl Interpreter<'_> {
     ) -> R<()> {
         c.i += 1;
         c.skip_blanks();
-        let mode = if c.keyword("AC") || c.keyword("IC") {
-            let m = c.letter();
-            let mut probe = *c;
-            probe.i += 2;
-            probe.skip_blanks();
-            (probe.peek() == Some(b'('))
-                .then(|| {
-                    *c = probe;
-                    m
-                })
-                .flatten()
-        } else {
-            None
-        };
+        let mode = super::words::dimension_mode(c);
         let value = expr::eval(c, &self.sinumerik.store)?;
-        let axis = matches!(letter, b'X'..=b'Z').then(|| (letter - b'X') as usize);
-        match (mode, axis) {
+        match (mode, letter) {
             (None, _) => {}
-            (Some(m), Some(i)) => {
-                let bit = 1u8 << i;
+            (Some(m), b'X'..=b'Z') => {
+                let bit = 1u8 << (letter - b'X');
                 if m == b'I' {
                     w.incremental |= bit;
                 } else {
                     w.absolute |= bit;
                 }
             }
-            (Some(_), None) => {
+            // I J K are offsets from the start: IC() is what they are anyway.
+            (Some(m), b'I'..=b'K') => {
+                if m == b'A' {
+                    w.centre_absolute |= 1 << (letter - b'I');
+                }
+            }
+            (Some(_), _) => {
                 return Err(fault(
                     AlarmCode::NotSupported,
                     at,
-                    "AC()/IC() on an address other than X, Y, Z",
+                    "AC()/IC() on an address other than X, Y, Z, I, J, K",
                 ));
             }
         }
