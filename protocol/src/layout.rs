@@ -44,7 +44,7 @@ fn field_size<T, F>(_: fn(&T) -> &F) -> usize {
 }
 
 macro_rules! payload {
-    ($t:ident { $($f:ident),* $(,)? }) => {
+    ($t:ident: $($f:ident),* $(,)?) => {
         PayloadLayout {
             rust: stringify!($t),
             // SAFETY: reads the name `#[type_name]` gave; nothing is assumed about a layout.
@@ -63,34 +63,27 @@ macro_rules! payload {
 /// Every payload, in the order of [`layouts`] (nested ones before the types holding them).
 pub fn payloads() -> Vec<PayloadLayout> {
     vec![
-        payload!(AxisList { names, count, _pad, kinds }),
-        payload!(SetpointMsg {
-            seq, cycle, sent_ns, deadline_ns, cycle_us, line, pos, v_path, state, axes,
-            spindles, spindle_mode, _pad, spindle,
-        }),
-        payload!(AuxWordMsg { address, _pad, value }),
-        payload!(AuxRequest { id, cycle, line, count, words, wait, _pad }),
-        payload!(AuxAck { id, alarm, _pad }),
-        payload!(PlcSignals {
-            seq, echo_cycle, feed_hold, read_in_disable, drives_ready, emergency_stop, alarm,
-            spindle_rpm,
-        }),
-        payload!(ActualValues {
-            seq, cycle, pos, following_error, spindle_rpm, tool, aux_acked, plc_alarm, _pad,
-        }),
-        payload!(KernelStatus {
-            seq, cycle, program, line, pos, axes, v_path, override_, alarm, aux_sent,
-            aux_acked, tools_version, plc_cycle, state, single_block, plc_alive, role, skipped,
-            block_seq, piece, along, work_offsets_version, work_offset, tool, edge, spindle,
-        }),
-        payload!(Command {
-            kind, d, value, flag, _pad, text_len, t, text, axis_mask, _pad2, axis_values,
-        }),
-        payload!(Reply { ok, _pad, len, alarm, tools_version, work_offsets_version, message }),
-        payload!(ToolEntry { t, d, radius, radius_wear, length, length_wear }),
-        payload!(ToolTableMsg { version, count, saved, truncated, _pad, entries }),
-        payload!(WorkOffsetEntry { name, values }),
-        payload!(WorkOffsetsMsg { version, count, saved, _pad, axes, entries }),
+        payload!(AxisList: names, count, _pad, kinds),
+        payload!(SetpointMsg: seq, cycle, sent_ns, deadline_ns, cycle_us, line, pos, v_path, state,
+            axes, spindles, spindle_mode, _pad, spindle),
+        payload!(AuxWordMsg: address, _pad, value),
+        payload!(AuxRequest: id, cycle, line, count, words, wait, _pad),
+        payload!(AuxAck: id, alarm, _pad),
+        payload!(PlcSignals: seq, echo_cycle, feed_hold, read_in_disable, drives_ready,
+            emergency_stop, alarm, spindle_rpm),
+        payload!(ActualValues: seq, cycle, pos, following_error, spindle_rpm, tool, aux_acked,
+            plc_alarm, _pad),
+        payload!(KernelStatus: seq, cycle, program, line, pos, axes, v_path, override_, alarm,
+            aux_sent, aux_acked, tools_version, plc_cycle, state, single_block, plc_alive, role,
+            skipped, block_seq, piece, along, work_offsets_version, work_offset, tool, edge,
+            spindle),
+        payload!(Command: kind, d, value, flag, _pad, text_len, t, text, axis_mask, _pad2,
+            axis_values),
+        payload!(Reply: ok, _pad, len, alarm, tools_version, work_offsets_version, message),
+        payload!(ToolEntry: t, d, radius, radius_wear, length, length_wear),
+        payload!(ToolTableMsg: version, count, saved, truncated, _pad, entries),
+        payload!(WorkOffsetEntry: name, values),
+        payload!(WorkOffsetsMsg: version, count, saved, _pad, axes, entries),
     ]
 }
 

@@ -53,7 +53,9 @@ fn leading_number(comment: &str) -> usize {
         .chars()
         .take_while(char::is_ascii_digit)
         .collect();
-    digits.parse().unwrap_or_else(|_| panic!("no offset in {comment:?}"))
+    digits
+        .parse()
+        .unwrap_or_else(|_| panic!("no offset in {comment:?}"))
 }
 
 /// `uint8_t names[SOFTNC_MAX_AXES]; /*    0: … */` → (name, offset, size).
@@ -65,7 +67,11 @@ fn c_field(line: &str) -> (String, usize, usize) {
         Some((n, len)) => (n, length(len.trim_end_matches(']'))),
         None => (name, 1),
     };
-    (name.to_string(), leading_number(comment), type_size(ty) * count)
+    (
+        name.to_string(),
+        leading_number(comment),
+        type_size(ty) * count,
+    )
 }
 
 fn c_structs(text: &str) -> Vec<Written> {
@@ -91,7 +97,11 @@ fn c_structs(text: &str) -> Vec<Written> {
 /// `("pos", ctypes.c_double * MAX_AXES),  # 40: …` → (name, offset, size).
 fn py_field(line: &str) -> (String, usize, usize) {
     let (decl, comment) = line.split_once("),  #").expect("a field with its offset");
-    let (name, ty) = decl.trim().trim_start_matches('(').split_once(", ").unwrap();
+    let (name, ty) = decl
+        .trim()
+        .trim_start_matches('(')
+        .split_once(", ")
+        .unwrap();
     let (ty, count) = match ty.split_once(" * ") {
         Some((t, n)) => (t, length(n)),
         None => (ty, 1),
@@ -108,7 +118,10 @@ fn py_classes(text: &str) -> Vec<Written> {
         if let Some(rest) = t.strip_prefix("class ") {
             cur.name = rest.trim_end_matches("(ctypes.Structure):").to_string();
         } else if let Some(i) = t.find("Size ").filter(|_| t.starts_with("\"\"\"softnc::")) {
-            let (size, align) = t[i + 5..].trim_end_matches(".\"\"\"").split_once(", align ").unwrap();
+            let (size, align) = t[i + 5..]
+                .trim_end_matches(".\"\"\"")
+                .split_once(", align ")
+                .unwrap();
             cur.size = size.parse().unwrap();
             cur.align = align.parse().unwrap();
         } else if t.starts_with("(\"") {
@@ -124,7 +137,11 @@ fn py_classes(text: &str) -> Vec<Written> {
 /// Every payload written once in `written`, exactly as Rust lays it out.
 fn check(language: &str, written: &[Written]) {
     let all = payloads();
-    assert_eq!(written.len(), all.len(), "{language}: one definition per payload");
+    assert_eq!(
+        written.len(),
+        all.len(),
+        "{language}: one definition per payload"
+    );
     for p in &all {
         let w = written
             .iter()
@@ -136,7 +153,12 @@ fn check(language: &str, written: &[Written]) {
             .map(|f| (f.name.to_string(), f.offset, f.size))
             .collect();
         assert_eq!(w.fields, fields, "{language}: {}", p.rust);
-        assert_eq!((w.size, w.align), (p.size, p.align), "{language}: {}", p.rust);
+        assert_eq!(
+            (w.size, w.align),
+            (p.size, p.align),
+            "{language}: {}",
+            p.rust
+        );
         assert_eq!(w.type_name, p.type_name, "{language}: {}", p.rust);
     }
 }
@@ -151,7 +173,11 @@ fn every_payload_is_listed_field_by_field_without_hidden_padding() {
         assert_eq!(p.type_name, format!("softnc::{}", p.rust));
         let mut at = 0;
         for f in &p.fields {
-            assert_eq!(f.offset, at, "{}.{}: a field left out, or padding", p.rust, f.name);
+            assert_eq!(
+                f.offset, at,
+                "{}.{}: a field left out, or padding",
+                p.rust, f.name
+            );
             at += f.size;
         }
         assert_eq!(at, p.size, "{}: the fields fill it", p.rust);
@@ -171,7 +197,10 @@ fn sizes_are_the_documented_ones() {
 fn the_c_header_lays_out_every_payload_as_rust_does() {
     check("clients/c/softnc_ipc.h", &c_structs(HEADER));
     for (name, value) in LENGTHS {
-        assert!(HEADER.contains(&format!("#define SOFTNC_{name} {value}\n")), "{name}");
+        assert!(
+            HEADER.contains(&format!("#define SOFTNC_{name} {value}\n")),
+            "{name}"
+        );
     }
     assert!(HEADER.contains(&format!("#define SOFTNC_ABI \"{}\"\n", crate::abi())));
     let version = format!("#define SOFTNC_PROTOCOL_VERSION {PROTOCOL_VERSION}\n");
@@ -199,9 +228,14 @@ fn the_doc_shows_the_files_definitions() {
             .filter_map(|b| b.split_once("\n```").map(|(code, _)| code))
             .collect()
     };
-    let c: Vec<&str> = blocks("c").into_iter().filter(|b| b.contains("struct softnc_")).collect();
-    let py: Vec<&str> =
-        blocks("python").into_iter().filter(|b| b.contains("(ctypes.Structure)")).collect();
+    let c: Vec<&str> = blocks("c")
+        .into_iter()
+        .filter(|b| b.contains("struct softnc_"))
+        .collect();
+    let py: Vec<&str> = blocks("python")
+        .into_iter()
+        .filter(|b| b.contains("(ctypes.Structure)"))
+        .collect();
     for b in &c {
         assert!(HEADER.contains(b), "not in the header:\n{b}");
     }
@@ -210,5 +244,9 @@ fn the_doc_shows_the_files_definitions() {
     }
     check("docs/interfaces.md (C)", &c_structs(&c.join("\n")));
     check("docs/interfaces.md (Python)", &py_classes(&py.join("\n")));
-    assert!(DOC.contains(&crate::abi()), "docs/interfaces.md names {}", crate::abi());
+    assert!(
+        DOC.contains(&crate::abi()),
+        "docs/interfaces.md names {}",
+        crate::abi()
+    );
 }

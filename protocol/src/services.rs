@@ -178,6 +178,12 @@ impl Instance {
         &self.abi
     }
 
+    /// The instance's iceoryx2 configuration (the default with the instance's prefix): what a
+    /// client of another party opens the services with.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
     /// A node for one process (`role`: "nc-kernel", "plc-sim", …). Signals are left to the
     /// process. Nodes of processes that died are cleaned up first, so a crashed run leaves
     /// nothing behind for the next start.
@@ -306,7 +312,8 @@ impl Instance {
         out
     }
 
-    fn service_name(&self, service: &str) -> Result<ServiceName, IpcError> {
+    /// The full name of one of the instance's services (`<instance>/setpoints`).
+    pub fn service_name(&self, service: &str) -> Result<ServiceName, IpcError> {
         let full = format!("{}/{service}", self.name);
         ServiceName::new(&full).map_err(|e| IpcError(format!("service name {full}: {e:?}")))
     }
