@@ -9,9 +9,12 @@
  * position. docs/interfaces.md explains the services, the prefix and the ABI attribute.
  *
  * Not built by softnc's tests: the C bindings are built from the iceoryx2 source and no
- * machine of this project has them. The payload header beside it is compiled and checked
- * by tests/clients.rs.
+ * machine of this project has them (compiled once by hand against the bindings' header of
+ * shortly before 0.10.0; never linked or run against softnc). The payload header beside it
+ * is compiled and checked by tests/clients.rs.
  */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
+
 #include "iox2/iceoryx2.h"
 #include "softnc_ipc.h"
 

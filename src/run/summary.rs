@@ -73,8 +73,13 @@ pub(super) fn report(o: &RunOptions<'_>, s: &Session<'_>) -> Result<(), String> 
         .iter()
         .map(|(r, st)| format!("{r} {}", st.map_or("killed".into(), |s| s.to_string())))
         .collect();
+    let whose = if s.released.users.is_empty() {
+        ""
+    } else {
+        " (in use by the clients below)"
+    };
     println!(
-        "processes ended: {}; shared memory files left: {}",
+        "processes ended: {}; shared memory files left: {}{whose}",
         ended.join(", "),
         s.released.files.len()
     );
