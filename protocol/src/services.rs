@@ -17,7 +17,7 @@
 
 use crate::payload::*;
 use iceoryx2::config::Config;
-use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::node::{Node, NodeBuilder, NodeView};
 use iceoryx2::prelude::*;
 use iceoryx2::service::attribute::{AttributeKey, AttributeValue};
 use iceoryx2::service::port_factory::{event, publish_subscribe, request_response};
@@ -65,6 +65,49 @@ pub fn abi() -> String {
         }
     }
     format!("softnc-ipc/{PROTOCOL_VERSION}/{h:016x}")
+}
+
+/// Node names of softnc's own processes. A client of another party names its node anything
+/// else: it is a user of the instance, not a part of the control.
+pub const ROLES: [&str; 5] = [
+    "nc-kernel",
+    "nc-kernel-hmi",
+    "plc-sim",
+    "hmi-bridge",
+    "softnc-run",
+];
+
+/// A process alive on an instance, as iceoryx2 lists its node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct User {
+    /// The node's name: the role for softnc's processes ([`ROLES`]).
+    pub name: String,
+    pub pid: i32,
+}
+
+impl User {
+    /// One of softnc's own processes (else a client of another party).
+    pub fn is_softnc(&self) -> bool {
+        ROLES.contains(&self.name.as_str())
+    }
+
+    /// `name (pid N), …` for messages.
+    pub fn list(users: &[User]) -> String {
+        let each: Vec<String> = users
+            .iter()
+            .map(|u| format!("{} (pid {})", u.name, u.pid))
+            .collect();
+        each.join(", ")
+    }
+}
+
+/// What [`Instance::release`] left.
+#[derive(Debug)]
+pub struct Released {
+    /// The instance's files still there: none unless `users` is not empty.
+    pub files: Vec<PathBuf>,
+    /// Processes still attached (clients of other parties, once softnc's have ended).
+    pub users: Vec<User>,
 }
 
 /// Why a service could not be opened, for the user.
@@ -135,6 +178,12 @@ impl Instance {
         &self.abi
     }
 
+    /// The instance's iceoryx2 configuration (the default with the instance's prefix): what a
+    /// client of another party opens the services with.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
     /// A node for one process (`role`: "nc-kernel", "plc-sim", …). Signals are left to the
     /// process. Nodes of processes that died are cleaned up first, so a crashed run leaves
     /// nothing behind for the next start.
@@ -173,14 +222,28 @@ impl Instance {
 
     /// Processes of this instance that are alive.
     pub fn alive_nodes(&self) -> usize {
-        let mut n = 0;
+        self.users().len()
+    }
+
+    /// The processes alive on this instance: each node's name and process id.
+    pub fn users(&self) -> Vec<User> {
+        let mut out = Vec::new();
         let _ = Node::<ipc::Service>::list(&self.config, |state| {
-            if let NodeState::Alive(_) = state {
-                n += 1;
+            if let NodeState::Alive(view) = state {
+                out.push(match view.details() {
+                    Some(d) => User {
+                        name: d.name().to_string(),
+                        pid: d.process_id().value(),
+                    },
+                    None => User {
+                        name: String::new(),
+                        pid: 0,
+                    },
+                });
             }
             CallbackProgression::Continue
         });
-        n
+        out
     }
 
     /// For the owner of a private instance, after its processes have ended: removes what
@@ -188,19 +251,38 @@ impl Instance {
     /// keeps on purpose). Returns the files still there (none, normally). Does nothing while
     /// a process of the instance is alive.
     pub fn remove_when_unused(&self) -> Result<Vec<PathBuf>, IpcError> {
-        self.cleanup_dead_nodes();
-        let alive = self.alive_nodes();
-        if alive > 0 {
+        let released = self.release();
+        if !released.users.is_empty() {
             return Err(IpcError(format!(
-                "{}: {alive} process(es) still use the instance",
-                self.name
+                "{}: {} process(es) still use the instance: {}",
+                self.name,
+                released.users.len(),
+                User::list(&released.users)
             )));
         }
-        // SAFETY: no process of this instance is alive (checked just above), and the
-        // instance belongs to the caller, so none can start meanwhile.
-        let _ =
-            unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&self.config) };
-        Ok(self.files())
+        Ok(released.files)
+    }
+
+    /// For the owner of a private instance, after its own processes have ended: removes what
+    /// dead processes left, and the node counter once no process uses the instance. A client
+    /// of another party (a subscriber in Python, a HIL rig) may still be attached: what it
+    /// holds is its own — iceoryx2 removes each service when the last process using it lets
+    /// go — and the counter is left to it (`softnc clean` removes it once the client has
+    /// ended).
+    pub fn release(&self) -> Released {
+        self.cleanup_dead_nodes();
+        let users = self.users();
+        if users.is_empty() {
+            // SAFETY: no process of this instance is alive (checked just above), and the
+            // instance belongs to the caller, so none of softnc's can start meanwhile.
+            let _ = unsafe {
+                iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&self.config)
+            };
+        }
+        Released {
+            files: self.files(),
+            users,
+        }
     }
 
     /// The files of this instance in shared memory and in iceoryx2's folder: none once every
@@ -230,7 +312,8 @@ impl Instance {
         out
     }
 
-    fn service_name(&self, service: &str) -> Result<ServiceName, IpcError> {
+    /// The full name of one of the instance's services (`<instance>/setpoints`).
+    pub fn service_name(&self, service: &str) -> Result<ServiceName, IpcError> {
         let full = format!("{}/{service}", self.name);
         ServiceName::new(&full).map_err(|e| IpcError(format!("service name {full}: {e:?}")))
     }

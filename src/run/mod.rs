@@ -232,10 +232,7 @@ pub fn run(o: RunOptions<'_>) -> Result<(), Failure> {
     }
     let ended = run.shut_down(&hmi);
     drop(hmi);
-    let leftover = run
-        .instance
-        .remove_when_unused()
-        .map_err(|e| e.to_string())?;
+    let released = run.instance.release();
     let finished = outcome?;
     if hmi_url.is_some() {
         println!("with the HMI: the summary and the picture cover the whole session");
@@ -248,7 +245,8 @@ pub fn run(o: RunOptions<'_>) -> Result<(), Failure> {
         alarm: watch.alarm,
         last,
         ended: &ended,
-        files_left: leftover.len(),
+        released: &released,
+        instance: &name,
         trace: &run.files.trace,
     };
     summary::report(&o, &session)?;
@@ -259,17 +257,24 @@ pub fn run(o: RunOptions<'_>) -> Result<(), Failure> {
     }
 }
 
-/// The instance for the run, which must not be in use: what crashed processes of it left is
-/// removed first.
+/// The instance for the run, which no other control may be using: what crashed processes of
+/// it left is removed first. Clients of other parties may be attached already (a subscriber
+/// waiting for the setpoints): they use the instance, they do not run it.
 fn claim(name: &str) -> Result<Instance, String> {
     let instance = Instance::new(name).map_err(|e| e.to_string())?;
     let (cleaned, _) = instance.cleanup_dead_nodes();
     if cleaned > 0 {
         eprintln!("removed what {cleaned} crashed process(es) of instance '{name}' left behind");
     }
-    if instance.alive_nodes() > 0 {
+    let control: Vec<_> = instance
+        .users()
+        .into_iter()
+        .filter(|u| u.is_softnc())
+        .collect();
+    if !control.is_empty() {
         return Err(format!(
-            "instance '{name}' is in use by running processes: choose another --instance"
+            "instance '{name}' is in use by running processes ({}): choose another --instance",
+            softnc_protocol::User::list(&control)
         ));
     }
     Ok(instance)
@@ -291,7 +296,7 @@ impl Drop for Supervisor<'_> {
         // and takes what they left in shared memory with them (after an orderly end there is
         // nothing left).
         self.children.stop_all(Duration::from_secs(2));
-        let _ = self.instance.remove_when_unused();
+        let _ = self.instance.release();
     }
 }
 

@@ -5,7 +5,7 @@
 use super::RunOptions;
 use nc_kernel::cycle::ChannelAlarm;
 use nc_kernel::{AxisKind, Interpreter, MachineData, Pos, Preparation, Segment};
-use softnc_protocol::{KernelStatus, MAX_AXES, MAX_SPINDLES};
+use softnc_protocol::{KernelStatus, Released, User, MAX_AXES, MAX_SPINDLES};
 use std::path::{Path, PathBuf};
 use std::process::ExitStatus;
 
@@ -21,7 +21,9 @@ pub(super) struct Session<'a> {
     pub last: KernelStatus,
     /// How each process ended (`None`: killed).
     pub ended: &'a [(&'static str, Option<ExitStatus>)],
-    pub files_left: usize,
+    /// What the run left of its instance: nothing, or what clients still attached hold.
+    pub released: &'a Released,
+    pub instance: &'a str,
     pub trace: &'a Path,
 }
 
@@ -71,11 +73,25 @@ pub(super) fn report(o: &RunOptions<'_>, s: &Session<'_>) -> Result<(), String> 
         .iter()
         .map(|(r, st)| format!("{r} {}", st.map_or("killed".into(), |s| s.to_string())))
         .collect();
+    let whose = if s.released.users.is_empty() {
+        ""
+    } else {
+        " (in use by the clients below)"
+    };
     println!(
-        "processes ended: {}; shared memory files left: {}",
+        "processes ended: {}; shared memory files left: {}{whose}",
         ended.join(", "),
-        s.files_left
+        s.released.files.len()
     );
+    if !s.released.users.is_empty() {
+        // Not an error: a client of the instance holds its own part until it lets go.
+        println!(
+            "still attached to the instance, not started by this run: {}; what they hold is theirs \
+             (`softnc clean --instance {}` once they have ended removes the rest)",
+            User::list(&s.released.users),
+            s.instance
+        );
+    }
     picture(o, &trace)
 }
 

@@ -24,6 +24,9 @@ pub enum Step {
         /// feed.
         feed: Option<f64>,
     },
+    /// A piece of a helix: an arc about `centre` (its plane coordinates) in the modal
+    /// plane, without a stop at its end.
+    Arc { to: Pos, centre: Pos, ccw: bool },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
@@ -50,6 +53,56 @@ enum Steps {
     Drilling(Drilling),
     /// A SINUMERIK drilling cycle's remaining moves.
     Cycle(Box<CycleRun>),
+    /// A helix's remaining turns and its last arc.
+    Helix(Helix),
+}
+
+/// The turns of a helix after its first (SINUMERIK TURN=): `left` full circles, each
+/// rising by `rise` along the normal axis `normal`, then the arc to `end`.
+#[derive(Clone, Debug)]
+pub struct Helix {
+    left: u16,
+    rise: f64,
+    centre: Pos,
+    ccw: bool,
+    end: Pos,
+    /// Where the next turn starts; `None` once the last arc is out.
+    at: Option<Pos>,
+    normal: usize,
+}
+
+impl Helix {
+    /// `at` is set by [`Expansion::helix`] from the first turn's end.
+    pub fn new(left: u16, rise: f64, centre: Pos, ccw: bool, end: Pos) -> Self {
+        Helix {
+            left,
+            rise,
+            centre,
+            ccw,
+            end,
+            at: None,
+            normal: 2,
+        }
+    }
+
+    fn next(&mut self) -> Option<Step> {
+        let from = self.at?;
+        let to = if self.left > 0 {
+            self.left -= 1;
+            let mut to = from;
+            to[self.normal] += self.rise;
+            self.at = Some(to);
+            to
+        } else {
+            self.at = None;
+            self.end
+        };
+        Some(Step::Arc {
+            to,
+            centre: self.centre,
+            ccw: self.ccw,
+        })
+    }
 }
 
 impl Expansion {
@@ -79,11 +132,28 @@ impl Expansion {
         }
     }
 
+    /// The helix `h` after its first turn, which ended at `at`; `normal` is the axis it
+    /// rises along.
+    pub fn helix(mut h: Helix, normal: usize, at: Pos) -> Self {
+        h.normal = normal;
+        h.at = Some(at);
+        Expansion {
+            steps: Steps::Helix(h),
+            stop: None,
+        }
+    }
+
+    /// The programmed block's stop, which acts with the last step.
+    pub fn set_stop(&mut self, stop: Option<ProgramStop>) {
+        self.stop = stop;
+    }
+
     fn next(&mut self) -> Option<Step> {
         match &mut self.steps {
             Steps::Fixed(q) => q.pop_front(),
             Steps::Drilling(d) => d.next(),
             Steps::Cycle(c) => c.next(),
+            Steps::Helix(h) => h.next(),
         }
     }
 
@@ -93,6 +163,7 @@ impl Expansion {
             Steps::Fixed(q) => q.is_empty(),
             Steps::Drilling(d) => d.done(),
             Steps::Cycle(c) => c.done(),
+            Steps::Helix(h) => h.at.is_none(),
         }
     }
 }
@@ -125,6 +196,10 @@ impl Interpreter<'_> {
         b.words.clear();
         let mut modal = b.modal;
         self.apply_step(step, &mut modal);
+        if let (true, Some(m)) = (self.d.sinumerik, self.block.motion) {
+            // The element a SINUMERIK CT continues (a helix's last turn).
+            self.last_move = Some(m);
+        }
         self.block.modal = modal;
         if let Some(e) = self.expansion.as_mut() {
             if e.done() {
@@ -179,6 +254,25 @@ impl Interpreter<'_> {
                     programmed: moved,
                 });
                 blk.exact_stop = true;
+                self.cur = to;
+            }
+            Step::Arc { to, centre, ccw } => {
+                let plane = modal.plane;
+                let mut c = self.cur;
+                c[plane.abscissa as usize] = centre[plane.abscissa as usize];
+                c[plane.ordinate as usize] = centre[plane.ordinate as usize];
+                blk.motion = Some(Motion {
+                    kind: if ccw {
+                        MotionKind::ArcCcw
+                    } else {
+                        MotionKind::ArcCw
+                    },
+                    plane,
+                    start: self.cur,
+                    end: to,
+                    center: c,
+                    programmed: 1 << plane.abscissa | 1 << plane.ordinate | 1 << plane.normal,
+                });
                 self.cur = to;
             }
             Step::Dwell(s) => blk.dwell = Some(s),

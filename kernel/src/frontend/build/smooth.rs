@@ -434,6 +434,25 @@ impl Interpreter<'_> {
         })
     }
 
+    /// A frame acts on the block's coordinates.
+    fn framed(&self) -> bool {
+        self.coords.frame.active() && !self.machine_coordinates
+    }
+
+    /// The frame moves the plane rigidly (translations, rotations in it, nothing mirrored or
+    /// scaled) and the tool axis along itself: lengths, sides and the tool axis stay, so the
+    /// SAR is built where the frame puts the contour.
+    fn frame_rigid(&self, plane: Plane) -> bool {
+        let f = &self.coords.frame;
+        let n = plane.normal as usize;
+        let mut axis = [0.0; 3];
+        axis[n] = 1.0;
+        f.plane_scale(plane)
+            .is_some_and(|s| (s - 1.0).abs() < 1e-12)
+            && !f.flips(plane)
+            && (f.turn(axis)[n] - 1.0).abs() < 1e-12
+    }
+
     /// DISCL= or DISRP=: a distance (not negative) or with AC() a position on the tool axis.
     fn level(&self, l: LevelWord, new: &ModalState, name: &str) -> R<Level> {
         let normal = new.plane.normal as usize;
@@ -443,7 +462,13 @@ impl Interpreter<'_> {
                 ..*new
             };
             let zero = self.zero(new.work_offset);
-            let z = self.axis_target(l.value, normal, &abs, 0.0, zero[normal]);
+            let mut z = self.axis_target(l.value, normal, &abs, 0.0, zero[normal]);
+            if self.framed() {
+                // A rigid frame moves the tool axis only along itself.
+                let mut p = [0.0; 3];
+                p[normal] = z - zero[normal];
+                z = self.coords.frame.apply(p)[normal] + zero[normal];
+            }
             return Ok(Level::At(z));
         }
         let v = self.length(l.value, new.units);
@@ -470,8 +495,8 @@ fn sar_block_alone(w: &Words, g: &BlockCodes) -> Option<&'static str> {
         Some("a setting")
     } else if g.reference.is_some() || g.cycle.is_some() {
         Some("a cycle or a reference point return")
-    } else if w.corner.is_some() {
-        Some("a chamfer or rounding")
+    } else if w.corner.is_some() || !w.path.is_empty() || g.pole.is_some() {
+        Some("a chamfer, a rounding, a pole or a path word (CIP, CT, AP=, RP=, TURN=, RNDM=)")
     } else if w.additional.iter().any(Option::is_some) {
         Some("an additional axis")
     } else if w.centre.iter().any(Option::is_some) || w.radius.is_some() {
@@ -497,8 +522,9 @@ impl<'a> Interpreter<'a> {
     ) -> R<()> {
         let refused = sar_block_alone(w, g).map(|s| s.to_string()).or_else(|| {
             let waiting = self.smooth.as_ref().is_some_and(|s| s.hold.is_some());
-            (self.coords.frame.active() || self.machine_coordinates || self.corners.is_some())
-                .then(|| "a frame, machine coordinates or a pending chamfer".to_string())
+            let framed = self.framed() && !self.frame_rigid(new.plane);
+            (framed || self.machine_coordinates || self.corners.is_some())
+                .then(|| "a frame that scales, mirrors or tilts, machine coordinates, or a pending chamfer or rounding".to_string())
                 .or(waiting.then(|| "an approach still waiting for its contour".to_string()))
         });
         if let Some(what) = refused {
@@ -536,7 +562,15 @@ impl<'a> Interpreter<'a> {
             disrp: words.disrp,
         };
         let start = self.cur;
-        let end = self.end_point(w, new, start)?;
+        let end = if self.framed() {
+            // In program coordinates, then through the frame and the zero (frames.rs).
+            let (_, p) = self.framed_points(w, new, at as usize)?;
+            let zero = self.zero(new.work_offset);
+            let q = self.coords.frame.apply(p);
+            std::array::from_fn(|i| q[i] + zero[i])
+        } else {
+            self.end_point(w, new, start)?
+        };
         let programmed = (0..3).fold(0u16, |b, i| b | u16::from(w.axis[i].is_some()) << i);
         // The G40/G41/G42 of the block go with the blocks it becomes.
         self.block.trc = None;
@@ -1222,6 +1256,29 @@ mod tests {
             ends,
             [[0.0, -8.0, 20.0], [0.0, -8.0, -3.0], [0.0, 0.0, -5.0]]
         );
+    }
+
+    /// Under a frame that moves the plane rigidly (TRANS, ROT in it) the SAR is built where
+    /// the frame puts the contour: TRANS X100 Y50 with AROT RPL=90 takes every end point p to
+    /// (100 − p.y, 50 + p.x). A frame that mirrors is refused.
+    #[test]
+    fn the_approach_follows_a_rigid_frame() {
+        let sar = "G0 X-30 Y-30 Z20 T5 D2\nG41 G247 DISR=4 DISCL=2 X0 Y0 Z-5 F400\nG1 Y40\nX40\nG40 G248 DISR=4 X60 Y60 Z20\n";
+        let plain: Vec<[f64; 3]> = moves(sar).iter().map(|m| m.2).collect();
+        let framed: Vec<[f64; 3]> = moves(&format!("TRANS X100 Y50\nAROT RPL=90\n{sar}"))
+            .iter()
+            .map(|m| m.2)
+            .collect();
+        assert_eq!(plain.len(), framed.len());
+        for (p, q) in plain.iter().zip(&framed) {
+            let want = [100.0 - p[1], 50.0 + p[0], p[2]];
+            assert!(
+                (0..3).all(|i| (q[i] - want[i]).abs() < 1e-9),
+                "{q:?} {want:?}"
+            );
+        }
+        let a = alarm(&format!("MIRROR X0\n{sar}"));
+        assert_eq!((a.0, a.1), (AlarmCode::NotSupported, 3));
     }
 
     /// Alarms at the SAR code: no contour element (program end, more than 5 empty blocks),
