@@ -220,27 +220,10 @@ impl<'a> Interpreter<'a> {
         Alarm::at(f.code, self.name, &source, f.message)
     }
 
-    /// The next block to hand out: the next one interpreted, unless compensation words are
-    /// in play (a smooth approach waits for its contour element, build/smooth.rs).
+    /// The next block to hand out: the next one interpreted, unless corner words are in
+    /// play (then a move waits for the next one, build/corner_blocks.rs).
     #[inline]
     fn step(&mut self) -> Result<bool, Alarm> {
-        if self.smooth.is_some() {
-            return self.smooth_step();
-        }
-        let produced = self.corner_step()?;
-        if self.smooth.is_some() {
-            if let Some(ready) = self.smooth_took(produced)? {
-                return Ok(ready);
-            }
-            return self.smooth_step();
-        }
-        Ok(produced)
-    }
-
-    /// The next block interpreted, unless corner words are in play (then a move waits for
-    /// the next one, build/corner_blocks.rs).
-    #[inline]
-    pub(super) fn corner_step(&mut self) -> Result<bool, Alarm> {
         loop {
             if self.corners.is_some() {
                 if let Some(ready) = self.corner_waiting() {
@@ -283,6 +266,9 @@ impl<'a> Interpreter<'a> {
             let Some((start, end)) = self.next_segment() else {
                 self.finished = true;
                 if let Some(f) = self.called_program_ends() {
+                    return Err(self.alarm(*f));
+                }
+                if let Some(f) = self.smooth_unfinished() {
                     return Err(self.alarm(*f));
                 }
                 return match self.unclosed() {

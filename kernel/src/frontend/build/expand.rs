@@ -55,6 +55,16 @@ enum Steps {
     Cycle(Box<CycleRun>),
     /// A helix's remaining turns and its last arc.
     Helix(Helix),
+    /// Blocks made ready elsewhere (a SINUMERIK smooth approach or retraction,
+    /// build/smooth.rs), handed out as they are; then the modal state comes back.
+    Blocks(Box<Queued>),
+}
+
+/// Ready blocks and the interpreter's modal state after them.
+#[derive(Clone, Debug)]
+pub struct Queued {
+    blocks: std::collections::VecDeque<Block>,
+    modal: ModalState,
 }
 
 /// The turns of a helix after its first (SINUMERIK TURN=): `left` full circles, each
@@ -143,6 +153,18 @@ impl Expansion {
         }
     }
 
+    /// `blocks` to hand out one per `next_block`, then the modal state `modal` (the last
+    /// block built's) is the interpreter's again.
+    pub fn blocks(blocks: Vec<Block>, modal: ModalState) -> Self {
+        Expansion {
+            steps: Steps::Blocks(Box::new(Queued {
+                blocks: blocks.into(),
+                modal,
+            })),
+            stop: None,
+        }
+    }
+
     /// The programmed block's stop, which acts with the last step.
     pub fn set_stop(&mut self, stop: Option<ProgramStop>) {
         self.stop = stop;
@@ -154,6 +176,7 @@ impl Expansion {
             Steps::Drilling(d) => d.next(),
             Steps::Cycle(c) => c.next(),
             Steps::Helix(h) => h.next(),
+            Steps::Blocks(_) => None,
         }
     }
 
@@ -164,6 +187,7 @@ impl Expansion {
             Steps::Drilling(d) => d.done(),
             Steps::Cycle(c) => c.done(),
             Steps::Helix(h) => h.at.is_none(),
+            Steps::Blocks(q) => q.blocks.is_empty(),
         }
     }
 }
@@ -185,6 +209,13 @@ impl Interpreter<'_> {
     /// The next expanded block, if an expansion is running; when it ends, what the
     /// programmed block asked for after it (a call) runs. False: read on in the text.
     pub(in crate::frontend) fn next_expanded(&mut self) -> R<bool> {
+        if let Some(ready) = self.queued() {
+            if !ready {
+                self.expansion = None;
+                self.after_block()?;
+            }
+            return Ok(ready);
+        }
         let Some(step) = self.expansion.as_mut().and_then(Expansion::next) else {
             self.expansion = None;
             self.after_block()?;
@@ -208,6 +239,24 @@ impl Interpreter<'_> {
             }
         }
         Ok(true)
+    }
+
+    /// The next ready block, if the expansion is a queue of them; `Some(false)` when it is
+    /// done (the modal state is back). A program end acts with the block that carries it.
+    fn queued(&mut self) -> Option<bool> {
+        let Steps::Blocks(q) = &mut self.expansion.as_mut()?.steps else {
+            return None;
+        };
+        let Some(b) = q.blocks.pop_front() else {
+            self.block.modal = q.modal;
+            return Some(false);
+        };
+        if let (true, Some(m)) = (self.d.sinumerik, b.motion) {
+            self.last_move = Some(m);
+        }
+        self.finished |= b.stop.is_some_and(|s| s.ends_program());
+        self.block = b;
+        Some(true)
     }
 
     /// Puts a step into the block being built: its motion from the position now (exact

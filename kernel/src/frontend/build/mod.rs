@@ -42,12 +42,6 @@ impl Interpreter<'_> {
     /// Turns a block's collected words into the block, in the order of execution.
     #[inline]
     pub(in crate::frontend) fn build(&mut self, w: &Words, block_col: usize) -> R<bool> {
-        // A smooth retraction leaves the contour element of the block built before it.
-        let last = if self.d.sinumerik {
-            self.block.motion
-        } else {
-            None
-        };
         // 1. The block at its place in the text, nothing programmed yet.
         self.begin(w, block_col);
         // 2. G codes looked up and checked against each other and the active TRC (840C 11.4).
@@ -91,7 +85,7 @@ impl Interpreter<'_> {
         //    G10), a reference point return or a canned cycle (expanded into several
         //    moves), a smooth approach or retraction, or the motion.
         match g.sar {
-            Some(sar) => self.smooth_block(w, &g, &mut new, sar, last)?,
+            Some(sar) => self.smooth_block(w, &g, &mut new, sar)?,
             None => self.axis_words(w, &g, &mut new, block_col)?,
         }
         // 9. TRC selected or deselected only in a linear block (840C 11.3/11.5, Fanuc 026);
@@ -107,8 +101,12 @@ impl Interpreter<'_> {
         } else if let Some(word) = w.corner {
             self.corner_request(word, &new, None)?;
         }
-        // 11. The block done: position, program end (880 4.2.5: the pole), modal state.
+        // 11. The block done: position, program end (880 4.2.5: the pole), modal state; a
+        //     smooth approach holds it, or blocks go out in its place (build/smooth.rs).
         self.finish(new);
+        if self.smooth.is_some() {
+            return self.smooth_built();
+        }
         Ok(true)
     }
 

@@ -1,24 +1,27 @@
-//! SINUMERIK compensation words in the block build and the block stream (840D sl
-//! Fundamentals "Tool radius compensation"; docs/sinumerik.md "Compensation words"):
+//! SINUMERIK compensation words in the block build (840D sl Fundamentals "Tool radius
+//! compensation"; docs/sinumerik.md "Compensation words"):
 //!
 //! - NORM and KONT choose the compensation's approach and retraction (the dialect table maps
 //!   them onto selection policies); DISC= with G450 chooses between the transition circle
 //!   (0) and the intersection (100).
-//! - The smooth approach (G147 G247 G347) is held, like a block with a chamfer word
-//!   ([`super::corner_blocks`]), until the contour element it leads onto is built: its
-//!   contour depends on that element's direction. It then goes out as programmed blocks
-//!   before compensation — the infeed P0 → P1 → P2 → P3 and the approach contour P3 → P4,
-//!   tangent to the element ([`crate::frontend::sinumerik::approach`] has the geometry) —
-//!   followed by the held blocks and the element. The first of them selects the
-//!   compensation, straight to its normal position, so that the equidistant of the approach
-//!   contour is the tool centre's path.
+//! - The smooth approach (G147 G247 G347) is held in the block build until the contour
+//!   element it leads onto is built: its contour depends on that element's direction. The
+//!   blocks built meanwhile are held too (they take the full way: the plain path is off).
+//!   Then all go out as an expansion (build/expand.rs), programmed blocks before
+//!   compensation: the infeed P0 → P1 → P2 → P3 and the approach contour P3 → P4, tangent
+//!   to the element ([`crate::frontend::sinumerik::approach`] has the geometry), the held
+//!   blocks and the element. The first of them selects the compensation, straight to its
+//!   normal position, so that the equidistant of the approach contour is the tool centre's
+//!   path.
 //! - The smooth retraction (G148 G248 G348) knows all it needs when its block is built (the
-//!   last contour element is the block before it): its blocks go out in its place.
+//!   last contour element is the interpreter's last move): its blocks go out in its place.
+//!
+//! Nothing here is on the way of a block while no compensation word is in play: the
+//! interpreter's stream is untouched, and the block build asks one `Option` at its end.
 
 use super::super::block::*;
-use super::super::fault::{fault, R};
+use super::super::fault::{fault, Fault, R};
 use super::super::interpreter::Interpreter;
-use super::super::lexer::column;
 use super::super::sinumerik::approach::{
     self, Contour, Heights, Joint, Level, Piece, Request, SarContour, SarError, SarPath, SarSide,
     Tool, V,
@@ -26,10 +29,9 @@ use super::super::sinumerik::approach::{
 use super::super::sinumerik::compensation::{CompensationWords, LevelWord};
 use super::super::words::Words;
 use super::gcodes::{BlockCodes, Codes};
-use crate::alarm::{Alarm, AlarmCode};
+use super::Expansion;
+use crate::alarm::AlarmCode;
 use crate::dialect::{Dialect, GEffect};
-use crate::segment::Source;
-use std::collections::VecDeque;
 
 /// At most this many blocks without a traversing motion may stand between a smooth approach
 /// and the contour element it leads onto (808D Programming and Operating Manual, milling,
@@ -53,10 +55,8 @@ pub struct Smooth<'a> {
     /// G450 is the corner code in force (DISC acts only under it).
     g450: bool,
     hold: Option<Box<Hold<'a>>>,
-    /// Blocks to hand out before the next one is read.
-    out: VecDeque<Block>,
-    /// The interpreter's modal state (the last block built's) while they are handed out.
-    modal: Option<ModalState>,
+    /// A retraction's blocks, to go out in place of its block.
+    out: Vec<Block>,
 }
 
 /// A smooth approach waiting for the contour element.
@@ -76,9 +76,14 @@ struct Hold<'a> {
     /// Blocks without a traversing motion before P4 is known, and after.
     before: Vec<Block>,
     after: Vec<Block>,
-    /// The approach code's place, for the alarms the later blocks raise.
-    source: Source,
-    name: &'a str,
+    /// The approach block's line, line start and number, and its code's byte offset: the
+    /// alarms the later blocks raise point there.
+    place: (u32, usize, Option<BlockNo>),
+    at: u32,
+    /// The plain-block fast path as it was (held blocks take the full one).
+    plain_path: bool,
+    /// Ties the hold to the program text's lifetime, as the interpreter.
+    text: std::marker::PhantomData<&'a str>,
 }
 
 /// How a generated block moves: at rapid, or at a feed (mm/min, or mm/rev).
@@ -110,8 +115,7 @@ impl<'a> Interpreter<'a> {
                 disc: 0,
                 g450,
                 hold: None,
-                out: VecDeque::new(),
-                modal: None,
+                out: Vec::new(),
             })
         })
     }
@@ -518,7 +522,6 @@ impl<'a> Interpreter<'a> {
         g: &BlockCodes,
         new: &mut ModalState,
         (effect, at): (GEffect, u32),
-        last: Option<Motion>,
     ) -> R<()> {
         let refused = sar_block_alone(w, g).map(|s| s.to_string()).or_else(|| {
             let waiting = self.smooth.as_ref().is_some_and(|s| s.hold.is_some());
@@ -575,6 +578,7 @@ impl<'a> Interpreter<'a> {
         // The G40/G41/G42 of the block go with the blocks it becomes.
         self.block.trc = None;
         if retract {
+            let last = self.last_move;
             return self.retraction(req, words.fad, new, end, programmed, last, at);
         }
         self.approach(req, words.fad, new, end, programmed, at)
@@ -606,7 +610,6 @@ impl<'a> Interpreter<'a> {
             center: end,
             programmed,
         });
-        let source = self.source_at(at);
         let p4 = (programmed & plane_bits(new.plane) != 0).then_some(end);
         let hold = Hold {
             req,
@@ -618,22 +621,15 @@ impl<'a> Interpreter<'a> {
             p4_block: None,
             before: Vec::new(),
             after: Vec::new(),
-            source,
-            name: self.name,
+            place: (self.blk_line, self.blk_line_start, self.blk_number),
+            at,
+            plain_path: self.plain_path,
+            text: std::marker::PhantomData,
         };
+        // Until the contour element: every block the full way, which holds it.
+        self.plain_path = false;
         self.smooth_state().hold = Some(Box::new(hold));
         Ok(())
-    }
-
-    /// The block's place with the column of byte offset `at`.
-    fn source_at(&self, at: u32) -> Source {
-        Source {
-            number: self.blk_number,
-            line: self.blk_line,
-            col: column(self.src, self.blk_line_start, at as usize),
-            seq: 0,
-            program: self.calls.running.program,
-        }
     }
 }
 
@@ -877,164 +873,138 @@ fn after_contour(
     }
 }
 
-/// What the stream does with a block while an approach is held.
-enum Took {
-    /// Hand out what is queued.
-    Ready,
-    /// Read the next block.
-    ReadOn,
-}
-
 impl<'a> Interpreter<'a> {
-    /// `next_block` while compensation words are in play: queued blocks first, then the
-    /// next block, which an approach may hold. Out of line: a program without the words
-    /// never comes here.
+    /// Block build step 11 while compensation words are in play (build/mod.rs): a SAR block
+    /// is not handed out — a retraction's blocks go out in its place, an approach waits for
+    /// its contour element — and while an approach waits, the blocks built wait with it.
+    /// False: nothing to hand out now. Out of line: a program without the words never
+    /// comes here.
     #[cold]
     #[inline(never)]
-    pub(in crate::frontend) fn smooth_step(&mut self) -> Result<bool, Alarm> {
-        loop {
-            if let Some(ready) = self.smooth_waiting() {
-                return Ok(ready);
-            }
-            let produced = self.corner_step()?;
-            if let Some(ready) = self.smooth_took(produced)? {
-                return Ok(ready);
-            }
-        }
-    }
-
-    /// A queued block goes out now (`Some(true)`); else the interpreter's modal state comes
-    /// back and reading goes on.
-    fn smooth_waiting(&mut self) -> Option<bool> {
-        let s = self.smooth.as_deref_mut()?;
-        if let Some(b) = s.out.pop_front() {
-            self.block = b;
-            return Some(true);
-        }
-        if let Some(m) = s.modal.take() {
-            self.block.modal = m;
-        }
-        None
-    }
-
-    /// The block just built (or the program's end, `produced` false) meets the state: a
-    /// retraction's blocks go out in its place, an approach holds it. `Some`: what
-    /// `next_block` says now; `None`: read on.
-    #[cold]
-    #[inline(never)]
-    pub(in crate::frontend) fn smooth_took(
-        &mut self,
-        produced: bool,
-    ) -> Result<Option<bool>, Alarm> {
+    pub(super) fn smooth_built(&mut self) -> R<bool> {
         let Some(s) = self.smooth.as_deref_mut() else {
-            return Ok(Some(produced));
+            return Ok(true);
         };
-        if s.hold.is_none() {
-            if !produced || s.out.is_empty() {
-                return Ok(Some(produced));
+        if !s.out.is_empty() {
+            let blocks = std::mem::take(&mut s.out);
+            self.queue(blocks);
+            return Ok(false);
+        }
+        let Some(h) = s.hold.as_deref_mut() else {
+            return Ok(true);
+        };
+        if h.sar.is_none() {
+            h.sar = Some(self.block.clone());
+            if self.finished {
+                let why = "the program ends in the smooth approach's block";
+                return Err(self.hold_fault(AlarmCode::SarBlocks, why.into()));
             }
-            // A retraction: its blocks instead of the SAR block.
-            s.modal = Some(self.block.modal);
-            return Ok(self.smooth_waiting());
+            return Ok(false);
         }
-        match self.hold_next(produced)? {
-            Took::ReadOn => Ok(None),
-            Took::Ready => Ok(self.smooth_waiting()),
-        }
+        self.hold_next()
     }
 
-    /// The held approach meets the next block: the approach block itself, a block without a
-    /// traversing motion (held), the block that gives P4 (held), or the contour element.
-    fn hold_next(&mut self, produced: bool) -> Result<Took, Alarm> {
+    /// The blocks go out one per `next_block` (an expansion, build/expand.rs), then the
+    /// modal state of the block just built is the interpreter's again; a program end acts
+    /// with the block that carries it.
+    fn queue(&mut self, blocks: Vec<Block>) {
+        self.finished = false;
+        self.expansion = Some(Expansion::blocks(blocks, self.block.modal));
+    }
+
+    /// The held approach meets the block just built: one without a traversing motion
+    /// (held), the one that gives P4 (held), or the contour element.
+    fn hold_next(&mut self) -> R<bool> {
+        if let Some(what) = self.not_while_held() {
+            let why = format!(
+                "{what} between a smooth approach and its contour element is not supported"
+            );
+            return Err(self.hold_fault(AlarmCode::NotSupported, why));
+        }
+        let b = &self.block;
+        let traversing = b.motion.is_some_and(|m| {
+            m.kind.is_arc() || (0..3).any(|i| (m.end[i] - m.start[i]).abs() > EPS)
+        });
+        let ends = b.stop.is_some_and(|s| s.ends_program());
         let Some(h) = self
             .smooth
             .as_deref_mut()
             .and_then(|s| s.hold.as_deref_mut())
         else {
-            return Ok(Took::ReadOn);
+            return Ok(true);
         };
-        if h.sar.is_none() {
-            // The approach block, complete now.
-            h.sar = Some(self.block.clone());
-            return Ok(Took::ReadOn);
-        }
-        if !produced {
-            return Err(self.hold_alarm(
-                AlarmCode::SarBlocks,
-                "the program ends before the contour element the smooth approach leads onto".into(),
-            ));
-        }
-        let b = &self.block;
-        if b.trc.is_some() {
-            let trc = self.d.codes_of(&[
-                GEffect::Trc(TrcSide::Off),
-                GEffect::Trc(TrcSide::Left),
-                GEffect::Trc(TrcSide::Right),
-            ]);
-            let why =
-                format!("{trc} between a smooth approach and its contour element is not supported");
-            return Err(self.hold_alarm(AlarmCode::NotSupported, why));
-        }
-        let traversing = b.motion.is_some_and(|m| {
-            m.kind.is_arc() || (0..3).any(|i| (m.end[i] - m.start[i]).abs() > EPS)
-        });
         if !traversing {
-            if b.stop.is_some_and(|s| s.ends_program())
-                || h.before.len() + h.after.len() >= BLOCKS_BETWEEN
-            {
+            if ends || h.before.len() + h.after.len() >= BLOCKS_BETWEEN {
                 let why = format!("more than {BLOCKS_BETWEEN} blocks without a traversing motion, or the program's end, before the contour element the smooth approach leads onto");
-                return Err(self.hold_alarm(AlarmCode::SarBlocks, why));
+                return Err(self.hold_fault(AlarmCode::SarBlocks, why));
             }
             let list = if h.p4.is_none() {
                 &mut h.before
             } else {
                 &mut h.after
             };
-            list.push(b.clone());
-            return Ok(Took::ReadOn);
+            list.push(self.block.clone());
+            return Ok(false);
         }
         if h.p4.is_none() {
-            h.p4 = b.motion.map(|m| m.end);
-            h.p4_block = Some(b.clone());
-            return Ok(Took::ReadOn);
+            h.p4 = self.block.motion.map(|m| m.end);
+            h.p4_block = Some(self.block.clone());
+            return Ok(false);
         }
         self.release()?;
-        Ok(Took::Ready)
+        Ok(false)
+    }
+
+    /// What may not stand among the blocks an approach holds: a block that expands (a
+    /// cycle, a helix's turns), a chamfer or rounding, G40/G41/G42.
+    fn not_while_held(&self) -> Option<String> {
+        if self.expansion.is_some() {
+            Some("a cycle or a helix with turns".to_string())
+        } else if self.corners.is_some() {
+            Some("a chamfer or rounding".to_string())
+        } else if self.block.trc.is_some() {
+            Some(self.d.codes_of(&[
+                GEffect::Trc(TrcSide::Off),
+                GEffect::Trc(TrcSide::Left),
+                GEffect::Trc(TrcSide::Right),
+            ]))
+        } else {
+            None
+        }
     }
 
     /// The contour element is the block just built: the approach's blocks, the held ones and
-    /// the element go into the queue.
-    fn release(&mut self) -> Result<(), Alarm> {
+    /// the element go out in order.
+    fn release(&mut self) -> R<()> {
         let Some(h) = self.smooth.as_deref_mut().and_then(|s| s.hold.take()) else {
             return Ok(());
         };
+        self.plain_path = h.plain_path;
         let blocks = match self.approach_blocks(&h) {
             Ok(b) => b,
-            Err(Fail::Sar(e)) => {
-                let (code, why) = sar_alarm(e);
-                return Err(self.alarm_at(code, &h, why));
-            }
-            Err(Fail::Feed) => {
-                let why = "no feed programmed (F) for the smooth approach".to_string();
-                return Err(self.alarm_at(AlarmCode::NoFeed, &h, why));
+            Err(e) => {
+                let (code, why) = match e {
+                    Fail::Sar(e) => sar_alarm(e),
+                    Fail::Feed => (
+                        AlarmCode::NoFeed,
+                        "no feed programmed (F) for the smooth approach".to_string(),
+                    ),
+                };
+                return Err(self.fault_at(&h, code, why));
             }
         };
-        let element = self.block.clone();
-        let Some(s) = self.smooth.as_deref_mut() else {
-            return Ok(());
-        };
-        s.modal = Some(element.modal);
-        s.out.extend(h.before);
-        s.out.extend(blocks);
+        let mut queue = h.before;
+        queue.extend(blocks);
         if let Some(b) = h
             .p4_block
             .filter(|b| !b.words.is_empty() || b.stop.is_some())
         {
             // The block that gave P4 moves with the approach; its words act at P4.
-            s.out.push_back(Block { motion: None, ..b });
+            queue.push(Block { motion: None, ..b });
         }
-        s.out.extend(h.after);
-        s.out.push_back(element);
+        queue.extend(h.after);
+        queue.push(self.block.clone());
+        self.queue(queue);
         Ok(())
     }
 
@@ -1088,24 +1058,28 @@ impl<'a> Interpreter<'a> {
         ))
     }
 
-    /// An alarm at the held approach's code; the interpreter stops.
+    /// At the program's end: an approach still waiting is alarm 10740 at its code.
+    pub(in crate::frontend) fn smooth_unfinished(&mut self) -> Option<Box<Fault>> {
+        self.smooth.as_ref()?.hold.as_ref()?;
+        let why = "the program ends before the contour element the smooth approach leads onto";
+        Some(self.hold_fault(AlarmCode::SarBlocks, why.into()))
+    }
+
+    /// A fault at the held approach's code (the approach is dropped).
     #[cold]
-    fn hold_alarm(&mut self, code: AlarmCode, why: String) -> Alarm {
-        let h = self.smooth.as_deref_mut().and_then(|s| s.hold.take());
-        match h {
-            Some(h) => self.alarm_at(code, &h, why),
-            None => Alarm::at(code, self.name, &self.block.source(0), why),
+    fn hold_fault(&mut self, code: AlarmCode, why: String) -> Box<Fault> {
+        match self.smooth.as_deref_mut().and_then(|s| s.hold.take()) {
+            Some(h) => self.fault_at(&h, code, why),
+            None => fault(code, self.blk_line_start, why),
         }
     }
 
+    /// A fault at `h`'s code: the block the alarm names becomes the approach block.
     #[cold]
-    fn alarm_at(&mut self, code: AlarmCode, h: &Hold, why: String) -> Alarm {
-        self.finished = true;
-        if let Some(s) = self.smooth.as_deref_mut() {
-            s.hold = None;
-            s.out.clear();
-        }
-        Alarm::at(code, h.name, &h.source, why)
+    fn fault_at(&mut self, h: &Hold, code: AlarmCode, why: String) -> Box<Fault> {
+        self.plain_path = h.plain_path;
+        (self.blk_line, self.blk_line_start, self.blk_number) = h.place;
+        fault(code, h.at, why)
     }
 }
 
