@@ -523,14 +523,7 @@ impl<'a> Interpreter<'a> {
         new: &mut ModalState,
         (effect, at): (GEffect, u32),
     ) -> R<()> {
-        let refused = sar_block_alone(w, g).map(|s| s.to_string()).or_else(|| {
-            let waiting = self.smooth.as_ref().is_some_and(|s| s.hold.is_some());
-            let framed = self.framed() && !self.frame_rigid(new.plane);
-            (framed || self.machine_coordinates || self.corners.is_some())
-                .then(|| "a frame that scales, mirrors or tilts, machine coordinates, or a pending chamfer or rounding".to_string())
-                .or(waiting.then(|| "an approach still waiting for its contour".to_string()))
-        });
-        if let Some(what) = refused {
+        if let Some(what) = self.sar_refused(w, g, new) {
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
@@ -564,16 +557,7 @@ impl<'a> Interpreter<'a> {
             discl: words.discl,
             disrp: words.disrp,
         };
-        let start = self.cur;
-        let end = if self.framed() {
-            // In program coordinates, then through the frame and the zero (frames.rs).
-            let (_, p) = self.framed_points(w, new, at as usize)?;
-            let zero = self.zero(new.work_offset);
-            let q = self.coords.frame.apply(p);
-            std::array::from_fn(|i| q[i] + zero[i])
-        } else {
-            self.end_point(w, new, start)?
-        };
+        let end = self.sar_end(w, new, at)?;
         let programmed = (0..3).fold(0u16, |b, i| b | u16::from(w.axis[i].is_some()) << i);
         // The G40/G41/G42 of the block go with the blocks it becomes.
         self.block.trc = None;
@@ -584,7 +568,34 @@ impl<'a> Interpreter<'a> {
         self.approach(req, words.fad, new, end, programmed, at)
     }
 
-    /// A smooth approach: held (the stream completes it, [`Self::smooth_took`]).
+    /// What a SAR block cannot go with (alarm 12580): see [`sar_block_alone`]; a frame that
+    /// is not rigid, machine coordinates, a pending chamfer or rounding, an approach that
+    /// still waits.
+    fn sar_refused(&self, w: &Words, g: &BlockCodes, new: &ModalState) -> Option<String> {
+        if let Some(what) = sar_block_alone(w, g) {
+            return Some(what.to_string());
+        }
+        let framed = self.framed() && !self.frame_rigid(new.plane);
+        if framed || self.machine_coordinates || self.corners.is_some() {
+            return Some("a frame that scales, mirrors or tilts, machine coordinates, or a pending chamfer or rounding".to_string());
+        }
+        let waiting = self.smooth.as_ref().is_some_and(|s| s.hold.is_some());
+        waiting.then(|| "an approach still waiting for its contour".to_string())
+    }
+
+    /// The SAR block's end point; under a frame worked out in program coordinates, then
+    /// through the frame and the zero (frames.rs).
+    fn sar_end(&self, w: &Words, new: &ModalState, at: u32) -> R<Pos> {
+        if !self.framed() {
+            return self.end_point(w, new, self.cur);
+        }
+        let (_, p) = self.framed_points(w, new, at as usize)?;
+        let zero = self.zero(new.work_offset);
+        let q = self.coords.frame.apply(p);
+        Ok(std::array::from_fn(|i| q[i] + zero[i]))
+    }
+
+    /// A smooth approach: held until its contour element is built ([`Self::smooth_built`]).
     fn approach(
         &mut self,
         req: Request,
