@@ -74,6 +74,9 @@ pub static DIALECT: Dialect = Dialect {
     o_numbers: true,
     macro_b: true,
     sinumerik: false,
+    l_calls: false,
+    // Fifteen calls open at once (0i-F; docs/fanuc.md).
+    program_levels: 16,
     incremental_words: true,
     t_selects_offset: true,
     decimal_switch: true,

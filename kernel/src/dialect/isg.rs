@@ -90,6 +90,9 @@ pub static DIALECT: Dialect = Dialect {
     o_numbers: false,
     macro_b: false,
     sinumerik: false,
+    l_calls: false,
+    // No calls in the language built here; the bound of the others.
+    program_levels: 16,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

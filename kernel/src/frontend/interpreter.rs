@@ -50,9 +50,11 @@ pub struct Interpreter<'a> {
     pub(super) present_state_read: std::cell::Cell<bool>,
     /// The program's shifts of the zero (G92, G52) and its writes to the tables (G10).
     pub(super) coords: super::coordinates::Coordinates,
-    /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
+    /// The subprogram and macro call stack (Fanuc, SINUMERIK, 840C), the open WHILE … DO
+    /// loops, the jump labels.
     pub(super) calls: Calls<'a>,
-    /// SINUMERIK R parameters, user variables and the program's structures and labels.
+    /// SINUMERIK R parameters, user variables of each call level, the structures and labels
+    /// and the PROC line of each program text.
     pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
@@ -242,14 +244,10 @@ impl<'a> Interpreter<'a> {
                 return Ok(true);
             }
             let Some((start, end)) = self.next_segment() else {
-                self.finished = true;
-                if let Some(f) = self.called_program_ends() {
-                    return Err(self.alarm(*f));
+                if self.text_ends()? {
+                    continue;
                 }
-                return match self.unclosed() {
-                    Some(f) => Err(self.alarm(*f)),
-                    None => Ok(false),
-                };
+                return Ok(false);
             };
             self.blk_number = None;
             match self.segment(start, end) {
@@ -293,6 +291,31 @@ impl<'a> Interpreter<'a> {
             && self.cycle.is_none()
             && !self.coords.frame.active()
             && self.coords.polar.is_none()
+    }
+
+    /// The end of the running program's text: true if reading goes on in the caller (a
+    /// SINUMERIK or 840C subprogram returns there); else the program's end, or the alarm of
+    /// a called program without M99 or of a structure left open.
+    #[cold]
+    #[inline(never)]
+    fn text_ends(&mut self) -> Result<bool, Alarm> {
+        if self.calls.depth() > 0 && self.d.has_subprogram_end() {
+            return match self.implicit_return() {
+                Ok(()) => Ok(true),
+                Err(f) => {
+                    self.finished = true;
+                    Err(self.alarm(*f))
+                }
+            };
+        }
+        self.finished = true;
+        if let Some(f) = self.called_program_ends() {
+            return Err(self.alarm(*f));
+        }
+        match self.unclosed() {
+            Some(f) => Err(self.alarm(*f)),
+            None => Ok(false),
+        }
     }
 
     /// At the end of a called program's text: it has no M99 (a fault at its O line).

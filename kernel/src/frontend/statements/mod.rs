@@ -5,6 +5,7 @@
 //!
 //! - [`isg`]: ISG `$IF`/`$ELSEIF`/`$ELSE`/`$ENDIF`, `$FOR`, `$WHILE`, `V.` assignments.
 //! - [`fanuc`]: Fanuc Custom Macro B `#i = …`, `IF`, `GOTO`, `WHILE … DO`/`END`, G65/G66.
+//! - SINUMERIK statements and calls (also the 840C's `L123 P3`) are in `sinumerik/`.
 
 pub(super) mod fanuc;
 pub(super) mod isg;
@@ -21,6 +22,7 @@ impl Interpreter<'_> {
         (self.d.variables && c.peek() == Some(b'$'))
             || (self.d.macro_b && self.is_macro_statement(c))
             || (self.d.sinumerik && super::sinumerik::statements::Keyword::at(c).is_some())
+            || ((self.d.sinumerik || self.d.l_calls) && self.is_call(c))
     }
 
     /// Runs a statement block whose text starts at `start`; true if it produced a block (a
@@ -31,6 +33,9 @@ impl Interpreter<'_> {
         }
         if self.d.sinumerik {
             return self.sinumerik_statement(c, start);
+        }
+        if self.d.l_calls {
+            return self.call_block(c);
         }
         self.present_state_read.set(false);
         // The statement's own place: a jump, a skipped loop or a call moves the reading on.
