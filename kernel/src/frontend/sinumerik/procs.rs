@@ -202,7 +202,7 @@ mod tests {
         assert_eq!(code(" PP(REAL AB, REAL AB)"), Err((AlarmCode::Syntax, 13)));
         assert_eq!(code(" PP(STRING[8] S)"), Err((AlarmCode::NotSupported, 4)));
         assert_eq!(code(" PP(REAL R1)"), Err((AlarmCode::Syntax, 9)));
-        assert_eq!(code(" PP(REAL AB[3])"), Err((AlarmCode::NotSupported, 12)));
+        assert_eq!(code(" PP(REAL AB[3])"), Err((AlarmCode::NotSupported, 11)));
         assert_eq!(code(" PP(REAL AB) SAVE"), Err((AlarmCode::NotSupported, 13)));
         assert_eq!(code(" PP(REAL AB"), Err((AlarmCode::Syntax, 11)));
     }
