@@ -152,10 +152,7 @@ impl ProgramLibrary {
 
 /// A SINUMERIK program name: letters, digits and `_` (Fundamentals, "Subprogram names").
 fn is_program_name(stem: &str) -> bool {
-    !stem.is_empty()
-        && stem
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b == b'_')
+    !stem.is_empty() && stem.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
 }
 
 /// The folder part of a file's path as the library names it.
@@ -192,7 +189,10 @@ mod tests {
                 main,
             })
         };
-        assert_eq!(ProgramLibrary::key_of("pocket_a.spf"), named("POCKET_A", false));
+        assert_eq!(
+            ProgramLibrary::key_of("pocket_a.spf"),
+            named("POCKET_A", false)
+        );
         assert_eq!(ProgramLibrary::key_of("L123.SPF"), named("L123", false));
         assert_eq!(ProgramLibrary::key_of("S40.Mpf"), named("S40", true));
         assert_eq!(ProgramLibrary::key_of("a-b.spf"), None);

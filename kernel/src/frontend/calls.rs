@@ -233,7 +233,9 @@ impl<'a> Interpreter<'a> {
             ));
         }
         let (locals, params) = match args {
-            Args::Locals(a) if macro_call => (Some(std::mem::replace(&mut self.macros.locals, *a)), None),
+            Args::Locals(a) if macro_call => {
+                (Some(std::mem::replace(&mut self.macros.locals, *a)), None)
+            }
             Args::Locals(_) => (None, None),
             Args::Params(p) => (None, Some(p)),
         };
@@ -264,7 +266,10 @@ impl<'a> Interpreter<'a> {
             return Ok(());
         }
         let message = if self.d.sinumerik || self.d.l_calls {
-            format!("more than {levels} program levels (the main program and {} subprograms) nested", levels - 1)
+            format!(
+                "more than {levels} program levels (the main program and {} subprograms) nested",
+                levels - 1
+            )
         } else {
             format!("more than {} calls nested", levels - 1)
         };
@@ -339,9 +344,12 @@ impl<'a> Interpreter<'a> {
             self.sinumerik.store.pop_level();
             let depth = self.calls.frames.len();
             // An MCALL ends with the level that set it.
-            if self.calls.modal.as_ref().is_some_and(|m| {
-                m.depth > depth && matches!(m.args, Args::Params(_))
-            }) {
+            if self
+                .calls
+                .modal
+                .as_ref()
+                .is_some_and(|m| m.depth > depth && matches!(m.args, Args::Params(_)))
+            {
                 self.calls.modal = None;
             }
         }

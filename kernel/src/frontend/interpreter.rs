@@ -348,7 +348,14 @@ impl<'a> Interpreter<'a> {
         }
         self.block.program = self.calls.running.program;
         let block_col = c.i;
-        self.blk_number = read_block_number(&mut c)?;
+        // SINUMERIK: `NAME…` is a name (a variable, a program), not the block number N.
+        let name = self.d.sinumerik
+            && matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+        self.blk_number = if name {
+            None
+        } else {
+            read_block_number(&mut c)?
+        };
         c.skip_blanks();
         if self.d.sinumerik {
             // A jump label (`LAB1:`): the jumps found it before the program started.

@@ -98,7 +98,13 @@ impl Interpreter<'_> {
             return self.program_stop(ProgramStop::End, at);
         }
         let to = None;
-        self.set_pending(Pending::Return { to, at: at as usize }, at)
+        self.set_pending(
+            Pending::Return {
+                to,
+                at: at as usize,
+            },
+            at,
+        )
     }
 
     /// M98 P… (L…): the call runs when the block is complete. A P of more than four digits

@@ -31,8 +31,8 @@ const MAX_PASSES: u32 = 9999;
 /// Words of the language that stand alone in a block but are no program name: a block with
 /// one of them is read as it was before calls existed (frames, CIP, CT … are not built).
 const NOT_PROGRAMS: &[&str] = &[
-    "TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "CIP", "CT",
-    "SUPA", "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
+    "TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "CIP", "CT", "SUPA",
+    "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
 ];
 
 /// A cycle built into softnc, called by name like a subprogram file. None is built yet:
@@ -269,7 +269,12 @@ impl Interpreter<'_> {
 
     /// Alarm 14011: no file for the program, and where softnc looked.
     #[cold]
-    fn missing_program(&self, stem: &str, main: Option<bool>, at: usize) -> Box<super::super::fault::Fault> {
+    fn missing_program(
+        &self,
+        stem: &str,
+        main: Option<bool>,
+        at: usize,
+    ) -> Box<super::super::fault::Fault> {
         let files = match main {
             Some(true) => format!("{stem}.MPF"),
             Some(false) => format!("{stem}.SPF"),
@@ -291,7 +296,8 @@ impl Interpreter<'_> {
 /// The program name at the cursor (upper case): `L` and digits, or a name.
 fn call_name(c: &mut Cursor) -> R<String> {
     let at = c.i;
-    let l_digits = matches!(c.peek(), Some(b'L' | b'l')) && matches!(c.peek_at(1), Some(b'0'..=b'9'));
+    let l_digits =
+        matches!(c.peek(), Some(b'L' | b'l')) && matches!(c.peek_at(1), Some(b'0'..=b'9'));
     let name = if l_digits {
         c.i += 1;
         while matches!(c.peek(), Some(b'0'..=b'9')) {
@@ -301,7 +307,9 @@ fn call_name(c: &mut Cursor) -> R<String> {
     } else {
         expr::identifier(c)
     };
-    let after = c.peek().is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_');
+    let after = c
+        .peek()
+        .is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_');
     if after || !(is_l_name(&name) || super::statements::valid_name(&name)) {
         let message = "a program name expected: L and digits, or a name whose first two characters are letters or _";
         return Err(fault(AlarmCode::Syntax, at, message));
@@ -331,7 +339,11 @@ fn proc_named(s: Structure, stem: &str) -> Result<Structure, super::structure::L
                 decl.name
             );
             let (line, line_start) = decl.line;
-            Err((fault(AlarmCode::Syntax, decl.name_at, message), line, line_start))
+            Err((
+                fault(AlarmCode::Syntax, decl.name_at, message),
+                line,
+                line_start,
+            ))
         }
         _ => Ok(s),
     }
@@ -508,14 +520,18 @@ pub fn extern_declaration(c: &mut Cursor) -> R<()> {
     c.skip_blanks();
     match c.peek() {
         None | Some(b';') => Ok(()),
-        Some(_) => Err(fault(AlarmCode::Syntax, c.i, "end of the EXTERN line expected")),
+        Some(_) => Err(fault(
+            AlarmCode::Syntax,
+            c.i,
+            "end of the EXTERN line expected",
+        )),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use crate::alarm::{Alarm, AlarmCode};
-    use crate::frontend::{interpret, Block};
+    use crate::frontend::{interpret, Block, ProgramStop};
     use crate::{MachineData, ProgramLibrary, ToolTable};
 
     /// `main` in `dialect` with the program files `files` (name, text) beside it.
@@ -552,5 +568,198 @@ mod tests {
             ends("siemens-840d", main, &[("STEP.SPF", sub)]),
             [(0.0, 0.0), (2.5, 0.0), (5.0, 0.0), (6.0, 1.0), (6.0, 0.0)]
         );
+    }
+
+    #[test]
+    fn l_numbers_and_passes_on_the_840d_808d_and_840c() {
+        let sub = "G91 G1 X10 F100\nG90\nM17\n";
+        let main = "G0 X0 Y0\nL12 P3\nN20 L12\nG0 Y5\nM30\n";
+        let want = [
+            (0.0, 0.0),
+            (10.0, 0.0),
+            (20.0, 0.0),
+            (30.0, 0.0),
+            (40.0, 0.0),
+            (40.0, 5.0),
+        ];
+        for d in ["siemens-840d", "siemens-808d", "siemens-840c"] {
+            let got: Vec<_> = run(d, main, &[("L12.SPF", sub)])
+                .unwrap_or_else(|a| panic!("{d}: {a}"))
+                .iter()
+                .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[1])))
+                .collect();
+            assert_eq!(got, want, "{d}");
+        }
+        // L0012 is another program than L12 (the digits are its name).
+        let a = alarm("siemens-840d", "L0012\n", &[("L12.SPF", sub)]);
+        assert_eq!(a, (AlarmCode::MissingProgram, "main.mpf".into(), 1, 1));
+        // 840C: a header line and LF ends are read as in a main program.
+        let sub_840c = "%SPF12\nN1 G91 G1 X10 F100 LF\nN2 G90 M17 LF\n";
+        let got = ends("siemens-840c", "N5 L12 P2 LF\n", &[("L12.SPF", sub_840c)]);
+        assert_eq!(got, [(10.0, 0.0), (20.0, 0.0)]);
+    }
+
+    #[test]
+    fn m17_ret_m30_and_the_text_end_return_and_end_the_main_program() {
+        let files = [
+            ("A_RET.SPF", "G1 X1 F100\nRET\nX99\n"),
+            ("A_M30.SPF", "G1 Y2 F100\nM30\nX99\n"),
+            ("A_END.SPF", "G1 X3 F100\n"),
+        ];
+        let main = "A_RET\nA_M30\nA_END\nG0 Y4\nM17\nG0 X99\n";
+        let got = ends("siemens-840d", main, &files);
+        assert_eq!(got, [(1.0, 0.0), (1.0, 2.0), (3.0, 2.0), (3.0, 4.0)]);
+        let b = run("siemens-840d", "G0 X1\nRET\nX2\n", &[]).unwrap();
+        assert_eq!(b.last().and_then(|b| b.stop), Some(ProgramStop::End));
+        // M17 and M30 of a return go to no PLC; M17 ending the main program does.
+        let b = run("siemens-840d", "A_M30\nM17\n", &files).unwrap();
+        assert!(b[1].words.is_empty() && b[1].stop.is_none(), "{:?}", b[1]);
+        assert_eq!((b[2].words.len(), b[2].stop), (1, Some(ProgramStop::End)));
+    }
+
+    #[test]
+    fn mcall_calls_after_each_move_and_not_inside_itself() {
+        let files = [(
+            "DRILL.SPF",
+            "PROC DRILL(REAL DEPTH)\nG1 Z=DEPTH F100\nG0 Z2\n",
+        )];
+        let main = "G0 X0 Y0 Z2\nMCALL DRILL(-5)\nX10\nM3 S100\nY10\nMCALL\nX20\n";
+        let zs: Vec<(f64, f64, f64)> = run("siemens-840d", main, &files)
+            .unwrap_or_else(|a| panic!("{a}"))
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[1], m.end[2])))
+            .collect();
+        // After X10 and Y10 (not after M3, not after the moves of DRILL, not after X20).
+        let want = [
+            (0.0, 0.0, 2.0),
+            (10.0, 0.0, 2.0),
+            (10.0, 0.0, -5.0),
+            (10.0, 0.0, 2.0),
+            (10.0, 10.0, 2.0),
+            (10.0, 10.0, -5.0),
+            (10.0, 10.0, 2.0),
+            (20.0, 10.0, 2.0),
+        ];
+        assert_eq!(zs, want);
+    }
+
+    #[test]
+    fn a_missing_program_is_14011_at_the_call_naming_where_softnc_looked() {
+        let a = run("siemens-840d", "G0 X0\nN20 POCKET1 P2\n", &[]).unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::MissingProgram, 2, 5));
+        assert!(a.message.contains("POCKET1.SPF or POCKET1.MPF"), "{a}");
+        assert!(a.message.contains("program.search_path"), "{a}");
+        let a = alarm("siemens-840d", "_N_POCKET1_SPF\n", &[("POCKET1.MPF", "")]);
+        assert_eq!(a, (AlarmCode::MissingProgram, "main.mpf".into(), 1, 1));
+        assert!(run("siemens-840d", "_N_POCKET1_MPF\n", &[("pocket1.mpf", "")]).is_ok());
+    }
+
+    #[test]
+    fn recursion_ends_at_the_program_levels() {
+        let sub = [("DEEP.SPF", "R1=R1+1\nDEEP\n")];
+        // 840D: main + 15 subprogram levels; the 16th call is refused in the subprogram.
+        let a = run("siemens-840d", "DEEP\n", &sub).unwrap_err();
+        assert_eq!(
+            (a.code, a.program.as_str(), a.line, a.col),
+            (AlarmCode::CallNesting, "lib/DEEP.SPF", 2, 1)
+        );
+        assert!(a.message.contains("16 program levels"), "{a}");
+        let a = run("siemens-808d", "DEEP\nG0 X=R1\n", &sub).unwrap_err();
+        assert!(a.message.contains("8 program levels"), "{a}");
+        // R parameters are global: 7 levels ran before the refusal.
+        let b = run(
+            "siemens-808d",
+            "R1=0\nDEEPER\n",
+            &[("DEEPER.SPF", "R1=R1+1\nIF R1<7\nDEEPER\nENDIF\nG0 X=R1\n")],
+        )
+        .unwrap();
+        let xs: Vec<f64> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| m.end[0]))
+            .collect();
+        assert_eq!(xs, [7.0; 7]);
+    }
+
+    #[test]
+    fn a_called_program_is_read_whole_before_it_runs() {
+        let sub = [("OPEN_IF.SPF", "G1 X1 F100\n  IF R1>0\nX2\nM17\n")];
+        let a = run("siemens-840d", "G0 X0\nOPEN_IF\n", &sub).unwrap_err();
+        assert_eq!(
+            (a.code, a.program.as_str(), a.line, a.col),
+            (AlarmCode::ControlNesting, "lib/OPEN_IF.SPF", 2, 3)
+        );
+        let proc_late = [("LATE.SPF", "G0 X1\nPROC LATE\n")];
+        let a = alarm("siemens-840d", "LATE\n", &proc_late);
+        assert_eq!(a, (AlarmCode::Syntax, "lib/LATE.SPF".into(), 2, 1));
+        let other = [("NAMED.SPF", "; named\nN5 PROC OTHER\n")];
+        let a = alarm("siemens-840d", "NAMED\n", &other);
+        assert_eq!(a, (AlarmCode::Syntax, "lib/NAMED.SPF".into(), 2, 9));
+    }
+
+    #[test]
+    fn var_parameters_need_variables() {
+        let sub = [(
+            "SET_IT.SPF",
+            "PROC SET_IT(VAR REAL OUT, REAL IN)\nOUT=IN*2\n",
+        )];
+        let a = alarm("siemens-840d", "R1=1\nSET_IT(R1+1, 2)\n", &sub);
+        assert_eq!(
+            a,
+            (AlarmCode::ParameterNotVariable, "main.mpf".into(), 2, 8)
+        );
+        let a = alarm("siemens-840d", "SET_IT(, 2)\n", &sub);
+        assert_eq!(
+            a,
+            (AlarmCode::ParameterNotVariable, "main.mpf".into(), 1, 8)
+        );
+        let a = alarm("siemens-840d", "SET_IT\n", &sub);
+        assert_eq!(
+            a,
+            (AlarmCode::ParameterNotVariable, "main.mpf".into(), 1, 1)
+        );
+        let a = alarm("siemens-840d", "SET_IT(NOPE, 2)\n", &sub);
+        assert_eq!(a, (AlarmCode::UndefinedName, "main.mpf".into(), 1, 8));
+        let a = alarm("siemens-840d", "SET_IT(R1, 2, 3)\n", &sub);
+        assert_eq!(a, (AlarmCode::Syntax, "main.mpf".into(), 1, 15));
+        // A VAR parameter passes its own variable on; R[expr] is a variable.
+        let pass = [
+            (
+                "SET_IT.SPF",
+                "PROC SET_IT(VAR REAL OUT, REAL IN)\nOUT=IN*2\n",
+            ),
+            ("OUTER.SPF", "PROC OUTER(VAR REAL VV)\nSET_IT(VV, 21)\n"),
+        ];
+        let main = "DEF REAL KEEP\nOUTER(KEEP)\nR2=3\nSET_IT(R[R2], 4)\nG0 X=KEEP Y=R3\n";
+        assert_eq!(ends("siemens-840d", main, &pass), [(42.0, 8.0)]);
+    }
+
+    #[test]
+    fn each_level_has_its_own_variables() {
+        let sub = [("LOCAL.SPF", "DEF REAL AA=5\nG0 X=AA\n")];
+        // The main program's AA is not the subprogram's; its own DEF is no second definition.
+        let main = "DEF REAL AA=1\nLOCAL\nLOCAL\nG0 X=AA\n";
+        assert_eq!(
+            ends("siemens-840d", main, &sub),
+            [(5.0, 0.0), (5.0, 0.0), (1.0, 0.0)]
+        );
+        let peek = [("PEEK.SPF", "G0 X=AA\n")];
+        let a = alarm("siemens-840d", "DEF REAL AA=1\nPEEK\n", &peek);
+        assert_eq!(a, (AlarmCode::UndefinedName, "lib/PEEK.SPF".into(), 1, 6));
+    }
+
+    #[test]
+    fn a_call_stands_alone_and_other_names_stay_what_they_were() {
+        let sub = [("SUB1.SPF", "G0 X1\n")];
+        let a = alarm("siemens-840d", "L10 X5\n", &[("L10.SPF", "")]);
+        assert_eq!(a, (AlarmCode::Syntax, "main.mpf".into(), 1, 5));
+        let a = alarm("siemens-840d", "SUB1 X5\n", &sub);
+        assert_eq!(a, (AlarmCode::UndefinedName, "main.mpf".into(), 1, 1));
+        let a = alarm("siemens-840d", "TRANS\n", &[]);
+        assert_eq!(a.0, AlarmCode::UndefinedName);
+        let a = alarm("siemens-840d", "SUB1 P0\n", &sub);
+        assert_eq!(a, (AlarmCode::BadNumber, "main.mpf".into(), 1, 6));
+        // EXTERN declares; PROC of the main program gives it parameters of 0.
+        let main = "PROC MAIN(REAL START)\nEXTERN SUB1(REAL, VAR INT)\nG0 Y=START\nSUB1\n";
+        assert_eq!(ends("siemens-840d", main, &sub), [(0.0, 0.0), (1.0, 0.0)]);
     }
 }

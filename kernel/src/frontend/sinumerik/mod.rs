@@ -211,6 +211,11 @@ impl Store {
     pub fn push_level(&mut self, params: &[Param], at: usize) -> R<()> {
         self.callers.push(self.level);
         self.level = self.vars.len();
+        self.declare(params, at)
+    }
+
+    /// Parameters as the running level's variables.
+    pub fn declare(&mut self, params: &[Param], at: usize) -> R<()> {
         for p in params {
             let (value, target) = match p.value {
                 Binding::Value(v) => (p.ty.convert(v, at)?, None),

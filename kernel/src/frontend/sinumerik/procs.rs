@@ -153,14 +153,25 @@ fn attributes(c: &mut Cursor) -> R<()> {
             Some(b) if b.is_ascii_alphabetic() => {
                 let at = c.i;
                 let word = identifier_span(c);
-                if DISPLAY_ONLY.iter().any(|w| w.as_bytes().eq_ignore_ascii_case(word)) {
+                if DISPLAY_ONLY
+                    .iter()
+                    .any(|w| w.as_bytes().eq_ignore_ascii_case(word))
+                {
                     continue;
                 }
                 let word = String::from_utf8_lossy(word).to_ascii_uppercase();
-                let message = format!("PROC … {word} is not supported (SAVE and the other attributes are not built)");
+                let message = format!(
+                    "PROC … {word} is not supported (SAVE and the other attributes are not built)"
+                );
                 return Err(fault(AlarmCode::NotSupported, at, message));
             }
-            Some(_) => return Err(fault(AlarmCode::Syntax, c.i, "end of the PROC line expected")),
+            Some(_) => {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    c.i,
+                    "end of the PROC line expected",
+                ))
+            }
         }
     }
 }
@@ -203,7 +214,10 @@ mod tests {
         assert_eq!(code(" PP(STRING[8] S)"), Err((AlarmCode::NotSupported, 4)));
         assert_eq!(code(" PP(REAL R1)"), Err((AlarmCode::Syntax, 9)));
         assert_eq!(code(" PP(REAL AB[3])"), Err((AlarmCode::NotSupported, 11)));
-        assert_eq!(code(" PP(REAL AB) SAVE"), Err((AlarmCode::NotSupported, 13)));
+        assert_eq!(
+            code(" PP(REAL AB) SAVE"),
+            Err((AlarmCode::NotSupported, 13))
+        );
         assert_eq!(code(" PP(REAL AB"), Err((AlarmCode::Syntax, 11)));
     }
 }

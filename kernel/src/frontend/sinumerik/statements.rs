@@ -151,6 +151,19 @@ impl Interpreter<'_> {
         self.structure_pending = false;
         let end = self.src.len();
         let s = Structure::of(self.src, self.pos, end, self.line).map_err(|e| self.located(e))?;
+        // The main program's parameters (PROC MAIN(REAL A)): no caller gives them, they are 0.
+        if let Some(decl) = &s.proc {
+            let params: Vec<_> = decl
+                .params
+                .iter()
+                .map(|f| super::Param {
+                    name: f.name.clone(),
+                    ty: f.ty,
+                    value: super::Binding::Value(0.0),
+                })
+                .collect();
+            self.sinumerik.store.declare(&params, decl.name_at)?;
+        }
         self.keep_structure(self.calls.running.program, s);
         Ok(())
     }
@@ -385,7 +398,11 @@ impl Interpreter<'_> {
         self.end_of_statement(c)?;
         let program = self.calls.running.program;
         let Some(s) = self.sinumerik.structure(program) else {
-            return Err(fault(AlarmCode::JumpTarget, target_at, "no jump destinations"));
+            return Err(fault(
+                AlarmCode::JumpTarget,
+                target_at,
+                "no jump destinations",
+            ));
         };
         let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
             Some(n) => s.numbered(self.src, n, start),
