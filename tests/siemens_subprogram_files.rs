@@ -64,7 +64,10 @@ fn alarms_in_a_subprogram_file_name_that_file() {
     let d = folder("alarms");
     write(&d.join("main.mpf"), "G0 X0 Y0 Z0\nBAD_SUB\nM30\n");
     // Line 3 col 10: R1/0 at run time, in the subprogram.
-    write(&d.join("BAD_SUB.SPF"), "; divides\nG1 X1 F100\nR2=5 R3=R2/0\n");
+    write(
+        &d.join("BAD_SUB.SPF"),
+        "; divides\nG1 X1 F100\nR2=5 R3=R2/0\n",
+    );
     let (code, text) = check(&d.join("main.mpf"), &[]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("BAD_SUB.SPF:3:11: alarm 14000"), "{text}");
