@@ -25,11 +25,13 @@ use super::{Binding, Param, Ref, Store};
 use crate::alarm::AlarmCode;
 use crate::frontend::block::ProgramStop;
 
-/// Most passes a call may ask for with P (Fundamentals, "Program repetition": 1 … 9999).
+/// Most passes a call may ask for with P (Fundamentals, "Program repetition": 1 … 9999
+/// **[unconfirmed]**).
 const MAX_PASSES: u32 = 9999;
 
 /// Words of the language that stand alone in a block but are no program name: a block with
-/// one of them is read as it was before calls existed (frames, CIP, CT … are not built).
+/// one of them is no call, and refused as a name softnc does not know (frames, CIP, CT … are
+/// not built).
 const NOT_PROGRAMS: &[&str] = &[
     "TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "CIP", "CT", "SUPA",
     "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
@@ -58,15 +60,14 @@ enum Callee {
 }
 
 impl Interpreter<'_> {
-    /// Whether the block at the cursor (after its number and label) is a subprogram call:
-    /// `L` and a digit, or on SINUMERIK a name alone (with `(`…`)`, `P`, a comment) that is no
-    /// variable, function or word of the language. Told from its first bytes for most blocks.
+    /// Whether the block at the cursor (after its number and label) of a SINUMERIK or 840C
+    /// program is a subprogram call: `L` and a digit, or on SINUMERIK a name alone (with
+    /// `(`…`)`, `P`, a comment) that is no variable, function or word of the language. Told
+    /// from its first two bytes for most blocks.
     #[inline]
     pub(in crate::frontend) fn is_call(&self, c: &Cursor) -> bool {
-        let l_digit =
-            matches!(c.peek(), Some(b'L' | b'l')) && matches!(c.peek_at(1), Some(b'0'..=b'9'));
-        if self.d.l_calls || l_digit {
-            return l_digit && (self.d.l_calls || self.d.sinumerik);
+        if matches!(c.peek(), Some(b'L' | b'l')) && matches!(c.peek_at(1), Some(b'0'..=b'9')) {
+            return true;
         }
         let name_char = |k| matches!(c.peek_at(k), Some(b) if b.is_ascii_alphabetic() || b == b'_');
         self.d.sinumerik && name_char(0) && name_char(1) && self.named_call(c)
@@ -120,7 +121,7 @@ impl Interpreter<'_> {
 
     /// `MCALL NAME(…)`: the call after every block that moves, until `MCALL` alone (Job
     /// planning, "Modal subprogram call").
-    pub(in crate::frontend) fn mcall(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+    pub(in crate::frontend) fn mcall(&mut self, c: &mut Cursor) -> R<()> {
         c.skip_blanks();
         if matches!(c.peek(), None | Some(b';')) {
             self.calls.modal = None;
@@ -132,7 +133,8 @@ impl Interpreter<'_> {
                 params,
                 passes,
             } => (Target::File(program), Args::Params(params), passes),
-            Callee::Builtin(cycle, args) => return self.run_builtin(cycle, &args, at),
+            // A built-in cycle's modal call comes with the cycles (MCALL CYCLE81(…)).
+            Callee::Builtin(cycle, _) => match cycle {},
         };
         self.calls.modal = Some(ModalCall {
             target,

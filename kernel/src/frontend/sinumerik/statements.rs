@@ -244,7 +244,7 @@ impl Interpreter<'_> {
             // Read with the structure before the program ran; bound by the call.
             (Keyword::Proc, _) => {}
             (Keyword::Extern, _) => super::calls::extern_declaration(&mut c)?,
-            (Keyword::Mcall, _) => self.mcall(&mut c, at)?,
+            (Keyword::Mcall, _) => self.mcall(&mut c)?,
             (Keyword::Ret, _) => {
                 self.end_of_statement(&mut c)?;
                 return self.ret_statement(at);
