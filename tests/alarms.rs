@@ -83,14 +83,15 @@ fn unknown_address_q_on_840c() {
 }
 
 #[test]
-fn r_radius_word_is_unknown_on_840c() {
-    // The 840C writes the radius as CR=; R is no address there.
+fn r_radius_word_is_a_parameter_on_840c() {
+    // The 840C writes the radius as CR=; R10 there is an R parameter, which needs '='.
     // N20 G2 X10 R10
     // 123456789012
     //            ^ R at 12
     let a = alarm(C840, "N10 G1 X0 Y0 F100\nN20 G2 X10 R10\n");
-    check(&a, AlarmCode::UnknownAddress, 12050, 2, 12);
+    check(&a, AlarmCode::Syntax, 12080, 2, 12);
     assert_eq!(a.block.as_deref(), Some("N20"));
+    assert!(a.message.contains("CR="), "{a}");
 }
 
 #[test]

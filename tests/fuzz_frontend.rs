@@ -7,7 +7,9 @@
 //! (3-axis and 5-axis) add Custom Macro B to both soups (`#` variables, expressions, IF, GOTO,
 //! WHILE … DO, M98/M99, G65/G66 and `O` subprograms in the file), and get "macro programs":
 //! structured programs — a main program and one to three subprograms with nested loops, calls,
-//! jumps and recursion — that run deep before they end. Every run must end with blocks or an
+//! jumps and recursion — that run deep before they end. The 840C's block soup has statement
+//! blocks of its own language (R parameter assignments, `@` functions and jumps to the soup's
+//! block numbers). Every run must end with blocks or an
 //! alarm; an alarm must point into the program (line ≥ 1, column ≥ 1, within the text) and say
 //! something. The 840D's structured programs also come with PROCs in files beside them
 //! (calls with parameters, VAR, passes, MCALL, recursion); an alarm in one points into it. `program.max_loop_iterations` is set to 100 so that loops stay short; the kernel
@@ -201,7 +203,8 @@ const VOCABULARY: &[&str] = &[
     "A1e9", "C99999999",
     // technology and aux
     "F100", "F0", "F-5", "F.1", "S1000", "S-1", "H2", "T1", "T2", "D0", "D1", "D2", "D9", "M0",
-    "M1", "M2", "M3", "M18", "M30", "DIAMON", "DIAMOF", "@714", "@66250", "@",
+    "M1", "M2", "M3", "M18", "M30", "DIAMON", "DIAMOF", "@714", "@66250", "@", "@100 K-10",
+    "@121 R1 K3 K+20", "@630 R2 K30", "K-10", "K", "P1", ":10", ":",
     // comments
     "(comment", ")", "(a (nested) one)", "(ä)", "ä", "é", "\u{fffd}",
     // ISG variables and control structures
@@ -310,7 +313,21 @@ const COMMON: &[&str] = &[
 const C840_WORDS: &[&str] = &[
     "CR=5", "CR=-10", "G10", "G11", "G12", "G13", "A45", "A-30", "U10", "B5", "G450", "G451",
     "G455", "G456", "@714", "LF", "G25 X-100 Y-100", "G26 X100 Y100", "G60", "G64", "G110", "M18",
-    "D0", "G70", "G71", "F2", "G92 S3000", "G92", "G96 S100", "G95 F0.2",
+    "D0", "G70", "G71", "F2", "G92 S3000", "G92", "G96 S100", "G95 F0.2", "G26 S2000",
+    // the 840C's R parameters and @ commands, valid and broken
+    "R1=5", "R2=R1*2+1", "R1=-R2/4", "R3=R1/0", "R1300=1", "R1=", "R=1", "R1 2", "R01=3",
+    "X R1", "Y-R2", "Z+R1", "XR1", "F R2", "S R1", "CR=R1", "G R1", "X R", "X R1300", "@620 R1",
+    "@614 R3 K3 K4", "@613 R4 K-1", "@610 R5 P1", "@622 R2", "@631 R6 R1", "@630 K1 R1",
+    "@100 K-10", "@100 K+20", "@100 K1.5", "@100 R1", "@100", "@124 R1 K3 K-10",
+    "@121 K1 K2 K3", "@111 R1 K1 K10 K2 K20", "@111 R1 K1", "@302 R1 K2 K3", ":20 X5",
+];
+/// The 840C's statement blocks: assignments and @ commands, loops by jumps to the block
+/// numbers the soup writes (N0 … N199), mostly bounded by a counter.
+#[rustfmt::skip]
+const C840_STATEMENTS: &[&str] = &[
+    "R1=R1+1", "R2=R2*2", "R1=0", "@620 R1", "@621 R2", "@124 R1 K3 K-10", "@124 R1 K3 K-50",
+    "@122 R1 K2 K+100", "@126 R2 K5 K-20", "@100 K+150", "@100 K-30", "@111 R1 K1 K40 K2 K60",
+    "@630 R3 R1", "@631 R4 K45", "@613 R5 R1", "R6=R1*R3-R4/2", "@714", "R1=R1+1 @123 R1 K2 K-120",
 ];
 #[rustfmt::skip]
 const ISG_WORDS: &[&str] = &[
@@ -371,6 +388,12 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "GOTOC NOWHERE", "GOTOF N10", "GOTOB N20", "GOTOF", "IF R1>2 GOTOF LAB2", "IF R1<1 GOTOB LAB1",
     "STOPRE", "MSG(\"text\")", "MSG()", "MSG(\"open", "SETAL(65000)", "SETAL(1)", "/IF 1",
     "LAB1: IF 1", "LAB1: R1=R1+1", "LAB2: G1 X=R1 F100",
+    "CYCLE81(10, 0, 2, -5)", "CYCLE82(R1, 0, 2, , 3, -2)", "CYCLE83(10, 0, 1, -20, , -5, , 2, 1, 1, 0.5, 1)",
+    "CYCLE83(10, 0, 1, -20, , , 0.001, 0, , , , 0)", "CYCLE84(10, 0, 2, -8, , 0, 3, 6)", "CYCLE84(10,0,2,-8)",
+    "CYCLE840(10, 0, 2, -8, , 0, 0, 5, 0, 0, 1.5)", "CYCLE85(10, 0, 2, -9, , 1, R1, 0)", "CYCLE86(10, 0, 2, -9, , 0, 3, 1, 1, 1)",
+    "CYCLE87(10, 0, 2, -9, , 9)", "CYCLE88(10, 0, 2, -9, , -1, 4)", "CYCLE89(0, 0, 2, 0)", "CYCLE81(", "CYCLE81(1,2,3,4,5,6)",
+    "CASE(R1) OF 1 GOTOF LAB2 2 GOTOB LAB1 DEFAULT GOTOF LAB2", "CASE(R1) OF", "CASE R1", "CASE(R1) OF 1.5 GOTOF LAB2",
+    "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -449,6 +472,7 @@ fn block_soup(which: usize) -> impl Strategy<Value = String> {
         words.push((2, prop::sample::select(FIVE_AXIS_WORDS)));
     }
     let statements = match which {
+        0 => C840_STATEMENTS,
         2 | 4 | 6 => FANUC_STATEMENTS,
         7 => SINUMERIK_STATEMENTS,
         _ => ISG_STATEMENTS,
@@ -484,7 +508,7 @@ fn block_soup(which: usize) -> impl Strategy<Value = String> {
                 if numbered {
                     s.push_str(&format!("N{n} "));
                 }
-                if (which == 1 || which == 7 || fanuc) && dice < 3 {
+                if (which <= 1 || which == 7 || fanuc) && dice < 3 {
                     s.push_str(stmt);
                 } else {
                     s.push_str(&words.join(" "));
@@ -1127,6 +1151,9 @@ mod sinumerik_programs {
         "G1 X=1/R0",
         "STOPRE",
         "MSG(\"pass\")",
+        "CYCLE81(10, 0, 2, -R1-1)",
+        "R6=$P_EP[X]+$AA_IW[Y]",
+        "CYCLE83(10, 0, 1, -20, , -R1-1, , 2, , , 0.5, R4 MOD 2)",
     ];
     const ASSIGNS: &[&str] = &[
         "R1=R1+1",
@@ -1164,6 +1191,8 @@ mod sinumerik_programs {
         "GOTO END_2",
         "IF R2>40 GOTOF MISSING",
         "GOTOF N9000",
+        "CASE(R4) OF 1 GOTOF END_1 2 GOTOB TOP DEFAULT GOTOF END_2",
+        "CASE(R1 MOD 3) OF 0 GOTOF END_1",
     ];
 
     fn stmt(calls: bool) -> impl Strategy<Value = Stmt> {

@@ -2,10 +2,11 @@
 //! number of allocations for a 2 000-block and a 20 000-block program (issue 3: "nothing is
 //! allocated per block"; the IPO path of issue 5 relies on it) — in one thread, and with the
 //! front in a thread of its own (its thread, channels and batch buffers are made once).
+//! The 840C's language (R parameters, @ loops) allocates nothing per pass either.
 //! One test in this file: the counter is process-wide.
 
 use nc_kernel::synthetic::{compensated_program, Header};
-use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -51,8 +52,30 @@ fn allocations(blocks: usize, dialect: &str, threaded: bool) -> (u64, u64) {
     (ALLOCATIONS.load(Ordering::Relaxed) - before, segments)
 }
 
+/// Allocations made while interpreting an 840C loop of `passes` passes: R parameter
+/// arithmetic in addresses, a function, a backward conditional jump.
+fn loop_allocations(passes: u32) -> u64 {
+    let text = format!(
+        "N10 R1=0 R2=0\nN20 G1 F500 X R2 Y-R1\nN30 R1=R1+1 R2=R1*2.5\n@630 R3 R1\n\
+         N40 @124 R1 K{passes} K-20\nN50 M30\n"
+    );
+    let md = MachineData::load(None, &["dialect=siemens-840c".to_string()]).unwrap();
+    let tools = ToolTable::builtin();
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut interp = Interpreter::new("loop", &text, &md, &tools);
+    let mut moves = 0;
+    while let Some(b) = interp.next_block().expect("no alarm") {
+        moves += b.motion.is_some() as u32;
+    }
+    assert_eq!(moves, passes);
+    ALLOCATIONS.load(Ordering::Relaxed) - before
+}
+
 #[test]
 fn preparation_does_not_allocate_per_block() {
+    // The R parameters are allocated at their first write, once.
+    loop_allocations(10);
+    assert_eq!(loop_allocations(100), loop_allocations(1_000), "840C loop");
     for threaded in [false, true] {
         for dialect in [
             "siemens-840c",

@@ -1,6 +1,5 @@
 //! SINUMERIK programs for the 828D / 840D sl milling machine (config/siemens-840d.toml: the
-//! SINUMERIK language, G17, mm, R0 … R99) in tests/corpus/siemens-840d/, and the 840C's
-//! L-number subprograms in tests/corpus/siemens-840c/ (config/siemens-840c.toml). Every
+//! SINUMERIK language, G17, mm, R0 … R99) in tests/corpus/siemens-840d/. Every
 //! move's end point is compared with values worked out by hand; each program's header comment
 //! shows the arithmetic. The end points are the programmed ones (no zero offset is active,
 //! tool centre offsets are not applied to them). Subprogram files (`NAME.SPF`) stand beside
@@ -16,8 +15,6 @@ type P = [f64; 3];
 
 const CORPUS: &str = "tests/corpus/siemens-840d";
 const MACHINE: &str = "config/siemens-840d.toml";
-const CORPUS_840C: &str = "tests/corpus/siemens-840c";
-const MACHINE_840C: &str = "config/siemens-840c.toml";
 /// Hand values agree to this (sums of decimal fractions, and the trigonometry of s02/s16).
 const TOL: f64 = 1e-9;
 
@@ -25,23 +22,18 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The corpus folder and machine data of a file: `l…` programs are the 840C's.
-fn corpus_of(file: &str) -> (&'static str, &'static str) {
-    if file.starts_with('l') {
-        (CORPUS_840C, MACHINE_840C)
-    } else {
-        (CORPUS, MACHINE)
-    }
-}
-
 fn path_of(file: &str) -> PathBuf {
-    root().join(corpus_of(file).0).join(file)
+    root().join(CORPUS).join(file)
 }
 
-/// The machine data of `file`'s corpus, with the subprogram files beside it.
-fn machine(file: &str) -> MachineData {
-    let machine = corpus_of(file).1;
-    let mut md = MachineData::load(Some(&root().join(machine)), &[]).expect(machine);
+/// The 840D's machine data.
+fn machine() -> MachineData {
+    MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-840d.toml")
+}
+
+/// The 840D's machine data with the subprogram files beside `file`.
+fn machine_for(file: &str) -> MachineData {
+    let mut md = machine();
     let library = nc_runtime::program_library(&path_of(file), &md.program.search_path);
     md.programs = std::sync::Arc::new(library.expect("the corpus folder"));
     md
@@ -50,7 +42,7 @@ fn machine(file: &str) -> MachineData {
 /// The blocks up to the end or the first alarm.
 fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
     let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let (md, tools) = (machine(file), ToolTable::builtin());
+    let (md, tools) = (machine_for(file), ToolTable::builtin());
     let mut out = Vec::new();
     for item in Interpreter::new(file, &text, &md, &tools) {
         match item {
@@ -75,15 +67,15 @@ fn assert_ends(file: &str, got: &[P], want: &[P]) {
     assert_eq!(got.len(), want.len(), "{file}: number of moves: {got:?}");
 }
 
-/// `softnc check PROGRAM --machine <the corpus's machine data>` passes (it finds the
-/// subprogram files beside the program itself).
+/// `softnc check PROGRAM --machine config/siemens-840d.toml` passes (it finds the subprogram
+/// files beside the program itself).
 fn check(file: &str) {
     let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
         .current_dir(root())
         .arg("check")
         .arg(path_of(file))
         .arg("--machine")
-        .arg(corpus_of(file).1)
+        .arg(MACHINE)
         .output()
         .expect("softnc runs");
     assert_eq!(
@@ -648,6 +640,705 @@ fn s32_chf_chr_rnd_g41() {
     assert!((round.center[0] - 8.0).abs() <= TOL && (round.center[1] - 32.0).abs() <= TOL);
 }
 
+#[test]
+fn s50_drilling_cycles_plate() {
+    let z = |z: f64| [70.0, 15.0, z];
+    let mut want = vec![
+        [20.0, 15.0, 50.0],
+        [20.0, 15.0, 2.0], // CYCLE81
+        [20.0, 15.0, -12.0],
+        [20.0, 15.0, 10.0],
+        [45.0, 15.0, 10.0],
+        [45.0, 15.0, 2.0], // CYCLE82, DPR 6
+        [45.0, 15.0, -6.0],
+        [45.0, 15.0, 10.0],
+        [70.0, 15.0, 10.0],
+    ];
+    // CYCLE83: depths 10 16 20 24 25, out to Z1 and back to 0.6 above each.
+    for v in [
+        1.0, -10.0, 1.0, -9.4, -16.0, 1.0, -15.4, -20.0, 1.0, -19.4, -24.0, 1.0, -23.4, -25.0,
+        10.0, 50.0,
+    ] {
+        want.push(z(v));
+    }
+    let b = clean("s50_drilling_cycles_plate.mpf", &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [1.5]);
+}
+
+#[test]
+fn s51_tapping_and_boring_cycles() {
+    let b = clean(
+        "s51_tapping_and_boring_cycles.mpf",
+        &[
+            [0.0, 0.0, 20.0],
+            [0.0, 0.0, 2.0], // CYCLE84, PIT 1.5 at S400
+            [0.0, 0.0, -15.0],
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, 5.0],
+            [30.0, 0.0, 5.0],
+            [30.0, 0.0, 2.0], // CYCLE85, FFR 60 in, RFF 200 out
+            [30.0, 0.0, -20.0],
+            [30.0, 0.0, 2.0],
+            [30.0, 0.0, 5.0],
+            [60.0, 0.0, 5.0],
+            [60.0, 0.0, 2.0], // CYCLE89
+            [60.0, 0.0, -20.0],
+            [60.0, 0.0, 2.0],
+            [60.0, 0.0, 5.0],
+            [60.0, 0.0, 50.0],
+        ],
+    );
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some_and(|m| m.kind == MotionKind::Linear))
+        .map(|b| b.modal.feed)
+        .collect();
+    assert_eq!(feeds, [600.0, 600.0, 60.0, 200.0, 80.0, 80.0]);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [0.5, 1.0]);
+}
+
+#[test]
+fn s60_trans_arot_atrans() {
+    clean(
+        "s60_trans_arot_atrans.mpf",
+        &[
+            [0.0, 0.0, 5.0],
+            [10.0, 5.0, 5.0],  // zero (10, 5)
+            [7.0, 7.0, 5.0],   // (2, 3) → (10 − 3, 5 + 2)
+            [7.0, 12.0, 5.0],  // G91 X5 along the turned X (+Y)
+            [10.0, 12.0, 5.0], // (7, 0) → (10 − 0, 5 + 7)
+            [0.0, 0.0, 5.0],   // TRANS alone: no frame
+        ],
+    );
+}
+
+#[test]
+fn s61_scale_ascale_arc() {
+    let f = "s61_scale_ascale_arc.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [20.0, 0.0, 2.0], // X10 · 2
+            [0.0, 20.0, 2.0], // G3 CR=10 scaled to radius 20
+            [10.0, 0.0, 2.0], // ATRANS X5 scaled: zero at 10
+            [20.0, 0.0, 2.0], // ASCALE 0.5: p + (10, 0)
+            [0.0, 0.0, 20.0],
+        ],
+    );
+    let arc = block(f, &b, 50).motion.unwrap();
+    assert_eq!(arc.kind, MotionKind::ArcCcw);
+    assert!(arc.center[0].abs() <= TOL && arc.center[1].abs() <= TOL);
+}
+
+/// s62's programmed points, mirrored: G41 became G42, G2 became G3.
+#[test]
+fn s62_mirror_g41_contour() {
+    let f = "s62_mirror_g41_contour.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, -10.0, 2.0],
+            [0.0, -10.0, -3.0],
+            [-10.0, 0.0, -3.0], // G41 → G42
+            [-10.0, 30.0, -3.0],
+            [-40.0, 30.0, -3.0],
+            [-50.0, 20.0, -3.0], // G2 → G3 about (−40, 20)
+            [-50.0, 0.0, -3.0],
+            [-10.0, 0.0, -3.0],
+            [0.0, -10.0, -3.0], // G40
+            [0.0, -10.0, 20.0],
+        ],
+    );
+    for n in [70, 80, 90, 100, 110, 120] {
+        assert_eq!(block(f, &b, n).modal.trc, TrcSide::Right, "{f}: N{n}");
+    }
+    let arc = block(f, &b, 100).motion.unwrap();
+    assert_eq!(arc.kind, MotionKind::ArcCcw);
+    assert!((arc.center[0] + 40.0).abs() <= TOL && (arc.center[1] - 20.0).abs() <= TOL);
+}
+
+/// The tool-centre path of s62 (D2: radius 5), worked out by hand in the program's header:
+/// the mirrored contour runs counter-clockwise and G42 keeps the tool outside it, on the
+/// exact equidistant: the sides 5 mm out, the arc at radius 15, transition circles of
+/// radius 5 about the two outer corners.
+#[test]
+fn s62_mirror_g41_tool_centre_path() {
+    use nc_kernel::{Role, Segment, Shape};
+    let f = "s62_mirror_g41_contour.mpf";
+    let text = std::fs::read_to_string(path_of(f)).unwrap();
+    let path = nc_kernel::prepare(f, &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    let of = |n: u32| -> Vec<Segment> {
+        path.iter()
+            .filter(|s| s.source.number.map(|b| b.value) == Some(n))
+            .copied()
+            .collect()
+    };
+    let xy = |p: P, x: f64, y: f64, what: &str| {
+        assert!(
+            (p[0] - x).abs() <= TOL && (p[1] - y).abs() <= TOL,
+            "{what}: ({}, {}), by hand ({x}, {y})",
+            p[0],
+            p[1]
+        );
+    };
+    let line = |s: &Segment, a: (f64, f64), b: (f64, f64), what: &str| {
+        assert_eq!(s.shape, Shape::Line, "{what}");
+        xy(s.from, a.0, a.1, what);
+        xy(s.to, b.0, b.1, what);
+    };
+    let arc = |s: &Segment, a: (f64, f64), b: (f64, f64), c: (f64, f64), r: f64, what: &str| {
+        let Shape::Arc {
+            center,
+            ccw,
+            r0,
+            r1,
+            ..
+        } = s.shape
+        else {
+            panic!("{what}: not an arc: {s:?}");
+        };
+        assert!(ccw, "{what}: counter-clockwise");
+        assert!(
+            (r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL,
+            "{what}: radius {r0}"
+        );
+        xy(center, c.0, c.1, what);
+        xy(s.from, a.0, a.1, what);
+        xy(s.to, b.0, b.1, what);
+    };
+    let n70 = of(70);
+    assert_eq!(n70.len(), 1);
+    assert_eq!(n70[0].role, Role::Approach);
+    xy(n70[0].to, -5.0, 0.0, "N70: normal position of N80's start");
+    let n80 = of(80);
+    assert_eq!(n80.len(), 1);
+    line(&n80[0], (-5.0, 0.0), (-5.0, 30.0), "N80");
+    let n90 = of(90);
+    assert_eq!(
+        n90.iter().map(|s| s.role).collect::<Vec<_>>(),
+        [Role::Corner, Role::Contour]
+    );
+    arc(
+        &n90[0],
+        (-5.0, 30.0),
+        (-10.0, 35.0),
+        (-10.0, 30.0),
+        5.0,
+        "N90 corner",
+    );
+    line(&n90[1], (-10.0, 35.0), (-40.0, 35.0), "N90");
+    let n100 = of(100);
+    assert_eq!(n100.len(), 1, "tangent: no corner");
+    arc(
+        &n100[0],
+        (-40.0, 35.0),
+        (-55.0, 20.0),
+        (-40.0, 20.0),
+        15.0,
+        "N100",
+    );
+    let n110 = of(110);
+    assert_eq!(n110.len(), 1, "tangent: no corner");
+    line(&n110[0], (-55.0, 20.0), (-55.0, 0.0), "N110");
+    let n120 = of(120);
+    assert_eq!(
+        n120.iter().map(|s| s.role).collect::<Vec<_>>(),
+        [Role::Corner, Role::Contour]
+    );
+    arc(
+        &n120[0],
+        (-55.0, 0.0),
+        (-50.0, -5.0),
+        (-50.0, 0.0),
+        5.0,
+        "N120 corner",
+    );
+    line(&n120[1], (-50.0, -5.0), (-10.0, -5.0), "N120");
+    // The same contour written mirrored by hand, with G42 and G3, gives the same path.
+    let by_hand = text
+        .replace("N30 MIRROR X0", "")
+        .replace("N70 G41 X10", "N70 G42 X-10")
+        .replace("N90 X40", "N90 X-40")
+        .replace("N100 G2 X50", "N100 G3 X-50")
+        .replace("N120 X10", "N120 X-10");
+    let other = nc_kernel::prepare(f, &by_hand, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    assert_eq!(path.len(), other.len());
+    for (a, b) in path.iter().zip(&other) {
+        assert_eq!(a.role, b.role);
+        xy(a.from, b.from[0], b.from[1], "mirrored by hand");
+        xy(a.to, b.to[0], b.to[1], "mirrored by hand");
+    }
+}
+
+#[test]
+fn s63_mirror_both_axes() {
+    let f = "s63_mirror_both_axes.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [-20.0, 0.0, 2.0],
+            [-30.0, -10.0, 2.0], // a half turn: still CW
+            [40.0, -10.0, 2.0],
+            [50.0, 0.0, 2.0], // Y mirrored: CCW becomes CW
+            [0.0, 0.0, 20.0],
+        ],
+    );
+    let n50 = block(f, &b, 50).motion.unwrap();
+    assert_eq!(n50.kind, MotionKind::ArcCw);
+    assert!((n50.center[0] + 30.0).abs() <= TOL && n50.center[1].abs() <= TOL);
+    let n80 = block(f, &b, 80).motion.unwrap();
+    assert_eq!(n80.kind, MotionKind::ArcCw);
+    assert!((n80.center[0] - 50.0).abs() <= TOL && (n80.center[1] + 10.0).abs() <= TOL);
+}
+
+#[test]
+fn s64_rot_pattern_for() {
+    let mut want = Vec::new();
+    for (cx, cy) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
+        // The slot's direction after (k − 1) quarter turns.
+        want.extend([
+            [20.0 * cx, 20.0 * cy, 2.0],
+            [20.0 * cx, 20.0 * cy, -2.0],
+            [30.0 * cx, 30.0 * cy, -2.0],
+            [30.0 * cx, 30.0 * cy, 2.0],
+        ]);
+    }
+    want.push([0.0, 0.0, 2.0]);
+    want.insert(0, [0.0, 0.0, 2.0]);
+    clean("s64_rot_pattern_for.mpf", &want);
+}
+
+#[test]
+fn s65_supa_g53_g153() {
+    clean(
+        "s65_supa_g53_g153.mpf",
+        &[
+            [100.0, 50.0, 10.0],
+            [100.0, 50.0, 20.0], // SUPA Z20
+            [10.0, 10.0, 20.0],  // G53
+            [20.0, 10.0, 20.0],  // G153
+            [110.0, 50.0, 20.0], // the frame again
+            [0.0, 0.0, 20.0],
+        ],
+    );
+}
+
+#[test]
+fn s66_alarm_atrans_under_g41() {
+    let a = stops(
+        "s66_alarm_atrans_under_g41.mpf",
+        &[
+            [-10.0, -10.0, 2.0],
+            [-10.0, -10.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [0.0, 20.0, -3.0],
+        ],
+        AlarmCode::ForbiddenWithTrc,
+        11,
+        5,
+    );
+    assert_eq!(a.number(), 10754);
+    assert!(a.message.contains("ATRANS"), "{a}");
+}
+
+#[test]
+fn s67_alarm_scale_unequal_arc() {
+    let a = stops(
+        "s67_alarm_scale_unequal_arc.mpf",
+        &[[0.0, 0.0, 2.0], [20.0, 0.0, 2.0]],
+        AlarmCode::NotSupported,
+        8,
+        1,
+    );
+    assert_eq!(a.number(), 12580);
+}
+
+#[test]
+fn s68_alarm_g41_tilted_plane() {
+    let (s, c) = 20f64.to_radians().sin_cos();
+    let a = stops(
+        "s68_alarm_g41_tilted_plane.mpf",
+        &[[0.0, 0.0, 0.0], [10.0 * c, 0.0, -10.0 * s]],
+        AlarmCode::NotSupported,
+        9,
+        11,
+    );
+    assert_eq!(a.number(), 12580);
+}
+
+#[test]
+fn s69_mirror_incremental() {
+    clean(
+        "s69_mirror_incremental.mpf",
+        &[
+            [5.0, 5.0, 2.0],
+            [10.0, -10.0, 2.0],
+            [15.0, -15.0, 2.0], // G91 X5 Y5
+            [15.0, -20.0, 2.0], // Y=AC(20)
+            [10.0, -20.0, 2.0], // X=IC(−5)
+            [0.0, 0.0, 2.0],
+        ],
+    );
+}
+
+/// The moves' kinds and centres, for the circles' checks.
+fn arcs(b: &[Block]) -> Vec<(MotionKind, P)> {
+    b.iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| m.kind.is_arc())
+        .map(|m| (m.kind, m.center))
+        .collect()
+}
+
+fn assert_arcs(file: &str, b: &[Block], want: &[(MotionKind, P)]) {
+    let got = arcs(b);
+    assert_eq!(got.len(), want.len(), "{file}: arcs {got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            g.0 == w.0 && (0..3).all(|i| (g.1[i] - w.1[i]).abs() <= TOL),
+            "{file}: arc {g:?}, by hand {w:?}"
+        );
+    }
+}
+
+#[test]
+fn s80_polar_poles() {
+    let r = 20.0 * 2f64.sqrt();
+    let f = "s80_polar_poles.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [70.0, 20.0, 2.0],         // pole (30, 20), RP 40 at 0°
+            [30.0, 60.0, 2.0],         // AP=90, RP kept
+            [30.0 - r, 20.0 + r, 2.0], // AP=IC(45): 135°
+            [40.0, 20.0, 2.0],         // G91 AP=−135: 0°, RP=10
+            [45.0, 5.0, -3.0],         // G110: pole (45, 20); 270°, Z as written
+            [10.0, 30.0, -3.0],        // G112: pole (30, 30); 180°
+            [0.0, 25.0, -3.0],         // G111 RP=50 AP=90: pole (0, 50); −90°
+            [0.0, 25.0, 20.0],
+        ],
+    );
+    // The pole blocks move nothing.
+    for n in [30, 80, 100, 120] {
+        assert!(block(f, &b, n).motion.is_none(), "{f}: N{n}");
+    }
+}
+
+#[test]
+fn s81_polar_hole_circle() {
+    let at = |deg: f64, r: f64| {
+        let a = deg.to_radians();
+        (50.0 + r * a.cos(), 50.0 + r * a.sin())
+    };
+    let mut want = vec![[0.0, 0.0, 2.0]];
+    for k in 0..6 {
+        let (x, y) = at(15.0 + 60.0 * k as f64, 25.0);
+        want.extend([[x, y, 2.0], [x, y, -5.0], [x, y, 2.0]]);
+    }
+    want.extend([
+        [90.0, 50.0, 2.0],
+        [90.0, 50.0, -2.0],
+        [50.0, 90.0, -2.0], // G3 AP=90 about the pole, radius 40
+        [10.0, 50.0, -2.0], // AP=IC(90): 180°
+        [50.0, 90.0, -4.0], // G2 AP=90 with Z: a helix
+        [50.0, 90.0, 20.0],
+    ]);
+    let f = "s81_polar_hole_circle.mpf";
+    let b = clean(f, &want);
+    let c = |z: f64| [50.0, 50.0, z];
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, c(-2.0)),
+            (MotionKind::ArcCcw, c(-2.0)),
+            (MotionKind::ArcCw, c(-2.0)),
+        ],
+    );
+}
+
+#[test]
+fn s82_cip() {
+    let f = "s82_cip.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -2.0],
+            [40.0, 0.0, -2.0], // over (20, 20)
+            [40.0, -10.0, -2.0],
+            [0.0, -10.0, -2.0], // G91: over (20, −30)
+            [0.0, 0.0, -2.0],
+            [30.0, 30.0, -2.0], // X=IC(30) Y=IC(30) over I1=AC(30) J1=AC(0)
+            [30.0, 30.0, 20.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCw, [20.0, 0.0, -2.0]),
+            (MotionKind::ArcCw, [20.0, -10.0, -2.0]),
+            (MotionKind::ArcCcw, [15.0, 15.0, -2.0]),
+        ],
+    );
+}
+
+#[test]
+fn s83_ct() {
+    let f = "s83_ct.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -1.0],
+            [20.0, 0.0, -1.0],
+            [40.0, 20.0, -1.0], // CT about (20, 20)
+            [20.0, 40.0, -1.0], // CT about (20, 20) again
+            [0.0, 40.0, -1.0],  // on the tangent: a line
+            [0.0, 30.0, -1.0],
+            [10.0, 20.0, -3.0], // CT about (10, 30) with Z
+            [10.0, 20.0, 20.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [20.0, 20.0, -1.0]),
+            (MotionKind::ArcCcw, [20.0, 20.0, -1.0]),
+            (MotionKind::ArcCcw, [10.0, 30.0, -1.0]),
+        ],
+    );
+    assert_eq!(block(f, &b, 70).motion.unwrap().kind, MotionKind::Linear);
+}
+
+#[test]
+fn s84_helix_turn() {
+    let f = "s84_helix_turn.mpf";
+    let b = clean(
+        f,
+        &[
+            [50.0, 30.0, 5.0],
+            [50.0, 30.0, 0.0],
+            [50.0, 30.0, -2.0], // TURN=2 on a full circle: three turns of −2
+            [50.0, 30.0, -4.0],
+            [50.0, 30.0, -6.0],
+            [50.0, 30.0, -8.0], // TURN=1 and a half circle: 3 over 3π, −2 a turn
+            [30.0, 30.0, -9.0],
+            [40.0, 30.0, -9.0],
+            [40.0, 30.0, 20.0],
+        ],
+    );
+    let c = |z: f64| [40.0, 30.0, z];
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCw, c(0.0)),
+            (MotionKind::ArcCw, c(-2.0)),
+            (MotionKind::ArcCw, c(-4.0)),
+            (MotionKind::ArcCcw, c(-6.0)),
+            (MotionKind::ArcCcw, c(-8.0)),
+        ],
+    );
+    // Every turn belongs to its programmed block.
+    let lines: Vec<u32> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| b.line)
+        .collect();
+    assert_eq!(lines, [13, 14, 15, 15, 15, 16, 16, 17, 18]);
+}
+
+#[test]
+fn s85_rndm_frc() {
+    let f = "s85_rndm_frc.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -2.0],
+            [55.0, 0.0, -2.0],
+            [60.0, 5.0, -2.0], // RNDM=5 about (55, 5)
+            [60.0, 32.0, -2.0],
+            [52.0, 40.0, -2.0], // RND=8 about (52, 32)
+            [3.0, 40.0, -2.0],
+            [0.0, 37.0, -2.0], // CHR=3
+            [0.0, 0.0, -2.0],  // RNDM=0: no rounding at (0, 0)
+            [30.0, 0.0, -2.0],
+            [30.0, 0.0, 20.0],
+        ],
+    );
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| b.modal.feed)
+        .collect();
+    assert_eq!(
+        feeds[1..10],
+        [500.0, 500.0, 100.0, 500.0, 60.0, 500.0, 100.0, 500.0, 500.0],
+        "{f}: FRCM 100, FRC 60 for N50's element only"
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [55.0, 5.0, -2.0]),
+            (MotionKind::ArcCcw, [52.0, 32.0, -2.0]),
+        ],
+    );
+}
+
+/// The tool-centre path of a program: `softnc path`'s segments.
+fn tool_centre(file: &str) -> Vec<nc_kernel::Segment> {
+    let text = std::fs::read_to_string(path_of(file)).expect("program");
+    nc_kernel::prepare(file, &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{file}: {a}"))
+}
+
+#[test]
+fn s86_rnd_g41_equidistant() {
+    use nc_kernel::{Role, Shape};
+    let f = "s86_rnd_g41_equidistant.mpf";
+    clean(
+        f,
+        &[
+            [-20.0, -20.0, 2.0],
+            [-20.0, -20.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [0.0, 30.0, -3.0],
+            [10.0, 40.0, -3.0], // RND=10 about (10, 30)
+            [40.0, 40.0, -3.0],
+            [50.0, 30.0, -3.0], // RND=10 about (40, 30)
+            [50.0, 0.0, -3.0],
+            [0.0, 0.0, -3.0],
+            [-20.0, -20.0, -3.0],
+            [-20.0, -20.0, 20.0],
+        ],
+    );
+    // The tool centre, by hand (the header): offset 5 to the left; the roundings' equidistants
+    // are arcs about their centres with radius 15. (from, to, centre) in X Y; Z is −3 plus
+    // the tool length 80.
+    type Xy = [f64; 2];
+    let want: [(Role, Xy, Xy, Option<Xy>); 9] = [
+        (Role::Approach, [-20.0, -20.0], [-5.0, 0.0], None),
+        (Role::Contour, [-5.0, 0.0], [-5.0, 30.0], None),
+        (
+            Role::Contour,
+            [-5.0, 30.0],
+            [10.0, 45.0],
+            Some([10.0, 30.0]),
+        ),
+        (Role::Contour, [10.0, 45.0], [40.0, 45.0], None),
+        (
+            Role::Contour,
+            [40.0, 45.0],
+            [55.0, 30.0],
+            Some([40.0, 30.0]),
+        ),
+        (Role::Contour, [55.0, 30.0], [55.0, 0.0], None),
+        (Role::Corner, [55.0, 0.0], [50.0, -5.0], Some([50.0, 0.0])),
+        (Role::Contour, [50.0, -5.0], [0.0, -5.0], None),
+        (Role::Retract, [0.0, -5.0], [-20.0, -20.0], None),
+    ];
+    let segs = tool_centre(f);
+    let in_plane: Vec<_> = segs
+        .iter()
+        .filter(|s| s.from[2] == -3.0 + 80.0 && s.to[2] == -3.0 + 80.0)
+        .collect();
+    assert_eq!(in_plane.len(), want.len(), "{f}: {in_plane:#?}");
+    let xy = |p: [f64; 3]| [p[0], p[1]];
+    let near = |a: Xy, b: Xy| (a[0] - b[0]).abs() <= TOL && (a[1] - b[1]).abs() <= TOL;
+    for (s, (role, from, to, centre)) in in_plane.iter().zip(want) {
+        assert!(
+            s.role == role && near(xy(s.from), from) && near(xy(s.to), to),
+            "{f}: {s:?}, by hand {role:?} {from:?} -> {to:?}"
+        );
+        match (s.shape, centre) {
+            (Shape::Line, None) => {}
+            (
+                Shape::Arc {
+                    center,
+                    r0,
+                    r1,
+                    ccw,
+                    ..
+                },
+                Some(c),
+            ) => {
+                let r = if role == Role::Corner { 5.0 } else { 15.0 };
+                assert!(near(xy(center), c) && !ccw, "{f}: {s:?}");
+                assert!((r0 - r).abs() <= TOL && (r1 - r).abs() <= TOL, "{f}: {s:?}");
+            }
+            _ => panic!("{f}: {s:?}, by hand centre {centre:?}"),
+        }
+    }
+}
+
+#[test]
+fn s87_dwell_units_exact_stop() {
+    let f = "s87_dwell_units_exact_stop.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 2.0],
+            [0.0, 0.0, -1.0],
+            [10.0, 0.0, -1.0],
+            [20.0, 0.0, -1.0],
+            [25.4, 0.0, -1.0],  // G700 X1
+            [25.4, 25.4, -1.0], // G70 Y1
+            [30.0, 0.0, -1.0],
+            [30.0, 0.0, 20.0],
+        ],
+    );
+    assert_eq!(block(f, &b, 40).dwell, Some(1.5));
+    assert_eq!(
+        block(f, &b, 50).dwell,
+        Some(1.5),
+        "{f}: 30 rev at 1200 rev/min"
+    );
+    assert!(block(f, &b, 50).words.is_empty(), "{f}: G4's S is no speed");
+    let stops = |n: u32| (block(f, &b, n).exact_stop, block(f, &b, n).modal.exact_stop);
+    assert_eq!(
+        [stops(60), stops(70), stops(80)],
+        [(true, false), (false, true), (false, false)]
+    );
+    let feed = |n: u32| block(f, &b, n).modal.feed;
+    assert_eq!([feed(90), feed(100), feed(110)], [254.0, 10.0, 500.0]);
+}
+
+#[test]
+fn s88_alarm_cip_collinear() {
+    let a = stops(
+        "s88_alarm_cip_collinear.mpf",
+        &[[0.0, 0.0, 2.0], [0.0, 0.0, -1.0]],
+        AlarmCode::ArcEndPoint,
+        7,
+        17,
+    );
+    assert_eq!(a.number(), 14040);
+}
+
+#[test]
+fn s89_alarm_ct_without_element() {
+    let a = stops(
+        "s89_alarm_ct_without_element.mpf",
+        &[],
+        AlarmCode::MissingValue,
+        5,
+        5,
+    );
+    assert_eq!(a.number(), 14045);
+}
+
 /// The square of SQUARE10.SPF from (x, y) at height z.
 fn square(x: f64, y: f64, z: f64) -> [P; 4] {
     [
@@ -672,7 +1363,7 @@ fn s40_call_by_name() {
     let b = clean(f, &want);
     // The subprograms' blocks name their files (for alarms and the path's sources), and
     // carry their own lines: SQUARE10's N10 is its line 3.
-    let library = machine(f).programs.clone();
+    let library = machine_for(f).programs.clone();
     let first = &b[1];
     let name = library.name(first.program).expect("a library file");
     assert!(name.ends_with("SQUARE10.SPF"), "{name}");
@@ -818,32 +1509,4 @@ fn s48_labels_per_program() {
     }
     want.push([0.0, 0.0, 50.0]);
     clean("s48_labels_per_program.mpf", &want);
-}
-
-#[test]
-fn l01_840c_l_calls() {
-    clean(
-        "l01_l_calls.mpf",
-        &[
-            [0.0, 0.0, 5.0],
-            [10.0, 5.0, 5.0],
-            [20.0, 10.0, 5.0],
-            [0.0, 0.0, 5.0],
-            [-5.0, 0.0, 5.0],
-            [5.0, 5.0, 5.0],
-            [5.0, 5.0, 50.0],
-        ],
-    );
-}
-
-#[test]
-fn l02_840c_alarm_missing() {
-    let a = stops(
-        "l02_alarm_missing.mpf",
-        &[[0.0, 0.0, 5.0]],
-        AlarmCode::MissingProgram,
-        4,
-        5,
-    );
-    assert!(a.message.contains("L99.SPF"), "{a}");
 }

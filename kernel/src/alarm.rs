@@ -91,6 +91,9 @@ pub enum AlarmCode {
     /// The chamfer or the rounding does not fit the two moves (840D 10883: chamfer or
     /// radius must be reduced).
     CornerTooLarge,
+    /// A SINUMERIK drilling cycle's parameters contradict each other or lie out of range
+    /// (840D 61101 "reference plane defined incorrectly" and its neighbours).
+    CycleParameter,
     /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
     /// the number is the Sinumerik user-alarm range of SETAL).
     ProgramAlarm,
@@ -138,6 +141,7 @@ impl AlarmCode {
             AlarmCode::CornerWithoutMove => 10882,
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,
+            AlarmCode::CycleParameter => 61101,
             AlarmCode::ProgramAlarm => 65000,
             AlarmCode::ProgramMessage => 65001,
         }

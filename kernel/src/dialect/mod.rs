@@ -12,8 +12,8 @@ mod siemens_840d;
 
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, FeedAdaption, LengthComp, MotionMode, Plane, ProgramStop,
-    SelectionPolicy, SpindleDir, TrcSide,
+    CornerPolicy, Distance, FeedAdaption, FeedType, LengthComp, MotionMode, Plane, PoleOrigin,
+    ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
 };
 pub use crate::frontend::{CornerKind, CycleKind};
 use crate::machine_data::{DialectName, Units};
@@ -54,7 +54,11 @@ pub enum GEffect {
     /// Modal exact stop on (true) or continuous-path mode (false).
     ExactStopModal(bool),
     Plane(Plane),
+    /// Inch or mm for lengths and feeds.
     Units(Units),
+    /// Inch or mm for lengths only; F is in the basic system, machine data's units
+    /// (SINUMERIK G70/G71).
+    GeometryUnits(Units),
     Distance(Distance),
     Trc(TrcSide),
     Corner(CornerPolicy),
@@ -79,11 +83,16 @@ pub enum GEffect {
     FeedPerRevolution(bool),
     /// Constant surface speed on (true) or spindle speed in rev/min (false): G96/G97.
     ConstantSurfaceSpeed(bool),
+    /// Feed type and constant cutting speed in one group (SINUMERIK G94 … G97).
+    FeedType(FeedType),
+    /// The block defines the pole of polar coordinates (SINUMERIK G110, G111, G112).
+    Pole(PoleOrigin),
     /// The block's S is the spindle speed limit (840C G92).
     SpindleLimit,
     /// Cancels the modal canned cycle (Fanuc G80).
     CycleCancel,
-    /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words.
+    /// 840C G25 (min) / G26 (max) working area limitation, values from the axis words; the
+    /// max block's S is the spindle speed limit (880 program key).
     WorkingArea {
         max: bool,
     },
@@ -130,7 +139,7 @@ impl GEffect {
             GEffect::ExactStopBlock => 3,
             GEffect::ExactStopModal(_) => 4,
             GEffect::Plane(_) => 5,
-            GEffect::Units(_) => 6,
+            GEffect::Units(_) | GEffect::GeometryUnits(_) => 6,
             GEffect::Distance(_) => 7,
             GEffect::Trc(_) => 8,
             GEffect::Corner(_) => 9,
@@ -141,7 +150,7 @@ impl GEffect {
             GEffect::WorkOffset(_) | GEffect::NumberedWorkOffset => 14,
             GEffect::MachineCoordinates => 18,
             GEffect::ToolLength(_) => 19,
-            GEffect::FeedPerRevolution(_) => 20,
+            GEffect::FeedPerRevolution(_) | GEffect::FeedType(_) => 20,
             GEffect::ConstantSurfaceSpeed(_) => 21,
             GEffect::SpindleLimit => 22,
             GEffect::CycleCancel | GEffect::Cycle(_) => 23,
@@ -155,6 +164,7 @@ impl GEffect {
             GEffect::MacroCall | GEffect::ModalMacroCall | GEffect::ModalMacroCancel => 24,
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
+            GEffect::Pole(_) => 32,
             GEffect::Unsupported(_) => 17,
         }
     }
@@ -185,6 +195,17 @@ pub(crate) const fn g_no_trc(code: u16, effect: GEffect) -> GCodeDef {
     }
 }
 
+/// Table `a` followed by table `b`, as one (the tables are statics, built at compile time).
+pub(crate) const fn concat<const N: usize>(a: &[GCodeDef], b: &[GCodeDef]) -> [GCodeDef; N] {
+    let mut out = [g(0, GEffect::Dwell); N];
+    let mut k = 0;
+    while k < N {
+        out[k] = if k < a.len() { a[k] } else { b[k - a.len()] };
+        k += 1;
+    }
+    out
+}
+
 /// What an M function does, independent of its number. Only the functions the front end acts
 /// on have a row; every other M word is an auxiliary function, handed on as written.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -213,11 +234,78 @@ pub(crate) const fn m(code: u16, effect: MEffect) -> MCodeDef {
     MCodeDef { code, effect }
 }
 
-/// What an `@` command does, independent of its number.
+/// What an `@` command does, independent of its number. The commands with operands (all but
+/// the preprocessing stop) belong to the 880/840C language (`Dialect::at_language`): their
+/// operands are K constants, R parameters and P pointers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AtEffect {
     /// Stop decoding until the block buffer is empty (840C @714).
     PreprocessStop,
+    /// Jump to a block number; its sign gives the direction of the search.
+    Jump,
+    /// Jump if the comparison of an R parameter with a value holds.
+    JumpIf(Compare),
+    /// Jump to the destination paired with the first value equal to an R parameter; none
+    /// equal: on with the next block.
+    Case,
+    /// An R parameter gets a function of its operands.
+    Function(AtFunction),
+}
+
+/// A comparison of a conditional jump: R parameter against value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compare {
+    NotEqual,
+    Equal,
+    LessOrEqual,
+    Less,
+    GreaterOrEqual,
+    Greater,
+}
+
+impl Compare {
+    pub fn holds(self, a: f64, b: f64) -> bool {
+        match self {
+            Compare::NotEqual => a != b,
+            Compare::Equal => a == b,
+            Compare::LessOrEqual => a <= b,
+            Compare::Less => a < b,
+            Compare::GreaterOrEqual => a >= b,
+            Compare::Greater => a > b,
+        }
+    }
+}
+
+/// A function an `@` command computes into its first operand, an R parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtFunction {
+    /// |a|
+    Abs,
+    /// √a
+    Sqrt,
+    /// √(a² + b²)
+    Hypot,
+    /// The parameter itself plus 1.
+    Increment,
+    /// The parameter itself minus 1.
+    Decrement,
+    /// The parameter's own integer part (toward 0).
+    IntegerPart,
+    /// Sine of a, a in degrees.
+    Sin,
+    /// Cosine of a, a in degrees.
+    Cos,
+}
+
+impl AtFunction {
+    /// Operands after the result parameter (0: the function works on the result itself).
+    pub fn sources(self) -> usize {
+        match self {
+            AtFunction::Increment | AtFunction::Decrement | AtFunction::IntegerPart => 0,
+            AtFunction::Hypot => 2,
+            _ => 1,
+        }
+    }
 }
 
 /// One row of a dialect's `@`-command table.
@@ -276,6 +364,8 @@ pub struct DwellWords {
     pub p_millis: bool,
     /// A bare number after G04 (ISG `G04 3.0`).
     pub bare_seconds: bool,
+    /// Spindle revolutions under S (SINUMERIK `G4 S…`).
+    pub s_revolutions: bool,
 }
 
 /// Lexical and structural rules of one control's program language.
@@ -293,6 +383,12 @@ pub struct Dialect {
     pub mcodes: &'static [MCodeDef],
     /// `@` commands (840C); empty where `@` starts no word.
     pub at_commands: &'static [AtCommandDef],
+    /// The 880/840C language: R parameters assigned among a block's words (`R1=R2+5`) and read
+    /// by an address (`X R1`), the `@` commands' operands, jumps to block numbers
+    /// (frontend/statements/siemens_840c.rs).
+    pub at_language: bool,
+    /// 880/840C main blocks: `:` instead of `N` before the block number.
+    pub main_block_colon: bool,
     /// Chamfer and corner words; empty where the control has none (here).
     pub corner_words: &'static [CornerWordDef],
     /// 880/840C polar coordinates: A (angle), U or B (radius).
@@ -303,6 +399,8 @@ pub struct Dialect {
     pub lims_word: bool,
     /// Fanuc `O` program numbers.
     pub o_numbers: bool,
+    /// The most full turns a helix takes before its end point (SINUMERIK `TURN=`).
+    pub helix_turns: u16,
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
     /// The SINUMERIK language (808D/828D/840D sl): R parameters, `X=expr`, DEF, IF/WHILE/FOR/
@@ -417,6 +515,7 @@ impl Dialect {
             || (letter == b'L' && self.macro_b)
             || (matches!(letter, b'U' | b'W') && self.incremental_words)
             || (letter == b'Q' && self.has_cycles())
+            || (letter == b'R' && self.at_language)
     }
 
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
@@ -596,6 +695,11 @@ mod tests {
             (AtEffect::PreprocessStop, true)
         );
         assert!(c.at_command(715).is_none() && i.at_commands.is_empty());
+        let effect = |code| c.at_command(code).map(|def| def.effect);
+        assert_eq!(effect(124), Some(AtEffect::JumpIf(Compare::Less)));
+        assert_eq!(effect(630), Some(AtEffect::Function(AtFunction::Sin)));
+        assert!(!c.at_command(100).unwrap().forbidden_with_trc);
+        assert_eq!(AtFunction::Hypot.sources(), 2);
         // Every stop a table maps to is named after the M function that programs it.
         for name in [
             DialectName::Siemens840C,

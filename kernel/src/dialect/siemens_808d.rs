@@ -5,7 +5,8 @@ use super::{
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
-    CornerPolicy, Distance, MotionMode, Plane, ProgramStop, SelectionPolicy, SpindleDir, TrcSide,
+    CornerPolicy, Distance, FeedType, MotionMode, Plane, PoleOrigin, ProgramStop, SelectionPolicy,
+    SpindleDir, TrcSide,
 };
 use crate::machine_data::{DialectName, Units};
 use crate::trc::{ArmedArc, NoPlaneMove, RadiusChange, RepeatRule, SideChange, TrcRules};
@@ -16,7 +17,8 @@ use MEffect::*;
 /// 808D G451 switches to the transition circle above this angle (fixed on the 808D).
 pub const G451_LIMIT_DEG: f64 = 100.0;
 
-static GCODES: &[GCodeDef] = &[
+/// The G codes the 808D and the 840D share (siemens_840d.rs adds its own).
+pub(super) const COMMON: &[GCodeDef] = &[
     g(0, Motion(MotionMode::Rapid)),
     g(1, Motion(MotionMode::Linear)),
     g(2, Motion(MotionMode::ArcCw)),
@@ -30,22 +32,28 @@ static GCODES: &[GCodeDef] = &[
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
     g(53, MachineCoordinates),
+    // Also the basic frame (none in softnc): as G53 here.
+    g(153, MachineCoordinates),
     g(54, WorkOffset(1)),
     g(55, WorkOffset(2)),
     g(56, WorkOffset(3)),
     g(57, WorkOffset(4)),
-    g(58, WorkOffset(5)),
-    g(59, WorkOffset(6)),
     g(60, ExactStopModal(true)),
     g(64, ExactStopModal(false)),
-    g(70, Units(Units::Inch)),
-    g(71, Units(Units::Mm)),
+    // 808D "Inch and metric dimensioning": G70/G71 the geometry only, G700/G710 the feed too.
+    g(70, GeometryUnits(Units::Inch)),
+    g(71, GeometryUnits(Units::Mm)),
     g(90, Distance(Distance::Absolute)),
     g(91, Distance(Distance::Incremental)),
-    g(94, FeedPerRevolution(false)),
-    g(95, FeedPerRevolution(true)),
-    g(96, ConstantSurfaceSpeed(true)),
-    g(97, ConstantSurfaceSpeed(false)),
+    // Fundamentals, "Feedrate control": one group; G96 switches G95 on, G97 keeps the type.
+    g(94, FeedType(FeedType::PerMinute)),
+    g(95, FeedType(FeedType::PerRevolution)),
+    g(96, FeedType(FeedType::CuttingSpeed)),
+    g(97, FeedType(FeedType::CuttingSpeedOff)),
+    // Fundamentals, "Defining the pole": from the last position, the zero, the last pole.
+    g(110, Pole(PoleOrigin::LastPosition)),
+    g(111, Pole(PoleOrigin::WorkZero)),
+    g(112, Pole(PoleOrigin::LastPole)),
     g(450, Corner(CornerPolicy::TransitionCircle)),
     g(500, WorkOffset(0)),
     g(
@@ -57,6 +65,10 @@ static GCODES: &[GCodeDef] = &[
     g(700, Units(Units::Inch)),
     g(710, Units(Units::Mm)),
 ];
+
+/// The 808D's own: two more settable zero offsets.
+static GCODES: [GCodeDef; COMMON.len() + 2] =
+    super::concat(COMMON, &[g(58, WorkOffset(5)), g(59, WorkOffset(6))]);
 
 static MCODES: &[MCodeDef] = &[
     m(0, Stop(ProgramStop::Stop)),
@@ -76,18 +88,22 @@ pub static DIALECT: Dialect = BASE;
 /// The 808D's table: the 840D's too, under its own name (siemens_840d.rs).
 pub(super) const BASE: Dialect = Dialect {
     name: DialectName::Siemens808D,
-    gcodes: GCODES,
+    gcodes: &GCODES,
     mcodes: MCODES,
     semicolon: Semicolon::Comment,
     radius_word: RadiusWord::CrEquals,
     lf_block_end: false,
     variables: false,
     at_commands: &[],
+    at_language: false,
+    main_block_colon: false,
     corner_words: super::siemens_840d::CORNER_WORDS,
     polar_words: false,
     lims_word: true,
     diameter_words: true,
     o_numbers: false,
+    // Fundamentals, "Helical interpolation (G2/G3, TURN)": TURN= 0 … 999.
+    helix_turns: 999,
     macro_b: false,
     sinumerik: true,
     l_calls: false,
@@ -105,6 +121,8 @@ pub(super) const BASE: Dialect = Dialect {
         f_seconds: true,
         p_millis: false,
         bare_seconds: false,
+        // Fundamentals, "Dwell time (G4)": S is the master spindle's revolutions.
+        s_revolutions: true,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
     trc_codes_need_linear_mode: false,

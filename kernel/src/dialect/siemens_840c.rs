@@ -1,8 +1,8 @@
 //! SINUMERIK 840C (seed 000; polar coordinates as in the 880/840C programming guide 4.2.5).
 
 use super::{
-    g, g_no_trc, m, AtCommandDef, AtEffect, Dialect, DwellWords, GCodeDef, GEffect, MCodeDef,
-    MEffect, RadiusWord, Semicolon,
+    g, g_no_trc, m, AtCommandDef, AtEffect, AtFunction, Compare, Dialect, DwellWords, GCodeDef,
+    GEffect, MCodeDef, MEffect, RadiusWord, Semicolon,
 };
 use crate::alarm::AlarmCode;
 use crate::frontend::block::{
@@ -35,7 +35,8 @@ static GCODES: &[GCodeDef] = &[
     g_no_trc(17, Plane(Plane::XY)),
     g_no_trc(18, Plane(Plane::ZX)),
     g_no_trc(19, Plane(Plane::YZ)),
-    // Working area limitation (min / max), not with TRC (11.4).
+    // Working area limitation (min / max), not with TRC (11.4); G26's S is the spindle speed
+    // limit (880 program key: "Maximum working area limitation/spindle speed limitation S").
     g_no_trc(25, WorkingArea { max: false }),
     g_no_trc(26, WorkingArea { max: true }),
     g(40, Trc(TrcSide::Off)),
@@ -59,7 +60,8 @@ static GCODES: &[GCodeDef] = &[
     g(95, FeedPerRevolution(true)),
     g(96, ConstantSurfaceSpeed(true)),
     g(97, ConstantSurfaceSpeed(false)),
-    g(92, SpindleLimit),
+    // With S, the spindle speed limit under G96; not with TRC (11.4).
+    g_no_trc(92, SpindleLimit),
     g(110, PoleHere),
     g(111, Unsupported("polar programming G111")),
     g(450, Corner(CornerPolicy::TransitionCircle)),
@@ -83,13 +85,43 @@ static MCODES: &[MCodeDef] = &[
     m(30, Stop(ProgramStop::EndRewind)),
 ];
 
-/// 11.4 lists @714 among the functions TRC forbids. Its meaning, "stop decoding until the
-/// buffer is empty", is unconfirmed (docs/dialects.md).
-static AT_COMMANDS: &[AtCommandDef] = &[AtCommandDef {
-    code: 714,
-    effect: AtEffect::PreprocessStop,
-    forbidden_with_trc: true,
-}];
+/// A row of the @ table that TRC allows.
+const fn at(code: u32, effect: AtEffect) -> AtCommandDef {
+    AtCommandDef {
+        code,
+        effect,
+        forbidden_with_trc: false,
+    }
+}
+
+/// The @ commands (docs/sinumerik.md, "The 840C's R parameters and @ commands"). 11.4 lists
+/// @714 among the functions TRC forbids; its meaning, "stop decoding until the buffer is
+/// empty", is unconfirmed. The codes with operands and their forms follow Beckhoff's
+/// emulation of the 880/840C scheme (TwinCAT NC I "@-command overview"); the 840C guide's own
+/// tables were not found (docs/research/sinumerik-language.md §13).
+static AT_COMMANDS: &[AtCommandDef] = &[
+    AtCommandDef {
+        code: 714,
+        effect: AtEffect::PreprocessStop,
+        forbidden_with_trc: true,
+    },
+    at(100, AtEffect::Jump),
+    at(111, AtEffect::Case),
+    at(121, AtEffect::JumpIf(Compare::NotEqual)),
+    at(122, AtEffect::JumpIf(Compare::Equal)),
+    at(123, AtEffect::JumpIf(Compare::LessOrEqual)),
+    at(124, AtEffect::JumpIf(Compare::Less)),
+    at(125, AtEffect::JumpIf(Compare::GreaterOrEqual)),
+    at(126, AtEffect::JumpIf(Compare::Greater)),
+    at(610, AtEffect::Function(AtFunction::Abs)),
+    at(613, AtEffect::Function(AtFunction::Sqrt)),
+    at(614, AtEffect::Function(AtFunction::Hypot)),
+    at(620, AtEffect::Function(AtFunction::Increment)),
+    at(621, AtEffect::Function(AtFunction::Decrement)),
+    at(622, AtEffect::Function(AtFunction::IntegerPart)),
+    at(630, AtEffect::Function(AtFunction::Sin)),
+    at(631, AtEffect::Function(AtFunction::Cos)),
+];
 
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Siemens840C,
@@ -100,11 +132,14 @@ pub static DIALECT: Dialect = Dialect {
     lf_block_end: true,
     variables: false,
     at_commands: AT_COMMANDS,
+    at_language: true,
+    main_block_colon: true,
     corner_words: &[],
     polar_words: true,
     lims_word: false,
     diameter_words: false,
     o_numbers: false,
+    helix_turns: 0,
     macro_b: false,
     sinumerik: false,
     l_calls: true,
@@ -122,6 +157,7 @@ pub static DIALECT: Dialect = Dialect {
         f_seconds: true,
         p_millis: false,
         bare_seconds: false,
+        s_revolutions: false,
     },
     trc_not_linear: AlarmCode::TrcSelectionNotLinear,
     trc_codes_need_linear_mode: false,

@@ -106,13 +106,32 @@ pub enum MotionMode {
     PolarLinear,
     PolarCw,
     PolarCcw,
+    /// SINUMERIK CIP: a circle through an intermediate point; its direction follows from
+    /// the three points.
+    ArcThrough,
+    /// SINUMERIK CT: a circle tangent to the previous path element.
+    ArcTangent,
 }
 
 impl MotionMode {
     pub fn is_arc(self) -> bool {
         matches!(
             self,
-            MotionMode::ArcCw | MotionMode::ArcCcw | MotionMode::PolarCw | MotionMode::PolarCcw
+            MotionMode::ArcCw
+                | MotionMode::ArcCcw
+                | MotionMode::PolarCw
+                | MotionMode::PolarCcw
+                | MotionMode::ArcThrough
+                | MotionMode::ArcTangent
+        )
+    }
+    /// A mode whose block is its end point and, for a circle, its centre words: what the
+    /// plain-block fast path builds.
+    #[inline(always)]
+    pub fn is_plain(self) -> bool {
+        matches!(
+            self,
+            MotionMode::Rapid | MotionMode::Linear | MotionMode::ArcCw | MotionMode::ArcCcw
         )
     }
     pub fn is_polar(self) -> bool {
@@ -129,7 +148,11 @@ impl MotionMode {
             MotionMode::Rapid | MotionMode::PolarRapid => MotionKind::Rapid,
             MotionMode::Linear | MotionMode::PolarLinear => MotionKind::Linear,
             MotionMode::ArcCw | MotionMode::PolarCw => MotionKind::ArcCw,
-            MotionMode::ArcCcw | MotionMode::PolarCcw => MotionKind::ArcCcw,
+            // The direction of CIP and CT comes from the geometry (build/circles.rs).
+            MotionMode::ArcCcw
+            | MotionMode::PolarCcw
+            | MotionMode::ArcThrough
+            | MotionMode::ArcTangent => MotionKind::ArcCcw,
         }
     }
     pub fn name(self) -> &'static str {
@@ -142,6 +165,8 @@ impl MotionMode {
             MotionMode::PolarLinear => "polar-linear",
             MotionMode::PolarCw => "polar-cw",
             MotionMode::PolarCcw => "polar-ccw",
+            MotionMode::ArcThrough => "through",
+            MotionMode::ArcTangent => "tangent",
         }
     }
 }
@@ -199,6 +224,31 @@ impl Motion {
 pub enum Distance {
     Absolute,
     Incremental,
+}
+
+/// Where a pole definition's coordinates are measured from (SINUMERIK G110, G111, G112).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoleOrigin {
+    /// The last programmed position.
+    LastPosition,
+    /// The workpiece zero.
+    WorkZero,
+    /// The last pole.
+    LastPole,
+}
+
+/// The feed's type and the spindle's speed in one group (SINUMERIK G94/G95/G96/G97: group
+/// 15 of the 840D, "Feedrate control").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedType {
+    /// Feed per minute, constant cutting speed off.
+    PerMinute,
+    /// Feed per revolution, constant cutting speed off.
+    PerRevolution,
+    /// Constant cutting speed on, with feed per revolution.
+    CuttingSpeed,
+    /// Constant cutting speed off; the feed's type stays.
+    CuttingSpeedOff,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -379,6 +429,9 @@ pub struct ModalState {
     pub plane: Plane,
     pub distance: Distance,
     pub units: Units,
+    /// The unit F is written in: `units`, except on SINUMERIK, where G70/G71 switch only
+    /// the geometry (F in machine data's units) and G700/G710 the feed as well.
+    pub feed_units: Units,
     /// Path feed, mm/min.
     pub feed: f64,
     /// Spindle speed S: rev/min, or under constant surface speed m/min (ft/min in inch).
@@ -405,6 +458,8 @@ pub struct ModalState {
     pub work_offset: u8,
     /// X programmed as a diameter.
     pub diameter: bool,
+    /// With `diameter`, X is a radius where it is incremental (SINUMERIK DIAM90).
+    pub radius_incremental: bool,
     pub tool: Option<u32>,
     /// Active offset number (0 = none).
     pub d: u32,

@@ -126,10 +126,25 @@ pub fn skip_prefix(c: &mut Cursor) {
 }
 
 /// Reads `N<digits>` at the cursor, if there is an N; a fault points at the N.
+#[inline]
 pub fn read_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
     if c.letter() != Some(b'N') {
         return Ok(None);
     }
+    number_after(c)
+}
+
+/// Reads `N<digits>`, or `:<digits>` (a main block, 880/840C), at the cursor.
+pub fn read_main_or_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
+    if c.peek() == Some(b':') {
+        return number_after(c);
+    }
+    read_block_number(c)
+}
+
+/// The digits after the `N` or `:` at the cursor.
+#[inline]
+fn number_after(c: &mut Cursor) -> R<Option<BlockNo>> {
     let at = c.i;
     c.i += 1;
     let ds = c.i;
@@ -145,7 +160,10 @@ pub fn read_block_number(c: &mut Cursor) -> R<Option<BlockNo>> {
         return Err(fault(
             AlarmCode::Syntax,
             at,
-            "N must be followed by the block number",
+            format!(
+                "{} must be followed by the block number",
+                (c.b[at] as char).to_ascii_uppercase()
+            ),
         ));
     }
     // At least one digit was read (checked above).
@@ -162,6 +180,17 @@ pub fn block_number(src: &[u8], start: usize, end: usize) -> Option<BlockNo> {
     let mut c = Cursor::new(src, start, end);
     skip_block_skip(&mut c);
     read_block_number(&mut c).ok().flatten()
+}
+
+/// The number at the start of a block's text, `N` or (`colon`: 880/840C main block) `:`.
+pub fn main_or_block_number(src: &[u8], start: usize, end: usize, colon: bool) -> Option<BlockNo> {
+    let mut c = Cursor::new(src, start, end);
+    skip_block_skip(&mut c);
+    if colon {
+        read_main_or_block_number(&mut c).ok().flatten()
+    } else {
+        read_block_number(&mut c).ok().flatten()
+    }
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 //! build ([`build`](super::build)).
 
 use super::block::*;
-use super::block_text::read_block_number;
+use super::block_text::{read_block_number, read_main_or_block_number};
 use super::build::{Corners, CycleMode, Expansion, WorkingArea};
 use super::calls::Calls;
 use super::fault::{fault, Fault, R};
@@ -56,6 +56,8 @@ pub struct Interpreter<'a> {
     /// SINUMERIK R parameters, user variables of each call level, the structures and labels
     /// and the PROC line of each program text.
     pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
+    /// 840C R parameters and the jump an `@` command asked for.
+    pub(super) c840: super::statements::siemens_840c::Language,
     /// The open `$IF`/`$FOR`/`$WHILE` structures and the program's loop budget.
     pub(super) structures: Structures,
     /// 840C G25/G26.
@@ -70,6 +72,11 @@ pub struct Interpreter<'a> {
     pub(super) corners: Option<Box<Corners<'a>>>,
     /// The block being built is in machine coordinates: no work offset (G53, this block).
     pub(super) machine_coordinates: bool,
+    /// SINUMERIK polar coordinates: the pole, the last polar angle and radius (G110 … G112,
+    /// AP=, RP=).
+    pub(super) polar: super::build::Polar,
+    /// SINUMERIK: the last path element, which CT continues tangentially.
+    pub(super) last_move: Option<Motion>,
     pub(super) finished: bool,
     /// SINUMERIK: the program's structures are still to be read (before its first block).
     pub(super) structure_pending: bool,
@@ -112,12 +119,22 @@ impl<'a> Interpreter<'a> {
                 }),
                 ..Default::default()
             },
+            c840: super::statements::siemens_840c::Language {
+                r: super::statements::siemens_840c::RParameters::new(if d.at_language {
+                    md.program.r_parameters as usize
+                } else {
+                    0
+                }),
+                jump: None,
+            },
             area: WorkingArea::default(),
             expansion: None,
             cycle: None,
             cycle_to_initial: true,
             corners: None,
             machine_coordinates: false,
+            polar: Default::default(),
+            last_move: None,
             finished: false,
             structure_pending: d.sinumerik,
             plain_path: true,
@@ -291,6 +308,7 @@ impl<'a> Interpreter<'a> {
             && self.cycle.is_none()
             && !self.coords.frame.active()
             && self.coords.polar.is_none()
+            && self.corners.is_none()
     }
 
     /// The end of the running program's text: true if reading goes on in the caller (a
@@ -353,13 +371,17 @@ impl<'a> Interpreter<'a> {
             && matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_');
         self.blk_number = if name {
             None
+        } else if self.d.main_block_colon {
+            read_main_or_block_number(&mut c)?
         } else {
             read_block_number(&mut c)?
         };
         c.skip_blanks();
+        let mut system = false;
         if self.d.sinumerik {
             // A jump label (`LAB1:`): the jumps found it before the program started.
             super::sinumerik::structure::label(&mut c);
+            system = self.reads_system(start, end);
         }
         if self.is_statement(&c) {
             self.calls.running.started = true;
@@ -372,16 +394,28 @@ impl<'a> Interpreter<'a> {
         self.block.words.clear();
         self.present_state_read.set(false);
         self.words(&mut c, &mut words)?;
+        if system && self.sinumerik.store.main_run_read.take() {
+            self.present_state_read.set(true);
+        }
         if self.blk_number.is_none() && words.is_empty() && self.block.words.is_empty() {
             // A line holding only a comment is no block.
             return Ok(false);
         }
         self.calls.running.started = true;
+        if words.calculation && self.d.at_language && words.only_calculation() {
+            // 840C: a block of the language alone is a statement, not a block.
+            if self.block.words.is_empty() {
+                return self.c840_block_end().map(|()| false);
+            }
+        }
         let built = self.build(&words, block_col)?;
         // A word read the present position (#5041 …): the block stops preprocessing.
         self.block.preprocess_stop |= self.present_state_read.get();
         if self.expansion.is_none() {
             self.after_block()?;
+        }
+        if self.c840.jump.is_some() {
+            self.c840_block_end()?;
         }
         Ok(built)
     }
@@ -403,6 +437,7 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         plane,
         distance: Distance::Absolute,
         units: md.program.units,
+        feed_units: md.program.units,
         feed: 0.0,
         spindle: 0.0,
         spindle_dir: SpindleDir::Stop,
@@ -417,6 +452,7 @@ fn initial_state(d: &Dialect, md: &MachineData) -> ModalState {
         exact_stop: false,
         work_offset: d.initial_work_offset,
         diameter: md.program.diameter_programming,
+        radius_incremental: false,
         tool: None,
         d: 0,
         radius: 0.0,

@@ -20,8 +20,10 @@
 //! Where the languages' larger features go:
 //!
 //! - **Statements of each language** are a module each under `statements/`: `isg.rs`
-//!   (`$IF`, `$FOR`, `$WHILE`, `V.` assignments) and `fanuc.rs` (Custom Macro B: `#`
-//!   assignments, `IF … GOTO`/`THEN`, `WHILE … DO … END`, `GOTO`, G65/G66 calls); the
+//!   (`$IF`, `$FOR`, `$WHILE`, `V.` assignments), `fanuc.rs` (Custom Macro B: `#`
+//!   assignments, `IF … GOTO`/`THEN`, `WHILE … DO … END`, `GOTO`, G65/G66 calls) and
+//!   `siemens_840c.rs` (the 840C's R parameters and `@` commands, read among a block's words
+//!   by the word loop; a block of them alone hands out nothing); the
 //!   SINUMERIK language is `sinumerik/` (its store, expressions, statements and the
 //!   structure read before the first block). `statements/mod.rs` tells a statement block
 //!   from a block of words for the dialect.

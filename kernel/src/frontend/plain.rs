@@ -87,7 +87,7 @@ impl Interpreter<'_> {
         let (mode, seen) = (w.mode, w.seen);
         let programmed = seen & 7;
         let arc = mode.is_arc();
-        if mode.is_polar() || programmed == 0 || (seen & 0x38 != 0) != arc {
+        if !mode.is_plain() || programmed == 0 || (seen & 0x38 != 0) != arc {
             return None;
         }
         if mode != MotionMode::Rapid && self.block.modal.feed <= 0.0 {

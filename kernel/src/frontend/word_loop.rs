@@ -43,9 +43,18 @@ impl Interpreter<'_> {
                 }
             };
             c.i += 1;
-            if self.d.sinumerik && matches!(c.peek(), Some(b'=')) {
-                self.sinumerik_word(c, w, letter, at)?;
-                continue;
+            if self.d.sinumerik {
+                match (c.peek(), letter) {
+                    (Some(b'='), _) => {
+                        self.sinumerik_word(c, w, letter, at)?;
+                        continue;
+                    }
+                    (Some(b'1'), b'I'..=b'K') if c.peek_at(1) == Some(b'=') => {
+                        self.intermediate_word(c, w, letter, at)?;
+                        continue;
+                    }
+                    _ => {}
+                }
             }
             let v = self.value(c, at, "")?;
             if v.value.is_nan() {
@@ -155,8 +164,20 @@ impl Interpreter<'_> {
         let Some(letter) = c.letter() else {
             return self.not_a_letter(c, w, ch, at);
         };
-        if self.d.sinumerik && self.sinumerik_assignment(c, w, at)? {
+        if self.d.sinumerik
+            && (self.sinumerik_assignment(c, w, at)? || self.sinumerik_path_word(c, w, at)?)
+        {
             return Ok(Next::Continue);
+        }
+        if self.d.sinumerik && letter == b'S' && c.keyword("SUPA") {
+            // Fundamentals, "Frame suppression": G153's suppression and more, this block.
+            c.i += 4;
+            w.suppress = true;
+            return Ok(Next::Continue);
+        }
+        if self.d.at_language && letter == b'R' {
+            // 840C: `R1=…` (statements/siemens_840c.rs).
+            return self.c840_assignment(c, w, at).map(|()| Next::Continue);
         }
         // Multi-letter words: they start with L (LF, LIMS=), C (CR=), D (DIAMON/DIAMOF) or
         // V (V. variables).
@@ -198,7 +219,7 @@ impl Interpreter<'_> {
     /// dwell time, or a syntax error.
     fn not_a_letter(&mut self, c: &mut Cursor, w: &mut Words, ch: u8, at: usize) -> R<Next> {
         if !self.d.at_commands.is_empty() && ch == b'@' {
-            return at_command(c, w, at);
+            return self.at_command(c, w, at);
         }
         if let Some(def) = self.d.corner_words.iter().find(|def| c.keyword(def.text)) {
             return self.corner_word(c, w, def, at);
@@ -257,7 +278,7 @@ impl Interpreter<'_> {
             .is_some_and(|def| def.effect == GEffect::Dwell)
     }
 
-    /// The multi-letter words of the dialect (`LF`, `CR=`, `DIAMON`/`DIAMOF`, `V.` variable
+    /// The multi-letter words of the dialect (`LF`, `CR=`, `DIAMON`/`DIAMOF`/`DIAM90`, `V.` variable
     /// assignments); `None` if the text at the cursor is none of them.
     fn multi_letter(
         &mut self,
@@ -276,7 +297,7 @@ impl Interpreter<'_> {
         {
             return self.cr_equals(c, w, at).map(Some);
         }
-        if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF")) {
+        if d.diameter_words && (c.keyword("DIAMON") || c.keyword("DIAMOF") || c.keyword("DIAM90")) {
             return diameter_switch(c, w, at).map(Some);
         }
         if d.lims_word && c.keyword("LIMS") {
@@ -411,6 +432,11 @@ impl Interpreter<'_> {
             let v = expr::eval_operand(c, &self.vars)?;
             return checked(Val::computed(v, at));
         }
+        if self.d.at_language {
+            if let Some(v) = self.c840_address_value(c, at)? {
+                return checked(Val::computed(v, at));
+            }
+        }
         match number::parse(c.b, c.i).filter(|(_, e)| *e <= c.end) {
             Some((n, next)) => {
                 c.i = next;
@@ -444,22 +470,36 @@ fn starts_operand(c: &Cursor) -> bool {
     )
 }
 
-/// An `@` command: its number (docs/dialects.md, "840C @714").
-fn at_command(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-    c.i += 1;
-    let (n, next) = number::parse(c.b, c.i)
-        .filter(|(n, e)| *e <= c.end && !n.has_point)
-        .ok_or_else(|| {
-            fault(
-                AlarmCode::Syntax,
+impl Interpreter<'_> {
+    /// An `@` command: its number, looked up in the dialect's table, and in the 840C's
+    /// language its operands (docs/sinumerik.md, "The 840C's R parameters and @ commands").
+    fn at_command(&mut self, c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
+        c.i += 1;
+        let (n, next) = number::parse(c.b, c.i)
+            .filter(|(n, e)| *e <= c.end && !n.has_point)
+            .ok_or_else(|| {
+                fault(
+                    AlarmCode::Syntax,
+                    at,
+                    "@ must be followed by a command number",
+                )
+            })?;
+        c.i = next;
+        let code = int_value(n.value, at, "@ command")?;
+        let Some(def) = self.d.at_command(code) else {
+            return Err(fault(
+                AlarmCode::NotSupported,
                 at,
-                "@ must be followed by a command number",
-            )
-        })?;
-    c.i = next;
-    let code = int_value(n.value, at, "@ command")?;
-    push(&mut w.at_codes, (code, at as u32), at)?;
-    Ok(Next::Continue)
+                format!("@{code} is not supported by softnc"),
+            ));
+        };
+        if self.d.at_language {
+            self.c840_at(c, w, def.effect, code, at)?;
+        } else {
+            push(&mut w.at_codes, (code, at as u32), at)?;
+        }
+        Ok(Next::Continue)
+    }
 }
 
 /// `LF` as a word of its own: not followed by a letter, digit, point or sign.
@@ -492,15 +532,22 @@ fn lf_block_end(c: &mut Cursor) -> R<Next> {
     }
 }
 
-/// 808D `DIAMON` / `DIAMOF`: diameter programming on or off.
+/// 808D `DIAMON` / `DIAMOF` / `DIAM90`: diameter programming on, off, or for absolute
+/// dimensions only (808D Turning, "Positional data").
 fn diameter_switch(c: &mut Cursor, w: &mut Words, at: usize) -> R<Next> {
-    let on = c.keyword("DIAMON");
+    let word = if c.keyword("DIAMON") {
+        DiameterWord::On
+    } else if c.keyword("DIAMOF") {
+        DiameterWord::Off
+    } else {
+        DiameterWord::Absolute
+    };
     c.i += 6;
-    if w.diameter.replace(on).is_some() {
+    if w.diameter.replace(word).is_some() {
         return Err(fault(
             AlarmCode::AddressTwice,
             at,
-            "DIAMON/DIAMOF twice in one block",
+            "DIAMON/DIAMOF/DIAM90 twice in one block",
         ));
     }
     Ok(Next::Continue)

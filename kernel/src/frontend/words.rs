@@ -53,6 +53,59 @@ pub struct CornerWord {
     pub value: Val,
 }
 
+/// `DIAMON`, `DIAMOF`, `DIAM90` (SINUMERIK diameter programming).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiameterWord {
+    On,
+    Off,
+    /// Diameter where X is absolute, radius where it is incremental.
+    Absolute,
+}
+
+/// SINUMERIK path words of more than one letter (Fundamentals, "Motion commands";
+/// frontend/sinumerik/words.rs reads them).
+#[derive(Clone, Copy, Default)]
+pub struct PathWords {
+    /// `CIP` or `CT`: the motion command, with where it stands.
+    pub motion: Option<(super::block::MotionMode, u32)>,
+    /// `AP=`: polar angle.
+    pub ap: Option<Val>,
+    /// `RP=`: polar radius.
+    pub rp: Option<Val>,
+    /// `AP=AC(…)` (Some(false)) or `AP=IC(…)` (Some(true)), whatever G90/G91 say.
+    pub ap_incremental: Option<bool>,
+    /// `I1=` `J1=` `K1=`: the intermediate point of CIP.
+    pub inter: [Option<Val>; 3],
+    /// The intermediate point's coordinates written with `AC()` / `IC()`, as bits.
+    pub inter_absolute: u8,
+    pub inter_incremental: u8,
+    /// `TURN=`: full turns of a helix.
+    pub turn: Option<Val>,
+    /// `RNDM=`: modal rounding radius.
+    pub rndm: Option<Val>,
+    /// `FRC=` / `FRCM=`: the feed of a chamfer or rounding, for this block / modal.
+    pub frc: Option<Val>,
+    pub frcm: Option<Val>,
+}
+
+impl PathWords {
+    pub fn is_empty(&self) -> bool {
+        self.motion.is_none()
+            && self.ap.is_none()
+            && self.rp.is_none()
+            && self.inter.iter().all(Option::is_none)
+            && self.turn.is_none()
+            && self.rndm.is_none()
+            && self.frc.is_none()
+            && self.frcm.is_none()
+    }
+
+    /// The block programs a point in polar coordinates.
+    pub fn polar(&self) -> bool {
+        self.ap.is_some() || self.rp.is_some()
+    }
+}
+
 /// The words of one block. The auxiliary words (F S T D M H) also go straight into the block
 /// being built, in program order.
 #[derive(Clone, Default)]
@@ -78,6 +131,10 @@ pub struct Words {
     pub incremental: u8,
     /// SINUMERIK `X=AC(…)`: the axes absolute in this block whatever the distance mode, as bits.
     pub absolute: u8,
+    /// SINUMERIK `I=AC(…)`: the centre coordinates given absolute, not from the start, as bits.
+    pub centre_absolute: u8,
+    /// SINUMERIK path words (AP RP CIP CT TURN RNDM FRC …).
+    pub path: PathWords,
     /// Fanuc: the repeat count L of M98.
     pub l: Option<Val>,
     /// Fanuc dwell time in milliseconds.
@@ -93,19 +150,27 @@ pub struct Words {
     pub m: heapless::Vec<Val, 8>,
     /// @ command numbers with their offsets.
     pub at_codes: heapless::Vec<(u32, u32), 4>,
-    /// `DIAMON` (true) or `DIAMOF` (false).
-    pub diameter: Option<bool>,
+    /// `DIAMON`, `DIAMOF`, `DIAM90`.
+    pub diameter: Option<DiameterWord>,
     /// A chamfer or corner at the end of the block's move.
     pub corner: Option<CornerWord>,
     /// Where the program wrote the active tool radius.
     pub radius_written: Option<u32>,
     /// A variable was assigned.
     pub calculation: bool,
+    /// SINUMERIK `SUPA`: zero offsets and frames suppressed in this block.
+    pub suppress: bool,
 }
 
 impl Words {
     /// No word at all besides the auxiliary ones (which the caller checks).
     pub fn is_empty(&self) -> bool {
+        self.only_calculation() && !self.calculation
+    }
+
+    /// No word besides assignments and the language's commands (and the auxiliary ones,
+    /// which the caller checks).
+    pub fn only_calculation(&self) -> bool {
         self.g.is_empty()
             && self.axis.iter().all(Option::is_none)
             && self.additional.iter().all(Option::is_none)
@@ -122,7 +187,8 @@ impl Words {
             && self.q.is_none()
             && self.lims.is_none()
             && self.corner.is_none()
-            && !self.calculation
+            && !self.suppress
+            && self.path.is_empty()
     }
 }
 

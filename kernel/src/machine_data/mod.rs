@@ -130,7 +130,7 @@ pub struct ProgramData {
     pub optional_stop: bool,
     /// Iterations one program loop may run before alarm 12650 (endless loops are an error).
     pub max_loop_iterations: u32,
-    /// SINUMERIK R parameters R0 … R(n − 1) (840D MD28050 MM_NUM_R_PARAM).
+    /// SINUMERIK R parameters R0 … R(n − 1) (840C R0 … R1299; 840D MD28050 MM_NUM_R_PARAM).
     #[serde(default = "default_r_parameters")]
     pub r_parameters: u32,
     /// Canned cycles: the high-speed peck cycle's retraction after each peck, mm (Fanuc

@@ -13,7 +13,7 @@ use super::super::block::*;
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::lexer::column;
-use super::super::words::CornerWord;
+use super::super::words::{CornerWord, Words};
 use super::corners::{self, CornerError, CornerKind, Cornered, Element, V};
 use crate::alarm::{Alarm, AlarmCode};
 use crate::dialect::GEffect;
@@ -31,6 +31,11 @@ pub struct Request<'a> {
     source: Source,
     /// The file the block is in.
     name: &'a str,
+    /// The element's own feed (SINUMERIK FRC=/FRCM=, mm/min or mm/rev), else its block's.
+    feed: Option<f64>,
+    /// Modal rounding (SINUMERIK RNDM=): where no fitting move follows, nothing is inserted
+    /// and no alarm raised.
+    soft: bool,
 }
 
 /// The corner words' state while a chain of cornered blocks is in the stream.
@@ -45,6 +50,10 @@ pub struct Corners<'a> {
     /// The interpreter's modal state (that of the last block built) while earlier blocks
     /// are handed out.
     modal: Option<ModalState>,
+    /// SINUMERIK RNDM=: the radius every corner gets (0: off), mm.
+    round: f64,
+    /// SINUMERIK FRCM=: the feed of every corner element (0: its block's F).
+    feed: f64,
 }
 
 impl<'a> Interpreter<'a> {
@@ -54,18 +63,14 @@ impl<'a> Interpreter<'a> {
     /// block without the word only tests for it.
     #[cold]
     #[inline(never)]
-    pub(super) fn corner_request(&mut self, word: CornerWord, new: &ModalState) -> R<()> {
+    pub(super) fn corner_request(
+        &mut self,
+        word: CornerWord,
+        new: &ModalState,
+        feed: Option<f64>,
+    ) -> R<()> {
         let at = word.value.at;
-        let fits = self.block.motion.filter(|m| {
-            m.kind != MotionKind::Rapid
-                && m.moves_in_plane(1e-9)
-                && m.end[m.plane.normal as usize] == m.start[m.plane.normal as usize]
-        });
-        if fits.is_none()
-            || self.expansion.is_some()
-            || self.machine_coordinates
-            || self.block.axes.is_some()
-        {
+        if !self.corner_fits() {
             let moves = self.d.codes_of(&[
                 GEffect::Motion(MotionMode::Linear),
                 GEffect::Motion(MotionMode::ArcCw),
@@ -92,35 +97,133 @@ impl<'a> Interpreter<'a> {
         if size == 0.0 {
             return Ok(());
         }
+        let col = column(self.src, self.blk_line_start, at as usize);
+        self.request(word.kind, size, word.text, col, feed, false);
+        Ok(())
+    }
+
+    /// The block's move may get a corner element after it: a G01, G02 or G03 move in the
+    /// plane, not part of an expansion, not in machine coordinates, no additional axes.
+    fn corner_fits(&self) -> bool {
+        let fits = self.block.motion.filter(|m| {
+            m.kind != MotionKind::Rapid
+                && m.moves_in_plane(1e-9)
+                && m.end[m.plane.normal as usize] == m.start[m.plane.normal as usize]
+        });
+        fits.is_some()
+            && self.expansion.is_none()
+            && !self.machine_coordinates
+            && self.block.axes.is_none()
+    }
+
+    /// The request of the block just built.
+    fn request(
+        &mut self,
+        kind: CornerKind,
+        size: f64,
+        word: &'static str,
+        col: u32,
+        feed: Option<f64>,
+        soft: bool,
+    ) {
         let request = Request {
-            kind: word.kind,
+            kind,
             size,
-            word: word.text,
+            word,
             source: Source {
                 number: self.blk_number,
                 line: self.blk_line,
-                col: column(self.src, self.blk_line_start, at as usize),
+                col,
                 seq: 0,
                 program: self.calls.running.program,
             },
             name: self.name,
+            feed,
+            soft,
         };
         self.corners.get_or_insert_with(Default::default).request = Some(request);
+    }
+
+    /// Block build step 10 on SINUMERIK: RNDM= and FRCM= set the modal rounding and corner
+    /// feed; the block's CHF=/CHR=/RND=, or else the modal rounding, asks for its element,
+    /// with FRC= (this block) or FRCM= as its feed (Fundamentals, "Chamfer, rounding (CHF,
+    /// CHR, RND, RNDM, FRC, FRCM)"). FRC= alone, without an element, does nothing.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn sinumerik_corners(&mut self, w: &Words, new: &ModalState) -> R<()> {
+        let (round, modal_feed) = self.modal_corner_words(w, new)?;
+        let feed = match w.path.frc {
+            Some(f) if f.value <= 0.0 => {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    f.at,
+                    "FRC= must be greater than 0",
+                ))
+            }
+            Some(f) => Some(self.feed_value(f.value, new)),
+            None => (modal_feed > 0.0).then_some(modal_feed),
+        };
+        if let Some(word) = w.corner {
+            return self.corner_request(word, new, feed);
+        }
+        if round > 0.0 && self.corner_fits() {
+            self.request(
+                CornerKind::Round,
+                round,
+                "RNDM=",
+                self.block.col,
+                feed,
+                true,
+            );
+        }
         Ok(())
     }
 
-    /// Under G51 the corner scales with the contour; a plane scaled unevenly has no corner.
+    /// RNDM= and FRCM= of the block: the modal rounding radius (mm) and corner feed after it.
+    fn modal_corner_words(&mut self, w: &Words, new: &ModalState) -> R<(f64, f64)> {
+        let c = self.corners.as_deref();
+        let (mut round, mut feed) = c.map_or((0.0, 0.0), |c| (c.round, c.feed));
+        if let Some(v) = w.path.rndm {
+            round = self.length(v, new.units) * self.corner_scale(new.plane, v.at)?;
+            if round < 0.0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    v.at,
+                    "RNDM= must not be negative",
+                ));
+            }
+        }
+        if let Some(v) = w.path.frcm {
+            if v.value < 0.0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    v.at,
+                    "FRCM= must not be negative (0: the block's F)",
+                ));
+            }
+            feed = self.feed_value(v.value, new);
+        }
+        if round > 0.0 || feed > 0.0 || self.corners.is_some() {
+            let c = self.corners.get_or_insert_with(Default::default);
+            (c.round, c.feed) = (round, feed);
+        }
+        Ok((round, feed))
+    }
+
+    /// Under a scaling frame the corner scales with the contour; a plane scaled unevenly (or
+    /// tilted by the frame) has no corner.
     fn corner_scale(&self, plane: Plane, at: u32) -> R<f64> {
         let frame = &self.coords.frame;
-        match frame.scale {
-            None => Ok(1.0),
-            Some((s, _)) if frame.keeps_circles(plane) => Ok(s[plane.abscissa as usize].abs()),
-            Some(_) => Err(fault(
+        if !frame.active() {
+            return Ok(1.0);
+        }
+        frame.plane_scale(plane).ok_or_else(|| {
+            fault(
                 AlarmCode::NotSupported,
                 at,
                 "a chamfer or corner needs the same scale on both axes of the plane",
-            )),
-        }
+            )
+        })
     }
 
     /// Before the next block is read while corner words are in play: a block waiting to be
@@ -138,7 +241,7 @@ impl<'a> Interpreter<'a> {
         if let Some(m) = c.modal.take() {
             self.block.modal = m;
         }
-        if c.held.is_none() && c.request.is_none() {
+        if c.held.is_none() && c.request.is_none() && c.round == 0.0 && c.feed == 0.0 {
             self.corners = None;
         }
         None
@@ -166,6 +269,10 @@ impl<'a> Interpreter<'a> {
                 None => Ok(Some(true)),
             },
             (None, false) => Ok(Some(false)),
+            (Some((b1, r)), false) if r.soft => {
+                self.block = b1;
+                Ok(Some(true))
+            }
             (Some((_, r)), false) => Err(self.corner_alarm(
                 AlarmCode::CornerNextBlock,
                 &r,
@@ -189,6 +296,10 @@ impl<'a> Interpreter<'a> {
     ) -> Result<(), Alarm> {
         let (m1, mut m2) = match self.next_move(&b1) {
             Ok(m) => m,
+            Err(_) if r.soft => {
+                self.no_corner(b1, next);
+                return Ok(());
+            }
             Err(why) => return Err(self.corner_alarm(AlarmCode::CornerNextBlock, &r, why)),
         };
         let plane = m1.plane;
@@ -206,7 +317,7 @@ impl<'a> Interpreter<'a> {
             set(&mut m2.start, plane, cut.second_start);
             b1.motion = Some(m1);
             self.block.motion = Some(m2);
-            insert = Some(inserted(&mut b1, &m1, &cut));
+            insert = Some(inserted(&mut b1, &m1, &cut, r.feed));
         }
         let b2 = std::mem::replace(&mut self.block, b1);
         let Some(c) = self.corners.as_deref_mut() else {
@@ -223,6 +334,22 @@ impl<'a> Interpreter<'a> {
             }
         }
         Ok(())
+    }
+
+    /// A modal rounding whose next block is no fitting move: `b1` goes out as it is, the
+    /// block just built after it (or held in turn with its own request `next`).
+    fn no_corner(&mut self, b1: Block, next: Option<Request<'a>>) {
+        let b2 = std::mem::replace(&mut self.block, b1);
+        let Some(c) = self.corners.as_deref_mut() else {
+            return;
+        };
+        c.modal = Some(b2.modal);
+        match next {
+            Some(n) => c.held = Some((b2, n)),
+            None => {
+                let _ = c.out.push_back(b2);
+            }
+        }
     }
 
     /// The held block's move and the one just built, if that one may follow it: a G01,
@@ -303,8 +430,11 @@ fn set(q: &mut Pos, p: Plane, v: V) {
 
 /// The block of the inserted element: `b1`'s place, feed and modal state, no words; `b1`'s
 /// program stop, exact stop and message move to it (they act at the programmed block's end).
-fn inserted(b1: &mut Block, m1: &Motion, cut: &Cornered) -> Block {
+fn inserted(b1: &mut Block, m1: &Motion, cut: &Cornered, feed: Option<f64>) -> Block {
     let mut b = Block::new(b1.line, b1.col, b1.number, b1.modal);
+    if let Some(f) = feed {
+        b.modal.feed = f;
+    }
     b.program = b1.program;
     b.stop = b1.stop.take();
     b.message = b1.message.take();
@@ -388,6 +518,104 @@ mod tests {
         );
         assert!(b[2].words.is_empty() && b[4].motion.unwrap().center[..2] == [42.0, 22.0]);
         assert_eq!(b.last().and_then(|b| b.stop).map(|s| s.code()), Some("M30"));
+    }
+
+    /// (kind, end X Y, feed) of every move of a SINUMERIK program.
+    fn sinumerik_moves(src: &str) -> Vec<(MotionKind, [f64; 2], f64)> {
+        run("siemens-840d", src)
+            .unwrap_or_else(|a| panic!("{a}"))
+            .iter()
+            .filter_map(|b| {
+                b.motion
+                    .map(|m| (m.kind, [m.end[0], m.end[1]], b.modal.feed))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn rndm_rounds_every_corner_until_rndm_0_with_the_frcm_feed() {
+        use MotionKind::*;
+        // RNDM=2 FRCM=50 from N1 on: R2 at (10,0) (centre (8,2)) and at (10,10) (centre
+        // (8,8)), both at F50; N3 has a G0 after it: no rounding, no alarm.
+        let want = [
+            (Linear, [8.0, 0.0], 100.0),
+            (ArcCcw, [10.0, 2.0], 50.0),
+            (Linear, [10.0, 8.0], 100.0),
+            (ArcCcw, [8.0, 10.0], 50.0),
+            (Linear, [0.0, 10.0], 100.0),
+            (Rapid, [0.0, 10.0], 100.0),
+        ];
+        let got = sinumerik_moves(
+            "G1 X10 Y0 F100 RNDM=2 FRCM=50
+Y10
+X0
+G0 Z5
+",
+        );
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(g.0 == w.0 && near(g.1, w.1) && g.2 == w.2, "{got:?}");
+        }
+        // RNDM=0 in N2: only N1's corner; the program may end after a rounded block.
+        let got = sinumerik_moves(
+            "G1 X10 F100 RNDM=2
+Y10 RNDM=0
+X0
+",
+        );
+        assert_eq!(got.iter().filter(|m| m.0 == ArcCcw).count(), 1, "{got:?}");
+        let got = sinumerik_moves(
+            "G1 X10 F100 RNDM=2
+Y10
+",
+        );
+        assert!(got.len() == 3 && near(got[2].1, [10.0, 10.0]), "{got:?}");
+    }
+
+    #[test]
+    fn frc_is_the_feed_of_its_blocks_element_only() {
+        use MotionKind::*;
+        let got = sinumerik_moves(
+            "G1 X10 Y0 F100 RND=2 FRC=50
+Y10 CHR=1
+X0
+",
+        );
+        let feeds: Vec<(MotionKind, f64)> = got.iter().map(|m| (m.0, m.2)).collect();
+        assert_eq!(
+            feeds,
+            [
+                (Linear, 100.0),
+                (ArcCcw, 50.0),
+                (Linear, 100.0),
+                (Linear, 100.0),
+                (Linear, 100.0)
+            ]
+        );
+        // FRC without an element does nothing; FRC=0 and FRCM=-1 are refused.
+        assert_eq!(
+            sinumerik_moves(
+                "G1 X10 F100 FRC=5
+"
+            )
+            .len(),
+            1
+        );
+        let a = run(
+            "siemens-840d",
+            "G1 X10 F100 RND=1 FRC=0
+Y5
+",
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::BadNumber, 19));
+        let a = run(
+            "siemens-840d",
+            "FRCM=-1
+",
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::BadNumber, 1));
     }
 
     #[test]

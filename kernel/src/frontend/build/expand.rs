@@ -8,6 +8,7 @@
 use super::super::block::*;
 use super::super::fault::R;
 use super::super::interpreter::Interpreter;
+use super::super::sinumerik::cycles::CycleRun;
 use super::cycles::Drilling;
 
 /// One move or action of an expanded block.
@@ -19,11 +20,21 @@ pub enum Step {
         to: Pos,
         rapid: bool,
         axes: Option<Additional>,
+        /// The feed of this move alone (a SINUMERIK cycle's own feeds); `None`: the modal
+        /// feed.
+        feed: Option<f64>,
     },
+    /// A piece of a helix: an arc about `centre` (its plane coordinates) in the modal
+    /// plane, without a stop at its end.
+    Arc { to: Pos, centre: Pos, ccw: bool },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
     Spindle(SpindleDir),
+    /// The spindle's speed (rev/min); its S word goes to the PLC.
+    Speed(f64),
+    /// A program stop inside the expansion (SINUMERIK CYCLE87: M0 for the operator).
+    Stop(ProgramStop),
 }
 
 /// The steps still to come of the block being expanded, and the program stop of its block
@@ -40,6 +51,58 @@ enum Steps {
     Fixed(heapless::Deque<Step, 8>),
     /// A drilling cycle's remaining holes and pecks.
     Drilling(Drilling),
+    /// A SINUMERIK drilling cycle's remaining moves.
+    Cycle(Box<CycleRun>),
+    /// A helix's remaining turns and its last arc.
+    Helix(Helix),
+}
+
+/// The turns of a helix after its first (SINUMERIK TURN=): `left` full circles, each
+/// rising by `rise` along the normal axis `normal`, then the arc to `end`.
+#[derive(Clone, Debug)]
+pub struct Helix {
+    left: u16,
+    rise: f64,
+    centre: Pos,
+    ccw: bool,
+    end: Pos,
+    /// Where the next turn starts; `None` once the last arc is out.
+    at: Option<Pos>,
+    normal: usize,
+}
+
+impl Helix {
+    /// `at` is set by [`Expansion::helix`] from the first turn's end.
+    pub fn new(left: u16, rise: f64, centre: Pos, ccw: bool, end: Pos) -> Self {
+        Helix {
+            left,
+            rise,
+            centre,
+            ccw,
+            end,
+            at: None,
+            normal: 2,
+        }
+    }
+
+    fn next(&mut self) -> Option<Step> {
+        let from = self.at?;
+        let to = if self.left > 0 {
+            self.left -= 1;
+            let mut to = from;
+            to[self.normal] += self.rise;
+            self.at = Some(to);
+            to
+        } else {
+            self.at = None;
+            self.end
+        };
+        Some(Step::Arc {
+            to,
+            centre: self.centre,
+            ccw: self.ccw,
+        })
+    }
 }
 
 impl Expansion {
@@ -62,10 +125,35 @@ impl Expansion {
         }
     }
 
+    pub fn cycle(c: CycleRun) -> Self {
+        Expansion {
+            steps: Steps::Cycle(Box::new(c)),
+            stop: None,
+        }
+    }
+
+    /// The helix `h` after its first turn, which ended at `at`; `normal` is the axis it
+    /// rises along.
+    pub fn helix(mut h: Helix, normal: usize, at: Pos) -> Self {
+        h.normal = normal;
+        h.at = Some(at);
+        Expansion {
+            steps: Steps::Helix(h),
+            stop: None,
+        }
+    }
+
+    /// The programmed block's stop, which acts with the last step.
+    pub fn set_stop(&mut self, stop: Option<ProgramStop>) {
+        self.stop = stop;
+    }
+
     fn next(&mut self) -> Option<Step> {
         match &mut self.steps {
             Steps::Fixed(q) => q.pop_front(),
             Steps::Drilling(d) => d.next(),
+            Steps::Cycle(c) => c.next(),
+            Steps::Helix(h) => h.next(),
         }
     }
 
@@ -74,6 +162,8 @@ impl Expansion {
         match &mut self.steps {
             Steps::Fixed(q) => q.is_empty(),
             Steps::Drilling(d) => d.done(),
+            Steps::Cycle(c) => c.done(),
+            Steps::Helix(h) => h.at.is_none(),
         }
     }
 }
@@ -81,7 +171,7 @@ impl Expansion {
 impl Interpreter<'_> {
     /// The first step of the expansion just set, into the programmed block; the block's
     /// program stop waits for the last step.
-    pub(super) fn expand_first(&mut self, new: &mut ModalState) {
+    pub(in crate::frontend) fn expand_first(&mut self, new: &mut ModalState) {
         if let Some(step) = self.expansion.as_mut().and_then(Expansion::next) {
             self.apply_step(step, new);
         }
@@ -106,6 +196,10 @@ impl Interpreter<'_> {
         b.words.clear();
         let mut modal = b.modal;
         self.apply_step(step, &mut modal);
+        if let (true, Some(m)) = (self.d.sinumerik, self.block.motion) {
+            // The element a SINUMERIK CT continues (a helix's last turn).
+            self.last_move = Some(m);
+        }
         self.block.modal = modal;
         if let Some(e) = self.expansion.as_mut() {
             if e.done() {
@@ -121,7 +215,15 @@ impl Interpreter<'_> {
     fn apply_step(&mut self, step: Step, modal: &mut ModalState) {
         let blk = &mut self.block;
         match step {
-            Step::Move { to, rapid, axes } => {
+            Step::Move {
+                to,
+                rapid,
+                axes,
+                feed,
+            } => {
+                if let Some(f) = feed {
+                    modal.feed = f;
+                }
                 if let Some(a) = axes.filter(|a| *a != self.cur_add) {
                     blk.axes = Some(AxisMove {
                         from: self.cur_add,
@@ -154,7 +256,34 @@ impl Interpreter<'_> {
                 blk.exact_stop = true;
                 self.cur = to;
             }
+            Step::Arc { to, centre, ccw } => {
+                let plane = modal.plane;
+                let mut c = self.cur;
+                c[plane.abscissa as usize] = centre[plane.abscissa as usize];
+                c[plane.ordinate as usize] = centre[plane.ordinate as usize];
+                blk.motion = Some(Motion {
+                    kind: if ccw {
+                        MotionKind::ArcCcw
+                    } else {
+                        MotionKind::ArcCw
+                    },
+                    plane,
+                    start: self.cur,
+                    end: to,
+                    center: c,
+                    programmed: 1 << plane.abscissa | 1 << plane.ordinate | 1 << plane.normal,
+                });
+                self.cur = to;
+            }
             Step::Dwell(s) => blk.dwell = Some(s),
+            Step::Speed(s) => {
+                modal.spindle = s;
+                let _ = blk.words.push(AuxWord {
+                    address: b'S',
+                    value: s,
+                });
+            }
+            Step::Stop(stop) => blk.stop = Some(stop),
             Step::Spindle(dir) => {
                 modal.spindle_dir = dir;
                 let code = self

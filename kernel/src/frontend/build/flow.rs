@@ -14,23 +14,20 @@ use crate::dialect::{AtEffect, MEffect};
 use crate::machine_data::DecimalInput;
 
 impl Interpreter<'_> {
-    /// Step 3: `@` commands, looked up in the dialect's table; some are forbidden while TRC
-    /// is active (840C 11.4).
+    /// Step 3: `@` commands that act on the block (the word loop looked them up in the
+    /// dialect's table and ran the language's); some are forbidden while TRC is active (840C
+    /// 11.4).
     #[inline(always)]
     pub(super) fn at_commands(&mut self, w: &Words) -> R<()> {
         for &(code, at) in &w.at_codes {
             let Some(def) = self.d.at_command(code) else {
-                return Err(fault(
-                    AlarmCode::NotSupported,
-                    at,
-                    format!("@{code} is not supported by softnc"),
-                ));
+                continue;
             };
             if def.forbidden_with_trc && self.block.modal.trc != TrcSide::Off {
                 return Err(self.forbidden_with_trc(&format!("@{code}"), at));
             }
-            match def.effect {
-                AtEffect::PreprocessStop => self.block.preprocess_stop = true,
+            if def.effect == AtEffect::PreprocessStop {
+                self.block.preprocess_stop = true;
             }
         }
         Ok(())
@@ -161,15 +158,37 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// Step 8: a dwell block (G code `code`): its time, and no axis moves.
-    pub(super) fn dwell(&mut self, w: &Words, code: u16, block_col: usize) -> R<()> {
-        let secs = self.dwell_time(w).ok_or_else(|| {
-            fault(
-                AlarmCode::MissingValue,
-                block_col,
-                format!("G{code} needs a dwell time"),
-            )
-        })?;
+    /// Step 8: a dwell block (G code `code`): its time, and no axis moves. `revolutions`:
+    /// the S word of a dialect that dwells for spindle revolutions (SINUMERIK `G4 S…`).
+    pub(super) fn dwell(
+        &mut self,
+        w: &Words,
+        code: u16,
+        revolutions: Option<f64>,
+        new: &ModalState,
+        block_col: usize,
+    ) -> R<()> {
+        if self.d.sinumerik {
+            self.dwell_alone(w, code, block_col)?;
+        }
+        let secs = match (self.dwell_time(w), revolutions) {
+            (Some(t), None) => t,
+            (None, Some(n)) => Val::computed(self.revolutions_time(n, new, block_col)?, block_col),
+            (Some(t), Some(_)) => {
+                return Err(fault(
+                    AlarmCode::AddressTwice,
+                    t.at,
+                    format!("G{code} takes a time or spindle revolutions, not both"),
+                ))
+            }
+            (None, None) => {
+                return Err(fault(
+                    AlarmCode::MissingValue,
+                    block_col,
+                    format!("G{code} needs a dwell time"),
+                ))
+            }
+        };
         if secs.value < 0.0 || secs.value > 1e6 {
             return Err(fault(
                 AlarmCode::BadNumber,
@@ -189,6 +208,49 @@ impl Interpreter<'_> {
         }
         self.block.dwell = Some(secs.value);
         Ok(())
+    }
+
+    /// The seconds `n` spindle revolutions take at the speed the spindle turns at where the
+    /// block starts (under constant cutting speed, at the X there).
+    fn revolutions_time(&self, n: f64, new: &ModalState, block_col: usize) -> R<f64> {
+        let rpm = crate::ipo::spindle_setpoint(
+            &new.technology().spindle,
+            self.cur[0],
+            self.md.spindle.max_speed,
+        )
+        .abs();
+        if rpm <= 0.0 {
+            return Err(fault(
+                AlarmCode::BadNumber,
+                block_col,
+                "a dwell in spindle revolutions needs the spindle turning at a speed",
+            ));
+        }
+        Ok(n * 60.0 / rpm)
+    }
+
+    /// SINUMERIK: G4 stands in a block of its own, with its F or S (Fundamentals, "Dwell
+    /// time (G4)": "G4 must be programmed in a separate block").
+    fn dwell_alone(&self, w: &Words, code: u16, block_col: usize) -> R<()> {
+        let word =
+            w.g.iter()
+                .find(|&&(c, _)| c != code)
+                .map(|&(_, at)| at)
+                .or(w.m.first().map(|v| v.at))
+                .or(w.t.or(w.d).or(w.lims).or(w.radius).map(|v| v.at))
+                .or(w.centre.iter().flatten().next().map(|v| v.at));
+        let other = word.map(|at| at as usize).or_else(|| {
+            (w.diameter.is_some() || w.corner.is_some() || !w.path.is_empty() || w.calculation)
+                .then_some(block_col)
+        });
+        match other {
+            Some(at) => Err(fault(
+                AlarmCode::Syntax,
+                at,
+                format!("G{code} stands in a block of its own (with its F or S only)"),
+            )),
+            None => Ok(()),
+        }
     }
 
     /// The dwell time in seconds from the first of the dialect's dwell addresses written:
@@ -261,6 +323,28 @@ mod tests {
             (a.code, a.message.as_str()),
             (AlarmCode::MissingValue, "G4 needs a dwell time")
         );
+    }
+
+    #[test]
+    fn sinumerik_dwells_for_spindle_revolutions_in_a_block_of_its_own() {
+        // 10 revolutions at 1000 rev/min: 0.6 s; the S word is no speed and leaves the block.
+        let b = run("siemens-840d", "S1000 M3\nG4 S10\n").unwrap();
+        assert_eq!((b[1].dwell, b[1].modal.spindle), (Some(0.6), 1000.0));
+        assert!(b[1].words.is_empty());
+        let alarm = |src: &str| {
+            let a = run("siemens-840d", src).unwrap_err();
+            (a.code, a.line, a.col)
+        };
+        assert_eq!(alarm("G4 S10\n"), (AlarmCode::BadNumber, 1, 1));
+        assert_eq!(
+            alarm("S100 M3\nG4 F1 S2\n"),
+            (AlarmCode::AddressTwice, 2, 4)
+        );
+        assert_eq!(alarm("G4 F1 M8\n"), (AlarmCode::Syntax, 1, 7));
+        assert_eq!(alarm("G4 G1 F1\n"), (AlarmCode::Syntax, 1, 4));
+        // Elsewhere S beside G4 stays a speed.
+        let b = run("siemens-840c", "G4 F1 S500\n").unwrap();
+        assert_eq!((b[0].dwell, b[0].modal.spindle), (Some(1.0), 500.0));
     }
 
     #[test]

@@ -1,8 +1,8 @@
-//! The frame in the block build (frame.rs holds the map): the blocks that program it
-//! (Fanuc G51.1/G50.1 mirror, G51/G50 scaling, G68/G69 rotation) and the motion of a block
-//! while it is active, computed in program coordinates and then mapped.
+//! The frame in the block build (frame.rs holds the map): the blocks that program it on
+//! Fanuc (G51.1/G50.1 mirror, G51/G50 scaling, G68/G69 rotation; SINUMERIK's statements are
+//! sinumerik/frames.rs) and the motion of a block while it is active, computed in program
+//! coordinates and then mapped.
 
-use super::super::arc;
 use super::super::block::*;
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
@@ -128,7 +128,7 @@ impl Interpreter<'_> {
     }
 
     /// Where the tool stands in program coordinates: back through the zero and the frame.
-    pub(super) fn program_position(&self, new: &ModalState, at: usize) -> R<Pos> {
+    pub(in crate::frontend) fn program_position(&self, new: &ModalState, at: usize) -> R<Pos> {
         let zero = self.zero(new.work_offset);
         let rel = std::array::from_fn(|i| self.cur[i] - zero[i]);
         self.coords.frame.invert(rel).ok_or_else(|| {
@@ -140,60 +140,84 @@ impl Interpreter<'_> {
         })
     }
 
-    /// A line or an arc while the frame is active: end point and centre in program
-    /// coordinates, then mapped; a mirroring frame turns the arc's direction.
-    pub(super) fn framed_motion(
-        &mut self,
+    /// Start and end point of a move under the frame, in program coordinates: the start is
+    /// where the tool stands, taken back through the zero and the frame; each axis word is
+    /// absolute or incremental by G90/G91 or its own AC()/IC() (U/W), a diameter halved.
+    pub(super) fn framed_points(
+        &self,
         w: &Words,
         new: &ModalState,
-        programmed: u16,
         block_col: usize,
-    ) -> R<Option<(Pos, Pos, bool)>> {
-        let frame = self.coords.frame;
+    ) -> R<(Pos, Pos)> {
         let start = self.program_position(new, block_col)?;
         let mut end = start;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
-                let v = self.length(*a, new.units);
-                end[i] = match new.distance {
-                    Distance::Absolute => v,
-                    Distance::Incremental => start[i] + v,
-                };
+                let half = if i == 0 && new.diameter { 0.5 } else { 1.0 };
+                let v = self.length(*a, new.units) * half;
+                let bit = 1 << i;
+                let incremental = w.incremental & bit != 0
+                    || (new.distance == Distance::Incremental && w.absolute & bit == 0);
+                end[i] = if incremental { start[i] + v } else { v };
             }
         }
-        let arc = new.motion.is_arc();
-        if programmed & 7 == 0 && !arc {
-            return Ok(None);
-        }
-        if arc && !frame.keeps_plane(new.plane) {
+        Ok((start, end))
+    }
+
+    /// A circle under the frame: its plane must stay itself, scaled alike on both axes.
+    pub(super) fn frame_keeps_circles(&self, new: &ModalState, block_col: usize) -> R<()> {
+        let frame = &self.coords.frame;
+        if !frame.keeps_plane(new.plane) {
             return Err(fault(
                 AlarmCode::NotSupported,
                 block_col,
                 "a circle in a plane the frame turns out of itself (rotation about another plane)",
             ));
         }
-        if arc && !frame.keeps_circles(new.plane) {
+        if !frame.keeps_circles(new.plane) {
             return Err(fault(
                 AlarmCode::NotSupported,
                 block_col,
                 "a circle under scaling with different factors on the plane's axes",
             ));
         }
-        let centre = if arc {
-            let spec = self.centre_spec(w, new.units, block_col)?;
-            let tol = self.md.program.arc_endpoint_tolerance;
-            let ccw = new.motion == MotionMode::ArcCcw;
-            arc::centre(start, end, new.plane, ccw, spec, tol)
-                .map_err(|e| super::motion::arc_fault(e, tol, block_col))?
-        } else {
-            end
-        };
+        Ok(())
+    }
+
+    /// The move to `end` (about `centre`), both in program coordinates, mapped by the frame
+    /// and the zero; a frame that turns the plane over turns the arc's direction.
+    pub(super) fn set_framed_motion(
+        &mut self,
+        new: &ModalState,
+        end: Pos,
+        centre: Pos,
+        programmed: u16,
+        block_col: usize,
+    ) -> R<()> {
+        let frame = self.coords.frame;
         let zero = self.zero(new.work_offset);
-        let map = |p: Pos| {
+        let map = |p: Pos| -> Pos {
             let q = frame.apply(p);
             std::array::from_fn(|i| q[i] + zero[i])
         };
-        Ok(Some((map(end), map(centre), frame.flips(new.plane))))
+        let (end, centre) = (map(end), map(centre));
+        if !end.iter().all(|&x| super::motion::in_range(x)) {
+            return Err(fault(
+                AlarmCode::BadNumber,
+                block_col,
+                "the end point under the frame is out of range",
+            ));
+        }
+        let start = self.cur;
+        self.set_motion(new, start, end, centre, programmed, block_col)?;
+        if let (true, Some(m)) = (frame.flips(new.plane), self.block.motion.as_mut()) {
+            m.kind = match m.kind {
+                MotionKind::ArcCw => MotionKind::ArcCcw,
+                MotionKind::ArcCcw => MotionKind::ArcCw,
+                k => k,
+            };
+        }
+        Ok(())
     }
 }
 

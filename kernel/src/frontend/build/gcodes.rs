@@ -6,7 +6,7 @@
 use super::super::block::*;
 use super::super::fault::{fault, Fault, Offset, R};
 use super::super::interpreter::Interpreter;
-use super::super::words::{int_value, Words};
+use super::super::words::{int_value, DiameterWord, Words};
 use crate::alarm::AlarmCode;
 use crate::dialect::{Dialect, GCodeDef, GEffect, GName};
 use crate::trc::SideChange;
@@ -27,8 +27,10 @@ pub(super) struct BlockCodes {
     pub numbered_at: Option<u32>,
     /// A tool length compensation code was written (Fanuc G43/G44/G49).
     pub length: bool,
-    /// The block's S is the spindle speed limit (840C G92).
+    /// The block's S is the spindle speed limit (840C G92, G26).
     pub spindle_limit: bool,
+    /// A spindle limit code (840C G92): the block sets the limit and nothing else.
+    pub limit_only: bool,
     /// A canned cycle code was written (Fanuc G81 …).
     pub cycle: Option<super::cycles::CycleKind>,
     /// A reference point return (its code; true for the second reference, G30).
@@ -37,6 +39,10 @@ pub(super) struct BlockCodes {
     pub setting: Option<super::settings::Setting>,
     /// A block that programs the frame (G51.1 G50.1 G51 G50 G68 G69).
     pub frame: Option<super::frames::FramePart>,
+    /// A pole definition (SINUMERIK G110 G111 G112), with where its code stands.
+    pub pole: Option<(PoleOrigin, u32)>,
+    /// The spindle revolutions of a dwell (SINUMERIK `G4 S…`).
+    pub dwell_revolutions: Option<f64>,
 }
 
 impl Interpreter<'_> {
@@ -109,7 +115,11 @@ impl Interpreter<'_> {
 
     /// `what` (a code as written) may not stand in a block while TRC is active.
     #[cold]
-    pub(super) fn forbidden_with_trc(&self, what: &str, at: impl Offset) -> Box<Fault> {
+    pub(in crate::frontend) fn forbidden_with_trc(
+        &self,
+        what: &str,
+        at: impl Offset,
+    ) -> Box<Fault> {
         let trc_on = self
             .d
             .codes_of(&[GEffect::Trc(TrcSide::Left), GEffect::Trc(TrcSide::Right)]);
@@ -136,6 +146,9 @@ impl Interpreter<'_> {
             frame: None,
             length: false,
             spindle_limit: false,
+            limit_only: false,
+            pole: None,
+            dwell_revolutions: None,
         };
         self.machine_coordinates = false;
         for &(&GCodeDef { code, effect, .. }, at) in codes {
@@ -150,7 +163,15 @@ impl Interpreter<'_> {
                 GEffect::ExactStopModal(on) => new.exact_stop = on,
                 // A change while TRC is active was refused in step 2.
                 GEffect::Plane(p) => new.plane = p,
-                GEffect::Units(u) => new.units = u,
+                GEffect::Units(u) => {
+                    new.units = u;
+                    new.feed_units = u;
+                }
+                GEffect::GeometryUnits(u) => {
+                    // F is in the basic system (808D "Inch and metric dimensioning").
+                    new.units = u;
+                    new.feed_units = self.md.program.units;
+                }
                 GEffect::Distance(x) => new.distance = x,
                 GEffect::Trc(side) => {
                     // A frame that turns the plane over turns G41 into G42 (frame.rs).
@@ -173,21 +194,34 @@ impl Interpreter<'_> {
                 GEffect::WorkOffset(i) => new.work_offset = i,
                 GEffect::NumberedWorkOffset => g.numbered_at = Some(at),
                 GEffect::MachineCoordinates => self.machine_coordinates = true,
-                GEffect::FeedPerRevolution(on) => {
-                    // A change of the feed's unit deletes F: the next move needs its own
-                    // (840D feeds "F is deleted when switching G93/G94/G95"; Fanuc likewise).
-                    if new.feed_per_rev != on {
-                        new.feed = 0.0;
+                GEffect::FeedPerRevolution(on) => feed_per_revolution(new, on),
+                GEffect::FeedType(t) => {
+                    let (per_rev, css) = match t {
+                        FeedType::PerMinute => (Some(false), false),
+                        FeedType::PerRevolution => (Some(true), false),
+                        FeedType::CuttingSpeed => (Some(true), true),
+                        FeedType::CuttingSpeedOff => (None, false),
+                    };
+                    if let Some(on) = per_rev {
+                        feed_per_revolution(new, on);
                     }
-                    new.feed_per_rev = on;
+                    new.css = css;
                 }
+                GEffect::Pole(origin) => g.pole = Some((origin, at)),
                 GEffect::ConstantSurfaceSpeed(on) => new.css = on,
-                GEffect::SpindleLimit => g.spindle_limit = true,
+                GEffect::SpindleLimit => {
+                    g.spindle_limit = true;
+                    g.limit_only = true;
+                }
                 GEffect::ToolLength(c) => {
                     new.length_comp = c;
                     g.length = true;
                 }
-                GEffect::WorkingArea { max } => g.working_area = Some(max),
+                GEffect::WorkingArea { max } => {
+                    g.working_area = Some(max);
+                    // 880: "maximum working area limitation/spindle speed limitation S".
+                    g.spindle_limit |= max;
+                }
                 GEffect::PoleHere => new.pole = self.cur,
                 GEffect::Unsupported(_) => {}
                 other => self.program_effect(other, code, at, &mut g)?,
@@ -257,11 +291,12 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// Step 4, words that switch a modal state: 808D `DIAMON`/`DIAMOF`.
+    /// Step 4, words that switch a modal state: 808D `DIAMON`/`DIAMOF`/`DIAM90`.
     #[inline(always)]
     pub(super) fn diameter_switch(&self, w: &Words, new: &mut ModalState) {
-        if let Some(on) = w.diameter {
-            new.diameter = on;
+        if let Some(word) = w.diameter {
+            new.diameter = word != DiameterWord::Off;
+            new.radius_incremental = word == DiameterWord::Absolute;
         }
     }
 
@@ -276,7 +311,11 @@ impl Interpreter<'_> {
             && old_trc != TrcSide::Off
             && new.trc != TrcSide::Off
             && new.trc != old_trc;
-        if let (Some(_), Some(at)) = (blk.trc, trc_at) {
+        if let (Some(side), Some(at)) = (blk.trc, trc_at) {
+            let frame = &self.coords.frame;
+            if side != TrcSide::Off && frame.active() && !frame.keeps_plane(new.plane) {
+                return Err(tilted_plane(new.plane, at));
+            }
             let arc = new.motion.is_arc();
             if arc && !fanuc_side_change && (blk.motion.is_some() || d.trc_codes_need_linear_mode) {
                 return Err(self.trc_not_linear(at));
@@ -301,6 +340,29 @@ impl Interpreter<'_> {
             ),
         )
     }
+}
+
+/// Compensation works in its plane; a frame that tilts it (a rotation about another axis)
+/// leaves no plane to compensate in (docs/sinumerik.md, "Frames").
+#[cold]
+fn tilted_plane(plane: Plane, at: u32) -> Box<Fault> {
+    fault(
+        AlarmCode::NotSupported,
+        at,
+        format!(
+            "tool radius compensation in the {} plane while the frame tilts it",
+            plane.name()
+        ),
+    )
+}
+
+/// Feed per revolution on or off. A change of the feed's unit deletes F: the next move needs
+/// its own (840D feeds "F is deleted when switching G93/G94/G95"; Fanuc likewise).
+fn feed_per_revolution(new: &mut ModalState, on: bool) {
+    if new.feed_per_rev != on {
+        new.feed = 0.0;
+    }
+    new.feed_per_rev = on;
 }
 
 /// A modal selection method; ISG inner-corner selection cannot be switched on while TRC is

@@ -7,6 +7,7 @@
 //! stops, `@` commands, dwell) and [`motion`] (end point, polar coordinates, arcs, working
 //! area).
 
+mod circles;
 mod corner_blocks;
 mod corners;
 mod cycles;
@@ -16,6 +17,7 @@ mod frames;
 mod gcodes;
 mod motion;
 mod polar;
+mod pole;
 mod reference;
 mod settings;
 mod technology;
@@ -24,8 +26,9 @@ pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
-pub(super) use expand::Expansion;
+pub(super) use expand::{Expansion, Step};
 pub(super) use motion::{in_range, WorkingArea};
+pub(super) use pole::Polar;
 
 use super::block::{Block, BlockNo, ModalState};
 use super::fault::R;
@@ -45,7 +48,12 @@ impl Interpreter<'_> {
         self.at_commands(w)?;
         // 4. The G codes' effects, and modal switches written as words (808D DIAMON).
         let mut new = self.block.modal;
-        let g = self.g_effects(&codes, &mut new)?;
+        let mut g = self.g_effects(&codes, &mut new)?;
+        // SINUMERIK SUPA: as G53, for every zero offset and frame softnc has.
+        self.machine_coordinates |= w.suppress;
+        if let Some((mode, at)) = w.path.motion {
+            self.motion_word(&codes, mode, at, &mut new)?;
+        }
         if let Some(at) = g.numbered_at {
             self.numbered_work_offset(w, at, &mut new)?;
         }
@@ -54,9 +62,12 @@ impl Interpreter<'_> {
             self.cycle = Some(CycleMode::new(kind, initial, self.cycle));
         }
         self.diameter_switch(w, &mut new);
-        // 5. Feed and spindle speed; a dwell block's F is its time.
+        // 5. Feed and spindle speed; a dwell block's F is its time, on SINUMERIK its S may be
+        //    revolutions.
         if g.dwell.is_none() {
             self.feed(w, &mut new)?;
+        } else if self.d.dwell.s_revolutions {
+            g.dwell_revolutions = self.take_s_words();
         }
         self.spindle(w, &mut new, g.spindle_limit, block_col)?;
         // 6. Tool and tool offset (840C 11.5: D0 deselects); the H register's length.
@@ -72,9 +83,14 @@ impl Interpreter<'_> {
         //    additional axes move only outside compensation (docs/axes.md).
         self.trc_in_linear_block(&new, g.trc_at)?;
         self.additional_outside_trc(&new, w)?;
-        // 10. A chamfer or corner word (Fanuc ,C ,R): the move waits for the next one.
-        if let Some(word) = w.corner {
-            self.corner_request(word, &new)?;
+        // 10. A chamfer or corner word (Fanuc ,C ,R; SINUMERIK also RNDM): the move waits
+        //     for the next one.
+        if self.d.sinumerik {
+            if w.corner.is_some() || self.corners.is_some() || !w.path.is_empty() {
+                self.sinumerik_corners(w, &new)?;
+            }
+        } else if let Some(word) = w.corner {
+            self.corner_request(word, &new, None)?;
         }
         // 11. The block done: position, program end (880 4.2.5: the pole), modal state.
         self.finish(new);
@@ -91,7 +107,13 @@ impl Interpreter<'_> {
     ) -> R<()> {
         if let Some(code) = g.dwell {
             self.no_additional_axes(w, "a dwell block")?;
-            return self.dwell(w, code, block_col);
+            return self.dwell(w, code, g.dwell_revolutions, new, block_col);
+        }
+        if let Some((origin, at)) = g.pole {
+            return self.pole_block(w, new, origin, at);
+        }
+        if g.limit_only {
+            self.no_set_actual_value(w)?;
         }
         if let Some(max) = g.working_area {
             self.no_additional_axes(w, "a working area limit (it bounds X Y Z)")?;
@@ -121,13 +143,57 @@ impl Interpreter<'_> {
         if self.cycle.is_some() && cycles::makes_hole(w) {
             return self.canned_cycle(w, new, block_col);
         }
-        self.motion(w, new, block_col)
+        self.motion(w, new, block_col)?;
+        if let Some(turn) = w.path.turn {
+            self.helix_turns(turn, new)?;
+        }
+        Ok(())
+    }
+
+    /// Step 4, SINUMERIK CIP or CT: the motion command, in the group of G0 … G3.
+    fn motion_word(
+        &mut self,
+        codes: &gcodes::Codes,
+        mode: super::block::MotionMode,
+        at: u32,
+        new: &mut ModalState,
+    ) -> R<()> {
+        if let Some((def, _)) = codes
+            .iter()
+            .find(|(def, _)| matches!(def.effect, crate::dialect::GEffect::Motion(_)))
+        {
+            return Err(super::fault::fault(
+                crate::alarm::AlarmCode::SameGroupTwice,
+                at,
+                format!(
+                    "{} and a circle word (CIP, CT) belong to the same group",
+                    crate::dialect::GName(def.code)
+                ),
+            ));
+        }
+        self.cycle = None;
+        new.motion = mode;
+        Ok(())
+    }
+
+    /// A dwell block's S words (SINUMERIK `G4 S…`): spindle revolutions, not a speed; they
+    /// leave the block's words.
+    fn take_s_words(&mut self) -> Option<f64> {
+        let words = &mut self.block.words;
+        let s = words
+            .iter()
+            .rev()
+            .find(|a| a.address == b'S')
+            .map(|a| a.value);
+        words.retain(|a| a.address != b'S');
+        s
     }
 
     /// Step 1: the block at its source position with nothing programmed; its words (read
     /// already) and modal state (still the one before the block) stay.
     #[inline(always)]
     fn begin(&mut self, w: &Words, block_col: usize) {
+        self.remember_move();
         let col = column(self.src, self.blk_line_start, block_col);
         reset(&mut self.block, self.blk_line, col, self.blk_number);
         self.block.calculation = w.calculation;
@@ -140,6 +206,9 @@ impl Interpreter<'_> {
         let blk = &mut self.block;
         if let Some(m) = &blk.motion {
             self.cur = m.end;
+            if self.d.sinumerik {
+                self.last_move = Some(*m);
+            }
         }
         if let Some(a) = &blk.axes {
             self.cur_add = a.to;
@@ -155,6 +224,19 @@ impl Interpreter<'_> {
 }
 
 impl Interpreter<'_> {
+    /// SINUMERIK CT: the move of the block handed out last (a plain block's too) is the
+    /// path element the next tangent circle continues. Called before the block is reset;
+    /// while corner elements are in play the blocks built are remembered instead (finish),
+    /// and an expansion's moves as they are made (`next_expanded`).
+    #[inline(always)]
+    pub(in crate::frontend) fn remember_move(&mut self) {
+        if self.d.sinumerik && self.corners.is_none() {
+            if let Some(m) = self.block.motion {
+                self.last_move = Some(m);
+            }
+        }
+    }
+
     /// A block with nothing programmed at a statement's place (its preprocessing stop).
     pub(in crate::frontend) fn empty_block_at(
         &mut self,
@@ -162,6 +244,7 @@ impl Interpreter<'_> {
         col: u32,
         number: Option<BlockNo>,
     ) {
+        self.remember_move();
         reset(&mut self.block, line, col, number);
         self.block.words.clear();
     }

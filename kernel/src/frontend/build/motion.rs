@@ -79,7 +79,7 @@ impl Interpreter<'_> {
         start: f64,
         offset: f64,
     ) -> f64 {
-        let v = self.length(a, new.units) * if i == 0 && new.diameter { 0.5 } else { 1.0 };
+        let v = self.length(a, new.units) * diameter_factor(i, new, new.distance);
         match new.distance {
             Distance::Absolute => v + offset,
             Distance::Incremental => start + v,
@@ -89,8 +89,23 @@ impl Interpreter<'_> {
     /// Step 8: the block's motion, if it has one (written in place: `Motion` is large).
     pub(super) fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let programmed = self.programmed_axes(w)?;
-        if new.motion.is_polar() {
+        let sinumerik_geometry =
+            w.path.polar() || (!new.motion.is_plain() && !new.motion.is_polar());
+        if sinumerik_geometry && self.coords.frame.active() {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                block_col,
+                "polar coordinates, CIP and CT under a frame are not built yet",
+            ));
+        }
+        if w.path.polar() {
+            self.polar_move(w, new, programmed, block_col)?;
+        } else if new.motion.is_polar() {
             self.polar(w, new, programmed, block_col)?;
+        } else if new.motion == MotionMode::ArcThrough {
+            self.arc_through(w, new, programmed, block_col)?;
+        } else if new.motion == MotionMode::ArcTangent {
+            self.arc_tangent(w, new, programmed, block_col)?;
         } else {
             self.cartesian(w, new, programmed, block_col)?;
         }
@@ -155,7 +170,7 @@ impl Interpreter<'_> {
     }
 
     /// The work offset absolute positions take: none in a block in machine coordinates.
-    fn work_offset(&self, new: &ModalState) -> [f64; AXES] {
+    pub(super) fn work_offset(&self, new: &ModalState) -> [f64; AXES] {
         if self.machine_coordinates {
             // Fanuc G53 cancels the tool length vector of the axes it moves (0i-MB 14.1.2:
             // the spindle goes to the machine position), as G28 does; Siemens keeps it.
@@ -209,6 +224,29 @@ impl Interpreter<'_> {
         }
     }
 
+    /// A spindle limit block (840C G92 S) has no axis words: the same code as a "set actual
+    /// value" is not built, and its axes must not be read as a move.
+    pub(super) fn no_set_actual_value(&self, w: &Words) -> R<()> {
+        let written = |axes: &[Option<Val>], first: usize| {
+            let mut it = axes.iter().enumerate();
+            it.find_map(|(k, a)| a.map(|a| (k + first, a)))
+        };
+        match written(&w.axis, 0).or_else(|| written(&w.additional, 3)) {
+            Some((k, a)) => {
+                let code = self.d.codes_of(&[crate::dialect::GEffect::SpindleLimit]);
+                Err(fault(
+                    AlarmCode::NotSupported,
+                    a.at,
+                    format!(
+                        "{code} with axis words ({} here: setting the actual value) is not supported; with S it is the spindle speed limit",
+                        AXIS_NAMES[k]
+                    ),
+                ))
+            }
+            None => Ok(()),
+        }
+    }
+
     /// Additional axes move only in blocks neither inside a compensation run nor selecting
     /// or deselecting one: the tool radius compensation works in the plane of the geometry
     /// axes, and its inserted pieces could not share out a rotary move (docs/axes.md).
@@ -234,7 +272,8 @@ impl Interpreter<'_> {
         ))
     }
 
-    /// A line or an arc to the axis words' end point.
+    /// A line or an arc to the axis words' end point; under a frame (frames.rs) the points
+    /// are worked out in program coordinates and then mapped.
     fn cartesian(
         &mut self,
         w: &Words,
@@ -244,11 +283,12 @@ impl Interpreter<'_> {
     ) -> R<()> {
         let arc = new.motion.is_arc();
         let vector = !arc && self.exit_vector(w, new);
-        if self.coords.frame.active() && !self.machine_coordinates {
-            return self.cartesian_framed(w, new, programmed, block_col);
-        }
-        let start = self.cur;
-        let end = self.end_point(w, new, start)?;
+        let framed = self.coords.frame.active() && !self.machine_coordinates;
+        let (start, end) = if framed {
+            self.framed_points(w, new, block_col)?
+        } else {
+            (self.cur, self.end_point(w, new, self.cur)?)
+        };
         let has_centre = w.centre.iter().any(Option::is_some) || w.radius.is_some();
         if has_centre && !arc && !vector {
             let at = w
@@ -277,11 +317,17 @@ impl Interpreter<'_> {
             return Ok(());
         }
         feed_programmed(new, block_col)?;
+        if framed && arc {
+            self.frame_keeps_circles(new, block_col)?;
+        }
         let centre = if arc {
             self.arc_centre(w, new, start, end, block_col)?
         } else {
             end
         };
+        if framed {
+            return self.set_framed_motion(new, end, centre, programmed, block_col);
+        }
         self.set_motion(new, start, end, centre, programmed, block_col)
     }
 
@@ -307,30 +353,6 @@ impl Interpreter<'_> {
         }
         self.block.exit_vector = Some(Box::new(v));
         true
-    }
-
-    /// [`Self::cartesian`] under an active frame (frames.rs).
-    fn cartesian_framed(
-        &mut self,
-        w: &Words,
-        new: &ModalState,
-        programmed: u16,
-        block_col: usize,
-    ) -> R<()> {
-        let Some((end, centre, flip)) = self.framed_motion(w, new, programmed, block_col)? else {
-            return Ok(());
-        };
-        feed_programmed(new, block_col)?;
-        let start = self.cur;
-        self.set_motion(new, start, end, centre, programmed, block_col)?;
-        if let (true, Some(m)) = (flip, self.block.motion.as_mut()) {
-            m.kind = match m.kind {
-                MotionKind::ArcCw => MotionKind::ArcCcw,
-                MotionKind::ArcCcw => MotionKind::ArcCw,
-                k => k,
-            };
-        }
-        Ok(())
     }
 
     /// The end point of the axis words; the axes not written stay where they are.
@@ -365,7 +387,7 @@ impl Interpreter<'_> {
     }
 
     /// The centre of an arc from `start` to `end`, from I J K in the plane or a radius.
-    fn arc_centre(
+    pub(super) fn arc_centre(
         &self,
         w: &Words,
         new: &ModalState,
@@ -387,7 +409,19 @@ impl Interpreter<'_> {
                 ));
             }
         }
-        let spec = self.centre_spec(w, new.units, block_col)?;
+        let mut spec = self.centre_spec(w, new.units, block_col)?;
+        if let (CentreSpec::Offsets(off), true) = (&mut spec, w.centre_absolute != 0) {
+            // SINUMERIK I=AC(…): the centre's coordinate itself (Fundamentals, "Absolute
+            // and incremental dimensions"), X as a diameter where X is one.
+            let zero = self.work_offset(new);
+            for (i, v) in w.centre.iter().enumerate() {
+                if let (Some(v), true) = (v, w.centre_absolute & 1 << i != 0) {
+                    let c =
+                        self.length(*v, new.units) * diameter_factor(i, new, Distance::Absolute);
+                    off[i] = c + zero[i] - start[i];
+                }
+            }
+        }
         let at = w
             .radius
             .map(Val::pos)
@@ -537,7 +571,7 @@ impl Interpreter<'_> {
 
     /// The motion, once its end point is checked against the working area.
     #[inline(always)]
-    fn set_motion(
+    pub(super) fn set_motion(
         &mut self,
         new: &ModalState,
         start: Pos,
@@ -561,9 +595,10 @@ impl Interpreter<'_> {
     /// Step 8, 840C G25 (min) / G26 (max): the axis words are limits, in mm without zero
     /// offset (docs/dialects.md, "Working area G25/G26").
     pub(super) fn working_area(&mut self, w: &Words, max: bool, units: Units) {
-        self.area.limited = true;
         for (i, a) in w.axis.iter().enumerate() {
             if let Some(a) = a {
+                // Only a limit written takes the plain path away (G26 S alone limits nothing).
+                self.area.limited = true;
                 let v = self.length(*a, units);
                 if max {
                     self.area.max[i] = v;
@@ -596,8 +631,19 @@ impl Interpreter<'_> {
     }
 }
 
+/// What a value of axis `i` written under `distance` is multiplied by: ½ for X as a
+/// diameter (808D DIAMON; DIAM90 only where X is absolute, 808D Turning "Positional data").
+#[inline(always)]
+pub(in crate::frontend) fn diameter_factor(i: usize, new: &ModalState, distance: Distance) -> f64 {
+    if i == 0 && new.diameter && !(new.radius_incremental && distance == Distance::Incremental) {
+        0.5
+    } else {
+        1.0
+    }
+}
+
 /// A feed motion needs a feed.
-fn feed_programmed(new: &ModalState, block_col: usize) -> R<()> {
+pub(super) fn feed_programmed(new: &ModalState, block_col: usize) -> R<()> {
     let feed_needed = !matches!(new.motion, MotionMode::Rapid | MotionMode::PolarRapid);
     if feed_needed && new.feed <= 0.0 {
         return Err(fault(
@@ -672,6 +718,17 @@ mod tests {
         assert_eq!(b[1].exit_vector.as_deref(), Some(&[1.0, 0.0, -1.0]));
         let a = run("siemens-840c", "G41 D1 G1 X0 Y10 F100\nG40 X0 Y0 I10 J0\n").unwrap_err();
         assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 2, 11));
+    }
+
+    #[test]
+    fn diam90_is_a_diameter_where_x_is_absolute_only() {
+        // DIAMON: X20 → r 10, G91 X2 → +1. DIAM90: G91 X2 → +2, X=IC(2) → +2, G90 X30 →
+        // r 15, X=AC(40) → r 20. DIAMOF: X30 → 30.
+        let xs = super::super::super::end_xs(
+            "siemens-808d",
+            "DIAMON\nG1 X20 F1\nG91 X2\nDIAM90\nX2\nG90 X=IC(2)\nX30\nG91 X=AC(40)\nG90 DIAMOF\nX30\n",
+        );
+        assert_eq!(xs, [10.0, 11.0, 13.0, 15.0, 15.0, 20.0, 30.0]);
     }
 
     #[test]

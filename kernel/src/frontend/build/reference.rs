@@ -66,11 +66,13 @@ impl Interpreter<'_> {
                 to: mid,
                 rapid: true,
                 axes: Some(mid_axes),
+                feed: None,
             },
             Step::Move {
                 to: reference,
                 rapid: true,
                 axes: Some(reference_axes),
+                feed: None,
             },
         ]));
         self.expand_first(new);

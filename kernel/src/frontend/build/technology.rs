@@ -22,10 +22,19 @@ impl Interpreter<'_> {
                     "the feed F must be positive",
                 ));
             }
-            let scale = if new.units == Units::Inch { 25.4 } else { 1.0 };
-            new.feed = f.value * scale;
+            new.feed = self.feed_value(f.value, new);
         }
         Ok(())
+    }
+
+    /// A feed value in mm/min or mm/rev: inch converted where F is in inch (G700 on
+    /// SINUMERIK, the inch code elsewhere).
+    pub(super) fn feed_value(&self, f: f64, new: &ModalState) -> f64 {
+        if new.feed_units == Units::Inch {
+            f * 25.4
+        } else {
+            f
+        }
     }
 
     /// Step 5: the spindle speed, from the S words collected into the block: rev/min, the
@@ -233,6 +242,44 @@ mod tests {
         assert_eq!((b[0].modal.feed, b[0].modal.spindle), (254.0, 1200.0));
         let a = run("siemens-840c", "N5 S-1\n").unwrap_err();
         assert_eq!((a.code, a.col), (AlarmCode::BadNumber, 1));
+    }
+
+    #[test]
+    fn sinumerik_inch_codes_switch_the_feed_only_with_g700() {
+        // 808D "Inch and metric dimensioning": G70 lengths in inch, F in the machine's
+        // mm/min; G700 both. X1 is 25.4 mm either way; G71 F10 is 10 mm/min again.
+        let b = run("siemens-840d", "G70 F10 G1 X1\nG700 F10 X2\nG71 F10\n").unwrap();
+        let got: Vec<(f64, f64)> = b
+            .iter()
+            .map(|b| (b.modal.feed, b.motion.map_or(0.0, |m| m.end[0])))
+            .collect();
+        assert_eq!(got, [(10.0, 25.4), (254.0, 50.8), (10.0, 0.0)]);
+    }
+
+    #[test]
+    fn sinumerik_feed_type_and_cutting_speed_are_one_group() {
+        // G96 switches G95 on and deletes F; G97 keeps G95; G94 switches both off.
+        let b = run(
+            "siemens-808d",
+            "G94 F100\nG96 S180 LIMS=2000\nG97 S800\nF0.2 G94\n",
+        )
+        .unwrap();
+        let got: Vec<(bool, bool, f64)> = b
+            .iter()
+            .map(|b| (b.modal.feed_per_rev, b.modal.css, b.modal.feed))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (false, false, 100.0),
+                (true, true, 0.0),
+                (true, false, 0.0),
+                (false, false, 0.2)
+            ]
+        );
+        assert_eq!(b[1].modal.spindle_limit, 2000.0);
+        let a = run("siemens-808d", "G95 G96 S100\n").unwrap_err();
+        assert_eq!((a.code, a.col), (AlarmCode::SameGroupTwice, 5));
     }
 
     #[test]

@@ -29,12 +29,10 @@ use crate::frontend::block::ProgramStop;
 /// **[unconfirmed]**).
 const MAX_PASSES: u32 = 9999;
 
-/// Words of the language that stand alone in a block but are no program name: a block with
-/// one of them is no call, and refused as a name softnc does not know (frames, CIP, CT … are
-/// not built).
+/// Words of the language that may stand alone in a block but name no program: a block with
+/// one of them is no call (the word loop reads it, or refuses it as a word it does not know).
 const NOT_PROGRAMS: &[&str] = &[
-    "TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "CIP", "CT", "SUPA",
-    "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
+    "CIP", "CT", "SUPA", "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
 ];
 
 /// A cycle built into softnc, called by name like a subprogram file. None is built yet:
@@ -126,6 +124,11 @@ impl Interpreter<'_> {
         if matches!(c.peek(), None | Some(b';')) {
             self.calls.modal = None;
             return Ok(());
+        }
+        if super::statements::Keyword::at(c) == Some(super::statements::Keyword::Cycle) {
+            let message =
+                "MCALL of a drilling cycle is not supported (call the cycle at each hole)";
+            return Err(fault(AlarmCode::NotSupported, c.i, message));
         }
         let (target, args, repeats) = match self.read_call(c)? {
             Callee::File {
@@ -756,8 +759,10 @@ mod tests {
         assert_eq!(a, (AlarmCode::Syntax, "main.mpf".into(), 1, 5));
         let a = alarm("siemens-840d", "SUB1 X5\n", &sub);
         assert_eq!(a, (AlarmCode::UndefinedName, "main.mpf".into(), 1, 1));
-        let a = alarm("siemens-840d", "TRANS\n", &[]);
+        // Words of the language alone are no calls (KONT: not built, 12550 as any word).
+        let a = alarm("siemens-840d", "KONT\n", &[]);
         assert_eq!(a.0, AlarmCode::UndefinedName);
+        assert!(run("siemens-840d", "TRANS\nDIAMON\n", &[]).is_ok());
         let a = alarm("siemens-840d", "SUB1 P0\n", &sub);
         assert_eq!(a, (AlarmCode::BadNumber, "main.mpf".into(), 1, 6));
         // EXTERN declares; PROC of the main program gives it parameters of 0.

@@ -9,6 +9,7 @@
 use super::super::expr::finite;
 use super::super::fault::{fault, R};
 use super::super::lexer::Cursor;
+use super::system::{Index, SystemName};
 use super::Store;
 use crate::alarm::AlarmCode;
 
@@ -197,6 +198,9 @@ impl Parser<'_> {
     /// What starts with a name: a function call, an R parameter, TRUE/FALSE or a variable.
     fn named(&mut self, c: &mut Cursor, at: usize) -> R<f64> {
         let name = identifier(c);
+        if name.starts_with('$') {
+            return self.system(c, &name, at);
+        }
         c.skip_blanks();
         if c.peek() == Some(b'(') {
             if let Some(f) = FUNCTIONS.iter().find(|f| f.0 == name) {
@@ -226,6 +230,57 @@ impl Parser<'_> {
         self.store.get(&name, at)
     }
 
+    /// A system variable `name` with its indices (`$AA_IW[X]`, `$TC_DP6[1,1]`).
+    fn system(&mut self, c: &mut Cursor, name: &str, at: usize) -> R<f64> {
+        let Some(v) = SystemName::of(name) else {
+            return Err(fault(
+                AlarmCode::UndefinedName,
+                at,
+                format!("system variable {name} is not provided (docs/sinumerik.md, \"System variables\")"),
+            ));
+        };
+        let mut idx: heapless::Vec<Index, 2> = heapless::Vec::new();
+        if v.indices() > 0 {
+            c.skip_blanks();
+            if c.peek() != Some(b'[') {
+                return Err(fault(AlarmCode::Syntax, c.i, format!("{name}[…] expected")));
+            }
+            c.i += 1;
+            for k in 0..v.indices() {
+                if k > 0 {
+                    expect(c, b',')?;
+                }
+                let _ = idx.push(self.index_value(c)?);
+            }
+            expect(c, b']')?;
+        }
+        let Some(sys) = self.store.system.as_deref() else {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                format!("{name} cannot be read here"),
+            ));
+        };
+        if v.main_run() {
+            self.store.main_run_read.set(true);
+        }
+        sys.read(v, name, &idx, at)
+    }
+
+    /// An index: an axis letter alone, or an expression.
+    fn index_value(&mut self, c: &mut Cursor) -> R<Index> {
+        c.skip_blanks();
+        let letter = c.peek().map(|b| b.to_ascii_uppercase());
+        let alone = !c
+            .peek_at(1)
+            .is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_');
+        if let Some(l @ (b'A'..=b'C' | b'U'..=b'Z')) = letter.filter(|_| alone) {
+            c.i += 1;
+            return Ok(Index::Axis(l));
+        }
+        Ok(Index::Number(self.comparison(c)?))
+    }
+
     /// Arguments up to the closing bracket (the opening one is read).
     fn arguments(&mut self, c: &mut Cursor, at: usize) -> R<heapless::Vec<f64, 3>> {
         let mut args = heapless::Vec::new();
@@ -244,6 +299,20 @@ impl Parser<'_> {
                 _ => return Err(fault(AlarmCode::Syntax, at, "')' expected")),
             }
         }
+    }
+}
+
+fn expect(c: &mut Cursor, ch: u8) -> R<()> {
+    c.skip_blanks();
+    if c.peek() == Some(ch) {
+        c.i += 1;
+        Ok(())
+    } else {
+        Err(fault(
+            AlarmCode::Syntax,
+            c.i,
+            format!("'{}' expected", ch as char),
+        ))
     }
 }
 
@@ -306,6 +375,7 @@ pub fn is_reserved(name: &str) -> bool {
         "TRUE" | "FALSE" | "NOT" | "AND" | "OR" | "XOR" | "DIV" | "MOD" | "TO"
     ) || name.starts_with("B_")
         || FUNCTIONS.iter().any(|f| f.0 == name)
+        || super::words::is_path_word(name)
 }
 
 /// `R12` → 12 (`R01` is R1).

@@ -5,15 +5,21 @@
 //!
 //! - [`expr`]: arithmetic, comparisons, logic and the functions.
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
+//! - [`frames`]: the frame statements TRANS, ROT, SCALE, MIRROR and their additive forms.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
+//! - [`words`]: the path words of more than one letter (CIP, CT, AP=, RP=, TURN=, RNDM= …).
 //! - [`procs`]: a program's PROC line, read with its structure.
 //! - [`calls`]: subprogram calls (also the 840C's `L123 P3`), MCALL, RET.
 
 pub(super) mod calls;
+pub(super) mod cycles;
 pub(super) mod expr;
+mod frames;
 pub(super) mod procs;
 pub(super) mod statements;
 pub(super) mod structure;
+pub(super) mod system;
+pub(super) mod words;
 
 use super::fault::{fault, R};
 use crate::alarm::AlarmCode;
@@ -102,6 +108,10 @@ pub struct Store {
     /// The running level's first variable; the callers' below it.
     level: usize,
     callers: Vec<usize>,
+    /// What the system variables of the block being read give (system.rs).
+    pub system: Option<Box<system::SystemValues>>,
+    /// A main-run variable was read: the block stops preprocessing.
+    pub main_run_read: std::cell::Cell<bool>,
 }
 
 /// More user variables than this in one run are refused (a bound on a name search).
@@ -368,6 +378,26 @@ mod tests {
         // The DEF runs three times: CNT starts at 1 each time, R1 counts the passes.
         let p = "G1 F1\nTOP: DEF INT CNT=1\nR1=R1+1 CNT=CNT+R1\nX=CNT\nIF R1<3 GOTOB TOP\n";
         assert_eq!(xs(p), [2.0, 3.0, 4.0]);
+    }
+
+    #[test]
+    fn case_takes_the_first_equal_constant_then_default_then_the_next_block() {
+        let p = |r5: &str, default: &str| {
+            format!("G1 F1\nR5={r5}\nCASE(R5*2) OF 2 GOTOF ONE -4 GOTOF TWO 4 GOTOF ONE{default}\nONE: X1\nTWO: X2\nOTHER: X3\n")
+        };
+        assert_eq!(xs(&p("1", "")), [1.0, 2.0, 3.0]);
+        assert_eq!(xs(&p("-2", "")), [2.0, 3.0]);
+        assert_eq!(xs(&p("7", " DEFAULT GOTOF OTHER")), [3.0]);
+        assert_eq!(xs(&p("9", "")), [1.0, 2.0, 3.0]);
+        assert_eq!(alarm("CASE(R1) OF 0 GOTOF\n"), (AlarmCode::Syntax, 1, 20));
+        assert_eq!(
+            alarm("CASE(R1) OF 1.5 GOTOF A1\n"),
+            (AlarmCode::Syntax, 1, 13)
+        );
+        assert_eq!(
+            alarm("CASE(R1) OF 1 GOTOF A1 0 GOTOF NOWHERE\n"),
+            (AlarmCode::JumpTarget, 1, 32)
+        );
     }
 
     #[test]

@@ -33,6 +33,17 @@ pub enum Keyword {
     Stopre,
     Msg,
     Setal,
+    /// A drilling cycle call (CYCLE81 … CYCLE89, CYCLE840; cycles/mod.rs).
+    Cycle,
+    Case,
+    Trans,
+    ATrans,
+    Rot,
+    ARot,
+    Scale,
+    AScale,
+    Mirror,
+    AMirror,
     Proc,
     Extern,
     Mcall,
@@ -59,6 +70,25 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("STOPRE", Keyword::Stopre),
     ("MSG", Keyword::Msg),
     ("SETAL", Keyword::Setal),
+    ("CASE", Keyword::Case),
+    ("CYCLE81", Keyword::Cycle),
+    ("CYCLE82", Keyword::Cycle),
+    ("CYCLE83", Keyword::Cycle),
+    ("CYCLE84", Keyword::Cycle),
+    ("CYCLE840", Keyword::Cycle),
+    ("CYCLE85", Keyword::Cycle),
+    ("CYCLE86", Keyword::Cycle),
+    ("CYCLE87", Keyword::Cycle),
+    ("CYCLE88", Keyword::Cycle),
+    ("CYCLE89", Keyword::Cycle),
+    ("TRANS", Keyword::Trans),
+    ("ATRANS", Keyword::ATrans),
+    ("ROT", Keyword::Rot),
+    ("AROT", Keyword::ARot),
+    ("SCALE", Keyword::Scale),
+    ("ASCALE", Keyword::AScale),
+    ("MIRROR", Keyword::Mirror),
+    ("AMIRROR", Keyword::AMirror),
     ("PROC", Keyword::Proc),
     ("EXTERN", Keyword::Extern),
     ("MCALL", Keyword::Mcall),
@@ -84,20 +114,34 @@ impl Keyword {
     }
 
     pub fn is_structure(self) -> bool {
-        !matches!(
+        matches!(
             self,
-            Keyword::GotoF
-                | Keyword::GotoB
-                | Keyword::Goto
-                | Keyword::GotoC
-                | Keyword::Def
-                | Keyword::Stopre
-                | Keyword::Msg
-                | Keyword::Setal
-                | Keyword::Proc
-                | Keyword::Extern
-                | Keyword::Mcall
-                | Keyword::Ret
+            Keyword::If
+                | Keyword::Else
+                | Keyword::EndIf
+                | Keyword::While
+                | Keyword::EndWhile
+                | Keyword::For
+                | Keyword::EndFor
+                | Keyword::Repeat
+                | Keyword::Until
+                | Keyword::Loop
+                | Keyword::EndLoop
+        )
+    }
+
+    /// A frame statement (TRANS … AMIRROR).
+    fn is_frame(self) -> bool {
+        matches!(
+            self,
+            Keyword::Trans
+                | Keyword::ATrans
+                | Keyword::Rot
+                | Keyword::ARot
+                | Keyword::Scale
+                | Keyword::AScale
+                | Keyword::Mirror
+                | Keyword::AMirror
         )
     }
 
@@ -107,6 +151,52 @@ impl Keyword {
             Keyword::GotoF | Keyword::GotoB | Keyword::Goto | Keyword::GotoC
         )
     }
+}
+
+/// A CASE constant: a whole number, signed.
+fn case_constant(c: &mut Cursor) -> R<f64> {
+    let at = c.i;
+    let sign = if c.peek() == Some(b'-') {
+        c.i += 1;
+        -1.0
+    } else {
+        1.0
+    };
+    match crate::frontend::number::parse(c.b, c.i).filter(|(n, e)| *e <= c.end && !n.has_point) {
+        Some((n, next)) => {
+            c.i = next;
+            Ok(sign * n.value)
+        }
+        None => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            "a whole-number constant or DEFAULT expected",
+        )),
+    }
+}
+
+/// A CASE branch's jump: the word, its destination and where that stands.
+fn case_jump(c: &mut Cursor) -> R<(Keyword, String, usize)> {
+    c.skip_blanks();
+    let Some(word) = Keyword::at(c).filter(|w| w.is_jump()) else {
+        return Err(fault(
+            AlarmCode::Syntax,
+            c.i,
+            "GOTOF, GOTOB, GOTO or GOTOC expected",
+        ));
+    };
+    c.i += word.text().len();
+    c.skip_blanks();
+    let target_at = c.i;
+    let target = identifier(c);
+    if target.is_empty() {
+        return Err(fault(
+            AlarmCode::Syntax,
+            target_at,
+            "jump destination expected",
+        ));
+    }
+    Ok((word, target, target_at))
 }
 
 /// Where a jump word stands in the rest of the block (`IF cond GOTOF label`), if one does.
@@ -207,6 +297,11 @@ impl Interpreter<'_> {
             return self.call_block(c);
         };
         let at = c.i;
+        if word == Keyword::Cycle {
+            self.drilling_cycle(&mut c, at)?;
+            self.end_of_statement(&mut c)?;
+            return Ok(true);
+        }
         c.i += word.text().len();
         let link = self.link(start);
         match (word, link) {
@@ -235,6 +330,7 @@ impl Interpreter<'_> {
                 self.jump(word, &mut c, start, at)?
             }
             (Keyword::Def, _) => self.define(&mut c)?,
+            (Keyword::Case, _) => self.case(&mut c, start, at)?,
             (Keyword::Stopre, _) => {
                 self.end_of_statement(&mut c)?;
                 return self.statement_block(at, None).map(|()| true);
@@ -249,6 +345,7 @@ impl Interpreter<'_> {
                 self.end_of_statement(&mut c)?;
                 return self.ret_statement(at);
             }
+            (w, _) if w.is_frame() => self.frame_statement(w, &mut c, at)?,
             _ => {
                 return Err(fault(
                     AlarmCode::ControlNesting,
@@ -396,6 +493,59 @@ impl Interpreter<'_> {
         let target_at = c.i;
         let target = identifier(c);
         self.end_of_statement(c)?;
+        self.jump_to(word, &target, target_at, start, at)
+    }
+
+    /// `CASE(expr) OF c GOTOF dest … DEFAULT GOTOF dest` (Job planning, "Program jumps"):
+    /// the first constant equal to the value picks its jump, else DEFAULT; with neither,
+    /// reading goes on with the next block. The whole list is read before the jump.
+    fn case(&mut self, c: &mut Cursor, start: usize, at: usize) -> R<()> {
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "CASE(expression) expected"));
+        }
+        let v = expr::eval(c, &self.sinumerik.store)?;
+        c.skip_blanks();
+        if !c.keyword("OF") {
+            return Err(fault(AlarmCode::Syntax, c.i, "OF expected"));
+        }
+        c.i += 2;
+        let (mut chosen, mut default) = (None, None);
+        loop {
+            c.skip_blanks();
+            if matches!(c.peek(), None | Some(b';')) {
+                break;
+            }
+            let is_default = c.keyword("DEFAULT");
+            let key = if is_default {
+                c.i += "DEFAULT".len();
+                None
+            } else {
+                Some(case_constant(c)?)
+            };
+            let branch = case_jump(c)?;
+            if is_default {
+                default = Some(branch);
+            } else if chosen.is_none() && key == Some(v) {
+                chosen = Some(branch);
+            }
+        }
+        match chosen.or(default) {
+            Some((word, target, target_at)) => self.jump_to(word, &target, target_at, start, at),
+            None => Ok(()),
+        }
+    }
+
+    /// Reading goes on at jump destination `target` (a label or `N…`) of `word`, searched
+    /// from the block at `start`.
+    fn jump_to(
+        &mut self,
+        word: Keyword,
+        target: &str,
+        target_at: usize,
+        start: usize,
+        at: usize,
+    ) -> R<()> {
         let program = self.calls.running.program;
         let Some(s) = self.sinumerik.structure(program) else {
             return Err(fault(
@@ -407,7 +557,7 @@ impl Interpreter<'_> {
         let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
             Some(n) => s.numbered(self.src, n, start),
             None => {
-                let marks = s.labels(&target);
+                let marks = s.labels(target);
                 super::structure::Numbered {
                     first: marks.first().copied(),
                     backward: marks.iter().rfind(|m| m.0 <= start).copied(),
@@ -655,8 +805,8 @@ impl Interpreter<'_> {
     }
 
     /// `X=expr`, `X=AC(expr)`, `X=IC(expr)` (the cursor on the `=`): the word with its value;
-    /// AC and IC make this axis absolute or incremental in this block only (Fundamentals,
-    /// "Absolute and incremental dimensions").
+    /// AC and IC make this axis absolute or incremental in this block only, and `I=AC(…)` a
+    /// centre coordinate absolute (Fundamentals, "Absolute and incremental dimensions").
     pub(in crate::frontend) fn sinumerik_word(
         &mut self,
         c: &mut Cursor,
@@ -666,37 +816,29 @@ impl Interpreter<'_> {
     ) -> R<()> {
         c.i += 1;
         c.skip_blanks();
-        let mode = if c.keyword("AC") || c.keyword("IC") {
-            let m = c.letter();
-            let mut probe = *c;
-            probe.i += 2;
-            probe.skip_blanks();
-            (probe.peek() == Some(b'('))
-                .then(|| {
-                    *c = probe;
-                    m
-                })
-                .flatten()
-        } else {
-            None
-        };
+        let mode = super::words::dimension_mode(c);
         let value = expr::eval(c, &self.sinumerik.store)?;
-        let axis = matches!(letter, b'X'..=b'Z').then(|| (letter - b'X') as usize);
-        match (mode, axis) {
+        match (mode, letter) {
             (None, _) => {}
-            (Some(m), Some(i)) => {
-                let bit = 1u8 << i;
+            (Some(m), b'X'..=b'Z') => {
+                let bit = 1u8 << (letter - b'X');
                 if m == b'I' {
                     w.incremental |= bit;
                 } else {
                     w.absolute |= bit;
                 }
             }
-            (Some(_), None) => {
+            // I J K are offsets from the start: IC() is what they are anyway.
+            (Some(m), b'I'..=b'K') => {
+                if m == b'A' {
+                    w.centre_absolute |= 1 << (letter - b'I');
+                }
+            }
+            (Some(_), _) => {
                 return Err(fault(
                     AlarmCode::NotSupported,
                     at,
-                    "AC()/IC() on an address other than X, Y, Z",
+                    "AC()/IC() on an address other than X, Y, Z, I, J, K",
                 ));
             }
         }

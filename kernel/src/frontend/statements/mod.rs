@@ -5,10 +5,13 @@
 //!
 //! - [`isg`]: ISG `$IF`/`$ELSEIF`/`$ELSE`/`$ENDIF`, `$FOR`, `$WHILE`, `V.` assignments.
 //! - [`fanuc`]: Fanuc Custom Macro B `#i = …`, `IF`, `GOTO`, `WHILE … DO`/`END`, G65/G66.
-//! - SINUMERIK statements and calls (also the 840C's `L123 P3`) are in `sinumerik/`.
+//! - [`siemens_840c`]: the 840C's R parameters (`R1=…`, `X R1`) and `@` commands with
+//!   operands; they stand among a block's words, so the word loop reads them.
+//! - SINUMERIK statements and calls (also the 840C's `L123 P3`: sinumerik/calls.rs) are in `sinumerik/`.
 
 pub(super) mod fanuc;
 pub(super) mod isg;
+pub(super) mod siemens_840c;
 
 use super::fault::R;
 use super::interpreter::Interpreter;
@@ -32,7 +35,17 @@ impl Interpreter<'_> {
             return self.isg_statement(c).map(|()| false);
         }
         if self.d.sinumerik {
-            return self.sinumerik_statement(c, start);
+            let produced = self.sinumerik_statement(c, start)?;
+            if !produced && self.sinumerik.store.main_run_read.take() {
+                // A main-run variable (`IF $AA_IW[X]>5 …`): an implicit STOPRE here.
+                let col = super::lexer::column(self.src, self.blk_line_start, block_col);
+                let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
+                self.empty_block_at(line, col, number);
+                self.block.program = program;
+                self.block.preprocess_stop = true;
+                return Ok(true);
+            }
+            return Ok(produced);
         }
         if self.d.l_calls {
             return self.call_block(c);

@@ -248,6 +248,7 @@ impl Drilling {
                 to,
                 rapid,
                 axes: None,
+                feed: None,
             });
             self.at = to;
         }

@@ -1,0 +1,336 @@
+//! SINUMERIK programs for the 808D lathe (config/siemens-808d.toml: the SINUMERIK language,
+//! G18 with Z the abscissa and X the ordinate, DIAMON at switch-on, mm) in
+//! tests/corpus/siemens-808d/. Every move's end point is compared with values worked out by
+//! hand; each program's header comment shows the arithmetic. Positions are [X, Y, Z] with X
+//! a RADIUS (the front end halves a diameter), the programmed points (no zero offset is
+//! active; the nose radius compensation of d04 is checked by `softnc check`, not here).
+//! Programs that run cleanly also pass `softnc check`; those that must stop name their
+//! alarm's code, line and column, and the moves made before it.
+
+use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable};
+use std::path::PathBuf;
+use std::process::Command;
+
+type P = [f64; 3];
+
+const CORPUS: &str = "tests/corpus/siemens-808d";
+const MACHINE: &str = "config/siemens-808d.toml";
+/// Hand values agree to this (sums of decimal fractions; the trigonometry of d05).
+const TOL: f64 = 1e-9;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn path_of(file: &str) -> PathBuf {
+    root().join(CORPUS).join(file)
+}
+
+fn machine() -> MachineData {
+    MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-808d.toml")
+}
+
+/// The blocks up to the end or the first alarm.
+fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
+    let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let mut out = Vec::new();
+    for item in Interpreter::new(file, &text, &md, &tools) {
+        match item {
+            Ok(b) => out.push(b),
+            Err(a) => return (out, Some(a)),
+        }
+    }
+    (out, None)
+}
+
+fn ends(b: &[Block]) -> Vec<P> {
+    b.iter().filter_map(|b| b.motion.map(|m| m.end)).collect()
+}
+
+fn near(a: P, b: P) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() <= TOL)
+}
+
+fn assert_ends(file: &str, got: &[P], want: &[P]) {
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(
+            near(*g, *w),
+            "{file}: move {k}: {g:?}, by hand {w:?}\nall moves: {got:?}"
+        );
+    }
+    assert_eq!(got.len(), want.len(), "{file}: number of moves: {got:?}");
+}
+
+/// `softnc check PROGRAM --machine config/siemens-808d.toml` passes.
+fn check(file: &str) {
+    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .current_dir(root())
+        .arg("check")
+        .arg(path_of(file))
+        .arg("--machine")
+        .arg(MACHINE)
+        .output()
+        .expect("softnc runs");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{file}: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A program that runs to its end: the end points by hand, and `softnc check`.
+fn clean(file: &str, want: &[P]) -> Vec<Block> {
+    let (b, alarm) = run(file);
+    if let Some(a) = alarm {
+        panic!("{file}: {a}");
+    }
+    assert_ends(file, &ends(&b), want);
+    check(file);
+    b
+}
+
+/// The block of the program's `N` word `n` (the first one produced).
+fn block<'a>(file: &str, b: &'a [Block], n: u32) -> &'a Block {
+    b.iter()
+        .find(|b| b.number.is_some_and(|x| x.value == n))
+        .unwrap_or_else(|| panic!("{file}: no block N{n}"))
+}
+
+/// The arcs' kinds and centres.
+fn assert_arcs(file: &str, b: &[Block], want: &[(MotionKind, P)]) {
+    let got: Vec<(MotionKind, P)> = b
+        .iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| m.kind.is_arc())
+        .map(|m| (m.kind, m.center))
+        .collect();
+    assert_eq!(got.len(), want.len(), "{file}: arcs {got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            g.0 == w.0 && near(g.1, w.1),
+            "{file}: arc {g:?}, by hand {w:?}"
+        );
+    }
+}
+
+#[test]
+fn d01_diameter_programming() {
+    clean(
+        "d01_diameter_programming.mpf",
+        &[
+            [25.0, 0.0, 2.0],
+            [20.0, 0.0, 2.0],
+            [20.0, 0.0, -30.0],
+            [25.0, 0.0, -35.0], // G91 X10: the diameter grows by 10
+            [25.0, 0.0, -45.0],
+            [30.0, 0.0, -45.0],
+            [40.0, 0.0, 5.0],
+        ],
+    );
+}
+
+#[test]
+fn d02_diamon_diamof_diam90() {
+    let f = "d02_diamon_diamof_diam90.mpf";
+    let b = clean(
+        f,
+        &[
+            [20.0, 0.0, 5.0],
+            [25.0, 0.0, 0.0],   // DIAMOF
+            [20.0, 0.0, 0.0],   // G91 X−5, a radius
+            [15.0, 0.0, 0.0],   // DIAM90, G91: a radius
+            [25.0, 0.0, 0.0],   // DIAM90, G90: a diameter
+            [27.0, 0.0, -10.0], // X=IC(2): a radius
+            [30.0, 0.0, -10.0], // X=AC(60): a diameter
+            [20.0, 0.0, -10.0], // DIAMON, G91 X−20: a diameter
+            [40.0, 0.0, 5.0],
+        ],
+    );
+    let m = |n: u32| {
+        (
+            block(f, &b, n).modal.diameter,
+            block(f, &b, n).modal.radius_incremental,
+        )
+    };
+    assert_eq!(
+        [m(20), m(30), m(60), m(110)],
+        [(true, false), (false, false), (true, true), (true, false)]
+    );
+}
+
+#[test]
+fn d03_g96_lims() {
+    let f = "d03_g96_lims.mpf";
+    let b = clean(
+        f,
+        &[
+            [40.0, 0.0, 2.0],
+            [40.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [19.0, 0.0, 2.0],
+            [19.0, 0.0, -20.0],
+            [25.0, 0.0, -20.0],
+            [40.0, 0.0, 5.0],
+        ],
+    );
+    let s = |n: u32| {
+        let m = &block(f, &b, n).modal;
+        (m.css, m.feed_per_rev, m.spindle, m.spindle_limit, m.feed)
+    };
+    assert_eq!(s(20), (false, false, 800.0, 0.0, 0.0));
+    assert_eq!(
+        s(30),
+        (true, true, 180.0, 2500.0, 0.0),
+        "{f}: G96 → G95, F deleted"
+    );
+    assert_eq!(s(40), (true, true, 180.0, 2500.0, 0.15));
+    assert_eq!(
+        s(70),
+        (false, true, 1200.0, 2500.0, 0.15),
+        "{f}: G97 keeps G95"
+    );
+    assert_eq!(s(90), (false, false, 1200.0, 2500.0, 200.0));
+}
+
+#[test]
+fn d04_shaft_chf_rnd_g42() {
+    let f = "d04_shaft_chf_rnd_g42.mpf";
+    let b = clean(
+        f,
+        &[
+            [0.0, 0.0, 5.0],
+            [0.0, 0.0, 0.0],    // G42
+            [8.0, 0.0, 0.0],    // the face, to the chamfer
+            [10.0, 0.0, -2.0],  // CHF=2√2: legs 2
+            [10.0, 0.0, -22.0], // to the rounding
+            [13.0, 0.0, -25.0], // RND=3 about (13, −22)
+            [17.0, 0.0, -25.0], // the shoulder, to the chamfer
+            [18.0, 0.0, -26.0], // CHR=1
+            [18.0, 0.0, -50.0],
+            [25.0, 0.0, -50.0], // G40
+            [30.0, 0.0, 5.0],
+        ],
+    );
+    assert_arcs(f, &b, &[(MotionKind::ArcCw, [13.0, 0.0, -22.0])]);
+    // The corner elements belong to their blocks and run under G42.
+    let lines: Vec<(u32, bool)> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| (b.line, b.modal.trc == nc_kernel::TrcSide::Right))
+        .collect();
+    assert_eq!(
+        lines[2..8],
+        [
+            (17, true),
+            (17, true),
+            (18, true),
+            (18, true),
+            (19, true),
+            (19, true)
+        ]
+    );
+}
+
+#[test]
+fn d05_polar_cr_arcs() {
+    let f = "d05_polar_cr_arcs.mpf";
+    let a60 = 60f64.to_radians();
+    let b = clean(
+        f,
+        &[
+            [15.0, 0.0, 2.0],
+            [15.0, 0.0, 0.0],
+            [25.0, 0.0, -10.0], // G3 RP=10 AP=90 about the pole (15, −10)
+            [25.0, 0.0, -20.0],
+            [20.0, 0.0, -25.0], // G2 CR=5
+            [20.0, 0.0, -35.0],
+            [25.0, 0.0, -35.0], // pole (0, −35), RP 25 at 90°
+            [25.0 * a60.sin(), 0.0, -35.0 + 25.0 * a60.cos()], // G2 to 60°
+            [40.0, 0.0, 5.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [15.0, 0.0, -10.0]),
+            (MotionKind::ArcCw, [25.0, 0.0, -25.0]),
+            (MotionKind::ArcCw, [0.0, 0.0, -35.0]),
+        ],
+    );
+    for n in [40, 90] {
+        assert!(
+            block(f, &b, n).motion.is_none(),
+            "{f}: the pole block N{n} moves nothing"
+        );
+    }
+}
+
+#[test]
+fn d06_roughing_loop() {
+    let mut want = vec![[21.0, 0.0, 2.0]];
+    for r in [18.0, 16.0, 14.0, 12.0] {
+        want.extend([
+            [r, 0.0, 2.0],
+            [r, 0.0, -30.0],
+            [r + 1.0, 0.0, -30.0],
+            [r + 1.0, 0.0, 2.0],
+        ]);
+    }
+    want.push([30.0, 0.0, 10.0]);
+    let f = "d06_roughing_loop.mpf";
+    let b = clean(f, &want);
+    let cuts = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind == MotionKind::Linear && m.end[2] == -30.0)
+        })
+        .count();
+    assert_eq!(cuts, 8, "{f}: four passes of two feed moves");
+}
+
+#[test]
+fn d07_cip_ct_turning() {
+    let f = "d07_cip_ct_turning.mpf";
+    let b = clean(
+        f,
+        &[
+            [10.0, 0.0, 2.0],
+            [10.0, 0.0, 0.0],
+            [20.0, 0.0, -10.0], // CIP through (r 18, Z−4)
+            [20.0, 0.0, -20.0],
+            [15.0, 0.0, -25.0], // CT
+            [10.0, 0.0, -30.0], // CT, the other way round
+            [10.0, 0.0, -40.0],
+            [30.0, 0.0, 5.0],
+        ],
+    );
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [10.0, 0.0, -10.0]),
+            (MotionKind::ArcCcw, [15.0, 0.0, -20.0]),
+            (MotionKind::ArcCw, [15.0, 0.0, -30.0]),
+        ],
+    );
+}
+
+#[test]
+fn d08_alarm_ap_without_plane_axis() {
+    let f = "d08_alarm_ap_without_plane_axis.mpf";
+    let (b, alarm) = run(f);
+    assert_ends(f, &ends(&b), &[[20.0, 0.0, 2.0]]);
+    let a = alarm.unwrap_or_else(|| panic!("{f}: no alarm"));
+    assert_eq!(
+        (a.code, a.line, a.col),
+        (AlarmCode::UnknownAddress, 8, 8),
+        "{f}: {a}"
+    );
+    assert_eq!(a.number(), 12050);
+    assert!(a.message.contains("Y is not configured"), "{a}");
+}
