@@ -292,7 +292,7 @@ impl Interpreter<'_> {
             format!("program.search_path: {}", path.join(", "))
         };
         let message = format!(
-            "program {stem} not found: no {files} in the program's folder or the search path ({search})"
+            "program {stem} not found: no {files} in the program's folder or the search path ({search}); a name alone in its block calls the program of that name"
         );
         fault(AlarmCode::MissingProgram, at, message)
     }
