@@ -78,6 +78,10 @@ pub enum AlarmCode {
     JumpTarget,
     /// Subprogram or macro calls nested deeper than the control allows.
     CallNesting,
+    /// A call passes no variable where the called program's parameter is call-by-reference
+    /// (SINUMERIK `VAR`): an expression, a constant, or nothing (840D 12320: parameter is no
+    /// variable).
+    ParameterNotVariable,
     /// A chamfer or corner word in a block without a G01/G02/G03 move in the plane (840D
     /// 10882: chamfer or rounding without a traversing motion in the block).
     CornerWithoutMove,
@@ -133,6 +137,7 @@ impl AlarmCode {
             AlarmCode::MissingProgram => 14011,
             AlarmCode::JumpTarget => 14080,
             AlarmCode::CallNesting => 14012,
+            AlarmCode::ParameterNotVariable => 12320,
             AlarmCode::CornerWithoutMove => 10882,
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,

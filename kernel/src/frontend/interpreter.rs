@@ -50,9 +50,11 @@ pub struct Interpreter<'a> {
     pub(super) present_state_read: std::cell::Cell<bool>,
     /// The program's shifts of the zero (G92, G52) and its writes to the tables (G10).
     pub(super) coords: super::coordinates::Coordinates,
-    /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
+    /// The subprogram and macro call stack (Fanuc, SINUMERIK, 840C), the open WHILE … DO
+    /// loops, the jump labels.
     pub(super) calls: Calls<'a>,
-    /// SINUMERIK R parameters, user variables and the program's structures and labels.
+    /// SINUMERIK R parameters, user variables of each call level, the structures and labels
+    /// and the PROC line of each program text.
     pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
     /// 840C R parameters and the jump an `@` command asked for.
     pub(super) c840: super::statements::siemens_840c::Language,
@@ -259,14 +261,10 @@ impl<'a> Interpreter<'a> {
                 return Ok(true);
             }
             let Some((start, end)) = self.next_segment() else {
-                self.finished = true;
-                if let Some(f) = self.called_program_ends() {
-                    return Err(self.alarm(*f));
+                if self.text_ends()? {
+                    continue;
                 }
-                return match self.unclosed() {
-                    Some(f) => Err(self.alarm(*f)),
-                    None => Ok(false),
-                };
+                return Ok(false);
             };
             self.blk_number = None;
             match self.segment(start, end) {
@@ -313,6 +311,31 @@ impl<'a> Interpreter<'a> {
             && self.corners.is_none()
     }
 
+    /// The end of the running program's text: true if reading goes on in the caller (a
+    /// SINUMERIK or 840C subprogram returns there); else the program's end, or the alarm of
+    /// a called program without M99 or of a structure left open.
+    #[cold]
+    #[inline(never)]
+    fn text_ends(&mut self) -> Result<bool, Alarm> {
+        if self.calls.depth() > 0 && self.d.has_subprogram_end() {
+            return match self.implicit_return() {
+                Ok(()) => Ok(true),
+                Err(f) => {
+                    self.finished = true;
+                    Err(self.alarm(*f))
+                }
+            };
+        }
+        self.finished = true;
+        if let Some(f) = self.called_program_ends() {
+            return Err(self.alarm(*f));
+        }
+        match self.unclosed() {
+            Some(f) => Err(self.alarm(*f)),
+            None => Ok(false),
+        }
+    }
+
     /// At the end of a called program's text: it has no M99 (a fault at its O line).
     #[cold]
     fn called_program_ends(&mut self) -> Option<Box<Fault>> {
@@ -343,7 +366,12 @@ impl<'a> Interpreter<'a> {
         }
         self.block.program = self.calls.running.program;
         let block_col = c.i;
-        self.blk_number = if self.d.main_block_colon {
+        // SINUMERIK: `NAME…` is a name (a variable, a program), not the block number N.
+        let name = self.d.sinumerik
+            && matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+        self.blk_number = if name {
+            None
+        } else if self.d.main_block_colon {
             read_main_or_block_number(&mut c)?
         } else {
             read_block_number(&mut c)?

@@ -1,17 +1,21 @@
 //! The SINUMERIK language of the 808D, 828D and 840D sl (Programming Manual Fundamentals and
 //! Job planning; docs/sinumerik.md): R parameters and user variables (`DEF`), expressions in
 //! addresses (`X=R1+5`), control structures (IF/ELSE/ENDIF, WHILE, FOR, REPEAT, LOOP), jump
-//! labels and GOTOF/GOTOB/GOTO/GOTOC.
+//! labels and GOTOF/GOTOB/GOTO/GOTOC, subprograms (calls by name, PROC, MCALL, RET).
 //!
 //! - [`expr`]: arithmetic, comparisons, logic and the functions.
 //! - [`statements`]: the statements and assignments, run as the interpreter reaches them.
 //! - [`frames`]: the frame statements TRANS, ROT, SCALE, MIRROR and their additive forms.
 //! - [`structure`]: the control structures of a whole program, matched before it starts.
 //! - [`words`]: the path words of more than one letter (CIP, CT, AP=, RP=, TURN=, RNDM= …).
+//! - [`procs`]: a program's PROC line, read with its structure.
+//! - [`calls`]: subprogram calls (also the 840C's `L123 P3`), MCALL, RET.
 
+pub(super) mod calls;
 pub(super) mod cycles;
 pub(super) mod expr;
 mod frames;
+pub(super) mod procs;
 pub(super) mod statements;
 pub(super) mod structure;
 pub(super) mod system;
@@ -20,7 +24,7 @@ pub(super) mod words;
 use super::fault::{fault, R};
 use crate::alarm::AlarmCode;
 
-/// A user variable's type (Job planning, "Definition of user variables (DEF)").
+/// A user variable's or parameter's type (Job planning, "Definition of user variables (DEF)").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Type {
     Int,
@@ -65,9 +69,35 @@ struct Variable {
     value: f64,
     /// Where its DEF stands: reached again, it starts the variable afresh.
     defined_at: usize,
+    /// A VAR parameter: the caller's variable it stands for (reads and writes go there).
+    target: Option<Ref>,
 }
 
-/// The R parameters and the program's user variables (LUD, one set for the main program).
+/// A variable a VAR parameter stands for (Job planning, "Parameter transfer": call by
+/// reference): an R parameter, or a variable of a calling level (its index in the store).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ref {
+    R(usize),
+    Var(usize),
+}
+
+/// A parameter of a called program as the call binds it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: Box<str>,
+    pub ty: Type,
+    pub value: Binding,
+}
+
+/// A parameter's actual value: a value (converted to the parameter's type), or a variable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Binding {
+    Value(f64),
+    Ref(Ref),
+}
+
+/// The R parameters and the user variables (LUD) of each program level: a called program
+/// sees its own DEF variables and parameters, not its caller's; R parameters are global.
 #[derive(Clone, Debug, Default)]
 pub struct Store {
     /// R0 … R(count − 1); allocated at the first write (a program without R parameters
@@ -75,14 +105,20 @@ pub struct Store {
     r: Vec<f64>,
     count: usize,
     vars: Vec<Variable>,
+    /// The running level's first variable; the callers' below it.
+    level: usize,
+    callers: Vec<usize>,
     /// What the system variables of the block being read give (system.rs).
     pub system: Option<Box<system::SystemValues>>,
     /// A main-run variable was read: the block stops preprocessing.
     pub main_run_read: std::cell::Cell<bool>,
 }
 
-/// More user variables than this in one program are refused (a bound on a name search).
+/// More user variables than this in one run are refused (a bound on a name search).
 const MAX_VARIABLES: usize = 1000;
+
+/// `defined_at` of a parameter: no DEF stands there.
+const PARAMETER: usize = usize::MAX;
 
 impl Store {
     /// `count` R parameters, R0 … R(count − 1), all 0 (machine data `program.r_parameters`).
@@ -90,9 +126,7 @@ impl Store {
         Store {
             r: Vec::new(),
             count,
-            vars: Vec::new(),
-            system: None,
-            main_run_read: Default::default(),
+            ..Store::default()
         }
     }
 
@@ -126,48 +160,111 @@ impl Store {
         )
     }
 
+    /// The index of the running level's variable `name` (upper case).
+    fn find(&self, name: &str) -> Option<usize> {
+        let k = self.vars[self.level..]
+            .iter()
+            .position(|v| &*v.name == name)?;
+        Some(self.level + k)
+    }
+
+    #[cold]
+    fn undefined(name: &str, at: usize) -> Box<super::fault::Fault> {
+        fault(
+            AlarmCode::UndefinedName,
+            at,
+            format!("{name} is not defined (DEF)"),
+        )
+    }
+
     /// The value of user variable `name`.
     pub fn get(&self, name: &str, at: usize) -> R<f64> {
-        match self.vars.iter().find(|v| &*v.name == name) {
-            Some(v) => Ok(v.value),
-            None => Err(fault(
-                AlarmCode::UndefinedName,
-                at,
-                format!("{name} is not defined (DEF)"),
-            )),
+        let k = self.find(name).ok_or_else(|| Self::undefined(name, at))?;
+        match self.vars[k].target {
+            Some(Ref::R(n)) => self.r(n, at),
+            Some(Ref::Var(i)) => Ok(self.vars.get(i).map_or(0.0, |v| v.value)),
+            None => Ok(self.vars[k].value),
         }
     }
 
-    /// Whether `name` (as written, any case) is a user variable.
+    /// Whether `name` (as written, any case) is a user variable of the running level.
     pub fn has_name(&self, name: &[u8]) -> bool {
-        self.vars
+        self.vars[self.level..]
             .iter()
             .any(|v| v.name.as_bytes().eq_ignore_ascii_case(name))
     }
 
     pub fn set(&mut self, name: &str, v: f64, at: usize) -> R<()> {
-        let Some(var) = self.vars.iter_mut().find(|x| &*x.name == name) else {
-            return Err(fault(
-                AlarmCode::UndefinedName,
-                at,
-                format!("{name} is not defined (DEF)"),
-            ));
-        };
-        var.value = var.ty.convert(v, at)?;
+        let k = self.find(name).ok_or_else(|| Self::undefined(name, at))?;
+        match self.vars[k].target {
+            Some(Ref::R(n)) => self.set_r(n, v, at),
+            Some(Ref::Var(i)) => self.set_at(i, v, at),
+            None => self.set_at(k, v, at),
+        }
+    }
+
+    fn set_at(&mut self, k: usize, v: f64, at: usize) -> R<()> {
+        if let Some(var) = self.vars.get_mut(k) {
+            var.value = var.ty.convert(v, at)?;
+        }
         Ok(())
+    }
+
+    /// The variable a VAR parameter takes for user variable `name` of the running level
+    /// (a VAR parameter passes its own variable on).
+    pub fn reference(&self, name: &str) -> Option<Ref> {
+        let k = self.find(name)?;
+        Some(self.vars[k].target.unwrap_or(Ref::Var(k)))
+    }
+
+    /// A called program's level: its parameters, no other variables.
+    pub fn push_level(&mut self, params: &[Param], at: usize) -> R<()> {
+        self.callers.push(self.level);
+        self.level = self.vars.len();
+        self.declare(params, at)
+    }
+
+    /// Parameters as the running level's variables.
+    pub fn declare(&mut self, params: &[Param], at: usize) -> R<()> {
+        for p in params {
+            let (value, target) = match p.value {
+                Binding::Value(v) => (p.ty.convert(v, at)?, None),
+                Binding::Ref(r) => (0.0, Some(r)),
+            };
+            self.add(&p.name, p.ty, value, PARAMETER, target, at)?;
+        }
+        Ok(())
+    }
+
+    /// Back to the caller's level: the called program's variables are gone.
+    pub fn pop_level(&mut self) {
+        self.vars.truncate(self.level);
+        self.level = self.callers.pop().unwrap_or(0);
     }
 
     /// `DEF ty name = v` at `at`: a new variable (a name defined twice is an alarm; the same
     /// DEF reached again by a jump back starts it afresh).
     pub fn define(&mut self, name: &str, ty: Type, v: f64, at: usize) -> R<()> {
-        if let Some(var) = self
-            .vars
+        if let Some(var) = self.vars[self.level..]
             .iter_mut()
             .find(|x| &*x.name == name && x.defined_at == at)
         {
             var.value = ty.convert(v, at)?;
             return Ok(());
         }
+        let value = ty.convert(v, at)?;
+        self.add(name, ty, value, at, None, at)
+    }
+
+    fn add(
+        &mut self,
+        name: &str,
+        ty: Type,
+        value: f64,
+        defined_at: usize,
+        target: Option<Ref>,
+        at: usize,
+    ) -> R<()> {
         if self.has_name(name.as_bytes()) {
             return Err(fault(
                 AlarmCode::Syntax,
@@ -182,12 +279,12 @@ impl Store {
                 format!("more than {MAX_VARIABLES} user variables"),
             ));
         }
-        let value = ty.convert(v, at)?;
         self.vars.push(Variable {
             name: name.into(),
             ty,
             value,
-            defined_at: at,
+            defined_at,
+            target,
         });
         Ok(())
     }

@@ -44,6 +44,10 @@ pub enum Keyword {
     AScale,
     Mirror,
     AMirror,
+    Proc,
+    Extern,
+    Mcall,
+    Ret,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -85,6 +89,10 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("ASCALE", Keyword::AScale),
     ("MIRROR", Keyword::Mirror),
     ("AMIRROR", Keyword::AMirror),
+    ("PROC", Keyword::Proc),
+    ("EXTERN", Keyword::Extern),
+    ("MCALL", Keyword::Mcall),
+    ("RET", Keyword::Ret),
 ];
 
 impl Keyword {
@@ -211,11 +219,19 @@ pub fn jump_in(c: &Cursor) -> Option<usize> {
     None
 }
 
-/// The language's state in the interpreter: the variables and the program's structure.
+/// The language's state in the interpreter: the variables, and the structure of each program
+/// text that ran (index: the program's file, 0 the main program's; calls.rs `Running`).
 #[derive(Clone, Debug, Default)]
 pub struct Sinumerik {
     pub store: Store,
-    pub structure: Structure,
+    pub structures: Vec<Option<Structure>>,
+}
+
+impl Sinumerik {
+    /// The structure of program text `program`, if it was read.
+    pub fn structure(&self, program: u16) -> Option<&Structure> {
+        self.structures.get(program as usize)?.as_ref()
+    }
 }
 
 impl Interpreter<'_> {
@@ -224,21 +240,50 @@ impl Interpreter<'_> {
     pub(in crate::frontend) fn read_structure(&mut self) -> R<()> {
         self.structure_pending = false;
         let end = self.src.len();
-        match Structure::of(self.src, self.pos, end, self.line) {
-            Ok(s) => {
-                self.sinumerik.structure = s;
-                Ok(())
-            }
-            Err((f, line, line_start)) => {
-                (self.blk_line, self.blk_line_start) = (line, line_start);
-                let mut c = Cursor::new(self.src, line_start, self.src.len());
-                c.skip_blanks();
-                self.blk_number = super::super::block_text::read_block_number(&mut c)
-                    .ok()
-                    .flatten();
-                Err(f)
-            }
+        let s = Structure::of(self.src, self.pos, end, self.line).map_err(|e| self.located(e))?;
+        // The main program's parameters (PROC MAIN(REAL A)): no caller gives them, they are 0.
+        if let Some(decl) = &s.proc {
+            let params: Vec<_> = decl
+                .params
+                .iter()
+                .map(|f| super::Param {
+                    name: f.name.clone(),
+                    ty: f.ty,
+                    value: super::Binding::Value(0.0),
+                })
+                .collect();
+            self.sinumerik.store.declare(&params, decl.name_at)?;
         }
+        self.keep_structure(self.calls.running.program, s);
+        Ok(())
+    }
+
+    /// Keeps the structure of program text `program`.
+    pub(in crate::frontend) fn keep_structure(&mut self, program: u16, s: Structure) {
+        let k = program as usize;
+        let all = &mut self.sinumerik.structures;
+        if all.len() <= k {
+            all.resize_with(k + 1, || None);
+        }
+        all[k] = Some(s);
+    }
+
+    /// A fault of the structure read, at its block of the running program's text.
+    pub(in crate::frontend) fn located(&mut self, e: super::structure::Located) -> Box<Fault> {
+        let (f, line, line_start) = e;
+        (self.blk_line, self.blk_line_start) = (line, line_start);
+        let mut c = Cursor::new(self.src, line_start, self.src.len());
+        c.skip_blanks();
+        self.blk_number = super::super::block_text::read_block_number(&mut c)
+            .ok()
+            .flatten();
+        f
+    }
+
+    /// The link of the structure word in the block at `start` of the running program.
+    fn link(&self, start: usize) -> Option<Link> {
+        let program = self.calls.running.program;
+        self.sinumerik.structure(program)?.link(start)
     }
 
     /// Runs the statement block at `start` (its words from the cursor, after the number and
@@ -249,7 +294,7 @@ impl Interpreter<'_> {
         start: usize,
     ) -> R<bool> {
         let Some(word) = Keyword::at(&c) else {
-            return Ok(false);
+            return self.call_block(c);
         };
         let at = c.i;
         if word == Keyword::Cycle {
@@ -258,7 +303,7 @@ impl Interpreter<'_> {
             return Ok(true);
         }
         c.i += word.text().len();
-        let link = self.sinumerik.structure.link(start);
+        let link = self.link(start);
         match (word, link) {
             (Keyword::If, _) => self.if_block(&mut c, link, start, at)?,
             (Keyword::Else, Some(Link::Else { after_end })) => self.go(after_end, at, false)?,
@@ -292,6 +337,14 @@ impl Interpreter<'_> {
             }
             (Keyword::Msg, _) => return self.msg(&mut c, at).map(|()| true),
             (Keyword::Setal, _) => return Err(self.setal(&mut c, at)),
+            // Read with the structure before the program ran; bound by the call.
+            (Keyword::Proc, _) => {}
+            (Keyword::Extern, _) => super::calls::extern_declaration(&mut c)?,
+            (Keyword::Mcall, _) => self.mcall(&mut c)?,
+            (Keyword::Ret, _) => {
+                self.end_of_statement(&mut c)?;
+                return self.ret_statement(at);
+            }
             (w, _) if w.is_frame() => self.frame_statement(w, &mut c, at)?,
             _ => {
                 return Err(fault(
@@ -311,7 +364,7 @@ impl Interpreter<'_> {
         Ok(v)
     }
 
-    fn end_of_statement(&self, c: &mut Cursor) -> R<()> {
+    pub(in crate::frontend) fn end_of_statement(&self, c: &mut Cursor) -> R<()> {
         c.skip_blanks();
         match c.peek() {
             None | Some(b';') => Ok(()),
@@ -493,7 +546,14 @@ impl Interpreter<'_> {
         start: usize,
         at: usize,
     ) -> R<()> {
-        let s = &self.sinumerik.structure;
+        let program = self.calls.running.program;
+        let Some(s) = self.sinumerik.structure(program) else {
+            return Err(fault(
+                AlarmCode::JumpTarget,
+                target_at,
+                "no jump destinations",
+            ));
+        };
         let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
             Some(n) => s.numbered(self.src, n, start),
             None => {
@@ -584,7 +644,11 @@ impl Interpreter<'_> {
 
     /// A block of its own for the statement at `at`: STOPRE stops preprocessing there, MSG
     /// carries its text (the operator's message, warning 65001).
-    fn statement_block(&mut self, at: usize, message: Option<Box<str>>) -> R<()> {
+    pub(in crate::frontend) fn statement_block(
+        &mut self,
+        at: usize,
+        message: Option<Box<str>>,
+    ) -> R<()> {
         let col = super::super::lexer::column(self.src, self.blk_line_start, at);
         let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
         self.empty_block_at(line, col, number);
@@ -633,7 +697,7 @@ impl Interpreter<'_> {
 
 /// A user variable's name: its first two characters letters or `_` (Fundamentals, "Names"),
 /// no R parameter, no function, no constant.
-fn valid_name(name: &str) -> bool {
+pub fn valid_name(name: &str) -> bool {
     let b = name.as_bytes();
     b.len() >= 2
         && b[..2].iter().all(|c| c.is_ascii_alphabetic() || *c == b'_')

@@ -42,6 +42,8 @@ pub struct Structure {
     /// when a jump names one (not indexed: a program numbers every block, and the index
     /// would grow with its length).
     text: (Mark, usize),
+    /// Its PROC line, if its first block is one.
+    pub proc: Option<super::procs::ProcDecl>,
 }
 
 /// The blocks numbered n around a place: the first in the program, the last at or before
@@ -114,6 +116,7 @@ impl Structure {
         };
         let mut open: Vec<Open> = Vec::new();
         let mut at: Mark = (start, line, start);
+        let mut first = true;
         // Line ends found by SIMD search: the whole text is read once, before the first block.
         let ends = memchr::memchr_iter(b'\n', &src[start..end]).map(|k| start + k);
         for stop in ends.chain(std::iter::once(end)) {
@@ -121,6 +124,14 @@ impl Structure {
                 break;
             }
             let next: Mark = (stop + 1, at.1 + 1, stop + 1);
+            if first && holds_block(&src[at.0..stop]) {
+                first = false;
+                s.proc = proc_line(src, at, stop)?;
+                if s.proc.is_some() {
+                    at = next;
+                    continue;
+                }
+            }
             if may_hold_name(&src[at.0..stop]) {
                 if let Some((word, col)) = s.block(src, at, stop)? {
                     s.structure_word(&mut open, word, at, next, col)?;
@@ -170,6 +181,10 @@ impl Structure {
         let label_at = c.i;
         let label = label(&mut c);
         let col = c.i;
+        if Keyword::at(&c) == Some(Keyword::Proc) {
+            let message = "PROC must be the program's first block, without a label or skip mark";
+            return Err((fault(AlarmCode::Syntax, col, message), at.1, at.2));
+        }
         let Some(word) = Keyword::at(&c).filter(|w| w.is_structure() && !is_short_if(*w, &c))
         else {
             if let Some(name) = label {
@@ -292,6 +307,30 @@ fn may_hold_name(b: &[u8]) -> bool {
     match b.get(i) {
         Some(b'/' | b':' | b'N' | b'n') => true,
         c => name(c) && name(b.get(i + 1)),
+    }
+}
+
+/// Whether a line holds a block: not blank, no comment alone, no `%` header.
+fn holds_block(b: &[u8]) -> bool {
+    let first = b.iter().find(|&&c| !matches!(c, b' ' | b'\t' | b'\r'));
+    !matches!(first, None | Some(b';' | b'%'))
+}
+
+/// The program's first block, when it is a PROC line (after its block number, if any).
+fn proc_line(src: &[u8], at: Mark, stop: usize) -> Result<Option<super::procs::ProcDecl>, Located> {
+    let mut c = super::super::lexer::Cursor::new(src, at.0, stop);
+    c.skip_blanks();
+    block_number(&mut c);
+    if Keyword::at(&c) != Some(Keyword::Proc) {
+        return Ok(None);
+    }
+    c.i += Keyword::Proc.text().len();
+    match super::procs::read(&mut c) {
+        Ok(decl) => Ok(Some(super::procs::ProcDecl {
+            line: (at.1, at.2),
+            ..decl
+        })),
+        Err(f) => Err((f, at.1, at.2)),
     }
 }
 
