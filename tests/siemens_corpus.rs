@@ -1510,3 +1510,21 @@ fn s48_labels_per_program() {
     want.push([0.0, 0.0, 50.0]);
     clean("s48_labels_per_program.mpf", &want);
 }
+
+#[test]
+fn s52_mcall_cycle82_row() {
+    let mut want = vec![[0.0, 0.0, 50.0]];
+    for x in [15.0, 30.0, 45.0] {
+        let z = if x == 15.0 { 50.0 } else { 10.0 };
+        want.extend([
+            [x, 10.0, z],
+            [x, 10.0, 2.0],
+            [x, 10.0, -8.0],
+            [x, 10.0, 10.0],
+        ]);
+    }
+    want.push([45.0, 10.0, 50.0]);
+    let b = clean("s52_mcall_cycle82_row.mpf", &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [0.5, 0.5, 0.5]);
+}

@@ -52,6 +52,12 @@ pub enum Target {
     Number(u32),
     /// A file of the program library, found before the call (SINUMERIK names).
     File(u16),
+    /// A SINUMERIK drilling cycle with its parameters, evaluated at the MCALL: no program,
+    /// its moves are built in.
+    Cycle(
+        crate::frontend::sinumerik::cycles::CycleName,
+        Box<crate::frontend::sinumerik::cycles::Params>,
+    ),
 }
 
 /// What a call hands the called program.
@@ -223,6 +229,7 @@ impl<'a> Interpreter<'a> {
         let (text, start) = match target {
             Target::Number(number) => self.find_program(number, at)?,
             Target::File(k) => (self.library_text(k), (0, 1, 0)),
+            Target::Cycle(name, p) => return self.modal_cycle(name, *p),
         };
         self.check_levels(at)?;
         let macro_call = matches!(kind, CallKind::Macro | CallKind::Modal);

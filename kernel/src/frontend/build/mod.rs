@@ -269,6 +269,10 @@ impl Interpreter<'_> {
         let Some(call) = &self.calls.modal else {
             return Ok(());
         };
+        if std::mem::take(&mut self.sinumerik.modal_cycle_running) {
+            // The end of the cycle an MCALL started: it calls nothing again.
+            return Ok(());
+        }
         if self.block.motion.is_none() || self.calls.in_modal_call() || self.finished {
             return Ok(());
         }

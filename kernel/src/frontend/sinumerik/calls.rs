@@ -10,9 +10,7 @@
 //!   level's first user variables (sinumerik/mod.rs `Store`).
 //! - `MCALL NAME(…)` calls after every block that moves, `MCALL` alone ends it; `RET` (and
 //!   M17, build/flow.rs) returns. The end of a called program's text returns as M17 does.
-//!
-//! A name with no program file may be a cycle built into softnc: [`builtin`] is where such
-//! calls are to be routed (CYCLE81 … are not built yet).
+//! - `MCALL CYCLE81(…)`: a drilling cycle (cycles/) after every block that moves.
 
 use super::super::calls::{Args, CallKind, ModalCall, Pending, Target};
 use super::super::fault::{fault, R};
@@ -35,26 +33,11 @@ const NOT_PROGRAMS: &[&str] = &[
     "CIP", "CT", "SUPA", "NORM", "KONT", "KONTC", "KONTT", "DIAMON", "DIAMOF", "DIAM90",
 ];
 
-/// A cycle built into softnc, called by name like a subprogram file. None is built yet:
-/// CYCLE81 … come as variants here, and their calls in [`Interpreter::run_builtin`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Builtin {}
-
-/// The built-in cycle `name` (upper case), where no program file of that name was found.
-pub fn builtin(_name: &str) -> Option<Builtin> {
-    None
-}
-
-/// What a call block asks for.
-enum Callee {
-    /// A program file with its parameters bound and its passes.
-    File {
-        program: u16,
-        params: Box<[Param]>,
-        passes: u32,
-    },
-    /// A built-in cycle with its actual parameters as values (an omitted one: `None`).
-    Builtin(Builtin, Box<[Option<f64>]>),
+/// What a call block asks for: a program file with its parameters bound and its passes.
+struct Callee {
+    program: u16,
+    params: Box<[Param]>,
+    passes: u32,
 }
 
 impl Interpreter<'_> {
@@ -92,29 +75,20 @@ impl Interpreter<'_> {
     /// Runs the call block at the cursor (at the program's name); it produces no block.
     pub(in crate::frontend) fn call_block(&mut self, mut c: Cursor) -> R<bool> {
         let at = c.i;
-        match self.read_call(&mut c)? {
-            Callee::File {
-                program,
-                params,
-                passes,
-            } => {
-                self.calls.pending = Some(Pending::Call {
-                    target: Target::File(program),
-                    repeats: passes,
-                    kind: CallKind::Procedure { modal: false },
-                    args: Args::Params(params),
-                    at,
-                });
-                self.run_pending()?;
-            }
-            Callee::Builtin(cycle, args) => self.run_builtin(cycle, &args, at)?,
-        }
+        let Callee {
+            program,
+            params,
+            passes,
+        } = self.read_call(&mut c)?;
+        self.calls.pending = Some(Pending::Call {
+            target: Target::File(program),
+            repeats: passes,
+            kind: CallKind::Procedure { modal: false },
+            args: Args::Params(params),
+            at,
+        });
+        self.run_pending()?;
         Ok(false)
-    }
-
-    /// A built-in cycle's call (none is built yet).
-    fn run_builtin(&mut self, cycle: Builtin, _args: &[Option<f64>], _at: usize) -> R<()> {
-        match cycle {}
     }
 
     /// `MCALL NAME(…)`: the call after every block that moves, until `MCALL` alone (Job
@@ -126,23 +100,25 @@ impl Interpreter<'_> {
             return Ok(());
         }
         if super::statements::Keyword::at(c) == Some(super::statements::Keyword::Cycle) {
-            let message =
-                "MCALL of a drilling cycle is not supported (call the cycle at each hole)";
-            return Err(fault(AlarmCode::NotSupported, c.i, message));
+            let at = c.i;
+            let (name, p) = self.cycle_call(c, at)?;
+            self.calls.modal = Some(ModalCall {
+                target: Target::Cycle(name, Box::new(p)),
+                repeats: 1,
+                args: Args::Params(Box::new([])),
+                depth: self.calls.depth(),
+            });
+            return Ok(());
         }
-        let (target, args, repeats) = match self.read_call(c)? {
-            Callee::File {
-                program,
-                params,
-                passes,
-            } => (Target::File(program), Args::Params(params), passes),
-            // A built-in cycle's modal call comes with the cycles (MCALL CYCLE81(…)).
-            Callee::Builtin(cycle, _) => match cycle {},
-        };
+        let Callee {
+            program,
+            params,
+            passes,
+        } = self.read_call(c)?;
         self.calls.modal = Some(ModalCall {
-            target,
-            repeats,
-            args,
+            target: Target::File(program),
+            repeats: passes,
+            args: Args::Params(params),
             depth: self.calls.depth(),
         });
         Ok(())
@@ -178,11 +154,6 @@ impl Interpreter<'_> {
         let (stem, main) = program_key(&name);
         let library = &self.md.programs;
         let Some((program, _)) = library.find_named(stem, main) else {
-            if let Some(cycle) = builtin(stem) {
-                let args = actual_values(c, &self.sinumerik.store)?;
-                self.end_of_call(c)?;
-                return Ok(Callee::Builtin(cycle, args));
-            }
             return Err(self.missing_program(stem, main, name_at));
         };
         let params = if self.d.sinumerik {
@@ -197,7 +168,7 @@ impl Interpreter<'_> {
         };
         let passes = self.passes(c)?;
         self.end_of_call(c)?;
-        Ok(Callee::File {
+        Ok(Callee {
             program,
             params,
             passes,
@@ -473,34 +444,6 @@ fn reference(c: &mut Cursor, store: &Store, formal: &str, name: &str) -> R<Ref> 
                 "VAR parameter {formal} of {name} needs a variable (an R parameter or a DEF variable), not an expression"
             );
             Err(fault(AlarmCode::ParameterNotVariable, at, message))
-        }
-    }
-}
-
-/// The actual parameters at the cursor as values (`(1, , R2)`: an omitted one is `None`),
-/// for a built-in cycle.
-fn actual_values(c: &mut Cursor, store: &Store) -> R<Box<[Option<f64>]>> {
-    let mut out = Vec::new();
-    c.skip_blanks();
-    if c.peek() != Some(b'(') {
-        return Ok(out.into_boxed_slice());
-    }
-    c.i += 1;
-    loop {
-        c.skip_blanks();
-        let value = match c.peek() {
-            Some(b',' | b')') => None,
-            _ => Some(expr::eval(c, store)?),
-        };
-        out.push(value);
-        c.skip_blanks();
-        match c.peek() {
-            Some(b',') => c.i += 1,
-            Some(b')') => {
-                c.i += 1;
-                return Ok(out.into_boxed_slice());
-            }
-            _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
         }
     }
 }

@@ -225,6 +225,9 @@ pub fn jump_in(c: &Cursor) -> Option<usize> {
 pub struct Sinumerik {
     pub store: Store,
     pub structures: Vec<Option<Structure>>,
+    /// The moves of an MCALL'd cycle are being handed out: the block that ends them is no
+    /// move that calls again.
+    pub modal_cycle_running: bool,
 }
 
 impl Sinumerik {
