@@ -105,7 +105,14 @@ fn check(which: usize, src: &str) -> Result<(), TestCaseError> {
         (Instant::now(), DIALECTS[which].to_string(), src.to_string()),
     );
     let result = interpret("fuzz.nc", src, md, tools());
+    // SINUMERIK: the structure read at load and the one the interpreter does as it goes
+    // agree: a fault the first finds, the second meets before the program's end.
+    let at_load = nc_kernel::Interpreter::new("fuzz.nc", src, md, tools()).structure_alarm();
     running().lock().unwrap().remove(&id);
+    if let Some(a) = &at_load {
+        check_alarm(a, src)?;
+        prop_assert!(result.is_err(), "ran to its end past {a}");
+    }
     match result {
         Ok(blocks) => {
             for b in &blocks {

@@ -472,7 +472,7 @@ fn s20_cr_from_r_parameter() {
 fn s21_alarm_if_open() {
     let a = stops(
         "s21_alarm_if_open.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::ControlNesting,
         6,
         5,
@@ -482,7 +482,7 @@ fn s21_alarm_if_open() {
 }
 
 #[test]
-fn s21_s22_s29_structure_alarms_name_their_block() {
+fn s21_s22_s29_structure_alarms_name_their_block_and_refuse_the_load() {
     for (file, n) in [
         ("s21_alarm_if_open.mpf", "N30"),
         ("s22_alarm_endwhile_closes_for.mpf", "N50"),
@@ -490,6 +490,24 @@ fn s21_s22_s29_structure_alarms_name_their_block() {
     ] {
         let a = run(file).1.expect("an alarm");
         assert_eq!(a.block.as_deref(), Some(n), "{file}: {a}");
+        // The kernel reads the structures through before anything moves: refused at load.
+        let text = std::fs::read_to_string(path_of(file)).unwrap();
+        let refused = nc_kernel::handover::spawn_preparation(
+            file.into(),
+            text,
+            machine(),
+            ToolTable::builtin(),
+            None,
+        )
+        .expect("thread");
+        let Err(at_load) = refused else {
+            panic!("{file}: the kernel took the program")
+        };
+        assert_eq!(
+            (at_load.line, at_load.col),
+            (a.line, a.col),
+            "{file}: {at_load}"
+        );
     }
 }
 
@@ -497,7 +515,7 @@ fn s21_s22_s29_structure_alarms_name_their_block() {
 fn s22_alarm_endwhile_closes_for() {
     let a = stops(
         "s22_alarm_endwhile_closes_for.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::ControlNesting,
         7,
         5,
@@ -586,7 +604,7 @@ fn s28_alarm_setal() {
 fn s29_alarm_label_on_structure() {
     let a = stops(
         "s29_alarm_label_on_structure.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::Syntax,
         5,
         12,
@@ -596,7 +614,13 @@ fn s29_alarm_label_on_structure() {
 
 #[test]
 fn s30_alarm_skipped_if() {
-    let a = stops("s30_alarm_skipped_if.mpf", &[], AlarmCode::Syntax, 4, 2);
+    let a = stops(
+        "s30_alarm_skipped_if.mpf",
+        &[[0.0, 0.0, 5.0]],
+        AlarmCode::Syntax,
+        4,
+        2,
+    );
     assert_eq!(a.number(), 12080);
 }
 

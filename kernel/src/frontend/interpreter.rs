@@ -80,6 +80,9 @@ pub struct Interpreter<'a> {
     pub(super) finished: bool,
     /// SINUMERIK: the program's structures are still to be read (before its first block).
     pub(super) structure_pending: bool,
+    /// SINUMERIK: the next line of the main program's text its structure read has not read
+    /// (sinumerik/structure.rs); offset `usize::MAX` once all is read, or in other dialects.
+    pub(super) frontier: (usize, u32, usize),
     /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
     pub(super) plain_path: bool,
     /// The block handed out last, built in place (it is not moved through every layer). Its
@@ -137,6 +140,7 @@ impl<'a> Interpreter<'a> {
             last_move: None,
             finished: false,
             structure_pending: d.sinumerik,
+            frontier: (usize::MAX, 0, 0),
             plain_path: true,
             block: Block::new(0, 0, None, initial_state(d, md)),
         }
@@ -178,6 +182,20 @@ impl<'a> Interpreter<'a> {
             .zip(self.macros.kept())
             .filter_map(|(n, v)| v.map(|v| (n, v)))
             .collect()
+    }
+
+    /// SINUMERIK: the main program's control structures and labels read through to its
+    /// end without running a block (a structure left open, even behind the M30, or a label
+    /// twice). The kernel refuses a program with this alarm at load; the interpreter itself
+    /// reads the structures as far as it runs and meets the same alarm at the program's end.
+    /// `None` in the other dialects.
+    pub fn structure_alarm(mut self) -> Option<Alarm> {
+        if !self.d.sinumerik {
+            return None;
+        }
+        self.program_structure()
+            .err()
+            .or_else(|| self.main_program_ends().err())
     }
 
     /// The position after the last block handed out.
@@ -228,6 +246,9 @@ impl<'a> Interpreter<'a> {
                 }
             }
             let produced = self.produce()?;
+            if self.finished && self.frontier.0 != usize::MAX {
+                self.main_program_ends()?;
+            }
             if self.corners.is_none() {
                 return Ok(produced);
             }
@@ -276,6 +297,16 @@ impl<'a> Interpreter<'a> {
                 }
             }
         }
+    }
+
+    /// SINUMERIK, at the main program's end: the rest of its text read for structures.
+    #[cold]
+    #[inline(never)]
+    fn main_program_ends(&mut self) -> Result<(), Alarm> {
+        self.structure_end().map_err(|f| {
+            self.finished = true;
+            self.alarm(*f)
+        })
     }
 
     /// SINUMERIK, before the first block: the program's structures and labels.
@@ -360,6 +391,9 @@ impl<'a> Interpreter<'a> {
     /// a plain block or the words and the build.
     #[inline]
     fn segment(&mut self, start: usize, end: usize) -> R<bool> {
+        if start >= self.frontier.0 && self.calls.running.program == 0 {
+            self.structure_to(start)?;
+        }
         let mut c = Cursor::new(self.src, start, end);
         if !self.block_start(&mut c) {
             return Ok(false);

@@ -243,7 +243,12 @@ impl Interpreter<'_> {
     pub(in crate::frontend) fn read_structure(&mut self) -> R<()> {
         self.structure_pending = false;
         let end = self.src.len();
-        let s = Structure::of(self.src, self.pos, end, self.line).map_err(|e| self.located(e))?;
+        let mut s = Structure::new(self.pos, end, self.line);
+        let from = (self.pos, self.line, self.line_start);
+        // The first block now (a PROC line declares parameters); the rest as it is reached.
+        self.frontier = s
+            .read_first_block(self.src, from)
+            .map_err(|e| self.located(e))?;
         // The main program's parameters (PROC MAIN(REAL A)): no caller gives them, they are 0.
         if let Some(decl) = &s.proc {
             let params: Vec<_> = decl
@@ -283,10 +288,86 @@ impl Interpreter<'_> {
         f
     }
 
-    /// The link of the structure word in the block at `start` of the running program.
-    fn link(&self, start: usize) -> Option<Link> {
+    /// The link of the structure word in the block at `start` of the running program: an
+    /// opening word's link is known once its structure closes, so the main program's text
+    /// is read on until then.
+    fn link(&mut self, word: Keyword, c: &Cursor, start: usize) -> R<Option<Link>> {
+        let ahead = match word {
+            Keyword::If => jump_in(c).is_none(),
+            _ => matches!(word, Keyword::Else | Keyword::While | Keyword::For),
+        };
+        if ahead {
+            self.structure_until(|s| s.link(start).is_some())?;
+        }
         let program = self.calls.running.program;
-        self.sinumerik.structure(program)?.link(start)
+        Ok(self
+            .sinumerik
+            .structure(program)
+            .and_then(|s| s.link(start)))
+    }
+
+    /// The main program's text read on to the line at `start` (before its block runs).
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn structure_to(&mut self, start: usize) -> R<()> {
+        let Some(s) = self
+            .sinumerik
+            .structures
+            .first_mut()
+            .and_then(Option::as_mut)
+        else {
+            return Ok(());
+        };
+        match s.read(self.src, self.frontier, start) {
+            Ok(at) => {
+                self.frontier = at;
+                Ok(())
+            }
+            Err(e) => Err(self.located(e)),
+        }
+    }
+
+    /// The main program's text read on, line by line, until `done` holds or it is all
+    /// read (then checked: nothing may be left open). Only while the main program runs.
+    fn structure_until(&mut self, done: impl Fn(&Structure) -> bool) -> R<()> {
+        if self.calls.running.program != 0 {
+            return Ok(());
+        }
+        loop {
+            let Some(s) = self
+                .sinumerik
+                .structures
+                .first_mut()
+                .and_then(Option::as_mut)
+            else {
+                return Ok(());
+            };
+            if done(s) || s.complete() {
+                return Ok(());
+            }
+            if self.frontier.0 >= s.end() {
+                return self.structure_end();
+            }
+            let read = s.read(self.src, self.frontier, self.frontier.0);
+            self.frontier = read.map_err(|e| self.located(e))?;
+        }
+    }
+
+    /// At the main program's end: the rest of its text read and checked.
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn structure_end(&mut self) -> R<()> {
+        let at = self.frontier;
+        self.frontier.0 = usize::MAX;
+        let Some(s) = self
+            .sinumerik
+            .structures
+            .first_mut()
+            .and_then(Option::as_mut)
+        else {
+            return Ok(());
+        };
+        s.finish(self.src, at).map_err(|e| self.located(e))
     }
 
     /// Runs the statement block at `start` (its words from the cursor, after the number and
@@ -306,7 +387,7 @@ impl Interpreter<'_> {
             return Ok(true);
         }
         c.i += word.text().len();
-        let link = self.link(start);
+        let link = self.link(word, &c, start)?;
         match (word, link) {
             (Keyword::If, _) => self.if_block(&mut c, link, start, at)?,
             (Keyword::Else, Some(Link::Else { after_end })) => self.go(after_end, at, false)?,
@@ -549,6 +630,14 @@ impl Interpreter<'_> {
         start: usize,
         at: usize,
     ) -> R<()> {
+        if word != Keyword::GotoB
+            && target
+                .strip_prefix('N')
+                .is_none_or(|n| n.parse::<u32>().is_err())
+        {
+            // A label ahead: the text is read on until one is known after the jump.
+            self.structure_until(|s| s.labels(target).iter().any(|m| m.0 > start))?;
+        }
         let program = self.calls.running.program;
         let Some(s) = self.sinumerik.structure(program) else {
             return Err(fault(
