@@ -401,6 +401,8 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "CYCLE87(10, 0, 2, -9, , 9)", "CYCLE88(10, 0, 2, -9, , -1, 4)", "CYCLE89(0, 0, 2, 0)", "CYCLE81(", "CYCLE81(1,2,3,4,5,6)",
     "CASE(R1) OF 1 GOTOF LAB2 2 GOTOB LAB1 DEFAULT GOTOF LAB2", "CASE(R1) OF", "CASE R1", "CASE(R1) OF 1.5 GOTOF LAB2",
     "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
+    "DEF REAL TB[3,2]=SET(1,2,3)", "DEF INT NA[4]=REP(R1)", "TB[R1,1]=R2", "X=TB[2,1]", "NA[5]=1", "DEF REAL TC[0]",
+    "DEF STRING[10] ST=\"AB\" << R1", "ST=ST << \"CDEFGHIJKL\"", "MSG(ST << R2)", "MSG(\"x\" <<)", "R1=ST", "DEF CHAR CH",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -1160,6 +1162,9 @@ mod sinumerik_programs {
         "MSG(\"pass\")",
         "CYCLE81(10, 0, 2, -R1-1)",
         "R6=$P_EP[X]+$AA_IW[Y]",
+        "TAB[R4 MOD 3]=R1",
+        "G1 X=TAB[R4 MOD 3]",
+        "MSG(\"pass \" << R1 << \" of \" << R2)",
         "CYCLE83(10, 0, 1, -20, , -R1-1, , 2, , , 0.5, R4 MOD 2)",
     ];
     const ASSIGNS: &[&str] = &[
@@ -1299,7 +1304,7 @@ mod sinumerik_programs {
     pub fn program() -> impl Strategy<Value = String> {
         (prop::collection::vec(stmt(false), 1..8), any::<bool>()).prop_map(|(stmts, end_label)| {
             let mut out = Out {
-                text: "DEF INT CNT=0\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\nTOP: R0=R0+1\n".into(),
+                text: "DEF INT CNT=0\nDEF REAL TAB[3]=SET(1,2)\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\nTOP: R0=R0+1\n".into(),
                 labels: 0,
                 program: 0,
                 subs: 0,
@@ -1337,7 +1342,7 @@ mod sinumerik_programs {
                     out.line(0, end);
                     out.text
                 };
-            let main_head = "DEF INT CNT=0\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\n";
+            let main_head = "DEF INT CNT=0\nDEF REAL TAB[3]=SET(1,2)\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\n";
             let files = subs
                 .iter()
                 .enumerate()

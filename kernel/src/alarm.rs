@@ -94,6 +94,8 @@ pub enum AlarmCode {
     /// A SINUMERIK drilling cycle's parameters contradict each other or lie out of range
     /// (840D 61101 "reference plane defined incorrectly" and its neighbours).
     CycleParameter,
+    /// An array element outside the array's dimensions (840D 17020 "illegal array index").
+    ArrayIndex,
     /// The program raised an alarm itself (Fanuc `#3000 = n (message)`, shown as MC 3000+n;
     /// the number is the Sinumerik user-alarm range of SETAL).
     ProgramAlarm,
@@ -142,6 +144,7 @@ impl AlarmCode {
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,
             AlarmCode::CycleParameter => 61101,
+            AlarmCode::ArrayIndex => 17020,
             AlarmCode::ProgramAlarm => 65000,
             AlarmCode::ProgramMessage => 65001,
         }

@@ -8,7 +8,7 @@ use super::super::interpreter::Interpreter;
 use super::super::lexer::Cursor;
 use super::expr::{self, identifier, r_number, truthy};
 use super::structure::{Link, Mark, Structure};
-use super::{Store, Type};
+use super::{Store, Type, MAX_ELEMENTS};
 use crate::alarm::AlarmCode;
 
 /// The words that start a statement block.
@@ -693,11 +693,14 @@ impl Interpreter<'_> {
         c.skip_blanks();
         let ty_at = c.i;
         let ty_name = identifier(c);
+        if ty_name == "STRING" {
+            return self.string_definition(c);
+        }
         let ty = Type::of(&ty_name).ok_or_else(|| {
             fault(
                 AlarmCode::NotSupported,
                 ty_at,
-                format!("DEF {ty_name}: the types are INT, REAL and BOOL"),
+                format!("DEF {ty_name}: the types are INT, REAL, BOOL and STRING (CHAR, AXIS and FRAME are not built)"),
             )
         })?;
         loop {
@@ -713,18 +716,15 @@ impl Interpreter<'_> {
             }
             c.skip_blanks();
             if c.peek() == Some(b'[') {
-                return Err(fault(
-                    AlarmCode::NotSupported,
-                    c.i,
-                    "arrays are not supported",
-                ));
+                self.array_definition(c, &name, ty, name_at)?;
+            } else {
+                let mut v = 0.0;
+                if c.peek() == Some(b'=') {
+                    c.i += 1;
+                    v = expr::eval(c, &self.sinumerik.store)?;
+                }
+                self.sinumerik.store.define(&name, ty, v, name_at)?;
             }
-            let mut v = 0.0;
-            if c.peek() == Some(b'=') {
-                c.i += 1;
-                v = expr::eval(c, &self.sinumerik.store)?;
-            }
-            self.sinumerik.store.define(&name, ty, v, name_at)?;
             c.skip_blanks();
             match c.peek() {
                 Some(b',') => c.i += 1,
@@ -732,6 +732,164 @@ impl Interpreter<'_> {
             }
         }
         self.end_of_statement(c)
+    }
+
+    /// `NAME[d1, d2, d3]` with `=SET(v, …)` (the first elements, row by row) or `=REP(v)`
+    /// (every element) or nothing (zeros): Job planning, "Definition and initialization of
+    /// array variables".
+    fn array_definition(&mut self, c: &mut Cursor, name: &str, ty: Type, at: usize) -> R<()> {
+        let dims_at = c.i;
+        let mut dims = heapless::Vec::new();
+        for d in expr::indices(c, &self.sinumerik.store)? {
+            if d < 1.0 || d.fract() != 0.0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    dims_at,
+                    format!("array dimension {d}: a whole number ≥ 1"),
+                ));
+            }
+            let _ = dims.push(d.min(1e9) as usize);
+        }
+        let n = dims
+            .iter()
+            .try_fold(1usize, |n, &d| n.checked_mul(d))
+            .filter(|&n| n <= MAX_ELEMENTS);
+        let Some(n) = n else {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                dims_at,
+                format!("more than {MAX_ELEMENTS} elements in one array"),
+            ));
+        };
+        let mut start = vec![0.0; n];
+        c.skip_blanks();
+        if c.peek() == Some(b'=') {
+            c.i += 1;
+            c.skip_blanks();
+            let (rep, list_at) = (c.keyword("REP"), c.i);
+            if !(rep || c.keyword("SET")) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    c.i,
+                    "SET(values) or REP(value) expected",
+                ));
+            }
+            c.i += 3;
+            let values = self.value_list(c)?;
+            match (rep, values.as_slice()) {
+                (true, [v]) => start.fill(*v),
+                (false, v) if v.len() <= n => start[..v.len()].copy_from_slice(v),
+                _ => {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        list_at,
+                        format!("REP takes one value, SET at most {n}"),
+                    ))
+                }
+            }
+        }
+        let array = super::Array::new(dims, start.into_boxed_slice());
+        self.sinumerik.store.define_array(name, ty, array, at)
+    }
+
+    /// `DEF STRING[n] NAME="text", …` (Job planning, "Variable types": at most n
+    /// characters, n from 1 to 200 **[unconfirmed]**).
+    fn string_definition(&mut self, c: &mut Cursor) -> R<()> {
+        c.skip_blanks();
+        let len_at = c.i;
+        let max = match c.peek() {
+            Some(b'[') => expr::indices(c, &self.sinumerik.store)?,
+            _ => return Err(fault(AlarmCode::Syntax, len_at, "STRING[length] expected")),
+        };
+        let max = match max.as_slice() {
+            [n] if (1.0..=200.0).contains(n) && n.fract() == 0.0 => *n as usize,
+            _ => {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    len_at,
+                    "a STRING's length is 1 … 200",
+                ))
+            }
+        };
+        loop {
+            c.skip_blanks();
+            let name_at = c.i;
+            let name = identifier(c);
+            if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    name_at,
+                    format!("'{name}' is no variable name"),
+                ));
+            }
+            c.skip_blanks();
+            let mut text = String::new();
+            if c.peek() == Some(b'=') {
+                c.i += 1;
+                text = self.string_expr(c)?;
+            }
+            self.sinumerik
+                .store
+                .define_string(&name, max, text, name_at)?;
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') => c.i += 1,
+                _ => break,
+            }
+        }
+        self.end_of_statement(c)
+    }
+
+    /// A string: texts `"…"`, STRING variables and numbers joined by `<<` (Job planning,
+    /// "String operations"; a number as written shortest: 5, 2.5 **[unconfirmed]**).
+    pub(in crate::frontend) fn string_expr(&mut self, c: &mut Cursor) -> R<String> {
+        let mut out = String::new();
+        loop {
+            c.skip_blanks();
+            if c.peek() == Some(b'"') {
+                out.push_str(&quoted(c)?);
+            } else {
+                let mut probe = *c;
+                let name = identifier(&mut probe);
+                match self.sinumerik.store.string(&name) {
+                    Some(t) => {
+                        out.push_str(t);
+                        *c = probe;
+                    }
+                    None => {
+                        let v = expr::eval_term(c, &self.sinumerik.store)?;
+                        out.push_str(&format!("{v}"));
+                    }
+                }
+            }
+            c.skip_blanks();
+            if (c.peek(), c.peek_at(1)) != (Some(b'<'), Some(b'<')) {
+                return Ok(out);
+            }
+            c.i += 2;
+        }
+    }
+
+    /// `(v1, v2, …)`: expressions (at most [`MAX_ELEMENTS`]).
+    fn value_list(&mut self, c: &mut Cursor) -> R<Vec<f64>> {
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
+        }
+        c.i += 1;
+        let mut out = Vec::new();
+        loop {
+            out.push(expr::eval(c, &self.sinumerik.store)?);
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') if out.len() < MAX_ELEMENTS => c.i += 1,
+                Some(b')') => {
+                    c.i += 1;
+                    return Ok(out);
+                }
+                _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
+            }
+        }
     }
 
     /// A block of its own for the statement at `at`: STOPRE stops preprocessing there, MSG
@@ -752,7 +910,22 @@ impl Interpreter<'_> {
 
     /// `MSG("text")`: the text as the block's message; `MSG()` clears it (nothing to show).
     fn msg(&mut self, c: &mut Cursor, at: usize) -> R<()> {
-        let text = parenthesised_string(c)?;
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
+        }
+        c.i += 1;
+        c.skip_blanks();
+        let text = if c.peek() == Some(b')') {
+            String::new()
+        } else {
+            self.string_expr(c)?
+        };
+        c.skip_blanks();
+        if c.peek() != Some(b')') {
+            return Err(fault(AlarmCode::Syntax, c.i, "')' expected"));
+        }
+        c.i += 1;
         self.end_of_statement(c)?;
         self.statement_block(at, None)?;
         self.block.preprocess_stop = false;
@@ -817,36 +990,22 @@ fn to_keyword(c: &Cursor) -> Option<usize> {
     None
 }
 
-/// `("text")` or `()` at the cursor: the text.
-fn parenthesised_string(c: &mut Cursor) -> R<String> {
-    c.skip_blanks();
-    if c.peek() != Some(b'(') {
-        return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
-    }
+/// `"text"` at the cursor (on the opening quote): the text.
+fn quoted(c: &mut Cursor) -> R<String> {
+    let open = c.i;
     c.i += 1;
-    c.skip_blanks();
-    let mut text = String::new();
-    if c.peek() == Some(b'"') {
-        let open = c.i;
+    let from = c.i;
+    while c.peek().is_some_and(|b| b != b'"') {
         c.i += 1;
-        let from = c.i;
-        while c.peek().is_some_and(|b| b != b'"') {
-            c.i += 1;
-        }
-        if c.peek() != Some(b'"') {
-            return Err(fault(
-                AlarmCode::Syntax,
-                open,
-                "string not closed with '\"'",
-            ));
-        }
-        text = String::from_utf8_lossy(&c.b[from..c.i]).into_owned();
-        c.i += 1;
-        c.skip_blanks();
     }
-    if c.peek() != Some(b')') {
-        return Err(fault(AlarmCode::Syntax, c.i, "')' expected"));
+    if c.peek() != Some(b'"') {
+        return Err(fault(
+            AlarmCode::Syntax,
+            open,
+            "string not closed with '\"'",
+        ));
     }
+    let text = String::from_utf8_lossy(&c.b[from..c.i]).into_owned();
     c.i += 1;
     Ok(text)
 }
@@ -869,6 +1028,35 @@ impl Interpreter<'_> {
             return Ok(false);
         }
         let name = String::from_utf8_lossy(span).to_ascii_uppercase();
+        if self.sinumerik.store.string(&name).is_some() {
+            probe.skip_blanks();
+            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+                return Err(fault(AlarmCode::Syntax, probe.i, "'=' expected"));
+            }
+            probe.i += 1;
+            let text = self.string_expr(&mut probe)?;
+            self.sinumerik.store.set_string(&name, text, at)?;
+            *c = probe;
+            w.calculation = true;
+            return Ok(true);
+        }
+        if probe.peek() == Some(b'[') && self.sinumerik.store.is_array(&name) {
+            let idx = expr::indices(&mut probe, &self.sinumerik.store)?;
+            probe.skip_blanks();
+            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    probe.i,
+                    "'=' expected after the element",
+                ));
+            }
+            probe.i += 1;
+            let v = expr::eval(&mut probe, &self.sinumerik.store)?;
+            self.sinumerik.store.set_element(&name, &idx, v, at)?;
+            *c = probe;
+            w.calculation = true;
+            return Ok(true);
+        }
         let index = if name == "R" && probe.peek() == Some(b'[') {
             probe.i += 1;
             let n = expr::eval(&mut probe, &self.sinumerik.store)?;
