@@ -1552,3 +1552,16 @@ fn s52_mcall_cycle82_row() {
     let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
     assert_eq!(dwells, [0.5, 0.5, 0.5]);
 }
+
+#[test]
+fn s53_array_hole_table() {
+    let mut want = vec![[0.0, 0.0, 20.0]];
+    for (k, (x, y)) in [(10.0, 5.0), (25.0, 5.0), (25.0, 20.0)].into_iter().enumerate() {
+        let z = if k == 0 { 20.0 } else { 10.0 };
+        want.extend([[x, y, z], [x, y, 2.0], [x, y, -7.0], [x, y, 10.0]]);
+    }
+    want.push([25.0, 20.0, 50.0]);
+    let b = clean("s53_array_hole_table.mpf", &want);
+    let msgs: Vec<&str> = b.iter().filter_map(|b| b.message.as_deref()).collect();
+    assert_eq!(msgs, ["Drilling BRACKET"]);
+}
