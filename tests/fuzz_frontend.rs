@@ -11,7 +11,8 @@
 //! blocks of its own language (R parameter assignments, `@` functions and jumps to the soup's
 //! block numbers). Every run must end with blocks or an
 //! alarm; an alarm must point into the program (line ≥ 1, column ≥ 1, within the text) and say
-//! something. `program.max_loop_iterations` is set to 100 so that loops stay short; the kernel
+//! something. The 840D's structured programs also come with PROCs in files beside them
+//! (calls with parameters, VAR, passes, MCALL, recursion); an alarm in one points into it. `program.max_loop_iterations` is set to 100 so that loops stay short; the kernel
 //! bounds call nesting (15 calls, 5 macro levels).
 //!
 //! A watchdog aborts the test binary, printing the input, if one interpretation runs longer
@@ -104,7 +105,14 @@ fn check(which: usize, src: &str) -> Result<(), TestCaseError> {
         (Instant::now(), DIALECTS[which].to_string(), src.to_string()),
     );
     let result = interpret("fuzz.nc", src, md, tools());
+    // SINUMERIK: the structure read at load and the one the interpreter does as it goes
+    // agree: a fault the first finds, the second meets before the program's end.
+    let at_load = nc_kernel::Interpreter::new("fuzz.nc", src, md, tools()).structure_alarm();
     running().lock().unwrap().remove(&id);
+    if let Some(a) = &at_load {
+        check_alarm(a, src)?;
+        prop_assert!(result.is_err(), "ran to its end past {a}");
+    }
     match result {
         Ok(blocks) => {
             for b in &blocks {
@@ -116,11 +124,49 @@ fn check(which: usize, src: &str) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Interprets `main` on machine `which` with the program files `files` (name, text) beside
+/// it; an alarm must point into the file it names.
+fn check_files(which: usize, main: &str, files: &[(String, String)]) -> Result<(), TestCaseError> {
+    let mut md = machines()[which].clone();
+    let mut library = nc_kernel::ProgramLibrary::default();
+    for (name, text) in files {
+        library.add(name, name.clone(), text.clone());
+    }
+    md.programs = std::sync::Arc::new(library);
+    let id = std::thread::current().id();
+    let all: String = files.iter().fold(main.to_string(), |all, (n, t)| {
+        format!("{all}\n--- {n}\n{t}")
+    });
+    running()
+        .lock()
+        .unwrap()
+        .insert(id, (Instant::now(), DIALECTS[which].to_string(), all));
+    let result = interpret("fuzz.nc", main, &md, tools());
+    running().lock().unwrap().remove(&id);
+    match result {
+        Ok(blocks) => {
+            for b in &blocks {
+                prop_assert!(b.line >= 1 && b.col >= 1, "block at {}:{}", b.line, b.col);
+            }
+        }
+        Err(a) => match files.iter().find(|(n, _)| *n == a.program) {
+            Some((name, text)) => check_alarm_in(&a, text, name)?,
+            None => check_alarm(&a, main)?,
+        },
+    }
+    Ok(())
+}
+
 fn check_alarm(a: &Alarm, src: &str) -> Result<(), TestCaseError> {
+    check_alarm_in(a, src, "fuzz.nc")
+}
+
+/// An alarm of program `program` (text `src`) says something at a place in it.
+fn check_alarm_in(a: &Alarm, src: &str, program: &str) -> Result<(), TestCaseError> {
     prop_assert!(a.line >= 1, "line 0: {}", a);
     prop_assert!(a.col >= 1, "column 0: {}", a);
     prop_assert!(!a.message.trim().is_empty(), "empty message: {:?}", a);
-    prop_assert_eq!(a.program.as_str(), "fuzz.nc");
+    prop_assert_eq!(a.program.as_str(), program);
     // The position lies in the program: an existing line, at most one past its last character.
     // (Lines as the interpreter counts them: split at '\n' only.)
     let lines: Vec<&str> = src.split('\n').collect();
@@ -136,7 +182,8 @@ fn check_alarm(a: &Alarm, src: &str) -> Result<(), TestCaseError> {
     );
     // Rendering the diagnostic works.
     let shown = a.render(src);
-    prop_assert!(shown.starts_with("fuzz.nc:"));
+    let prefix = format!("{program}:");
+    prop_assert!(shown.starts_with(&prefix));
     Ok(())
 }
 
@@ -354,6 +401,8 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "CYCLE87(10, 0, 2, -9, , 9)", "CYCLE88(10, 0, 2, -9, , -1, 4)", "CYCLE89(0, 0, 2, 0)", "CYCLE81(", "CYCLE81(1,2,3,4,5,6)",
     "CASE(R1) OF 1 GOTOF LAB2 2 GOTOB LAB1 DEFAULT GOTOF LAB2", "CASE(R1) OF", "CASE R1", "CASE(R1) OF 1.5 GOTOF LAB2",
     "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
+    "DEF REAL TB[3,2]=SET(1,2,3)", "DEF INT NA[4]=REP(R1)", "TB[R1,1]=R2", "X=TB[2,1]", "NA[5]=1", "DEF REAL TC[0]",
+    "DEF STRING[10] ST=\"AB\" << R1", "ST=ST << \"CDEFGHIJKL\"", "MSG(ST << R2)", "MSG(\"x\" <<)", "R1=ST", "DEF CHAR CH",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -1077,7 +1126,26 @@ mod sinumerik_programs {
         /// LOOP with an exit to a label after ENDLOOP once R9 passes 2.
         Loop(Vec<Stmt>),
         Jump(&'static str),
+        /// A call of a PROC beside the program (`{}` is the callee's number): one further
+        /// down the list, or the program itself (recursion, bounded by the program levels).
+        Call(u8, &'static str),
     }
+
+    /// Calls of SUB_n (`PROC SUB_n(REAL AA, INT NN, VAR REAL OUT)`), valid and broken.
+    const CALLS: &[&str] = &[
+        "SUB_{}(R1, R2+1, R5)",
+        "SUB_{}(R1*2, , R6)",
+        "SUB_{}(1.5, 2, R7) P2",
+        "SUB_{}(, , R[R4])",
+        "SUB_{}(R1, 2, 3)",
+        "SUB_{}",
+        "MCALL SUB_{}(R3, 1, R8)",
+        "MCALL",
+        "SUB_{}(1, 2, R9, 4)",
+        "_N_SUB_{}_SPF(R2, 0, R5)",
+        "SUB_{}(R1, 1, CNT)",
+        "RET",
+    ];
 
     const MOVES: &[&str] = &[
         "G1 X=R1 Y=R2 F=100+R3",
@@ -1094,6 +1162,9 @@ mod sinumerik_programs {
         "MSG(\"pass\")",
         "CYCLE81(10, 0, 2, -R1-1)",
         "R6=$P_EP[X]+$AA_IW[Y]",
+        "TAB[R4 MOD 3]=R1",
+        "G1 X=TAB[R4 MOD 3]",
+        "MSG(\"pass \" << R1 << \" of \" << R2)",
         "CYCLE83(10, 0, 1, -20, , -R1-1, , 2, , , 0.5, R4 MOD 2)",
     ];
     const ASSIGNS: &[&str] = &[
@@ -1136,11 +1207,12 @@ mod sinumerik_programs {
         "CASE(R1 MOD 3) OF 0 GOTOF END_1",
     ];
 
-    fn stmt() -> impl Strategy<Value = Stmt> {
+    fn stmt(calls: bool) -> impl Strategy<Value = Stmt> {
         let leaf = prop_oneof![
             4 => select(MOVES).prop_map(Stmt::Move),
             4 => select(ASSIGNS).prop_map(Stmt::Assign),
             1 => select(JUMPS).prop_map(Stmt::Jump),
+            if calls { 3 } else { 0 } => (any::<u8>(), select(CALLS)).prop_map(|(k, c)| Stmt::Call(k, c)),
         ];
         leaf.prop_recursive(4, 40, 4, |inner| {
             let body = || prop::collection::vec(inner.clone(), 0..4);
@@ -1157,6 +1229,9 @@ mod sinumerik_programs {
     struct Out {
         text: String,
         labels: u32,
+        /// The program being written (0 the main program) and how many PROCs there are.
+        program: usize,
+        subs: usize,
     }
 
     impl Out {
@@ -1175,6 +1250,16 @@ mod sinumerik_programs {
         fn one(&mut self, s: &Stmt, depth: usize) {
             match s {
                 Stmt::Move(t) | Stmt::Assign(t) | Stmt::Jump(t) => self.line(depth, t),
+                Stmt::Call(k, t) => {
+                    // Down the list of PROCs; now and then the program itself.
+                    let later = self.subs - self.program;
+                    let callee = if later == 0 || k % 5 == 0 {
+                        self.program.max(1)
+                    } else {
+                        self.program + 1 + *k as usize % later
+                    };
+                    self.line(depth, &t.replace("{}", &callee.to_string()));
+                }
                 Stmt::If(c, a, b) => {
                     self.line(depth, &format!("IF {c}"));
                     self.all(a, depth + 1);
@@ -1217,10 +1302,12 @@ mod sinumerik_programs {
     }
 
     pub fn program() -> impl Strategy<Value = String> {
-        (prop::collection::vec(stmt(), 1..8), any::<bool>()).prop_map(|(stmts, end_label)| {
+        (prop::collection::vec(stmt(false), 1..8), any::<bool>()).prop_map(|(stmts, end_label)| {
             let mut out = Out {
-                text: "DEF INT CNT=0\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\nTOP: R0=R0+1\n".into(),
+                text: "DEF INT CNT=0\nDEF REAL TAB[3]=SET(1,2)\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\nTOP: R0=R0+1\n".into(),
                 labels: 0,
+                program: 0,
+                subs: 0,
             };
             out.all(&stmts, 0);
             out.line(0, "END_1: G0 Z10");
@@ -1229,6 +1316,46 @@ mod sinumerik_programs {
             }
             out.line(0, "M30");
             out.text
+        })
+    }
+
+    /// A main program and one to three PROCs SUB_1 … in files of their own (name, text), each
+    /// a structured program as above that calls the ones after it, or itself.
+    pub fn call_program() -> impl Strategy<Value = (String, Vec<(String, String)>)> {
+        let body = || (prop::collection::vec(stmt(true), 1..6), any::<bool>());
+        (body(), prop::collection::vec(body(), 1..4)).prop_map(|(main, subs)| {
+            let n = subs.len();
+            let write =
+                |program: usize, head: &str, (stmts, end_label): &(Vec<Stmt>, bool), end: &str| {
+                    let mut out = Out {
+                        text: head.into(),
+                        labels: 0,
+                        program,
+                        subs: n,
+                    };
+                    out.line(0, "TOP: R0=R0+1");
+                    out.all(stmts, 0);
+                    out.line(0, "END_1: G0 Z10");
+                    if *end_label {
+                        out.line(0, "END_2: G0 X0 Y0");
+                    }
+                    out.line(0, end);
+                    out.text
+                };
+            let main_head = "DEF INT CNT=0\nDEF REAL TAB[3]=SET(1,2)\nN1 G17 G90 G0 X0 Y0 Z5 F500\nR1=1 R2=2 R3=0 R4=1\n";
+            let files = subs
+                .iter()
+                .enumerate()
+                .map(|(k, b)| {
+                    let head = format!(
+                        "PROC SUB_{}(REAL AA, INT NN, VAR REAL OUT)\nDEF INT CNT=NN\nOUT=OUT+AA\n",
+                        k + 1
+                    );
+                    let end = if k % 2 == 0 { "M17" } else { "" };
+                    (format!("SUB_{}.SPF", k + 1), write(k + 1, &head, b, end))
+                })
+                .collect();
+            (write(0, main_head, &main, "M30"), files)
         })
     }
 }
@@ -1330,6 +1457,12 @@ proptest! {
     #[test]
     fn sinumerik_programs_840d(src in sinumerik_programs::program()) {
         check(7, &src)?;
+    }
+
+    /// Structured SINUMERIK programs that call PROCs in files beside them.
+    #[test]
+    fn sinumerik_calls_840d((main, files) in sinumerik_programs::call_program()) {
+        check_files(7, &main, &files)?;
     }
 
     #[test]
@@ -1546,6 +1679,55 @@ fn macro_programs_reach_deep() {
 #[test]
 fn sinumerik_programs_reach_deep() {
     reach_deep(sinumerik_programs::program(), 7, 30);
+}
+
+/// The SINUMERIK programs with calls reach into their PROCs: of 1000, at least a tenth run to
+/// their end, a fifth make blocks in a PROC, and the 90th percentile of blocks per run is at
+/// least 30.
+#[test]
+fn sinumerik_calls_reach_deep() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    let strategy = sinumerik_programs::call_program();
+    let (mut ended, mut blocks, mut called) = (0, Vec::new(), 0);
+    let mut outcomes: HashMap<String, usize> = HashMap::new();
+    for _ in 0..1000 {
+        let (main, files) = strategy.new_tree(&mut runner).unwrap().current();
+        let mut md = machines()[7].clone();
+        let mut library = nc_kernel::ProgramLibrary::default();
+        for (name, text) in &files {
+            library.add(name, name.clone(), text.clone());
+        }
+        md.programs = std::sync::Arc::new(library);
+        let (mut n, mut inside) = (0, false);
+        let mut end = "end of program".to_string();
+        for item in nc_kernel::Interpreter::new("fuzz.nc", &main, &md, tools()) {
+            match item {
+                Ok(b) => {
+                    n += 1;
+                    inside |= b.program != 0;
+                }
+                Err(a) => {
+                    end = format!("{:?}", a.code);
+                    break;
+                }
+            }
+        }
+        ended += usize::from(end == "end of program");
+        called += usize::from(inside);
+        *outcomes.entry(end).or_default() += 1;
+        blocks.push(n);
+    }
+    let mut outcomes: Vec<_> = outcomes.into_iter().collect();
+    outcomes.sort_by_key(|o| std::cmp::Reverse(o.1));
+    println!("{outcomes:?}");
+    blocks.sort_unstable();
+    let p90 = blocks[blocks.len() * 9 / 10];
+    println!("blocks per run: 90th percentile {p90}; runs with blocks of a PROC: {called}");
+    assert!(ended >= 100, "only {ended} of 1000 runs reach their end");
+    assert!(called >= 200, "only {called} of 1000 runs get into a PROC");
+    assert!(p90 >= 30, "90th percentile of blocks per run: {p90}");
 }
 
 /// 1000 programs of `strategy` on machine `which`: at least 100 reach their end, and the 90th

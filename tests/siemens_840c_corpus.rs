@@ -2,8 +2,9 @@
 //! `@` commands, G17, mm) in tests/corpus/siemens-840c/. Every move's end point is compared
 //! with values worked out by hand; each program's header comment shows the arithmetic. The end
 //! points are the programmed ones (no zero offset is active, tool centre offsets are not
-//! applied to them). Programs that run cleanly also pass `softnc check`; programs that must
-//! stop name their alarm's code, line and column, and the moves made before it.
+//! applied to them). Subprograms (`L41.SPF`: the l programs) stand beside the programs and are
+//! found as `softnc` finds them. Programs that run cleanly also pass `softnc check`; programs
+//! that must stop name their alarm's code, line and column, and the moves made before it.
 
 use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable, TrcSide};
 use std::path::PathBuf;
@@ -24,14 +25,19 @@ fn path_of(file: &str) -> PathBuf {
     root().join(CORPUS).join(file)
 }
 
-fn machine() -> MachineData {
-    MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-840c.toml")
+/// The 840C's machine data with the subprogram files beside `file`.
+fn machine(file: &str) -> MachineData {
+    let mut md =
+        MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-840c.toml");
+    let library = nc_runtime::program_library(&path_of(file), &md.program.search_path);
+    md.programs = std::sync::Arc::new(library.expect("the corpus folder"));
+    md
 }
 
 /// The blocks up to the end or the first alarm.
 fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
     let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let (md, tools) = (machine(), ToolTable::builtin());
+    let (md, tools) = (machine(file), ToolTable::builtin());
     let mut out = Vec::new();
     for item in Interpreter::new(file, &text, &md, &tools) {
         match item {
@@ -287,4 +293,32 @@ fn k08_case_block_main_blocks() {
         [10, 30, 200, 400, 410],
         "{f}: the branch taken"
     );
+}
+
+#[test]
+fn l01_840c_l_calls() {
+    clean(
+        "l01_l_calls.mpf",
+        &[
+            [0.0, 0.0, 5.0],
+            [10.0, 5.0, 5.0],
+            [20.0, 10.0, 5.0],
+            [0.0, 0.0, 5.0],
+            [-5.0, 0.0, 5.0],
+            [5.0, 5.0, 5.0],
+            [5.0, 5.0, 50.0],
+        ],
+    );
+}
+
+#[test]
+fn l02_840c_alarm_missing() {
+    let a = stops(
+        "l02_alarm_missing.mpf",
+        &[[0.0, 0.0, 5.0]],
+        AlarmCode::MissingProgram,
+        4,
+        5,
+    );
+    assert!(a.message.contains("L99.SPF"), "{a}");
 }

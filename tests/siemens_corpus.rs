@@ -1,10 +1,11 @@
 //! SINUMERIK programs for the 828D / 840D sl milling machine (config/siemens-840d.toml: the
-//! SINUMERIK language, G17, mm, R0 … R99) in tests/corpus/siemens-840d/. Every move's end
-//! point is compared with values worked out by hand; each program's header comment shows the
-//! arithmetic. The end points are the programmed ones (no zero offset is active, tool
-//! centre offsets are not applied to them). Programs that run cleanly also pass
-//! `softnc check`; programs that must stop name their alarm's code, line and column, and the
-//! moves made before it.
+//! SINUMERIK language, G17, mm, R0 … R99) in tests/corpus/siemens-840d/. Every
+//! move's end point is compared with values worked out by hand; each program's header comment
+//! shows the arithmetic. The end points are the programmed ones (no zero offset is active,
+//! tool centre offsets are not applied to them). Subprogram files (`NAME.SPF`) stand beside
+//! the programs and are found as `softnc` finds them (the program's folder). Programs that
+//! run cleanly also pass `softnc check`; programs that must stop name their alarm's code,
+//! line and column, and the moves made before it.
 
 use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable, TrcSide};
 use std::path::PathBuf;
@@ -25,14 +26,23 @@ fn path_of(file: &str) -> PathBuf {
     root().join(CORPUS).join(file)
 }
 
+/// The 840D's machine data.
 fn machine() -> MachineData {
     MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-840d.toml")
+}
+
+/// The 840D's machine data with the subprogram files beside `file`.
+fn machine_for(file: &str) -> MachineData {
+    let mut md = machine();
+    let library = nc_runtime::program_library(&path_of(file), &md.program.search_path);
+    md.programs = std::sync::Arc::new(library.expect("the corpus folder"));
+    md
 }
 
 /// The blocks up to the end or the first alarm.
 fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
     let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let (md, tools) = (machine(), ToolTable::builtin());
+    let (md, tools) = (machine_for(file), ToolTable::builtin());
     let mut out = Vec::new();
     for item in Interpreter::new(file, &text, &md, &tools) {
         match item {
@@ -57,7 +67,8 @@ fn assert_ends(file: &str, got: &[P], want: &[P]) {
     assert_eq!(got.len(), want.len(), "{file}: number of moves: {got:?}");
 }
 
-/// `softnc check PROGRAM --machine config/siemens-840d.toml` passes.
+/// `softnc check PROGRAM --machine config/siemens-840d.toml` passes (it finds the subprogram
+/// files beside the program itself).
 fn check(file: &str) {
     let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
         .current_dir(root())
@@ -461,7 +472,7 @@ fn s20_cr_from_r_parameter() {
 fn s21_alarm_if_open() {
     let a = stops(
         "s21_alarm_if_open.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::ControlNesting,
         6,
         5,
@@ -471,7 +482,7 @@ fn s21_alarm_if_open() {
 }
 
 #[test]
-fn s21_s22_s29_structure_alarms_name_their_block() {
+fn s21_s22_s29_structure_alarms_name_their_block_and_refuse_the_load() {
     for (file, n) in [
         ("s21_alarm_if_open.mpf", "N30"),
         ("s22_alarm_endwhile_closes_for.mpf", "N50"),
@@ -479,6 +490,24 @@ fn s21_s22_s29_structure_alarms_name_their_block() {
     ] {
         let a = run(file).1.expect("an alarm");
         assert_eq!(a.block.as_deref(), Some(n), "{file}: {a}");
+        // The kernel reads the structures through before anything moves: refused at load.
+        let text = std::fs::read_to_string(path_of(file)).unwrap();
+        let refused = nc_kernel::handover::spawn_preparation(
+            file.into(),
+            text,
+            machine(),
+            ToolTable::builtin(),
+            None,
+        )
+        .expect("thread");
+        let Err(at_load) = refused else {
+            panic!("{file}: the kernel took the program")
+        };
+        assert_eq!(
+            (at_load.line, at_load.col),
+            (a.line, a.col),
+            "{file}: {at_load}"
+        );
     }
 }
 
@@ -486,7 +515,7 @@ fn s21_s22_s29_structure_alarms_name_their_block() {
 fn s22_alarm_endwhile_closes_for() {
     let a = stops(
         "s22_alarm_endwhile_closes_for.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::ControlNesting,
         7,
         5,
@@ -575,7 +604,7 @@ fn s28_alarm_setal() {
 fn s29_alarm_label_on_structure() {
     let a = stops(
         "s29_alarm_label_on_structure.mpf",
-        &[],
+        &[[0.0, 0.0, 5.0]],
         AlarmCode::Syntax,
         5,
         12,
@@ -585,7 +614,13 @@ fn s29_alarm_label_on_structure() {
 
 #[test]
 fn s30_alarm_skipped_if() {
-    let a = stops("s30_alarm_skipped_if.mpf", &[], AlarmCode::Syntax, 4, 2);
+    let a = stops(
+        "s30_alarm_skipped_if.mpf",
+        &[[0.0, 0.0, 5.0]],
+        AlarmCode::Syntax,
+        4,
+        2,
+    );
     assert_eq!(a.number(), 12080);
 }
 
@@ -1326,6 +1361,212 @@ fn s89_alarm_ct_without_element() {
         5,
     );
     assert_eq!(a.number(), 14045);
+}
+
+/// The square of SQUARE10.SPF from (x, y) at height z.
+fn square(x: f64, y: f64, z: f64) -> [P; 4] {
+    [
+        [x + 10.0, y, z],
+        [x + 10.0, y + 10.0, z],
+        [x, y + 10.0, z],
+        [x, y, z],
+    ]
+}
+
+#[test]
+fn s40_call_by_name() {
+    let f = "s40_call_by_name.mpf";
+    let mut want = vec![[0.0, 0.0, 5.0]];
+    want.extend(square(0.0, 0.0, 5.0));
+    want.push([20.0, 0.0, 5.0]);
+    want.extend(square(20.0, 0.0, 5.0));
+    want.extend(square(20.0, 0.0, 5.0));
+    want.push([40.0, 0.0, 5.0]);
+    want.extend([[45.0, 5.0, 5.0], [50.0, 10.0, 5.0], [55.0, 15.0, 5.0]]);
+    want.push([0.0, 0.0, 50.0]);
+    let b = clean(f, &want);
+    // The subprograms' blocks name their files (for alarms and the path's sources), and
+    // carry their own lines: SQUARE10's N10 is its line 3.
+    let library = machine_for(f).programs.clone();
+    let first = &b[1];
+    let name = library.name(first.program).expect("a library file");
+    assert!(name.ends_with("SQUARE10.SPF"), "{name}");
+    assert_eq!((first.line, first.number.map(|n| n.value)), (3, Some(10)));
+    // N10, N30, N50, N70, N80: the calls make no block of their own.
+    assert_eq!(
+        b.iter().filter(|b| b.program == 0).count(),
+        5,
+        "main blocks"
+    );
+}
+
+#[test]
+fn s41_proc_parameters() {
+    let mut want = vec![[0.0, 0.0, 10.0], [15.0, 5.0, 2.0]];
+    for z in [-1.0, -2.0] {
+        want.extend([
+            [15.0, 5.0, z],
+            [25.0, 5.0, z],
+            [25.0, 15.0, z],
+            [15.0, 15.0, z],
+            [15.0, 5.0, z],
+        ]);
+    }
+    want.push([15.0, 5.0, 2.0]);
+    want.extend([
+        [37.5, -2.5, 2.0],
+        [37.5, -2.5, -3.0],
+        [42.5, -2.5, -3.0],
+        [42.5, 2.5, -3.0],
+        [37.5, 2.5, -3.0],
+        [37.5, -2.5, -3.0],
+        [37.5, -2.5, 2.0],
+    ]);
+    want.push([-3.0, 10.0, 50.0]);
+    clean("s41_proc_parameters.mpf", &want);
+}
+
+#[test]
+fn s42_mcall() {
+    let mut want = vec![[0.0, 0.0, 2.0]];
+    for (x, y) in [(10.0, 0.0), (10.0, 10.0), (0.0, 10.0)] {
+        want.extend([[x, y, 2.0], [x, y, -6.0], [x, y, 2.0]]);
+    }
+    want.extend([[30.0, 30.0, 2.0], [30.0, 30.0, 50.0]]);
+    let b = clean("s42_mcall.mpf", &want);
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some_and(|m| m.kind == MotionKind::Linear))
+        .map(|b| b.modal.feed)
+        .collect();
+    assert_eq!(feeds, [80.0; 3], "DRILL_B's feed");
+}
+
+#[test]
+fn s43_recursion_var() {
+    clean(
+        "s43_recursion_var.mpf",
+        &[
+            [0.0, 0.0, 0.0],
+            [3.0, 1.0, 0.0],
+            [5.0, 2.0, 0.0],
+            [6.0, 3.0, 0.0],
+            [60.0, 0.0, 0.0], // TOTAL = 3 + 2 + 1
+        ],
+    );
+}
+
+#[test]
+fn s44_alarm_missing_subprogram() {
+    let a = stops(
+        "s44_alarm_missing_subprogram.mpf",
+        &[[0.0, 0.0, 5.0]],
+        AlarmCode::MissingProgram,
+        5,
+        5,
+    );
+    assert_eq!(
+        (a.number(), a.program.as_str()),
+        (14011, "s44_alarm_missing_subprogram.mpf")
+    );
+    assert_eq!(a.block.as_deref(), Some("N20"));
+    assert!(a.message.contains("NOT_THERE.SPF or NOT_THERE.MPF"), "{a}");
+    assert!(a.message.contains("program.search_path"), "{a}");
+}
+
+#[test]
+fn s45_alarm_recursion() {
+    let mut want = vec![[0.0, 0.0, 0.0]];
+    want.extend((1..=15).map(|x| [x as f64, 0.0, 0.0]));
+    let a = stops(
+        "s45_alarm_recursion.mpf",
+        &want,
+        AlarmCode::CallNesting,
+        4,
+        5,
+    );
+    assert_eq!(a.number(), 14012);
+    assert!(a.program.ends_with("ENDLESS.SPF"), "{a}");
+    assert_eq!(a.block.as_deref(), Some("N30"));
+}
+
+#[test]
+fn s46_alarm_if_in_subprogram() {
+    let a = stops(
+        "s46_alarm_if_in_subprogram.mpf",
+        &[[0.0, 0.0, 5.0]],
+        AlarmCode::ControlNesting,
+        3,
+        5,
+    );
+    assert_eq!(a.number(), 12640);
+    assert!(a.program.ends_with("OPEN_IF.SPF"), "{a}");
+    assert_eq!(a.block.as_deref(), Some("N20"));
+}
+
+#[test]
+fn s47_alarm_var_not_variable() {
+    let a = stops(
+        "s47_alarm_var_not_variable.mpf",
+        &[[0.0, 0.0, 10.0]],
+        AlarmCode::ParameterNotVariable,
+        6,
+        28,
+    );
+    assert_eq!(
+        (a.number(), a.program.as_str()),
+        (12320, "s47_alarm_var_not_variable.mpf")
+    );
+    assert!(a.message.contains("DEPTH"), "{a}");
+}
+
+#[test]
+fn s48_labels_per_program() {
+    let mut want = Vec::new();
+    want.push([0.0, 0.0, 0.0]);
+    for y in [0.0, 30.0] {
+        want.push([0.0, y, 0.0]);
+        want.extend(square(0.0, y, 0.0));
+        want.push([15.0, y, 0.0]);
+        want.extend(square(15.0, y, 0.0));
+        want.push([30.0, y, 0.0]);
+    }
+    want.push([0.0, 0.0, 50.0]);
+    clean("s48_labels_per_program.mpf", &want);
+}
+
+#[test]
+fn s52_mcall_cycle82_row() {
+    let mut want = vec![[0.0, 0.0, 50.0]];
+    for x in [15.0, 30.0, 45.0] {
+        let z = if x == 15.0 { 50.0 } else { 10.0 };
+        want.extend([
+            [x, 10.0, z],
+            [x, 10.0, 2.0],
+            [x, 10.0, -8.0],
+            [x, 10.0, 10.0],
+        ]);
+    }
+    want.push([45.0, 10.0, 50.0]);
+    let b = clean("s52_mcall_cycle82_row.mpf", &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(dwells, [0.5, 0.5, 0.5]);
+}
+
+#[test]
+fn s53_array_hole_table() {
+    let mut want = vec![[0.0, 0.0, 20.0]];
+    for (k, (x, y)) in [(10.0, 5.0), (25.0, 5.0), (25.0, 20.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let z = if k == 0 { 20.0 } else { 10.0 };
+        want.extend([[x, y, z], [x, y, 2.0], [x, y, -7.0], [x, y, 10.0]]);
+    }
+    want.push([25.0, 20.0, 50.0]);
+    let b = clean("s53_array_hole_table.mpf", &want);
+    let msgs: Vec<&str> = b.iter().filter_map(|b| b.message.as_deref()).collect();
+    assert_eq!(msgs, ["Drilling BRACKET"]);
 }
 
 /// Compensation words (docs/sinumerik.md "Compensation words"): smooth approach and

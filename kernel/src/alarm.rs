@@ -78,6 +78,10 @@ pub enum AlarmCode {
     JumpTarget,
     /// Subprogram or macro calls nested deeper than the control allows.
     CallNesting,
+    /// A call passes no variable where the called program's parameter is call-by-reference
+    /// (SINUMERIK `VAR`): an expression, a constant, or nothing (840D 12320: parameter is no
+    /// variable).
+    ParameterNotVariable,
     /// A chamfer or corner word in a block without a G01/G02/G03 move in the plane (840D
     /// 10882: chamfer or rounding without a traversing motion in the block).
     CornerWithoutMove,
@@ -90,6 +94,8 @@ pub enum AlarmCode {
     /// A SINUMERIK drilling cycle's parameters contradict each other or lie out of range
     /// (840D 61101 "reference plane defined incorrectly" and its neighbours).
     CycleParameter,
+    /// An array element outside the array's dimensions (840D 17020 "illegal array index").
+    ArrayIndex,
     /// A SINUMERIK smooth approach finds no contour element to lead onto: more blocks
     /// without a traversing motion than the control allows between it and the contour, or
     /// the program ends first (840D 10740, "too many empty blocks in WAB programming").
@@ -148,10 +154,12 @@ impl AlarmCode {
             AlarmCode::MissingProgram => 14011,
             AlarmCode::JumpTarget => 14080,
             AlarmCode::CallNesting => 14012,
+            AlarmCode::ParameterNotVariable => 12320,
             AlarmCode::CornerWithoutMove => 10882,
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,
             AlarmCode::CycleParameter => 61101,
+            AlarmCode::ArrayIndex => 17020,
             AlarmCode::SarBlocks => 10740,
             AlarmCode::SarReversal => 10741,
             AlarmCode::SarDistance => 10742,

@@ -41,7 +41,11 @@ impl<'a> Gated<'a> {
     /// before anything moves (`softnc simulate`, tests).
     pub fn of_job_checked(job: Job<'a>) -> Self {
         let mut g = Gated::of_job(job);
-        g.refused = g.check_ahead(u64::from(job.md.trc.check_at_load_blocks));
+        // SINUMERIK structures are read through the whole text first (cheap): one left open
+        // refuses the program before anything moves, wherever it stands.
+        let structure =
+            crate::Interpreter::new(job.name, job.source, job.md, job.tools).structure_alarm();
+        g.refused = structure.or_else(|| g.check_ahead(u64::from(job.md.trc.check_at_load_blocks)));
         g
     }
 

@@ -59,7 +59,7 @@ pub use macro_variables::{format_kept_variables, parse_kept_variables};
 pub use prep::{
     prepare, AuxFunction, Interruption, Preparation, Prepared, Resumed, Stop, WholeMode, MAX_WINDOW,
 };
-pub use programs::{LibraryProgram, ProgramLibrary};
+pub use programs::{LibraryProgram, ProgramKey, ProgramLibrary};
 pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{
     check_edit, offset_label, write_atomic, LiveEdit, LiveEdits, ToolOffset, ToolTable,

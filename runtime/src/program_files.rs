@@ -1,5 +1,6 @@
 //! The subprogram files a program can call (kernel/src/programs.rs): read from the
-//! program's own folder, then from each folder of `program.search_path`.
+//! program's own folder, then from each folder of `program.search_path`: Fanuc O-number files
+//! and SINUMERIK `.SPF`/`.MPF` files.
 
 use nc_kernel::ProgramLibrary;
 use std::path::Path;
@@ -8,7 +9,7 @@ use std::path::Path;
 const MAX_FILE: u64 = 64 << 20;
 
 /// The library for the program at `program`. A search-path folder that cannot be read is
-/// an error naming it; files that are no O number (`O1000.nc`) are passed over.
+/// an error naming it; files that name no program (`O1000.nc`, `POCKET.SPF`) are passed over.
 pub fn program_library(program: &Path, search_path: &[String]) -> Result<ProgramLibrary, String> {
     let mut library = ProgramLibrary::default();
     let own = program.parent().filter(|p| !p.as_os_str().is_empty());
@@ -34,7 +35,7 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
         let small = path
             .metadata()
             .is_ok_and(|m| m.is_file() && m.len() <= MAX_FILE);
-        if !small || ProgramLibrary::number_of(file).is_none() || same_file(&path, program) {
+        if !small || ProgramLibrary::key_of(file).is_none() || same_file(&path, program) {
             continue;
         }
         let text = std::fs::read(&path)?;

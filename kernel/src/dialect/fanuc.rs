@@ -132,6 +132,9 @@ pub static DIALECT: Dialect = Dialect {
     helix_turns: 0,
     macro_b: true,
     sinumerik: false,
+    l_calls: false,
+    // Fifteen calls open at once (0i-F; docs/fanuc.md).
+    program_levels: 16,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: true,

@@ -78,6 +78,9 @@ pub static DIALECT: Dialect = Dialect {
     helix_turns: 0,
     macro_b: true,
     sinumerik: false,
+    l_calls: false,
+    // Fifteen calls open at once (0i-F; docs/fanuc.md).
+    program_levels: 16,
     incremental_words: true,
     t_selects_offset: true,
     decimal_switch: true,

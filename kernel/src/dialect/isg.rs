@@ -94,6 +94,9 @@ pub static DIALECT: Dialect = Dialect {
     helix_turns: 0,
     macro_b: false,
     sinumerik: false,
+    l_calls: false,
+    // No calls in the language built here; the bound of the others.
+    program_levels: 16,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

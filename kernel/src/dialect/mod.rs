@@ -232,6 +232,9 @@ pub enum MEffect {
     Call,
     /// Return from a subprogram, with P to a sequence number (Fanuc M99).
     Return,
+    /// End of a subprogram (SINUMERIK M17): back to the caller; in the main program the
+    /// program's end. In a dialect that has it, M2/M30 in a called program return too.
+    SubprogramEnd,
 }
 
 /// One row of a dialect's M-function table.
@@ -425,8 +428,14 @@ pub struct Dialect {
     /// Fanuc Custom Macro B: `#` variables, `[…]` expressions, IF/WHILE/GOTO, L repeats.
     pub macro_b: bool,
     /// The SINUMERIK language (808D/828D/840D sl): R parameters, `X=expr`, DEF, IF/WHILE/FOR/
-    /// REPEAT/LOOP, labels and GOTOF/GOTOB (frontend/sinumerik).
+    /// REPEAT/LOOP, labels and GOTOF/GOTOB, subprograms by name with PROC, MCALL, RET
+    /// (frontend/sinumerik).
     pub sinumerik: bool,
+    /// 840C: `L123 P3` in a block of its own calls subprogram L123 (three times).
+    pub l_calls: bool,
+    /// Program levels open at once, the main program included: a call that would open one
+    /// more is alarm 14012 (840D sl: 16, 808D: 8).
+    pub program_levels: u8,
     /// Fanuc lathe (G-code system A): U and W are the incremental words of X and Z.
     pub incremental_words: bool,
     /// Fanuc lathe: T aabb selects tool aa and its offset bb (00: none).
@@ -576,6 +585,14 @@ impl Dialect {
 
     pub(crate) fn same_group(a: GEffect, b: GEffect) -> bool {
         a.group() == b.group()
+    }
+
+    /// The control ends a subprogram with a function of its own (M17): M2/M30 in a called
+    /// program return to the caller as well.
+    pub fn has_subprogram_end(&self) -> bool {
+        self.mcodes
+            .iter()
+            .any(|def| def.effect == MEffect::SubprogramEnd)
     }
 
     /// The row of the M function with value `value`, if the front end acts on it.

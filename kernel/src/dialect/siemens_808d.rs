@@ -92,6 +92,8 @@ static MCODES: &[MCodeDef] = &[
     m(4, Spindle(SpindleDir::CounterClockwise)),
     m(5, Spindle(SpindleDir::Stop)),
     m(19, Spindle(SpindleDir::Orient)),
+    // End of subprogram (Fundamentals, "Program end"; 840C [unconfirmed]).
+    m(17, SubprogramEnd),
     m(2, Stop(ProgramStop::End)),
     m(30, Stop(ProgramStop::EndRewind)),
 ];
@@ -120,6 +122,9 @@ pub(super) const BASE: Dialect = Dialect {
     helix_turns: 999,
     macro_b: false,
     sinumerik: true,
+    l_calls: false,
+    // 808D: eight program levels including the main program (808D manual, "Subprograms").
+    program_levels: 8,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

@@ -77,6 +77,8 @@ static MCODES: &[MCodeDef] = &[
     m(4, Spindle(SpindleDir::CounterClockwise)),
     m(5, Spindle(SpindleDir::Stop)),
     m(19, Spindle(SpindleDir::Orient)),
+    // End of subprogram (Fundamentals, "Program end"; 840C [unconfirmed]).
+    m(17, SubprogramEnd),
     m(2, Stop(ProgramStop::End)),
     // 11.10 lists M18 with M00/M01/M02/M30: a programmed stop at block end.
     m(18, Stop(ProgramStop::StopAtEnd)),
@@ -141,6 +143,9 @@ pub static DIALECT: Dialect = Dialect {
     helix_turns: 0,
     macro_b: false,
     sinumerik: false,
+    l_calls: true,
+    // 840C: the 808D's eight program levels [unconfirmed] (docs/sinumerik.md, "Subprograms").
+    program_levels: 8,
     incremental_words: false,
     t_selects_offset: false,
     decimal_switch: false,

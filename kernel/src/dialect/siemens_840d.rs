@@ -86,5 +86,8 @@ pub(super) static NAMED_CODES: &[NamedCodeDef] = &[
 pub static DIALECT: Dialect = Dialect {
     name: DialectName::Siemens840D,
     gcodes: &GCODES,
+    // 16 program levels, the main program level 0 (Job planning 828D/840D sl, "Nesting
+    // depth"; the two more of interrupt routines are not built).
+    program_levels: 16,
     ..super::siemens_808d::BASE
 };

@@ -7,26 +7,29 @@
 //! the main program (a program's text ends where the next `O` line starts), then the
 //! subprogram files of the machine data's program library (the program's folder and the
 //! search path, programs.rs). Nesting is bounded as on the control: five macro levels
-//! (G65/G66) and fifteen calls in all.
+//! (G65/G66), and the dialect's program levels (Fanuc: fifteen calls in all).
+//!
+//! SINUMERIK calls (sinumerik/calls.rs) use the same stack: they find their program file by
+//! name before the call and hand over its bound parameters, which become the called level's
+//! user variables.
 
 use super::fault::{fault, R};
 use super::interpreter::Interpreter;
 use super::lexer::Cursor;
 use super::macro_b::{Value, LOCALS};
+use super::sinumerik::Param;
 use crate::alarm::AlarmCode;
 use std::collections::HashMap;
 
 /// Macro call levels (G65/G66): local variable levels 1…5 (0i-F).
 pub const MAX_MACRO_LEVELS: usize = 5;
-/// Calls of any kind open at once (M98 and macro calls together, 0i-F).
-pub const MAX_CALLS: usize = 15;
 
 /// A reading position: (byte offset, line, line start).
 pub type Mark = (usize, u32, usize);
 
 /// A program's text to read: its file's name, the text, its library index (`None` where
 /// it is the main program's file).
-type Text<'a> = Option<(&'a str, &'a [u8], u16)>;
+pub(super) type Text<'a> = Option<(&'a str, &'a [u8], u16)>;
 
 /// How a program was called.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,6 +40,33 @@ pub enum CallKind {
     Macro,
     /// G66 after a move: a new level; moves inside call nothing.
     Modal,
+    /// SINUMERIK (and 840C `L`): a new level of user variables, the parameters bound;
+    /// `modal`: MCALL after a move, moves inside call nothing.
+    Procedure { modal: bool },
+}
+
+/// The program a call runs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    /// Fanuc O number: in the main program's file, else a library file.
+    Number(u32),
+    /// A file of the program library, found before the call (SINUMERIK names).
+    File(u16),
+    /// A SINUMERIK drilling cycle with its parameters, evaluated at the MCALL: no program,
+    /// its moves are built in.
+    Cycle(
+        crate::frontend::sinumerik::cycles::CycleName,
+        Box<crate::frontend::sinumerik::cycles::Params>,
+    ),
+}
+
+/// What a call hands the called program.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Args {
+    /// Fanuc: the local variables #1 … #33 of a macro call (M98: unused).
+    Locals(Box<[Value; LOCALS]>),
+    /// SINUMERIK: the PROC parameters, bound.
+    Params(Box<[Param]>),
 }
 
 /// An open WHILE … DO m loop: `m`, where its WHILE (or DO) block starts, and its origin for
@@ -82,23 +112,26 @@ struct Frame<'a> {
 #[derive(Clone, Debug)]
 pub enum Pending {
     Call {
-        number: u32,
+        target: Target,
         repeats: u32,
         kind: CallKind,
-        args: Box<[Value; LOCALS]>,
+        args: Args,
         at: usize,
     },
     /// M99, with P: the sequence number to go on at.
     Return { to: Option<u32>, at: usize },
 }
 
-/// A G66 modal call: the program and its arguments.
+/// A G66 or MCALL modal call: the program and its arguments.
 #[derive(Clone, Debug)]
 pub struct ModalCall {
-    pub number: u32,
-    /// L: how often it runs after each move.
+    pub target: Target,
+    /// L (P): how often it runs after each move.
     pub repeats: u32,
-    pub args: [Value; LOCALS],
+    pub args: Args,
+    /// The calls open when it was set (an MCALL ends with the level that set it: its VAR
+    /// parameters are that level's variables).
+    pub depth: usize,
 }
 
 /// The call stack, the open loops of the level running now, and the label index.
@@ -148,15 +181,20 @@ impl<'a> Calls<'a> {
         self.running.own.map(|(_, n)| n)
     }
 
-    /// Inside a program called by G66 (its moves call nothing).
+    /// Inside a program called by G66 or MCALL (its moves call nothing).
     pub fn in_modal_call(&self) -> bool {
-        self.frames.iter().any(|f| f.kind == CallKind::Modal)
+        self.frames.iter().any(|f| {
+            matches!(
+                f.kind,
+                CallKind::Modal | CallKind::Procedure { modal: true }
+            )
+        })
     }
 
     fn macro_levels(&self) -> usize {
         self.frames
             .iter()
-            .filter(|f| f.kind != CallKind::Subprogram)
+            .filter(|f| matches!(f.kind, CallKind::Macro | CallKind::Modal))
             .count()
     }
 }
@@ -166,12 +204,12 @@ impl<'a> Interpreter<'a> {
     pub(super) fn run_pending(&mut self) -> R<()> {
         match self.calls.pending.take() {
             Some(Pending::Call {
-                number,
+                target,
                 repeats,
                 kind,
                 args,
                 at,
-            }) => self.call(number, repeats, kind, *args, at),
+            }) => self.call(target, repeats, kind, args, at),
             Some(Pending::Return { to, at }) => self.ret(to, at),
             None => Ok(()),
         }
@@ -179,27 +217,39 @@ impl<'a> Interpreter<'a> {
 
     fn call(
         &mut self,
-        number: u32,
+        target: Target,
         repeats: u32,
         kind: CallKind,
-        args: [Value; LOCALS],
+        args: Args,
         at: usize,
     ) -> R<()> {
         if repeats == 0 {
             return Ok(());
         }
-        let (text, start) = self.find_program(number, at)?;
-        if self.calls.depth() >= MAX_CALLS {
-            return Err(nesting(at, format!("more than {MAX_CALLS} calls nested")));
-        }
-        if kind != CallKind::Subprogram && self.calls.macro_levels() >= MAX_MACRO_LEVELS {
+        let (text, start) = match target {
+            Target::Number(number) => self.find_program(number, at)?,
+            Target::File(k) => (self.library_text(k), (0, 1, 0)),
+            Target::Cycle(name, p) => return self.modal_cycle(name, *p),
+        };
+        self.check_levels(at)?;
+        let macro_call = matches!(kind, CallKind::Macro | CallKind::Modal);
+        if macro_call && self.calls.macro_levels() >= MAX_MACRO_LEVELS {
             return Err(nesting(
                 at,
                 format!("more than {MAX_MACRO_LEVELS} macro call levels nested"),
             ));
         }
-        let locals = (kind != CallKind::Subprogram)
-            .then(|| std::mem::replace(&mut self.macros.locals, args));
+        let (locals, params) = match args {
+            Args::Locals(a) if macro_call => {
+                (Some(std::mem::replace(&mut self.macros.locals, *a)), None)
+            }
+            Args::Locals(_) => (None, None),
+            Args::Params(p) => (None, Some(p)),
+        };
+        if let Some(p) = &params {
+            // The called level's variables: its parameters (before the caller's state goes).
+            self.sinumerik.store.push_level(p, at)?;
+        }
         let frame = Frame {
             name: self.name,
             src: self.src,
@@ -216,9 +266,33 @@ impl<'a> Interpreter<'a> {
         Ok(())
     }
 
+    /// A call that would open one more program level than the dialect has: alarm 14012.
+    pub(super) fn check_levels(&self, at: usize) -> R<()> {
+        let levels = self.d.program_levels as usize;
+        if self.calls.depth() + 1 < levels {
+            return Ok(());
+        }
+        let message = if self.d.sinumerik || self.d.l_calls {
+            format!(
+                "more than {levels} program levels (the main program and {} subprograms) nested",
+                levels - 1
+            )
+        } else {
+            format!("more than {} calls nested", levels - 1)
+        };
+        Err(nesting(at, message))
+    }
+
+    /// Library file `k` as `enter` takes it.
+    pub(super) fn library_text(&self, k: u16) -> Text<'a> {
+        let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
+        let p = library.find_index(k)?;
+        Some((p.name.as_str(), p.text.as_bytes(), k))
+    }
+
     /// Starts reading a program at `start` (its O line) in `text` (name, text, library
     /// index; `None`: the main program's file).
-    fn enter(&mut self, text: Text<'a>, start: Mark) {
+    pub(super) fn enter(&mut self, text: Text<'a>, start: Mark) {
         let (name, src, program) = text.unwrap_or((self.calls.main_name, self.calls.file, 0));
         self.name = name;
         self.src = src;
@@ -273,6 +347,19 @@ impl<'a> Interpreter<'a> {
         if let Some(locals) = frame.locals {
             self.macros.locals = locals;
         }
+        if matches!(frame.kind, CallKind::Procedure { .. }) {
+            self.sinumerik.store.pop_level();
+            let depth = self.calls.frames.len();
+            // An MCALL ends with the level that set it.
+            if self
+                .calls
+                .modal
+                .as_ref()
+                .is_some_and(|m| m.depth > depth && matches!(m.args, Args::Params(_)))
+            {
+                self.calls.modal = None;
+            }
+        }
         self.name = frame.name;
         self.src = frame.src;
         (self.pos, self.line, self.line_start) = target.unwrap_or(frame.ret);
@@ -300,10 +387,7 @@ impl<'a> Interpreter<'a> {
 
     /// The running program's text as `enter` takes it (to run it again).
     fn running_text(&self) -> Text<'a> {
-        let k = self.calls.running.program;
-        let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
-        let p = library.find_index(k)?;
-        Some((p.name.as_str(), p.text.as_bytes(), k))
+        self.library_text(self.calls.running.program)
     }
 
     /// Program O`number`: in the main program's file, else a file of the library (its

@@ -50,9 +50,11 @@ pub struct Interpreter<'a> {
     pub(super) present_state_read: std::cell::Cell<bool>,
     /// The program's shifts of the zero (G92, G52) and its writes to the tables (G10).
     pub(super) coords: super::coordinates::Coordinates,
-    /// The subprogram and macro call stack, the open WHILE … DO loops, the jump labels.
+    /// The subprogram and macro call stack (Fanuc, SINUMERIK, 840C), the open WHILE … DO
+    /// loops, the jump labels.
     pub(super) calls: Calls<'a>,
-    /// SINUMERIK R parameters, user variables and the program's structures and labels.
+    /// SINUMERIK R parameters, user variables of each call level, the structures and labels
+    /// and the PROC line of each program text.
     pub(super) sinumerik: super::sinumerik::statements::Sinumerik,
     /// 840C R parameters and the jump an `@` command asked for.
     pub(super) c840: super::statements::siemens_840c::Language,
@@ -82,6 +84,9 @@ pub struct Interpreter<'a> {
     pub(super) finished: bool,
     /// SINUMERIK: the program's structures are still to be read (before its first block).
     pub(super) structure_pending: bool,
+    /// SINUMERIK: the next line of the main program's text its structure read has not read
+    /// (sinumerik/structure.rs); offset `usize::MAX` once all is read, or in other dialects.
+    pub(super) frontier: (usize, u32, usize),
     /// Plain motion blocks take [`Self::plain`] (off only to test it against the full path).
     pub(super) plain_path: bool,
     /// The block handed out last, built in place (it is not moved through every layer). Its
@@ -140,6 +145,7 @@ impl<'a> Interpreter<'a> {
             last_move: None,
             finished: false,
             structure_pending: d.sinumerik,
+            frontier: (usize::MAX, 0, 0),
             plain_path: true,
             block: Block::new(0, 0, None, initial_state(d, md)),
         }
@@ -181,6 +187,20 @@ impl<'a> Interpreter<'a> {
             .zip(self.macros.kept())
             .filter_map(|(n, v)| v.map(|v| (n, v)))
             .collect()
+    }
+
+    /// SINUMERIK: the main program's control structures and labels read through to its
+    /// end without running a block (a structure left open, even behind the M30, or a label
+    /// twice). The kernel refuses a program with this alarm at load; the interpreter itself
+    /// reads the structures as far as it runs and meets the same alarm at the program's end.
+    /// `None` in the other dialects.
+    pub fn structure_alarm(mut self) -> Option<Alarm> {
+        if !self.d.sinumerik {
+            return None;
+        }
+        self.program_structure()
+            .err()
+            .or_else(|| self.main_program_ends().err())
     }
 
     /// The position after the last block handed out.
@@ -231,6 +251,9 @@ impl<'a> Interpreter<'a> {
                 }
             }
             let produced = self.produce()?;
+            if self.finished && self.frontier.0 != usize::MAX {
+                self.main_program_ends()?;
+            }
             if self.corners.is_none() {
                 return Ok(produced);
             }
@@ -264,17 +287,10 @@ impl<'a> Interpreter<'a> {
                 return Ok(true);
             }
             let Some((start, end)) = self.next_segment() else {
-                self.finished = true;
-                if let Some(f) = self.called_program_ends() {
-                    return Err(self.alarm(*f));
+                if self.text_ends()? {
+                    continue;
                 }
-                if let Some(f) = self.smooth_unfinished() {
-                    return Err(self.alarm(*f));
-                }
-                return match self.unclosed() {
-                    Some(f) => Err(self.alarm(*f)),
-                    None => Ok(false),
-                };
+                return Ok(false);
             };
             self.blk_number = None;
             match self.segment(start, end) {
@@ -286,6 +302,16 @@ impl<'a> Interpreter<'a> {
                 }
             }
         }
+    }
+
+    /// SINUMERIK, at the main program's end: the rest of its text read for structures.
+    #[cold]
+    #[inline(never)]
+    fn main_program_ends(&mut self) -> Result<(), Alarm> {
+        self.structure_end().map_err(|f| {
+            self.finished = true;
+            self.alarm(*f)
+        })
     }
 
     /// SINUMERIK, before the first block: the program's structures and labels.
@@ -321,6 +347,34 @@ impl<'a> Interpreter<'a> {
             && self.corners.is_none()
     }
 
+    /// The end of the running program's text: true if reading goes on in the caller (a
+    /// SINUMERIK or 840C subprogram returns there); else the program's end, or the alarm of
+    /// a called program without M99 or of a structure left open.
+    #[cold]
+    #[inline(never)]
+    fn text_ends(&mut self) -> Result<bool, Alarm> {
+        if self.calls.depth() > 0 && self.d.has_subprogram_end() {
+            return match self.implicit_return() {
+                Ok(()) => Ok(true),
+                Err(f) => {
+                    self.finished = true;
+                    Err(self.alarm(*f))
+                }
+            };
+        }
+        self.finished = true;
+        if let Some(f) = self.called_program_ends() {
+            return Err(self.alarm(*f));
+        }
+        if let Some(f) = self.smooth_unfinished() {
+            return Err(self.alarm(*f));
+        }
+        match self.unclosed() {
+            Some(f) => Err(self.alarm(*f)),
+            None => Ok(false),
+        }
+    }
+
     /// At the end of a called program's text: it has no M99 (a fault at its O line).
     #[cold]
     fn called_program_ends(&mut self) -> Option<Box<Fault>> {
@@ -345,13 +399,21 @@ impl<'a> Interpreter<'a> {
     /// a plain block or the words and the build.
     #[inline]
     fn segment(&mut self, start: usize, end: usize) -> R<bool> {
+        if start >= self.frontier.0 && self.calls.running.program == 0 {
+            self.structure_to(start)?;
+        }
         let mut c = Cursor::new(self.src, start, end);
         if !self.block_start(&mut c) {
             return Ok(false);
         }
         self.block.program = self.calls.running.program;
         let block_col = c.i;
-        self.blk_number = if self.d.main_block_colon {
+        // SINUMERIK: `NAME…` is a name (a variable, a program), not the block number N.
+        let name = self.d.sinumerik
+            && matches!(c.peek_at(1), Some(b) if b.is_ascii_alphabetic() || b == b'_');
+        self.blk_number = if name {
+            None
+        } else if self.d.main_block_colon {
             read_main_or_block_number(&mut c)?
         } else {
             read_block_number(&mut c)?

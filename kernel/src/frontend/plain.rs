@@ -69,10 +69,15 @@ impl Interpreter<'_> {
             return false;
         };
         self.block.program = self.calls.running.program;
+        let start = self.pos;
         // As `next_segment` leaves it after a line.
         self.pos = end + 1;
         self.line += 1;
         self.line_start = self.pos;
+        if start == self.frontier.0 && self.calls.running.program == 0 {
+            // SINUMERIK: a plain block holds no structure word and no label: read.
+            self.frontier = (self.pos, self.line, self.line_start);
+        }
         true
     }
 

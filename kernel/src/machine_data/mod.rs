@@ -145,9 +145,9 @@ pub struct ProgramData {
     /// away from the wall after orienting the spindle (Fanuc G76/G87, parameter RD1/RD2).
     #[serde(default)]
     pub boring_shift: BoringShift,
-    /// Folders searched for subprogram files (`O1000.nc`) after the program's own folder,
-    /// in order (Fanuc M98/G65 P; kernel/src/programs.rs). Relative paths count from the
-    /// working directory.
+    /// Folders searched for subprogram files (`O1000.nc`, `NAME.SPF`) after the program's
+    /// own folder, in order (Fanuc M98/G65 P, SINUMERIK calls; kernel/src/programs.rs).
+    /// Relative paths count from the working directory.
     #[serde(default)]
     pub search_path: Vec<String>,
 }

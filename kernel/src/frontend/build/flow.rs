@@ -3,7 +3,7 @@
 //! addresses carry instead of a position.
 
 use super::super::block::*;
-use super::super::calls::{CallKind, Pending};
+use super::super::calls::{Args, CallKind, Pending, Target};
 use super::super::fault::{fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::macro_b::expr;
@@ -41,7 +41,12 @@ impl Interpreter<'_> {
         let mut spindle = None;
         for m in &w.m {
             match self.d.mcode(m.value).map(|def| def.effect) {
+                // SINUMERIK, 840C: M2/M30 in a called program end it like M17.
+                Some(MEffect::Stop(s)) if s.ends_program() && self.returns_at_end() => {
+                    self.subprogram_end(m.at)?
+                }
                 Some(MEffect::Stop(s)) => self.program_stop(s, m.at)?,
+                Some(MEffect::SubprogramEnd) => self.subprogram_end(m.at)?,
                 Some(MEffect::Spindle(dir)) => {
                     if spindle.is_some_and(|d| d != dir) {
                         return Err(fault(
@@ -62,17 +67,41 @@ impl Interpreter<'_> {
             }
         }
         if self.calls.pending.is_some() {
-            // M98/M99 act in the control; they go to no PLC.
+            // Calls and returns (M98, M99, M17) act in the control; they go to no PLC.
             let d = self.d;
+            let returning = matches!(self.calls.pending, Some(Pending::Return { .. }))
+                && d.has_subprogram_end();
             self.block.words.retain(|x| {
                 x.address != b'M'
-                    || !matches!(
-                        d.mcode(x.value).map(|def| def.effect),
-                        Some(MEffect::Call | MEffect::Return)
-                    )
+                    || !match d.mcode(x.value).map(|def| def.effect) {
+                        Some(MEffect::Call | MEffect::Return | MEffect::SubprogramEnd) => true,
+                        Some(MEffect::Stop(s)) => returning && s.ends_program(),
+                        _ => false,
+                    }
             });
         }
         Ok(())
+    }
+
+    /// A program end in a called program returns to the caller (a dialect with M17).
+    fn returns_at_end(&self) -> bool {
+        self.calls.depth() > 0 && self.d.has_subprogram_end()
+    }
+
+    /// M17 (or M2/M30 in a called program): back to the caller when the block is complete;
+    /// in the main program the program's end (Fundamentals, "Program end": M2, M17, M30).
+    fn subprogram_end(&mut self, at: u32) -> R<()> {
+        if self.calls.depth() == 0 {
+            return self.program_stop(ProgramStop::End, at);
+        }
+        let to = None;
+        self.set_pending(
+            Pending::Return {
+                to,
+                at: at as usize,
+            },
+            at,
+        )
     }
 
     /// M98 P… (L…): the call runs when the block is complete. A P of more than four digits
@@ -95,10 +124,10 @@ impl Interpreter<'_> {
         };
         let number = program_number(number as f64, p.pos())?;
         let call = Pending::Call {
-            number,
+            target: Target::Number(number),
             repeats,
             kind: CallKind::Subprogram,
-            args: Box::new([None; crate::frontend::macro_b::LOCALS]),
+            args: Args::Locals(Box::new([None; crate::frontend::macro_b::LOCALS])),
             at: p.pos(),
         };
         self.set_pending(call, at)

@@ -262,25 +262,45 @@ impl Interpreter<'_> {
         self.block.words.clear();
     }
 
-    /// After a block is complete: the call or return it asked for (M98, M99), or the G66
-    /// modal call after a move.
+    /// After a block is complete: the call or return it asked for (M98, M99, M17), or the
+    /// G66 or MCALL modal call after a move.
     #[inline(always)]
     pub(in crate::frontend) fn after_block(&mut self) -> R<()> {
         if self.calls.pending.is_none() {
-            let Some(call) = &self.calls.modal else {
-                return Ok(());
-            };
-            if self.block.motion.is_none() || self.calls.in_modal_call() || self.finished {
+            if self.calls.modal.is_none() {
                 return Ok(());
             }
-            self.calls.pending = Some(super::calls::Pending::Call {
-                number: call.number,
-                repeats: call.repeats,
-                kind: super::calls::CallKind::Modal,
-                args: Box::new(call.args),
-                at: self.blk_line_start,
-            });
+            return self.modal_call_after_move();
         }
+        self.run_pending()
+    }
+
+    /// G66 or MCALL: the modal call after a block that moves (not inside the called
+    /// program).
+    #[inline(never)]
+    fn modal_call_after_move(&mut self) -> R<()> {
+        let Some(call) = &self.calls.modal else {
+            return Ok(());
+        };
+        if std::mem::take(&mut self.sinumerik.modal_cycle_running) {
+            // The end of the cycle an MCALL started: it calls nothing again.
+            return Ok(());
+        }
+        if self.block.motion.is_none() || self.calls.in_modal_call() || self.finished {
+            return Ok(());
+        }
+        use super::calls::{Args, CallKind, Pending};
+        let kind = match call.args {
+            Args::Params(_) => CallKind::Procedure { modal: true },
+            Args::Locals(_) => CallKind::Modal,
+        };
+        self.calls.pending = Some(Pending::Call {
+            target: call.target.clone(),
+            repeats: call.repeats,
+            kind,
+            args: call.args.clone(),
+            at: self.blk_line_start,
+        });
         self.run_pending()
     }
 }

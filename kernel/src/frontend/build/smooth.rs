@@ -575,6 +575,9 @@ impl<'a> Interpreter<'a> {
         if let Some(what) = sar_block_alone(w, g) {
             return Some(what.to_string());
         }
+        if self.calls.modal.is_some() {
+            return Some("a modal call (MCALL)".to_string());
+        }
         let framed = self.framed() && !self.frame_rigid(new.plane);
         if framed || self.machine_coordinates || self.corners.is_some() {
             return Some("a frame that scales, mirrors or tilts, machine coordinates, or a pending chamfer or rounding".to_string());

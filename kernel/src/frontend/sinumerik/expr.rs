@@ -18,6 +18,17 @@ pub fn eval(c: &mut Cursor, store: &Store) -> R<f64> {
     Parser { store, depth: 0 }.comparison(c)
 }
 
+/// An arithmetic expression without comparisons: a term of a string concatenation, which
+/// ends at `<<`.
+pub fn eval_term(c: &mut Cursor, store: &Store) -> R<f64> {
+    Parser { store, depth: 0 }.level(c, 0)
+}
+
+/// An array element's indices `[i]`, `[i, j]` or `[i, j, k]` (the cursor on `[`).
+pub fn indices(c: &mut Cursor, store: &Store) -> R<heapless::Vec<f64, 3>> {
+    Parser { store, depth: 0 }.indices(c)
+}
+
 pub fn truthy(v: f64) -> bool {
     v != 0.0
 }
@@ -98,9 +109,9 @@ impl Parser<'_> {
                 (Some(b'>'), Some(b'=')) => b">=",
                 (Some(b'<'), Some(b'<')) => {
                     return Err(fault(
-                        AlarmCode::NotSupported,
+                        AlarmCode::Syntax,
                         c.i,
-                        "string concatenation << is not supported",
+                        "<< joins strings: only in MSG(…) and STRING assignments",
                     ))
                 }
                 (Some(b'<'), _) => b"<",
@@ -217,6 +228,10 @@ impl Parser<'_> {
         if let Some(n) = r_number(&name) {
             return self.store.r(n, at);
         }
+        if c.peek() == Some(b'[') && self.store.is_array(&name) {
+            let idx = self.indices(c)?;
+            return self.store.element(&name, &idx, at);
+        }
         if name == "R" && c.peek() == Some(b'[') {
             c.i += 1;
             let n = self.comparison(c)?;
@@ -279,6 +294,28 @@ impl Parser<'_> {
             return Ok(Index::Axis(l));
         }
         Ok(Index::Number(self.comparison(c)?))
+    }
+
+    /// `[e1, e2, …]` (the cursor on `[`): at most three indices.
+    fn indices(&mut self, c: &mut Cursor) -> R<heapless::Vec<f64, 3>> {
+        c.i += 1;
+        let mut idx = heapless::Vec::new();
+        loop {
+            let at = c.i;
+            let v = self.comparison(c)?;
+            if idx.push(v).is_err() {
+                return Err(fault(AlarmCode::Syntax, at, "more than three indices"));
+            }
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') => c.i += 1,
+                Some(b']') => {
+                    c.i += 1;
+                    return Ok(idx);
+                }
+                _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ']' expected")),
+            }
+        }
     }
 
     /// Arguments up to the closing bracket (the opening one is read).

@@ -8,7 +8,7 @@ use super::super::interpreter::Interpreter;
 use super::super::lexer::Cursor;
 use super::expr::{self, identifier, r_number, truthy};
 use super::structure::{Link, Mark, Structure};
-use super::{Store, Type};
+use super::{Store, Type, MAX_ELEMENTS};
 use crate::alarm::AlarmCode;
 
 /// The words that start a statement block.
@@ -44,6 +44,10 @@ pub enum Keyword {
     AScale,
     Mirror,
     AMirror,
+    Proc,
+    Extern,
+    Mcall,
+    Ret,
 }
 
 const KEYWORDS: &[(&str, Keyword)] = &[
@@ -85,6 +89,10 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("ASCALE", Keyword::AScale),
     ("MIRROR", Keyword::Mirror),
     ("AMIRROR", Keyword::AMirror),
+    ("PROC", Keyword::Proc),
+    ("EXTERN", Keyword::Extern),
+    ("MCALL", Keyword::Mcall),
+    ("RET", Keyword::Ret),
 ];
 
 impl Keyword {
@@ -211,11 +219,22 @@ pub fn jump_in(c: &Cursor) -> Option<usize> {
     None
 }
 
-/// The language's state in the interpreter: the variables and the program's structure.
+/// The language's state in the interpreter: the variables, and the structure of each program
+/// text that ran (index: the program's file, 0 the main program's; calls.rs `Running`).
 #[derive(Clone, Debug, Default)]
 pub struct Sinumerik {
     pub store: Store,
-    pub structure: Structure,
+    pub structures: Vec<Option<Structure>>,
+    /// The moves of an MCALL'd cycle are being handed out: the block that ends them is no
+    /// move that calls again.
+    pub modal_cycle_running: bool,
+}
+
+impl Sinumerik {
+    /// The structure of program text `program`, if it was read.
+    pub fn structure(&self, program: u16) -> Option<&Structure> {
+        self.structures.get(program as usize)?.as_ref()
+    }
 }
 
 impl Interpreter<'_> {
@@ -224,21 +243,131 @@ impl Interpreter<'_> {
     pub(in crate::frontend) fn read_structure(&mut self) -> R<()> {
         self.structure_pending = false;
         let end = self.src.len();
-        match Structure::of(self.src, self.pos, end, self.line) {
-            Ok(s) => {
-                self.sinumerik.structure = s;
+        let mut s = Structure::new(self.pos, end, self.line);
+        let from = (self.pos, self.line, self.line_start);
+        // The first block now (a PROC line declares parameters); the rest as it is reached.
+        self.frontier = s
+            .read_first_block(self.src, from)
+            .map_err(|e| self.located(e))?;
+        // The main program's parameters (PROC MAIN(REAL A)): no caller gives them, they are 0.
+        if let Some(decl) = &s.proc {
+            let params: Vec<_> = decl
+                .params
+                .iter()
+                .map(|f| super::Param {
+                    name: f.name.clone(),
+                    ty: f.ty,
+                    value: super::Binding::Value(0.0),
+                })
+                .collect();
+            self.sinumerik.store.declare(&params, decl.name_at)?;
+        }
+        self.keep_structure(self.calls.running.program, s);
+        Ok(())
+    }
+
+    /// Keeps the structure of program text `program`.
+    pub(in crate::frontend) fn keep_structure(&mut self, program: u16, s: Structure) {
+        let k = program as usize;
+        let all = &mut self.sinumerik.structures;
+        if all.len() <= k {
+            all.resize_with(k + 1, || None);
+        }
+        all[k] = Some(s);
+    }
+
+    /// A fault of the structure read, at its block of the running program's text.
+    pub(in crate::frontend) fn located(&mut self, e: super::structure::Located) -> Box<Fault> {
+        let (f, line, line_start) = e;
+        (self.blk_line, self.blk_line_start) = (line, line_start);
+        let mut c = Cursor::new(self.src, line_start, self.src.len());
+        c.skip_blanks();
+        self.blk_number = super::super::block_text::read_block_number(&mut c)
+            .ok()
+            .flatten();
+        f
+    }
+
+    /// The link of the structure word in the block at `start` of the running program: an
+    /// opening word's link is known once its structure closes, so the main program's text
+    /// is read on until then.
+    fn link(&mut self, word: Keyword, c: &Cursor, start: usize) -> R<Option<Link>> {
+        let ahead = match word {
+            Keyword::If => jump_in(c).is_none(),
+            _ => matches!(word, Keyword::Else | Keyword::While | Keyword::For),
+        };
+        if ahead {
+            self.structure_until(|s| s.link(start).is_some())?;
+        }
+        let program = self.calls.running.program;
+        Ok(self
+            .sinumerik
+            .structure(program)
+            .and_then(|s| s.link(start)))
+    }
+
+    /// The main program's text read on to the line at `start` (before its block runs).
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn structure_to(&mut self, start: usize) -> R<()> {
+        let Some(s) = self
+            .sinumerik
+            .structures
+            .first_mut()
+            .and_then(Option::as_mut)
+        else {
+            return Ok(());
+        };
+        match s.read(self.src, self.frontier, start) {
+            Ok(at) => {
+                self.frontier = at;
                 Ok(())
             }
-            Err((f, line, line_start)) => {
-                (self.blk_line, self.blk_line_start) = (line, line_start);
-                let mut c = Cursor::new(self.src, line_start, self.src.len());
-                c.skip_blanks();
-                self.blk_number = super::super::block_text::read_block_number(&mut c)
-                    .ok()
-                    .flatten();
-                Err(f)
-            }
+            Err(e) => Err(self.located(e)),
         }
+    }
+
+    /// The main program's text read on, line by line, until `done` holds or it is all
+    /// read (then checked: nothing may be left open). Only while the main program runs.
+    fn structure_until(&mut self, done: impl Fn(&Structure) -> bool) -> R<()> {
+        if self.calls.running.program != 0 {
+            return Ok(());
+        }
+        loop {
+            let Some(s) = self
+                .sinumerik
+                .structures
+                .first_mut()
+                .and_then(Option::as_mut)
+            else {
+                return Ok(());
+            };
+            if done(s) || s.complete() {
+                return Ok(());
+            }
+            if self.frontier.0 >= s.end() {
+                return self.structure_end();
+            }
+            let read = s.read(self.src, self.frontier, self.frontier.0);
+            self.frontier = read.map_err(|e| self.located(e))?;
+        }
+    }
+
+    /// At the main program's end: the rest of its text read and checked.
+    #[cold]
+    #[inline(never)]
+    pub(in crate::frontend) fn structure_end(&mut self) -> R<()> {
+        let at = self.frontier;
+        self.frontier.0 = usize::MAX;
+        let Some(s) = self
+            .sinumerik
+            .structures
+            .first_mut()
+            .and_then(Option::as_mut)
+        else {
+            return Ok(());
+        };
+        s.finish(self.src, at).map_err(|e| self.located(e))
     }
 
     /// Runs the statement block at `start` (its words from the cursor, after the number and
@@ -249,7 +378,7 @@ impl Interpreter<'_> {
         start: usize,
     ) -> R<bool> {
         let Some(word) = Keyword::at(&c) else {
-            return Ok(false);
+            return self.call_block(c);
         };
         let at = c.i;
         if word == Keyword::Cycle {
@@ -258,7 +387,7 @@ impl Interpreter<'_> {
             return Ok(true);
         }
         c.i += word.text().len();
-        let link = self.sinumerik.structure.link(start);
+        let link = self.link(word, &c, start)?;
         match (word, link) {
             (Keyword::If, _) => self.if_block(&mut c, link, start, at)?,
             (Keyword::Else, Some(Link::Else { after_end })) => self.go(after_end, at, false)?,
@@ -292,6 +421,14 @@ impl Interpreter<'_> {
             }
             (Keyword::Msg, _) => return self.msg(&mut c, at).map(|()| true),
             (Keyword::Setal, _) => return Err(self.setal(&mut c, at)),
+            // Read with the structure before the program ran; bound by the call.
+            (Keyword::Proc, _) => {}
+            (Keyword::Extern, _) => super::calls::extern_declaration(&mut c)?,
+            (Keyword::Mcall, _) => self.mcall(&mut c)?,
+            (Keyword::Ret, _) => {
+                self.end_of_statement(&mut c)?;
+                return self.ret_statement(at);
+            }
             (w, _) if w.is_frame() => self.frame_statement(w, &mut c, at)?,
             _ => {
                 return Err(fault(
@@ -311,7 +448,7 @@ impl Interpreter<'_> {
         Ok(v)
     }
 
-    fn end_of_statement(&self, c: &mut Cursor) -> R<()> {
+    pub(in crate::frontend) fn end_of_statement(&self, c: &mut Cursor) -> R<()> {
         c.skip_blanks();
         match c.peek() {
             None | Some(b';') => Ok(()),
@@ -493,7 +630,22 @@ impl Interpreter<'_> {
         start: usize,
         at: usize,
     ) -> R<()> {
-        let s = &self.sinumerik.structure;
+        if word != Keyword::GotoB
+            && target
+                .strip_prefix('N')
+                .is_none_or(|n| n.parse::<u32>().is_err())
+        {
+            // A label ahead: the text is read on until one is known after the jump.
+            self.structure_until(|s| s.labels(target).iter().any(|m| m.0 > start))?;
+        }
+        let program = self.calls.running.program;
+        let Some(s) = self.sinumerik.structure(program) else {
+            return Err(fault(
+                AlarmCode::JumpTarget,
+                target_at,
+                "no jump destinations",
+            ));
+        };
         let found = match target.strip_prefix('N').and_then(|n| n.parse::<u32>().ok()) {
             Some(n) => s.numbered(self.src, n, start),
             None => {
@@ -541,11 +693,14 @@ impl Interpreter<'_> {
         c.skip_blanks();
         let ty_at = c.i;
         let ty_name = identifier(c);
+        if ty_name == "STRING" {
+            return self.string_definition(c);
+        }
         let ty = Type::of(&ty_name).ok_or_else(|| {
             fault(
                 AlarmCode::NotSupported,
                 ty_at,
-                format!("DEF {ty_name}: the types are INT, REAL and BOOL"),
+                format!("DEF {ty_name}: the types are INT, REAL, BOOL and STRING (CHAR, AXIS and FRAME are not built)"),
             )
         })?;
         loop {
@@ -561,18 +716,15 @@ impl Interpreter<'_> {
             }
             c.skip_blanks();
             if c.peek() == Some(b'[') {
-                return Err(fault(
-                    AlarmCode::NotSupported,
-                    c.i,
-                    "arrays are not supported",
-                ));
+                self.array_definition(c, &name, ty, name_at)?;
+            } else {
+                let mut v = 0.0;
+                if c.peek() == Some(b'=') {
+                    c.i += 1;
+                    v = expr::eval(c, &self.sinumerik.store)?;
+                }
+                self.sinumerik.store.define(&name, ty, v, name_at)?;
             }
-            let mut v = 0.0;
-            if c.peek() == Some(b'=') {
-                c.i += 1;
-                v = expr::eval(c, &self.sinumerik.store)?;
-            }
-            self.sinumerik.store.define(&name, ty, v, name_at)?;
             c.skip_blanks();
             match c.peek() {
                 Some(b',') => c.i += 1,
@@ -582,9 +734,171 @@ impl Interpreter<'_> {
         self.end_of_statement(c)
     }
 
+    /// `NAME[d1, d2, d3]` with `=SET(v, …)` (the first elements, row by row) or `=REP(v)`
+    /// (every element) or nothing (zeros): Job planning, "Definition and initialization of
+    /// array variables".
+    fn array_definition(&mut self, c: &mut Cursor, name: &str, ty: Type, at: usize) -> R<()> {
+        let dims_at = c.i;
+        let mut dims = heapless::Vec::new();
+        for d in expr::indices(c, &self.sinumerik.store)? {
+            if d < 1.0 || d.fract() != 0.0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    dims_at,
+                    format!("array dimension {d}: a whole number ≥ 1"),
+                ));
+            }
+            let _ = dims.push(d.min(1e9) as usize);
+        }
+        let n = dims
+            .iter()
+            .try_fold(1usize, |n, &d| n.checked_mul(d))
+            .filter(|&n| n <= MAX_ELEMENTS);
+        let Some(n) = n else {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                dims_at,
+                format!("more than {MAX_ELEMENTS} elements in one array"),
+            ));
+        };
+        let mut start = vec![0.0; n];
+        c.skip_blanks();
+        if c.peek() == Some(b'=') {
+            c.i += 1;
+            c.skip_blanks();
+            let (rep, list_at) = (c.keyword("REP"), c.i);
+            if !(rep || c.keyword("SET")) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    c.i,
+                    "SET(values) or REP(value) expected",
+                ));
+            }
+            c.i += 3;
+            let values = self.value_list(c)?;
+            match (rep, values.as_slice()) {
+                (true, [v]) => start.fill(*v),
+                (false, v) if v.len() <= n => start[..v.len()].copy_from_slice(v),
+                _ => {
+                    return Err(fault(
+                        AlarmCode::Syntax,
+                        list_at,
+                        format!("REP takes one value, SET at most {n}"),
+                    ))
+                }
+            }
+        }
+        let array = super::Array::new(dims, start.into_boxed_slice());
+        self.sinumerik.store.define_array(name, ty, array, at)
+    }
+
+    /// `DEF STRING[n] NAME="text", …` (Job planning, "Variable types": at most n
+    /// characters, n from 1 to 200 **[unconfirmed]**).
+    fn string_definition(&mut self, c: &mut Cursor) -> R<()> {
+        c.skip_blanks();
+        let len_at = c.i;
+        let max = match c.peek() {
+            Some(b'[') => expr::indices(c, &self.sinumerik.store)?,
+            _ => return Err(fault(AlarmCode::Syntax, len_at, "STRING[length] expected")),
+        };
+        let max = match max.as_slice() {
+            [n] if (1.0..=200.0).contains(n) && n.fract() == 0.0 => *n as usize,
+            _ => {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    len_at,
+                    "a STRING's length is 1 … 200",
+                ))
+            }
+        };
+        loop {
+            c.skip_blanks();
+            let name_at = c.i;
+            let name = identifier(c);
+            if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    name_at,
+                    format!("'{name}' is no variable name"),
+                ));
+            }
+            c.skip_blanks();
+            let mut text = String::new();
+            if c.peek() == Some(b'=') {
+                c.i += 1;
+                text = self.string_expr(c)?;
+            }
+            self.sinumerik
+                .store
+                .define_string(&name, max, text, name_at)?;
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') => c.i += 1,
+                _ => break,
+            }
+        }
+        self.end_of_statement(c)
+    }
+
+    /// A string: texts `"…"`, STRING variables and numbers joined by `<<` (Job planning,
+    /// "String operations"; a number as written shortest: 5, 2.5 **[unconfirmed]**).
+    pub(in crate::frontend) fn string_expr(&mut self, c: &mut Cursor) -> R<String> {
+        let mut out = String::new();
+        loop {
+            c.skip_blanks();
+            if c.peek() == Some(b'"') {
+                out.push_str(&quoted(c)?);
+            } else {
+                let mut probe = *c;
+                let name = identifier(&mut probe);
+                match self.sinumerik.store.string(&name) {
+                    Some(t) => {
+                        out.push_str(t);
+                        *c = probe;
+                    }
+                    None => {
+                        let v = expr::eval_term(c, &self.sinumerik.store)?;
+                        out.push_str(&format!("{v}"));
+                    }
+                }
+            }
+            c.skip_blanks();
+            if (c.peek(), c.peek_at(1)) != (Some(b'<'), Some(b'<')) {
+                return Ok(out);
+            }
+            c.i += 2;
+        }
+    }
+
+    /// `(v1, v2, …)`: expressions (at most [`MAX_ELEMENTS`]).
+    fn value_list(&mut self, c: &mut Cursor) -> R<Vec<f64>> {
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
+        }
+        c.i += 1;
+        let mut out = Vec::new();
+        loop {
+            out.push(expr::eval(c, &self.sinumerik.store)?);
+            c.skip_blanks();
+            match c.peek() {
+                Some(b',') if out.len() < MAX_ELEMENTS => c.i += 1,
+                Some(b')') => {
+                    c.i += 1;
+                    return Ok(out);
+                }
+                _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
+            }
+        }
+    }
+
     /// A block of its own for the statement at `at`: STOPRE stops preprocessing there, MSG
     /// carries its text (the operator's message, warning 65001).
-    fn statement_block(&mut self, at: usize, message: Option<Box<str>>) -> R<()> {
+    pub(in crate::frontend) fn statement_block(
+        &mut self,
+        at: usize,
+        message: Option<Box<str>>,
+    ) -> R<()> {
         let col = super::super::lexer::column(self.src, self.blk_line_start, at);
         let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
         self.empty_block_at(line, col, number);
@@ -596,7 +910,22 @@ impl Interpreter<'_> {
 
     /// `MSG("text")`: the text as the block's message; `MSG()` clears it (nothing to show).
     fn msg(&mut self, c: &mut Cursor, at: usize) -> R<()> {
-        let text = parenthesised_string(c)?;
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
+        }
+        c.i += 1;
+        c.skip_blanks();
+        let text = if c.peek() == Some(b')') {
+            String::new()
+        } else {
+            self.string_expr(c)?
+        };
+        c.skip_blanks();
+        if c.peek() != Some(b')') {
+            return Err(fault(AlarmCode::Syntax, c.i, "')' expected"));
+        }
+        c.i += 1;
         self.end_of_statement(c)?;
         self.statement_block(at, None)?;
         self.block.preprocess_stop = false;
@@ -633,7 +962,7 @@ impl Interpreter<'_> {
 
 /// A user variable's name: its first two characters letters or `_` (Fundamentals, "Names"),
 /// no R parameter, no function, no constant.
-fn valid_name(name: &str) -> bool {
+pub fn valid_name(name: &str) -> bool {
     let b = name.as_bytes();
     b.len() >= 2
         && b[..2].iter().all(|c| c.is_ascii_alphabetic() || *c == b'_')
@@ -661,36 +990,22 @@ fn to_keyword(c: &Cursor) -> Option<usize> {
     None
 }
 
-/// `("text")` or `()` at the cursor: the text.
-fn parenthesised_string(c: &mut Cursor) -> R<String> {
-    c.skip_blanks();
-    if c.peek() != Some(b'(') {
-        return Err(fault(AlarmCode::Syntax, c.i, "'(' expected"));
-    }
+/// `"text"` at the cursor (on the opening quote): the text.
+fn quoted(c: &mut Cursor) -> R<String> {
+    let open = c.i;
     c.i += 1;
-    c.skip_blanks();
-    let mut text = String::new();
-    if c.peek() == Some(b'"') {
-        let open = c.i;
+    let from = c.i;
+    while c.peek().is_some_and(|b| b != b'"') {
         c.i += 1;
-        let from = c.i;
-        while c.peek().is_some_and(|b| b != b'"') {
-            c.i += 1;
-        }
-        if c.peek() != Some(b'"') {
-            return Err(fault(
-                AlarmCode::Syntax,
-                open,
-                "string not closed with '\"'",
-            ));
-        }
-        text = String::from_utf8_lossy(&c.b[from..c.i]).into_owned();
-        c.i += 1;
-        c.skip_blanks();
     }
-    if c.peek() != Some(b')') {
-        return Err(fault(AlarmCode::Syntax, c.i, "')' expected"));
+    if c.peek() != Some(b'"') {
+        return Err(fault(
+            AlarmCode::Syntax,
+            open,
+            "string not closed with '\"'",
+        ));
     }
+    let text = String::from_utf8_lossy(&c.b[from..c.i]).into_owned();
     c.i += 1;
     Ok(text)
 }
@@ -713,6 +1028,35 @@ impl Interpreter<'_> {
             return Ok(false);
         }
         let name = String::from_utf8_lossy(span).to_ascii_uppercase();
+        if self.sinumerik.store.string(&name).is_some() {
+            probe.skip_blanks();
+            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+                return Err(fault(AlarmCode::Syntax, probe.i, "'=' expected"));
+            }
+            probe.i += 1;
+            let text = self.string_expr(&mut probe)?;
+            self.sinumerik.store.set_string(&name, text, at)?;
+            *c = probe;
+            w.calculation = true;
+            return Ok(true);
+        }
+        if probe.peek() == Some(b'[') && self.sinumerik.store.is_array(&name) {
+            let idx = expr::indices(&mut probe, &self.sinumerik.store)?;
+            probe.skip_blanks();
+            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    probe.i,
+                    "'=' expected after the element",
+                ));
+            }
+            probe.i += 1;
+            let v = expr::eval(&mut probe, &self.sinumerik.store)?;
+            self.sinumerik.store.set_element(&name, &idx, v, at)?;
+            *c = probe;
+            w.calculation = true;
+            return Ok(true);
+        }
         let index = if name == "R" && probe.peek() == Some(b'[') {
             probe.i += 1;
             let n = expr::eval(&mut probe, &self.sinumerik.store)?;

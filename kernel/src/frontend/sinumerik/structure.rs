@@ -1,11 +1,14 @@
-//! The control structures and jump labels of a whole program, read once before it starts.
+//! The control structures and jump labels of a program text, read line by line in text order
+//! as far as the program needs them, and to its end when it ends.
 //!
 //! Job planning ("Control structures") says the control matches IF/ELSE/ENDIF, WHILE/ENDWHILE,
-//! FOR/ENDFOR, REPEAT/UNTIL and LOOP/ENDLOOP as it interprets; softnc matches them all before
-//! the first block runs, so a structure left open behind an M30 is an alarm too, and running
-//! a structure is a jump to a place known in advance (no search, nothing to unwind when a
-//! GOTO leaves a loop). A block with a structure word cannot be skipped and carries no label
-//! (Job planning, "Control structures").
+//! FOR/ENDFOR, REPEAT/UNTIL and LOOP/ENDLOOP as it interprets. softnc reads every line of the
+//! text once, in order: the lines the interpreter reads itself as plain blocks are taken as
+//! read (they hold no structure word and no label); a statement's link or a forward jump's
+//! label reads on until it is known; the program's end reads the rest, so a structure left
+//! open behind an M30 is an alarm too. Running a structure is then a jump to a known place
+//! (nothing to unwind when a GOTO leaves a loop). A block with a structure word cannot be
+//! skipped and carries no label (Job planning, "Control structures").
 
 use super::super::fault::{fault, Fault};
 use super::statements::Keyword;
@@ -42,6 +45,18 @@ pub struct Structure {
     /// when a jump names one (not indexed: a program numbers every block, and the index
     /// would grow with its length).
     text: (Mark, usize),
+    /// Its PROC line, if its first block is one.
+    pub proc: Option<super::procs::ProcDecl>,
+    /// The matching while lines are still to read; `None` once the whole text is read.
+    reading: Option<Reading>,
+}
+
+/// The matching state between two reads: the structures open and whether the first block
+/// (a PROC line) is still to come.
+#[derive(Clone, Debug, Default)]
+struct Reading {
+    open: Vec<Open>,
+    first: bool,
 }
 
 /// The blocks numbered n around a place: the first in the program, the last at or before
@@ -55,6 +70,7 @@ pub struct Numbered {
 
 /// An opened structure while matching: its word, its block, its body's start, and for IF
 /// its ELSE block and what follows it.
+#[derive(Clone, Debug)]
 struct Open {
     word: Keyword,
     at: Mark,
@@ -106,29 +122,98 @@ impl Structure {
         found
     }
 
-    /// Reads `src[start..end]` block by block (first line number `line`).
-    pub fn of(src: &[u8], start: usize, end: usize, line: u32) -> Result<Structure, Located> {
-        let mut s = Structure {
+    /// The structure of `src[start..end]` (first line number `line`), nothing read yet.
+    pub fn new(start: usize, end: usize, line: u32) -> Structure {
+        Structure {
             text: ((start, line, start), end),
+            reading: Some(Reading {
+                open: Vec::new(),
+                first: true,
+            }),
             ..Structure::default()
+        }
+    }
+
+    /// The whole of `src[start..end]` read (a called program's text, when it is first
+    /// called).
+    pub fn of(src: &[u8], start: usize, end: usize, line: u32) -> Result<Structure, Located> {
+        let mut s = Structure::new(start, end, line);
+        s.finish(src, (start, line, start))?;
+        Ok(s)
+    }
+
+    /// Where the text ends.
+    pub fn end(&self) -> usize {
+        self.text.1
+    }
+
+    /// Whether the whole text is read.
+    pub fn complete(&self) -> bool {
+        self.reading.is_none()
+    }
+
+    /// Reads the lines from `at` (a line's start) whose start is at most `until`; returns
+    /// where reading stopped (the text's end at the most).
+    pub fn read(&mut self, src: &[u8], mut at: Mark, until: usize) -> Result<Mark, Located> {
+        let end = self.text.1;
+        let Some(mut r) = self.reading.take() else {
+            return Ok(at);
         };
-        let mut open: Vec<Open> = Vec::new();
-        let mut at: Mark = (start, line, start);
-        // Line ends found by SIMD search: the whole text is read once, before the first block.
-        let ends = memchr::memchr_iter(b'\n', &src[start..end]).map(|k| start + k);
-        for stop in ends.chain(std::iter::once(end)) {
-            if at.0 >= end {
-                break;
-            }
+        while at.0 < end && at.0 <= until {
+            // Line ends by SIMD search.
+            let stop = memchr::memchr(b'\n', &src[at.0..end]).map_or(end, |k| at.0 + k);
             let next: Mark = (stop + 1, at.1 + 1, stop + 1);
-            if may_hold_name(&src[at.0..stop]) {
-                if let Some((word, col)) = s.block(src, at, stop)? {
-                    s.structure_word(&mut open, word, at, next, col)?;
-                }
+            let line = self.line(src, &mut r, at, stop, next);
+            if line.is_err() {
+                self.reading = Some(r);
+                return line.map(|()| at);
             }
             at = next;
         }
-        match open.pop() {
+        self.reading = Some(r);
+        Ok(at)
+    }
+
+    /// The line `src[at..stop]` into the matching.
+    fn line(
+        &mut self,
+        src: &[u8],
+        r: &mut Reading,
+        at: Mark,
+        stop: usize,
+        next: Mark,
+    ) -> Result<(), Located> {
+        if r.first && holds_block(&src[at.0..stop]) {
+            r.first = false;
+            self.proc = proc_line(src, at, stop)?;
+            if self.proc.is_some() {
+                return Ok(());
+            }
+        }
+        if may_hold_name(&src[at.0..stop]) {
+            if let Some((word, col)) = self.block(src, at, stop)? {
+                self.structure_word(&mut r.open, word, at, next, col)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads from `at` until the first block (a PROC line) is read; returns where it stopped.
+    pub fn read_first_block(&mut self, src: &[u8], mut at: Mark) -> Result<Mark, Located> {
+        while self.reading.as_ref().is_some_and(|r| r.first) && at.0 < self.text.1 {
+            at = self.read(src, at, at.0)?;
+        }
+        Ok(at)
+    }
+
+    /// Reads the rest of the text from `at`: a structure still open is a fault at its
+    /// opening statement.
+    pub fn finish(&mut self, src: &[u8], at: Mark) -> Result<(), Located> {
+        self.read(src, at, usize::MAX)?;
+        let Some(mut r) = self.reading.take() else {
+            return Ok(());
+        };
+        match r.open.pop() {
             Some(o) => Err((
                 fault(
                     AlarmCode::ControlNesting,
@@ -138,7 +223,7 @@ impl Structure {
                 o.at.1,
                 o.at.2,
             )),
-            None => Ok(s),
+            None => Ok(()),
         }
     }
 
@@ -170,6 +255,10 @@ impl Structure {
         let label_at = c.i;
         let label = label(&mut c);
         let col = c.i;
+        if Keyword::at(&c) == Some(Keyword::Proc) {
+            let message = "PROC must be the program's first block, without a label or skip mark";
+            return Err((fault(AlarmCode::Syntax, col, message), at.1, at.2));
+        }
         let Some(word) = Keyword::at(&c).filter(|w| w.is_structure() && !is_short_if(*w, &c))
         else {
             if let Some(name) = label {
@@ -292,6 +381,30 @@ fn may_hold_name(b: &[u8]) -> bool {
     match b.get(i) {
         Some(b'/' | b':' | b'N' | b'n') => true,
         c => name(c) && name(b.get(i + 1)),
+    }
+}
+
+/// Whether a line holds a block: not blank, no comment alone, no `%` header.
+fn holds_block(b: &[u8]) -> bool {
+    let first = b.iter().find(|&&c| !matches!(c, b' ' | b'\t' | b'\r'));
+    !matches!(first, None | Some(b';' | b'%'))
+}
+
+/// The program's first block, when it is a PROC line (after its block number, if any).
+fn proc_line(src: &[u8], at: Mark, stop: usize) -> Result<Option<super::procs::ProcDecl>, Located> {
+    let mut c = super::super::lexer::Cursor::new(src, at.0, stop);
+    c.skip_blanks();
+    block_number(&mut c);
+    if Keyword::at(&c) != Some(Keyword::Proc) {
+        return Ok(None);
+    }
+    c.i += Keyword::Proc.text().len();
+    match super::procs::read(&mut c) {
+        Ok(decl) => Ok(Some(super::procs::ProcDecl {
+            line: (at.1, at.2),
+            ..decl
+        })),
+        Err(f) => Err((f, at.1, at.2)),
     }
 }
 

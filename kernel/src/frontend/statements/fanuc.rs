@@ -14,7 +14,7 @@
 //! Loops nest three deep; a jump out of a loop is allowed. Every backward jump and every
 //! loop pass counts against `program.max_loop_iterations`, so no program runs for ever.
 
-use super::super::calls::{CallKind, DoLoop, Mark, ModalCall, Pending};
+use super::super::calls::{Args, CallKind, DoLoop, Mark, ModalCall, Pending, Target};
 use super::super::fault::{fault, Fault, R};
 use super::super::interpreter::Interpreter;
 use super::super::lexer::Cursor;
@@ -337,16 +337,17 @@ impl Interpreter<'_> {
         })?;
         if modal {
             self.calls.modal = Some(ModalCall {
-                number,
+                target: Target::Number(number),
                 repeats: call.repeats,
-                args: call.args,
+                args: Args::Locals(Box::new(call.args)),
+                depth: self.calls.depth(),
             });
         } else {
             self.calls.pending = Some(Pending::Call {
-                number,
+                target: Target::Number(number),
                 repeats: call.repeats,
                 kind: CallKind::Macro,
-                args: Box::new(call.args),
+                args: Args::Locals(Box::new(call.args)),
                 at,
             });
             self.run_pending()?;

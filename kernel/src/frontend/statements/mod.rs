@@ -7,6 +7,7 @@
 //! - [`fanuc`]: Fanuc Custom Macro B `#i = …`, `IF`, `GOTO`, `WHILE … DO`/`END`, G65/G66.
 //! - [`siemens_840c`]: the 840C's R parameters (`R1=…`, `X R1`) and `@` commands with
 //!   operands; they stand among a block's words, so the word loop reads them.
+//! - SINUMERIK statements and calls (also the 840C's `L123 P3`: sinumerik/calls.rs) are in `sinumerik/`.
 
 pub(super) mod fanuc;
 pub(super) mod isg;
@@ -24,6 +25,7 @@ impl Interpreter<'_> {
         (self.d.variables && c.peek() == Some(b'$'))
             || (self.d.macro_b && self.is_macro_statement(c))
             || (self.d.sinumerik && super::sinumerik::statements::Keyword::at(c).is_some())
+            || ((self.d.sinumerik || self.d.l_calls) && self.is_call(c))
     }
 
     /// Runs a statement block whose text starts at `start`; true if it produced a block (a
@@ -44,6 +46,9 @@ impl Interpreter<'_> {
                 return Ok(true);
             }
             return Ok(produced);
+        }
+        if self.d.l_calls {
+            return self.call_block(c);
         }
         self.present_state_read.set(false);
         // The statement's own place: a jump, a skipped loop or a call moves the reading on.

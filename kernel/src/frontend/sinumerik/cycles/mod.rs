@@ -80,7 +80,7 @@ impl CycleName {
 /// A call's parameters as written: position k is `None` where it was left empty (`, ,`) or
 /// beyond the last one written; an empty position counts as 0 (Job planning, "Subprograms
 /// with parameter transfer").
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
     v: [Option<f64>; MAX_PARAMS],
     /// Where each parameter stands (for alarms).
@@ -281,6 +281,25 @@ impl Interpreter<'_> {
     /// A drilling cycle call `CYCLE8x(…)` at the cursor (its name): the hole where the tool
     /// stands, its first step into the block being built.
     pub(in crate::frontend) fn drilling_cycle(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        let (name, p) = self.cycle_call(c, at)?;
+        let mut new = self.block.modal;
+        let run = self.cycle_run(name, p, &new)?;
+        let col = super::super::lexer::column(self.src, self.blk_line_start, at);
+        let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
+        self.empty_block_at(line, col, number);
+        self.block.program = program;
+        self.expansion = Some(super::super::build::Expansion::cycle(run));
+        self.expand_first(&mut new);
+        self.block.modal = new;
+        Ok(())
+    }
+
+    /// A cycle's name and parameters at the cursor (`MCALL CYCLE81(…)` reads them once).
+    pub(in crate::frontend) fn cycle_call(
+        &mut self,
+        c: &mut Cursor,
+        at: usize,
+    ) -> R<(CycleName, Params)> {
         let name = CycleName::of(super::expr::identifier_span(c)).ok_or_else(|| {
             fault(
                 AlarmCode::UndefinedName,
@@ -288,19 +307,32 @@ impl Interpreter<'_> {
                 "a drilling cycle CYCLE81 … CYCLE89 or CYCLE840",
             )
         })?;
-        let p = self.cycle_params(c, name, at)?;
-        let mut new = self.block.modal;
+        Ok((name, self.cycle_params(c, name, at)?))
+    }
+
+    /// MCALL of a cycle after a block that moved: the hole where the block ended, its steps
+    /// after the block (Job planning, "Modal subprogram call").
+    pub(in crate::frontend) fn modal_cycle(&mut self, name: CycleName, p: Params) -> R<()> {
+        let modal = self.block.modal;
+        let run = self.cycle_run(name, p, &modal)?;
+        self.expansion = Some(super::super::build::Expansion::cycle(run));
+        self.sinumerik.modal_cycle_running = true;
+        Ok(())
+    }
+
+    /// The moves of cycle `name` from where the tool stands, checked; its infeeds counted.
+    fn cycle_run(&mut self, name: CycleName, p: Params, new: &ModalState) -> R<CycleRun> {
         if new.trc != TrcSide::Off {
             return Err(fault(
                 AlarmCode::ForbiddenWithTrc,
-                at,
+                p.call,
                 format!(
                     "{} cannot run while tool radius compensation is active",
                     name.text()
                 ),
             ));
         }
-        let hole = self.hole_of(name, p, &new)?;
+        let hole = self.hole_of(name, p, new)?;
         let mut run = CycleRun {
             hole,
             at: self.cur,
@@ -315,15 +347,8 @@ impl Interpreter<'_> {
             _ => boring::bore(&mut run)?,
         };
         // Every infeed after the first is a loop pass (cycles in loops stay bounded).
-        self.add_passes(passes.saturating_sub(1), at)?;
-        let col = super::super::lexer::column(self.src, self.blk_line_start, at);
-        let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
-        self.empty_block_at(line, col, number);
-        self.block.program = program;
-        self.expansion = Some(super::super::build::Expansion::cycle(run));
-        self.expand_first(&mut new);
-        self.block.modal = new;
-        Ok(())
+        self.add_passes(passes.saturating_sub(1), p.call)?;
+        Ok(run)
     }
 
     /// `(p1, , p3 …)`: each an expression or empty; more than the cycle takes is an alarm.
