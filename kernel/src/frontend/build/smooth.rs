@@ -155,7 +155,7 @@ impl<'a> Interpreter<'a> {
             _ => None,
         });
         let intersection = self.d.initial_corner_intersection;
-        // NORM and KONT alone leave the state alone (and the stream on its fast way).
+        // NORM and KONT alone leave the state alone (and later blocks their fast way).
         let Some(s) = self.smooth.as_deref_mut() else {
             return Ok(());
         };
@@ -673,7 +673,7 @@ struct Retraction {
 }
 
 impl Interpreter<'_> {
-    /// A smooth retraction: its blocks replace the SAR block in the stream.
+    /// A smooth retraction: its blocks go out in place of its block ([`Self::smooth_built`]).
     #[allow(clippy::too_many_arguments)]
     fn retraction(
         &mut self,
