@@ -7,96 +7,23 @@
 //! Programs that run cleanly also pass `softnc check`; those that must stop name their
 //! alarm's code, line and column, and the moves made before it.
 
-use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable};
-use std::path::PathBuf;
-use std::process::Command;
+#[path = "support/corpus.rs"]
+mod corpus;
 
-type P = [f64; 3];
+use corpus::*;
+use nc_kernel::{AlarmCode, Block, MotionKind};
 
-const CORPUS: &str = "tests/corpus/siemens-808d";
-const MACHINE: &str = "config/siemens-808d.toml";
-/// Hand values agree to this (sums of decimal fractions; the trigonometry of d05).
-const TOL: f64 = 1e-9;
+const CORPUS: Corpus = Corpus {
+    dir: "tests/corpus/siemens-808d",
+    machine: "config/siemens-808d.toml",
+};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn path_of(file: &str) -> PathBuf {
-    root().join(CORPUS).join(file)
-}
-
-fn machine() -> MachineData {
-    MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-808d.toml")
-}
-
-/// The blocks up to the end or the first alarm.
 fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
-    let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let (md, tools) = (machine(), ToolTable::builtin());
-    let mut out = Vec::new();
-    for item in Interpreter::new(file, &text, &md, &tools) {
-        match item {
-            Ok(b) => out.push(b),
-            Err(a) => return (out, Some(a)),
-        }
-    }
-    (out, None)
+    CORPUS.run(file)
 }
 
-fn ends(b: &[Block]) -> Vec<P> {
-    b.iter().filter_map(|b| b.motion.map(|m| m.end)).collect()
-}
-
-fn near(a: P, b: P) -> bool {
-    (0..3).all(|i| (a[i] - b[i]).abs() <= TOL)
-}
-
-fn assert_ends(file: &str, got: &[P], want: &[P]) {
-    for (k, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!(
-            near(*g, *w),
-            "{file}: move {k}: {g:?}, by hand {w:?}\nall moves: {got:?}"
-        );
-    }
-    assert_eq!(got.len(), want.len(), "{file}: number of moves: {got:?}");
-}
-
-/// `softnc check PROGRAM --machine config/siemens-808d.toml` passes.
-fn check(file: &str) {
-    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
-        .current_dir(root())
-        .arg("check")
-        .arg(path_of(file))
-        .arg("--machine")
-        .arg(MACHINE)
-        .output()
-        .expect("softnc runs");
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{file}: {}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// A program that runs to its end: the end points by hand, and `softnc check`.
 fn clean(file: &str, want: &[P]) -> Vec<Block> {
-    let (b, alarm) = run(file);
-    if let Some(a) = alarm {
-        panic!("{file}: {a}");
-    }
-    assert_ends(file, &ends(&b), want);
-    check(file);
-    b
-}
-
-/// The block of the program's `N` word `n` (the first one produced).
-fn block<'a>(file: &str, b: &'a [Block], n: u32) -> &'a Block {
-    b.iter()
-        .find(|b| b.number.is_some_and(|x| x.value == n))
-        .unwrap_or_else(|| panic!("{file}: no block N{n}"))
+    CORPUS.clean(file, want)
 }
 
 /// The arcs' kinds and centres.

@@ -6,111 +6,23 @@
 //! found as `softnc` finds them. Programs that run cleanly also pass `softnc check`; programs
 //! that must stop name their alarm's code, line and column, and the moves made before it.
 
-use nc_kernel::{AlarmCode, Block, Interpreter, MachineData, MotionKind, ToolTable, TrcSide};
-use std::path::PathBuf;
-use std::process::Command;
+#[path = "support/corpus.rs"]
+mod corpus;
 
-type P = [f64; 3];
+use corpus::*;
+use nc_kernel::{AlarmCode, Block, MotionKind, TrcSide};
 
-const CORPUS: &str = "tests/corpus/siemens-840c";
-const MACHINE: &str = "config/siemens-840c.toml";
-/// Hand values agree to this (sums of decimal fractions, and the trigonometry of k03).
-const TOL: f64 = 1e-9;
+const CORPUS: Corpus = Corpus {
+    dir: "tests/corpus/siemens-840c",
+    machine: "config/siemens-840c.toml",
+};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn path_of(file: &str) -> PathBuf {
-    root().join(CORPUS).join(file)
-}
-
-/// The 840C's machine data with the subprogram files beside `file`.
-fn machine(file: &str) -> MachineData {
-    let mut md =
-        MachineData::load(Some(&root().join(MACHINE)), &[]).expect("config/siemens-840c.toml");
-    let library = nc_runtime::program_library(&path_of(file), &md.program.search_path);
-    md.programs = std::sync::Arc::new(library.expect("the corpus folder"));
-    md
-}
-
-/// The blocks up to the end or the first alarm.
-fn run(file: &str) -> (Vec<Block>, Option<nc_kernel::Alarm>) {
-    let text = std::fs::read_to_string(path_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let (md, tools) = (machine(file), ToolTable::builtin());
-    let mut out = Vec::new();
-    for item in Interpreter::new(file, &text, &md, &tools) {
-        match item {
-            Ok(b) => out.push(b),
-            Err(a) => return (out, Some(a)),
-        }
-    }
-    (out, None)
-}
-
-fn ends(b: &[Block]) -> Vec<P> {
-    b.iter().filter_map(|b| b.motion.map(|m| m.end)).collect()
-}
-
-fn assert_ends(file: &str, got: &[P], want: &[P]) {
-    for (k, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!(
-            (0..3).all(|i| (g[i] - w[i]).abs() <= TOL),
-            "{file}: move {k}: {g:?}, by hand {w:?}\nall moves: {got:?}"
-        );
-    }
-    assert_eq!(got.len(), want.len(), "{file}: number of moves: {got:?}");
-}
-
-/// `softnc check PROGRAM --machine config/siemens-840c.toml` passes.
-fn check(file: &str) {
-    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
-        .current_dir(root())
-        .arg("check")
-        .arg(path_of(file))
-        .arg("--machine")
-        .arg(MACHINE)
-        .output()
-        .expect("softnc runs");
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{file}: {}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// A program that runs to its end: the end points by hand, and `softnc check`.
 fn clean(file: &str, want: &[P]) -> Vec<Block> {
-    let (b, alarm) = run(file);
-    if let Some(a) = alarm {
-        panic!("{file}: {a}");
-    }
-    assert_ends(file, &ends(&b), want);
-    check(file);
-    b
+    CORPUS.clean(file, want)
 }
 
-/// A program that stops: the moves before the alarm, and the alarm's code, line and column.
 fn stops(file: &str, want: &[P], code: AlarmCode, line: u32, col: u32) -> nc_kernel::Alarm {
-    let (b, alarm) = run(file);
-    assert_ends(file, &ends(&b), want);
-    let a = alarm.unwrap_or_else(|| panic!("{file}: no alarm"));
-    assert_eq!(
-        (a.code, a.line, a.col),
-        (code, line, col),
-        "{file}: {} {a}",
-        a.number()
-    );
-    a
-}
-
-/// The block of the program's `N` (or `:`) number `n` (the first one produced).
-fn block<'a>(file: &str, b: &'a [Block], n: u32) -> &'a Block {
-    b.iter()
-        .find(|b| b.number.is_some_and(|x| x.value == n))
-        .unwrap_or_else(|| panic!("{file}: no block N{n}"))
+    CORPUS.stops(file, want, code, line, col)
 }
 
 fn numbers(b: &[Block]) -> Vec<u32> {

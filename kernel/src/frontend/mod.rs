@@ -98,6 +98,24 @@ fn run(dialect: &str, src: &str) -> Result<Vec<Block>, Alarm> {
     interpret("p", src, &md, &ToolTable::builtin())
 }
 
+/// Every move of a program that must run (`run`): its kind, end and centre.
+#[cfg(test)]
+fn moves(dialect: &str, src: &str) -> Vec<(MotionKind, Pos, Pos)> {
+    run(dialect, src)
+        .unwrap_or_else(|a| panic!("{a}"))
+        .iter()
+        .filter_map(|b| b.motion)
+        .map(|m| (m.kind, m.end, m.center))
+        .collect()
+}
+
+/// The code, line and column of the alarm a program must stop with (`run`).
+#[cfg(test)]
+fn alarm_at(dialect: &str, src: &str) -> (crate::alarm::AlarmCode, u32, u32) {
+    let a = run(dialect, src).unwrap_err();
+    (a.code, a.line, a.col)
+}
+
 /// The X of every move's end of a program that must run (`run`).
 #[cfg(test)]
 fn end_xs(dialect: &str, src: &str) -> Vec<f64> {

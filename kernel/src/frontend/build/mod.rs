@@ -25,6 +25,7 @@ mod technology;
 
 pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
+pub(in crate::frontend) use corners::Element;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};

@@ -300,17 +300,11 @@ impl Interpreter<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::run;
     use crate::alarm::AlarmCode;
-    use crate::frontend::{Block, MotionKind};
+    use crate::frontend::MotionKind;
 
     fn moves(src: &str) -> Vec<(MotionKind, [f64; 3], [f64; 3])> {
-        run("siemens-840d", src)
-            .unwrap_or_else(|a| panic!("{a}"))
-            .iter()
-            .filter_map(|b: &Block| b.motion)
-            .map(|m| (m.kind, m.end, m.center))
-            .collect()
+        super::super::super::moves("siemens-840d", src)
     }
 
     fn near(a: [f64; 3], b: [f64; 3]) -> bool {
@@ -318,8 +312,7 @@ mod tests {
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
-        let a = run("siemens-840d", src).unwrap_err();
-        (a.code, a.line, a.col)
+        super::super::super::alarm_at("siemens-840d", src)
     }
 
     #[test]

@@ -110,20 +110,8 @@ pub struct Joint {
     pub other: Option<V>,
 }
 
-/// One element in the plane, in the direction of travel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Piece {
-    Line {
-        from: V,
-        to: V,
-    },
-    Arc {
-        from: V,
-        to: V,
-        centre: V,
-        ccw: bool,
-    },
-}
+/// One element in the plane, in the direction of travel: the corner geometry's.
+pub(in crate::frontend) use super::super::build::Element as Piece;
 
 /// The approach or retraction contour: the programmed element (from its far end A to P4 on
 /// approach, from P4 to A on retraction) and the tool centre at A.

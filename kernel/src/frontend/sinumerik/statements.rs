@@ -153,6 +153,23 @@ impl Keyword {
     }
 }
 
+/// A variable's name in a DEF and where it stands (the cursor left after it and its blanks):
+/// its first two characters letters or `_`, no R parameter, function or statement.
+fn def_name(c: &mut Cursor) -> R<(String, usize)> {
+    c.skip_blanks();
+    let name_at = c.i;
+    let name = identifier(c);
+    if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
+        return Err(fault(
+            AlarmCode::Syntax,
+            name_at,
+            format!("'{name}' is no variable name: the first two characters are letters or _, and it is no R parameter, function or statement"),
+        ));
+    }
+    c.skip_blanks();
+    Ok((name, name_at))
+}
+
 /// A CASE constant: a whole number, signed.
 fn case_constant(c: &mut Cursor) -> R<f64> {
     let at = c.i;
@@ -704,17 +721,7 @@ impl Interpreter<'_> {
             )
         })?;
         loop {
-            c.skip_blanks();
-            let name_at = c.i;
-            let name = identifier(c);
-            if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    name_at,
-                    format!("'{name}' is no variable name: the first two characters are letters or _, and it is no R parameter, function or statement"),
-                ));
-            }
-            c.skip_blanks();
+            let (name, name_at) = def_name(c)?;
             if c.peek() == Some(b'[') {
                 self.array_definition(c, &name, ty, name_at)?;
             } else {
@@ -812,17 +819,7 @@ impl Interpreter<'_> {
             }
         };
         loop {
-            c.skip_blanks();
-            let name_at = c.i;
-            let name = identifier(c);
-            if !valid_name(&name) || Keyword::at(&Cursor::new(c.b, name_at, c.end)).is_some() {
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    name_at,
-                    format!("'{name}' is no variable name"),
-                ));
-            }
-            c.skip_blanks();
+            let (name, name_at) = def_name(c)?;
             let mut text = String::new();
             if c.peek() == Some(b'=') {
                 c.i += 1;
