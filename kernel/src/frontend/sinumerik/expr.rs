@@ -201,6 +201,7 @@ impl Parser<'_> {
                 Ok(v)
             }
             Some(b'0'..=b'9' | b'.') => number(c, at),
+            Some(b'"') => character(c, at),
             Some(ch) if ch.is_ascii_alphabetic() || ch == b'_' || ch == b'$' => self.named(c, at),
             _ => Err(fault(AlarmCode::Syntax, at, "operand expected")),
         }
@@ -360,6 +361,22 @@ fn close(c: &mut Cursor, open: usize) -> R<()> {
         Ok(())
     } else {
         Err(fault(AlarmCode::Syntax, open, "'(' is not closed"))
+    }
+}
+
+/// `"A"` in a number: the character's code (a CHAR constant; Job planning, "Variable types").
+fn character(c: &mut Cursor, at: usize) -> R<f64> {
+    let (ch, close) = (c.peek_at(1), c.peek_at(2));
+    match (ch, close) {
+        (Some(b), Some(b'"')) if b != b'"' => {
+            c.i += 3;
+            Ok(f64::from(b))
+        }
+        _ => Err(fault(
+            AlarmCode::Syntax,
+            at,
+            "a text is no number: one character in quotes (\"A\") is a CHAR",
+        )),
     }
 }
 

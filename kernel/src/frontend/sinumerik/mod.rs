@@ -34,6 +34,8 @@ pub enum Type {
     Int,
     Real,
     Bool,
+    /// One character, held as its code 0 … 255 (Job planning, "Variable types").
+    Char,
 }
 
 impl Type {
@@ -42,6 +44,7 @@ impl Type {
             "INT" => Some(Type::Int),
             "REAL" => Some(Type::Real),
             "BOOL" => Some(Type::Bool),
+            "CHAR" => Some(Type::Char),
             _ => None,
         }
     }
@@ -51,6 +54,17 @@ impl Type {
         match self {
             Type::Real => Ok(v),
             Type::Bool => Ok((v != 0.0) as u8 as f64),
+            Type::Char => {
+                let code = libm::round(v);
+                if !(0.0..=255.0).contains(&code) {
+                    return Err(fault(
+                        AlarmCode::Arithmetic,
+                        at,
+                        format!("{v} is no character code (0 … 255)"),
+                    ));
+                }
+                Ok(code)
+            }
             Type::Int => {
                 let i = libm::round(v);
                 if i.abs() > 2_147_483_647.0 {
@@ -381,6 +395,13 @@ impl Store {
         Ok(())
     }
 
+    /// The character of CHAR variable `name` (upper case) of the running level, if it is one.
+    pub fn char_of(&self, name: &str) -> Option<char> {
+        let v = &self.vars[self.find(name)?];
+        (v.ty == Type::Char && v.array.is_none() && v.target.is_none())
+            .then(|| char::from(v.value as u8))
+    }
+
     /// The text of STRING variable `name` (upper case) of the running level, if it is one.
     pub fn string(&self, name: &str) -> Option<&str> {
         let k = self.find(name)?;
@@ -646,7 +667,13 @@ mod tests {
             (AlarmCode::Syntax, 2, 4)
         );
         assert_eq!(alarm("R1=1 << 2\n"), (AlarmCode::Syntax, 1, 6));
-        assert_eq!(alarm("DEF CHAR CC\n"), (AlarmCode::NotSupported, 1, 5));
+        assert_eq!(alarm("DEF AXIS AA\n"), (AlarmCode::NotSupported, 1, 5));
+        // CHAR: a character's code in arithmetic, the character in a string.
+        let p = "DEF CHAR CC=\"A\"\nCC=CC+2\nMSG(\"row \" << CC << CC+0)\nG1 F1 X=CC-64\n";
+        assert_eq!(msg(p), ["row C67"]);
+        assert_eq!(xs(p), [3.0]);
+        assert_eq!(alarm("DEF CHAR CC=256\n"), (AlarmCode::Arithmetic, 1, 10));
+        assert_eq!(alarm("R1=\"AB\"\n"), (AlarmCode::Syntax, 1, 4));
     }
 
     #[test]

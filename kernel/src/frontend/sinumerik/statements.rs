@@ -170,6 +170,13 @@ fn def_name(c: &mut Cursor) -> R<(String, usize)> {
     Ok((name, name_at))
 }
 
+/// The next byte after blanks.
+fn skip_to(c: &Cursor) -> Option<u8> {
+    let mut p = *c;
+    p.skip_blanks();
+    p.peek()
+}
+
 /// A CASE constant: a whole number, signed.
 fn case_constant(c: &mut Cursor) -> R<f64> {
     let at = c.i;
@@ -717,7 +724,7 @@ impl Interpreter<'_> {
             fault(
                 AlarmCode::NotSupported,
                 ty_at,
-                format!("DEF {ty_name}: the types are INT, REAL, BOOL and STRING (CHAR, AXIS and FRAME are not built)"),
+                format!("DEF {ty_name}: the types are INT, REAL, BOOL, CHAR and STRING (AXIS and FRAME are not built)"),
             )
         })?;
         loop {
@@ -848,12 +855,19 @@ impl Interpreter<'_> {
             } else {
                 let mut probe = *c;
                 let name = identifier(&mut probe);
-                match self.sinumerik.store.string(&name) {
-                    Some(t) => {
+                let store = &self.sinumerik.store;
+                // A CHAR variable alone is its character; in arithmetic (`CC+1`), its code.
+                let alone = matches!(skip_to(&probe), None | Some(b')' | b';' | b',' | b'<'));
+                match (store.string(&name), store.char_of(&name).filter(|_| alone)) {
+                    (Some(t), _) => {
                         out.push_str(t);
                         *c = probe;
                     }
-                    None => {
+                    (None, Some(ch)) => {
+                        out.push(ch);
+                        *c = probe;
+                    }
+                    (None, None) => {
                         let v = expr::eval_term(c, &self.sinumerik.store)?;
                         out.push_str(&format!("{v}"));
                     }
