@@ -402,7 +402,7 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "CASE(R1) OF 1 GOTOF LAB2 2 GOTOB LAB1 DEFAULT GOTOF LAB2", "CASE(R1) OF", "CASE R1", "CASE(R1) OF 1.5 GOTOF LAB2",
     "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
     "DEF REAL TB[3,2]=SET(1,2,3)", "DEF INT NA[4]=REP(R1)", "TB[R1,1]=R2", "X=TB[2,1]", "NA[5]=1", "DEF REAL TC[0]",
-    "DEF STRING[10] ST=\"AB\" << R1", "ST=ST << \"CDEFGHIJKL\"", "MSG(ST << R2)", "MSG(\"x\" <<)", "R1=ST", "DEF CHAR CH",
+    "DEF STRING[10] ST=\"AB\" << R1", "ST=ST << \"CDEFGHIJKL\"", "MSG(ST << R2)", "MSG(\"x\" <<)", "R1=ST", "DEF CHAR CH=\"Q\"", "DEF AXIS AV=Y", "AV=Z", "AX[AV]=R1", "AX[Q]=1", "AX[AV]", "X=AV", "R2=$P_EP[AV]",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,

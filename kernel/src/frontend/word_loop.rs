@@ -169,6 +169,11 @@ impl Interpreter<'_> {
         {
             return Ok(Next::Continue);
         }
+        if self.d.sinumerik && letter == b'A' && c.keyword("AX") && c.peek_at(2) == Some(b'[') {
+            // Fundamentals, "Axial addresses": AX[axis]=value.
+            self.axial_address(c, w, at)?;
+            return Ok(Next::Continue);
+        }
         if self.d.sinumerik && letter == b'S' && c.keyword("SUPA") {
             // Fundamentals, "Frame suppression": G153's suppression and more, this block.
             c.i += 4;

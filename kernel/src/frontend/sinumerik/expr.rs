@@ -286,6 +286,19 @@ impl Parser<'_> {
     /// An index: an axis letter alone, or an expression.
     fn index_value(&mut self, c: &mut Cursor) -> R<Index> {
         c.skip_blanks();
+        let mut probe = *c;
+        let name = identifier(&mut probe);
+        if let Some(axis) = self.store.axis_of(&name) {
+            let at = c.i;
+            *c = probe;
+            return axis.map(Index::Axis).ok_or_else(|| {
+                fault(
+                    AlarmCode::UndefinedName,
+                    at,
+                    format!("{name} names no axis yet"),
+                )
+            });
+        }
         let letter = c.peek().map(|b| b.to_ascii_uppercase());
         let alone = !c
             .peek_at(1)

@@ -36,6 +36,8 @@ pub enum Type {
     Bool,
     /// One character, held as its code 0 … 255 (Job planning, "Variable types").
     Char,
+    /// An axis, held as its place in the machine's axis names (X = 0 … C = 8), −1 for none.
+    Axis,
 }
 
 impl Type {
@@ -45,6 +47,7 @@ impl Type {
             "REAL" => Some(Type::Real),
             "BOOL" => Some(Type::Bool),
             "CHAR" => Some(Type::Char),
+            "AXIS" => Some(Type::Axis),
             _ => None,
         }
     }
@@ -54,6 +57,7 @@ impl Type {
         match self {
             Type::Real => Ok(v),
             Type::Bool => Ok((v != 0.0) as u8 as f64),
+            Type::Axis => Ok(v),
             Type::Char => {
                 let code = libm::round(v);
                 if !(0.0..=255.0).contains(&code) {
@@ -259,6 +263,15 @@ impl Store {
         if self.vars[k].text.is_some() {
             return Err(a_string(name, at));
         }
+        if self.vars[k].ty == Type::Axis {
+            return Err(fault(
+                AlarmCode::Syntax,
+                at,
+                format!(
+                    "{name} is an AXIS: no number (AX[{name}]=… moves it, $P_EP[{name}] reads it)"
+                ),
+            ));
+        }
         match self.vars[k].target {
             Some(Ref::R(n)) => self.r(n, at),
             Some(Ref::Var(i)) => Ok(self.vars.get(i).map_or(0.0, |v| v.value)),
@@ -393,6 +406,17 @@ impl Store {
             var.text = Some(Box::new((text, max)));
         }
         Ok(())
+    }
+
+    /// The axis letter of AXIS variable `name` (upper case) of the running level, if it is
+    /// one and names an axis.
+    pub fn axis_of(&self, name: &str) -> Option<Option<u8>> {
+        let v = &self.vars[self.find(name)?];
+        (v.ty == Type::Axis && v.array.is_none()).then(|| {
+            crate::machine_data::AXIS_NAMES
+                .get(usize::try_from(v.value as i64).ok()?)
+                .map(|&c| c as u8)
+        })
     }
 
     /// The character of CHAR variable `name` (upper case) of the running level, if it is one.
@@ -667,13 +691,39 @@ mod tests {
             (AlarmCode::Syntax, 2, 4)
         );
         assert_eq!(alarm("R1=1 << 2\n"), (AlarmCode::Syntax, 1, 6));
-        assert_eq!(alarm("DEF AXIS AA\n"), (AlarmCode::NotSupported, 1, 5));
+        assert_eq!(alarm("DEF FRAME FF\n"), (AlarmCode::NotSupported, 1, 5));
         // CHAR: a character's code in arithmetic, the character in a string.
         let p = "DEF CHAR CC=\"A\"\nCC=CC+2\nMSG(\"row \" << CC << CC+0)\nG1 F1 X=CC-64\n";
         assert_eq!(msg(p), ["row C67"]);
         assert_eq!(xs(p), [3.0]);
         assert_eq!(alarm("DEF CHAR CC=256\n"), (AlarmCode::Arithmetic, 1, 10));
         assert_eq!(alarm("R1=\"AB\"\n"), (AlarmCode::Syntax, 1, 4));
+    }
+
+    #[test]
+    fn axis_variables_name_the_axis_an_axial_address_moves_and_an_index_reads() {
+        // AX[AXV]=10 moves X; AXV=Y: AX[AXV]=IC(5) moves Y by 5; $P_EP[AXV] reads Y.
+        let p = "DEF AXIS AXV=X, AXW\nG1 F100 AX[AXV]=10\nAXV=Y\nAX[AXV]=IC(5) AX[Z]=2\nAXW=AXV\nR1=$P_EP[AXW]\nX=R1\n";
+        assert_eq!(
+            super::super::moves("siemens-840d", p)
+                .iter()
+                .map(|m| m.1)
+                .collect::<Vec<_>>(),
+            [[10.0, 0.0, 0.0], [10.0, 5.0, 2.0], [5.0, 5.0, 2.0]]
+        );
+        assert_eq!(
+            alarm("DEF AXIS AXV\nAX[AXV]=1\n"),
+            (AlarmCode::UndefinedName, 2, 4)
+        );
+        assert_eq!(
+            alarm("DEF AXIS AXV=Q\n"),
+            (AlarmCode::UnknownAddress, 1, 14)
+        );
+        assert_eq!(
+            alarm("DEF AXIS AXV=X\nR1=AXV+1\n"),
+            (AlarmCode::Syntax, 2, 4)
+        );
+        assert_eq!(alarm("AX[X]5\n"), (AlarmCode::Syntax, 1, 6));
     }
 
     #[test]

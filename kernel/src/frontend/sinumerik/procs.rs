@@ -114,15 +114,19 @@ fn formal(c: &mut Cursor) -> R<Formal> {
     }
     let ty_at = c.i;
     let ty_name = identifier(c);
-    let ty = Type::of(&ty_name).ok_or_else(|| {
-        let message = format!("parameter type {ty_name}: the types are INT, REAL and BOOL");
-        let code = if ty_name.is_empty() {
-            AlarmCode::Syntax
-        } else {
-            AlarmCode::NotSupported
-        };
-        fault(code, ty_at, message)
-    })?;
+    // AXIS parameters would take an axis name at the call, not a value: not built.
+    let ty = Type::of(&ty_name)
+        .filter(|t| *t != Type::Axis)
+        .ok_or_else(|| {
+            let message =
+                format!("parameter type {ty_name}: the types are INT, REAL, BOOL and CHAR");
+            let code = if ty_name.is_empty() {
+                AlarmCode::Syntax
+            } else {
+                AlarmCode::NotSupported
+            };
+            fault(code, ty_at, message)
+        })?;
     c.skip_blanks();
     let name_at = c.i;
     let name = identifier(c);

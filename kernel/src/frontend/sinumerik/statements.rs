@@ -724,7 +724,7 @@ impl Interpreter<'_> {
             fault(
                 AlarmCode::NotSupported,
                 ty_at,
-                format!("DEF {ty_name}: the types are INT, REAL, BOOL, CHAR and STRING (AXIS and FRAME are not built)"),
+                format!("DEF {ty_name}: the types are INT, REAL, BOOL, CHAR, STRING and AXIS (FRAME is not built)"),
             )
         })?;
         loop {
@@ -732,10 +732,14 @@ impl Interpreter<'_> {
             if c.peek() == Some(b'[') {
                 self.array_definition(c, &name, ty, name_at)?;
             } else {
-                let mut v = 0.0;
+                let mut v = if ty == Type::Axis { -1.0 } else { 0.0 };
                 if c.peek() == Some(b'=') {
                     c.i += 1;
-                    v = expr::eval(c, &self.sinumerik.store)?;
+                    v = if ty == Type::Axis {
+                        self.axis_value(c)?
+                    } else {
+                        expr::eval(c, &self.sinumerik.store)?
+                    };
                 }
                 self.sinumerik.store.define(&name, ty, v, name_at)?;
             }
@@ -879,6 +883,67 @@ impl Interpreter<'_> {
             }
             c.i += 2;
         }
+    }
+
+    /// An axis for an AXIS variable: the name of an axis of the machine (`X`, `C`) or another
+    /// AXIS variable; its place in the machine's axis names.
+    fn axis_value(&mut self, c: &mut Cursor) -> R<f64> {
+        let letter = self.axis_name(c)?;
+        let k = crate::machine_data::AXIS_NAMES
+            .iter()
+            .position(|&n| n as u8 == letter);
+        Ok(k.map_or(-1.0, |k| k as f64))
+    }
+
+    /// An axis as written: its letter, or an AXIS variable's (Job planning, "AXIS").
+    pub(in crate::frontend) fn axis_name(&mut self, c: &mut Cursor) -> R<u8> {
+        c.skip_blanks();
+        let at = c.i;
+        let name = identifier(c);
+        if let Some(axis) = self.sinumerik.store.axis_of(&name) {
+            return axis.ok_or_else(|| {
+                fault(
+                    AlarmCode::UndefinedName,
+                    at,
+                    format!("{name} names no axis yet"),
+                )
+            });
+        }
+        match name.as_bytes() {
+            [l] if self.md.axes.of_letter(*l).is_some() => Ok(*l),
+            _ => Err(fault(
+                AlarmCode::UnknownAddress,
+                at,
+                format!("{name} is no axis of this machine"),
+            )),
+        }
+    }
+
+    /// `AX[axis]=value` (Fundamentals, "Axial addresses"): the axis word of the axis an
+    /// AXIS variable or a letter names, with AC/IC as on the letter itself.
+    pub(in crate::frontend) fn axial_address(
+        &mut self,
+        c: &mut Cursor,
+        w: &mut super::super::words::Words,
+        at: usize,
+    ) -> R<()> {
+        c.i += 2;
+        c.skip_blanks();
+        if c.peek() != Some(b'[') {
+            return Err(fault(AlarmCode::Syntax, c.i, "AX[axis] expected"));
+        }
+        c.i += 1;
+        let letter = self.axis_name(c)?;
+        c.skip_blanks();
+        if c.peek() != Some(b']') {
+            return Err(fault(AlarmCode::Syntax, c.i, "']' expected"));
+        }
+        c.i += 1;
+        c.skip_blanks();
+        if c.peek() != Some(b'=') {
+            return Err(fault(AlarmCode::Syntax, c.i, "'=' expected"));
+        }
+        self.sinumerik_word(c, w, letter, at)
     }
 
     /// `(v1, v2, …)`: expressions (at most [`MAX_ELEMENTS`]).
@@ -1047,6 +1112,18 @@ impl Interpreter<'_> {
             probe.i += 1;
             let text = self.string_expr(&mut probe)?;
             self.sinumerik.store.set_string(&name, text, at)?;
+            *c = probe;
+            w.calculation = true;
+            return Ok(true);
+        }
+        if self.sinumerik.store.axis_of(&name).is_some() {
+            probe.skip_blanks();
+            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
+                return Err(fault(AlarmCode::Syntax, probe.i, "'=' expected"));
+            }
+            probe.i += 1;
+            let v = self.axis_value(&mut probe)?;
+            self.sinumerik.store.set(&name, v, at)?;
             *c = probe;
             w.calculation = true;
             return Ok(true);
