@@ -97,8 +97,13 @@ impl Parser<'_> {
         super::super::expr::deeper(&mut self.depth, c.i)
     }
 
-    /// `a == b`, … (left to right).
+    /// `a == b`, … (left to right); two strings compare with `==` and `<>`.
     fn comparison(&mut self, c: &mut Cursor) -> R<f64> {
+        c.skip_blanks();
+        let start = c.i;
+        if let Some(l) = self.text(c)? {
+            return self.text_comparison(c, l, start);
+        }
         let mut l = self.level(c, 0)?;
         loop {
             c.skip_blanks();
@@ -129,6 +134,53 @@ impl Parser<'_> {
                 _ => l > r,
             });
         }
+    }
+
+    /// A string operand at the cursor (a text of more than one character or a STRING
+    /// variable), the cursor moved past it; `None` (the cursor left) for anything else.
+    fn text(&mut self, c: &mut Cursor) -> R<Option<String>> {
+        c.skip_blanks();
+        let mut probe = *c;
+        if probe.peek() == Some(b'"') {
+            let close = c.b[c.i + 1..c.end].iter().position(|&b| b == b'"');
+            return match close {
+                // One character in quotes is a CHAR: a number.
+                Some(1) => Ok(None),
+                Some(k) => {
+                    let t = String::from_utf8_lossy(&c.b[c.i + 1..c.i + 1 + k]).into_owned();
+                    c.i += k + 2;
+                    Ok(Some(t))
+                }
+                None => Err(fault(AlarmCode::Syntax, c.i, "string not closed with '\"'")),
+            };
+        }
+        let name = identifier(&mut probe);
+        Ok(self.store.string(&name).map(|t| {
+            *c = probe;
+            t.to_string()
+        }))
+    }
+
+    /// `text == text` or `text <> text` (Job planning, "String operations: comparison").
+    fn text_comparison(&mut self, c: &mut Cursor, l: String, start: usize) -> R<f64> {
+        c.skip_blanks();
+        let equal = match (c.peek(), c.peek_at(1)) {
+            (Some(b'='), Some(b'=')) => true,
+            (Some(b'<'), Some(b'>')) => false,
+            _ => {
+                let m = "a text is no number: a string only compares with == or <> (or joins with << in MSG and STRING assignments)";
+                return Err(fault(AlarmCode::Syntax, start, m));
+            }
+        };
+        c.i += 2;
+        let Some(r) = self.text(c)? else {
+            return Err(fault(
+                AlarmCode::Syntax,
+                c.i,
+                "a string to compare with expected",
+            ));
+        };
+        Ok(bool_value((l == r) == equal))
     }
 
     /// The binary operators of `LEVELS[k]` and those above it.

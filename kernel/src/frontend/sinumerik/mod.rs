@@ -698,6 +698,13 @@ mod tests {
         assert_eq!(xs(p), [3.0]);
         assert_eq!(alarm("DEF CHAR CC=256\n"), (AlarmCode::Arithmetic, 1, 10));
         assert_eq!(alarm("R1=\"AB\"\n"), (AlarmCode::Syntax, 1, 4));
+        // Strings compare with == and <> (in a condition too).
+        let p = "DEF STRING[9] SS=\"PLATE\"\nG1 F1 X=SS==\"PLATE\"\nX=SS<>\"PLATE\"\nIF SS==\"BOLT\" GOTOF DONE\nX=7\nDONE: X=8\n";
+        assert_eq!(xs(p), [1.0, 0.0, 7.0, 8.0]);
+        assert_eq!(
+            alarm("DEF STRING[9] SS\nR1=SS>\"A\"\n"),
+            (AlarmCode::Syntax, 2, 4)
+        );
     }
 
     #[test]
