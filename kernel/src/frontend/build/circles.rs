@@ -35,8 +35,13 @@ impl Interpreter<'_> {
         no_centre(w, "CIP")?;
         let p = new.plane;
         let (a, o, n) = (p.abscissa as usize, p.ordinate as usize, p.normal as usize);
-        let start = self.cur;
-        let end = self.end_point(w, new, start)?;
+        // Under a frame the three points are worked out in program coordinates, then mapped.
+        let framed = self.coords.frame.active() && !self.machine_coordinates;
+        let (start, end) = if framed {
+            self.framed_points(w, new, block_col)?
+        } else {
+            (self.cur, self.end_point(w, new, self.cur)?)
+        };
         let at = w.path.inter.iter().flatten().next().map(|v| v.pos());
         let at = at
             .or(w.path.motion.map(|m| m.1 as usize))
@@ -51,7 +56,7 @@ impl Interpreter<'_> {
                 "CIP needs its intermediate point (I1= J1= K1=)",
             ));
         }
-        let inter = self.intermediate_point(w, new, start);
+        let inter = self.intermediate_point(w, new, start, framed);
         if inter[n] != start[n] || end[n] != start[n] {
             return Err(fault(
                 AlarmCode::NotSupported,
@@ -74,12 +79,31 @@ impl Interpreter<'_> {
         })?;
         let mut centre = start;
         (centre[a], centre[o]) = (c[0], c[1]);
-        self.set_arc(new, ccw, start, end, centre, programmed, block_col)
+        if !framed {
+            return self.set_arc(new, ccw, start, end, centre, programmed, block_col);
+        }
+        self.frame_keeps_circles(new, block_col)?;
+        self.set_framed_motion(new, end, centre, programmed, block_col)?;
+        // The direction found in program coordinates, turned over by a mirroring frame.
+        let ccw = ccw != self.coords.frame.flips(p);
+        if let Some(m) = &mut self.block.motion {
+            m.kind = if ccw {
+                MotionKind::ArcCcw
+            } else {
+                MotionKind::ArcCw
+            };
+        }
+        Ok(())
     }
 
-    /// CIP's intermediate point in the basic coordinate system.
-    fn intermediate_point(&self, w: &Words, new: &ModalState, start: Pos) -> Pos {
-        let offset = self.work_offset(new);
+    /// CIP's intermediate point: in the basic coordinate system, or in program coordinates
+    /// under a frame (`framed`).
+    fn intermediate_point(&self, w: &Words, new: &ModalState, start: Pos, framed: bool) -> Pos {
+        let offset = if framed {
+            [0.0; crate::machine_data::AXES]
+        } else {
+            self.work_offset(new)
+        };
         let normal = new.plane.normal as usize;
         let mut q = start;
         for i in 0..3 {
@@ -328,6 +352,23 @@ mod tests {
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
         super::super::super::alarm_at("siemens-840d", src)
+    }
+
+    #[test]
+    fn cip_under_a_mirror_turns_its_direction() {
+        // (0,0) over (10,10) to (20,0): centre (10,0), clockwise; MIRROR X0 maps it to end
+        // (−20, 0) about (−10, 0), counter-clockwise. CT stays refused under a frame.
+        let got = moves("MIRROR X0\nG1 F100 X0 Y0\nCIP X20 Y0 I1=10 J1=10\n");
+        let (kind, end, centre) = got[1];
+        assert_eq!(kind, MotionKind::ArcCcw);
+        assert!(
+            near(end, [-20.0, 0.0, 0.0]) && near(centre, [-10.0, 0.0, 0.0]),
+            "{got:?}"
+        );
+        assert_eq!(
+            alarm("ROT RPL=30\nG1 F100 X10\nCT X20 Y5\n").0,
+            AlarmCode::NotSupported
+        );
     }
 
     #[test]

@@ -127,6 +127,16 @@ impl Interpreter<'_> {
         }
     }
 
+    /// Where the tool stands in workpiece terms: the program's coordinates under a frame,
+    /// else the position less the zero.
+    pub(in crate::frontend) fn workpiece_position(&self, new: &ModalState, at: usize) -> R<Pos> {
+        if self.coords.frame.active() && !self.machine_coordinates {
+            return self.program_position(new, at);
+        }
+        let offset = self.work_offset(new);
+        Ok(std::array::from_fn(|i| self.cur[i] - offset[i]))
+    }
+
     /// Where the tool stands in program coordinates: back through the zero and the frame.
     pub(in crate::frontend) fn program_position(&self, new: &ModalState, at: usize) -> R<Pos> {
         let zero = self.zero(new.work_offset);

@@ -89,13 +89,11 @@ impl Interpreter<'_> {
     /// Step 8: the block's motion, if it has one (written in place: `Motion` is large).
     pub(super) fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let programmed = self.programmed_axes(w)?;
-        let sinumerik_geometry =
-            w.path.polar() || (!new.motion.is_plain() && !new.motion.is_polar());
-        if sinumerik_geometry && self.coords.frame.active() {
+        if new.motion == MotionMode::ArcTangent && self.coords.frame.active() {
             return Err(fault(
                 AlarmCode::NotSupported,
                 block_col,
-                "polar coordinates, CIP and CT under a frame are not built yet",
+                "CT under a frame is not built (the last element's tangent is in machine terms)",
             ));
         }
         if w.path.polar() {

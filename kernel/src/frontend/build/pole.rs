@@ -44,9 +44,8 @@ impl Interpreter<'_> {
                 "a pole definition moves nothing",
             ));
         }
-        let offset = self.work_offset(new);
         let base = match origin {
-            PoleOrigin::LastPosition => std::array::from_fn(|i| self.cur[i] - offset[i]),
+            PoleOrigin::LastPosition => self.workpiece_position(new, at as usize)?,
             PoleOrigin::WorkZero => [0.0; 3],
             PoleOrigin::LastPole => self.polar.pole.unwrap_or([0.0; 3]),
         };
@@ -161,15 +160,24 @@ impl Interpreter<'_> {
         self.polar_words_fit(w, new, at)?;
         let p = new.plane;
         let (a, o) = (p.abscissa as usize, p.ordinate as usize);
-        let offset = self.work_offset(new);
+        // Under a frame the point is worked out in program coordinates, then mapped.
+        let framed = self.coords.frame.active() && !self.machine_coordinates;
+        let offset = if framed {
+            [0.0; crate::machine_data::AXES]
+        } else {
+            self.work_offset(new)
+        };
         let pole_wcs = self.polar.pole.unwrap_or([0.0; 3]);
         let mut pole: Pos = std::array::from_fn(|i| pole_wcs[i] + offset[i]);
-        let start = self.cur;
+        let (start, mut end) = if framed {
+            self.framed_points(w, new, block_col)?
+        } else {
+            (self.cur, self.end_point(w, new, self.cur)?)
+        };
         pole[p.normal as usize] = start[p.normal as usize];
         let arc = new.motion.is_arc();
         let r_start = libm::hypot(start[a] - pole[a], start[o] - pole[o]);
         let (angle, r) = self.polar_end(w, new, arc.then_some(r_start), at)?;
-        let mut end = self.end_point(w, new, start)?;
         end[a] = pole[a] + r * libm::cos(angle.to_radians());
         end[o] = pole[o] + r * libm::sin(angle.to_radians());
         if !in_range(end[a]) || !in_range(end[o]) {
@@ -187,14 +195,15 @@ impl Interpreter<'_> {
             }
         }
         let centre = if arc { pole } else { end };
-        self.set_motion(
-            new,
-            start,
-            end,
-            centre,
-            programmed | 1 << a | 1 << o,
-            block_col,
-        )?;
+        let programmed = programmed | 1 << a | 1 << o;
+        if framed {
+            if arc {
+                self.frame_keeps_circles(new, block_col)?;
+            }
+            self.set_framed_motion(new, end, centre, programmed, block_col)?;
+        } else {
+            self.set_motion(new, start, end, centre, programmed, block_col)?;
+        }
         self.polar.angle = Some(angle);
         self.polar.radius = Some(r);
         self.polar.plane = Some(p);
@@ -313,6 +322,29 @@ mod tests {
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
         super::super::super::alarm_at("siemens-840d", src)
+    }
+
+    #[test]
+    fn polar_points_are_worked_out_in_program_coordinates_under_a_frame() {
+        use MotionKind::*;
+        // TRANS X10 then AROT RPL=90: p ↦ (10, 0) + R90·p. RP=10 AP=0: (10, 0) → (10, 10);
+        // AP=90: (0, 10) → (0, 0); G3 AP=180: (−10, 0) → (10, −10) about the pole (0, 0) →
+        // (10, 0), counter-clockwise. G110 X5 under the frame: from the program position.
+        let got = moves(
+            "TRANS X10\nAROT RPL=90\nG111 X0 Y0\nG1 F100 RP=10 AP=0\nAP=90\nG3 AP=180\nG1 X5 Y0\nG110 X5\nG1 RP=5 AP=90\n",
+        );
+        let want = [
+            (Linear, [10.0, 10.0, 0.0]),
+            (Linear, [0.0, 0.0, 0.0]),
+            (ArcCcw, [10.0, -10.0, 0.0]),
+            (Linear, [10.0, 5.0, 0.0]),
+            (Linear, [5.0, 10.0, 0.0]),
+        ];
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(g.0 == w.0 && near(g.1, w.1), "{got:?}");
+        }
+        assert!(near(got[2].2, [10.0, 0.0, 0.0]), "{got:?}");
     }
 
     #[test]
