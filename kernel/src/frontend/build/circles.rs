@@ -79,21 +79,14 @@ impl Interpreter<'_> {
         })?;
         let mut centre = start;
         (centre[a], centre[o]) = (c[0], c[1]);
-        if !framed {
-            return self.set_arc(new, ccw, start, end, centre, programmed, block_col);
-        }
-        self.frame_keeps_circles(new, block_col)?;
-        self.set_framed_motion(new, end, centre, programmed, block_col)?;
-        // The direction found in program coordinates, turned over by a mirroring frame.
-        let ccw = ccw != self.coords.frame.flips(p);
-        if let Some(m) = &mut self.block.motion {
-            m.kind = if ccw {
-                MotionKind::ArcCcw
-            } else {
-                MotionKind::ArcCw
-            };
-        }
-        Ok(())
+        let place = Place {
+            framed,
+            start,
+            end,
+            programmed,
+            block_col,
+        };
+        self.place(new, place, Some(ccw), centre)
     }
 
     /// CIP's intermediate point: in the basic coordinate system, or in program coordinates
@@ -158,8 +151,18 @@ impl Interpreter<'_> {
                 ),
             )
         })?;
-        let start = self.cur;
-        let end = self.end_point(w, new, start)?;
+        // Under a frame: the tangent and the points in program coordinates, then mapped.
+        let framed = self.coords.frame.active() && !self.machine_coordinates;
+        let (start, end) = if framed {
+            self.framed_points(w, new, block_col)?
+        } else {
+            (self.cur, self.end_point(w, new, self.cur)?)
+        };
+        let t = if framed {
+            self.program_direction(t, p, at)?
+        } else {
+            t
+        };
         let d = [end[a] - start[a], end[o] - start[o]];
         if libm::hypot(d[0], d[1]) <= 1e-9 {
             return Err(fault(
@@ -171,38 +174,60 @@ impl Interpreter<'_> {
         feed_programmed(new, block_col)?;
         // The centre on the tangent's normal n at s, with |s| the radius: s = |d|² / (2 n·d).
         let nd = cross(t, d);
+        let place = Place {
+            framed,
+            start,
+            end,
+            programmed,
+            block_col,
+        };
         if nd.abs() <= 1e-9 {
-            self.set_motion(new, start, end, end, programmed, block_col)?;
-            if let Some(m) = &mut self.block.motion {
-                m.kind = MotionKind::Linear;
-            }
-            return Ok(());
+            return self.place(new, place, None, end);
         }
         let s = dot(d, d) / (2.0 * nd);
         let mut centre = start;
         (centre[a], centre[o]) = (start[a] - s * t[1], start[o] + s * t[0]);
-        self.set_arc(new, s > 0.0, start, end, centre, programmed, block_col)
+        self.place(new, place, Some(s > 0.0), centre)
     }
 
-    /// The block's arc: a circle of `new`'s plane, counter-clockwise or not.
-    #[allow(clippy::too_many_arguments)]
-    fn set_arc(
-        &mut self,
-        new: &ModalState,
-        ccw: bool,
-        start: Pos,
-        end: Pos,
-        centre: Pos,
-        programmed: u16,
-        block_col: usize,
-    ) -> R<()> {
-        self.set_motion(new, start, end, centre, programmed, block_col)?;
+    /// A direction `t` of `plane` in machine terms, in program coordinates under the frame
+    /// (its linear part undone), of unit length.
+    fn program_direction(&self, t: V, plane: Plane, at: usize) -> R<V> {
+        let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+        let f = &self.coords.frame;
+        let mut q = [0.0; 3];
+        (q[a], q[o]) = (t[0], t[1]);
+        let back = f.invert(q).zip(f.invert([0.0; 3])).ok_or_else(|| {
+            fault(
+                AlarmCode::Arithmetic,
+                at,
+                "the frame scales by 0: no way back",
+            )
+        })?;
+        let v = [back.0[a] - back.1[a], back.0[o] - back.1[o]];
+        let len = libm::hypot(v[0], v[1]);
+        Ok([v[0] / len, v[1] / len])
+    }
+
+    /// The block's move: a line (`ccw` None) or a circle about `centre`, from the place's
+    /// points; under a frame mapped, a mirror turning the circle's direction.
+    fn place(&mut self, new: &ModalState, p: Place, ccw: Option<bool>, centre: Pos) -> R<()> {
+        let kind = |ccw: Option<bool>| match ccw {
+            None => MotionKind::Linear,
+            Some(true) => MotionKind::ArcCcw,
+            Some(false) => MotionKind::ArcCw,
+        };
+        if !p.framed {
+            self.set_motion(new, p.start, p.end, centre, p.programmed, p.block_col)?;
+        } else {
+            if ccw.is_some() {
+                self.frame_keeps_circles(new, p.block_col)?;
+            }
+            self.set_framed_motion(new, p.end, centre, p.programmed, p.block_col)?;
+        }
+        let flips = p.framed && self.coords.frame.flips(new.plane);
         if let Some(m) = &mut self.block.motion {
-            m.kind = if ccw {
-                MotionKind::ArcCcw
-            } else {
-                MotionKind::ArcCw
-            };
+            m.kind = kind(ccw.map(|c| c != flips));
         }
         Ok(())
     }
@@ -310,6 +335,17 @@ pub(super) fn end_tangent(m: &Motion, plane: Plane) -> Option<V> {
     (len > 1e-12).then(|| [v[0] / len, v[1] / len])
 }
 
+/// Where a circle of CIP or CT goes: its points (program coordinates under a frame) and the
+/// block's programmed axes.
+#[derive(Clone, Copy)]
+struct Place {
+    framed: bool,
+    start: Pos,
+    end: Pos,
+    programmed: u16,
+    block_col: usize,
+}
+
 /// The sweep of an arc (radians, 0 … 2π; 2π for a full circle).
 fn sweep(m: &Motion, a: usize, o: usize) -> f64 {
     let tau = 2.0 * std::f64::consts::PI;
@@ -355,9 +391,9 @@ mod tests {
     }
 
     #[test]
-    fn cip_under_a_mirror_turns_its_direction() {
+    fn cip_and_ct_under_a_frame_are_worked_out_in_program_coordinates() {
         // (0,0) over (10,10) to (20,0): centre (10,0), clockwise; MIRROR X0 maps it to end
-        // (−20, 0) about (−10, 0), counter-clockwise. CT stays refused under a frame.
+        // (−20, 0) about (−10, 0), counter-clockwise.
         let got = moves("MIRROR X0\nG1 F100 X0 Y0\nCIP X20 Y0 I1=10 J1=10\n");
         let (kind, end, centre) = got[1];
         assert_eq!(kind, MotionKind::ArcCcw);
@@ -365,9 +401,15 @@ mod tests {
             near(end, [-20.0, 0.0, 0.0]) && near(centre, [-10.0, 0.0, 0.0]),
             "{got:?}"
         );
-        assert_eq!(
-            alarm("ROT RPL=30\nG1 F100 X10\nCT X20 Y5\n").0,
-            AlarmCode::NotSupported
+        // CT under ROT RPL=90: the last move (0,0)→(10,0) in program terms; CT X20 Y10
+        // from (10,0) tangent to (1,0): centre (10,10), counter-clockwise; mapped: end
+        // (−10, 20), centre (−10, 10).
+        let got = moves("ROT RPL=90\nG1 F100 X10\nCT X20 Y10\n");
+        let (kind, end, centre) = got[1];
+        assert_eq!(kind, MotionKind::ArcCcw);
+        assert!(
+            near(end, [-10.0, 20.0, 0.0]) && near(centre, [-10.0, 10.0, 0.0]),
+            "{got:?}"
         );
     }
 

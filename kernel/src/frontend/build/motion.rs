@@ -89,13 +89,6 @@ impl Interpreter<'_> {
     /// Step 8: the block's motion, if it has one (written in place: `Motion` is large).
     pub(super) fn motion(&mut self, w: &Words, new: &mut ModalState, block_col: usize) -> R<()> {
         let programmed = self.programmed_axes(w)?;
-        if new.motion == MotionMode::ArcTangent && self.coords.frame.active() {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                block_col,
-                "CT under a frame is not built (the last element's tangent is in machine terms)",
-            ));
-        }
         if w.path.polar() {
             self.polar_move(w, new, programmed, block_col)?;
         } else if new.motion.is_polar() {
