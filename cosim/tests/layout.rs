@@ -136,3 +136,42 @@ fn header_comments_give_the_real_offsets_and_sizes() {
         }
     }
 }
+
+/// docs/interfaces.md's C blocks of the co-simulation: the struct definitions verbatim from
+/// the header, the example compiling against it.
+#[test]
+fn the_doc_shows_the_header_and_an_example_that_compiles() {
+    let doc_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/interfaces.md");
+    let doc = std::fs::read_to_string(doc_path).unwrap();
+    let text = std::fs::read_to_string(header()).unwrap();
+    let blocks: Vec<&str> = doc
+        .split("```c\n")
+        .skip(1)
+        .filter_map(|b| b.split_once("\n```").map(|(code, _)| code))
+        .filter(|b| b.contains("softnc_cosim"))
+        .collect();
+    let (defs, examples): (Vec<&str>, Vec<&str>) =
+        blocks.into_iter().partition(|b| b.contains("}; /* size"));
+    assert!(!defs.is_empty() && !examples.is_empty());
+    for d in defs {
+        assert!(text.contains(d), "not in the header:\n{d}");
+    }
+    let dir = std::env::temp_dir().join(format!("softnc-cosim-doc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (i, e) in examples.iter().enumerate() {
+        let src = dir.join(format!("example{i}.c"));
+        std::fs::write(&src, e).unwrap();
+        let cc = Command::new("cc")
+            .args(["-std=c11", "-Wall", "-Werror", "-fsyntax-only", "-I"])
+            .arg(header().parent().unwrap())
+            .arg(&src)
+            .output()
+            .expect("cc");
+        assert!(
+            cc.status.success(),
+            "{e}\n{}",
+            String::from_utf8_lossy(&cc.stderr)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
