@@ -9,6 +9,9 @@
 //! needed. So the setpoints depend on the program and the machine data only, never on how
 //! fast the preparation thread happens to be: the same bits on every run.
 //!
+//! One run is a [`Simulation`], stepped one cycle per call: [`run`] steps it to the end and
+//! writes the rows, the co-simulation library (crate softnc-cosim) steps it from C.
+//!
 //! The simulation plays operator and PLC: a program stop (M00, M01, M18) or a single-block
 //! stop is followed by NC start in the next cycle, and an auxiliary function that waits for
 //! an acknowledgement is acknowledged `ack_cycles` cycles after it was output.
