@@ -486,7 +486,7 @@ unsafe fn text(
 /// The CSV header `softnc simulate` writes (no newline).
 ///
 /// # Safety
-/// As [`text`].
+/// `h` is NULL or a live handle; `buf` is NULL or has `cap` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn softnc_cosim_header(h: *mut Cosim, buf: *mut c_char, cap: usize) -> isize {
     // SAFETY: see above.
@@ -496,7 +496,7 @@ pub unsafe extern "C" fn softnc_cosim_header(h: *mut Cosim, buf: *mut c_char, ca
 /// The last setpoint's CSV row as `softnc simulate` writes it (no newline).
 ///
 /// # Safety
-/// As [`text`].
+/// `h` is NULL or a live handle; `buf` is NULL or has `cap` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn softnc_cosim_row(h: *mut Cosim, buf: *mut c_char, cap: usize) -> isize {
     // SAFETY: see above.
@@ -511,7 +511,7 @@ pub unsafe extern "C" fn softnc_cosim_row(h: *mut Cosim, buf: *mut c_char, cap: 
 /// The last setpoint's block column (`N10`, `L3` or empty).
 ///
 /// # Safety
-/// As [`text`].
+/// `h` is NULL or a live handle; `buf` is NULL or has `cap` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn softnc_cosim_block(h: *mut Cosim, buf: *mut c_char, cap: usize) -> isize {
     // SAFETY: see above.
@@ -521,7 +521,7 @@ pub unsafe extern "C" fn softnc_cosim_block(h: *mut Cosim, buf: *mut c_char, cap
 /// The last setpoint's events column (`aux M3 @S1;single-block`, …).
 ///
 /// # Safety
-/// As [`text`].
+/// `h` is NULL or a live handle; `buf` is NULL or has `cap` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn softnc_cosim_events(h: *mut Cosim, buf: *mut c_char, cap: usize) -> isize {
     // SAFETY: see above.
