@@ -317,6 +317,38 @@ pub fn with_preparation<R>(
     Ok((r, report_rx.try_iter().collect()))
 }
 
+/// A preparation thread that owns its program and prepares it as [`with_preparation`] does
+/// (no refusal at load: an alarm stops the channel where the path gets to it): for a
+/// simulation stepped from outside, cycle by cycle.
+pub fn spawn_simulation(
+    name: String,
+    source: String,
+    md: MachineData,
+    tools: ToolTable,
+    delay: Duration,
+) -> std::io::Result<Spawned> {
+    let (start_tx, start_rx) = crossbeam::channel::bounded(1);
+    let (hand, reports, thread) = spawn_owned(name.clone(), move |hand, reports| {
+        let lim = AxisLimits::new(&md);
+        let job = Job {
+            name: &name,
+            source: &source,
+            md: &md,
+            tools: &tools,
+            at: None,
+        };
+        prepare_into(job, &start_tx, &lim, hand, reports, delay);
+    })?;
+    // The machine stands where the program starts.
+    let start = start_rx.recv().unwrap_or_default();
+    Ok(Spawned {
+        hand,
+        start,
+        reports,
+        thread,
+    })
+}
+
 /// A preparation thread that owns its program: for a kernel process that loads programs
 /// while it runs.
 pub struct Spawned {

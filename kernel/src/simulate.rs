@@ -9,12 +9,15 @@
 //! needed. So the setpoints depend on the program and the machine data only, never on how
 //! fast the preparation thread happens to be: the same bits on every run.
 //!
+//! One run is a [`Simulation`], stepped one cycle per call: [`run`] steps it to the end and
+//! writes the rows, the co-simulation library (crate softnc-cosim) steps it from C.
+//!
 //! The simulation plays operator and PLC: a program stop (M00, M01, M18) or a single-block
 //! stop is followed by NC start in the next cycle, and an auxiliary function that waits for
 //! an acknowledgement is acknowledged `ack_cycles` cycles after it was output.
 
 use crate::alarm::{Alarm, AlarmCode};
-use crate::handover::{with_preparation, Handover, Job, Report};
+use crate::handover::Report;
 use crate::ipo::Input;
 use crate::ipo::{Channel, ChannelState, Event, Setpoint, SpindleModel};
 use crate::segment::Source;
@@ -99,26 +102,75 @@ pub fn run_with_progress(
     out: &mut dyn Write,
     progress: &mut dyn FnMut(Progress),
 ) -> std::io::Result<Summary> {
-    let job = Job {
-        name,
-        source,
-        md,
-        tools,
-        at: None,
-    };
-    let (result, reports) = with_preparation(job, opts.prep_delay, |start, hand| {
-        ipo_loop(name, md, start, hand, opts, out, progress)
-    })?;
-    let mut summary = result?;
-    for r in reports {
-        match r {
-            Report::Warning(w) => summary.warnings.push(w),
-            Report::Alarm(a) => summary.alarms.push(a),
-            // A simulation keeps nothing: the file of kept variables is the machine's.
-            Report::KeptVariables(_) => {}
+    let mut sim = Simulation::new(name, source, md, tools, opts)?;
+    let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
+    writeln!(w, "{}", sim.header())?;
+    let mut line = String::with_capacity(256);
+    loop {
+        let step = sim.step();
+        sim.row(&mut line);
+        w.write_all(line.as_bytes())?;
+        if step != Step::Running {
+            break;
+        }
+        let k = sim.next_cycle();
+        if k.is_multiple_of(PROGRESS_CYCLES) {
+            progress(Progress {
+                cycles: k,
+                line: sim.setpoint().source.map_or(0, |s| s.line),
+            });
+        }
+        if k >= opts.max_cycles {
+            sim.summary.timed_out = true;
+            break;
         }
     }
-    Ok(summary)
+    w.flush()?;
+    Ok(sim.finish())
+}
+
+/// What a cycle of a [`Simulation`] left the channel doing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// The next cycle goes on (moving, waiting, or restarted after a stop).
+    Running,
+    /// The program ended (M02, M30, the end of the text).
+    Ended,
+    /// The channel stopped with an alarm (reset to go on); also every cycle a stepped
+    /// simulation is asked for after it stopped or ended.
+    Stopped,
+}
+
+/// One simulated run, cycle by cycle: its preparation thread, the channel, and the simulated
+/// operator and PLC around it. [`run`] steps it to the end; a co-simulation (crate
+/// softnc-cosim) steps it one cycle per call and may play operator and PLC itself.
+pub struct Simulation {
+    name: String,
+    md: MachineData,
+    prep: Option<crate::handover::Spawned>,
+    ch: Box<Channel>,
+    sp: Setpoint,
+    pending: Option<Input>,
+    /// Cycles at which the simulated PLC acknowledges the aux functions waiting.
+    acks: std::collections::VecDeque<u64>,
+    ack_cycles: u64,
+    /// The simulated PLC's spindle drive.
+    spindle: SpindleModel,
+    limits: Limits,
+    /// Cycles in a row the path stood still with nothing happening.
+    still: u64,
+    /// The next cycle's number.
+    k: u64,
+    /// The additional axes the machine has, in CSV order.
+    extra: Vec<usize>,
+    /// The last step ended or stopped the run: further steps do nothing.
+    over: bool,
+    /// The simulated operator gives NC start after a stop without alarm (on for [`run`]).
+    pub operator: bool,
+    /// The simulated PLC acknowledges aux functions `ack_cycles` after their output and
+    /// reports the spindle's actual speed (on for [`run`]).
+    pub plc: bool,
+    pub summary: Summary,
 }
 
 /// Where a run that would not end is ended (machine data `simulate`), in cycles.
@@ -169,118 +221,246 @@ fn limit_alarm(code: AlarmCode, at: Option<Source>, name: &str, md: &MachineData
     Alarm::at(code, name, &at, message)
 }
 
-fn ipo_loop(
-    name: &str,
-    md: &MachineData,
-    start: crate::frontend::block::AxisPos,
-    hand: &Handover,
-    opts: &Options,
-    out: &mut dyn Write,
-    progress: &mut dyn FnMut(Progress),
-) -> std::io::Result<Summary> {
-    let mut ch = Box::new(Channel::new(md, start));
-    ch.set_override(opts.override_);
-    ch.set_single_block(opts.single_block);
-    let mut sp = Setpoint::new(start);
-    let mut summary = Summary::default();
-    let mut pending: Option<Input> = None;
-    let mut acks: std::collections::VecDeque<u64> = std::collections::VecDeque::new();
-    let cycle_us = u64::from(md.ipo.cycle_us);
-    let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
-    // X Y Z always, then the additional axes the machine has (continuous positions: a
-    // modulo axis's setpoint runs on past 360°).
-    let extra: Vec<usize> = md
-        .axes
-        .configured()
-        .map(|(i, _)| i)
-        .filter(|&i| i >= 3)
-        .collect();
-    let names: String = extra
-        .iter()
-        .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
-        .collect();
-    writeln!(w, "cycle,time,X,Y,Z{names},S1,v_path,block,events")?;
-    let mut line = String::with_capacity(256);
-    ch.start();
-    let limits = Limits::new(md);
-    // The simulated PLC's spindle drive.
-    let mut spindle = SpindleModel::new(
-        md.plc.spindle_acceleration,
-        f64::from(md.ipo.cycle_us) * 1e-6,
-    );
-    // Cycles in a row the path stood still with nothing happening.
-    let mut still: u64 = 0;
-    let mut k: u64 = 0;
-    loop {
-        // Take what preparation has, up to the lookahead; wait for it (simulated time stands
-        // still), so the result does not depend on the thread's speed.
-        ch.fill(&mut pending, || loop {
+impl Simulation {
+    /// Starts preparing `source` in a thread of its own, the channel in NC start at the
+    /// program's start position.
+    pub fn new(
+        name: &str,
+        source: &str,
+        md: &MachineData,
+        tools: &ToolTable,
+        opts: &Options,
+    ) -> std::io::Result<Simulation> {
+        let prep = crate::handover::spawn_simulation(
+            name.to_string(),
+            source.to_string(),
+            md.clone(),
+            tools.clone(),
+            opts.prep_delay,
+        )?;
+        let start = prep.start;
+        let mut ch = Box::new(Channel::new(md, start));
+        ch.set_override(opts.override_);
+        ch.set_single_block(opts.single_block);
+        ch.start();
+        // X Y Z always, then the additional axes the machine has (continuous positions: a
+        // modulo axis's setpoint runs on past 360°).
+        let extra = md
+            .axes
+            .configured()
+            .map(|(i, _)| i)
+            .filter(|&i| i >= 3)
+            .collect();
+        Ok(Simulation {
+            name: name.to_string(),
+            md: md.clone(),
+            prep: Some(prep),
+            ch,
+            sp: Setpoint::new(start),
+            pending: None,
+            acks: std::collections::VecDeque::new(),
+            ack_cycles: opts.ack_cycles.max(1),
+            spindle: SpindleModel::new(
+                md.plc.spindle_acceleration,
+                f64::from(md.ipo.cycle_us) * 1e-6,
+            ),
+            limits: Limits::new(md),
+            still: 0,
+            k: 0,
+            extra,
+            over: false,
+            operator: true,
+            plc: true,
+            summary: Summary::default(),
+        })
+    }
+
+    /// One IPO cycle: takes what preparation has, lets the simulated PLC act, computes the
+    /// setpoint ([`Self::setpoint`]).
+    pub fn step(&mut self) -> Step {
+        if self.over {
+            return Step::Stopped;
+        }
+        self.take_prepared();
+        // The simulated operator and PLC act between cycles.
+        while self.acks.front().is_some_and(|&due| due <= self.k) {
+            self.acks.pop_front();
+            self.ch.ack();
+        }
+        let before = self.sp.axes();
+        self.ch.cycle(self.k, &mut self.sp);
+        if self.plc {
+            self.ch
+                .set_spindle_actual(self.spindle.follow(self.sp.spindle));
+        }
+        self.still = if self.sp.axes() == before && self.sp.events.is_empty() {
+            self.still + 1
+        } else {
+            0
+        };
+        self.check_limits();
+        self.count();
+        let step = match self.sp.state {
+            ChannelState::End => Step::Ended,
+            ChannelState::Stopped if !self.ch.has_alarm() => {
+                if self.operator {
+                    self.ch.start();
+                }
+                Step::Running
+            }
+            ChannelState::Stopped => Step::Stopped,
+            _ => Step::Running,
+        };
+        if step == Step::Running {
+            self.k += 1;
+        } else {
+            self.over = true;
+        }
+        step
+    }
+
+    /// Takes what preparation has, up to the lookahead; waits for it (simulated time stands
+    /// still), so the result does not depend on the thread's speed.
+    fn take_prepared(&mut self) {
+        let Some(prep) = &self.prep else {
+            return;
+        };
+        let hand = &prep.hand;
+        self.ch.fill(&mut self.pending, || loop {
             if let Some(i) = hand.pop() {
                 return Some(i);
             }
             std::thread::yield_now();
         });
-        // The simulated operator and PLC act between cycles.
-        while acks.front().is_some_and(|&due| due <= k) {
-            acks.pop_front();
-            ch.ack();
+    }
+
+    /// Machine data `simulate.*`: a run that would not end brakes on its contour and stops
+    /// with an alarm.
+    fn check_limits(&mut self) {
+        if self.ch.has_alarm() {
+            return;
         }
-        let before = sp.axes();
-        ch.cycle(k, &mut sp);
-        ch.set_spindle_actual(spindle.follow(sp.spindle));
-        still = if sp.axes() == before && sp.events.is_empty() {
-            still + 1
-        } else {
-            0
-        };
-        if !ch.has_alarm() {
-            if let Some(code) = limits.due(k, still) {
-                // The path brakes on its contour and the channel stops with the alarm.
-                ch.fault();
-                let source = sp.source.unwrap_or_default();
-                let _ = sp.events.push(Event::Alarm {
-                    code: code.number(),
-                    source,
-                });
-                summary.alarms.push(limit_alarm(code, sp.source, name, md));
-            }
-        }
-        for e in &sp.events {
-            if let Event::Aux { aux, .. } = e {
-                summary.aux += u64::from(!aux.words.is_empty());
-            }
-        }
-        let due = ch.acks_due() as usize;
-        while acks.len() < due {
-            acks.push_back(k + opts.ack_cycles.max(1));
-        }
-        summary.max_speed = summary.max_speed.max(sp.v_path * 60.0);
-        write_row(&mut line, &sp, &extra, cycle_us);
-        w.write_all(line.as_bytes())?;
-        match sp.state {
-            ChannelState::End => break,
-            ChannelState::Stopped if !ch.has_alarm() => ch.start(),
-            ChannelState::Stopped => break,
-            _ => {}
-        }
-        k += 1;
-        if k.is_multiple_of(PROGRESS_CYCLES) {
-            progress(Progress {
-                cycles: k,
-                line: sp.source.map_or(0, |s| s.line),
+        if let Some(code) = self.limits.due(self.k, self.still) {
+            self.ch.fault();
+            let source = self.sp.source.unwrap_or_default();
+            let _ = self.sp.events.push(Event::Alarm {
+                code: code.number(),
+                source,
             });
-        }
-        if k >= opts.max_cycles {
-            summary.timed_out = true;
-            break;
+            let a = limit_alarm(code, self.sp.source, &self.name, &self.md);
+            self.summary.alarms.push(a);
         }
     }
-    w.flush()?;
-    summary.cycles = k + 1;
-    summary.segments = ch.planner().pushed();
-    summary.dead_stops = ch.planner().dead_stops();
-    summary.end_state = Some(sp.state);
-    Ok(summary)
+
+    /// The cycle's aux functions into the summary and, for the simulated PLC, the
+    /// acknowledgements due.
+    fn count(&mut self) {
+        for e in &self.sp.events {
+            if let Event::Aux { aux, .. } = e {
+                self.summary.aux += u64::from(!aux.words.is_empty());
+            }
+        }
+        let due = self.ch.acks_due() as usize;
+        if self.plc {
+            while self.acks.len() < due {
+                self.acks.push_back(self.k + self.ack_cycles);
+            }
+        }
+        self.summary.max_speed = self.summary.max_speed.max(self.sp.v_path * 60.0);
+    }
+
+    /// The setpoint of the last cycle stepped.
+    pub fn setpoint(&self) -> &Setpoint {
+        &self.sp
+    }
+
+    /// The number the next cycle gets (the cycles stepped while running).
+    pub fn next_cycle(&self) -> u64 {
+        self.k
+    }
+
+    /// The channel, to feed it what a PLC or an operator would (override, NC start and
+    /// stop, read-in disable, aux acknowledgements, the spindle's actual speed).
+    pub fn channel(&mut self) -> &mut Channel {
+        &mut self.ch
+    }
+
+    /// The channel, to read.
+    pub fn channel_ref(&self) -> &Channel {
+        &self.ch
+    }
+
+    /// The IPO cycle, µs.
+    pub fn cycle_us(&self) -> u32 {
+        self.md.ipo.cycle_us
+    }
+
+    /// The CSV header: `cycle,time,X,Y,Z{additional axes},S1,v_path,block,events`.
+    pub fn header(&self) -> String {
+        let names: String = self
+            .extra
+            .iter()
+            .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
+            .collect();
+        format!("cycle,time,X,Y,Z{names},S1,v_path,block,events")
+    }
+
+    /// The last setpoint as `softnc simulate` writes it, with its newline.
+    pub fn row(&self, line: &mut String) {
+        write_row(line, &self.sp, &self.extra, u64::from(self.md.ipo.cycle_us));
+    }
+
+    /// The last setpoint's block column as `softnc simulate` writes it (appended).
+    pub fn block(&self, line: &mut String) {
+        write_block(line, &self.sp);
+    }
+
+    /// The last setpoint's events column as `softnc simulate` writes it (appended).
+    pub fn events(&self, line: &mut String) {
+        write_events(line, &self.sp);
+    }
+
+    /// The additional axes the CSV rows carry after Z (indices into U V W A B C + 3).
+    pub fn extra_axes(&self) -> &[usize] {
+        &self.extra
+    }
+
+    /// Stops the preparation thread and hands over what came of the run: preparation's
+    /// alarms and warnings after the simulation's own.
+    pub fn finish(mut self) -> Summary {
+        let mut summary = std::mem::take(&mut self.summary);
+        summary.cycles = self.k + 1;
+        summary.segments = self.ch.planner().pushed();
+        summary.dead_stops = self.ch.planner().dead_stops();
+        summary.end_state = Some(self.sp.state);
+        for r in self.stop_preparation() {
+            match r {
+                Report::Warning(w) => summary.warnings.push(w),
+                Report::Alarm(a) => summary.alarms.push(a),
+                // A simulation keeps nothing: the file of kept variables is the machine's.
+                Report::KeptVariables(_) => {}
+            }
+        }
+        summary
+    }
+
+    /// Tells the preparation thread to stop, joins it and returns its reports.
+    fn stop_preparation(&mut self) -> Vec<Report> {
+        let Some(prep) = self.prep.take() else {
+            return Vec::new();
+        };
+        prep.hand
+            .cancel
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        let _ = prep.thread.join();
+        prep.reports.try_iter().collect()
+    }
+}
+
+impl Drop for Simulation {
+    fn drop(&mut self) {
+        self.stop_preparation();
+    }
 }
 
 /// One CSV row; numbers in the shortest form that reads back to the same bits.
@@ -310,6 +490,16 @@ fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
         line.push_str(buf.format(x));
     }
     line.push(',');
+    write_block(line, sp);
+    line.push(',');
+    write_events(line, sp);
+    line.push('\n');
+}
+
+/// The block column: the block number (`N10`) or, without one, the line (`L3`); empty
+/// before the first block.
+fn write_block(line: &mut String, sp: &Setpoint) {
+    use std::fmt::Write as _;
     if let Some(s) = sp.source {
         match s.number {
             Some(n) => {
@@ -320,7 +510,11 @@ fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
             }
         }
     }
-    line.push(',');
+}
+
+/// The events column: the cycle's events, `;` between them.
+fn write_events(line: &mut String, sp: &Setpoint) {
+    use std::fmt::Write as _;
     for (i, e) in sp.events.iter().enumerate() {
         if i > 0 {
             line.push(';');
@@ -347,5 +541,4 @@ fn write_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
             }
         }
     }
-    line.push('\n');
 }
