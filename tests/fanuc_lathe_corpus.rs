@@ -215,6 +215,76 @@ fn t06_chamfer_corner_r() {
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);
-    let a = alarm.expect("G71 is refused");
+    let a = alarm.expect("G72 is refused");
+    assert!(a.message.contains("G72"), "{}", a.message);
     assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 6, 1));
+}
+
+#[test]
+fn t07_g71_g70_shaft() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let pass = |level: f64, z: f64| {
+        [
+            [level, 0.0, 2.0],           // in at rapid (N10 is G00) to the level
+            [level, 0.0, z],             // along Z to the offset shape
+            [level + 1.0, 0.0, z + 1.0], // retract R1 at 45°
+            [level + 1.0, 0.0, 2.0],     // back to the start's Z
+        ]
+    };
+    let mut want = vec![[20.0, 0.0, 2.0]]; // G0 X40 Z2: the start point A
+    for (level, z) in [(18.0, -29.8), (16.0, -29.8), (14.0, -17.4), (12.0, -13.4)] {
+        want.extend(pass(level, z));
+    }
+    want.extend([
+        // along the shape offset by U0.4 (0.2 on the radius) and W0.2
+        [10.2, 0.0, 2.2],
+        [10.2, 0.0, -9.8],
+        [15.2, 0.0, -19.8],
+        [15.2, 0.0, -29.8],
+        [20.2, 0.0, -29.8],
+        // back to A at rapid, X first
+        [20.0, 0.0, -29.8],
+        [20.0, 0.0, 2.0],
+        // G70: the shape as written, then back to A
+        [10.0, 0.0, 2.0],
+        [10.0, 0.0, -10.0],
+        [15.0, 0.0, -20.0],
+        [15.0, 0.0, -30.0],
+        [20.0, 0.0, -30.0],
+        [20.0, 0.0, 2.0],
+        [30.0, 0.0, 20.0], // G0 X60 Z20 after G70
+    ]);
+    let (b, alarm) = run("t07_g71_g70_shaft.nc");
+    assert!(alarm.is_none(), "{alarm:?}");
+    let got = ends(&b);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (0..3).all(|i| (g[i] - w[i]).abs() <= 1e-9),
+            "move {k}: {g:?}, by hand {w:?}"
+        );
+    }
+    check("t07_g71_g70_shaft.nc");
+    // Roughing at the G71 block's F0.25; G70 at the shape's F0.1 and S220.
+    let feeds: Vec<(u32, f64)> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind == nc_kernel::MotionKind::Linear)
+        })
+        .map(|b| (b.line, b.modal.feed))
+        .collect();
+    assert!(
+        feeds
+            .iter()
+            .all(|&(l, f)| (l == 17 && f == 0.25) || (l == 23 && f == 0.1)),
+        "{feeds:?}"
+    );
+    let s220 = b.iter().any(|b| {
+        b.line == 23
+            && b.words
+                .iter()
+                .any(|w| w.address == b'S' && w.value == 220.0)
+    });
+    assert!(s220, "G70 gives the shape's S");
 }

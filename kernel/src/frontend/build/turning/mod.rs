@@ -1,0 +1,247 @@
+//! Multiple repetitive turning cycles (Fanuc 0i-TF, G-code system A): the shape is written
+//! once between the blocks P and Q; G71 roughs down to it in passes along Z, G70 runs it.
+//!
+//! ```text
+//! G71 U(Δd) R(e)                  depth of cut (radius), retract: stored
+//! G71 P(ns) Q(nf) U(Δu) W(Δw) F S allowances (U a diameter); F and S for the roughing
+//! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I)
+//! N(nf) …
+//! G70 P(ns) Q(nf)                 finishing: the shape with its own F and S
+//! ```
+//!
+//! After G71 the program goes on after block Q; after G70, after the G70 block. Both
+//! return to the start point at rapid. [`contour`] reads the shape, [`stock_removal`] makes
+//! the moves.
+
+mod contour;
+mod stock_removal;
+
+pub use stock_removal::TurningRun;
+
+use super::super::block::*;
+use super::super::fault::{fault, R};
+use super::super::interpreter::Interpreter;
+use super::super::words::{int_value, Val, Words};
+use super::expand::Expansion;
+use crate::alarm::AlarmCode;
+use crate::dialect::TurningCycle;
+use contour::Element;
+use stock_removal::{Passes, EPS};
+
+/// `G71 U R`: the depth of cut and the retract, kept until written again.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TurningData {
+    pub depth: f64,
+    pub retract: f64,
+}
+
+impl Interpreter<'_> {
+    /// Step 8 of a G70/G71 block.
+    pub(super) fn turning_cycle(
+        &mut self,
+        w: &Words,
+        new: &mut ModalState,
+        kind: TurningCycle,
+        at: usize,
+    ) -> R<()> {
+        self.turning_allowed(new, at)?;
+        let (p, q) = match (w.p, w.q) {
+            (None, None) if kind == TurningCycle::StockRemoval => {
+                return self.depth_and_retract(w, new, at)
+            }
+            (Some(p), Some(q)) => (
+                int_value(p.value, p.at, "P")?,
+                (int_value(q.value, q.at, "Q")?, q.pos()),
+            ),
+            _ => {
+                return Err(fault(
+                    AlarmCode::MissingValue,
+                    at,
+                    "a turning cycle needs the shape's first and last block numbers P and Q",
+                ))
+            }
+        };
+        let start = self.cur;
+        let contour = self.read_contour(p, q.0, q.1, start, new)?;
+        let passes = match kind {
+            TurningCycle::StockRemoval => {
+                let (shape, passes) = self.stock_removal(w, new, &contour, at)?;
+                (self.pos, self.line, self.line_start) = contour.after;
+                Some((shape, passes))
+            }
+            TurningCycle::Finishing => None,
+        };
+        let run = match passes {
+            Some((shape, p)) => TurningRun::new(start, shape, Some(p)),
+            None => TurningRun::new(start, contour.elements, None),
+        };
+        self.expansion = Some(Expansion::turning(run));
+        self.expand_first(new);
+        Ok(())
+    }
+
+    /// No compensation, frame or hole cycle mode, and the Z-X plane.
+    fn turning_allowed(&self, new: &ModalState, at: usize) -> R<()> {
+        if new.trc != TrcSide::Off {
+            return Err(fault(
+                AlarmCode::ForbiddenWithTrc,
+                at,
+                "a turning cycle cannot be called while nose radius compensation is active (not built yet)",
+            ));
+        }
+        if self.coords.frame.active() || new.plane != Plane::ZX {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "a turning cycle runs in the Z-X plane without a frame",
+            ));
+        }
+        Ok(())
+    }
+
+    /// `G71 U(Δd) R(e)`: stored for the cycles that follow.
+    fn depth_and_retract(&mut self, w: &Words, new: &ModalState, at: usize) -> R<()> {
+        let no_axes = w.axis[1].is_none() && w.axis[2].is_none();
+        let Some(u) = w.axis[0].filter(|_| no_axes && w.incremental & 1 != 0) else {
+            return Err(fault(
+                AlarmCode::MissingValue,
+                at,
+                "the depth of cut block is U(depth) R(retract), or give P and Q",
+            ));
+        };
+        let depth = self.length(u, new.units);
+        if depth <= 0.0 {
+            return Err(fault(
+                AlarmCode::BadNumber,
+                u.pos(),
+                "the depth of cut U must be greater than 0",
+            ));
+        }
+        self.turning.depth = depth;
+        if let Some(r) = w.radius {
+            let e = self.length(r, new.units);
+            if e < 0.0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    r.pos(),
+                    "the retract R must not be negative",
+                ));
+            }
+            self.turning.retract = e;
+        }
+        Ok(())
+    }
+}
+
+impl Interpreter<'_> {
+    /// G71 type I: the shape offset by the allowances and the passes, checked.
+    fn stock_removal(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        contour: &contour::Contour,
+        at: usize,
+    ) -> R<(Vec<Element>, Passes)> {
+        if self.turning.depth <= 0.0 {
+            return Err(fault(
+                AlarmCode::MissingValue,
+                at,
+                "no depth of cut: program the block U(depth) R(retract) of the cycle first",
+            ));
+        }
+        if contour.first_has_z {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "stock removal type II (Z in the shape's first block: pockets) is not built yet",
+            ));
+        }
+        let (du, dw) = self.allowances(w, new)?;
+        let shape = &contour.elements;
+        let (a, a1) = (self.cur, shape.first().map_or(self.cur, |e| e.to));
+        let b = shape.last().map_or(a1, |e| e.to);
+        let sx = sign(a[0] - a1[0]);
+        let sz = sign(b[2] - a1[2]);
+        if sx == 0.0 || sz == 0.0 {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "the shape must start below (or above) the start point in X and go on along Z",
+            ));
+        }
+        if let Some((i, what)) = stock_removal::non_monotonic(shape, sx, sz) {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                format!(
+                    "the shape is not monotonic (type I), element {}: {what}",
+                    i + 1
+                ),
+            ));
+        }
+        let shape: Vec<Element> = shape.iter().map(|e| shifted(e, du, dw)).collect();
+        let total = sx * (a[0] - shape[0].to[0]);
+        if sx * du < 0.0 || sz * dw > 0.0 || total <= EPS {
+            return Err(fault(
+                AlarmCode::BadNumber,
+                at,
+                "the allowances U and W turn the shape inside out (their signs oppose the cut, or they reach the start point)",
+            ));
+        }
+        let count = Passes::count(total, self.turning.depth);
+        self.add_passes(count as u64, at)?;
+        let passes = Passes {
+            depth: self.turning.depth,
+            retract: self.turning.retract,
+            sx,
+            sz,
+            rapid_in: contour.elements[0].mode == MotionMode::Rapid,
+            count: count as u32,
+        };
+        Ok((shape, passes))
+    }
+
+    /// Δu/2 and Δw from the block's U and W (X and Z are no words of this block).
+    fn allowances(&self, w: &Words, new: &ModalState) -> R<(f64, f64)> {
+        let mut out = [0.0; 2];
+        for (k, i) in [(0, 0), (1, 2)] {
+            let Some(v): Option<Val> = w.axis[i] else {
+                continue;
+            };
+            if w.incremental & (1 << i) == 0 {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    v.pos(),
+                    "the allowances are U and W; X and Z have no meaning here",
+                ));
+            }
+            let f = super::motion::diameter_factor(i, new, Distance::Incremental);
+            out[k] = self.length(v, new.units) * f;
+        }
+        Ok((out[0], out[1]))
+    }
+}
+
+fn sign(v: f64) -> f64 {
+    if v > EPS {
+        1.0
+    } else if v < -EPS {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The element moved by the allowances (its centre with it).
+fn shifted(e: &Element, du: f64, dw: f64) -> Element {
+    let mv = |mut p: Pos| {
+        p[0] += du;
+        p[2] += dw;
+        p
+    };
+    Element {
+        to: mv(e.to),
+        centre: mv(e.centre),
+        ..*e
+    }
+}
