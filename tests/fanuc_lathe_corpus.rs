@@ -212,6 +212,43 @@ fn t06_chamfer_corner_r() {
 }
 
 #[test]
+fn t08_g71_arc_increments() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let fillet = |level: f64| -10.0 - (100.0 - (level - 20.0f64).powi(2)).sqrt();
+    let mut want = vec![[25.0, 0.0, 1.0]];
+    for (level, z) in [
+        (22.0, -35.0),
+        (19.0, fillet(19.0)),
+        (16.0, fillet(16.0)),
+        (13.0, fillet(13.0)),
+    ] {
+        want.extend([
+            [level, 0.0, 1.0],           // in at the feed (N30 is G01)
+            [level, 0.0, z],             // along Z to the shape
+            [level + 0.5, 0.0, z + 0.5], // retract 0.5 at 45°
+            [level + 0.5, 0.0, 1.0],     // back to Z 1
+        ]);
+    }
+    want.extend([
+        [10.0, 0.0, 1.0],   // A'
+        [10.0, 0.0, -10.0], // W-11000: 11 mm
+        [20.0, 0.0, -20.0], // the fillet
+        [20.0, 0.0, -35.0],
+        [25.0, 0.0, -35.0], // U10: 5 on the radius, at the start's X: no X move home
+        [25.0, 0.0, 1.0],   // back to A
+        [40.0, 0.0, 30.0],  // G0 X80 Z30
+    ]);
+    let b = clean("t08_g71_arc_increments.nc", &want);
+    let arc = b
+        .iter()
+        .filter_map(|b| b.motion)
+        .find(|m| m.kind.is_arc())
+        .unwrap();
+    assert_eq!(arc.center, [20.0, 0.0, -10.0]);
+    assert_eq!(arc.kind, nc_kernel::MotionKind::ArcCw);
+}
+
+#[test]
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);

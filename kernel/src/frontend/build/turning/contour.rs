@@ -59,13 +59,12 @@ impl Interpreter<'_> {
     /// block's line.
     pub(super) fn read_contour(
         &mut self,
-        p: u32,
-        q: u32,
-        q_at: usize,
+        (p, p_at): (u32, usize),
+        (q, q_at): (u32, usize),
         from: Pos,
         new: &ModalState,
     ) -> R<Contour> {
-        let (mut pos, mut line, mut line_start) = self.find_label(p, q_at)?;
+        let (mut pos, mut line, mut line_start) = self.find_label(p, p_at)?;
         let (mut at, mut mode) = (from, None);
         let mut elements = Vec::new();
         let mut first_has_z = false;
@@ -163,7 +162,7 @@ impl Interpreter<'_> {
                 return Err(not_in_shape(at, &(ch as char).to_string()));
             };
             let Some((n, e)) = number::parse(self.src, at + 1).filter(|&(_, e)| e <= end) else {
-                return Err(not_in_shape(at, &(letter as char).to_string()));
+                return Err(not_in_shape(at + 1, "a value other than a number"));
             };
             c.i = e;
             self.shape_word(&mut sw, letter, Val::new(n, at), at)?;

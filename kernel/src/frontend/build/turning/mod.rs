@@ -50,7 +50,7 @@ impl Interpreter<'_> {
                 return self.depth_and_retract(w, new, at)
             }
             (Some(p), Some(q)) => (
-                int_value(p.value, p.at, "P")?,
+                (int_value(p.value, p.at, "P")?, p.pos()),
                 (int_value(q.value, q.at, "Q")?, q.pos()),
             ),
             _ => {
@@ -62,7 +62,7 @@ impl Interpreter<'_> {
             }
         };
         let start = self.cur;
-        let contour = self.read_contour(p, q.0, q.1, start, new)?;
+        let contour = self.read_contour(p, q, start, new)?;
         let passes = match kind {
             TurningCycle::StockRemoval => {
                 let (shape, passes) = self.stock_removal(w, new, &contour, at)?;
@@ -243,5 +243,120 @@ fn shifted(e: &Element, du: f64, dw: f64) -> Element {
         to: mv(e.to),
         centre: mv(e.centre),
         ..*e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::alarm::{Alarm, AlarmCode};
+    use crate::frontend::{interpret, Block};
+    use crate::machine_data::MachineData;
+    use crate::tools::ToolTable;
+
+    fn lathe(src: &str) -> Result<Vec<Block>, Alarm> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/fanuc-lathe.toml");
+        let md = MachineData::load(Some(std::path::Path::new(path)), &[]).unwrap();
+        interpret("l.nc", src, &md, &ToolTable::builtin())
+    }
+
+    /// The alarm of `body` after the start block, as (code, line, column).
+    fn alarm(body: &str) -> (AlarmCode, u32, u32) {
+        let a = lathe(&format!("G0 X40. Z2.\n{body}")).unwrap_err();
+        (a.code, a.line, a.col)
+    }
+
+    const SHAPE: &str = "N10 G0 X20.\nG1 Z-10. F0.1\nN20 X40.\n";
+
+    #[test]
+    fn the_shape_blocks_must_be_there() {
+        // No Q block after P: the alarm points at Q of the cycle block (line 3, column 9).
+        let got = alarm(&format!("G71 U2. R1.\nG71 P10 Q99\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::JumpTarget, 3, 9));
+        // No P block at all.
+        let got = alarm(&format!("G71 U2. R1.\nG71 P11 Q20\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::JumpTarget, 3, 5));
+        // P without Q.
+        let got = alarm(&format!("G71 U2. R1.\nG71 P10\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::MissingValue, 3, 1));
+        // G70 alike.
+        let got = alarm("G70 P10 Q20\n");
+        assert_eq!(got.0, AlarmCode::JumpTarget);
+    }
+
+    #[test]
+    fn depth_of_cut_must_be_given_and_not_zero() {
+        assert_eq!(alarm("G71 U0 R1.\n"), (AlarmCode::BadNumber, 2, 5));
+        let got = alarm(&format!("G71 P10 Q20\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::MissingValue, 2, 1));
+    }
+
+    #[test]
+    fn type_i_needs_a_monotonic_shape() {
+        // X goes up to 30 and back down to 24 (a pocket): alarm at the cycle block.
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 X30. Z-5. F0.1\nX24. Z-10.\nN20 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // A half circle turns in X.
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 Z-5. F0.1\nG2 Z-15. R5.\nN20 G1 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // Z in the first block: type II, not built.
+        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nN20 X40.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+    }
+
+    #[test]
+    fn allowances_must_not_turn_the_shape_inside_out() {
+        // Outer turning with U negative, or U as large as the stock.
+        let got = alarm(&format!("G71 U2. R1.\nG71 P10 Q20 U-0.4\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::BadNumber, 3, 1));
+        let got = alarm(&format!("G71 U2. R1.\nG71 P10 Q20 U20.\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::BadNumber, 3, 1));
+        // W against the cut's direction (towards the chuck: W must not be negative).
+        let got = alarm(&format!("G71 U2. R1.\nG71 P10 Q20 W-0.1\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::BadNumber, 3, 1));
+    }
+
+    #[test]
+    fn unsupported_words_in_the_shape_name_their_block() {
+        // Nose radius compensation inside the shape: not built yet, alarm at its G41.
+        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG41 G1 Z-10. F0.1\nN20 X40.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 5, 1));
+        // A chamfer word, a macro expression.
+        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 Z-10. ,C1. F0.1\nN20 X40.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 5, 10));
+        let got = alarm("G70 P10 Q20\nN10 G0 X#1\nN20 X40.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 9));
+        // The first block needs its motion code.
+        let got = alarm("G70 P10 Q20\nN10 X20.\nN20 X40.\n");
+        assert_eq!(got, (AlarmCode::MissingValue, 3, 1));
+        // And G70/G71 under compensation.
+        let got = alarm(&format!("G42 G1 X38. F0.1\nG70 P10 Q20\n{SHAPE}"));
+        assert_eq!(got, (AlarmCode::ForbiddenWithTrc, 3, 1));
+    }
+
+    #[test]
+    fn inner_turning_goes_up_in_x() {
+        // Bore from radius 5 (X10): the shape A' = (15, 2), (15, -10), face down to
+        // (12, -10). U-0.4 moves it −0.2 in X: A' = (14.8, 2). Passes up by 3 while below
+        // 14.8 (9.8/3 rounded up less 1 = 3): levels 8, 11, 14; each runs to the face at
+        // Z -10, then out by R0.5 at 45° (X down, Z up).
+        let b = lathe(
+            "G0 X10. Z2.\nG71 U3. R0.5\nG71 P10 Q20 U-0.4 F0.2\nN10 G0 X30.\nG1 Z-10.\nN20 X24.\n",
+        )
+        .unwrap();
+        let ends: Vec<(f64, f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
+            .collect();
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let ends: Vec<(f64, f64)> = ends.iter().map(|&(x, z)| (r(x), r(z))).collect();
+        assert_eq!(
+            ends[1..5],
+            [(8.0, 2.0), (8.0, -10.0), (7.5, -9.5), (7.5, 2.0)]
+        );
+        assert_eq!(ends.len(), 1 + 3 * 4 + 3 + 2);
     }
 }
