@@ -325,3 +325,40 @@ fn t07_g71_g70_shaft() {
     });
     assert!(s220, "G70 gives the shape's S");
 }
+
+#[test]
+fn sample_shaft_rough_finish_checks_clean() {
+    // programs/fanuc-lathe/shaft_rough_finish.nc: A = X44 Z2 (radius 22), A' = X12 (6) moved
+    // by U0.4 to 6.2; depth 2: levels 20, 18 … 8 (15.8 / 2 rounded up less 1 = 7 passes),
+    // each ending in a 45° retract of R0.5.
+    let file = root().join("programs/fanuc-lathe/shaft_rough_finish.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let blocks: Vec<Block> = Interpreter::new("shaft", &text, &md, &tools)
+        .collect::<Result<_, _>>()
+        .unwrap_or_else(|a| panic!("{a}"));
+    let retracts = blocks
+        .iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| {
+            let (dx, dz) = (m.end[0] - m.start[0], m.end[2] - m.start[2]);
+            m.kind == nc_kernel::MotionKind::Rapid
+                && (dx - 0.5).abs() < 1e-9
+                && (dz - 0.5).abs() < 1e-9
+        })
+        .count();
+    assert_eq!(retracts, 7);
+    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("check")
+        .arg(&file)
+        .arg("--machine")
+        .arg(root().join("config/fanuc-lathe.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
