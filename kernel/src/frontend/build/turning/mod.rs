@@ -259,6 +259,47 @@ mod tests {
         interpret("l.nc", src, &md, &ToolTable::builtin())
     }
 
+    /// (X radius, Z) of every move's end, rounded to 1e-9, with X programmed as a radius.
+    fn radius_ends(src: &str) -> Vec<(f64, f64)> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/fanuc-lathe.toml");
+        let ov = ["program.diameter_programming=false".to_string()];
+        let md = MachineData::load(Some(std::path::Path::new(path)), &ov).unwrap();
+        let b =
+            interpret("r.nc", src, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"));
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
+            .collect()
+    }
+
+    #[test]
+    fn radius_programming_takes_x_and_u_as_radii() {
+        // X20 is radius 20; U0.2 is 0.2 on the radius. Shape (10, 2), (10, -10), (20, -10)
+        // moved by (0.2, 0.2): (10.2, 2.2), (10.2, -9.8), (20.2, -9.8). Levels 20 − 2k above
+        // 10.2: 18, 16, 14, 12 (9.8 / 2 rounded up less 1 = 4); each meets the face at
+        // Z -9.8 (the last element reaches X 20.2).
+        let e = radius_ends(
+            "G0 X20. Z2.\nG71 U2. R1.\nG71 P10 Q20 U0.2 W0.2 F0.2\nN10 G0 X10.\nG1 Z-10.\nN20 X20.\n",
+        );
+        let mut want = vec![(20.0, 2.0)];
+        for level in [18.0, 16.0, 14.0, 12.0] {
+            want.extend([
+                (level, 2.0),
+                (level, -9.8),
+                (level + 1.0, -8.8),
+                (level + 1.0, 2.0),
+            ]);
+        }
+        want.extend([
+            (10.2, 2.2),
+            (10.2, -9.8),
+            (20.2, -9.8),
+            (20.0, -9.8),
+            (20.0, 2.0),
+        ]);
+        assert_eq!(e, want);
+    }
+
     /// The alarm of `body` after the start block, as (code, line, column).
     fn alarm(body: &str) -> (AlarmCode, u32, u32) {
         let a = lathe(&format!("G0 X40. Z2.\n{body}")).unwrap_err();
