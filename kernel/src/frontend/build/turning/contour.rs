@@ -54,9 +54,8 @@ struct ShapeWords {
 }
 
 impl Interpreter<'_> {
-    /// The shape from block `p` to block `q`, starting at the tool position `from`; the
-    /// motion mode in force before it is `mode`. A fault in a block of the shape names that
-    /// block's line.
+    /// The shape from block `p` to block `q`, starting at the tool position `from`. A fault
+    /// in a block of the shape names that block's line.
     pub(super) fn read_contour(
         &mut self,
         (p, p_at): (u32, usize),
@@ -77,37 +76,17 @@ impl Interpreter<'_> {
                     format!("the shape's last block N{q} does not follow block N{p}"),
                 ));
             }
-            let line_end = super::super::super::lexer::find_byte(self.src, pos, [b'\n']);
-            let end = match block_text::fanuc_block_end(&self.src[..line_end], pos) {
-                BlockEnd::Semicolon(i) => i,
-                BlockEnd::Line(_) => line_end,
-            };
+            let (end, next) = self.block_after(pos, line, line_start);
             let sw = self
                 .shape_words(pos, end)
+                .and_then(|sw| {
+                    if elements.is_empty() && mode.is_none() {
+                        self.first_block(&sw, p, pos)?;
+                        first_has_z = sw.z.is_some();
+                    }
+                    Ok(sw)
+                })
                 .map_err(|f| self.fault_at_line(f, line, line_start))?;
-            if elements.is_empty()
-                && mode.is_none()
-                && !sw
-                    .g
-                    .is_some_and(|g| matches!(g.0, MotionMode::Rapid | MotionMode::Linear))
-            {
-                let codes = self.d.codes_of(&[
-                    GEffect::Motion(MotionMode::Rapid),
-                    GEffect::Motion(MotionMode::Linear),
-                ]);
-                return Err(self.fault_at_line(
-                    fault(
-                        AlarmCode::MissingValue,
-                        pos,
-                        format!("the shape's first block N{p} needs {codes}"),
-                    ),
-                    line,
-                    line_start,
-                ));
-            }
-            if elements.is_empty() {
-                first_has_z = sw.z.is_some();
-            }
             if let Some(e) = self
                 .shape_element(&sw, &mut mode, at, new)
                 .map_err(|f| self.fault_at_line(f, line, line_start))?
@@ -115,11 +94,6 @@ impl Interpreter<'_> {
                 at = e.to;
                 elements.push(e);
             }
-            let next = if end < line_end {
-                (end + 1, line, line_start)
-            } else {
-                (line_end + 1, line + 1, line_end + 1)
-            };
             if sw.number == Some(q) {
                 return Ok(Contour {
                     elements,
@@ -129,6 +103,35 @@ impl Interpreter<'_> {
             }
             (pos, line, line_start) = next;
         }
+    }
+
+    /// The end of the block starting at `pos` (a `;` or the line's end) and where the next
+    /// one starts.
+    fn block_after(&self, pos: usize, line: u32, line_start: usize) -> (usize, Mark) {
+        let line_end = super::super::super::lexer::find_byte(self.src, pos, [b'\n']);
+        match block_text::fanuc_block_end(&self.src[..line_end], pos) {
+            BlockEnd::Semicolon(i) if i < line_end => (i, (i + 1, line, line_start)),
+            _ => (line_end, (line_end + 1, line + 1, line_end + 1)),
+        }
+    }
+
+    /// The shape's first block states its motion, G00 or G01.
+    fn first_block(&self, sw: &ShapeWords, p: u32, pos: usize) -> R<()> {
+        if sw
+            .g
+            .is_some_and(|g| matches!(g.0, MotionMode::Rapid | MotionMode::Linear))
+        {
+            return Ok(());
+        }
+        let codes = self.d.codes_of(&[
+            GEffect::Motion(MotionMode::Rapid),
+            GEffect::Motion(MotionMode::Linear),
+        ]);
+        Err(fault(
+            AlarmCode::MissingValue,
+            pos,
+            format!("the shape's first block N{p} needs {codes}"),
+        ))
     }
 
     /// A fault in another block than the one being built: the alarm names its line.

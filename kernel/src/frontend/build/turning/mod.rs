@@ -379,6 +379,31 @@ mod tests {
     }
 
     #[test]
+    fn g70_runs_the_shape_of_blocks_ended_by_semicolons_and_returns() {
+        // From (20, 2): A' (10, 2) at rapid, (10, -5), (20, -5), back to A: X is there, Z 2.
+        let b =
+            lathe("G0 X40. Z2.\nG70 P10 Q20\nM30\nN10 G0 X20.; G1 Z-5. F0.1; N20 X40.\n").unwrap();
+        let ends: Vec<(f64, f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
+            .collect();
+        assert_eq!(
+            ends,
+            [
+                (20.0, 2.0),
+                (10.0, 2.0),
+                (10.0, -5.0),
+                (20.0, -5.0),
+                (20.0, 2.0)
+            ]
+        );
+        assert!(
+            b.iter().all(|b| b.line <= 3),
+            "the shape's line does not run by itself"
+        );
+    }
+
+    #[test]
     fn inner_turning_goes_up_in_x() {
         // Bore from radius 5 (X10): the shape A' = (15, 2), (15, -10), face down to
         // (12, -10). U-0.4 moves it −0.2 in X: A' = (14.8, 2). Passes up by 3 while below
