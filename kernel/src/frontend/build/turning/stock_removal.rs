@@ -103,7 +103,10 @@ impl TurningRun {
     fn refill(&mut self) {
         match self.phase {
             Phase::Pass(k) => {
-                let Some(p) = self.passes else { return };
+                let Some(p) = self.passes else {
+                    self.phase = Phase::Shape(0);
+                    return;
+                };
                 self.pass(&p, k);
                 self.phase = if k < p.count {
                     Phase::Pass(k + 1)
