@@ -324,6 +324,17 @@ fn t07_g71_g70_shaft() {
                 .any(|w| w.address == b'S' && w.value == 220.0)
     });
     assert!(s220, "G70 gives the shape's S");
+    // The passes stop at every corner; the shape runs as a path (the modal G64 decides).
+    let stops: Vec<bool> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind == nc_kernel::MotionKind::Linear)
+        })
+        .map(|b| b.exact_stop)
+        .collect();
+    assert_eq!(stops[..2], [true, true], "{stops:?}");
+    assert!(stops[stops.len() - 4..].iter().all(|s| !s), "{stops:?}");
 }
 
 #[test]

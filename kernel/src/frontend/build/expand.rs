@@ -25,6 +25,13 @@ pub enum Step {
         /// feed.
         feed: Option<f64>,
     },
+    /// A move along a contour (a turning cycle's shape): like `Move`, but the modal exact
+    /// stop (G61/G64) decides whether the tool stops at its end, as in a programmed block.
+    Path {
+        to: Pos,
+        rapid: bool,
+        feed: Option<f64>,
+    },
     /// An arc about `centre` (its plane coordinates) in the modal plane, without a stop at
     /// its end (a piece of a helix, an arc of a turning cycle's shape); `feed` as for a move.
     Arc {
@@ -322,6 +329,18 @@ impl Interpreter<'_> {
                 });
                 blk.exact_stop = true;
                 self.cur = to;
+            }
+            Step::Path { to, rapid, feed } => {
+                self.apply_step(
+                    Step::Move {
+                        to,
+                        rapid,
+                        axes: None,
+                        feed,
+                    },
+                    modal,
+                );
+                self.block.exact_stop = false;
             }
             Step::Arc {
                 to,

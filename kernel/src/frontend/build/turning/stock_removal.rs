@@ -168,7 +168,14 @@ impl TurningRun {
             }
             m => {
                 let rapid = m == MotionMode::Rapid || (first && self.rapid_in());
-                self.go(e.to, rapid, feed);
+                if e.to != self.at {
+                    self.push(Step::Path {
+                        to: e.to,
+                        rapid,
+                        feed,
+                    });
+                    self.at = e.to;
+                }
             }
         }
     }
