@@ -212,9 +212,164 @@ fn t06_chamfer_corner_r() {
 }
 
 #[test]
+fn t08_g71_arc_increments() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let fillet = |level: f64| -10.0 - (100.0 - (level - 20.0f64).powi(2)).sqrt();
+    let mut want = vec![[25.0, 0.0, 1.0]];
+    for (level, z) in [
+        (22.0, -35.0),
+        (19.0, fillet(19.0)),
+        (16.0, fillet(16.0)),
+        (13.0, fillet(13.0)),
+    ] {
+        want.extend([
+            [level, 0.0, 1.0],           // in at the feed (N30 is G01)
+            [level, 0.0, z],             // along Z to the shape
+            [level + 0.5, 0.0, z + 0.5], // retract 0.5 at 45°
+            [level + 0.5, 0.0, 1.0],     // back to Z 1
+        ]);
+    }
+    want.extend([
+        [10.0, 0.0, 1.0],   // A'
+        [10.0, 0.0, -10.0], // W-11000: 11 mm
+        [20.0, 0.0, -20.0], // the fillet
+        [20.0, 0.0, -35.0],
+        [25.0, 0.0, -35.0], // U10: 5 on the radius, at the start's X: no X move home
+        [25.0, 0.0, 1.0],   // back to A
+        [40.0, 0.0, 30.0],  // G0 X80 Z30
+    ]);
+    let b = clean("t08_g71_arc_increments.nc", &want);
+    let arc = b
+        .iter()
+        .filter_map(|b| b.motion)
+        .find(|m| m.kind.is_arc())
+        .unwrap();
+    assert_eq!(arc.center, [20.0, 0.0, -10.0]);
+    assert_eq!(arc.kind, nc_kernel::MotionKind::ArcCw);
+}
+
+#[test]
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);
-    let a = alarm.expect("G71 is refused");
+    let a = alarm.expect("G72 is refused");
+    assert!(a.message.contains("G72"), "{}", a.message);
     assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 6, 1));
+}
+
+#[test]
+fn t07_g71_g70_shaft() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let pass = |level: f64, z: f64| {
+        [
+            [level, 0.0, 2.0],           // in at rapid (N10 is G00) to the level
+            [level, 0.0, z],             // along Z to the offset shape
+            [level + 1.0, 0.0, z + 1.0], // retract R1 at 45°
+            [level + 1.0, 0.0, 2.0],     // back to the start's Z
+        ]
+    };
+    let mut want = vec![[20.0, 0.0, 2.0]]; // G0 X40 Z2: the start point A
+    for (level, z) in [(18.0, -29.8), (16.0, -29.8), (14.0, -17.4), (12.0, -13.4)] {
+        want.extend(pass(level, z));
+    }
+    want.extend([
+        // along the shape offset by U0.4 (0.2 on the radius) and W0.2
+        [10.2, 0.0, 2.2],
+        [10.2, 0.0, -9.8],
+        [15.2, 0.0, -19.8],
+        [15.2, 0.0, -29.8],
+        [20.2, 0.0, -29.8],
+        // back to A at rapid, X first
+        [20.0, 0.0, -29.8],
+        [20.0, 0.0, 2.0],
+        // G70: the shape as written, then back to A
+        [10.0, 0.0, 2.0],
+        [10.0, 0.0, -10.0],
+        [15.0, 0.0, -20.0],
+        [15.0, 0.0, -30.0],
+        [20.0, 0.0, -30.0],
+        [20.0, 0.0, 2.0],
+        [30.0, 0.0, 20.0], // G0 X60 Z20 after G70
+    ]);
+    let (b, alarm) = run("t07_g71_g70_shaft.nc");
+    assert!(alarm.is_none(), "{alarm:?}");
+    let got = ends(&b);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (0..3).all(|i| (g[i] - w[i]).abs() <= 1e-9),
+            "move {k}: {g:?}, by hand {w:?}"
+        );
+    }
+    check("t07_g71_g70_shaft.nc");
+    // Roughing at the G71 block's F0.25; G70 at the shape's F0.1 and S220.
+    let feeds: Vec<(u32, f64)> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind == nc_kernel::MotionKind::Linear)
+        })
+        .map(|b| (b.line, b.modal.feed))
+        .collect();
+    assert!(
+        feeds
+            .iter()
+            .all(|&(l, f)| (l == 17 && f == 0.25) || (l == 23 && f == 0.1)),
+        "{feeds:?}"
+    );
+    let s220 = b.iter().any(|b| {
+        b.line == 23
+            && b.words
+                .iter()
+                .any(|w| w.address == b'S' && w.value == 220.0)
+    });
+    assert!(s220, "G70 gives the shape's S");
+    // The passes stop at every corner; the shape runs as a path (the modal G64 decides).
+    let stops: Vec<bool> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind == nc_kernel::MotionKind::Linear)
+        })
+        .map(|b| b.exact_stop)
+        .collect();
+    assert_eq!(stops[..2], [true, true], "{stops:?}");
+    assert!(stops[stops.len() - 4..].iter().all(|s| !s), "{stops:?}");
+}
+
+#[test]
+fn sample_shaft_rough_finish_checks_clean() {
+    // programs/fanuc-lathe/shaft_rough_finish.nc: A = X44 Z2 (radius 22), A' = X12 (6) moved
+    // by U0.4 to 6.2; depth 2: levels 20, 18 … 8 (15.8 / 2 rounded up less 1 = 7 passes),
+    // each ending in a 45° retract of R0.5.
+    let file = root().join("programs/fanuc-lathe/shaft_rough_finish.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let blocks: Vec<Block> = Interpreter::new("shaft", &text, &md, &tools)
+        .collect::<Result<_, _>>()
+        .unwrap_or_else(|a| panic!("{a}"));
+    let retracts = blocks
+        .iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| {
+            let (dx, dz) = (m.end[0] - m.start[0], m.end[2] - m.start[2]);
+            m.kind == nc_kernel::MotionKind::Rapid
+                && (dx - 0.5).abs() < 1e-9
+                && (dz - 0.5).abs() < 1e-9
+        })
+        .count();
+    assert_eq!(retracts, 7);
+    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("check")
+        .arg(&file)
+        .arg("--machine")
+        .arg(root().join("config/fanuc-lathe.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
 }

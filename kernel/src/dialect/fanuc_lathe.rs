@@ -42,8 +42,8 @@ static GCODES: &[GCodeDef] = &[
     g(65, MacroCall),
     g(66, ModalMacroCall),
     g(67, ModalMacroCancel),
-    g(70, Unsupported("finishing cycle G70")),
-    g(71, Unsupported("stock removal in turning G71")),
+    g(70, TurningCycle(super::TurningCycle::Finishing)),
+    g(71, TurningCycle(super::TurningCycle::StockRemoval)),
     g(72, Unsupported("stock removal in facing G72")),
     g(73, Unsupported("pattern repeating G73")),
     g(74, Unsupported("end face peck drilling G74")),
@@ -168,7 +168,7 @@ mod tests {
         let m = b[2].motion.unwrap();
         // X90 is 5 radius below the 50 that reads here; Z5 is 5 below the Z10 here.
         assert_eq!((m.end[0], m.end[2]), (15.0, -5.0));
-        let a = lathe("G71 U2. R1.\n").unwrap_err();
+        let a = lathe("G72 W2. R1.\n").unwrap_err();
         assert_eq!(a.code, AlarmCode::NotSupported);
     }
 }

@@ -137,8 +137,22 @@ pub enum GEffect {
     /// How a smooth approach or retraction moves along the tool axis (modal: SINUMERIK G340
     /// in space, G341 axis first).
     SmoothPath(SarPath),
+    /// A multiple repetitive turning cycle on the contour between the blocks P and Q
+    /// (Fanuc lathe G70, G71): one shot, the contour written once.
+    TurningCycle(TurningCycle),
     /// A code the dialect defines that softnc recognises but does not implement.
     Unsupported(&'static str),
+}
+
+/// What a multiple repetitive turning cycle does with its contour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TurningCycle {
+    /// Runs the contour as written (Fanuc G70 finishing).
+    Finishing,
+    /// Removes the stock down to the contour in passes along Z, then one pass along the
+    /// contour offset by the allowances (Fanuc G71 type I). A block with only the depth
+    /// of cut and the retract (`U R`) stores them.
+    StockRemoval,
 }
 
 impl GEffect {
@@ -179,6 +193,7 @@ impl GEffect {
             GEffect::WorkingArea { .. } => 15,
             GEffect::PoleHere => 16,
             GEffect::Pole(_) => 32,
+            GEffect::TurningCycle(_) => 33,
             GEffect::Unsupported(_) => 17,
         }
     }
@@ -605,7 +620,7 @@ impl Dialect {
     pub fn has_cycles(&self) -> bool {
         self.gcodes
             .iter()
-            .any(|def| matches!(def.effect, GEffect::Cycle(_)))
+            .any(|def| matches!(def.effect, GEffect::Cycle(_) | GEffect::TurningCycle(_)))
     }
 
     /// The M function with `effect` as a program writes it (`M98`), for messages.

@@ -67,6 +67,8 @@ pub struct Interpreter<'a> {
     /// The canned cycle mode in force, and its return level (G98: the initial level).
     pub(super) cycle: Option<CycleMode>,
     pub(super) cycle_to_initial: bool,
+    /// The depth of cut and retract of the turning cycles (Fanuc lathe `G71 U R`).
+    pub(super) turning: super::build::TurningData,
     /// Chamfer and corner words (Fanuc `,C` `,R`): the move that waits for the next one,
     /// and the blocks to hand out before reading on. `None` while no corner word is in play.
     pub(super) corners: Option<Box<Corners<'a>>>,
@@ -138,6 +140,7 @@ impl<'a> Interpreter<'a> {
             expansion: None,
             cycle: None,
             cycle_to_initial: true,
+            turning: Default::default(),
             corners: None,
             smooth: None,
             machine_coordinates: false,

@@ -10,6 +10,7 @@ use super::super::fault::R;
 use super::super::interpreter::Interpreter;
 use super::super::sinumerik::cycles::CycleRun;
 use super::cycles::Drilling;
+use super::turning::TurningRun;
 
 /// One move or action of an expanded block.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,9 +25,21 @@ pub enum Step {
         /// feed.
         feed: Option<f64>,
     },
-    /// A piece of a helix: an arc about `centre` (its plane coordinates) in the modal
-    /// plane, without a stop at its end.
-    Arc { to: Pos, centre: Pos, ccw: bool },
+    /// A move along a contour (a turning cycle's shape): like `Move`, but the modal exact
+    /// stop (G61/G64) decides whether the tool stops at its end, as in a programmed block.
+    Path {
+        to: Pos,
+        rapid: bool,
+        feed: Option<f64>,
+    },
+    /// An arc about `centre` (its plane coordinates) in the modal plane, without a stop at
+    /// its end (a piece of a helix, an arc of a turning cycle's shape); `feed` as for a move.
+    Arc {
+        to: Pos,
+        centre: Pos,
+        ccw: bool,
+        feed: Option<f64>,
+    },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
@@ -55,6 +68,8 @@ enum Steps {
     Cycle(Box<CycleRun>),
     /// A helix's remaining turns and its last arc.
     Helix(Helix),
+    /// A turning cycle's passes and its run along the shape (Fanuc lathe G70, G71).
+    Turning(Box<TurningRun>),
     /// Blocks made ready elsewhere (a SINUMERIK smooth approach or retraction,
     /// build/smooth.rs), handed out as they are; then the modal state comes back.
     Blocks(Box<Queued>),
@@ -111,6 +126,7 @@ impl Helix {
             to,
             centre: self.centre,
             ccw: self.ccw,
+            feed: None,
         })
     }
 }
@@ -138,6 +154,13 @@ impl Expansion {
     pub fn cycle(c: CycleRun) -> Self {
         Expansion {
             steps: Steps::Cycle(Box::new(c)),
+            stop: None,
+        }
+    }
+
+    pub fn turning(t: TurningRun) -> Self {
+        Expansion {
+            steps: Steps::Turning(Box::new(t)),
             stop: None,
         }
     }
@@ -176,6 +199,7 @@ impl Expansion {
             Steps::Drilling(d) => d.next(),
             Steps::Cycle(c) => c.next(),
             Steps::Helix(h) => h.next(),
+            Steps::Turning(t) => t.next(),
             Steps::Blocks(_) => None,
         }
     }
@@ -187,6 +211,7 @@ impl Expansion {
             Steps::Drilling(d) => d.done(),
             Steps::Cycle(c) => c.done(),
             Steps::Helix(h) => h.at.is_none(),
+            Steps::Turning(t) => t.done(),
             Steps::Blocks(q) => q.blocks.is_empty(),
         }
     }
@@ -305,7 +330,27 @@ impl Interpreter<'_> {
                 blk.exact_stop = true;
                 self.cur = to;
             }
-            Step::Arc { to, centre, ccw } => {
+            Step::Path { to, rapid, feed } => {
+                self.apply_step(
+                    Step::Move {
+                        to,
+                        rapid,
+                        axes: None,
+                        feed,
+                    },
+                    modal,
+                );
+                self.block.exact_stop = false;
+            }
+            Step::Arc {
+                to,
+                centre,
+                ccw,
+                feed,
+            } => {
+                if let Some(f) = feed {
+                    modal.feed = f;
+                }
                 let plane = modal.plane;
                 let mut c = self.cur;
                 c[plane.abscissa as usize] = centre[plane.abscissa as usize];

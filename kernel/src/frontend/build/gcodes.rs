@@ -45,6 +45,8 @@ pub(super) struct BlockCodes {
     pub dwell_revolutions: Option<f64>,
     /// A smooth approach or retraction (SINUMERIK G147 … G348) and where it was written.
     pub sar: Option<(GEffect, u32)>,
+    /// A multiple repetitive turning cycle (Fanuc lathe G70, G71) and where it was written.
+    pub turning: Option<(crate::dialect::TurningCycle, u32)>,
 }
 
 impl Interpreter<'_> {
@@ -147,6 +149,7 @@ impl Interpreter<'_> {
             setting: None,
             frame: None,
             sar: None,
+            turning: None,
             length: false,
             spindle_limit: false,
             limit_only: false,
@@ -244,6 +247,7 @@ impl Interpreter<'_> {
             GEffect::CycleReturn(initial) => self.cycle_to_initial = initial,
             GEffect::CycleCancel => self.cycle = None,
             GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
+            GEffect::TurningCycle(kind) => g.turning = Some((kind, at)),
             GEffect::PositionSetting => {
                 // Its S is the spindle speed limit (Fanuc G92 S, lathe G50 S).
                 g.setting = Some(Setting::Position);

@@ -22,6 +22,7 @@ mod reference;
 mod settings;
 mod smooth;
 mod technology;
+mod turning;
 
 pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
@@ -32,6 +33,7 @@ pub(super) use expand::{Expansion, Step};
 pub(super) use motion::{in_range, WorkingArea};
 pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
+pub(super) use turning::TurningData;
 
 use super::block::{Block, BlockNo, ModalState};
 use super::fault::R;
@@ -146,6 +148,9 @@ impl Interpreter<'_> {
         }
         if let Some((code, second)) = g.reference {
             return self.reference_return(w, new, code, second, block_col);
+        }
+        if let Some((kind, at)) = g.turning {
+            return self.turning_cycle(w, new, kind, at as usize);
         }
         let polar;
         let w = if self.coords.polar.is_some() {

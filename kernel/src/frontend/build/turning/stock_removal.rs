@@ -1,0 +1,284 @@
+//! Stock removal in turning, type I (Fanuc 0i-TF, "Stock removal in turning (G71)"), and
+//! the finishing cycle's run along the shape (G70). In (X radius, Z):
+//!
+//! ```text
+//!   A (start) ──────────────── the passes begin at A's Z, Δd apart in X:
+//!   │  ← feed along Z to the shape (offset by Δu/2, Δw), retract e at 45°,
+//!   │    rapid back to A's Z, in by Δd for the next pass
+//!   A' (first point of the shape) … B (last point, block Q)
+//! ```
+//!
+//! After the last pass the tool runs along the offset shape from A' to B at the roughing
+//! feed and returns to A at rapid (X first, then Z). Type I needs a shape monotonic in X
+//! and in Z (pockets are type II).
+
+use super::super::super::block::*;
+use super::super::expand::Step;
+use super::contour::Element;
+
+/// Distances below this are equal (mm): the passes' levels, the monotony check.
+pub const EPS: f64 = 1e-9;
+
+/// The roughing passes of G71: depth of cut, retract, the directions.
+#[derive(Clone, Copy, Debug)]
+pub struct Passes {
+    pub depth: f64,
+    pub retract: f64,
+    /// +1 when the passes go towards smaller X (outer turning), -1 inner.
+    pub sx: f64,
+    /// +1 when the cut goes towards larger Z, -1 towards the chuck.
+    pub sz: f64,
+    /// The in-feed at rapid (the shape's first block is G00) or at the feed (G01).
+    pub rapid_in: bool,
+    pub count: u32,
+}
+
+impl Passes {
+    /// How many levels lie strictly between A and A' (the offset shape's first point): the
+    /// pass on A' itself is the run along the shape.
+    pub fn count(total: f64, depth: f64) -> f64 {
+        libm::ceil((total - EPS) / depth) - 1.0
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Phase {
+    Pass(u32),
+    Shape(usize),
+    Home,
+    Done,
+}
+
+/// A turning cycle's moves still to come, streamed a few at a time.
+#[derive(Clone, Debug)]
+pub struct TurningRun {
+    start: Pos,
+    /// The shape (G71: offset by the allowances), its first element the move to A'.
+    shape: Vec<Element>,
+    passes: Option<Passes>,
+    /// G70: the shape's F and S act.
+    own_feeds: bool,
+    phase: Phase,
+    at: Pos,
+    queue: heapless::Deque<Step, 8>,
+}
+
+impl TurningRun {
+    pub fn new(start: Pos, shape: Vec<Element>, passes: Option<Passes>) -> Self {
+        TurningRun {
+            start,
+            shape,
+            own_feeds: passes.is_none(),
+            phase: match passes {
+                Some(p) if p.count > 0 => Phase::Pass(1),
+                _ => Phase::Shape(0),
+            },
+            passes,
+            at: start,
+            queue: heapless::Deque::new(),
+        }
+    }
+
+    pub fn next(&mut self) -> Option<Step> {
+        if self.done() {
+            None
+        } else {
+            self.queue.pop_front()
+        }
+    }
+
+    /// No step is left (works out the next ones if it must).
+    pub fn done(&mut self) -> bool {
+        loop {
+            if !self.queue.is_empty() {
+                return false;
+            }
+            if self.phase == Phase::Done {
+                return true;
+            }
+            self.refill();
+        }
+    }
+
+    fn refill(&mut self) {
+        match self.phase {
+            Phase::Pass(k) => {
+                let Some(p) = self.passes else {
+                    self.phase = Phase::Shape(0);
+                    return;
+                };
+                self.pass(&p, k);
+                self.phase = if k < p.count {
+                    Phase::Pass(k + 1)
+                } else {
+                    Phase::Shape(0)
+                };
+            }
+            Phase::Shape(i) => {
+                match self.shape.get(i).copied() {
+                    Some(e) => self.element(e, i == 0),
+                    None => self.phase = Phase::Home,
+                }
+                if let Phase::Shape(i) = self.phase {
+                    self.phase = Phase::Shape(i + 1);
+                }
+            }
+            Phase::Home => {
+                let mut over = self.at;
+                over[0] = self.start[0];
+                self.go(over, true, None);
+                self.go(self.start, true, None);
+                self.phase = Phase::Done;
+            }
+            Phase::Done => {}
+        }
+    }
+
+    /// Roughing pass `k`: in to its level, along Z to the shape, out at 45°, back to A's Z.
+    fn pass(&mut self, p: &Passes, k: u32) {
+        let level = self.start[0] - p.sx * k as f64 * p.depth;
+        let z = crossing(&self.shape, level, p.sx);
+        let mut to = self.start;
+        to[0] = level;
+        self.go(to, p.rapid_in, None);
+        to[2] = z;
+        self.go(to, false, None);
+        to[0] += p.sx * p.retract;
+        to[2] -= p.sz * p.retract;
+        self.go(to, true, None);
+        to[2] = self.start[2];
+        self.go(to, true, None);
+    }
+
+    /// One element of the shape; G70 sets its S and F.
+    fn element(&mut self, e: Element, first: bool) {
+        let feed = if self.own_feeds { e.feed } else { None };
+        if let (true, Some(s)) = (self.own_feeds, e.speed) {
+            self.push(Step::Speed(s));
+        }
+        match e.mode {
+            MotionMode::ArcCw | MotionMode::ArcCcw => {
+                self.push(Step::Arc {
+                    to: e.to,
+                    centre: e.centre,
+                    ccw: e.mode == MotionMode::ArcCcw,
+                    feed,
+                });
+                self.at = e.to;
+            }
+            m => {
+                let rapid = m == MotionMode::Rapid || (first && self.rapid_in());
+                if e.to != self.at {
+                    self.push(Step::Path {
+                        to: e.to,
+                        rapid,
+                        feed,
+                    });
+                    self.at = e.to;
+                }
+            }
+        }
+    }
+
+    fn rapid_in(&self) -> bool {
+        self.passes.is_some_and(|p| p.rapid_in)
+    }
+
+    /// A move to `to`, left out if the tool is there.
+    fn go(&mut self, to: Pos, rapid: bool, feed: Option<f64>) {
+        if to != self.at {
+            self.push(Step::Move {
+                to,
+                rapid,
+                axes: None,
+                feed,
+            });
+            self.at = to;
+        }
+    }
+
+    fn push(&mut self, s: Step) {
+        // A refill pushes at most four steps into the empty queue of eight.
+        let _ = self.queue.push_back(s);
+    }
+}
+
+/// Where the level X = `level` meets the shape first, walking from A' (the end of its first
+/// element); past its end, the end's Z.
+pub fn crossing(shape: &[Element], level: f64, sx: f64) -> f64 {
+    let Some(first) = shape.first() else {
+        return 0.0;
+    };
+    let mut p = first.to;
+    for e in &shape[1..] {
+        if sx * (e.to[0] - level) >= -EPS {
+            return z_at(p, e, level);
+        }
+        p = e.to;
+    }
+    p[2]
+}
+
+/// Z of the element from `p` to `e.to` at X = `level` (the element spans the level).
+fn z_at(p: Pos, e: &Element, level: f64) -> f64 {
+    let q = e.to;
+    match e.mode {
+        MotionMode::ArcCw | MotionMode::ArcCcw => {
+            let c = e.centre;
+            let r2 = (p[0] - c[0]).powi(2) + (p[2] - c[2]).powi(2);
+            let dz = libm::sqrt((r2 - (level - c[0]).powi(2)).max(0.0));
+            let (lo, hi) = (p[2].min(q[2]), p[2].max(q[2]));
+            let off = |z: f64| (lo - z).max(z - hi).max(0.0);
+            let (a, b) = (c[2] + dz, c[2] - dz);
+            if off(a) <= off(b) {
+                a
+            } else {
+                b
+            }
+        }
+        _ if (q[0] - p[0]).abs() < EPS => p[2],
+        _ => p[2] + (level - p[0]) * (q[2] - p[2]) / (q[0] - p[0]),
+    }
+}
+
+/// The first element that breaks type I's rule, with what it breaks: X must move back
+/// towards the start (`sx`) and Z on in the cut's direction (`sz`), arcs included.
+pub fn non_monotonic(shape: &[Element], sx: f64, sz: f64) -> Option<(usize, &'static str)> {
+    let mut p = shape.first()?.to;
+    for (i, e) in shape.iter().enumerate().skip(1) {
+        let q = e.to;
+        if sx * (q[0] - p[0]) < -EPS {
+            return Some((i, "X turns back"));
+        }
+        if sz * (q[2] - p[2]) < -EPS {
+            return Some((i, "Z turns back"));
+        }
+        if e.mode.is_arc() && arc_turns(p, e) {
+            return Some((i, "the arc passes a turning point in X or Z"));
+        }
+        p = q;
+    }
+    None
+}
+
+/// The arc from `p` contains, strictly inside, a point where X or Z turns.
+fn arc_turns(p: Pos, e: &Element) -> bool {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let c = e.centre;
+    // Angles in the Z-X plane (Z the abscissa): G03 counts them up.
+    let angle = |q: Pos| libm::atan2(q[0] - c[0], q[2] - c[2]);
+    let (a0, a1) = (angle(p), angle(e.to));
+    let ccw = e.mode == MotionMode::ArcCcw;
+    let from_start = |t: f64| {
+        if ccw {
+            (t - a0).rem_euclid(TAU)
+        } else {
+            (a0 - t).rem_euclid(TAU)
+        }
+    };
+    let span = from_start(a1);
+    (0..4).any(|k| {
+        let d = from_start(k as f64 * FRAC_PI_2 - std::f64::consts::PI);
+        d > 1e-9 && d < span - 1e-9
+    })
+}
