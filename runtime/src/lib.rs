@@ -15,6 +15,7 @@ mod failure;
 pub mod live;
 pub mod os;
 pub mod process;
+pub mod record;
 mod program_files;
 mod wire_axes;
 

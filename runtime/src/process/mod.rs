@@ -43,6 +43,8 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
             offsets_path: args.offsets,
             kept_path: args.macro_variables,
             priority: args.priority,
+            record: args.record,
+            setpoints: args.setpoints,
         });
     }
     let Some(program) = &args.program else {
