@@ -788,8 +788,8 @@ fn replay(input: &ProgramArgs, file: &Path, output: Option<&PathBuf>) -> Result<
         }
         None => Box::new(std::io::stdout().lock()),
     };
-    let cycles = nc_runtime::record::replay(file, &l.source, &l.md, &l.tools, &mut out)
-        .map_err(fail)?;
+    let cycles =
+        nc_runtime::record::replay(file, &l.source, &l.md, &l.tools, &mut out).map_err(fail)?;
     eprintln!(
         "{}: replayed {} cycles of {}",
         l.name,

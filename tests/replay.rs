@@ -43,7 +43,11 @@ fn ended(record: &Path) -> String {
     let t = Instant::now();
     loop {
         let text = std::fs::read_to_string(record).unwrap_or_default();
-        if text.lines().last().is_some_and(|l| l.starts_with("{\"end\"")) {
+        if text
+            .lines()
+            .last()
+            .is_some_and(|l| l.starts_with("{\"end\""))
+        {
             return text;
         }
         assert!(t.elapsed() < Duration::from_secs(20), "no end line: {text}");
@@ -60,7 +64,11 @@ fn first_difference(a: &str, b: &str) -> String {
             a.lines().nth(i).unwrap(),
             b.lines().nth(i).unwrap()
         ),
-        None => format!("{} live lines, {} replayed", a.lines().count(), b.lines().count()),
+        None => format!(
+            "{} live lines, {} replayed",
+            a.lines().count(),
+            b.lines().count()
+        ),
     }
 }
 
@@ -71,7 +79,10 @@ fn a_replay_gives_the_live_setpoints_after_nc_stop_override_and_offset_edit() {
     let offsets = write("rp-offsets.toml", start);
     // The edit below is saved to `offsets`: the replay starts from the run's start.
     let offsets_at_start = write("rp-offsets-start.toml", start);
-    let tools = root().join("config/tools.toml");
+    // Tool edits are saved to the table too: a copy, and one as it was at the start.
+    let table = std::fs::read_to_string(root().join("config/tools.toml")).unwrap();
+    let tools = write("rp-tools.toml", &table);
+    let tools_at_start = write("rp-tools-start.toml", &table);
     let (record, live) = (scratch("rp.record"), scratch("rp-live.csv"));
     let mut st = station(
         "replay",
@@ -101,13 +112,23 @@ fn a_replay_gives_the_live_setpoints_after_nc_stop_override_and_offset_edit() {
     let edit = json!({ "set": "G54", "values": { "X": 15.0, "Y": 18.0 } });
     let (code, r) = st.post("/api/work-offset", edit);
     assert_eq!(code, 200, "{r}");
+    let (code, r) = st.post("/api/offset", json!({ "d": 2, "radius": 6.5 }));
+    assert_eq!(code, 200, "{r}");
     let (code, r) = st.post("/api/start", json!({}));
     assert_eq!(code, 200, "{r}");
     st.until_end(Duration::from_secs(30));
     // The kernel ends (SIGTERM): it writes the record's end.
     terminate(&mut st.kids[1]);
     let text = ended(&record);
-    for kind in ["\"stop\"", "\"override\"", "\"work_edit\"", "\"resume\"", "\"ack\""] {
+    let kinds = [
+        "\"stop\"",
+        "\"override\"",
+        "\"work_edit\"",
+        "\"tool_edit\"",
+        "\"resume\"",
+        "\"ack\"",
+    ];
+    for kind in kinds {
         assert!(text.contains(kind), "{kind} not recorded:\n{text}");
     }
 
@@ -116,7 +137,7 @@ fn a_replay_gives_the_live_setpoints_after_nc_stop_override_and_offset_edit() {
         "--offsets",
         offsets_at_start.to_str().unwrap(),
         "--tools",
-        tools.to_str().unwrap(),
+        tools_at_start.to_str().unwrap(),
     ];
     let (ok, said) = replay(&prog, &args, &record, &out);
     assert!(ok, "{said}");
@@ -130,7 +151,12 @@ fn a_replay_gives_the_live_setpoints_after_nc_stop_override_and_offset_edit() {
     // Other work offsets than the run started with: refused, nothing written.
     let (ok, said) = replay(
         &prog,
-        &["--offsets", offsets.to_str().unwrap(), "--tools", tools.to_str().unwrap()],
+        &[
+            "--offsets",
+            offsets.to_str().unwrap(),
+            "--tools",
+            tools_at_start.to_str().unwrap(),
+        ],
         &record,
         &scratch("rp-wrong.csv"),
     );

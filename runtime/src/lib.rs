@@ -15,8 +15,8 @@ mod failure;
 pub mod live;
 pub mod os;
 pub mod process;
-pub mod record;
 mod program_files;
+pub mod record;
 mod wire_axes;
 
 pub use clock::{CycleClock, Tick};

@@ -116,15 +116,31 @@ pub enum Line {
         spindle_rpm: F,
     },
     /// No PLC signals arrived in cycles `k .. k + cycles`.
-    NoPlc { k: u64, cycles: u64 },
+    NoPlc {
+        k: u64,
+        cycles: u64,
+    },
     /// The PLC acknowledged aux request `id` in cycle `k` (refused with `alarm` if not 0).
-    Ack { k: u64, id: u64, alarm: u32 },
+    Ack {
+        k: u64,
+        id: u64,
+        alarm: u32,
+    },
     /// An aux request could not be sent in cycle `k` (the PLC's queue was full).
-    AuxFull { k: u64 },
+    AuxFull {
+        k: u64,
+    },
     /// Cycle `k` took `records` prepared records into its lookahead.
-    Prep { k: u64, records: u32 },
+    Prep {
+        k: u64,
+        records: u32,
+    },
     /// An HMI command taken before cycle `k`; `ok`: not refused.
-    Command { k: u64, command: Cmd, ok: bool },
+    Command {
+        k: u64,
+        command: Cmd,
+        ok: bool,
+    },
     /// Program `id` was prepared from `path` with the axes at `at` (`None`: its own start).
     Load {
         id: u32,
@@ -152,9 +168,15 @@ pub enum Line {
         running: bool,
     },
     /// A work-offset edit: `values` are (axis index of X Y Z U V W A B C, value).
-    WorkEdit { name: String, values: Vec<(usize, F)> },
+    WorkEdit {
+        name: String,
+        values: Vec<(usize, F)>,
+    },
     /// The run's end: `cycles` cycles; `lost`: the record is incomplete.
-    End { cycles: u64, lost: bool },
+    End {
+        cycles: u64,
+        lost: bool,
+    },
 }
 
 impl Line {

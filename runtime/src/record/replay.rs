@@ -65,8 +65,8 @@ pub fn replay(
     out: &mut dyn Write,
 ) -> Result<u64, String> {
     let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let (header, rec) = read(&text, source, md, tools)
-        .map_err(|e| format!("{}: {e}", file.display()))?;
+    let (header, rec) =
+        read(&text, source, md, tools).map_err(|e| format!("{}: {e}", file.display()))?;
     let cycles = rec.cycles.unwrap_or(0);
     let mut r = Replay {
         md,
@@ -106,13 +106,25 @@ fn read(
     Ok((header, rec))
 }
 
-fn check_header(h: &Header, source: &str, md: &MachineData, tools: &ToolTable) -> Result<(), String> {
+fn check_header(
+    h: &Header,
+    source: &str,
+    md: &MachineData,
+    tools: &ToolTable,
+) -> Result<(), String> {
     if h.version != VERSION {
-        return Err(format!("record version {} (this softnc reads {VERSION})", h.version));
+        return Err(format!(
+            "record version {} (this softnc reads {VERSION})",
+            h.version
+        ));
     }
     let (machine, tool_table, work) = fingerprints(md, tools);
     let checks = [
-        ("program", &h.program_fingerprint, fingerprint(source.as_bytes())),
+        (
+            "program",
+            &h.program_fingerprint,
+            fingerprint(source.as_bytes()),
+        ),
         ("machine data", &h.machine_fingerprint, machine),
         ("tool table", &h.tools_fingerprint, tool_table),
         ("work offsets", &h.work_offsets_fingerprint, work),
@@ -148,7 +160,15 @@ impl Record {
         };
         match line {
             Line::Header(_) => return Err("a second header".into()),
-            Line::Plc { k, feed_hold, read_in_disable, drives_ready, emergency_stop, alarm, spindle_rpm } => {
+            Line::Plc {
+                k,
+                feed_hold,
+                read_in_disable,
+                drives_ready,
+                emergency_stop,
+                alarm,
+                spindle_rpm,
+            } => {
                 let s = PlcInput {
                     feed_hold,
                     read_in_disable,
@@ -166,18 +186,58 @@ impl Record {
                 self.prep.insert(k, records);
             }
             Line::Command { k, command, ok } => self.commands.push((k, command, ok)),
-            Line::Load { id, path, program_fingerprint, at } => {
+            Line::Load {
+                id,
+                path,
+                program_fingerprint,
+                at,
+            } => {
                 let at = at.as_ref().map(axis_pos);
-                let d = desc(Kind::Load { path, fingerprint: program_fingerprint, at }, tools, work);
+                let d = desc(
+                    Kind::Load {
+                        path,
+                        fingerprint: program_fingerprint,
+                        at,
+                    },
+                    tools,
+                    work,
+                );
                 self.programs.insert(id, d);
             }
-            Line::Resume { id, of, seq, role, nth, along, pos } => {
+            Line::Resume {
+                id,
+                of,
+                seq,
+                role,
+                nth,
+                along,
+                pos,
+            } => {
                 let role = nc_kernel::Role::from_code(role).ok_or("unknown segment role")?;
-                let at = nc_kernel::Interruption { seq, role, nth, along: along.0 };
-                let d = desc(Kind::Resume { of, at, pos: axis_pos(&pos) }, tools, work);
+                let at = nc_kernel::Interruption {
+                    seq,
+                    role,
+                    nth,
+                    along: along.0,
+                };
+                let d = desc(
+                    Kind::Resume {
+                        of,
+                        at,
+                        pos: axis_pos(&pos),
+                    },
+                    tools,
+                    work,
+                );
                 self.programs.insert(id, d);
             }
-            Line::ToolEdit { t, d, wear, value, running } => {
+            Line::ToolEdit {
+                t,
+                d,
+                wear,
+                value,
+                running,
+            } => {
                 if running {
                     return Err("an offset edit while the program ran: preparation takes it at a block the record does not hold, so the run cannot be replayed".into());
                 }
@@ -278,24 +338,48 @@ impl Replay<'_> {
         let mut tools = d.tools.clone();
         tools.live = Some(nc_kernel::LiveEdits::default());
         let (origin, spawned) = match &d.kind {
-            Kind::Load { path, fingerprint: f, at } => {
+            Kind::Load {
+                path,
+                fingerprint: f,
+                at,
+            } => {
                 let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
                 if fingerprint(source.as_bytes()) != *f {
                     return Err(format!("{path} differs from the text the run loaded"));
                 }
-                let lib = crate::program_library(std::path::Path::new(path), &md.program.search_path)?;
+                let lib =
+                    crate::program_library(std::path::Path::new(path), &md.program.search_path)?;
                 md.programs = Arc::new(lib);
-                let o = Origin { path: path.clone(), source, at: *at, programs: md.programs.clone() };
+                let o = Origin {
+                    path: path.clone(),
+                    source,
+                    at: *at,
+                    programs: md.programs.clone(),
+                };
                 let s = nc_kernel::handover::spawn_preparation(
-                    o.path.clone(), o.source.clone(), md.clone(), tools, o.at,
+                    o.path.clone(),
+                    o.source.clone(),
+                    md.clone(),
+                    tools,
+                    o.at,
                 );
                 (o, s)
             }
             Kind::Resume { of, at, pos } => {
-                let o = self.origins.get(of).cloned().ok_or("resume of a program not built")?;
+                let o = self
+                    .origins
+                    .get(of)
+                    .cloned()
+                    .ok_or("resume of a program not built")?;
                 md.programs = o.programs.clone();
                 let s = nc_kernel::handover::spawn_resume(
-                    o.path.clone(), o.source.clone(), md.clone(), tools, o.at, *at, *pos,
+                    o.path.clone(),
+                    o.source.clone(),
+                    md.clone(),
+                    tools,
+                    o.at,
+                    *at,
+                    *pos,
                 );
                 (o, s)
             }
@@ -317,7 +401,8 @@ impl Replay<'_> {
     /// Ends every preparation thread.
     fn stop(&mut self) {
         for (hand, thread) in self.threads.drain(..) {
-            hand.cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            hand.cancel
+                .store(true, std::sync::atomic::Ordering::Relaxed);
             let _ = thread.join();
         }
     }
@@ -380,7 +465,8 @@ impl Bus for ReplayBus<'_> {
     }
 
     fn acks(&mut self, f: &mut dyn FnMut(u64, Option<ChannelAlarm>)) {
-        while let Some(&(_, id, alarm)) = self.rec.acks.get(self.next[2]).filter(|a| a.0 <= self.k) {
+        while let Some(&(_, id, alarm)) = self.rec.acks.get(self.next[2]).filter(|a| a.0 <= self.k)
+        {
             self.next[2] += 1;
             f(id, ChannelAlarm::new(alarm));
         }

@@ -15,9 +15,9 @@
 mod work_offsets;
 
 use super::bus::IceBus;
-use crate::record;
 use crate::clock::CycleClock;
 use crate::os;
+use crate::record;
 use crate::Failure;
 use crossbeam::queue::ArrayQueue;
 use nc_kernel::cycle::{alarm, ChannelAlarm, Control, Cyclic, Override, Program, Refusal};
@@ -253,9 +253,8 @@ fn open_record(
     let header = record::Header {
         version: record::VERSION,
         program: first.map_or(String::new(), |l| l.name.clone()),
-        program_fingerprint: first.map_or(String::new(), |l| {
-            record::fingerprint(l.source.as_bytes())
-        }),
+        program_fingerprint: first
+            .map_or(String::new(), |l| record::fingerprint(l.source.as_bytes())),
         machine_fingerprint: machine,
         tools_fingerprint: tools_f,
         work_offsets_fingerprint: work,

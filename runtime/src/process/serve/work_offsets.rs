@@ -59,7 +59,10 @@ impl Desk<'_> {
         if let Some(w) = &mut self.record {
             w.line(&crate::record::Line::WorkEdit {
                 name: name.to_string(),
-                values: values.iter().map(|&(a, v)| (a, crate::record::F(v))).collect(),
+                values: values
+                    .iter()
+                    .map(|&(a, v)| (a, crate::record::F(v)))
+                    .collect(),
             });
         }
         let when = if running {
