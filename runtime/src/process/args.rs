@@ -73,7 +73,7 @@ pub struct KernelArgs {
     pub macro_variables: Option<PathBuf>,
     /// Record every input the kernel takes, with its cycle, to FILE (with --instance;
     /// docs/interfaces.md, "Record and replay"); `softnc simulate --replay FILE` replays it.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", requires = "instance")]
     pub record: Option<PathBuf>,
     /// With --record: also write the live setpoints to FILE, as `softnc simulate` writes
     /// them.

@@ -192,3 +192,46 @@ impl Line {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_read_back_to_the_same_bits() {
+        let tricky = [
+            0.1 + 0.2,
+            -0.0,
+            5e-324,
+            f64::MAX,
+            1.0 / 3.0,
+            -21.697_232_959_460_298,
+        ];
+        for x in tricky {
+            let text = serde_json::to_string(&F(x)).unwrap();
+            let back: F = serde_json::from_str(&text).unwrap();
+            assert_eq!(back.0.to_bits(), x.to_bits(), "{text}");
+        }
+        assert!(serde_json::from_str::<F>("\"x\"").is_err());
+    }
+
+    #[test]
+    fn a_line_reads_back_as_written() {
+        let l = Line::Command {
+            k: 514,
+            command: Cmd::Override(F(0.6)),
+            ok: true,
+        };
+        let text = serde_json::to_string(&l).unwrap();
+        assert_eq!(
+            text,
+            r#"{"command":{"k":514,"command":{"override":"0.6"},"ok":true}}"#
+        );
+        match serde_json::from_str::<Line>(&text).unwrap() {
+            Line::Command { k, command, ok } => {
+                assert_eq!((k, command, ok), (514, Cmd::Override(F(0.6)), true))
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

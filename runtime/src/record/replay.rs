@@ -474,3 +474,60 @@ impl Bus for ReplayBus<'_> {
 
     fn status(&mut self, _st: &Status) {}
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record of an empty run with `lines` after its header.
+    fn record(md: &MachineData, tools: &ToolTable, lines: &str) -> String {
+        let (machine, t, work) = fingerprints(md, tools);
+        let h = Header {
+            version: VERSION,
+            program: String::new(),
+            program_fingerprint: String::new(),
+            machine_fingerprint: machine,
+            tools_fingerprint: t,
+            work_offsets_fingerprint: work,
+            cycle_us: md.ipo.cycle_us,
+            start: super::super::axes(&AxisPos::default()),
+        };
+        format!(
+            "{}\n{lines}",
+            serde_json::to_string(&Line::Header(h)).unwrap()
+        )
+    }
+
+    fn refusal(md: &MachineData, tools: &ToolTable, text: &str) -> String {
+        match read(text, "", md, tools) {
+            Err(e) => e,
+            Ok(_) => panic!("taken: {text}"),
+        }
+    }
+
+    #[test]
+    fn incomplete_or_unreplayable_records_are_refused() {
+        let md = MachineData::load(None, &[]).unwrap();
+        let tools = ToolTable::builtin();
+        let end = "{\"end\":{\"cycles\":3,\"lost\":false}}\n";
+        assert!(read(&record(&md, &tools, end), "", &md, &tools).is_ok());
+        let e = refusal(&md, &tools, &record(&md, &tools, ""));
+        assert!(e.contains("no end line"), "{e}");
+        let lost = "{\"end\":{\"cycles\":3,\"lost\":true}}\n";
+        let e = refusal(&md, &tools, &record(&md, &tools, lost));
+        assert!(e.contains("line 2") && e.contains("incomplete"), "{e}");
+        let running = "{\"tool_edit\":{\"t\":null,\"d\":1,\"wear\":false,\"value\":\"6.5\",\"running\":true}}\n";
+        let e = refusal(
+            &md,
+            &tools,
+            &record(&md, &tools, &format!("{running}{end}")),
+        );
+        assert!(e.contains("while the program ran"), "{e}");
+        let mut other = tools.clone();
+        other.apply_set("D1=3").unwrap();
+        let e = refusal(&md, &other, &record(&md, &tools, end));
+        assert!(e.contains("tool table other than"), "{e}");
+        let e = refusal(&md, &tools, "{}\n");
+        assert!(e.contains("not the header"), "{e}");
+    }
+}
