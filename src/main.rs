@@ -7,7 +7,7 @@ use nc_kernel::Prepared;
 use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable, WholeMode};
 use nc_runtime::Failure;
 use std::io::{BufWriter, IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 mod picture;
@@ -70,6 +70,12 @@ enum Command {
         /// IPO cycles from an auxiliary function's output to the PLC's acknowledgement.
         #[arg(long, value_name = "CYCLES", default_value_t = 1)]
         ack_cycles: u64,
+        /// Replay a record of a live run (`softnc run --record FILE`): its HMI commands, PLC
+        /// signals and offset edits at their cycles, giving the live run's setpoints bit for
+        /// bit (docs/interfaces.md, "Record and replay"). The program, machine data, tools
+        /// and work offsets must be the run's.
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["override_percent", "single_block", "ack_cycles"])]
+        replay: Option<PathBuf>,
     },
     /// Run the program on the control: nc-kernel and plc-sim as processes over shared memory
     /// (iceoryx2), with progress, a summary (time, following error, deviation of the actual
@@ -101,6 +107,14 @@ enum Command {
         /// The bridge's port (default: machine data hmi.port; 0: any free one).
         #[arg(long, value_name = "PORT", requires = "hmi")]
         hmi_port: Option<u16>,
+        /// Record every input the kernel takes (HMI commands, PLC signals, offset edits) with
+        /// its cycle to FILE, for `softnc simulate --replay FILE`.
+        #[arg(long, value_name = "FILE")]
+        record: Option<PathBuf>,
+        /// With --record: also write the live setpoints to FILE as `softnc simulate` writes
+        /// them.
+        #[arg(long, value_name = "FILE", requires = "record")]
+        setpoints: Option<PathBuf>,
     },
     /// Show the control's state through hmi-bridge: channel state, block, position, feed,
     /// override, alarm.
@@ -713,6 +727,8 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             quiet,
             hmi,
             hmi_port,
+            record,
+            setpoints,
         } => {
             let l = load(&input)?;
             run::run(run::RunOptions {
@@ -731,14 +747,23 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 plc_args: &plc,
                 quiet,
                 hmi: hmi.then_some(hmi_port),
+                record: record.as_deref(),
+                setpoints: setpoints.as_deref(),
             })
         }
+        Command::Simulate {
+            input,
+            output,
+            replay: Some(file),
+            ..
+        } => replay(&input, &file, output.as_ref()),
         Command::Simulate {
             input,
             output,
             override_percent,
             single_block,
             ack_cycles,
+            replay: None,
         } => simulate(
             &input,
             output.as_ref(),
@@ -752,6 +777,26 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         Command::PlcSim(args) => plc_sim::main(args),
         Command::HmiBridge(args) => hmi_bridge::main(args),
     }
+}
+
+/// `softnc simulate --replay FILE`.
+fn replay(input: &ProgramArgs, file: &Path, output: Option<&PathBuf>) -> Result<(), Failure> {
+    let l = load(input)?;
+    let mut out: Box<dyn Write> = match output {
+        Some(p) => {
+            Box::new(std::fs::File::create(p).map_err(|e| fail(format!("{}: {e}", p.display())))?)
+        }
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let cycles =
+        nc_runtime::record::replay(file, &l.source, &l.md, &l.tools, &mut out).map_err(fail)?;
+    eprintln!(
+        "{}: replayed {} cycles of {}",
+        l.name,
+        cycles,
+        file.display()
+    );
+    Ok(())
 }
 
 fn simulate(

@@ -557,3 +557,81 @@ fn plc_silence_while_the_path_waits_for_an_acknowledgement_stops_the_channel() {
     assert_eq!(rig.ask(Control::Reset), Ok(()));
     assert_eq!(state(&rig.step()), ChannelState::Reset);
 }
+
+/// Ten 5 mm moves along X at F3000 (50 mm/s; braking from it takes 0.625 mm at 2000 mm/s²),
+/// handed over by a slow preparation: one record every 40 cycles.
+fn late_records(md: &MachineData, replay: Option<&[u32]>) -> (Vec<Status>, Vec<u32>) {
+    let mut text = String::from("N1 G1 F3000 X5\n");
+    for i in 2..=10 {
+        text.push_str(&format!("N{i} X{}\n", 5 * i));
+    }
+    text.push_str("M30\n");
+    let mut rig = Rig::new(md, 20_000);
+    for _ in 0..3 {
+        rig.step();
+    }
+    let (p, inputs, _) = plc_mock::fed(md, 1, &text, Some(rig.cyclic.setpoint().axes()));
+    let hand = p.hand.clone();
+    let mut inputs = inputs.into_iter();
+    if replay.is_some() {
+        // The replay's preparation is done before the first cycle.
+        for i in inputs.by_ref() {
+            let _ = hand.queue.push(i);
+        }
+        hand.finished
+            .store(true, std::sync::atomic::Ordering::Release);
+    }
+    rig.ask(Control::Load(p)).unwrap();
+    rig.ask(Control::Start).unwrap();
+    let mut taken = Vec::new();
+    while state(rig.plc.status.last().unwrap()) != ChannelState::End {
+        assert!(rig.k < 10_000, "no end");
+        match replay {
+            Some(t) => rig
+                .cyclic
+                .replay_preparation(t.get(taken.len()).copied().unwrap_or(u32::MAX)),
+            None if rig.k.is_multiple_of(40) => match inputs.next() {
+                Some(i) => {
+                    let _ = hand.queue.push(i);
+                }
+                None => hand
+                    .finished
+                    .store(true, std::sync::atomic::Ordering::Release),
+            },
+            None => {}
+        }
+        rig.step();
+        taken.push(rig.cyclic.taken());
+    }
+    (rig.since(3).to_vec(), taken)
+}
+
+/// A replay takes into its lookahead exactly the records the live cycle took, whenever its
+/// own preparation has them: the path that braked for records still missing live brakes
+/// the same in the replay, bit for bit (docs/interfaces.md, "Record and replay").
+#[test]
+fn a_replay_takes_the_records_the_live_cycle_took_and_moves_the_same() {
+    let md = md();
+    let (live, taken) = late_records(&md, None);
+    let (replayed, _) = late_records(&md, Some(&taken));
+    let bits = |s: &Status| (s.cycle, s.pos.map(f64::to_bits), s.v_path.to_bits());
+    assert_eq!(live.len(), replayed.len());
+    for (a, b) in live.iter().zip(&replayed) {
+        assert_eq!(bits(a), bits(b), "cycle {}", a.cycle);
+    }
+    // The live path stood waiting for records (5 mm at 50 mm/s is 100 cycles, a record
+    // came every 40: it braked at each known end): a replay with the whole program in its
+    // lookahead would have moved otherwise.
+    assert!(live
+        .iter()
+        .skip(50)
+        .any(|s| s.v_path < 20.0 && state(s) == ChannelState::Active));
+    assert!(live.len() > 400, "{} cycles", live.len());
+    let (whole, _) = late_records(&md, Some(&vec![u32::MAX; taken.len()]));
+    let moves = |r: &[Status]| r.iter().map(bits).collect::<Vec<_>>();
+    assert_ne!(
+        moves(&whole),
+        moves(&live),
+        "the lookahead made no difference"
+    );
+}

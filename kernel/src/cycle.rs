@@ -281,6 +281,10 @@ pub struct Cyclic {
     reset_pending: bool,
     released: Option<Box<Program>>,
     k: u64,
+    /// Records taken from preparation in the last cycle (a record of the run keeps them).
+    taken: u32,
+    /// A replay: each cycle takes exactly this many records, waiting for them.
+    quota: Option<u32>,
 }
 
 impl Cyclic {
@@ -307,6 +311,8 @@ impl Cyclic {
             reset_pending: false,
             released: None,
             k: 0,
+            taken: 0,
+            quota: None,
         }
     }
 
@@ -517,11 +523,7 @@ impl Cyclic {
         self.k = k;
         self.plc_signals(k, bus);
         self.acknowledgements(bus);
-        // Take what preparation has ready, never wait.
-        if let Some(p) = &mut self.program {
-            let hand = &p.hand;
-            p.channel.fill(&mut self.pending, || hand.pop());
-        }
+        self.take_prepared();
         let sp = &mut *self.sp;
         match &mut self.program {
             Some(p) => p.channel.cycle(k, sp),
@@ -537,6 +539,41 @@ impl Cyclic {
         // The setpoint last: its event wakes plc-sim, which on a shared core runs only once
         // this thread sleeps, and which then finds this cycle's aux requests already there.
         bus.setpoint(&self.sp);
+    }
+
+    /// Takes what preparation has ready, never waiting; in a replay exactly the records the
+    /// recorded cycle took (waiting for them), so the lookahead is the live run's.
+    fn take_prepared(&mut self) {
+        self.taken = 0;
+        let Some(p) = &mut self.program else {
+            return;
+        };
+        let (hand, taken, quota) = (&p.hand, &mut self.taken, self.quota);
+        p.channel.fill(&mut self.pending, || {
+            let next = match quota {
+                None => hand.pop(),
+                Some(n) if *taken < n => loop {
+                    if let Some(i) = hand.pop() {
+                        break Some(i);
+                    }
+                    std::thread::yield_now();
+                },
+                Some(_) => None,
+            };
+            *taken += u32::from(next.is_some());
+            next
+        });
+    }
+
+    /// Records the last cycle took from preparation.
+    pub fn taken(&self) -> u32 {
+        self.taken
+    }
+
+    /// For a replay: the next cycle takes exactly `records` from preparation, waiting for
+    /// them (the live cycle took what was there, never waiting).
+    pub fn replay_preparation(&mut self, records: u32) {
+        self.quota = Some(records);
     }
 
     /// Reads the PLC interface signals and reacts to them.

@@ -243,14 +243,7 @@ impl Simulation {
         ch.set_override(opts.override_);
         ch.set_single_block(opts.single_block);
         ch.start();
-        // X Y Z always, then the additional axes the machine has (continuous positions: a
-        // modulo axis's setpoint runs on past 360°).
-        let extra = md
-            .axes
-            .configured()
-            .map(|(i, _)| i)
-            .filter(|&i| i >= 3)
-            .collect();
+        let extra = extra_axes(md);
         Ok(Simulation {
             name: name.to_string(),
             md: md.clone(),
@@ -397,12 +390,7 @@ impl Simulation {
 
     /// The CSV header: `cycle,time,X,Y,Z{additional axes},S1,v_path,block,events`.
     pub fn header(&self) -> String {
-        let names: String = self
-            .extra
-            .iter()
-            .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
-            .collect();
-        format!("cycle,time,X,Y,Z{names},S1,v_path,block,events")
+        csv_header(&self.extra)
     }
 
     /// The last setpoint as `softnc simulate` writes it, with its newline.
@@ -461,6 +449,31 @@ impl Drop for Simulation {
     fn drop(&mut self) {
         self.stop_preparation();
     }
+}
+
+/// The additional axes the CSV rows carry after Z: X Y Z always, then the additional axes
+/// the machine has (continuous positions: a modulo axis's setpoint runs on past 360°).
+pub fn extra_axes(md: &MachineData) -> Vec<usize> {
+    md.axes
+        .configured()
+        .map(|(i, _)| i)
+        .filter(|&i| i >= 3)
+        .collect()
+}
+
+/// The CSV header for the additional axes `extra` ([`extra_axes`]).
+pub fn csv_header(extra: &[usize]) -> String {
+    let names: String = extra
+        .iter()
+        .map(|&i| format!(",{}", crate::machine_data::AXIS_NAMES[i]))
+        .collect();
+    format!("cycle,time,X,Y,Z{names},S1,v_path,block,events")
+}
+
+/// One CSV row as `softnc simulate` writes it, with its newline (a live run's setpoints
+/// written by a record of it, a replay's).
+pub fn setpoint_row(line: &mut String, sp: &Setpoint, extra: &[usize], cycle_us: u64) {
+    write_row(line, sp, extra, cycle_us);
 }
 
 /// One CSV row; numbers in the shortest form that reads back to the same bits.

@@ -16,6 +16,7 @@ pub mod live;
 pub mod os;
 pub mod process;
 mod program_files;
+pub mod record;
 mod wire_axes;
 
 pub use clock::{CycleClock, Tick};

@@ -40,6 +40,9 @@ pub struct RunOptions<'a> {
     /// Also start hmi-bridge (`Some(port)`; `None` in the port: machine data `hmi.port`),
     /// and keep the control up after the program's end until Ctrl-C.
     pub hmi: Option<Option<u16>>,
+    /// nc-kernel records its inputs to this file (and its setpoints to `setpoints`).
+    pub record: Option<&'a Path>,
+    pub setpoints: Option<&'a Path>,
 }
 
 /// The files of a run: the machine data the children read, plc-sim's trace and each
@@ -326,6 +329,12 @@ impl Supervisor<'_> {
         }
         if let Some(f) = o.macro_variables_file {
             kernel.extend(["--macro-variables".into(), f.display().to_string()]);
+        }
+        if let Some(f) = o.record {
+            kernel.extend(["--record".into(), f.display().to_string()]);
+        }
+        if let Some(f) = o.setpoints {
+            kernel.extend(["--setpoints".into(), f.display().to_string()]);
         }
         self.start("nc-kernel", &kernel)?;
         let Some(port) = o.hmi else {

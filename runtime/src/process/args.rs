@@ -71,6 +71,14 @@ pub struct KernelArgs {
     /// written when a program's preparation ends; none and not written if not given.
     #[arg(long, value_name = "FILE")]
     pub macro_variables: Option<PathBuf>,
+    /// Record every input the kernel takes, with its cycle, to FILE (with --instance;
+    /// docs/interfaces.md, "Record and replay"); `softnc simulate --replay FILE` replays it.
+    #[arg(long, value_name = "FILE", requires = "instance")]
+    pub record: Option<PathBuf>,
+    /// With --record: also write the live setpoints to FILE, as `softnc simulate` writes
+    /// them.
+    #[arg(long, value_name = "FILE", requires = "record")]
+    pub setpoints: Option<PathBuf>,
     /// The IPO thread's SCHED_FIFO priority, 1 to 99.
     #[arg(long, value_name = "P", value_parser = priority, default_value_t = 80)]
     pub priority: i32,

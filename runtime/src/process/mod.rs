@@ -2,7 +2,7 @@
 //! queue, cyclic IPO thread (SCHED_FIFO, locked memory, absolute deadlines).
 //!
 //! `nc-kernel --instance NAME [PROGRAM] [--start] [--machine FILE] [--tools FILE]
-//! [--offsets FILE]`: a process
+//! [--offsets FILE] [--record FILE [--setpoints FILE]]`: a process
 //! of the control, talking to plc-sim and the HMI over iceoryx2 (serve.rs).
 //!
 //! `nc-kernel PROGRAM [--machine FILE] [--tools FILE] [--seconds S] [--priority P]`: the
@@ -43,6 +43,8 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
             offsets_path: args.offsets,
             kept_path: args.macro_variables,
             priority: args.priority,
+            record: args.record,
+            setpoints: args.setpoints,
         });
     }
     let Some(program) = &args.program else {

@@ -17,6 +17,7 @@ mod work_offsets;
 use super::bus::IceBus;
 use crate::clock::CycleClock;
 use crate::os;
+use crate::record;
 use crate::Failure;
 use crossbeam::queue::ArrayQueue;
 use nc_kernel::cycle::{alarm, ChannelAlarm, Control, Cyclic, Override, Program, Refusal};
@@ -45,6 +46,10 @@ pub struct ServeOptions {
     /// (`md.kept_variables` was read from it); `None`: not saved.
     pub kept_path: Option<std::path::PathBuf>,
     pub priority: i32,
+    /// Record every input to this file (docs/interfaces.md, "Record and replay").
+    pub record: Option<std::path::PathBuf>,
+    /// With `record`: the live setpoints as `softnc simulate` writes them.
+    pub setpoints: Option<std::path::PathBuf>,
 }
 
 /// What the control thread keeps of a loaded program.
@@ -93,6 +98,8 @@ struct Desk<'a> {
     next_id: u32,
     /// Offsets changed in NC stop since the program stopped: NC start resumes with them.
     changed_in_stop: bool,
+    /// The record of the run's inputs, if asked for.
+    record: Option<record::Writer>,
 }
 
 pub fn run(opts: ServeOptions) -> Result<(), Failure> {
@@ -141,7 +148,15 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         tools_version: std::sync::atomic::AtomicU32::new(1),
         work_offsets_version: std::sync::atomic::AtomicU32::new(1),
     });
-    let ipo = start_ipo(&instance, &md, start, opts.priority, &shared)?;
+    let (writer, recorder) = match &opts.record {
+        Some(path) => {
+            let first = programs.get(&1);
+            let (w, r) = open_record(path, opts.setpoints.as_deref(), first, &md, &tools, start)?;
+            (Some(w), Some(r))
+        }
+        None => (None, None),
+    };
+    let ipo = start_ipo(&instance, &md, start, opts.priority, &shared, recorder)?;
     let mut desk = Desk {
         shared: &shared,
         md: &md,
@@ -156,6 +171,7 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         programs,
         next_id,
         changed_in_stop: false,
+        record: writer,
     };
     let outcome = control(&instance, &mut desk, first, opts.start, &term);
     if outcome.is_err() {
@@ -163,6 +179,11 @@ pub fn run(opts: ServeOptions) -> Result<(), Failure> {
         let _ = shared.ctrl.push(Control::Shutdown);
     }
     let joined = ipo.join();
+    if let Some(w) = desk.record.take() {
+        if let Err(e) = w.finish() {
+            eprintln!("nc-kernel: {e}");
+        }
+    }
     while let Some(g) = shared.garbage.pop() {
         drop(g);
     }
@@ -186,13 +207,17 @@ fn start_ipo(
     start: nc_kernel::AxisPos,
     priority: i32,
     shared: &Arc<Shared>,
+    recorder: Option<record::IpoRecorder>,
 ) -> Result<std::thread::JoinHandle<()>, String> {
     let (ready_tx, ready_rx) = crossbeam::channel::bounded::<Result<String, String>>(1);
     let ipo = {
         let (shared, md, instance) = (shared.clone(), md.clone(), instance.clone());
         std::thread::Builder::new()
             .name("ipo".into())
-            .spawn(move || ipo_thread(&instance, &md, start, priority, &shared, ready_tx))
+            .spawn(move || {
+                let ports = (&instance, &*md, &*shared);
+                ipo_thread(ports, start, priority, recorder, ready_tx)
+            })
             .map_err(|e| format!("cannot start the IPO thread: {e}"))?
     };
     match ready_rx.recv() {
@@ -213,6 +238,34 @@ fn start_ipo(
             Err("the IPO thread ended before it was ready".into())
         }
     }
+}
+
+/// Opens the record of the run with its header and the first program's load.
+fn open_record(
+    path: &std::path::Path,
+    setpoints: Option<&std::path::Path>,
+    first: Option<&Loaded>,
+    md: &MachineData,
+    tools: &ToolTable,
+    start: nc_kernel::AxisPos,
+) -> Result<(record::Writer, record::IpoRecorder), String> {
+    let (machine, tools_f, work) = record::fingerprints(md, tools);
+    let header = record::Header {
+        version: record::VERSION,
+        program: first.map_or(String::new(), |l| l.name.clone()),
+        program_fingerprint: first
+            .map_or(String::new(), |l| record::fingerprint(l.source.as_bytes())),
+        machine_fingerprint: machine,
+        tools_fingerprint: tools_f,
+        work_offsets_fingerprint: work,
+        cycle_us: md.ipo.cycle_us,
+        start: record::axes(&start),
+    };
+    let (mut w, r) = record::open(path, setpoints, &header, md)?;
+    if let Some(l) = first {
+        w.line(&l.load_line(1));
+    }
+    Ok((w, r))
 }
 
 /// Reads and starts preparing a program with the axes at `at` (`None`: the machine zero);
@@ -264,6 +317,16 @@ fn run_table(tools: &ToolTable) -> (ToolTable, nc_kernel::LiveEdits) {
 }
 
 impl Loaded {
+    /// The record's line for this program's load as number `id`.
+    fn load_line(&self, id: u32) -> record::Line {
+        record::Line::Load {
+            id,
+            path: self.name.clone(),
+            program_fingerprint: record::fingerprint(self.source.as_bytes()),
+            at: self.at.as_ref().map(record::axes),
+        }
+    }
+
     /// The program `s` prepares, with its channel at the program's start, and what this
     /// thread keeps of it.
     fn running(
@@ -297,11 +360,10 @@ impl Loaded {
 }
 
 fn ipo_thread(
-    instance: &Instance,
-    md: &MachineData,
+    (instance, md, shared): (&Instance, &MachineData, &Shared),
     start: nc_kernel::AxisPos,
     priority: i32,
-    shared: &Shared,
+    mut rec: Option<record::IpoRecorder>,
     ready: crossbeam::channel::Sender<Result<String, String>>,
 ) {
     // However this thread ends (a panic included), the control thread learns it and ends.
@@ -326,11 +388,22 @@ fn ipo_thread(
         bus.skipped = clock.skipped();
         bus.tools_version = shared.tools_version.load(Ordering::Relaxed);
         bus.work_offsets_version = shared.work_offsets_version.load(Ordering::Relaxed);
+        // Every input the cycle takes passes here: the record keeps it with the cycle.
         while let Some(c) = shared.ctrl.pop() {
+            let cmd = record::Cmd::of(&c);
             let r = cyclic.command(c);
+            if let Some(rec) = &mut rec {
+                rec.command(k, cmd, r.is_ok());
+            }
             let _ = shared.answers.push(r);
         }
-        cyclic.cycle(k, &mut bus);
+        match &mut rec {
+            Some(rec) => {
+                cyclic.cycle(k, &mut rec.wrap(&mut bus, k));
+                rec.prep(k, cyclic.taken());
+            }
+            None => cyclic.cycle(k, &mut bus),
+        }
         if released.is_none() {
             released = cyclic.take_released();
         }
@@ -339,10 +412,13 @@ fn ipo_thread(
                 released = Some(back);
             }
         }
-        k += 1;
         if cyclic.may_exit() {
             break;
         }
+        k += 1;
+    }
+    if let Some(rec) = &mut rec {
+        rec.end(k);
     }
     // Hand everything back to be freed on the control thread.
     if let Some(g) = cyclic.take_released().or(released) {
@@ -492,6 +568,9 @@ fn control(
             let _ = req.send_copy(reply);
         }
         receive_each(&status, |s| last = report_status(s, &last));
+        if let Some(w) = &mut desk.record {
+            w.drain();
+        }
         // NC start once the PLC is there (--start).
         if want_start && last.plc_alive != 0 {
             match ask(shared, Control::Start) {
@@ -617,6 +696,9 @@ impl Desk<'_> {
         ) {
             Ok((p, mut l)) => {
                 l.versions = self.versions();
+                if let Some(w) = &mut self.record {
+                    w.line(&l.load_line(id));
+                }
                 self.programs.insert(id, l);
                 self.next_id += 1;
                 let r = ask(self.shared, Control::Load(p));
@@ -694,6 +776,15 @@ impl Desk<'_> {
             return refusal;
         }
         let version = bump(&self.shared.tools_version);
+        if let Some(w) = &mut self.record {
+            w.line(&record::Line::ToolEdit {
+                t,
+                d: c.d,
+                wear,
+                value: record::F(c.value),
+                running,
+            });
+        }
         let when = if running {
             if let Some(l) = self.programs.get(&last.program) {
                 l.live.push(nc_kernel::LiveEdit {
@@ -782,6 +873,17 @@ impl Desk<'_> {
         };
         let id = self.next_id;
         self.next_id += 1;
+        if let Some(w) = &mut self.record {
+            w.line(&record::Line::Resume {
+                id,
+                of: last.program,
+                seq: at.seq,
+                role: last.role,
+                nth: at.nth,
+                along: record::F(at.along),
+                pos: record::axes(&crate::WireAxes::new(self.md).from_wire(&last.pos)),
+            });
+        }
         let (name, source, load_at) = (l.name.clone(), l.source.clone(), l.at);
         let (program, mut loaded) = Loaded::running(s, &md, id, name, source, load_at, live);
         loaded.versions = self.versions();

@@ -56,6 +56,15 @@ impl Desk<'_> {
             return refusal;
         }
         let version = bump(&self.shared.work_offsets_version);
+        if let Some(w) = &mut self.record {
+            w.line(&crate::record::Line::WorkEdit {
+                name: name.to_string(),
+                values: values
+                    .iter()
+                    .map(|&(a, v)| (a, crate::record::F(v)))
+                    .collect(),
+            });
+        }
         let when = if running {
             "acts from the next program start; the running program keeps the offsets it was loaded with"
         } else if last.state == state::STOPPED && last.program != 0 {
