@@ -88,15 +88,7 @@ impl Interpreter<'_> {
         else {
             return Ok(false);
         };
-        probe.skip_blanks();
-        if probe.peek() != Some(b'=') {
-            return Err(fault(
-                AlarmCode::Syntax,
-                at,
-                format!("{name} must be followed by '='"),
-            ));
-        }
-        probe.i += 1;
+        super::words::equals_after(&mut probe, name, at)?;
         *c = probe;
         self.value_word(c, w, name, at)
     }

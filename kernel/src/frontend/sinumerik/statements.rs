@@ -170,6 +170,16 @@ fn def_name(c: &mut Cursor) -> R<(String, usize)> {
     Ok((name, name_at))
 }
 
+/// The `=` of an assignment (not `==`), the cursor past it.
+fn assign_sign(c: &mut Cursor) -> R<()> {
+    c.skip_blanks();
+    if c.peek() != Some(b'=') || c.peek_at(1) == Some(b'=') {
+        return Err(fault(AlarmCode::Syntax, c.i, "'=' expected"));
+    }
+    c.i += 1;
+    Ok(())
+}
+
 /// The next byte after blanks.
 fn skip_to(c: &Cursor) -> Option<u8> {
     let mut p = *c;
@@ -1105,11 +1115,7 @@ impl Interpreter<'_> {
         }
         let name = String::from_utf8_lossy(span).to_ascii_uppercase();
         if self.sinumerik.store.string(&name).is_some() {
-            probe.skip_blanks();
-            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
-                return Err(fault(AlarmCode::Syntax, probe.i, "'=' expected"));
-            }
-            probe.i += 1;
+            assign_sign(&mut probe)?;
             let text = self.string_expr(&mut probe)?;
             self.sinumerik.store.set_string(&name, text, at)?;
             *c = probe;
@@ -1117,11 +1123,7 @@ impl Interpreter<'_> {
             return Ok(true);
         }
         if self.sinumerik.store.axis_of(&name).is_some() {
-            probe.skip_blanks();
-            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
-                return Err(fault(AlarmCode::Syntax, probe.i, "'=' expected"));
-            }
-            probe.i += 1;
+            assign_sign(&mut probe)?;
             let v = self.axis_value(&mut probe)?;
             self.sinumerik.store.set(&name, v, at)?;
             *c = probe;
@@ -1130,15 +1132,7 @@ impl Interpreter<'_> {
         }
         if probe.peek() == Some(b'[') && self.sinumerik.store.is_array(&name) {
             let idx = expr::indices(&mut probe, &self.sinumerik.store)?;
-            probe.skip_blanks();
-            if probe.peek() != Some(b'=') || probe.peek_at(1) == Some(b'=') {
-                return Err(fault(
-                    AlarmCode::Syntax,
-                    probe.i,
-                    "'=' expected after the element",
-                ));
-            }
-            probe.i += 1;
+            assign_sign(&mut probe)?;
             let v = expr::eval(&mut probe, &self.sinumerik.store)?;
             self.sinumerik.store.set_element(&name, &idx, v, at)?;
             *c = probe;

@@ -35,6 +35,20 @@ const PATH_WORDS: &[(&str, PathWord)] = &[
     ("FRCM", PathWord::Frcm),
 ];
 
+/// The `=` after a value word `name` (standing at `at`), the cursor past it.
+pub fn equals_after(c: &mut Cursor, name: &str, at: usize) -> R<()> {
+    c.skip_blanks();
+    if c.peek() != Some(b'=') {
+        return Err(fault(
+            AlarmCode::Syntax,
+            at,
+            format!("{name} must be followed by '='"),
+        ));
+    }
+    c.i += 1;
+    Ok(())
+}
+
 /// Whether `name` (upper case) is one of the path words: no variable may take it.
 pub fn is_path_word(name: &str) -> bool {
     PATH_WORDS.iter().any(|(w, _)| *w == name)
@@ -86,15 +100,7 @@ impl Interpreter<'_> {
             p.motion = Some((mode, at as u32));
             return Ok(true);
         }
-        c.skip_blanks();
-        if c.peek() != Some(b'=') {
-            return Err(fault(
-                AlarmCode::Syntax,
-                at,
-                format!("{text} must be followed by '='"),
-            ));
-        }
-        c.i += 1;
+        equals_after(c, text, at)?;
         c.skip_blanks();
         let mode = dimension_mode(c);
         let v = checked(Val::computed(expr::eval(c, &self.sinumerik.store)?, at))?;
