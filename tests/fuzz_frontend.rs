@@ -403,6 +403,12 @@ const SINUMERIK_STATEMENTS: &[&str] = &[
     "R1=$AA_IW[X]", "R2=$P_EP[Y]+$P_TOOL", "X=$TC_DP6[1,1]", "R3=$TC_DP6[", "R4=$AA_IW[Q]", "IF $P_EP[X]>5 GOTOF LAB2", "R5=$NOPE",
     "DEF REAL TB[3,2]=SET(1,2,3)", "DEF INT NA[4]=REP(R1)", "TB[R1,1]=R2", "X=TB[2,1]", "NA[5]=1", "DEF REAL TC[0]",
     "DEF STRING[10] ST=\"AB\" << R1", "ST=ST << \"CDEFGHIJKL\"", "MSG(ST << R2)", "MSG(\"x\" <<)", "R1=ST", "DEF CHAR CH=\"Q\"", "DEF AXIS AV=Y", "AV=Z", "AX[AV]=R1", "AX[Q]=1", "AX[AV]", "X=AV", "R2=$P_EP[AV]",
+    "TRANS X10 Y5", "ATRANS X=R1", "ROT RPL=30", "AROT RPL=-R2", "AROT X30", "SCALE X2 Y2", "ASCALE X0.5",
+    "SCALE X2 Y3", "MIRROR X0", "AMIRROR Y0", "TRANS", "ROT", "SUPA G0 X0", "G153 X1", "G505", "G500",
+    "G111 X0 Y0", "G110 X5", "G112 AP=45 RP=5", "G1 AP=R1 RP=10", "G3 AP=IC(90)", "CIP X10 Y10 I1=5 J1=8",
+    "CT X20 Y5", "G2 X0 Y0 I5 TURN=2 Z-1", "RNDM=2", "RNDM=0", "FRC=100",
+    "G41 G147 DISR=5 X10 Y10", "G42 G247 DISR=4 DISCL=2 X0 Y20", "G347 G341 DISR=3 FAD=50 X5",
+    "G40 G148 DISR=5 X0 Y0", "G248 DISCL=AC(5) X20", "NORM", "KONT", "KONTC", "DISC=50", "DISC=100 G450",
 ];
 
 /// Words with macro values for the blocks of a Fanuc program (`X#24`: X takes #24's value,
@@ -1162,6 +1168,10 @@ mod sinumerik_programs {
         "MSG(\"pass\")",
         "CYCLE81(10, 0, 2, -R1-1)",
         "R6=$P_EP[X]+$AA_IW[Y]",
+        "AROT RPL=R1*10",
+        "TRANS X=R2",
+        "G1 AP=R1*30 RP=R2+5",
+        "MIRROR X0",
         "TAB[R4 MOD 3]=R1",
         "G1 X=TAB[R4 MOD 3]",
         "MSG(\"pass \" << R1 << \" of \" << R2)",
