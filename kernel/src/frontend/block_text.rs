@@ -3,6 +3,7 @@
 //! Fanuc `O` program numbers) and its block number `N` (docs/dialects.md, "Common rules").
 
 use super::block::BlockNo;
+use super::calls::Mark;
 use super::fault::{fault, R};
 use super::interpreter::Interpreter;
 use super::lexer::{find_byte, Cursor};
@@ -193,6 +194,37 @@ pub fn main_or_block_number(src: &[u8], start: usize, end: usize, colon: bool) -
     } else {
         read_block_number(&mut c).ok().flatten()
     }
+}
+
+/// The blocks numbered n around a place: the first from where the search began, the last at
+/// or before the place and the first after it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Numbered {
+    pub first: Option<Mark>,
+    pub backward: Option<Mark>,
+    pub forward: Option<Mark>,
+}
+
+/// The blocks numbered `n` (`colon`: a `:` main block's number too) in the lines of
+/// `src[from..end]` around the block at `here`; the scan stops at the first after `here`.
+/// Block numbers are looked for as a jump needs them, not indexed: a program numbers every
+/// block, and an index would grow with its length.
+pub fn numbered(src: &[u8], from: Mark, end: usize, n: u32, here: usize, colon: bool) -> Numbered {
+    let mut at = from;
+    let mut found = Numbered::default();
+    while at.0 < end && found.forward.is_none() {
+        let stop = memchr::memchr(b'\n', &src[at.0..end]).map_or(end, |k| at.0 + k);
+        if main_or_block_number(src, at.0, stop, colon).is_some_and(|b| b.value == n) {
+            found.first.get_or_insert(at);
+            if at.0 <= here {
+                found.backward = Some(at);
+            } else {
+                found.forward = Some(at);
+            }
+        }
+        at = (stop + 1, at.1 + 1, stop + 1);
+    }
+    found
 }
 
 #[cfg(test)]

@@ -58,6 +58,7 @@ mod lexer;
 mod macro_b;
 pub mod number;
 mod plain;
+mod plane;
 mod sinumerik;
 mod statements;
 mod variables;
@@ -107,6 +108,12 @@ fn moves(dialect: &str, src: &str) -> Vec<(MotionKind, Pos, Pos)> {
         .filter_map(|b| b.motion)
         .map(|m| (m.kind, m.end, m.center))
         .collect()
+}
+
+/// Two points agree to 1e-9 in every axis.
+#[cfg(test)]
+fn near(a: Pos, b: Pos) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9)
 }
 
 /// The code, line and column of the alarm a program must stop with (`run`).

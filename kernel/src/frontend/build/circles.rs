@@ -17,8 +17,7 @@ use crate::dialect::GEffect;
 /// circle (mm).
 const COLLINEAR: f64 = 1e-6;
 
-/// A plane vector.
-type V = [f64; 2];
+use super::super::plane::{cross, dot, sub, V};
 
 impl Interpreter<'_> {
     /// Step 8, CIP: the circle through the start, the intermediate point (I1= J1= K1=, under
@@ -360,30 +359,15 @@ fn sweep(m: &Motion, a: usize, o: usize) -> f64 {
     d.rem_euclid(tau)
 }
 
-fn sub(p: V, q: V) -> V {
-    [p[0] - q[0], p[1] - q[1]]
-}
-
-fn dot(p: V, q: V) -> f64 {
-    p[0] * q[0] + p[1] * q[1]
-}
-
-fn cross(p: V, q: V) -> f64 {
-    p[0] * q[1] - p[1] * q[0]
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::super::near;
     use super::super::super::run;
     use crate::alarm::AlarmCode;
     use crate::frontend::MotionKind;
 
     fn moves(src: &str) -> Vec<(MotionKind, [f64; 3], [f64; 3])> {
         super::super::super::moves("siemens-840d", src)
-    }
-
-    fn near(a: [f64; 3], b: [f64; 3]) -> bool {
-        (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9)
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {

@@ -6,8 +6,8 @@
 //! the same elements; the words are the dialect table's, the holding of the move until its
 //! successor is known is in [`super::corner_blocks`].
 
-/// A point in the plane: (abscissa, ordinate).
-pub type V = [f64; 2];
+pub use super::super::plane::V;
+use super::super::plane::{add, cross, dist, dot, scale, sub, unit};
 
 /// What a corner word asks for between two moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -372,40 +372,6 @@ fn circle_circle(c1: V, r1: f64, c2: V, r2: f64) -> Vec<V> {
     let m = add(c1, scale(u, a));
     let n = [-u[1] * h, u[0] * h];
     vec![add(m, n), sub(m, n)]
-}
-
-fn add(a: V, b: V) -> V {
-    [a[0] + b[0], a[1] + b[1]]
-}
-
-fn sub(a: V, b: V) -> V {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn scale(a: V, k: f64) -> V {
-    [a[0] * k, a[1] * k]
-}
-
-fn dot(a: V, b: V) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-
-fn cross(a: V, b: V) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-fn dist(a: V, b: V) -> f64 {
-    libm::hypot(a[0] - b[0], a[1] - b[1])
-}
-
-/// `a` scaled to length 1 (a zero vector stays zero).
-fn unit(a: V) -> V {
-    let l = libm::hypot(a[0], a[1]);
-    if l <= 0.0 {
-        a
-    } else {
-        [a[0] / l, a[1] / l]
-    }
 }
 
 #[cfg(test)]

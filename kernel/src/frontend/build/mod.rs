@@ -225,7 +225,9 @@ impl Interpreter<'_> {
         let blk = &mut self.block;
         if let Some(m) = &blk.motion {
             self.cur = m.end;
-            if self.d.sinumerik {
+            // CT's last element: the next block's start remembers the block handed out,
+            // unless corner elements hold blocks back (remember_move).
+            if self.d.sinumerik && self.corners.is_some() {
                 self.last_move = Some(*m);
             }
         }

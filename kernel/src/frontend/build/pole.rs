@@ -309,15 +309,12 @@ impl Interpreter<'_> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::super::near;
     use crate::alarm::AlarmCode;
     use crate::frontend::MotionKind;
 
     fn moves(src: &str) -> Vec<(MotionKind, [f64; 3], [f64; 3])> {
         super::super::super::moves("siemens-840d", src)
-    }
-
-    fn near(a: [f64; 3], b: [f64; 3]) -> bool {
-        (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9)
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {

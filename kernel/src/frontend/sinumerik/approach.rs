@@ -17,8 +17,8 @@
 //!      `-P4 ──────── t ──────►            the tool center point path")
 //! ```
 
-/// A point in the plane: (abscissa, ordinate).
-pub type V = [f64; 2];
+pub use super::super::plane::V;
+use super::super::plane::{add, cross, left, len, scale, sub};
 
 /// G147/G148, G247/G248, G347/G348: the approach or retraction contour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -309,31 +309,6 @@ pub fn tangent(from: V, to: V, centre: Option<(V, bool)>, at_end: bool) -> Optio
     };
     let n = len(t);
     (n > EPS).then(|| scale(t, 1.0 / n))
-}
-
-fn add(a: V, b: V) -> V {
-    [a[0] + b[0], a[1] + b[1]]
-}
-
-fn sub(a: V, b: V) -> V {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn scale(a: V, k: f64) -> V {
-    [a[0] * k, a[1] * k]
-}
-
-fn cross(a: V, b: V) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-fn len(a: V) -> f64 {
-    libm::hypot(a[0], a[1])
-}
-
-/// `a` turned 90° counter-clockwise.
-fn left(a: V) -> V {
-    [-a[1], a[0]]
 }
 
 #[cfg(test)]

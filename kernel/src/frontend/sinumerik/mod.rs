@@ -536,16 +536,11 @@ mod tests {
 
     /// The X end points of a program's moves.
     fn xs(src: &str) -> Vec<f64> {
-        run("siemens-840d", src)
-            .unwrap_or_else(|a| panic!("{a}"))
-            .iter()
-            .filter_map(|b| b.motion.map(|m| m.end[0]))
-            .collect()
+        super::super::end_xs("siemens-840d", src)
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
-        let a = run("siemens-840d", src).unwrap_err();
-        (a.code, a.line, a.col)
+        super::super::alarm_at("siemens-840d", src)
     }
 
     #[test]

@@ -265,6 +265,11 @@ pub struct Sinumerik {
 }
 
 impl Sinumerik {
+    /// The main program's structure (its text is read as the program reaches it).
+    fn main_structure(&mut self) -> Option<&mut Structure> {
+        self.structures.first_mut().and_then(Option::as_mut)
+    }
+
     /// The structure of program text `program`, if it was read.
     pub fn structure(&self, program: u16) -> Option<&Structure> {
         self.structures.get(program as usize)?.as_ref()
@@ -344,12 +349,7 @@ impl Interpreter<'_> {
     #[cold]
     #[inline(never)]
     pub(in crate::frontend) fn structure_to(&mut self, start: usize) -> R<()> {
-        let Some(s) = self
-            .sinumerik
-            .structures
-            .first_mut()
-            .and_then(Option::as_mut)
-        else {
+        let Some(s) = self.sinumerik.main_structure() else {
             return Ok(());
         };
         match s.read(self.src, self.frontier, start) {
@@ -368,12 +368,7 @@ impl Interpreter<'_> {
             return Ok(());
         }
         loop {
-            let Some(s) = self
-                .sinumerik
-                .structures
-                .first_mut()
-                .and_then(Option::as_mut)
-            else {
+            let Some(s) = self.sinumerik.main_structure() else {
                 return Ok(());
             };
             if done(s) || s.complete() {
@@ -393,12 +388,7 @@ impl Interpreter<'_> {
     pub(in crate::frontend) fn structure_end(&mut self) -> R<()> {
         let at = self.frontier;
         self.frontier.0 = usize::MAX;
-        let Some(s) = self
-            .sinumerik
-            .structures
-            .first_mut()
-            .and_then(Option::as_mut)
-        else {
+        let Some(s) = self.sinumerik.main_structure() else {
             return Ok(());
         };
         s.finish(self.src, at).map_err(|e| self.located(e))

@@ -10,13 +10,14 @@
 //! (nothing to unwind when a GOTO leaves a loop). A block with a structure word cannot be
 //! skipped and carries no label (Job planning, "Control structures").
 
+pub use super::super::block_text::Numbered;
 use super::super::fault::{fault, Fault};
 use super::statements::Keyword;
 use crate::alarm::AlarmCode;
 use std::collections::HashMap;
 
 /// A place in the text: (byte offset, line number, line start) of a block's start.
-pub type Mark = (usize, u32, usize);
+pub use super::super::calls::Mark;
 
 /// Where a structure word sends the interpreter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,15 +60,6 @@ struct Reading {
     first: bool,
 }
 
-/// The blocks numbered n around a place: the first in the program, the last at or before
-/// the place and the first after it.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Numbered {
-    pub first: Option<Mark>,
-    pub backward: Option<Mark>,
-    pub forward: Option<Mark>,
-}
-
 /// An opened structure while matching: its word, its block, its body's start, and for IF
 /// its ELSE block and what follows it.
 #[derive(Clone, Debug)]
@@ -91,35 +83,10 @@ impl Structure {
         self.labels.get(name).map_or(&[], Vec::as_slice)
     }
 
-    /// The blocks numbered `n` around the block at `here` (a scan of the text).
+    /// The blocks numbered `n` (`N10` or the main block `:10`) around the block at `here`.
     pub fn numbered(&self, src: &[u8], n: u32, here: usize) -> Numbered {
-        let (mut at, end) = self.text;
-        let mut found = Numbered::default();
-        while at.0 < end && found.forward.is_none() {
-            let stop = src[at.0..end]
-                .iter()
-                .position(|&b| b == b'\n')
-                .map_or(end, |k| at.0 + k);
-            let mut c = super::super::lexer::Cursor::new(src, at.0, stop);
-            c.skip_blanks();
-            if c.peek() == Some(b'/') {
-                c.i += 1;
-                while matches!(c.peek(), Some(b'0'..=b'9')) {
-                    c.i += 1;
-                }
-                c.skip_blanks();
-            }
-            if block_number(&mut c) == Some(n) {
-                found.first.get_or_insert(at);
-                if at.0 <= here {
-                    found.backward = Some(at);
-                } else {
-                    found.forward = Some(at);
-                }
-            }
-            at = (stop + 1, at.1 + 1, stop + 1);
-        }
-        found
+        let (from, end) = self.text;
+        super::super::block_text::numbered(src, from, end, n, here, true)
     }
 
     /// The structure of `src[start..end]` (first line number `line`), nothing read yet.

@@ -10,11 +10,11 @@
 //! statement: it runs where it stands and hands out no block. A jump acts when its block is
 //! complete; a backward one counts against `program.max_loop_iterations`.
 
-use super::super::block_text::main_or_block_number;
+use super::super::block_text::numbered;
 use super::super::calls::Mark;
 use super::super::fault::{fault, Fault, R};
 use super::super::interpreter::Interpreter;
-use super::super::lexer::{find_byte, Cursor};
+use super::super::lexer::Cursor;
 use super::super::number;
 use super::super::words::{push, Words};
 use crate::alarm::AlarmCode;
@@ -444,12 +444,14 @@ impl Interpreter<'_> {
         if self.finished {
             return Ok(());
         }
-        let colon = self.d.main_block_colon;
+        let (colon, end) = (self.d.main_block_colon, self.src.len());
+        // Backward: the last from the program's start up to the jump's own block; forward:
+        // the first after it.
         let to = if j.back {
             let start = self.calls.running.start;
-            find_block(self.src, start, j.here, j.number, colon, true)
+            numbered(self.src, start, end, j.number, j.here, colon).backward
         } else {
-            find_block(self.src, j.next, self.src.len(), j.number, colon, false)
+            numbered(self.src, j.next, end, j.number, j.here, colon).forward
         };
         let Some(to) = to else {
             return Err(fault(
@@ -550,53 +552,24 @@ fn operand_expected(at: usize) -> Box<Fault> {
     )
 }
 
-/// The first (or, `last`, the last) block numbered `n` whose line starts between `from` and
-/// `until` (both included): where reading goes on.
-fn find_block(
-    src: &[u8],
-    from: Mark,
-    until: usize,
-    n: u32,
-    colon: bool,
-    last: bool,
-) -> Option<Mark> {
-    let (mut i, mut line) = (from.2, from.1);
-    let mut found = None;
-    while i <= until && i < src.len() {
-        let end = find_byte(src, i, [b'\n']);
-        if main_or_block_number(src, i, end, colon).is_some_and(|b| b.value == n) {
-            found = Some((i, line, i));
-            if !last {
-                break;
-            }
-        }
-        i = end + 1;
-        line += 1;
-    }
-    found
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::super::{end_xs, run};
     use crate::alarm::AlarmCode;
-    use crate::frontend::block::Block;
 
     fn xs(src: &str) -> Vec<f64> {
         end_xs("siemens-840c", src)
     }
 
     fn ends(src: &str) -> Vec<[f64; 3]> {
-        let blocks: Vec<Block> = run("siemens-840c", src).unwrap_or_else(|a| panic!("{a}"));
-        blocks
+        super::super::super::moves("siemens-840c", src)
             .iter()
-            .filter_map(|b| b.motion.map(|m| m.end))
+            .map(|m| m.1)
             .collect()
     }
 
     fn alarm(src: &str) -> (AlarmCode, u32, u32) {
-        let a = run("siemens-840c", src).unwrap_err();
-        (a.code, a.line, a.col)
+        super::super::super::alarm_at("siemens-840c", src)
     }
 
     #[test]
