@@ -10,7 +10,9 @@ use nc_kernel::{MachineKind, ToolPost};
 use nc_kernel::{Role, Segment, Shape};
 use std::f64::consts::TAU;
 use svg::node::element::path::Data;
-use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text, Title};
+use svg::node::element::{
+    Circle, ClipPath, Definitions, Group, Line, Path, Rectangle, Text, Title,
+};
 use svg::Document;
 
 /// Above this many motion blocks the picture leaves out labels and tool circles: they would
@@ -209,28 +211,7 @@ impl<'a> Picture<'a> {
             Vec::new()
         };
 
-        // World bounding box over everything drawn.
-        let mut bb = Bbox::default();
-        for e in &prog {
-            for p in &e.points {
-                bb.add(*p);
-            }
-        }
-        for s in self.segments {
-            for p in self.sample(s) {
-                bb.add(p);
-            }
-        }
-        for p in self.actual {
-            bb.add(self.uv(*p));
-        }
-        for (c, r, _) in &circles {
-            bb.add((c.0 - r, c.1 - r));
-            bb.add((c.0 + r, c.1 + r));
-        }
-        if bb.empty() {
-            bb.add((0.0, 0.0));
-        }
+        let (bb, framed) = self.frame(&prog, &circles);
         let (w, h) = bb.size();
         // Room for the labels at the edges: 4 % of the size, at least ~48 px.
         let scale0 = (PLOT_W / w.max(1e-9)).min(PLOT_H_MAX / h.max(1e-9));
@@ -272,12 +253,29 @@ impl<'a> Picture<'a> {
             )
             .add(Title::new(format!("{}: tool-centre path", self.name)));
 
-        doc = doc.add(self.title(&view));
+        doc = doc.add(self.title(&view, framed));
         doc = doc.add(grid(&view, self.plane, w, h));
-        doc = doc.add(programmed_group(&view, &prog, self.alarm.map(|a| a.line)));
-        doc = doc.add(self.path_group(&view));
+        // Travel beyond the frame is cut off at its edge.
+        doc = doc.add(
+            Definitions::new().add(
+                ClipPath::new().set("id", "plot").add(
+                    Rectangle::new()
+                        .set("x", LEFT)
+                        .set("y", TOP)
+                        .set("width", rd(w * scale))
+                        .set("height", rd(plot_h)),
+                ),
+            ),
+        );
+        let clipped = |g: Group| g.set("clip-path", "url(#plot)");
+        doc = doc.add(clipped(programmed_group(
+            &view,
+            &prog,
+            self.alarm.map(|a| a.line),
+        )));
+        doc = doc.add(clipped(self.path_group(&view)));
         if self.actual.len() > 1 {
-            doc = doc.add(self.actual_group(&view));
+            doc = doc.add(clipped(self.actual_group(&view)));
         }
         if !circles.is_empty() {
             let mut g = Group::new()
@@ -296,10 +294,10 @@ impl<'a> Picture<'a> {
                         .add(Title::new(tip.as_str())),
                 );
             }
-            doc = doc.add(g);
+            doc = doc.add(clipped(g));
         }
         if self.annotated() {
-            doc = doc.add(self.labels(&view));
+            doc = doc.add(clipped(self.labels(&view)));
         }
         if let Some(a) = self.alarm {
             doc = doc.add(self.alarm_marker(&view, a));
@@ -307,7 +305,58 @@ impl<'a> Picture<'a> {
         doc.add(self.legend(legend_y))
     }
 
-    fn title(&self, _v: &View) -> Group {
+    /// The region the picture shows, and whether it is framed on the cutting moves: where
+    /// rapid traverses (to a reference point or a tool change position) would shrink the
+    /// work to a corner of the picture, the frame holds the feed moves and the rapids run
+    /// out of it; otherwise it holds everything drawn.
+    fn frame(&self, prog: &[ProgElem], circles: &[((f64, f64), f64, String)]) -> (Bbox, bool) {
+        let (mut all, mut work) = (Bbox::default(), Bbox::default());
+        for e in prog {
+            for p in &e.points {
+                all.add(*p);
+                if !e.rapid {
+                    work.add(*p);
+                }
+            }
+        }
+        for s in self.segments {
+            for p in self.sample(s) {
+                all.add(p);
+                if !s.rapid {
+                    work.add(p);
+                }
+            }
+        }
+        for p in self.actual {
+            all.add(self.uv(*p));
+        }
+        for (c, r, _) in circles {
+            all.add((c.0 - r, c.1 - r));
+            all.add((c.0 + r, c.1 + r));
+        }
+        if all.empty() {
+            all.add((0.0, 0.0));
+        }
+        let ((w, h), (ww, wh)) = (all.size(), work.size());
+        // The work keeps at least half the picture in each direction (with some room).
+        let small = |a: f64, b: f64| a > 2.0 * b + 0.1 * a.max(1.0);
+        if work.n > 1 && (small(w, ww) || small(h, wh)) {
+            if let Some(p) = self.alarm.and_then(|a| self.alarm_at(a)) {
+                work.add(p);
+            }
+            for (c, r, _) in circles {
+                if work.holds(*c) {
+                    work.add((c.0 - r, c.1 - r));
+                    work.add((c.0 + r, c.1 + r));
+                }
+            }
+            (work, true)
+        } else {
+            (all, false)
+        }
+    }
+
+    fn title(&self, _v: &View, framed: bool) -> Group {
         let mut radii: Vec<(u32, f64)> = Vec::new();
         for b in &self.blocks {
             if b.modal.trc != TrcSide::Off
@@ -334,12 +383,17 @@ impl<'a> Picture<'a> {
             )
         };
         let sub = format!(
-            "{} · plane {} · {} blocks · {} segments · {}",
+            "{} · plane {} · {} blocks · {} segments · {}{}",
             self.md.dialect.as_str(),
             self.plane.name(),
             self.blocks.len(),
             self.segments.len(),
-            tools
+            tools,
+            if framed {
+                " · framed on the cutting moves, rapid traverses run out of the frame"
+            } else {
+                ""
+            }
         );
         Group::new()
             .set("id", "title")
@@ -517,15 +571,7 @@ impl<'a> Picture<'a> {
     }
 
     fn alarm_marker(&self, v: &View, a: &Alarm) -> Group {
-        // At the programmed end of the alarm's block, else where the tool path stopped.
-        let at = self
-            .blocks
-            .iter()
-            .find(|b| b.line == a.line)
-            .and_then(|b| b.motion.map(|m| self.uv(m.end)))
-            .or_else(|| self.segments.last().map(|s| self.uv(s.to)))
-            .unwrap_or((v.min_u, v.min_v));
-        let (x, y) = v.px(at);
+        let (x, y) = v.px(self.alarm_at(a).unwrap_or((v.min_u, v.min_v)));
         Group::new()
             .set("id", "alarm")
             .add(
@@ -545,6 +591,16 @@ impl<'a> Picture<'a> {
                     .set("font-weight", "bold")
                     .set("fill", ALARM),
             )
+    }
+
+    /// Where an alarm is marked: at the programmed end of its block, else where the tool path
+    /// stopped.
+    fn alarm_at(&self, a: &Alarm) -> Option<(f64, f64)> {
+        self.blocks
+            .iter()
+            .find(|b| b.line == a.line)
+            .and_then(|b| b.motion.map(|m| self.uv(m.end)))
+            .or_else(|| self.segments.last().map(|s| self.uv(s.to)))
     }
 
     /// A turning tool with a cutting edge position: the path drawn is its tip P.
@@ -851,6 +907,11 @@ impl Bbox {
     }
     fn empty(&self) -> bool {
         self.n == 0
+    }
+    fn holds(&self, p: (f64, f64)) -> bool {
+        self.n > 0
+            && (self.min.0..=self.max.0).contains(&p.0)
+            && (self.min.1..=self.max.1).contains(&p.1)
     }
     fn size(&self) -> (f64, f64) {
         (self.max.0 - self.min.0, self.max.1 - self.min.1)

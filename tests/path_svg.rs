@@ -266,3 +266,43 @@ fn lathe_nose_circles_and_the_view_from_in_front() {
     }
     assert!(slopes[0] < 0.0 && slopes[1] > 0.0, "{slopes:?}");
 }
+
+/// A lathe program that goes to its reference point (X60 Z100) between the cuts at Z 0 … −70:
+/// the picture frames the cutting moves, and the rapids to the reference point are cut off at
+/// the frame's edge, so the shaft fills the picture.
+#[test]
+fn travel_to_a_far_reference_point_does_not_shrink_the_work() {
+    let prog = "programs/fanuc-lathe/shaft_rough_finish.nc";
+    let r = run(&[prog, "--machine", "config/fanuc-lathe.toml"]);
+    assert_eq!(r.code, 0);
+    let doc = roxmltree::Document::parse(&r.svg).expect("well-formed SVG");
+    let title = group(&doc, "title").expect("title");
+    assert!(
+        title
+            .descendants()
+            .any(|n| text(n).contains("framed on the cutting moves")),
+        "the subtitle says the picture is framed"
+    );
+    let (to_u, to_v) = maps(&doc);
+    let frame = group(&doc, "grid")
+        .and_then(|g| g.children().find(|n| n.has_tag_name("rect")))
+        .expect("plot frame");
+    let (x0, w) = (attr(frame, "x"), attr(frame, "width"));
+    let (y0, h) = (attr(frame, "y"), attr(frame, "height"));
+    // Z across the frame: the shaft's −70 … 0 plus the start at Z2, not the reference
+    // point's Z100; X (radius) from the bore's 6 to the bar's 22, not the reference's 30.
+    let (z_lo, z_hi) = (to_u(x0), to_u(x0 + w));
+    assert!(z_lo < -70.0 && z_lo > -80.0, "left edge Z{z_lo}");
+    assert!(z_hi > 2.0 && z_hi < 12.0, "right edge Z{z_hi}");
+    let (xa, xb) = (to_v(y0), to_v(y0 + h));
+    let (x_lo, x_hi) = (xa.min(xb), xa.max(xb));
+    assert!(
+        x_lo < 6.0 && x_hi > 22.0 && x_hi < 28.0,
+        "X {x_lo} … {x_hi}"
+    );
+    // Everything drawn along the path is clipped to the frame.
+    for id in ["programmed", "tool-path"] {
+        let g = group(&doc, id).unwrap_or_else(|| panic!("group {id}"));
+        assert_eq!(g.attribute("clip-path"), Some("url(#plot)"), "{id}");
+    }
+}
