@@ -22,6 +22,11 @@ fn lathe() -> MachineData {
 /// The channel's setpoints with operator actions ("stop", "start", an override in %) at
 /// given cycles.
 fn drive(text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
+    drive_single(text, actions, false)
+}
+
+/// `drive`; `single`: in single block mode, NC start given at every single-block stop.
+fn drive_single(text: &str, actions: &[(u64, &str)], single: bool) -> Vec<Row> {
     let md = lathe();
     let tools = ToolTable::builtin();
     let job = nc_kernel::handover::Job {
@@ -57,13 +62,20 @@ fn drive(text: &str, actions: &[(u64, &str)]) -> Vec<Row> {
         while ch.acks_due() > 0 {
             ch.ack();
         }
+        if single && k == 0 {
+            ch.set_single_block(true);
+        }
         ch.cycle(k, &mut sp);
         ch.set_spindle_actual(spindle.follow(sp.spindle));
+        let events = format!("{:?}", sp.events);
+        if events.contains("SingleBlock") {
+            ch.start();
+        }
         out.push(Row {
             pos: sp.pos,
             v: sp.v_path * 60.0,
             line: sp.source.map_or(0, |s| s.line),
-            stopped: format!("{:?}", sp.events).contains("Stopped"),
+            stopped: events.contains("Stopped") || events.contains("SingleBlock"),
         });
         if sp.state == ChannelState::End {
             break;
@@ -138,4 +150,17 @@ fn a_feed_hold_during_the_thread_stops_at_its_end() {
     // A stop before the thread (on the rapid to it) holds before the thread starts.
     let rows = drive(PROGRAM, &[(2, "stop")]);
     assert!(rows.iter().all(|r| r.line != 3));
+}
+
+#[test]
+fn single_block_does_not_stop_inside_a_thread() {
+    // Two thread blocks chained without an exact stop (G64): straight to Z-20, then a
+    // taper to (17, -28); then the rapids. Single block stops after the first G0, then
+    // at the end of the first block after the threads that is no thread (Fanuc): G0 X40
+    // at (20, -28); never between or at the end of the threads. The program's end follows.
+    let text = "G64 G0 X30. Z5.\nM3 S600\nG32 Z-20. F2.\nX34. Z-28.\nG0 X40.\nZ5.\nM30\n";
+    let rows = drive_single(text, &[], true);
+    let stops: Vec<[f64; 3]> = rows.iter().filter(|r| r.stopped).map(|r| r.pos).collect();
+    assert_eq!(stops, [[15.0, 0.0, 5.0], [20.0, 0.0, -28.0]]);
+    assert_eq!(rows.last().unwrap().pos, [20.0, 0.0, 5.0]);
 }

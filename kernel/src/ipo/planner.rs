@@ -331,9 +331,10 @@ impl Planner {
         }
     }
 
-    /// Stops at the end of every queued segment from now on (single block).
+    /// Stops at the end of every queued segment from now on (single block); a thread goes
+    /// on into the segment after it.
     pub fn stop_after_each(&mut self) {
-        for e in self.queue.iter_mut() {
+        for e in self.queue.iter_mut().filter(|e| !e.thread) {
             e.stop_after = true;
             e.end_cap = 0.0;
         }
