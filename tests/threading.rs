@@ -164,3 +164,18 @@ fn single_block_does_not_stop_inside_a_thread() {
     assert_eq!(stops, [[15.0, 0.0, 5.0], [20.0, 0.0, -28.0]]);
     assert_eq!(rows.last().unwrap().pos, [20.0, 0.0, 5.0]);
 }
+
+#[test]
+fn a_feed_hold_in_chained_threads_waits_for_the_last_one() {
+    // G32 to Z-20, then the taper to (17, -28) without an exact stop: a stop in the middle
+    // of the first thread brings the path to rest at the end of the second.
+    let text = "G64 G0 X30. Z5.\nM3 S600\nG32 Z-20. F2.\nX34. Z-28.\nG0 X40.\nZ5.\nM30\n";
+    let plain = drive(text, &[]);
+    let (first, _) = thread_rows(&plain);
+    let end_first = plain.iter().position(|r| r.line == 4).unwrap();
+    let mid = (first + end_first) / 2;
+    let rows = drive(text, &[(mid as u64, "stop")]);
+    let stopped = rows.iter().position(|r| r.stopped).unwrap();
+    assert_eq!(rows[stopped].pos, [17.0, 0.0, -28.0]);
+    assert!(rows[..stopped].iter().all(|r| r.line <= 4));
+}

@@ -193,6 +193,22 @@ mod tests {
     }
 
     #[test]
+    fn g94_in_radius_programming() {
+        // X is a radius: A (30, 2), G94 X10 W-4 (Z -2) R-1: in to Z-3 at r30, across to
+        // (10, -2), back to Z2, out to r30.
+        assert_eq!(
+            moves_with("G0 X30. Z2.\nG94 X10. W-4. R-1. F0.2\n", true),
+            [
+                (R, 30.0, 2.0),
+                (R, 30.0, -3.0),
+                (F, 10.0, -2.0),
+                (F, 10.0, 2.0),
+                (R, 30.0, 2.0)
+            ]
+        );
+    }
+
+    #[test]
     fn g92_threads_the_box_at_the_lead() {
         // A (X40 → r20, Z5). G92 X29.2 Z-30 F1.5: in to r14.6, thread to Z-30 at 1.5
         // per revolution, out to r20, back to Z5; X28.6: the next pass at r14.3.
