@@ -112,6 +112,7 @@ impl Interpreter<'_> {
             return Ok(());
         }
         self.lathe_allowed(new, col, "a peck cycle")?;
+        self.no_other_words(w, true)?;
         self.cycle_feed(new, col, "a peck cycle")?;
         let a = self.cur;
         let end = self.end_point(w, new, a)?;

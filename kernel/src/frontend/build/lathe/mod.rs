@@ -208,6 +208,37 @@ impl Interpreter<'_> {
         Ok(())
     }
 
+    /// Words a thread or box block has no use for: I and K (no circle), and P and Q where
+    /// the block takes none (G32 and G92's Q, the start angle of a multiple-start thread,
+    /// is not built).
+    fn no_other_words(&self, w: &Words, pq: bool) -> R<()> {
+        if let Some(v) = w.centre.iter().flatten().next() {
+            return Err(fault(
+                AlarmCode::Syntax,
+                v.at,
+                "I and K have no meaning in a thread or lathe cycle block",
+            ));
+        }
+        if pq {
+            return Ok(());
+        }
+        if let Some(q) = w.q {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                q.at,
+                "Q (the start angle of a multiple-start thread) is not supported",
+            ));
+        }
+        if let Some(p) = w.p {
+            return Err(fault(
+                AlarmCode::Syntax,
+                p.at,
+                "P has no meaning in this block",
+            ));
+        }
+        Ok(())
+    }
+
     /// A P or Q amount of a lathe cycle: least input increments, no decimal point (0i-TF:
     /// "specify without a decimal point"), in mm; `None` if not written.
     fn increments(&self, v: Option<Val>, units: Units, what: &str) -> R<Option<f64>> {

@@ -37,6 +37,7 @@ impl Interpreter<'_> {
             return Ok(());
         }
         self.lathe_allowed(new, col, "a box cycle")?;
+        self.no_other_words(w, false)?;
         self.cycle_feed(new, col, "the cycle's cut (or thread lead)")?;
         let a = self.cur;
         let kept = match self.lathe.boxed {

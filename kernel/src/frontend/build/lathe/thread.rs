@@ -25,6 +25,7 @@ impl Interpreter<'_> {
             return self.motion(w, new, at);
         }
         self.lathe_allowed(new, at, "a thread")?;
+        self.no_other_words(w, false)?;
         if new.feed <= 0.0 {
             return Err(fault(AlarmCode::NoFeed, at, "a thread needs its lead F"));
         }
@@ -78,6 +79,15 @@ mod tests {
         assert_eq!(
             alarm("T0101 G0 X30. Z3.\nG42 G1 X28. F0.2\nG32 Z-20. F1.5\n"),
             (AlarmCode::ForbiddenWithTrc, 3, 1)
+        );
+        // A multiple-start thread's Q is not built; I has no meaning.
+        assert_eq!(
+            alarm("G0 X30. Z3.\nG32 Z-20. F1.5 Q180000\n"),
+            (AlarmCode::NotSupported, 2, 16)
+        );
+        assert_eq!(
+            alarm("G0 X30. Z3.\nG32 Z-20. I1. F1.5\n"),
+            (AlarmCode::Syntax, 2, 11)
         );
     }
 }

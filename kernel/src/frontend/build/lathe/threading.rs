@@ -151,6 +151,7 @@ impl Interpreter<'_> {
             return self.thread_data(w, new);
         }
         self.lathe_allowed(new, col, "a threading cycle")?;
+        self.no_other_words(w, true)?;
         self.cycle_feed(new, col, "a threading cycle's lead")?;
         let height = self.increments(w.p, new.units, "the thread height P")?;
         let first = self.increments(w.q, new.units, "the first depth of cut Q")?;
