@@ -373,3 +373,149 @@ fn sample_shaft_rough_finish_checks_clean() {
         String::from_utf8_lossy(&out.stdout)
     );
 }
+
+/// The path feed per revolution of each thread block, in order.
+fn thread_feeds(b: &[Block]) -> Vec<f64> {
+    b.iter().filter_map(|b| b.thread).collect()
+}
+
+#[test]
+fn t20_g32_threads() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let mut want = vec![[12.0, 0.0, 5.0]];
+    for (x0, x1) in [(9.6, 9.6), (9.3, 9.3), (8.9, 9.9)] {
+        want.extend([
+            [x0, 0.0, 5.0],
+            [x1, 0.0, -30.0],
+            [12.0, 0.0, -30.0],
+            [12.0, 0.0, 5.0],
+        ]);
+    }
+    want.push([30.0, 0.0, 20.0]);
+    let b = clean("t20_g32_threads.nc", &want);
+    let f = thread_feeds(&b);
+    assert_eq!(f[..2], [2.0, 2.0]);
+    assert!((f[2] - 2.0 * 1226f64.sqrt() / 35.0).abs() < 1e-12);
+    assert!((f[2] - 2.000816).abs() < 1e-6);
+}
+
+#[test]
+fn t21_g92_thread() {
+    let mut want = vec![[17.5, 0.0, 4.0]];
+    for x in [14.65, 14.45, 14.25, 14.1, 14.025] {
+        want.extend([
+            [x, 0.0, 4.0],
+            [x, 0.0, -25.0],
+            [17.5, 0.0, -25.0],
+            [17.5, 0.0, 4.0],
+        ]);
+    }
+    // The spring pass with the chamfer of 1.5.
+    want.extend([
+        [14.025, 0.0, 4.0],
+        [14.025, 0.0, -23.5],
+        [15.525, 0.0, -25.0],
+        [17.5, 0.0, -25.0],
+        [17.5, 0.0, 4.0],
+        [30.0, 0.0, 20.0],
+    ]);
+    let b = clean("t21_g92_thread.nc", &want);
+    // Five straight threads at 1.5, the spring pass's thread, its 45° chamfer at 1.5·√2.
+    let f = thread_feeds(&b);
+    assert_eq!(f.len(), 7);
+    assert!(f[..6].iter().all(|&v| v == 1.5));
+    assert!((f[6] - 1.5 * 2f64.sqrt()).abs() < 1e-12);
+}
+
+#[test]
+fn t22_g76_thread() {
+    let depths = [
+        0.3,
+        0.424264069,
+        0.524264069,
+        0.624264069,
+        0.724264069,
+        0.824264069,
+        0.924264069,
+        1.024264069,
+        1.124264069,
+        1.15,
+        1.2,
+        1.2,
+    ];
+    let tan30 = 0.577350269;
+    let mut want = vec![[14.0, 0.0, 5.0]];
+    for d in depths {
+        let (x, s) = (10.8 + (1.2 - d), (1.2 - d) * tan30);
+        want.extend([
+            [x, 0.0, 5.0 + s],
+            [x, 0.0, -20.0 + s],
+            [14.0, 0.0, -20.0 + s],
+            [14.0, 0.0, 5.0],
+        ]);
+    }
+    want.push([30.0, 0.0, 20.0]);
+    // The depths are written to 1e-9 above: compare to 1e-8.
+    let (b, alarm) = run("t22_g76_thread.nc");
+    assert!(alarm.is_none(), "{alarm:?}");
+    let got = ends(&b);
+    assert_eq!(got.len(), want.len());
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (0..3).all(|i| (g[i] - w[i]).abs() < 1e-8),
+            "move {k}: {g:?} {w:?}"
+        );
+    }
+    check("t22_g76_thread.nc");
+    assert_eq!(thread_feeds(&b), [2.0; 12]);
+}
+
+#[test]
+fn t23_g90_g94_boxes() {
+    let mut want = vec![[26.0, 0.0, 2.0]];
+    for (start, x) in [(23.0, 23.0), (21.0, 21.0), (18.0, 20.0)] {
+        want.extend([
+            [start, 0.0, 2.0],
+            [x, 0.0, -30.0],
+            [26.0, 0.0, -30.0],
+            [26.0, 0.0, 2.0],
+        ]);
+    }
+    want.push([27.5, 0.0, 3.0]);
+    for (start, z) in [(-1.0, -1.0), (-2.0, -2.0), (-4.0, -3.0)] {
+        want.extend([
+            [27.5, 0.0, start],
+            [10.0, 0.0, z],
+            [10.0, 0.0, 3.0],
+            [27.5, 0.0, 3.0],
+        ]);
+    }
+    want.push([30.0, 0.0, 20.0]);
+    let b = clean("t23_g90_g94_boxes.nc", &want);
+    assert!(b.iter().all(|b| b.thread.is_none()));
+}
+
+#[test]
+fn t24_g74_g75_pecks() {
+    let mut want = vec![[21.0, 0.0, -15.0]];
+    for (z, next) in [(-15.0, -17.0), (-17.0, -19.0), (-19.0, -15.0)] {
+        want.extend([
+            [18.0, 0.0, z],
+            [18.5, 0.0, z],
+            [15.0, 0.0, z],
+            [21.0, 0.0, z],
+            [21.0, 0.0, next],
+        ]);
+    }
+    want.extend([
+        [0.0, 0.0, 2.0],
+        [0.0, 0.0, -3.0],
+        [0.0, 0.0, -2.0],
+        [0.0, 0.0, -8.0],
+        [0.0, 0.0, -7.0],
+        [0.0, 0.0, -12.0],
+        [0.0, 0.0, 2.0],
+        [30.0, 0.0, 20.0],
+    ]);
+    clean("t24_g74_g75_pecks.nc", &want);
+}

@@ -41,6 +41,7 @@ impl Curve {
             to: m.end,
             feed: 0.0,
             per_rev: false,
+            thread: false,
             rapid: m.kind == MotionKind::Rapid,
             exact_stop: false,
         })

@@ -108,6 +108,9 @@ pub struct Segment {
     pub feed: f64,
     /// Feed per revolution (G95): the path speed follows the spindle's actual speed.
     pub per_rev: bool,
+    /// A thread cut (Fanuc G32 and the threading cycles): per revolution, at 100 % feed
+    /// override, and a feed hold waits for its end (docs/turning.md, "Threading").
+    pub thread: bool,
     pub rapid: bool,
     /// Exact stop at the end (G09 of the block, or the modal G60/G61; inserted blocks take
     /// the next block's, 840C 11.10).

@@ -5,7 +5,7 @@
 
 use super::{g, Dialect, DwellWords, GCodeDef, GEffect, RadiusWord, Semicolon};
 use crate::alarm::AlarmCode;
-use crate::frontend::block::{CornerPolicy, MotionMode, Plane, SelectionPolicy, TrcSide};
+use crate::frontend::block::{BoxCycle, CornerPolicy, MotionMode, Plane, SelectionPolicy, TrcSide};
 use crate::machine_data::{DialectName, Units};
 
 use GEffect::*;
@@ -24,7 +24,7 @@ static GCODES: &[GCodeDef] = &[
     g(21, Units(Units::Mm)),
     g(28, ReferenceReturn(false)),
     g(30, ReferenceReturn(true)),
-    g(32, Unsupported("thread cutting G32")),
+    g(32, Motion(MotionMode::Thread)),
     g(40, Trc(TrcSide::Off)),
     g(41, Trc(TrcSide::Left)),
     g(42, Trc(TrcSide::Right)),
@@ -46,12 +46,12 @@ static GCODES: &[GCodeDef] = &[
     g(71, TurningCycle(super::TurningCycle::StockRemoval)),
     g(72, Unsupported("stock removal in facing G72")),
     g(73, Unsupported("pattern repeating G73")),
-    g(74, Unsupported("end face peck drilling G74")),
-    g(75, Unsupported("outer/inner diameter grooving G75")),
-    g(76, Unsupported("multiple threading cycle G76")),
-    g(90, Unsupported("outer/inner diameter cutting cycle G90")),
-    g(92, Unsupported("threading cycle G92")),
-    g(94, Unsupported("end face turning cycle G94")),
+    g(74, LatheCycle(super::LatheCycle::FacePecking)),
+    g(75, LatheCycle(super::LatheCycle::Grooving)),
+    g(76, LatheCycle(super::LatheCycle::Threading)),
+    g(90, Motion(MotionMode::BoxCycle(BoxCycle::Turning))),
+    g(92, Motion(MotionMode::BoxCycle(BoxCycle::Threading))),
+    g(94, Motion(MotionMode::BoxCycle(BoxCycle::Facing))),
     g(96, ConstantSurfaceSpeed(true)),
     g(97, ConstantSurfaceSpeed(false)),
     g(98, FeedPerRevolution(false)),

@@ -140,8 +140,21 @@ pub enum GEffect {
     /// A multiple repetitive turning cycle on the contour between the blocks P and Q
     /// (Fanuc lathe G70, G71): one shot, the contour written once.
     TurningCycle(TurningCycle),
+    /// A Fanuc lathe cycle whose blocks are its data (one shot: G74, G75, G76).
+    LatheCycle(LatheCycle),
     /// A code the dialect defines that softnc recognises but does not implement.
     Unsupported(&'static str),
+}
+
+/// The one-shot lathe cycles of the Fanuc 0i-TF (G-code system A).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatheCycle {
+    /// End face peck drilling (G74).
+    FacePecking,
+    /// Outer/inner diameter grooving (G75).
+    Grooving,
+    /// Multiple threading cycle (G76).
+    Threading,
 }
 
 /// What a multiple repetitive turning cycle does with its contour.
@@ -194,6 +207,7 @@ impl GEffect {
             GEffect::PoleHere => 16,
             GEffect::Pole(_) => 32,
             GEffect::TurningCycle(_) => 33,
+            GEffect::LatheCycle(_) => 34,
             GEffect::Unsupported(_) => 17,
         }
     }
@@ -618,9 +632,12 @@ impl Dialect {
 
     /// The dialect has canned cycles (their Q word).
     pub fn has_cycles(&self) -> bool {
-        self.gcodes
-            .iter()
-            .any(|def| matches!(def.effect, GEffect::Cycle(_) | GEffect::TurningCycle(_)))
+        self.gcodes.iter().any(|def| {
+            matches!(
+                def.effect,
+                GEffect::Cycle(_) | GEffect::TurningCycle(_) | GEffect::LatheCycle(_)
+            )
+        })
     }
 
     /// The M function with `effect` as a program writes it (`M98`), for messages.

@@ -111,6 +111,23 @@ pub enum MotionMode {
     ArcThrough,
     /// SINUMERIK CT: a circle tangent to the previous path element.
     ArcTangent,
+    /// Thread cutting at a constant lead (Fanuc G32): a straight move at the lead F per
+    /// spindle revolution.
+    Thread,
+    /// A Fanuc lathe cycle of four moves (G90, G92, G94), modal in the group of G00 … G03:
+    /// every block with X, Z or R in it cuts the box again.
+    BoxCycle(BoxCycle),
+}
+
+/// What a lathe box cycle cuts (Fanuc 0i-TF, G-code system A).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxCycle {
+    /// Outer/inner diameter cutting along Z (G90).
+    Turning,
+    /// One thread cut along Z (G92).
+    Threading,
+    /// End face cutting along X (G94).
+    Facing,
 }
 
 impl MotionMode {
@@ -146,7 +163,10 @@ impl MotionMode {
     pub fn kind(self) -> MotionKind {
         match self {
             MotionMode::Rapid | MotionMode::PolarRapid => MotionKind::Rapid,
-            MotionMode::Linear | MotionMode::PolarLinear => MotionKind::Linear,
+            MotionMode::Linear
+            | MotionMode::PolarLinear
+            | MotionMode::Thread
+            | MotionMode::BoxCycle(_) => MotionKind::Linear,
             MotionMode::ArcCw | MotionMode::PolarCw => MotionKind::ArcCw,
             // The direction of CIP and CT comes from the geometry (build/circles.rs).
             MotionMode::ArcCcw
@@ -167,6 +187,10 @@ impl MotionMode {
             MotionMode::PolarCcw => "polar-ccw",
             MotionMode::ArcThrough => "through",
             MotionMode::ArcTangent => "tangent",
+            MotionMode::Thread => "thread",
+            MotionMode::BoxCycle(BoxCycle::Turning) => "turning-cycle",
+            MotionMode::BoxCycle(BoxCycle::Threading) => "threading-cycle",
+            MotionMode::BoxCycle(BoxCycle::Facing) => "facing-cycle",
         }
     }
 }
@@ -563,6 +587,9 @@ pub struct Block {
     pub approach: Option<SelectionPolicy>,
     /// Non-modal exact stop (G09).
     pub exact_stop: bool,
+    /// A thread cut (Fanuc G32, the threading cycles' cuts): its path feed per spindle
+    /// revolution, the lead along the longer axis scaled to the path.
+    pub thread: Option<f64>,
     /// Dwell (G04), seconds.
     pub dwell: Option<f64>,
     /// M00/M01/M02/M18/M30.
@@ -597,6 +624,7 @@ impl Block {
             trc: None,
             approach: None,
             exact_stop: false,
+            thread: None,
             dwell: None,
             stop: None,
             offset_changed: false,

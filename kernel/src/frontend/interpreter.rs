@@ -69,6 +69,9 @@ pub struct Interpreter<'a> {
     pub(super) cycle_to_initial: bool,
     /// The depth of cut and retract of the turning cycles (Fanuc lathe `G71 U R`).
     pub(super) turning: super::build::TurningData,
+    /// The lathe cycles' stored data (Fanuc lathe G76 first block, G74/G75 `R(e)`, the box
+    /// cycles' modal X Z R).
+    pub(super) lathe: super::build::LatheData,
     /// Chamfer and corner words (Fanuc `,C` `,R`): the move that waits for the next one,
     /// and the blocks to hand out before reading on. `None` while no corner word is in play.
     pub(super) corners: Option<Box<Corners<'a>>>,
@@ -141,6 +144,7 @@ impl<'a> Interpreter<'a> {
             cycle: None,
             cycle_to_initial: true,
             turning: Default::default(),
+            lathe: Default::default(),
             corners: None,
             smooth: None,
             machine_coordinates: false,

@@ -117,6 +117,10 @@ fn programmed(out: &mut impl Write, b: &Block) -> io::Result<()> {
     if b.exact_stop {
         out.write_all(b",\"exact_stop\":true")?;
     }
+    if let Some(f) = b.thread {
+        out.write_all(b",\"thread\":")?;
+        num(out, f)?;
+    }
     if let Some(dw) = b.dwell {
         out.write_all(b",\"dwell\":")?;
         num(out, dw)?;

@@ -261,7 +261,9 @@ impl Channel {
         let tag = self.planner.pushed();
         let (event, acked) = match input {
             Input::Motion(mut e) => {
-                if self.gate.single_block {
+                // A thread is not interrupted: single block stops at the end of the
+                // first segment after it that is no thread (Fanuc), or where it stops anyway.
+                if self.gate.single_block && !e.thread {
                     e.stop_after = true;
                 }
                 self.planner.push(e);

@@ -248,6 +248,7 @@ pub(crate) mod tests {
             to,
             feed: 1000.0,
             per_rev: false,
+            thread: false,
             rapid: false,
             exact_stop: false,
         }

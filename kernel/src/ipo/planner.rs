@@ -26,13 +26,15 @@ use crate::segment::{Segment, Source};
 pub const MAX_LOOKAHEAD: usize = 128;
 
 /// The speed a segment may run at: programmed feed times override, within the axes' cap
-/// (a feed per revolution times the spindle's actual revolutions per second `rev_s`);
-/// rapid traverse at the cap, the override acting up to 100 %; 0 while stopping.
-fn speed(e: &Entry, stopping: bool, ovr: f64, rev_s: f64) -> f64 {
-    if stopping {
+/// (a feed per revolution times the spindle's actual revolutions per second `rev_s`; a
+/// thread at 100 %); rapid traverse at the cap, the override acting up to 100 %; 0 for the
+/// segments an NC stop holds (numbered `stop_from` and after).
+fn speed(e: &Entry, stop_from: u64, ovr: f64, rev_s: f64) -> f64 {
+    if e.no >= stop_from {
         return 0.0;
     }
     match e.feed {
+        Some(f) if e.thread => (f * rev_s).min(e.limits.v_cap),
         Some(f) if e.per_rev => (f * rev_s * ovr).min(e.limits.v_cap),
         Some(f) => (f * ovr).min(e.limits.v_cap),
         None => e.limits.v_cap * ovr.min(1.0),
@@ -52,6 +54,8 @@ pub struct Entry {
     pub feed: Option<f64>,
     /// Feed per spindle revolution (G95).
     pub per_rev: bool,
+    /// A thread cut: per revolution at 100 %; an NC stop waits for the thread's end.
+    pub thread: bool,
     /// The path stops at its end: exact stop (G09, G60), or something waits there.
     pub stop_after: bool,
     /// Numbered in the order pushed, from 0.
@@ -83,6 +87,7 @@ impl Entry {
                 seg.feed / 60.0
             }),
             per_rev: seg.per_rev,
+            thread: seg.thread,
             stop_after: seg.exact_stop,
             no: 0,
             end_cap: 0.0,
@@ -140,6 +145,10 @@ pub struct Planner {
     rev_s: f64,
     rev_seen: f64,
     stopping: bool,
+    /// The first segment an NC stop holds: the running one, or after the thread being cut
+    /// (Fanuc: a feed hold during threading takes effect at the thread's end); `u64::MAX`
+    /// while no stop is asked for.
+    stop_from: u64,
     /// Read-in disable: no segment starts, the path comes to rest at the first segment end
     /// it can still reach.
     hold: bool,
@@ -189,6 +198,7 @@ impl Planner {
             rev_s: 0.0,
             rev_seen: 0.0,
             stopping: false,
+            stop_from: u64::MAX,
             hold: false,
             replan: false,
             run: None,
@@ -297,6 +307,13 @@ impl Planner {
             }
         }
         e.no = self.pushed;
+        // A thread that continues the thread an NC stop waits for is cut with it.
+        if e.thread && self.stopping && e.no == self.stop_from && e.no > 0 {
+            let after_thread = self.queue.back().is_some_and(|b| b.thread);
+            if after_thread {
+                self.stop_from += 1;
+            }
+        }
         e.end_cap = 0.0;
         e.end_max = 0.0;
         self.pushed += 1;
@@ -314,9 +331,10 @@ impl Planner {
         }
     }
 
-    /// Stops at the end of every queued segment from now on (single block).
+    /// Stops at the end of every queued segment from now on (single block); a thread goes
+    /// on into the segment after it.
     pub fn stop_after_each(&mut self) {
-        for e in self.queue.iter_mut() {
+        for e in self.queue.iter_mut().filter(|e| !e.thread) {
             e.stop_after = true;
             e.end_cap = 0.0;
         }
@@ -398,10 +416,12 @@ impl Planner {
         }
     }
 
-    /// NC stop: brake on the path, from the next cycle.
+    /// NC stop: brake on the path, from the next cycle; during a thread cut, at the end of
+    /// the thread (its last consecutive thread segment).
     pub fn stop(&mut self) {
         if !self.stopping {
             self.stopping = true;
+            self.stop_from = self.thread_end();
             self.backward(true);
             self.replan = true;
         }
@@ -411,10 +431,26 @@ impl Planner {
         self.stopping
     }
 
+    /// The number of the first segment after the thread being cut, or of the running
+    /// segment when it is no thread (or nothing runs).
+    fn thread_end(&self) -> u64 {
+        let Some(front) = self.queue.front() else {
+            return 0;
+        };
+        if self.run.is_none() || !front.thread {
+            return front.no;
+        }
+        self.queue
+            .iter()
+            .find(|e| !e.thread)
+            .map_or(self.pushed, |e| e.no)
+    }
+
     /// After an NC stop: go on.
     pub fn resume(&mut self) {
         if self.stopping {
             self.stopping = false;
+            self.stop_from = u64::MAX;
             self.backward(true);
             self.replan = true;
         }
@@ -437,26 +473,27 @@ impl Planner {
         self.v = 0.0;
         self.a = 0.0;
         self.stopping = false;
+        self.stop_from = u64::MAX;
         self.replan = false;
         self.finished = None;
     }
 
     /// The speed the segment may run at now.
     fn vmax(&self, e: &Entry) -> f64 {
-        speed(e, self.stopping, self.override_, self.rev_s)
+        speed(e, self.stop_from, self.override_, self.rev_s)
     }
 
     /// The highest speed at each segment's end from which the rest of the queue can still be
     /// done, from the back; on a push only the tail can change (`full` after an override).
     fn backward(&mut self, full: bool) {
-        let (stopping, ovr, rev_s) = (self.stopping, self.override_, self.rev_s);
+        let (stop_from, ovr, rev_s) = (self.stop_from, self.override_, self.rev_s);
         let n = self.queue.len();
         // (start speed the next segment allows, its own cap)
         let mut next: Option<(f64, f64)> = None;
         let (a, b) = self.queue.as_mut_slices();
         for (k, e) in b.iter_mut().rev().chain(a.iter_mut().rev()).enumerate() {
             let i = n - 1 - k;
-            let own = speed(e, stopping, ovr, rev_s);
+            let own = speed(e, stop_from, ovr, rev_s);
             let end = match next {
                 None => 0.0,
                 Some((start_next, cap_next)) => e.end_cap.min(own).min(cap_next).min(start_next),

@@ -1306,6 +1306,7 @@ mod tests {
             to: [0.0, -60.0, 0.0],
             feed: 1000.0,
             per_rev: false,
+            thread: false,
             rapid: false,
             exact_stop: false,
         };

@@ -56,6 +56,9 @@ pub fn write_segment(out: &mut impl Write, s: &Segment) -> io::Result<()> {
     if s.per_rev {
         out.write_all(b",\"feed_per_rev\":true")?;
     }
+    if s.thread {
+        out.write_all(b",\"thread\":true")?;
+    }
     if s.exact_stop {
         writeln!(out, ",\"rapid\":{},\"exact_stop\":true}}", s.rapid)
     } else {

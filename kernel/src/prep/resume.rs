@@ -177,6 +177,7 @@ fn reposition(seg: &Segment, axes: AxisPos, q: AxisPos) -> Vec<Prepared> {
         to: q.geo,
         rapid: false,
         exact_stop: true,
+        thread: false,
         ..*seg
     }));
     out

@@ -208,6 +208,7 @@ mod tests {
             to,
             feed: 100.0,
             per_rev: false,
+            thread: false,
             rapid: false,
             exact_stop: false,
         }

@@ -203,6 +203,7 @@ struct Tag {
     source: Source,
     feed: f64,
     per_rev: bool,
+    thread: bool,
     rapid: bool,
     exact_stop: bool,
     /// ISG G11: the feed acts at the contour (adapted at arcs and transition blocks).
@@ -527,8 +528,9 @@ impl Compensator {
         self.seq = self.seq.wrapping_add(1);
         let tag = Tag {
             source: b.source(self.seq),
-            feed: b.modal.feed,
-            per_rev: b.modal.feed_per_rev,
+            feed: b.thread.unwrap_or(b.modal.feed),
+            per_rev: b.modal.feed_per_rev || b.thread.is_some(),
+            thread: b.thread.is_some(),
             rapid: motion.is_some_and(|m| m.kind == MotionKind::Rapid),
             exact_stop: b.exact_stop || b.modal.exact_stop,
             adapt: b.modal.feed_adaption == FeedAdaption::Contour,
@@ -1025,6 +1027,7 @@ impl Compensator {
             to: join(b, w1, self.plane),
             feed: tag.feed,
             per_rev: tag.per_rev,
+            thread: tag.thread,
             rapid: tag.rapid,
             exact_stop: tag.exact_stop,
         });
@@ -1581,6 +1584,7 @@ fn segment_of(tag: Tag, role: Role, m: &Motion) -> Segment {
         to: m.end,
         feed: tag.feed,
         per_rev: tag.per_rev,
+        thread: tag.thread,
         rapid: tag.rapid,
         exact_stop: tag.exact_stop,
     }
@@ -1675,6 +1679,7 @@ mod tests {
             source: source(),
             feed,
             per_rev: false,
+            thread: false,
             rapid: false,
             exact_stop: false,
             adapt,

@@ -10,6 +10,7 @@ use super::super::fault::R;
 use super::super::interpreter::Interpreter;
 use super::super::sinumerik::cycles::CycleRun;
 use super::cycles::Drilling;
+use super::lathe::LatheRun;
 use super::turning::TurningRun;
 
 /// One move or action of an expanded block.
@@ -40,6 +41,10 @@ pub enum Step {
         ccw: bool,
         feed: Option<f64>,
     },
+    /// A thread cut (a lathe cycle's): a straight move to `to` at the lead per spindle
+    /// revolution along the longer axis; `stop`: an exact stop at its end (none where a
+    /// chamfer goes on cutting the thread).
+    Thread { to: Pos, lead: f64, stop: bool },
     /// A dwell, seconds.
     Dwell(f64),
     /// The spindle turns, stops or orients; its M function goes to the PLC.
@@ -70,6 +75,8 @@ enum Steps {
     Helix(Helix),
     /// A turning cycle's passes and its run along the shape (Fanuc lathe G70, G71).
     Turning(Box<TurningRun>),
+    /// A lathe cycle's remaining passes (Fanuc lathe G74, G75, G76).
+    Lathe(Box<LatheRun>),
     /// Blocks made ready elsewhere (a SINUMERIK smooth approach or retraction,
     /// build/smooth.rs), handed out as they are; then the modal state comes back.
     Blocks(Box<Queued>),
@@ -158,6 +165,13 @@ impl Expansion {
         }
     }
 
+    pub fn lathe(l: LatheRun) -> Self {
+        Expansion {
+            steps: Steps::Lathe(Box::new(l)),
+            stop: None,
+        }
+    }
+
     pub fn turning(t: TurningRun) -> Self {
         Expansion {
             steps: Steps::Turning(Box::new(t)),
@@ -200,6 +214,7 @@ impl Expansion {
             Steps::Cycle(c) => c.next(),
             Steps::Helix(h) => h.next(),
             Steps::Turning(t) => t.next(),
+            Steps::Lathe(l) => l.next(),
             Steps::Blocks(_) => None,
         }
     }
@@ -212,6 +227,7 @@ impl Expansion {
             Steps::Cycle(c) => c.done(),
             Steps::Helix(h) => h.at.is_none(),
             Steps::Turning(t) => t.done(),
+            Steps::Lathe(l) => l.done(),
             Steps::Blocks(q) => q.blocks.is_empty(),
         }
     }
@@ -369,6 +385,7 @@ impl Interpreter<'_> {
                 });
                 self.cur = to;
             }
+            Step::Thread { to, lead, stop } => self.thread_step(to, lead, stop, modal),
             Step::Dwell(s) => blk.dwell = Some(s),
             Step::Speed(s) => {
                 modal.spindle = s;
@@ -393,5 +410,22 @@ impl Interpreter<'_> {
                 }
             }
         }
+    }
+}
+
+impl Interpreter<'_> {
+    /// A thread step: a move at the feed, tagged as a thread at its lead.
+    fn thread_step(&mut self, to: Pos, lead: f64, stop: bool, modal: &mut ModalState) {
+        let step = Step::Move {
+            to,
+            rapid: false,
+            axes: None,
+            feed: None,
+        };
+        self.apply_step(step, modal);
+        if let Some(m) = self.block.motion {
+            self.block.thread = Some(super::lathe::thread_feed(&m, lead));
+        }
+        self.block.exact_stop = stop;
     }
 }

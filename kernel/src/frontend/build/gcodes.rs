@@ -47,6 +47,8 @@ pub(super) struct BlockCodes {
     pub sar: Option<(GEffect, u32)>,
     /// A multiple repetitive turning cycle (Fanuc lathe G70, G71) and where it was written.
     pub turning: Option<(crate::dialect::TurningCycle, u32)>,
+    /// A one-shot lathe cycle (Fanuc lathe G74, G75, G76) and where it was written.
+    pub lathe: Option<(crate::dialect::LatheCycle, u32)>,
 }
 
 impl Interpreter<'_> {
@@ -150,6 +152,7 @@ impl Interpreter<'_> {
             frame: None,
             sar: None,
             turning: None,
+            lathe: None,
             length: false,
             spindle_limit: false,
             limit_only: false,
@@ -248,6 +251,7 @@ impl Interpreter<'_> {
             GEffect::CycleCancel => self.cycle = None,
             GEffect::ReferenceReturn(second) => g.reference = Some((code, second)),
             GEffect::TurningCycle(kind) => g.turning = Some((kind, at)),
+            GEffect::LatheCycle(kind) => g.lathe = Some((kind, at)),
             GEffect::PositionSetting => {
                 // Its S is the spindle speed limit (Fanuc G92 S, lathe G50 S).
                 g.setting = Some(Setting::Position);

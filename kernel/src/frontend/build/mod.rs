@@ -15,6 +15,7 @@ mod expand;
 mod flow;
 mod frames;
 mod gcodes;
+mod lathe;
 mod motion;
 mod polar;
 mod pole;
@@ -30,6 +31,7 @@ pub(in crate::frontend) use corners::Element;
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};
+pub(super) use lathe::LatheData;
 pub(super) use motion::{in_range, WorkingArea};
 pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
@@ -151,6 +153,12 @@ impl Interpreter<'_> {
         }
         if let Some((kind, at)) = g.turning {
             return self.turning_cycle(w, new, kind, at as usize);
+        }
+        if let Some((kind, at)) = g.lathe {
+            return self.lathe_cycle(w, new, kind, at as usize);
+        }
+        if self.lathe_motion(w, new, block_col)? {
+            return Ok(());
         }
         let polar;
         let w = if self.coords.polar.is_some() {
@@ -328,6 +336,7 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
         trc,
         approach,
         exact_stop,
+        thread,
         dwell,
         stop,
         offset_changed,
@@ -344,6 +353,7 @@ pub(super) fn reset(b: &mut Block, line: u32, col: u32, number: Option<BlockNo>)
     *trc = None;
     *approach = None;
     *exact_stop = false;
+    *thread = None;
     *dwell = None;
     *stop = None;
     *offset_changed = false;
