@@ -8,7 +8,7 @@
 use super::super::block::*;
 use super::super::fault::R;
 use super::super::interpreter::Interpreter;
-use super::super::sinumerik::cycles::CycleRun;
+use super::super::sinumerik::cycles::{CycleRun, StockRemovalRun};
 use super::cycles::Drilling;
 use super::turning::TurningRun;
 
@@ -70,6 +70,8 @@ enum Steps {
     Helix(Helix),
     /// A turning cycle's passes and its run along the shape (Fanuc lathe G70, G71).
     Turning(Box<TurningRun>),
+    /// A SINUMERIK stock removal cycle's approach, passes and finishing (CYCLE95).
+    StockRemoval(Box<StockRemovalRun>),
     /// Blocks made ready elsewhere (a SINUMERIK smooth approach or retraction,
     /// build/smooth.rs), handed out as they are; then the modal state comes back.
     Blocks(Box<Queued>),
@@ -165,6 +167,13 @@ impl Expansion {
         }
     }
 
+    pub fn stock_removal(r: StockRemovalRun) -> Self {
+        Expansion {
+            steps: Steps::StockRemoval(Box::new(r)),
+            stop: None,
+        }
+    }
+
     /// The helix `h` after its first turn, which ended at `at`; `normal` is the axis it
     /// rises along.
     pub fn helix(mut h: Helix, normal: usize, at: Pos) -> Self {
@@ -200,6 +209,7 @@ impl Expansion {
             Steps::Cycle(c) => c.next(),
             Steps::Helix(h) => h.next(),
             Steps::Turning(t) => t.next(),
+            Steps::StockRemoval(r) => r.next(),
             Steps::Blocks(_) => None,
         }
     }
@@ -212,6 +222,7 @@ impl Expansion {
             Steps::Cycle(c) => c.done(),
             Steps::Helix(h) => h.at.is_none(),
             Steps::Turning(t) => t.done(),
+            Steps::StockRemoval(r) => r.done(),
             Steps::Blocks(q) => q.blocks.is_empty(),
         }
     }

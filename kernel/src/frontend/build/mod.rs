@@ -34,6 +34,9 @@ pub(super) use motion::{in_range, WorkingArea};
 pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
 pub(super) use turning::TurningData;
+pub(in crate::frontend) use turning::{
+    non_monotonic, Element as TurningElement, Passes, TurningRun, EPS,
+};
 
 use super::block::{Block, BlockNo, ModalState};
 use super::fault::R;

@@ -1,0 +1,544 @@
+//! Stock removal CYCLE95 (808D Turning / 840D Cycles, "Stock removal – CYCLE95"):
+//!
+//! ```text
+//! CYCLE95(NPP, MID, FALZ, FALX, FAL, FF1, FF2, FF3, VARI, DT, DAM, _VRT)
+//!   NPP   the contour: a subprogram's name, or "START:END" labels of this program (contour.rs)
+//!   MID   the largest infeed (radius, no sign); the cuts are equal and at most MID deep
+//!   FALZ  FALX  the finishing allowances along Z and X (X a radius); FAL along the contour
+//!   FF1   the roughing feed; FF2 into undercuts; FF3 the finishing feed
+//!   VARI  1 … 12: roughing (1 … 4), finishing (5 … 8), complete (9 … 12); within each,
+//!         longitudinal outside, transverse outside, longitudinal inside, transverse inside
+//!   DT    DAM  a dwell after every DAM of a roughing cut (chip breaking)
+//!   _VRT  the lift-off from the contour after a roughing cut (0: 1 mm)
+//! ```
+//!
+//! In (X radius, Z): the cycle's start point S lies at the allowance-shifted contour's
+//! outermost X (innermost inside), _VRT in front of its start in Z. The tool goes there at
+//! rapid; roughing cuts along Z at equal depths from S's X down to the shifted contour's
+//! start, each lifted off by _VRT at 45° and back to S's Z at rapid; a last cut along the
+//! shifted contour; back to S (X first). Finishing: from S to the contour's start at rapid,
+//! along the contour at FF3, back to S. The passes are the Fanuc lathe's engine
+//! (build/turning: `Passes`, `TurningRun`); this module gives it the contour, S, the depth
+//! and the feeds (docs/turning.md, "CYCLE95").
+
+use super::super::super::block::*;
+use super::super::super::build::{
+    non_monotonic, Expansion, Passes, Step, TurningElement as Element, TurningRun, EPS,
+};
+use super::super::super::fault::{fault, R};
+use super::super::super::interpreter::Interpreter;
+use super::super::super::lexer::Cursor;
+use super::{Params, MAX_PARAMS};
+use crate::alarm::AlarmCode;
+
+/// The parameter positions (NPP is position 0, read as a string).
+const MID: usize = 1;
+const FALZ: usize = 2;
+const FALX: usize = 3;
+const FAL: usize = 4;
+const FF1: usize = 5;
+const FF2: usize = 6;
+const FF3: usize = 7;
+const VARI: usize = 8;
+const DT: usize = 9;
+const DAM: usize = 10;
+const VRT: usize = 11;
+const COUNT: usize = 12;
+
+/// The lift-off where _VRT is left out or 0 (mm) **[unconfirmed]**.
+const VRT_DEFAULT: f64 = 1.0;
+
+/// What VARI asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Machining {
+    Roughing,
+    Finishing,
+    Complete,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Vari {
+    machining: Machining,
+    inside: bool,
+}
+
+/// Whether the cycle name at the cursor is CYCLE95.
+pub fn is_cycle95(c: &Cursor) -> bool {
+    let mut probe = *c;
+    super::super::expr::identifier_span(&mut probe).eq_ignore_ascii_case(b"CYCLE95")
+}
+
+/// The machining type VARI (Cycles, "CYCLE95", VARI 1 … 12).
+fn vari(p: &Params) -> R<Vari> {
+    let v = p.get(VARI);
+    if v.fract() != 0.0 || !(1.0..=12.0).contains(&v) {
+        return Err(fault(
+            AlarmCode::CycleMachiningType,
+            p.at(VARI),
+            format!("VARI {v}: the machining type is 1 … 12"),
+        ));
+    }
+    let k = v as u32 - 1;
+    if k % 2 == 1 {
+        return Err(fault(
+            AlarmCode::NotSupported,
+            p.at(VARI),
+            format!("VARI {v}: transverse (face) machining is not built in softnc (longitudinal: VARI 1, 3, 5, 7, 9, 11)"),
+        ));
+    }
+    let machining = match k / 4 {
+        0 => Machining::Roughing,
+        1 => Machining::Finishing,
+        _ => Machining::Complete,
+    };
+    Ok(Vari {
+        machining,
+        inside: k % 4 == 2,
+    })
+}
+
+/// The cycle's values in mm, checked.
+#[derive(Clone, Copy, Debug)]
+struct Setup {
+    vari: Vari,
+    mid: f64,
+    falz: f64,
+    falx: f64,
+    vrt: f64,
+    rough_feed: f64,
+    finish_feed: f64,
+    chip: Option<ChipBreak>,
+}
+
+/// Chip breaking: a roughing cut stops every `every` mm and dwells `dwell` s (DAM, DT).
+#[derive(Clone, Copy, Debug)]
+struct ChipBreak {
+    every: f64,
+    dwell: f64,
+}
+
+impl Interpreter<'_> {
+    /// `CYCLE95(…)` at the cursor (its name): the passes and the finishing from S, the
+    /// first step into the block being built.
+    pub(super) fn stock_removal_cycle(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        let (npp, npp_at, p) = self.cycle95_params(c, at)?;
+        let new = self.block.modal;
+        let s = self.cycle95_setup(&p, &new)?;
+        let contour = self.cycle_contour(&npp, npp_at, &new, s.rough_feed.max(s.finish_feed))?;
+        let run = self.stock_removal_run(&s, contour, &p, &new)?;
+        self.start_cycle(at, Expansion::stock_removal(run), new);
+        Ok(())
+    }
+
+    /// `("NPP", MID, …)`: the contour's name (a string expression) and the numbers.
+    fn cycle95_params(&mut self, c: &mut Cursor, at: usize) -> R<(String, usize, Params)> {
+        super::super::expr::identifier_span(c);
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "CYCLE95( expected"));
+        }
+        c.i += 1;
+        c.skip_blanks();
+        let npp_at = c.i;
+        let npp = match c.peek() {
+            Some(b',' | b')') | None => String::new(),
+            _ => self.string_expr(c)?,
+        };
+        let mut p = Params {
+            v: [None; MAX_PARAMS],
+            at: [at; MAX_PARAMS],
+            call: at,
+        };
+        c.skip_blanks();
+        match c.peek() {
+            Some(b',') => {
+                c.i += 1;
+                self.param_list(c, "CYCLE95", COUNT, 1, &mut p)?;
+            }
+            Some(b')') => c.i += 1,
+            _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
+        }
+        Ok((npp, npp_at, p))
+    }
+
+    /// The parameters in mm, checked against each other and the modal state.
+    fn cycle95_setup(&self, p: &Params, new: &ModalState) -> R<Setup> {
+        self.cycle95_allowed(p, new)?;
+        let vari = vari(p)?;
+        let bad = |k: usize, m: String| Err(fault(AlarmCode::CycleParameter, p.at(k), m));
+        for (k, name) in [
+            (MID, "MID"),
+            (FALZ, "FALZ"),
+            (FALX, "FALX"),
+            (FF1, "FF1"),
+            (FF2, "FF2"),
+            (FF3, "FF3"),
+            (DT, "DT"),
+            (DAM, "DAM"),
+            (VRT, "_VRT"),
+        ] {
+            if p.get(k) < 0.0 {
+                return bad(k, format!("{name} {} is entered without sign", p.get(k)));
+            }
+        }
+        if vari.machining != Machining::Finishing && p.get(MID) <= 0.0 {
+            return bad(MID, "roughing needs the infeed depth MID > 0".into());
+        }
+        if p.given(FAL) {
+            let m = "FAL (the allowance along the contour) is not built in softnc: give the allowances per axis, FALZ and FALX";
+            return Err(fault(AlarmCode::NotSupported, p.at(FAL), m));
+        }
+        let unit = if new.units == crate::machine_data::Units::Inch {
+            25.4
+        } else {
+            1.0
+        };
+        let feed = |k: usize| -> R<f64> {
+            let f = if p.given(k) { p.get(k) } else { new.feed };
+            if f > 0.0 {
+                Ok(f)
+            } else {
+                let m = format!(
+                    "CYCLE95 needs a feed: parameter {} or F before the call",
+                    ["FF1", "FF3"][(k == FF3) as usize]
+                );
+                Err(fault(AlarmCode::NoFeed, p.at(k), m))
+            }
+        };
+        let roughs = vari.machining != Machining::Finishing;
+        let finishes = vari.machining != Machining::Roughing;
+        let chip = (roughs && p.given(DAM)).then(|| ChipBreak {
+            every: p.get(DAM) * unit,
+            dwell: p.get(DT),
+        });
+        let vrt = if p.given(VRT) {
+            p.get(VRT) * unit
+        } else {
+            VRT_DEFAULT
+        };
+        Ok(Setup {
+            vari,
+            mid: p.get(MID) * unit,
+            falz: p.get(FALZ) * unit,
+            falx: p.get(FALX) * unit,
+            vrt,
+            rough_feed: if roughs { feed(FF1)? } else { 0.0 },
+            finish_feed: if finishes { feed(FF3)? } else { 0.0 },
+            chip,
+        })
+    }
+
+    /// No compensation, no frame, and the Z-X plane (as the Fanuc lathe's cycles).
+    fn cycle95_allowed(&self, p: &Params, new: &ModalState) -> R<()> {
+        if new.trc != TrcSide::Off {
+            return Err(fault(
+                AlarmCode::ForbiddenWithTrc,
+                p.call,
+                "CYCLE95 cannot run while tool nose radius compensation is active (the cycle cuts the tool tip's path)",
+            ));
+        }
+        if self.coords.frame.active() || new.plane != Plane::ZX {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                p.call,
+                "CYCLE95 runs in the Z-X plane (G18) without a frame",
+            ));
+        }
+        Ok(())
+    }
+
+    /// S, the passes and the finishing of `contour` (its first element the move to its
+    /// start), checked: a contour whose X or Z turns back (undercuts) is not built.
+    fn stock_removal_run(
+        &mut self,
+        s: &Setup,
+        contour: Vec<Element>,
+        p: &Params,
+        new: &ModalState,
+    ) -> R<StockRemovalRun> {
+        let sx = if s.vari.inside { -1.0 } else { 1.0 };
+        let (a1, b) = (contour[0].to, contour[contour.len() - 1].to);
+        let sz = sign(b[2] - a1[2]);
+        let bad = |m: String| Err(fault(AlarmCode::CycleContour, p.call, m));
+        if sz == 0.0 {
+            return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
+        }
+        if let Some((i, what)) = non_monotonic(&contour, sx, sz) {
+            let m = format!(
+                "the contour is not monotonic in X and Z ({} machining), element {}: {what}: undercut elements are not built in softnc",
+                if s.vari.inside { "inside" } else { "outside" },
+                i + 1
+            );
+            return Err(fault(AlarmCode::NotSupported, p.call, m));
+        }
+        let moved: Vec<Element> = contour
+            .iter()
+            .map(|e| shifted(e, sx * s.falx, -sz * s.falz))
+            .collect();
+        let start = cycle_start(&moved, sx, sz, s.vrt);
+        let total = sx * (start[0] - moved[0].to[0]);
+        if total <= EPS {
+            return bad(format!(
+                "the contour starts at its {} X: nothing to remove along Z (program it from the end with the {} diameter, or check VARI)",
+                if s.vari.inside { "smallest" } else { "largest" },
+                if s.vari.inside { "largest" } else { "smallest" },
+            ));
+        }
+        let rough = match s.vari.machining {
+            Machining::Finishing => None,
+            _ => Some(self.roughing(s, moved, start, total, p)?),
+        };
+        let finish = (s.vari.machining != Machining::Roughing).then(|| {
+            let mut shape = contour;
+            shape[0].mode = MotionMode::Rapid;
+            TurningRun::new(start, shape, None)
+        });
+        Ok(StockRemovalRun {
+            approach: Some(start),
+            rough,
+            finish,
+            rough_feed: s.rough_feed,
+            finish_feed: s.finish_feed,
+            feed: new.feed,
+            chip: s.chip,
+            cut: None,
+            at: self.cur,
+        })
+    }
+
+    /// The roughing passes: `total` (from S's X to the shifted contour's start) in equal
+    /// cuts of at most MID; the last cut is the run along the shifted contour.
+    fn roughing(
+        &mut self,
+        s: &Setup,
+        moved: Vec<Element>,
+        start: Pos,
+        total: f64,
+        p: &Params,
+    ) -> R<TurningRun> {
+        let cuts = libm::ceil((total - EPS) / s.mid).max(1.0);
+        let count = cuts - 1.0;
+        self.add_passes(count as u64, p.call)?;
+        if let Some(chip) = s.chip {
+            // Every interruption counts as a pass (a tiny DAM stays bounded).
+            let length = (moved[moved.len() - 1].to[2] - start[2]).abs();
+            let pieces = libm::ceil(length / chip.every.max(EPS)).min(1e12);
+            self.add_passes((pieces * cuts) as u64, p.at(DAM))?;
+        }
+        let passes = Passes {
+            depth: total / cuts,
+            retract: s.vrt,
+            sx: if s.vari.inside { -1.0 } else { 1.0 },
+            sz: sign(moved[moved.len() - 1].to[2] - moved[0].to[2]),
+            rapid_in: true,
+            count: count as u32,
+        };
+        Ok(TurningRun::new(start, moved, Some(passes)))
+    }
+}
+
+/// S: the shifted contour's outermost X (`sx` +1; innermost for −1), `vrt` before its start
+/// in Z (against the cut's direction `sz`).
+fn cycle_start(moved: &[Element], sx: f64, sz: f64, vrt: f64) -> Pos {
+    let extreme = moved
+        .iter()
+        .map(|e| sx * e.to[0])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut s = moved[0].to;
+    s[0] = sx * extreme;
+    s[2] -= sz * vrt;
+    s
+}
+
+fn sign(v: f64) -> f64 {
+    if v > EPS {
+        1.0
+    } else if v < -EPS {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The element moved by the allowances (its centre with it).
+fn shifted(e: &Element, dx: f64, dz: f64) -> Element {
+    let mv = |mut p: Pos| {
+        p[0] += dx;
+        p[2] += dz;
+        p
+    };
+    Element {
+        to: mv(e.to),
+        centre: mv(e.centre),
+        ..*e
+    }
+}
+
+/// CYCLE95's moves still to come: to S, the roughing run, the finishing run; every cut at
+/// its feed, every rapid with the feed in force at the call (which is in force again after
+/// the cycle).
+#[derive(Clone, Debug)]
+pub struct StockRemovalRun {
+    approach: Option<Pos>,
+    rough: Option<TurningRun>,
+    finish: Option<TurningRun>,
+    rough_feed: f64,
+    finish_feed: f64,
+    feed: f64,
+    chip: Option<ChipBreak>,
+    /// The roughing cut being interrupted for chip breaking: its end, and whether a dwell
+    /// comes next.
+    cut: Option<(Pos, bool)>,
+    at: Pos,
+}
+
+impl StockRemovalRun {
+    pub fn next(&mut self) -> Option<Step> {
+        if let Some(s) = self.piece() {
+            return Some(s);
+        }
+        if let Some(to) = self.approach.take() {
+            if to != self.at {
+                self.at = to;
+                return Some(Step::Move {
+                    to,
+                    rapid: true,
+                    axes: None,
+                    feed: Some(self.feed),
+                });
+            }
+        }
+        let (step, rough) = self.inner()?;
+        let step = self.with_feed(step, rough);
+        match step {
+            Step::Move {
+                to, rapid: false, ..
+            } if rough && self.chip.is_some() => {
+                self.cut = Some((to, false));
+                self.piece()
+            }
+            Step::Move { to, .. } | Step::Path { to, .. } | Step::Arc { to, .. } => {
+                self.at = to;
+                Some(step)
+            }
+            _ => Some(step),
+        }
+    }
+
+    /// No step is left.
+    pub fn done(&mut self) -> bool {
+        self.cut.is_none()
+            && self.approach.is_none_or(|to| to == self.at)
+            && self.rough.as_mut().is_none_or(TurningRun::done)
+            && self.finish.as_mut().is_none_or(TurningRun::done)
+    }
+
+    /// The next step of the roughing run, then of the finishing run; true for roughing.
+    fn inner(&mut self) -> Option<(Step, bool)> {
+        if let Some(r) = self.rough.as_mut() {
+            if let Some(s) = r.next() {
+                return Some((s, true));
+            }
+            self.rough = None;
+        }
+        self.finish.as_mut()?.next().map(|s| (s, false))
+    }
+
+    /// The step with its feed: the cycle's for a cut, the caller's for a rapid.
+    fn with_feed(&self, step: Step, rough: bool) -> Step {
+        let cut = if rough {
+            self.rough_feed
+        } else {
+            self.finish_feed
+        };
+        let of = |rapid: bool| Some(if rapid { self.feed } else { cut });
+        match step {
+            Step::Move {
+                to, rapid, axes, ..
+            } => Step::Move {
+                to,
+                rapid,
+                axes,
+                feed: of(rapid),
+            },
+            Step::Path { to, rapid, .. } => Step::Path {
+                to,
+                rapid,
+                feed: of(rapid),
+            },
+            Step::Arc {
+                to, centre, ccw, ..
+            } => Step::Arc {
+                to,
+                centre,
+                ccw,
+                feed: of(false),
+            },
+            s => s,
+        }
+    }
+
+    /// The next piece of a roughing cut interrupted every DAM, or the dwell DT between two
+    /// (Cycles, "CYCLE95": DT, DAM).
+    fn piece(&mut self) -> Option<Step> {
+        let ((end, dwell_next), chip) = (self.cut?, self.chip?);
+        if dwell_next {
+            self.cut = Some((end, false));
+            return Some(Step::Dwell(chip.dwell));
+        }
+        let d = libm::sqrt((0..3).map(|i| (end[i] - self.at[i]).powi(2)).sum());
+        let to = if d <= chip.every + EPS {
+            self.cut = None;
+            end
+        } else {
+            let k = chip.every / d;
+            self.cut = Some((end, chip.dwell > 0.0));
+            std::array::from_fn(|i| self.at[i] + (end[i] - self.at[i]) * k)
+        };
+        self.at = to;
+        Some(Step::Move {
+            to,
+            rapid: false,
+            axes: None,
+            feed: Some(self.rough_feed),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::alarm::Alarm;
+    use crate::frontend::{interpret, Block};
+    use crate::{MachineData, ProgramLibrary, ToolTable};
+
+    /// `main` on the 808D lathe (config/siemens-808d.toml: G18, DIAMON) with the program
+    /// files `files` beside it.
+    fn lathe(main: &str, files: &[(&str, &str)]) -> Result<Vec<Block>, Alarm> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/siemens-808d.toml");
+        let mut md = MachineData::load(Some(std::path::Path::new(path)), &[]).expect("md");
+        let mut library = ProgramLibrary::default();
+        for (file, text) in files {
+            assert!(library.add(file, format!("lib/{file}"), text.to_string()));
+        }
+        md.programs = std::sync::Arc::new(library);
+        interpret("main.mpf", main, &md, &ToolTable::builtin())
+    }
+
+    #[test]
+    fn probe() {
+        let main = "G18 G90 G95 T1 D1 S1000 M3\nG0 X60 Z5\nCYCLE95(\"START:END\", 2, 0.1, 0.2, , 0.3, 0.2, 0.1, 9, , , 0.5)\nG0 X80 Z10\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n";
+        let b = lathe(main, &[]).unwrap_or_else(|a| panic!("{a}"));
+        for b in &b {
+            if let Some(m) = b.motion {
+                println!(
+                    "{} {:?} {:?} F{} dwell {:?}",
+                    b.line,
+                    m.kind,
+                    [m.end[0], m.end[2]],
+                    b.modal.feed,
+                    b.dwell
+                );
+            }
+        }
+    }
+}
