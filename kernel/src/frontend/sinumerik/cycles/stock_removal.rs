@@ -263,14 +263,6 @@ impl Interpreter<'_> {
         if sz == 0.0 {
             return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
         }
-        if let Some((i, what)) = non_monotonic(&contour, sx, sz) {
-            let m = format!(
-                "the contour is not monotonic in X and Z ({} machining), element {}: {what}: undercut elements are not built in softnc",
-                if s.vari.inside { "inside" } else { "outside" },
-                i + 1
-            );
-            return Err(fault(AlarmCode::NotSupported, p.call, m));
-        }
         let moved: Vec<Element> = contour
             .iter()
             .map(|e| shifted(e, sx * s.falx, -sz * s.falz))
@@ -283,6 +275,14 @@ impl Interpreter<'_> {
                 if s.vari.inside { "smallest" } else { "largest" },
                 if s.vari.inside { "largest" } else { "smallest" },
             ));
+        }
+        if let Some((i, what)) = non_monotonic(&contour, sx, sz) {
+            let m = format!(
+                "the contour is not monotonic in X and Z ({} machining), element {}: {what}: undercut elements are not built in softnc",
+                if s.vari.inside { "inside" } else { "outside" },
+                i + 1
+            );
+            return Err(fault(AlarmCode::NotSupported, p.call, m));
         }
         let rough = match s.vari.machining {
             Machining::Finishing => None,
@@ -507,8 +507,8 @@ impl StockRemovalRun {
 
 #[cfg(test)]
 mod tests {
-    use crate::alarm::Alarm;
-    use crate::frontend::{interpret, Block};
+    use crate::alarm::{Alarm, AlarmCode};
+    use crate::frontend::{interpret, Block, MotionKind};
     use crate::{MachineData, ProgramLibrary, ToolTable};
 
     /// `main` on the 808D lathe (config/siemens-808d.toml: G18, DIAMON) with the program
@@ -524,21 +524,298 @@ mod tests {
         interpret("main.mpf", main, &md, &ToolTable::builtin())
     }
 
+    /// (X radius, Z) of every move's end, rounded to 1e-9.
+    fn ends(b: &[Block]) -> Vec<(f64, f64)> {
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
+            .collect()
+    }
+
+    /// A roughing pass at `level` from S's Z `zs` to `z`, lifted off by `vrt` (outside:
+    /// up in X, back in Z).
+    fn pass(level: f64, z: f64, zs: f64, vrt: f64, sx: f64) -> [(f64, f64); 4] {
+        let up = level + sx * vrt;
+        [(level, zs), (level, z), (up, z + vrt), (up, zs)]
+    }
+
+    fn run(main: &str, files: &[(&str, &str)]) -> Vec<Block> {
+        lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
+    }
+
+    const HEAD: &str = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\n";
+
     #[test]
-    fn probe() {
-        let main = "G18 G90 G95 T1 D1 S1000 M3\nG0 X60 Z5\nCYCLE95(\"START:END\", 2, 0.1, 0.2, , 0.3, 0.2, 0.1, 9, , , 0.5)\nG0 X80 Z10\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n";
-        let b = lathe(main, &[]).unwrap_or_else(|a| panic!("{a}"));
-        for b in &b {
-            if let Some(m) = b.motion {
-                println!(
-                    "{} {:?} {:?} F{} dwell {:?}",
-                    b.line,
-                    m.kind,
-                    [m.end[0], m.end[2]],
-                    b.modal.feed,
-                    b.dwell
-                );
-            }
+    fn complete_machining_of_a_label_section() {
+        // Contour (radius, Z): A' (10, 0), (10, −20), (20, −20), (20, −40), B (25, −40).
+        // FALX 0.2, FALZ 0.1 shift it by (+0.2, +0.1): (10.2, 0.1) … (25.2, −39.9).
+        // S = (the shifted contour's largest X 25.2, 0.1 + _VRT 0.5 = 0.6). The stock from
+        // S's X to A' is 15: MID 2 gives ⌈7.5⌉ = 8 equal cuts of 1.875; seven passes at
+        // 25.2 − 1.875k (k = 1 … 7), the eighth is the run along the shifted contour.
+        // Levels above 20.2 meet the face at Z −39.9, those below it the one at −19.9.
+        let main = format!(
+            "{HEAD}CYCLE95(\"START:END\", 2, 0.1, 0.2, , 0.3, 0.2, 0.1, 9, , , 0.5)\nG1 X70\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
+        );
+        let b = run(&main, &[]);
+        let mut want = vec![(30.0, 5.0), (25.2, 0.6)];
+        for k in 1..=7 {
+            let level = 25.2 - 1.875 * k as f64;
+            let z = if level > 20.2 { -39.9 } else { -19.9 };
+            want.extend(pass((level * 1e9).round() / 1e9, z, 0.6, 0.5, 1.0));
         }
+        // The last roughing cut along the shifted contour, back to S (X is there).
+        want.extend([
+            (10.2, 0.1),
+            (10.2, -19.9),
+            (20.2, -19.9),
+            (20.2, -39.9),
+            (25.2, -39.9),
+            (25.2, 0.6),
+        ]);
+        // Finishing: the contour itself from S, back to S (X first, then Z).
+        want.extend([
+            (10.0, 0.0),
+            (10.0, -20.0),
+            (20.0, -20.0),
+            (20.0, -40.0),
+            (25.0, -40.0),
+            (25.2, -40.0),
+            (25.2, 0.6),
+            (35.0, 0.6),
+        ]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+        // Cuts at FF1 0.3, the finishing at FF3 0.1, the rapids and the next block at F0.25.
+        let feeds: Vec<(MotionKind, f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.kind, b.modal.feed)))
+            .collect();
+        assert_eq!(feeds[3], (MotionKind::Linear, 0.3));
+        assert_eq!(feeds[4], (MotionKind::Rapid, 0.25));
+        assert_eq!(feeds[31], (MotionKind::Linear, 0.3));
+        assert_eq!(feeds[37], (MotionKind::Linear, 0.1));
+        assert_eq!(feeds.last(), Some(&(MotionKind::Linear, 0.25)));
+    }
+
+    const SHAFT: &str = "PROC SHAFT\nG1 X10 Z0\nZ-10 RND=2\nX30\nZ-20\nX36 Z-26\nM17\n";
+
+    #[test]
+    fn roughing_a_subprogram_contour_with_a_rounding_and_a_taper() {
+        // SHAFT.SPF (radius, Z): A' (5, 0), (5, −10) rounded by RND=2 into the face to
+        // (15, −10): the line ends at (5, −8), the arc about (7, −8) at (7, −10); then
+        // (15, −20) and the taper to B (18, −26). No allowances, _VRT left out: 1 mm.
+        // S = (18, 1). Stock 13, MID 3: ⌈4.33⌉ = 5 cuts of 2.6: passes at 15.4, 12.8, 10.2,
+        // 7.6. 15.4 meets the taper at Z = −20 − (15.4 − 15)·6/3 = −20.8; the others the
+        // face at Z −10.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\nG0 X60 Z10\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        let mut want = vec![(30.0, 5.0), (18.0, 1.0)];
+        want.extend(pass(15.4, -20.8, 1.0, 1.0, 1.0));
+        for level in [12.8, 10.2, 7.6] {
+            want.extend(pass(level, -10.0, 1.0, 1.0, 1.0));
+        }
+        want.extend([
+            (5.0, 0.0),
+            (5.0, -8.0),
+            (7.0, -10.0),
+            (15.0, -10.0),
+            (15.0, -20.0),
+            (18.0, -26.0),
+            (18.0, 1.0),
+            (30.0, 10.0),
+        ]);
+        assert_eq!(ends(&b), want);
+        let arcs: Vec<[f64; 3]> = b
+            .iter()
+            .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+            .collect();
+        assert_eq!(arcs, [[7.0, 0.0, -8.0]]);
+    }
+
+    #[test]
+    fn inside_roughing_breaks_chips_every_dam() {
+        // A bore (radius, Z): A' (20, 0), (20, −10), (15, −10), (15, −20), B (10, −20).
+        // Inside: FALX 0.5 moves X down, FALZ 0.1 moves Z up: (19.5, 0.1) … (9.5, −19.9).
+        // S = (9.5, 0.6); stock 10, MID 2.5: 4 cuts, passes at 12, 14.5, 17. 12 meets the
+        // face at −19.9, the others the face at −9.9. DAM 4: each cut stops 4 mm at a time
+        // (from Z 0.6: −3.4, −7.4, …) with DT 0.5 s between; the lift-off goes down in X.
+        let b = run(
+            &format!("G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n"),
+            &[("BORE.SPF", "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n")],
+        );
+        let mut want = vec![(5.0, 5.0), (9.5, 0.6), (12.0, 0.6)];
+        want.extend([-3.4, -7.4, -11.4, -15.4, -19.4, -19.9].map(|z| (12.0, z)));
+        want.extend([(11.5, -19.4), (11.5, 0.6)]);
+        for level in [14.5, 17.0] {
+            want.push((level, 0.6));
+            want.extend([-3.4, -7.4, -9.9].map(|z| (level, z)));
+            want.extend([(level - 0.5, -9.4), (level - 0.5, 0.6)]);
+        }
+        want.extend([
+            (19.5, 0.1),
+            (19.5, -9.9),
+            (14.5, -9.9),
+            (14.5, -19.9),
+            (9.5, -19.9),
+            (9.5, 0.6),
+        ]);
+        assert_eq!(ends(&b), want);
+        let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+        assert_eq!(dwells, [0.5; 9]);
+    }
+
+    #[test]
+    fn finishing_runs_the_contour_from_s_and_back() {
+        // VARI 5: from (30, 5) to S (18, 1) at rapid, to A' (5, 0) at rapid, along the
+        // contour at FF3, back to S; MID may be left out.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", , , , , , , 0.1, 5)\nG1 X40\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        assert_eq!(
+            ends(&b),
+            [
+                (30.0, 5.0),
+                (18.0, 1.0),
+                (5.0, 0.0),
+                (5.0, -8.0),
+                (7.0, -10.0),
+                (15.0, -10.0),
+                (15.0, -20.0),
+                (18.0, -26.0),
+                (18.0, 1.0),
+                (20.0, 1.0)
+            ]
+        );
+        let f: Vec<f64> = b.iter().map(|b| b.modal.feed).collect();
+        assert_eq!((f[4], f[f.len() - 1]), (0.1, 0.25));
+    }
+
+    /// The alarm of cycle `cycle` (line 3) with SHAFT.SPF beside it: code, program, line,
+    /// column.
+    fn alarm(cycle: &str, files: &[(&str, &str)]) -> (AlarmCode, String, u32, u32) {
+        let a = lathe(&format!("{HEAD}{cycle}\nM30\n"), files).unwrap_err();
+        (a.code, a.program, a.line, a.col)
+    }
+
+    fn main_at(code: AlarmCode, col: u32) -> (AlarmCode, String, u32, u32) {
+        (code, "main.mpf".into(), 3, col)
+    }
+
+    #[test]
+    fn bad_parameters_are_alarms_at_their_place() {
+        let shaft = [("SHAFT.SPF", SHAFT)];
+        let at = |cycle: &str| alarm(cycle, &shaft);
+        // VARI 13 (column 33), VARI 2 (face machining, not built), MID 0 for roughing.
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 13)"),
+            main_at(AlarmCode::CycleMachiningType, 36)
+        );
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 2)"),
+            main_at(AlarmCode::NotSupported, 36)
+        );
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 0, , , , 0.3, , , 9)"),
+            main_at(AlarmCode::CycleParameter, 18)
+        );
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", , , , , 0.3, , , 1)"),
+            main_at(AlarmCode::CycleParameter, 1)
+        );
+        // A signed allowance, FAL (not built), a thirteenth parameter.
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 3, -0.1, , , 0.3, , , 1)"),
+            main_at(AlarmCode::CycleParameter, 21)
+        );
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 3, , , 0.2, 0.3, , , 1)"),
+            main_at(AlarmCode::NotSupported, 25)
+        );
+        assert_eq!(
+            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1, , , 1, 7)"),
+            main_at(AlarmCode::Syntax, 46)
+        );
+        // Under nose radius compensation.
+        let a = lathe(
+            &format!("{HEAD}G42 G1 X50\nCYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\n"),
+            &shaft,
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::ForbiddenWithTrc, 4, 1));
+    }
+
+    #[test]
+    fn no_feed_is_an_alarm_at_the_feed_parameter() {
+        let a = lathe(
+            "G18 G95 S1000 M3\nG0 X60 Z5\nCYCLE95(\"SHAFT\", 3, , , , , , , 1)\n",
+            &[("SHAFT.SPF", SHAFT)],
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NoFeed, 3, 1));
+    }
+
+    #[test]
+    fn a_missing_or_unusable_contour_is_an_alarm() {
+        let shaft = [("SHAFT.SPF", SHAFT)];
+        // No NPP; no file; no label (at NPP, column 9).
+        assert_eq!(
+            alarm("CYCLE95(\"\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::CycleContour, 9)
+        );
+        assert_eq!(
+            alarm("CYCLE95(\"AXLE\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::MissingProgram, 9)
+        );
+        assert_eq!(
+            alarm("CYCLE95(\"A1:B1\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::JumpTarget, 9)
+        );
+        // An undercut (X turns back down to 12): not built, at the call.
+        let pocket = [("P.SPF", "G1 X10 Z0\nZ-10\nX30 Z-15\nX24 Z-20\nX40\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"P\", 3, , , , 0.3, , , 1)", &pocket),
+            main_at(AlarmCode::NotSupported, 1)
+        );
+        // A contour programmed from the chuck towards the face starts at its largest X.
+        let back = [("B.SPF", "G1 X40 Z-20\nX20\nZ0\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"B\", 3, , , , 0.3, , , 1)", &back),
+            main_at(AlarmCode::CycleContour, 1)
+        );
+        // One move only.
+        let one = [("O.SPF", "G1 X10 Z0\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"O\", 3, , , , 0.3, , , 1)", &one),
+            main_at(AlarmCode::CycleContour, 9)
+        );
+    }
+
+    #[test]
+    fn faults_in_the_contour_name_its_file_and_line() {
+        let at = |spf: &str| alarm("CYCLE95(\"C\", 3, , , , 0.3, , , 1)", &[("C.SPF", spf)]);
+        // A word the 808D does not know, at its column in C.SPF.
+        assert_eq!(
+            at("G1 X10 Z0\nZ-10 Q5\nX40\n"),
+            (AlarmCode::UnknownAddress, "lib/C.SPF".into(), 2, 6)
+        );
+        // Compensation in the contour, at its block.
+        assert_eq!(
+            at("G1 X10 Z0\nG42 Z-10\nX40\n"),
+            (AlarmCode::NotSupported, "lib/C.SPF".into(), 2, 1)
+        );
+        // A contour that calls the cycle again.
+        assert_eq!(
+            at("G1 X10 Z0\nCYCLE95(\"C\", 3, , , , 0.3, , , 1)\nX40\n"),
+            (AlarmCode::CycleContour, "lib/C.SPF".into(), 2, 9)
+        );
     }
 }
