@@ -11,6 +11,9 @@
 //! - its stock allowance D is an equidistant, not Fanuc's U/W shift: no allowances here;
 //! - a Fanuc returns to the start point after G70, rs274 stays at the shape's end.
 //!
+//! The 808D's CYCLE95 (longitudinal, complete machining) is compared the same way: its S is
+//! rs274's start point and MID divides the stock into rs274's depth I.
+//!
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set.
 
@@ -32,8 +35,13 @@ struct Move {
 }
 
 fn softnc(text: &str) -> Vec<Move> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/fanuc-lathe.toml");
-    let md = MachineData::load(Some(Path::new(path)), &[]).unwrap();
+    softnc_on("config/fanuc-lathe.toml", text)
+}
+
+/// The moves of `text` on the machine of data file `machine` (relative to the repository).
+fn softnc_on(machine: &str, text: &str) -> Vec<Move> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(machine);
+    let md = MachineData::load(Some(&path), &[]).unwrap();
     let blocks =
         interpret("g71.nc", text, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"));
     blocks
@@ -109,10 +117,14 @@ fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
 }
 
 fn compare(tag: &str, fanuc: &str, ngc: &str, start_x: f64) {
+    compare_on("config/fanuc-lathe.toml", tag, fanuc, ngc, start_x);
+}
+
+fn compare_on(machine: &str, tag: &str, ours: &str, ngc: &str, start_x: f64) {
     if !rs274::present() {
         return;
     }
-    let (ours, theirs) = (softnc(fanuc), oracle(ngc, tag));
+    let (ours, theirs) = (softnc_on(machine, ours), oracle(ngc, tag));
     let (f1, r1) = cuts(&ours, start_x);
     let (f2, r2) = cuts(&theirs, start_x);
     assert_eq!(
@@ -156,4 +168,21 @@ fn g71_g70_over_a_taper_agree_with_rs274() {
         X30 Z-20\nG3 X36 Z-23 R3\nG1 Z-30\nX40\no100 endsub\nG71 Q100 X40 Z2 I1.5 R1 F0.25\n\
         G70 Q100 X40 Z2 F0.25\nM2\n";
     compare("taper", fanuc, ngc, 20.0);
+}
+
+#[test]
+fn cycle95_over_a_fillet_agrees_with_rs274() {
+    // The 808D's CYCLE95 (complete machining, VARI 9) on the fillet shape with its start A'
+    // at Z0: S = (the contour's largest X 25, 0 + _VRT 1) is rs274's start point; stock 15
+    // in five equal cuts of MID 3 = rs274's I3: passes at 22, 19, 16, 13 lifted off by 1 =
+    // R1. rs274 moves each in-feed along the line from its start to A' (Z 0.8, 0.6 …),
+    // CYCLE95 in at S's Z 1: only the rapids differ (docs/turning.md, "CYCLE95 and
+    // LinuxCNC").
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X50 Z1\n\
+        CYCLE95(\"C_A:C_E\", 3, , , , 0.3, , 0.1, 9, , , 1)\nM30\n\
+        C_A: G1 X20 Z0\nZ-10\nG2 X40 Z-20 CR=10\nG1 Z-35\nC_E: X50\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X20 Z0\nG1 Z-10\n\
+        G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 F0.3\n\
+        G70 Q100 X50 Z1 F0.1\nM2\n";
+    compare_on("config/siemens-808d.toml", "cycle95", sinumerik, ngc, 25.0);
 }
