@@ -295,6 +295,12 @@ fn shaft_roughing() -> Vec<P> {
     want
 }
 
+/// The fillet of the shifted contour (roughing) and of the contour (finishing).
+const SHAFT_FILLETS: [(MotionKind, P); 2] = [
+    (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
+    (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
+];
+
 /// The finishing run along the contour from A' to B, each move's end.
 const SHAFT_CONTOUR: [P; 7] = [
     [8.0, 0.0, 0.0],
@@ -315,14 +321,7 @@ fn d09_cycle95_subprogram() {
     want.extend([[22.3, 0.0, -35.0], [22.3, 0.0, 0.6], [30.0, 0.0, 10.0]]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
-    assert_arcs(
-        f,
-        &b,
-        &[
-            (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
-            (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
-        ],
-    );
+    assert_arcs(f, &b, &SHAFT_FILLETS);
     // The roughing cuts at FF1 0.25, the finishing at FF3 0.1.
     let feeds: Vec<f64> = b
         .iter()
@@ -345,14 +344,7 @@ fn d10_cycle95_label_section() {
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
     // RND=5 makes the fillet d09 programs as G2 CR=5.
-    assert_arcs(
-        f,
-        &b,
-        &[
-            (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
-            (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
-        ],
-    );
+    assert_arcs(f, &b, &SHAFT_FILLETS);
     // The contour's lines never run as blocks of the program.
     assert!(b.iter().all(|b| b.line <= 21), "{f}");
 }

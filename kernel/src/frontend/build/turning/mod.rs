@@ -221,7 +221,7 @@ impl Interpreter<'_> {
     }
 }
 
-fn sign(v: f64) -> f64 {
+pub fn sign(v: f64) -> f64 {
     if v > EPS {
         1.0
     } else if v < -EPS {
@@ -232,7 +232,7 @@ fn sign(v: f64) -> f64 {
 }
 
 /// The element moved by the allowances (its centre with it).
-fn shifted(e: &Element, du: f64, dw: f64) -> Element {
+pub fn shifted(e: &Element, du: f64, dw: f64) -> Element {
     let mv = |mut p: Pos| {
         p[0] += du;
         p[2] += dw;

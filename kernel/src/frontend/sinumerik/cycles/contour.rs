@@ -186,7 +186,7 @@ fn contour_element(b: &Block) -> Result<Option<Element>, (AlarmCode, String)> {
         ))
     };
     if b.modal.trc != TrcSide::Off {
-        return refuse("tool nose radius compensation (G41/G42)");
+        return refuse("tool nose radius compensation");
     }
     if b.dwell.is_some() {
         return refuse("a dwell");
@@ -199,7 +199,7 @@ fn contour_element(b: &Block) -> Result<Option<Element>, (AlarmCode, String)> {
     }
     let Some(m) = b.motion else { return Ok(None) };
     if m.plane != Plane::ZX || (m.end[1] - m.start[1]).abs() > EPS {
-        return refuse("a move outside the Z-X plane (G18)");
+        return refuse("a move outside the Z-X plane");
     }
     let mode = match m.kind {
         MotionKind::Rapid => MotionMode::Rapid,

@@ -23,7 +23,8 @@
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    non_monotonic, Expansion, Passes, Step, TurningElement as Element, TurningRun, EPS,
+    non_monotonic, shifted, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun,
+    EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -241,7 +242,7 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::NotSupported,
                 p.call,
-                "CYCLE95 runs in the Z-X plane (G18) without a frame",
+                "CYCLE95 runs in the Z-X plane without a frame",
             ));
         }
         Ok(())
@@ -348,30 +349,6 @@ fn cycle_start(moved: &[Element], sx: f64, sz: f64, vrt: f64) -> Pos {
     s[0] = sx * extreme;
     s[2] -= sz * vrt;
     s
-}
-
-fn sign(v: f64) -> f64 {
-    if v > EPS {
-        1.0
-    } else if v < -EPS {
-        -1.0
-    } else {
-        0.0
-    }
-}
-
-/// The element moved by the allowances (its centre with it).
-fn shifted(e: &Element, dx: f64, dz: f64) -> Element {
-    let mv = |mut p: Pos| {
-        p[0] += dx;
-        p[2] += dz;
-        p
-    };
-    Element {
-        to: mv(e.to),
-        centre: mv(e.centre),
-        ..*e
-    }
 }
 
 /// CYCLE95's moves still to come: to S, the roughing run, the finishing run; every cut at
