@@ -34,10 +34,6 @@ struct Move {
     rapid: bool,
 }
 
-fn softnc(text: &str) -> Vec<Move> {
-    softnc_on("config/fanuc-lathe.toml", text)
-}
-
 /// The moves of `text` on the machine of data file `machine` (relative to the repository).
 fn softnc_on(machine: &str, text: &str) -> Vec<Move> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(machine);

@@ -625,7 +625,7 @@ mod tests {
         // face at −19.9, the others the face at −9.9. DAM 4: each cut stops 4 mm at a time
         // (from Z 0.6: −3.4, −7.4, …) with DT 0.5 s between; the lift-off goes down in X.
         let b = run(
-            &format!("G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n"),
+            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
             &[("BORE.SPF", "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n")],
         );
         let mut want = vec![(5.0, 5.0), (9.5, 0.6), (12.0, 0.6)];
