@@ -12,7 +12,8 @@
 //! - a Fanuc returns to the start point after G70, rs274 stays at the shape's end.
 //!
 //! The 808D's CYCLE95 (longitudinal, complete machining) is compared the same way: its S is
-//! rs274's start point and MID divides the stock into rs274's depth I.
+//! rs274's start point and MID divides the stock into rs274's depth I; its FAL (the
+//! contour's equidistant) against rs274's stock allowance D.
 //!
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set.
@@ -181,4 +182,23 @@ fn cycle95_over_a_fillet_agrees_with_rs274() {
         G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 F0.3\n\
         G70 Q100 X50 Z1 F0.1\nM2\n";
     compare_on("config/siemens-808d.toml", "cycle95", sinumerik, ngc, 25.0);
+}
+
+#[test]
+fn cycle95_fal_agrees_with_rs274_stock_allowance() {
+    // FAL is an equidistant as rs274's D (arcs about convex corners, concave ones trimmed):
+    // roughing only (VARI 1) a taper shape, FAL 0.5 = D0.5; the shifted A' (10, 0) lies
+    // 15 below S's X 25: five cuts of MID 3 = I3.
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X50 Z1\n\
+        CYCLE95(\"C_A:C_E\", 3, , , 0.5, 0.3, , , 1, , , 1)\nM30\n\
+        C_A: G1 X19 Z0\nZ-10\nX40 Z-20\nZ-35\nC_E: X50\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X19 Z0\nG1 Z-10\n\
+        G1 X40 Z-20\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 D0.5 F0.3\nM2\n";
+    compare_on(
+        "config/siemens-808d.toml",
+        "cycle95 FAL",
+        sinumerik,
+        ngc,
+        25.0,
+    );
 }

@@ -26,7 +26,7 @@ mod turning;
 
 pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
-pub(in crate::frontend) use corners::Element;
+pub(in crate::frontend) use corners::{intersections, Curve, Element};
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};

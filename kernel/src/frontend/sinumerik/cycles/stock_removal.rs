@@ -5,6 +5,7 @@
 //!   NPP   the contour: a subprogram's name, or "START:END" labels of this program (contour.rs)
 //!   MID   the largest infeed (radius, no sign); the cuts are equal and at most MID deep
 //!   FALZ  FALX  the finishing allowances along Z and X (X a radius); FAL along the contour
+//!         (allowance.rs: the contour's equidistant), the three add up
 //!   FF1   the roughing feed; FF2 into undercuts; FF3 the finishing feed
 //!   VARI  1 … 12: roughing (1 … 4), finishing (5 … 8), complete (9 … 12); within each,
 //!         longitudinal outside, transverse outside, longitudinal inside, transverse inside
@@ -105,6 +106,7 @@ struct Setup {
     mid: f64,
     falz: f64,
     falx: f64,
+    fal: f64,
     vrt: f64,
     rough_feed: f64,
     finish_feed: f64,
@@ -171,6 +173,7 @@ impl Interpreter<'_> {
             (MID, "MID"),
             (FALZ, "FALZ"),
             (FALX, "FALX"),
+            (FAL, "FAL"),
             (FF1, "FF1"),
             (FF2, "FF2"),
             (FF3, "FF3"),
@@ -184,10 +187,6 @@ impl Interpreter<'_> {
         }
         if vari.machining != Machining::Finishing && p.get(MID) <= 0.0 {
             return bad(MID, "roughing needs the infeed depth MID > 0".into());
-        }
-        if p.given(FAL) {
-            let m = "FAL (the allowance along the contour) is not built in softnc: give the allowances per axis, FALZ and FALX";
-            return Err(fault(AlarmCode::NotSupported, p.at(FAL), m));
         }
         let unit = if new.units == crate::machine_data::Units::Inch {
             25.4
@@ -222,6 +221,7 @@ impl Interpreter<'_> {
             mid: p.get(MID) * unit,
             falz: p.get(FALZ) * unit,
             falx: p.get(FALX) * unit,
+            fal: p.get(FAL) * unit,
             vrt,
             rough_feed: if roughs { feed(FF1)? } else { 0.0 },
             finish_feed: if finishes { feed(FF3)? } else { 0.0 },
@@ -264,7 +264,8 @@ impl Interpreter<'_> {
         if sz == 0.0 {
             return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
         }
-        let moved: Vec<Element> = contour
+        let moved: Vec<Element> = self
+            .along_contour(&contour, s.fal * sx * sz, p)?
             .iter()
             .map(|e| shifted(e, sx * s.falx, -sz * s.falz))
             .collect();
@@ -304,6 +305,20 @@ impl Interpreter<'_> {
             chip: s.chip,
             cut: None,
             at: self.cur,
+        })
+    }
+
+    /// The contour with FAL on the side `fal`'s sign gives (+: the left of travel in (Z, X)).
+    fn along_contour(&self, contour: &[Element], fal: f64, p: &Params) -> R<Vec<Element>> {
+        if fal == 0.0 {
+            return Ok(contour.to_vec());
+        }
+        super::allowance::equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
+            let m = format!(
+                "FAL {} is too large for element {k} of the contour: its parallel vanishes",
+                fal.abs()
+            );
+            fault(AlarmCode::CycleContour, p.at(FAL), m)
         })
     }
 
@@ -580,6 +595,48 @@ mod tests {
         assert_eq!(feeds.last(), Some(&(MotionKind::Linear, 0.25)));
     }
 
+    #[test]
+    fn fal_offsets_the_contour_normal_to_its_elements() {
+        // The contour of the first test with FAL 0.5 instead of FALZ/FALX, on the outside
+        // (the right of travel in (Z, X)): A' (10.5, 0), X 10.5 to the first face's parallel
+        // at Z −19.5, that face to X 20, an arc of 0.5 about the edge (20, −20) to
+        // (20.5, −20), X 20.5 to the last face's parallel at Z −39.5, B (25, −39.5).
+        // S = (25, 0 + 1) (_VRT left out). Stock 14.5, MID 5: 3 cuts of 14.5/3; passes at
+        // 20.1667, which meets the edge's arc at Z −20 + √(0.25 − (1/6)²) = −20 + √2/3, and
+        // 15.3333, which meets the face at Z −19.5.
+        let main = format!(
+            "{HEAD}CYCLE95(\"START:END\", 5, , , 0.5, 0.3, , , 1)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
+        );
+        let b = run(&main, &[]);
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let mut want = vec![(30.0, 5.0), (25.0, 1.0)];
+        want.extend(pass(
+            r(25.0 - 14.5 / 3.0),
+            r(-20.0 + 2f64.sqrt() / 3.0),
+            1.0,
+            1.0,
+            1.0,
+        ));
+        want.extend(pass(r(25.0 - 29.0 / 3.0), -19.5, 1.0, 1.0, 1.0));
+        want.extend([
+            (10.5, 0.0),
+            (10.5, -19.5),
+            (20.0, -19.5),
+            (20.5, -20.0),
+            (20.5, -39.5),
+            (25.0, -39.5),
+            (25.0, 1.0),
+        ]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+    }
+
     const SHAFT: &str = "PROC SHAFT\nG1 X10 Z0\nZ-10 RND=2\nX30\nZ-20\nX36 Z-26\nM17\n";
 
     #[test]
@@ -708,14 +765,15 @@ mod tests {
             at("CYCLE95(\"SHAFT\", , , , , 0.3, , , 1)"),
             main_at(AlarmCode::CycleParameter, 1)
         );
-        // A signed allowance, FAL (not built), a thirteenth parameter.
+        // A signed allowance, FAL larger than the fillet RND=2 allows, a thirteenth
+        // parameter.
         assert_eq!(
             at("CYCLE95(\"SHAFT\", 3, -0.1, , , 0.3, , , 1)"),
             main_at(AlarmCode::CycleParameter, 21)
         );
         assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, , , 0.2, 0.3, , , 1)"),
-            main_at(AlarmCode::NotSupported, 25)
+            at("CYCLE95(\"SHAFT\", 3, , , 2, 0.3, , , 1)"),
+            main_at(AlarmCode::CycleContour, 25)
         );
         assert_eq!(
             at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1, , , 1, 7)"),
