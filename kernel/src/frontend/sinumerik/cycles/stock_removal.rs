@@ -733,6 +733,24 @@ mod tests {
         assert_eq!((f[4], f[f.len() - 1]), (0.1, 0.25));
     }
 
+    #[test]
+    fn under_diamof_the_contour_is_read_in_radii() {
+        // SHAFT.SPF's contour written with X as a radius after DIAMOF in the caller: the
+        // same finishing as under DIAMON (the contour's interpreter starts in the
+        // caller's modal state).
+        let radii = "G1 X5 Z0\nZ-10 RND=2\nX15\nZ-20\nX18 Z-26\n";
+        let b = run(
+            &format!("{HEAD}DIAMOF\nCYCLE95(\"R\", , , , , , , 0.1, 5)\n"),
+            &[("R.SPF", radii)],
+        );
+        let d = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", , , , , , , 0.1, 5)\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        assert_eq!(ends(&b), ends(&d));
+        assert_eq!(ends(&b)[2..4], [(5.0, 0.0), (5.0, -8.0)]);
+    }
+
     /// The alarm of cycle `cycle` (line 3) with SHAFT.SPF beside it: code, program, line,
     /// column.
     fn alarm(cycle: &str, files: &[(&str, &str)]) -> (AlarmCode, String, u32, u32) {
@@ -747,38 +765,24 @@ mod tests {
     #[test]
     fn bad_parameters_are_alarms_at_their_place() {
         let shaft = [("SHAFT.SPF", SHAFT)];
-        let at = |cycle: &str| alarm(cycle, &shaft);
-        // VARI 13 (column 33), VARI 2 (face machining, not built), MID 0 for roughing.
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 13)"),
-            main_at(AlarmCode::CycleMachiningType, 36)
-        );
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 2)"),
-            main_at(AlarmCode::NotSupported, 36)
-        );
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 0, , , , 0.3, , , 9)"),
-            main_at(AlarmCode::CycleParameter, 18)
-        );
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", , , , , 0.3, , , 1)"),
-            main_at(AlarmCode::CycleParameter, 1)
-        );
-        // A signed allowance, FAL larger than the fillet RND=2 allows, a thirteenth
-        // parameter.
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, -0.1, , , 0.3, , , 1)"),
-            main_at(AlarmCode::CycleParameter, 21)
-        );
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, , , 2, 0.3, , , 1)"),
-            main_at(AlarmCode::CycleContour, 25)
-        );
-        assert_eq!(
-            at("CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1, , , 1, 7)"),
-            main_at(AlarmCode::Syntax, 46)
-        );
+        // (parameters after the contour's name, the alarm, its column in line 3)
+        let cases = [
+            // VARI 13, VARI 2 (face machining: not built), MID 0 and MID left out for
+            // roughing (at the cycle's name).
+            (" 3, , , , 0.3, , , 13)", AlarmCode::CycleMachiningType, 36),
+            (" 3, , , , 0.3, , , 2)", AlarmCode::NotSupported, 36),
+            (" 0, , , , 0.3, , , 9)", AlarmCode::CycleParameter, 18),
+            (" , , , , 0.3, , , 1)", AlarmCode::CycleParameter, 1),
+            // A signed allowance, FAL as large as the fillet RND=2 (its parallel vanishes),
+            // a thirteenth parameter.
+            (" 3, -0.1, , , 0.3, , , 1)", AlarmCode::CycleParameter, 21),
+            (" 3, , , 2, 0.3, , , 1)", AlarmCode::CycleContour, 25),
+            (" 3, , , , 0.3, , , 1, , , 1, 7)", AlarmCode::Syntax, 46),
+        ];
+        for (rest, code, col) in cases {
+            let cycle = format!("CYCLE95(\"SHAFT\",{rest}");
+            assert_eq!(alarm(&cycle, &shaft), main_at(code, col), "{cycle}");
+        }
         // Under nose radius compensation.
         let a = lathe(
             &format!("{HEAD}G42 G1 X50\nCYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\n"),
