@@ -793,6 +793,13 @@ mod tests {
     }
 
     #[test]
+    fn cycle95_is_no_modal_cycle() {
+        // MCALL takes the drilling cycles only: 12550 at the name (column 7).
+        let a = alarm("MCALL CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)", &[]);
+        assert_eq!(a, main_at(AlarmCode::UndefinedName, 7));
+    }
+
+    #[test]
     fn no_feed_is_an_alarm_at_the_feed_parameter() {
         let a = lathe(
             "G18 G95 S1000 M3\nG0 X60 Z5\nCYCLE95(\"SHAFT\", 3, , , , , , , 1)\n",
