@@ -790,6 +790,13 @@ mod tests {
         )
         .unwrap_err();
         assert_eq!((a.code, a.line, a.col), (AlarmCode::ForbiddenWithTrc, 4, 1));
+        // Under a frame.
+        let a = lathe(
+            &format!("{HEAD}TRANS Z5\nCYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\n"),
+            &shaft,
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 4, 1));
     }
 
     #[test]
@@ -837,6 +844,12 @@ mod tests {
             alarm("CYCLE95(\"B\", 3, , , , 0.3, , , 1)", &back),
             main_at(AlarmCode::CycleContour, 1)
         );
+        // Start and end at the same Z: no longitudinal contour.
+        let face = [("F.SPF", "G1 X10 Z0\nX40\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"F\", 3, , , , 0.3, , , 1)", &face),
+            main_at(AlarmCode::CycleContour, 1)
+        );
         // One move only.
         let one = [("O.SPF", "G1 X10 Z0\n")];
         assert_eq!(
@@ -857,6 +870,11 @@ mod tests {
         assert_eq!(
             at("G1 X10 Z0\nG42 Z-10\nX40\n"),
             (AlarmCode::NotSupported, "lib/C.SPF".into(), 2, 1)
+        );
+        // A dwell in the contour.
+        assert_eq!(
+            at("G1 X10 Z0\nZ-10\nG4 F1\nX40\n"),
+            (AlarmCode::NotSupported, "lib/C.SPF".into(), 3, 1)
         );
         // A contour that calls the cycle again.
         assert_eq!(
