@@ -261,3 +261,90 @@ fn d08_alarm_ap_without_plane_axis() {
     assert_eq!(a.number(), 12050);
     assert!(a.message.contains("Y is not configured"), "{a}");
 }
+
+/// CYCLE95's roughing of d09/d10's shaft (their headers): from S (22.3, 0.6) five passes
+/// at 22.3 − 7k/3, each in at rapid, along Z to the shifted contour, lifted off 0.5 at 45°
+/// and back to Z 0.6; then the shifted contour and back to S.
+fn shaft_roughing() -> Vec<P> {
+    let fillet = |level: f64| -14.9 - (25.0 - (level - 15.3_f64).powi(2)).sqrt();
+    let mut want = vec![[22.3, 0.0, 0.6]];
+    for k in 1..=5 {
+        let level = 22.3 - 7.0 * k as f64 / 3.0;
+        let z = match k {
+            1 => -34.9,
+            2 | 3 => -19.9,
+            _ => fillet(level),
+        };
+        want.extend([
+            [level, 0.0, 0.6],
+            [level, 0.0, z],
+            [level + 0.5, 0.0, z + 0.5],
+            [level + 0.5, 0.0, 0.6],
+        ]);
+    }
+    want.extend([
+        [8.3, 0.0, 0.1],
+        [10.3, 0.0, -1.9],
+        [10.3, 0.0, -14.9],
+        [15.3, 0.0, -19.9], // the fillet about (15.3, −14.9)
+        [18.3, 0.0, -19.9],
+        [18.3, 0.0, -34.9],
+        [22.3, 0.0, -34.9],
+        [22.3, 0.0, 0.6],
+    ]);
+    want
+}
+
+/// The fillet of the shifted contour (roughing) and of the contour (finishing).
+const SHAFT_FILLETS: [(MotionKind, P); 2] = [
+    (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
+    (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
+];
+
+/// The finishing run along the contour from A' to B, each move's end.
+const SHAFT_CONTOUR: [P; 7] = [
+    [8.0, 0.0, 0.0],
+    [10.0, 0.0, -2.0],
+    [10.0, 0.0, -15.0],
+    [15.0, 0.0, -20.0], // the fillet about (15, −15)
+    [18.0, 0.0, -20.0],
+    [18.0, 0.0, -35.0],
+    [22.0, 0.0, -35.0],
+];
+
+#[test]
+fn d09_cycle95_subprogram() {
+    let f = "d09_cycle95_subprogram.mpf";
+    let mut want = vec![[25.0, 0.0, 5.0]];
+    want.extend(shaft_roughing());
+    want.extend(SHAFT_CONTOUR);
+    want.extend([[22.3, 0.0, -35.0], [22.3, 0.0, 0.6], [30.0, 0.0, 10.0]]);
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    assert_arcs(f, &b, &SHAFT_FILLETS);
+    // The roughing cuts at FF1 0.25, the finishing at FF3 0.1.
+    let feeds: Vec<f64> = b
+        .iter()
+        .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+        .map(|b| b.modal.feed)
+        .collect();
+    let (rough, finish) = feeds.split_at(5 + 6);
+    assert!(rough.iter().all(|&f| f == 0.25), "{f}: {feeds:?}");
+    assert!(finish.iter().all(|&f| f == 0.1), "{f}: {feeds:?}");
+}
+
+#[test]
+fn d10_cycle95_label_section() {
+    let f = "d10_cycle95_label_section.mpf";
+    let mut want = vec![[25.0, 0.0, 5.0]];
+    want.extend(shaft_roughing());
+    want.extend([[30.0, 0.0, 10.0], [25.0, 0.0, 5.0], [22.0, 0.0, 1.0]]);
+    want.extend(SHAFT_CONTOUR);
+    want.extend([[22.0, 0.0, 1.0], [30.0, 0.0, 10.0]]);
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    // RND=5 makes the fillet d09 programs as G2 CR=5.
+    assert_arcs(f, &b, &SHAFT_FILLETS);
+    // The contour's lines never run as blocks of the program.
+    assert!(b.iter().all(|b| b.line <= 21), "{f}");
+}

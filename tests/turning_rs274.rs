@@ -16,6 +16,9 @@
 //! point and the lead agree (rs274's G33 K is along Z; softnc's path feed per revolution
 //! times Δz over the path's length gives it back). G76 is compared in docs/turning.md only:
 //! rs274's G76 has another format and infeed rule.
+//! The 808D's CYCLE95 (longitudinal, complete machining) is compared the same way: its S is
+//! rs274's start point and MID divides the stock into rs274's depth I; its FAL (the
+//! contour's equidistant) against rs274's stock allowance D.
 //!
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set.
@@ -37,9 +40,10 @@ struct Move {
     rapid: bool,
 }
 
-fn softnc(text: &str) -> Vec<Move> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/fanuc-lathe.toml");
-    let md = MachineData::load(Some(Path::new(path)), &[]).unwrap();
+/// The moves of `text` on the machine of data file `machine` (relative to the repository).
+fn softnc_on(machine: &str, text: &str) -> Vec<Move> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(machine);
+    let md = MachineData::load(Some(&path), &[]).unwrap();
     let blocks =
         interpret("g71.nc", text, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"));
     blocks
@@ -115,10 +119,14 @@ fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
 }
 
 fn compare(tag: &str, fanuc: &str, ngc: &str, start_x: f64) {
+    compare_on("config/fanuc-lathe.toml", tag, fanuc, ngc, start_x);
+}
+
+fn compare_on(machine: &str, tag: &str, ours: &str, ngc: &str, start_x: f64) {
     if !rs274::present() {
         return;
     }
-    let (ours, theirs) = (softnc(fanuc), oracle(ngc, tag));
+    let (ours, theirs) = (softnc_on(machine, ours), oracle(ngc, tag));
     let (f1, r1) = cuts(&ours, start_x);
     let (f2, r2) = cuts(&theirs, start_x);
     assert_eq!(
@@ -234,4 +242,40 @@ fn g32_and_g92_threads_agree_with_rs274_g33() {
         );
     }
     assert_eq!(ours.iter().filter(|m| m.2.is_some()).count(), 3);
+}
+
+#[test]
+fn cycle95_over_a_fillet_agrees_with_rs274() {
+    // The 808D's CYCLE95 (complete machining, VARI 9) on the fillet shape with its start A'
+    // at Z0: S = (the contour's largest X 25, 0 + _VRT 1) is rs274's start point; stock 15
+    // in five equal cuts of MID 3 = rs274's I3: passes at 22, 19, 16, 13 lifted off by 1 =
+    // R1. rs274 moves each in-feed along the line from its start to A' (Z 0.8, 0.6 …),
+    // CYCLE95 in at S's Z 1: only the rapids differ (docs/turning.md, "CYCLE95 and
+    // LinuxCNC").
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X50 Z1\n\
+        CYCLE95(\"C_A:C_E\", 3, , , , 0.3, , 0.1, 9, , , 1)\nM30\n\
+        C_A: G1 X20 Z0\nZ-10\nG2 X40 Z-20 CR=10\nG1 Z-35\nC_E: X50\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X20 Z0\nG1 Z-10\n\
+        G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 F0.3\n\
+        G70 Q100 X50 Z1 F0.1\nM2\n";
+    compare_on("config/siemens-808d.toml", "cycle95", sinumerik, ngc, 25.0);
+}
+
+#[test]
+fn cycle95_fal_agrees_with_rs274_stock_allowance() {
+    // FAL is an equidistant as rs274's D (arcs about convex corners, concave ones trimmed):
+    // roughing only (VARI 1) a taper shape, FAL 0.5 = D0.5; the shifted A' (10, 0) lies
+    // 15 below S's X 25: five cuts of MID 3 = I3.
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X50 Z1\n\
+        CYCLE95(\"C_A:C_E\", 3, , , 0.5, 0.3, , , 1, , , 1)\nM30\n\
+        C_A: G1 X19 Z0\nZ-10\nX40 Z-20\nZ-35\nC_E: X50\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X19 Z0\nG1 Z-10\n\
+        G1 X40 Z-20\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 D0.5 F0.3\nM2\n";
+    compare_on(
+        "config/siemens-808d.toml",
+        "cycle95 FAL",
+        sinumerik,
+        ngc,
+        25.0,
+    );
 }

@@ -94,6 +94,12 @@ pub enum AlarmCode {
     /// A SINUMERIK drilling cycle's parameters contradict each other or lie out of range
     /// (840D 61101 "reference plane defined incorrectly" and its neighbours).
     CycleParameter,
+    /// A SINUMERIK cycle's machining type VARI is not one of its values (840D 61002 "type
+    /// of machining incorrectly defined").
+    CycleMachiningType,
+    /// The contour a SINUMERIK turning cycle machines is missing or cannot be machined as
+    /// programmed (840D 61605 "contour programmed incorrectly").
+    CycleContour,
     /// An array element outside the array's dimensions (840D 17020 "illegal array index").
     ArrayIndex,
     /// A SINUMERIK smooth approach finds no contour element to lead onto: more blocks
@@ -159,6 +165,8 @@ impl AlarmCode {
             AlarmCode::CornerNextBlock => 10880,
             AlarmCode::CornerTooLarge => 10883,
             AlarmCode::CycleParameter => 61101,
+            AlarmCode::CycleMachiningType => 61002,
+            AlarmCode::CycleContour => 61605,
             AlarmCode::ArrayIndex => 17020,
             AlarmCode::SarBlocks => 10740,
             AlarmCode::SarReversal => 10741,

@@ -175,7 +175,7 @@ fn round(first: Element, second: Element, r: f64, left: bool) -> Result<Cornered
 
 /// A line through `p` along the unit vector `d`, or a circle.
 #[derive(Clone, Copy, Debug)]
-enum Curve {
+pub enum Curve {
     Line { p: V, d: V },
     Circle { c: V, r: f64 },
 }
@@ -331,7 +331,7 @@ fn rotate(q: V, c: V, angle: f64, ccw: bool) -> V {
 }
 
 /// Where two curves meet: none, one or two points.
-fn intersections(a: Curve, b: Curve) -> Vec<V> {
+pub fn intersections(a: Curve, b: Curve) -> Vec<V> {
     match (a, b) {
         (Curve::Line { p: p1, d: d1 }, Curve::Line { p: p2, d: d2 }) => {
             let den = cross(d1, d2);

@@ -8,7 +8,7 @@
 use super::super::block::*;
 use super::super::fault::R;
 use super::super::interpreter::Interpreter;
-use super::super::sinumerik::cycles::CycleRun;
+use super::super::sinumerik::cycles::{CycleRun, StockRemovalRun};
 use super::cycles::Drilling;
 use super::lathe::LatheRun;
 use super::turning::TurningRun;
@@ -77,6 +77,8 @@ enum Steps {
     Turning(Box<TurningRun>),
     /// A lathe cycle's remaining passes (Fanuc lathe G74, G75, G76).
     Lathe(Box<LatheRun>),
+    /// A SINUMERIK stock removal cycle's approach, passes and finishing (CYCLE95).
+    StockRemoval(Box<StockRemovalRun>),
     /// Blocks made ready elsewhere (a SINUMERIK smooth approach or retraction,
     /// build/smooth.rs), handed out as they are; then the modal state comes back.
     Blocks(Box<Queued>),
@@ -179,6 +181,13 @@ impl Expansion {
         }
     }
 
+    pub fn stock_removal(r: StockRemovalRun) -> Self {
+        Expansion {
+            steps: Steps::StockRemoval(Box::new(r)),
+            stop: None,
+        }
+    }
+
     /// The helix `h` after its first turn, which ended at `at`; `normal` is the axis it
     /// rises along.
     pub fn helix(mut h: Helix, normal: usize, at: Pos) -> Self {
@@ -215,6 +224,7 @@ impl Expansion {
             Steps::Helix(h) => h.next(),
             Steps::Turning(t) => t.next(),
             Steps::Lathe(l) => l.next(),
+            Steps::StockRemoval(r) => r.next(),
             Steps::Blocks(_) => None,
         }
     }
@@ -228,6 +238,7 @@ impl Expansion {
             Steps::Helix(h) => h.at.is_none(),
             Steps::Turning(t) => t.done(),
             Steps::Lathe(l) => l.done(),
+            Steps::StockRemoval(r) => r.done(),
             Steps::Blocks(q) => q.blocks.is_empty(),
         }
     }

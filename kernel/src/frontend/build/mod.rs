@@ -27,7 +27,7 @@ mod turning;
 
 pub(super) use corner_blocks::Corners;
 pub use corners::CornerKind;
-pub(in crate::frontend) use corners::Element;
+pub(in crate::frontend) use corners::{intersections, Curve, Element};
 pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};
@@ -36,6 +36,9 @@ pub(super) use motion::{in_range, WorkingArea};
 pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
 pub(super) use turning::TurningData;
+pub(in crate::frontend) use turning::{
+    non_monotonic, shifted, sign, Element as TurningElement, Passes, TurningRun, EPS,
+};
 
 use super::block::{Block, BlockNo, ModalState};
 use super::fault::R;

@@ -81,6 +81,7 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("CYCLE87", Keyword::Cycle),
     ("CYCLE88", Keyword::Cycle),
     ("CYCLE89", Keyword::Cycle),
+    ("CYCLE95", Keyword::Cycle),
     ("TRANS", Keyword::Trans),
     ("ATRANS", Keyword::ATrans),
     ("ROT", Keyword::Rot),
@@ -262,6 +263,9 @@ pub struct Sinumerik {
     /// The moves of an MCALL'd cycle are being handed out: the block that ends them is no
     /// move that calls again.
     pub modal_cycle_running: bool,
+    /// This interpreter reads a turning cycle's contour (cycles/contour.rs): a cycle in it
+    /// would read a contour again.
+    pub reading_contour: bool,
 }
 
 impl Sinumerik {

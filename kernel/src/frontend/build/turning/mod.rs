@@ -16,7 +16,8 @@
 mod contour;
 mod stock_removal;
 
-pub use stock_removal::TurningRun;
+pub use contour::Element;
+pub use stock_removal::{non_monotonic, Passes, TurningRun, EPS};
 
 use super::super::block::*;
 use super::super::fault::{fault, R};
@@ -25,8 +26,6 @@ use super::super::words::{int_value, Val, Words};
 use super::expand::Expansion;
 use crate::alarm::AlarmCode;
 use crate::dialect::TurningCycle;
-use contour::Element;
-use stock_removal::{Passes, EPS};
 
 /// `G71 U R`: the depth of cut and the retract, kept until written again.
 #[derive(Clone, Copy, Debug, Default)]
@@ -222,7 +221,7 @@ impl Interpreter<'_> {
     }
 }
 
-fn sign(v: f64) -> f64 {
+pub fn sign(v: f64) -> f64 {
     if v > EPS {
         1.0
     } else if v < -EPS {
@@ -233,7 +232,7 @@ fn sign(v: f64) -> f64 {
 }
 
 /// The element moved by the allowances (its centre with it).
-fn shifted(e: &Element, du: f64, dw: f64) -> Element {
+pub fn shifted(e: &Element, du: f64, dw: f64) -> Element {
     let mv = |mut p: Pos| {
         p[0] += du;
         p[2] += dw;

@@ -15,9 +15,14 @@
 //! moves stream out of the [`CycleRun`] one block each, every move at its own feed; the feed
 //! in force before the call is in force again after it.
 
+mod allowance;
 mod boring;
+mod contour;
 mod drilling;
+mod stock_removal;
 mod tapping;
+
+pub use stock_removal::StockRemovalRun;
 
 use super::super::block::*;
 use super::super::build::Step;
@@ -281,17 +286,31 @@ impl Interpreter<'_> {
     /// A drilling cycle call `CYCLE8x(…)` at the cursor (its name): the hole where the tool
     /// stands, its first step into the block being built.
     pub(in crate::frontend) fn drilling_cycle(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        if stock_removal::is_cycle95(c) {
+            return self.stock_removal_cycle(c, at);
+        }
         let (name, p) = self.cycle_call(c, at)?;
-        let mut new = self.block.modal;
+        let new = self.block.modal;
         let run = self.cycle_run(name, p, &new)?;
+        self.start_cycle(at, super::super::build::Expansion::cycle(run), new);
+        Ok(())
+    }
+
+    /// The cycle called at `at` begins: its first step into the block being built, the
+    /// rest from `expansion`.
+    fn start_cycle(
+        &mut self,
+        at: usize,
+        expansion: super::super::build::Expansion,
+        mut new: ModalState,
+    ) {
         let col = super::super::lexer::column(self.src, self.blk_line_start, at);
         let (line, number, program) = (self.blk_line, self.blk_number, self.block.program);
         self.empty_block_at(line, col, number);
         self.block.program = program;
-        self.expansion = Some(super::super::build::Expansion::cycle(run));
+        self.expansion = Some(expansion);
         self.expand_first(&mut new);
         self.block.modal = new;
-        Ok(())
     }
 
     /// A cycle's name and parameters at the cursor (`MCALL CYCLE81(…)` reads them once).
@@ -367,12 +386,25 @@ impl Interpreter<'_> {
             ));
         }
         c.i += 1;
-        let max = name.entry().2;
-        for k in 0.. {
+        self.param_list(c, name.text(), name.entry().2, 0, &mut p)?;
+        Ok(p)
+    }
+
+    /// The parameters from position `first` on, after the `(` or the `,` before it, up to
+    /// and with the `)`: each an expression or empty.
+    fn param_list(
+        &mut self,
+        c: &mut Cursor,
+        name: &str,
+        max: usize,
+        first: usize,
+        p: &mut Params,
+    ) -> R<()> {
+        for k in first.. {
             c.skip_blanks();
             if !matches!(c.peek(), Some(b',' | b')')) {
                 if k >= max {
-                    let m = format!("{} takes {max} parameters", name.text());
+                    let m = format!("{name} takes {max} parameters");
                     return Err(fault(AlarmCode::Syntax, c.i, m));
                 }
                 p.at[k] = c.i;
@@ -383,12 +415,12 @@ impl Interpreter<'_> {
                 Some(b',') => c.i += 1,
                 Some(b')') => {
                     c.i += 1;
-                    return Ok(p);
+                    return Ok(());
                 }
                 _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
             }
         }
-        Ok(p)
+        Ok(())
     }
 
     /// The hole's planes in machine coordinates, checked against each other.

@@ -1,0 +1,885 @@
+//! Stock removal CYCLE95 (808D Turning / 840D Cycles, "Stock removal – CYCLE95"):
+//!
+//! ```text
+//! CYCLE95(NPP, MID, FALZ, FALX, FAL, FF1, FF2, FF3, VARI, DT, DAM, _VRT)
+//!   NPP   the contour: a subprogram's name, or "START:END" labels of this program (contour.rs)
+//!   MID   the largest infeed (radius, no sign); the cuts are equal and at most MID deep
+//!   FALZ  FALX  the finishing allowances along Z and X (X a radius); FAL along the contour
+//!         (allowance.rs: the contour's equidistant), the three add up
+//!   FF1   the roughing feed; FF2 into undercuts; FF3 the finishing feed
+//!   VARI  1 … 12: roughing (1 … 4), finishing (5 … 8), complete (9 … 12); within each,
+//!         longitudinal outside, transverse outside, longitudinal inside, transverse inside
+//!   DT    DAM  a dwell after every DAM of a roughing cut (chip breaking)
+//!   _VRT  the lift-off from the contour after a roughing cut (0: 1 mm)
+//! ```
+//!
+//! In (X radius, Z): the cycle's start point S lies at the allowance-shifted contour's
+//! outermost X (innermost inside), _VRT in front of its start in Z. The tool goes there at
+//! rapid; roughing cuts along Z at equal depths from S's X down to the shifted contour's
+//! start, each lifted off by _VRT at 45° and back to S's Z at rapid; a last cut along the
+//! shifted contour; back to S (X first). Finishing: from S to the contour's start at rapid,
+//! along the contour at FF3, back to S. The passes are the Fanuc lathe's engine
+//! (build/turning: `Passes`, `TurningRun`); this module gives it the contour, S, the depth
+//! and the feeds (docs/turning.md, "CYCLE95").
+
+use super::super::super::block::*;
+use super::super::super::build::{
+    non_monotonic, shifted, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun,
+    EPS,
+};
+use super::super::super::fault::{fault, R};
+use super::super::super::interpreter::Interpreter;
+use super::super::super::lexer::Cursor;
+use super::{Params, MAX_PARAMS};
+use crate::alarm::AlarmCode;
+
+/// The parameter positions (NPP is position 0, read as a string).
+const MID: usize = 1;
+const FALZ: usize = 2;
+const FALX: usize = 3;
+const FAL: usize = 4;
+const FF1: usize = 5;
+const FF2: usize = 6;
+const FF3: usize = 7;
+const VARI: usize = 8;
+const DT: usize = 9;
+const DAM: usize = 10;
+const VRT: usize = 11;
+const COUNT: usize = 12;
+
+/// The lift-off where _VRT is left out or 0 (mm) **[unconfirmed]**.
+const VRT_DEFAULT: f64 = 1.0;
+
+/// What VARI asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Machining {
+    Roughing,
+    Finishing,
+    Complete,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Vari {
+    machining: Machining,
+    inside: bool,
+}
+
+/// Whether the cycle name at the cursor is CYCLE95.
+pub fn is_cycle95(c: &Cursor) -> bool {
+    let mut probe = *c;
+    super::super::expr::identifier_span(&mut probe).eq_ignore_ascii_case(b"CYCLE95")
+}
+
+/// The machining type VARI (Cycles, "CYCLE95", VARI 1 … 12).
+fn vari(p: &Params) -> R<Vari> {
+    let v = p.get(VARI);
+    if v.fract() != 0.0 || !(1.0..=12.0).contains(&v) {
+        return Err(fault(
+            AlarmCode::CycleMachiningType,
+            p.at(VARI),
+            format!("VARI {v}: the machining type is 1 … 12"),
+        ));
+    }
+    let k = v as u32 - 1;
+    if k % 2 == 1 {
+        return Err(fault(
+            AlarmCode::NotSupported,
+            p.at(VARI),
+            format!("VARI {v}: transverse (face) machining is not built in softnc (longitudinal: VARI 1, 3, 5, 7, 9, 11)"),
+        ));
+    }
+    let machining = match k / 4 {
+        0 => Machining::Roughing,
+        1 => Machining::Finishing,
+        _ => Machining::Complete,
+    };
+    Ok(Vari {
+        machining,
+        inside: k % 4 == 2,
+    })
+}
+
+/// The cycle's values in mm, checked.
+#[derive(Clone, Copy, Debug)]
+struct Setup {
+    vari: Vari,
+    mid: f64,
+    falz: f64,
+    falx: f64,
+    fal: f64,
+    vrt: f64,
+    rough_feed: f64,
+    finish_feed: f64,
+    chip: Option<ChipBreak>,
+}
+
+/// Chip breaking: a roughing cut stops every `every` mm and dwells `dwell` s (DAM, DT).
+#[derive(Clone, Copy, Debug)]
+struct ChipBreak {
+    every: f64,
+    dwell: f64,
+}
+
+impl Interpreter<'_> {
+    /// `CYCLE95(…)` at the cursor (its name): the passes and the finishing from S, the
+    /// first step into the block being built.
+    pub(super) fn stock_removal_cycle(&mut self, c: &mut Cursor, at: usize) -> R<()> {
+        let (npp, npp_at, p) = self.cycle95_params(c, at)?;
+        let new = self.block.modal;
+        let s = self.cycle95_setup(&p, &new)?;
+        let contour = self.cycle_contour(&npp, npp_at, &new, s.rough_feed.max(s.finish_feed))?;
+        let run = self.stock_removal_run(&s, contour, &p, &new)?;
+        self.start_cycle(at, Expansion::stock_removal(run), new);
+        Ok(())
+    }
+
+    /// `("NPP", MID, …)`: the contour's name (a string expression) and the numbers.
+    fn cycle95_params(&mut self, c: &mut Cursor, at: usize) -> R<(String, usize, Params)> {
+        super::super::expr::identifier_span(c);
+        c.skip_blanks();
+        if c.peek() != Some(b'(') {
+            return Err(fault(AlarmCode::Syntax, c.i, "CYCLE95( expected"));
+        }
+        c.i += 1;
+        c.skip_blanks();
+        let npp_at = c.i;
+        let npp = match c.peek() {
+            Some(b',' | b')') | None => String::new(),
+            _ => self.string_expr(c)?,
+        };
+        let mut p = Params {
+            v: [None; MAX_PARAMS],
+            at: [at; MAX_PARAMS],
+            call: at,
+        };
+        c.skip_blanks();
+        match c.peek() {
+            Some(b',') => {
+                c.i += 1;
+                self.param_list(c, "CYCLE95", COUNT, 1, &mut p)?;
+            }
+            Some(b')') => c.i += 1,
+            _ => return Err(fault(AlarmCode::Syntax, c.i, "',' or ')' expected")),
+        }
+        Ok((npp, npp_at, p))
+    }
+
+    /// The parameters in mm, checked against each other and the modal state.
+    fn cycle95_setup(&self, p: &Params, new: &ModalState) -> R<Setup> {
+        self.cycle95_allowed(p, new)?;
+        let vari = vari(p)?;
+        let bad = |k: usize, m: String| Err(fault(AlarmCode::CycleParameter, p.at(k), m));
+        for (k, name) in [
+            (MID, "MID"),
+            (FALZ, "FALZ"),
+            (FALX, "FALX"),
+            (FAL, "FAL"),
+            (FF1, "FF1"),
+            (FF2, "FF2"),
+            (FF3, "FF3"),
+            (DT, "DT"),
+            (DAM, "DAM"),
+            (VRT, "_VRT"),
+        ] {
+            if p.get(k) < 0.0 {
+                return bad(k, format!("{name} {} is entered without sign", p.get(k)));
+            }
+        }
+        if vari.machining != Machining::Finishing && p.get(MID) <= 0.0 {
+            return bad(MID, "roughing needs the infeed depth MID > 0".into());
+        }
+        let unit = if new.units == crate::machine_data::Units::Inch {
+            25.4
+        } else {
+            1.0
+        };
+        let feed = |k: usize| -> R<f64> {
+            let f = if p.given(k) { p.get(k) } else { new.feed };
+            if f > 0.0 {
+                Ok(f)
+            } else {
+                let m = format!(
+                    "CYCLE95 needs a feed: parameter {} or F before the call",
+                    ["FF1", "FF3"][(k == FF3) as usize]
+                );
+                Err(fault(AlarmCode::NoFeed, p.at(k), m))
+            }
+        };
+        let roughs = vari.machining != Machining::Finishing;
+        let finishes = vari.machining != Machining::Roughing;
+        let chip = (roughs && p.given(DAM)).then(|| ChipBreak {
+            every: p.get(DAM) * unit,
+            dwell: p.get(DT),
+        });
+        let vrt = if p.given(VRT) {
+            p.get(VRT) * unit
+        } else {
+            VRT_DEFAULT
+        };
+        Ok(Setup {
+            vari,
+            mid: p.get(MID) * unit,
+            falz: p.get(FALZ) * unit,
+            falx: p.get(FALX) * unit,
+            fal: p.get(FAL) * unit,
+            vrt,
+            rough_feed: if roughs { feed(FF1)? } else { 0.0 },
+            finish_feed: if finishes { feed(FF3)? } else { 0.0 },
+            chip,
+        })
+    }
+
+    /// No compensation, no frame, and the Z-X plane (as the Fanuc lathe's cycles).
+    fn cycle95_allowed(&self, p: &Params, new: &ModalState) -> R<()> {
+        if new.trc != TrcSide::Off {
+            return Err(fault(
+                AlarmCode::ForbiddenWithTrc,
+                p.call,
+                "CYCLE95 cannot run while tool nose radius compensation is active (the cycle cuts the tool tip's path)",
+            ));
+        }
+        if self.coords.frame.active() || new.plane != Plane::ZX {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                p.call,
+                "CYCLE95 runs in the Z-X plane without a frame",
+            ));
+        }
+        Ok(())
+    }
+
+    /// S, the passes and the finishing of `contour` (its first element the move to its
+    /// start), checked: a contour whose X or Z turns back (undercuts) is not built.
+    fn stock_removal_run(
+        &mut self,
+        s: &Setup,
+        contour: Vec<Element>,
+        p: &Params,
+        new: &ModalState,
+    ) -> R<StockRemovalRun> {
+        let sx = if s.vari.inside { -1.0 } else { 1.0 };
+        let (a1, b) = (contour[0].to, contour[contour.len() - 1].to);
+        let sz = sign(b[2] - a1[2]);
+        let bad = |m: String| Err(fault(AlarmCode::CycleContour, p.call, m));
+        if sz == 0.0 {
+            return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
+        }
+        let moved: Vec<Element> = self
+            .along_contour(&contour, s.fal * sx * sz, p)?
+            .iter()
+            .map(|e| shifted(e, sx * s.falx, -sz * s.falz))
+            .collect();
+        let start = cycle_start(&moved, sx, sz, s.vrt);
+        let total = sx * (start[0] - moved[0].to[0]);
+        if total <= EPS {
+            return bad(format!(
+                "the contour starts at its {} X: nothing to remove along Z (program it from the end with the {} diameter, or check VARI)",
+                if s.vari.inside { "smallest" } else { "largest" },
+                if s.vari.inside { "largest" } else { "smallest" },
+            ));
+        }
+        if let Some((i, what)) = non_monotonic(&contour, sx, sz) {
+            let m = format!(
+                "the contour is not monotonic in X and Z ({} machining), element {}: {what}: undercut elements are not built in softnc",
+                if s.vari.inside { "inside" } else { "outside" },
+                i + 1
+            );
+            return Err(fault(AlarmCode::NotSupported, p.call, m));
+        }
+        let rough = match s.vari.machining {
+            Machining::Finishing => None,
+            _ => Some(self.roughing(s, moved, start, total, p)?),
+        };
+        let finish = (s.vari.machining != Machining::Roughing).then(|| {
+            let mut shape = contour;
+            shape[0].mode = MotionMode::Rapid;
+            TurningRun::new(start, shape, None)
+        });
+        Ok(StockRemovalRun {
+            approach: Some(start),
+            rough,
+            finish,
+            rough_feed: s.rough_feed,
+            finish_feed: s.finish_feed,
+            feed: new.feed,
+            chip: s.chip,
+            cut: None,
+            at: self.cur,
+        })
+    }
+
+    /// The contour with FAL on the side `fal`'s sign gives (+: the left of travel in (Z, X)).
+    fn along_contour(&self, contour: &[Element], fal: f64, p: &Params) -> R<Vec<Element>> {
+        if fal == 0.0 {
+            return Ok(contour.to_vec());
+        }
+        super::allowance::equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
+            let m = format!(
+                "FAL {} is too large for element {k} of the contour: its parallel vanishes",
+                fal.abs()
+            );
+            fault(AlarmCode::CycleContour, p.at(FAL), m)
+        })
+    }
+
+    /// The roughing passes: `total` (from S's X to the shifted contour's start) in equal
+    /// cuts of at most MID; the last cut is the run along the shifted contour.
+    fn roughing(
+        &mut self,
+        s: &Setup,
+        moved: Vec<Element>,
+        start: Pos,
+        total: f64,
+        p: &Params,
+    ) -> R<TurningRun> {
+        let cuts = libm::ceil((total - EPS) / s.mid).max(1.0);
+        let count = cuts - 1.0;
+        self.add_passes(count as u64, p.call)?;
+        if let Some(chip) = s.chip {
+            // Every interruption counts as a pass (a tiny DAM stays bounded).
+            let length = (moved[moved.len() - 1].to[2] - start[2]).abs();
+            let pieces = libm::ceil(length / chip.every.max(EPS)).min(1e12);
+            self.add_passes((pieces * cuts) as u64, p.at(DAM))?;
+        }
+        let passes = Passes {
+            depth: total / cuts,
+            retract: s.vrt,
+            sx: if s.vari.inside { -1.0 } else { 1.0 },
+            sz: sign(moved[moved.len() - 1].to[2] - moved[0].to[2]),
+            rapid_in: true,
+            count: count as u32,
+        };
+        Ok(TurningRun::new(start, moved, Some(passes)))
+    }
+}
+
+/// S: the shifted contour's outermost X (`sx` +1; innermost for −1), `vrt` before its start
+/// in Z (against the cut's direction `sz`).
+fn cycle_start(moved: &[Element], sx: f64, sz: f64, vrt: f64) -> Pos {
+    let extreme = moved
+        .iter()
+        .map(|e| sx * e.to[0])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut s = moved[0].to;
+    s[0] = sx * extreme;
+    s[2] -= sz * vrt;
+    s
+}
+
+/// CYCLE95's moves still to come: to S, the roughing run, the finishing run; every cut at
+/// its feed, every rapid with the feed in force at the call (which is in force again after
+/// the cycle).
+#[derive(Clone, Debug)]
+pub struct StockRemovalRun {
+    approach: Option<Pos>,
+    rough: Option<TurningRun>,
+    finish: Option<TurningRun>,
+    rough_feed: f64,
+    finish_feed: f64,
+    feed: f64,
+    chip: Option<ChipBreak>,
+    /// The roughing cut being interrupted for chip breaking: its end, and whether a dwell
+    /// comes next.
+    cut: Option<(Pos, bool)>,
+    at: Pos,
+}
+
+impl StockRemovalRun {
+    pub fn next(&mut self) -> Option<Step> {
+        if let Some(s) = self.piece() {
+            return Some(s);
+        }
+        if let Some(to) = self.approach.take() {
+            if to != self.at {
+                self.at = to;
+                return Some(Step::Move {
+                    to,
+                    rapid: true,
+                    axes: None,
+                    feed: Some(self.feed),
+                });
+            }
+        }
+        let (step, rough) = self.inner()?;
+        let step = self.with_feed(step, rough);
+        match step {
+            Step::Move {
+                to, rapid: false, ..
+            } if rough && self.chip.is_some() => {
+                self.cut = Some((to, false));
+                self.piece()
+            }
+            Step::Move { to, .. } | Step::Path { to, .. } | Step::Arc { to, .. } => {
+                self.at = to;
+                Some(step)
+            }
+            _ => Some(step),
+        }
+    }
+
+    /// No step is left.
+    pub fn done(&mut self) -> bool {
+        self.cut.is_none()
+            && self.approach.is_none_or(|to| to == self.at)
+            && self.rough.as_mut().is_none_or(TurningRun::done)
+            && self.finish.as_mut().is_none_or(TurningRun::done)
+    }
+
+    /// The next step of the roughing run, then of the finishing run; true for roughing.
+    fn inner(&mut self) -> Option<(Step, bool)> {
+        if let Some(r) = self.rough.as_mut() {
+            if let Some(s) = r.next() {
+                return Some((s, true));
+            }
+            self.rough = None;
+        }
+        self.finish.as_mut()?.next().map(|s| (s, false))
+    }
+
+    /// The step with its feed: the cycle's for a cut, the caller's for a rapid.
+    fn with_feed(&self, step: Step, rough: bool) -> Step {
+        let cut = if rough {
+            self.rough_feed
+        } else {
+            self.finish_feed
+        };
+        let of = |rapid: bool| Some(if rapid { self.feed } else { cut });
+        match step {
+            Step::Move {
+                to, rapid, axes, ..
+            } => Step::Move {
+                to,
+                rapid,
+                axes,
+                feed: of(rapid),
+            },
+            Step::Path { to, rapid, .. } => Step::Path {
+                to,
+                rapid,
+                feed: of(rapid),
+            },
+            Step::Arc {
+                to, centre, ccw, ..
+            } => Step::Arc {
+                to,
+                centre,
+                ccw,
+                feed: of(false),
+            },
+            s => s,
+        }
+    }
+
+    /// The next piece of a roughing cut interrupted every DAM, or the dwell DT between two
+    /// (Cycles, "CYCLE95": DT, DAM).
+    fn piece(&mut self) -> Option<Step> {
+        let ((end, dwell_next), chip) = (self.cut?, self.chip?);
+        if dwell_next {
+            self.cut = Some((end, false));
+            return Some(Step::Dwell(chip.dwell));
+        }
+        let d = libm::sqrt((0..3).map(|i| (end[i] - self.at[i]).powi(2)).sum());
+        let to = if d <= chip.every + EPS {
+            self.cut = None;
+            end
+        } else {
+            let k = chip.every / d;
+            self.cut = Some((end, chip.dwell > 0.0));
+            std::array::from_fn(|i| self.at[i] + (end[i] - self.at[i]) * k)
+        };
+        self.at = to;
+        Some(Step::Move {
+            to,
+            rapid: false,
+            axes: None,
+            feed: Some(self.rough_feed),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::alarm::{Alarm, AlarmCode};
+    use crate::frontend::{interpret, Block, MotionKind};
+    use crate::{MachineData, ProgramLibrary, ToolTable};
+
+    /// `main` on the 808D lathe (config/siemens-808d.toml: G18, DIAMON) with the program
+    /// files `files` beside it.
+    fn lathe(main: &str, files: &[(&str, &str)]) -> Result<Vec<Block>, Alarm> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/siemens-808d.toml");
+        let mut md = MachineData::load(Some(std::path::Path::new(path)), &[]).expect("md");
+        let mut library = ProgramLibrary::default();
+        for (file, text) in files {
+            assert!(library.add(file, format!("lib/{file}"), text.to_string()));
+        }
+        md.programs = std::sync::Arc::new(library);
+        interpret("main.mpf", main, &md, &ToolTable::builtin())
+    }
+
+    /// (X radius, Z) of every move's end, rounded to 1e-9.
+    fn ends(b: &[Block]) -> Vec<(f64, f64)> {
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
+            .collect()
+    }
+
+    /// A roughing pass at `level` from S's Z `zs` to `z`, lifted off by `vrt` (outside:
+    /// up in X, back in Z).
+    fn pass(level: f64, z: f64, zs: f64, vrt: f64, sx: f64) -> [(f64, f64); 4] {
+        let up = level + sx * vrt;
+        [(level, zs), (level, z), (up, z + vrt), (up, zs)]
+    }
+
+    fn run(main: &str, files: &[(&str, &str)]) -> Vec<Block> {
+        lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
+    }
+
+    const HEAD: &str = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\n";
+
+    #[test]
+    fn complete_machining_of_a_label_section() {
+        // Contour (radius, Z): A' (10, 0), (10, −20), (20, −20), (20, −40), B (25, −40).
+        // FALX 0.2, FALZ 0.1 shift it by (+0.2, +0.1): (10.2, 0.1) … (25.2, −39.9).
+        // S = (the shifted contour's largest X 25.2, 0.1 + _VRT 0.5 = 0.6). The stock from
+        // S's X to A' is 15: MID 2 gives ⌈7.5⌉ = 8 equal cuts of 1.875; seven passes at
+        // 25.2 − 1.875k (k = 1 … 7), the eighth is the run along the shifted contour.
+        // Levels above 20.2 meet the face at Z −39.9, those below it the one at −19.9.
+        let main = format!(
+            "{HEAD}CYCLE95(\"START:END\", 2, 0.1, 0.2, , 0.3, 0.2, 0.1, 9, , , 0.5)\nG1 X70\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
+        );
+        let b = run(&main, &[]);
+        let mut want = vec![(30.0, 5.0), (25.2, 0.6)];
+        for k in 1..=7 {
+            let level = 25.2 - 1.875 * k as f64;
+            let z = if level > 20.2 { -39.9 } else { -19.9 };
+            want.extend(pass((level * 1e9).round() / 1e9, z, 0.6, 0.5, 1.0));
+        }
+        // The last roughing cut along the shifted contour, back to S (X is there).
+        want.extend([
+            (10.2, 0.1),
+            (10.2, -19.9),
+            (20.2, -19.9),
+            (20.2, -39.9),
+            (25.2, -39.9),
+            (25.2, 0.6),
+        ]);
+        // Finishing: the contour itself from S, back to S (X first, then Z).
+        want.extend([
+            (10.0, 0.0),
+            (10.0, -20.0),
+            (20.0, -20.0),
+            (20.0, -40.0),
+            (25.0, -40.0),
+            (25.2, -40.0),
+            (25.2, 0.6),
+            (35.0, 0.6),
+        ]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+        // Cuts at FF1 0.3, the finishing at FF3 0.1, the rapids and the next block at F0.25.
+        let feeds: Vec<(MotionKind, f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.kind, b.modal.feed)))
+            .collect();
+        assert_eq!(feeds[3], (MotionKind::Linear, 0.3));
+        assert_eq!(feeds[4], (MotionKind::Rapid, 0.25));
+        assert_eq!(feeds[31], (MotionKind::Linear, 0.3));
+        assert_eq!(feeds[37], (MotionKind::Linear, 0.1));
+        assert_eq!(feeds.last(), Some(&(MotionKind::Linear, 0.25)));
+    }
+
+    #[test]
+    fn fal_offsets_the_contour_normal_to_its_elements() {
+        // The contour of the first test with FAL 0.5 instead of FALZ/FALX, on the outside
+        // (the right of travel in (Z, X)): A' (10.5, 0), X 10.5 to the first face's parallel
+        // at Z −19.5, that face to X 20, an arc of 0.5 about the edge (20, −20) to
+        // (20.5, −20), X 20.5 to the last face's parallel at Z −39.5, B (25, −39.5).
+        // S = (25, 0 + 1) (_VRT left out). Stock 14.5, MID 5: 3 cuts of 14.5/3; passes at
+        // 20.1667, which meets the edge's arc at Z −20 + √(0.25 − (1/6)²) = −20 + √2/3, and
+        // 15.3333, which meets the face at Z −19.5.
+        let main = format!(
+            "{HEAD}CYCLE95(\"START:END\", 5, , , 0.5, 0.3, , , 1)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
+        );
+        let b = run(&main, &[]);
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let mut want = vec![(30.0, 5.0), (25.0, 1.0)];
+        want.extend(pass(
+            r(25.0 - 14.5 / 3.0),
+            r(-20.0 + 2f64.sqrt() / 3.0),
+            1.0,
+            1.0,
+            1.0,
+        ));
+        want.extend(pass(r(25.0 - 29.0 / 3.0), -19.5, 1.0, 1.0, 1.0));
+        want.extend([
+            (10.5, 0.0),
+            (10.5, -19.5),
+            (20.0, -19.5),
+            (20.5, -20.0),
+            (20.5, -39.5),
+            (25.0, -39.5),
+            (25.0, 1.0),
+        ]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+    }
+
+    const SHAFT: &str = "PROC SHAFT\nG1 X10 Z0\nZ-10 RND=2\nX30\nZ-20\nX36 Z-26\nM17\n";
+
+    #[test]
+    fn roughing_a_subprogram_contour_with_a_rounding_and_a_taper() {
+        // SHAFT.SPF (radius, Z): A' (5, 0), (5, −10) rounded by RND=2 into the face to
+        // (15, −10): the line ends at (5, −8), the arc about (7, −8) at (7, −10); then
+        // (15, −20) and the taper to B (18, −26). No allowances, _VRT left out: 1 mm.
+        // S = (18, 1). Stock 13, MID 3: ⌈4.33⌉ = 5 cuts of 2.6: passes at 15.4, 12.8, 10.2,
+        // 7.6. 15.4 meets the taper at Z = −20 − (15.4 − 15)·6/3 = −20.8; the others the
+        // face at Z −10.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\nG0 X60 Z10\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        let mut want = vec![(30.0, 5.0), (18.0, 1.0)];
+        want.extend(pass(15.4, -20.8, 1.0, 1.0, 1.0));
+        for level in [12.8, 10.2, 7.6] {
+            want.extend(pass(level, -10.0, 1.0, 1.0, 1.0));
+        }
+        want.extend([
+            (5.0, 0.0),
+            (5.0, -8.0),
+            (7.0, -10.0),
+            (15.0, -10.0),
+            (15.0, -20.0),
+            (18.0, -26.0),
+            (18.0, 1.0),
+            (30.0, 10.0),
+        ]);
+        assert_eq!(ends(&b), want);
+        let arcs: Vec<[f64; 3]> = b
+            .iter()
+            .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+            .collect();
+        assert_eq!(arcs, [[7.0, 0.0, -8.0]]);
+    }
+
+    #[test]
+    fn inside_roughing_breaks_chips_every_dam() {
+        // A bore (radius, Z): A' (20, 0), (20, −10), (15, −10), (15, −20), B (10, −20).
+        // Inside: FALX 0.5 moves X down, FALZ 0.1 moves Z up: (19.5, 0.1) … (9.5, −19.9).
+        // S = (9.5, 0.6); stock 10, MID 2.5: 4 cuts, passes at 12, 14.5, 17. 12 meets the
+        // face at −19.9, the others the face at −9.9. DAM 4: each cut stops 4 mm at a time
+        // (from Z 0.6: −3.4, −7.4, …) with DT 0.5 s between; the lift-off goes down in X.
+        let b = run(
+            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
+            &[("BORE.SPF", "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n")],
+        );
+        let mut want = vec![(5.0, 5.0), (9.5, 0.6), (12.0, 0.6)];
+        want.extend([-3.4, -7.4, -11.4, -15.4, -19.4, -19.9].map(|z| (12.0, z)));
+        want.extend([(11.5, -19.4), (11.5, 0.6)]);
+        for level in [14.5, 17.0] {
+            want.push((level, 0.6));
+            want.extend([-3.4, -7.4, -9.9].map(|z| (level, z)));
+            want.extend([(level - 0.5, -9.4), (level - 0.5, 0.6)]);
+        }
+        want.extend([
+            (19.5, 0.1),
+            (19.5, -9.9),
+            (14.5, -9.9),
+            (14.5, -19.9),
+            (9.5, -19.9),
+            (9.5, 0.6),
+        ]);
+        assert_eq!(ends(&b), want);
+        let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+        assert_eq!(dwells, [0.5; 9]);
+    }
+
+    #[test]
+    fn finishing_runs_the_contour_from_s_and_back() {
+        // VARI 5: from (30, 5) to S (18, 1) at rapid, to A' (5, 0) at rapid, along the
+        // contour at FF3, back to S; MID may be left out.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", , , , , , , 0.1, 5)\nG1 X40\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        assert_eq!(
+            ends(&b),
+            [
+                (30.0, 5.0),
+                (18.0, 1.0),
+                (5.0, 0.0),
+                (5.0, -8.0),
+                (7.0, -10.0),
+                (15.0, -10.0),
+                (15.0, -20.0),
+                (18.0, -26.0),
+                (18.0, 1.0),
+                (20.0, 1.0)
+            ]
+        );
+        let f: Vec<f64> = b.iter().map(|b| b.modal.feed).collect();
+        assert_eq!((f[4], f[f.len() - 1]), (0.1, 0.25));
+    }
+
+    #[test]
+    fn under_diamof_the_contour_is_read_in_radii() {
+        // SHAFT.SPF's contour written with X as a radius after DIAMOF in the caller: the
+        // same finishing as under DIAMON (the contour's interpreter starts in the
+        // caller's modal state).
+        let radii = "G1 X5 Z0\nZ-10 RND=2\nX15\nZ-20\nX18 Z-26\n";
+        let b = run(
+            &format!("{HEAD}DIAMOF\nCYCLE95(\"R\", , , , , , , 0.1, 5)\n"),
+            &[("R.SPF", radii)],
+        );
+        let d = run(
+            &format!("{HEAD}CYCLE95(\"SHAFT\", , , , , , , 0.1, 5)\n"),
+            &[("SHAFT.SPF", SHAFT)],
+        );
+        assert_eq!(ends(&b), ends(&d));
+        assert_eq!(ends(&b)[2..4], [(5.0, 0.0), (5.0, -8.0)]);
+    }
+
+    /// The alarm of cycle `cycle` (line 3) with SHAFT.SPF beside it: code, program, line,
+    /// column.
+    fn alarm(cycle: &str, files: &[(&str, &str)]) -> (AlarmCode, String, u32, u32) {
+        let a = lathe(&format!("{HEAD}{cycle}\nM30\n"), files).unwrap_err();
+        (a.code, a.program, a.line, a.col)
+    }
+
+    fn main_at(code: AlarmCode, col: u32) -> (AlarmCode, String, u32, u32) {
+        (code, "main.mpf".into(), 3, col)
+    }
+
+    #[test]
+    fn bad_parameters_are_alarms_at_their_place() {
+        let shaft = [("SHAFT.SPF", SHAFT)];
+        // (parameters after the contour's name, the alarm, its column in line 3)
+        let cases = [
+            // VARI 13, VARI 2 (face machining: not built), MID 0 and MID left out for
+            // roughing (at the cycle's name).
+            (" 3, , , , 0.3, , , 13)", AlarmCode::CycleMachiningType, 36),
+            (" 3, , , , 0.3, , , 2)", AlarmCode::NotSupported, 36),
+            (" 0, , , , 0.3, , , 9)", AlarmCode::CycleParameter, 18),
+            (" , , , , 0.3, , , 1)", AlarmCode::CycleParameter, 1),
+            // A signed allowance, FAL as large as the fillet RND=2 (its parallel vanishes),
+            // a thirteenth parameter.
+            (" 3, -0.1, , , 0.3, , , 1)", AlarmCode::CycleParameter, 21),
+            (" 3, , , 2, 0.3, , , 1)", AlarmCode::CycleContour, 25),
+            (" 3, , , , 0.3, , , 1, , , 1, 7)", AlarmCode::Syntax, 46),
+        ];
+        for (rest, code, col) in cases {
+            let cycle = format!("CYCLE95(\"SHAFT\",{rest}");
+            assert_eq!(alarm(&cycle, &shaft), main_at(code, col), "{cycle}");
+        }
+        // Under nose radius compensation.
+        let a = lathe(
+            &format!("{HEAD}G42 G1 X50\nCYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\n"),
+            &shaft,
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::ForbiddenWithTrc, 4, 1));
+        // Under a frame.
+        let a = lathe(
+            &format!("{HEAD}TRANS Z5\nCYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)\n"),
+            &shaft,
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 4, 1));
+    }
+
+    #[test]
+    fn cycle95_is_no_modal_cycle() {
+        // MCALL takes the drilling cycles only: 12550 at the name (column 7).
+        let a = alarm("MCALL CYCLE95(\"SHAFT\", 3, , , , 0.3, , , 1)", &[]);
+        assert_eq!(a, main_at(AlarmCode::UndefinedName, 7));
+    }
+
+    #[test]
+    fn no_feed_is_an_alarm_at_the_feed_parameter() {
+        let a = lathe(
+            "G18 G95 S1000 M3\nG0 X60 Z5\nCYCLE95(\"SHAFT\", 3, , , , , , , 1)\n",
+            &[("SHAFT.SPF", SHAFT)],
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NoFeed, 3, 1));
+    }
+
+    #[test]
+    fn a_missing_or_unusable_contour_is_an_alarm() {
+        let shaft = [("SHAFT.SPF", SHAFT)];
+        // No NPP; no file; no label (at NPP, column 9).
+        assert_eq!(
+            alarm("CYCLE95(\"\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::CycleContour, 9)
+        );
+        assert_eq!(
+            alarm("CYCLE95(\"AXLE\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::MissingProgram, 9)
+        );
+        assert_eq!(
+            alarm("CYCLE95(\"A1:B1\", 3, , , , 0.3, , , 1)", &shaft),
+            main_at(AlarmCode::JumpTarget, 9)
+        );
+        // An undercut (X turns back down to 12): not built, at the call.
+        let pocket = [("P.SPF", "G1 X10 Z0\nZ-10\nX30 Z-15\nX24 Z-20\nX40\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"P\", 3, , , , 0.3, , , 1)", &pocket),
+            main_at(AlarmCode::NotSupported, 1)
+        );
+        // A contour programmed from the chuck towards the face starts at its largest X.
+        let back = [("B.SPF", "G1 X40 Z-20\nX20\nZ0\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"B\", 3, , , , 0.3, , , 1)", &back),
+            main_at(AlarmCode::CycleContour, 1)
+        );
+        // Start and end at the same Z: no longitudinal contour.
+        let face = [("F.SPF", "G1 X10 Z0\nX40\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"F\", 3, , , , 0.3, , , 1)", &face),
+            main_at(AlarmCode::CycleContour, 1)
+        );
+        // One move only.
+        let one = [("O.SPF", "G1 X10 Z0\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"O\", 3, , , , 0.3, , , 1)", &one),
+            main_at(AlarmCode::CycleContour, 9)
+        );
+    }
+
+    #[test]
+    fn faults_in_the_contour_name_its_file_and_line() {
+        let at = |spf: &str| alarm("CYCLE95(\"C\", 3, , , , 0.3, , , 1)", &[("C.SPF", spf)]);
+        // A word the 808D does not know, at its column in C.SPF.
+        assert_eq!(
+            at("G1 X10 Z0\nZ-10 Q5\nX40\n"),
+            (AlarmCode::UnknownAddress, "lib/C.SPF".into(), 2, 6)
+        );
+        // Compensation in the contour, at its block.
+        assert_eq!(
+            at("G1 X10 Z0\nG42 Z-10\nX40\n"),
+            (AlarmCode::NotSupported, "lib/C.SPF".into(), 2, 1)
+        );
+        // A dwell in the contour.
+        assert_eq!(
+            at("G1 X10 Z0\nZ-10\nG4 F1\nX40\n"),
+            (AlarmCode::NotSupported, "lib/C.SPF".into(), 3, 1)
+        );
+        // A contour that calls the cycle again.
+        assert_eq!(
+            at("G1 X10 Z0\nCYCLE95(\"C\", 3, , , , 0.3, , , 1)\nX40\n"),
+            (AlarmCode::CycleContour, "lib/C.SPF".into(), 2, 9)
+        );
+    }
+}
