@@ -252,9 +252,110 @@ fn t08_g71_arc_increments() {
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);
-    let a = alarm.expect("G72 is refused");
-    assert!(a.message.contains("G72"), "{}", a.message);
-    assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 6, 1));
+    // G73 U2. W1. R0: no passes; the alarm points at R (column 13).
+    let a = alarm.expect("G73 R0 is refused");
+    assert_eq!((a.code, a.line, a.col), (AlarmCode::BadNumber, 6, 13));
+}
+
+#[test]
+fn t09_g72_g70_face() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let arc = |level: f64| 20.2 - (36.0 - (level - 0.2f64).powi(2)).sqrt();
+    let mut want = vec![[22.0, 0.0, 2.0]]; // G0 X44 Z2: the start point A
+    for level in [0.0, -2.0, -4.0] {
+        let x = arc(level);
+        want.extend([
+            [22.0, 0.0, level],          // in along Z at rapid (N10 is G00)
+            [x, 0.0, level],             // across at F0.2 to the moved arc
+            [x + 0.5, 0.0, level + 0.5], // out by R0.5 at 45°
+            [22.0, 0.0, level + 0.5],    // back to A's X
+        ]);
+    }
+    want.extend([
+        [22.2, 0.0, -5.8], // the moved shape: A'
+        [20.2, 0.0, -5.8],
+        [14.2, 0.0, 0.2], // the arc about (20.2, 0.2)
+        [5.2, 0.0, 0.2],
+        [0.2, 0.0, 1.2],
+        [0.2, 0.0, 2.0],   // home: Z first (the depth axis of facing) …
+        [22.0, 0.0, 2.0],  // … then X
+        [22.0, 0.0, -6.0], // G70: the shape as written
+        [20.0, 0.0, -6.0],
+        [14.0, 0.0, 0.0],
+        [5.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [22.0, 0.0, 1.0], // home X first, then Z
+        [22.0, 0.0, 2.0],
+        [50.0, 0.0, 50.0], // G0 X100 Z50
+    ]);
+    let b = clean("t09_g72_g70_face.nc", &want);
+    let arcs: Vec<(u32, [f64; 3], nc_kernel::MotionKind)> = b
+        .iter()
+        .filter_map(|b| {
+            b.motion
+                .filter(|m| m.kind.is_arc())
+                .map(|m| (b.line, m.center, m.kind))
+        })
+        .collect();
+    // The roughing's arc is the moved one, G70's the programmed one; both counter-clockwise.
+    assert_eq!(arcs.len(), 2);
+    assert!((arcs[0].1[0] - 20.2).abs() < 1e-9 && (arcs[0].1[2] - 0.2).abs() < 1e-9);
+    assert!((arcs[1].1[0] - 20.0).abs() < 1e-9 && arcs[1].1[2].abs() < 1e-9);
+    assert!(arcs.iter().all(|a| a.2 == nc_kernel::MotionKind::ArcCcw));
+    assert_eq!((arcs[0].0, arcs[1].0), (18, 24));
+}
+
+#[test]
+fn t10_g73_g70_forging() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let mut want = vec![[30.0, 0.0, 3.0]]; // G0 X60 Z3: the start point A
+    for (sx, sz) in [(3.2, 1.6), (1.7, 0.85), (0.2, 0.1)] {
+        want.extend([
+            [8.0 + sx, 0.0, 1.0 + sz], // A' moved, at rapid (N10 is G00)
+            [8.0 + sx, 0.0, -8.0 + sz],
+            [16.0 + sx, 0.0, -16.0 + sz], // the arc, its centre (16, -8) moved with it
+            [16.0 + sx, 0.0, -24.0 + sz],
+            [13.0 + sx, 0.0, -30.0 + sz],
+            [30.0 + sx, 0.0, -30.0 + sz],
+            [30.0, 0.0, -30.0 + sz], // home X first …
+            [30.0, 0.0, 3.0],        // … then Z
+        ]);
+    }
+    want.extend([
+        [8.0, 0.0, 1.0], // G70: the shape as written
+        [8.0, 0.0, -8.0],
+        [16.0, 0.0, -16.0],
+        [16.0, 0.0, -24.0],
+        [13.0, 0.0, -30.0],
+        [30.0, 0.0, -30.0], // at the start's X: home is Z alone
+        [30.0, 0.0, 3.0],
+        [50.0, 0.0, 50.0], // G0 X100 Z50
+    ]);
+    let b = clean("t10_g73_g70_forging.nc", &want);
+    let centres: Vec<[f64; 3]> = b
+        .iter()
+        .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+        .collect();
+    let by_hand = [(19.2, -6.4), (17.7, -7.15), (16.2, -7.9), (16.0, -8.0)];
+    assert_eq!(centres.len(), 4);
+    for (c, (x, z)) in centres.iter().zip(by_hand) {
+        assert!((c[0] - x).abs() < 1e-9 && (c[2] - z).abs() < 1e-9, "{c:?}");
+    }
+    // The passes at the cycle's F0.25; G70 at the shape's F0.1.
+    let feeds: Vec<(u32, f64)> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind != nc_kernel::MotionKind::Rapid)
+        })
+        .map(|b| (b.line, b.modal.feed))
+        .collect();
+    assert!(
+        feeds
+            .iter()
+            .all(|&(l, f)| (l == 17 && f == 0.25) || (l == 24 && f == 0.1)),
+        "{feeds:?}"
+    );
 }
 
 #[test]

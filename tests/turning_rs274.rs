@@ -1,11 +1,12 @@
-//! Differential test: the Fanuc lathe's G71 (type I) and G70 against LinuxCNC 2.9's `rs274`,
-//! which implements both with its own words (the shape in an `o… sub`, `G71 Q<sub> X Z I<depth>
+//! Differential test: the Fanuc lathe's G71 and G72 (type I) and G70 against LinuxCNC 2.9's
+//! `rs274`, which implements them with its own words (the shape in an `o… sub`, `G71 Q<sub> X Z I<depth>
 //! R<retract>`). On shapes whose first element after A' runs along Z and without finishing
 //! allowances, the two controls cut the same: every feed move (the roughing cuts, the run
 //! along the shape, G70's path, each arc's centre and direction) and every 45° retract point
 //! agree to 2e-4 mm (rs274 prints four decimals). Where they differ by design
-//! (docs/turning.md, "G71/G70 and LinuxCNC"):
-//! - rs274 makes a first cut at the start point's X, which removes nothing: left out here;
+//! (docs/turning.md, "G71/G72/G70 and LinuxCNC"):
+//! - rs274 makes a first cut at the start point's X (G72: Z), which removes nothing: left
+//!   out here;
 //! - its return after a retract goes to the start's Z less R, then in; softnc (a Fanuc) goes
 //!   back to the start's Z, then in: the rapids differ and are not compared;
 //! - its stock allowance D is an equidistant, not Fanuc's U/W shift: no allowances here;
@@ -84,16 +85,18 @@ fn near(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() <= TOL && (a[1] - b[1]).abs() <= TOL
 }
 
-/// The feed moves, and the retract points (a rapid right after a feed along Z).
-fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
+/// The feed moves, and the retract points (a rapid right after a straight feed). `depth` is
+/// the axis the passes step along (0: X for G71, 1: Z for G72), `start` the start's value
+/// on it.
+fn cuts(moves: &[Move], depth: usize, start: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
     let mut feeds = Vec::new();
     let mut retracts = Vec::new();
     let mut prev: Option<Move> = None;
     for m in moves {
         if !m.rapid {
             // rs274's first cut at the start's X removes nothing (module comment).
-            let along_start = prev.is_some_and(|p| (p.end[0] - start_x).abs() <= TOL)
-                && (m.end[0] - start_x).abs() <= TOL
+            let along_start = prev.is_some_and(|p| (p.end[depth] - start).abs() <= TOL)
+                && (m.end[depth] - start).abs() <= TOL
                 && m.turn == 0;
             if !along_start {
                 feeds.push(*m);
@@ -108,13 +111,13 @@ fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
     (feeds, retracts)
 }
 
-fn compare(tag: &str, fanuc: &str, ngc: &str, start_x: f64) {
+fn compare(tag: &str, fanuc: &str, ngc: &str, depth: usize, start: f64) {
     if !rs274::present() {
         return;
     }
     let (ours, theirs) = (softnc(fanuc), oracle(ngc, tag));
-    let (f1, r1) = cuts(&ours, start_x);
-    let (f2, r2) = cuts(&theirs, start_x);
+    let (f1, r1) = cuts(&ours, depth, start);
+    let (f2, r2) = cuts(&theirs, depth, start);
     assert_eq!(
         f1.len(),
         f2.len(),
@@ -143,7 +146,7 @@ fn g71_g70_over_a_fillet_agree_with_rs274() {
     let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X20 Z1\nG1 Z-10\n\
         G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R0.5 F0.3\n\
         G70 Q100 X50 Z1 F0.3\nM2\n";
-    compare("fillet", fanuc, ngc, 25.0);
+    compare("fillet", fanuc, ngc, 0, 25.0);
 }
 
 #[test]
@@ -155,5 +158,18 @@ fn g71_g70_over_a_taper_agree_with_rs274() {
     let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X20 Z2\nG1 Z-10\n\
         X30 Z-20\nG3 X36 Z-23 R3\nG1 Z-30\nX40\no100 endsub\nG71 Q100 X40 Z2 I1.5 R1 F0.25\n\
         G70 Q100 X40 Z2 F0.25\nM2\n";
-    compare("taper", fanuc, ngc, 20.0);
+    compare("taper", fanuc, ngc, 0, 20.0);
+}
+
+#[test]
+fn g72_g70_over_a_rounded_face_agree_with_rs274() {
+    // Facing from (radius 20, Z 2) in passes of 2.5 along Z: levels -0.5, -3, -5.5 above A'
+    // at Z -6; the face's rounding is a quarter circle about (radius 20, Z 0). The shape
+    // ends at the start's Z (rs274 feeds from B to the start's Z, a Fanuc returns at rapid).
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X40. Z2.\nG72 W2.5 R0.5\nG72 P10 Q20 F0.2\n\
+        N10 G0 Z-6.\nG3 X28. Z0. R6.\nG1 X0.\nN20 Z2.\nG70 P10 Q20\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X40 Z-6\n\
+        G3 X28 Z0 R6\nG1 X0\nZ2\no100 endsub\nG72 Q100 X40 Z2 I2.5 R0.5 F0.2\n\
+        G70 Q100 X40 Z2 F0.2\nM2\n";
+    compare("face", fanuc, ngc, 1, 2.0);
 }

@@ -34,8 +34,8 @@ pub struct Element {
 #[derive(Clone, Debug)]
 pub struct Contour {
     pub elements: Vec<Element>,
-    /// The first block wrote Z (or W): a type II shape for G71.
-    pub first_has_z: bool,
+    /// The first block wrote X (or U), Z (or W): with both, a type II shape.
+    pub first_has: [bool; 2],
     pub after: Mark,
 }
 
@@ -66,7 +66,7 @@ impl Interpreter<'_> {
         let (mut pos, mut line, mut line_start) = self.find_label(p, p_at)?;
         let (mut at, mut mode) = (from, None);
         let mut elements = Vec::new();
-        let mut first_has_z = false;
+        let mut first_has = [false; 2];
         // Bounded by the text: every round reads one block further.
         loop {
             if pos >= self.src.len() {
@@ -82,7 +82,7 @@ impl Interpreter<'_> {
                 .and_then(|sw| {
                     if elements.is_empty() && mode.is_none() {
                         self.first_block(&sw, p, pos)?;
-                        first_has_z = sw.z.is_some();
+                        first_has = [sw.x.is_some(), sw.z.is_some()];
                     }
                     Ok(sw)
                 })
@@ -97,7 +97,7 @@ impl Interpreter<'_> {
             if sw.number == Some(q) {
                 return Ok(Contour {
                     elements,
-                    first_has_z,
+                    first_has,
                     after: next,
                 });
             }

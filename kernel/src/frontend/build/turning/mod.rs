@@ -1,5 +1,6 @@
 //! Multiple repetitive turning cycles (Fanuc 0i-TF, G-code system A): the shape is written
-//! once between the blocks P and Q; G71 roughs down to it in passes along Z, G70 runs it.
+//! once between the blocks P and Q; G71 roughs down to it in passes along Z, G72 in passes
+//! along X, G73 runs it again and again from an escape towards it, G70 runs it.
 //!
 //! ```text
 //! G71 U(Δd) R(e)                  depth of cut (radius), retract: stored
@@ -7,9 +8,12 @@
 //! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I)
 //! N(nf) …
 //! G70 P(ns) Q(nf)                 finishing: the shape with its own F and S
+//! G72 W(Δd) R(e)  G72 P Q U W F S  facing: G71 with X and Z exchanged (first block: Z only)
+//! G73 U(Δi) W(Δk) R(d)             escape (U a radius) and number of passes: stored
+//! G73 P(ns) Q(nf) U(Δu) W(Δw) F S  the shape d times, shifted from Δi+Δu/2, Δk+Δw to Δu/2, Δw
 //! ```
 //!
-//! After G71 the program goes on after block Q; after G70, after the G70 block. Both
+//! After G71 … G73 the program goes on after block Q; after G70, after the G70 block. Both
 //! return to the start point at rapid. [`contour`] reads the shape, [`stock_removal`] makes
 //! the moves.
 
@@ -26,17 +30,22 @@ use super::expand::Expansion;
 use crate::alarm::AlarmCode;
 use crate::dialect::TurningCycle;
 use contour::Element;
-use stock_removal::{Passes, EPS};
+use stock_removal::{exchange, Passes, Repeat, EPS};
 
-/// `G71 U R`: the depth of cut and the retract, kept until written again.
+/// `G71 U R` / `G72 W R`: the depth of cut and the retract; `G73 U W R`: the escape and
+/// the number of passes. Kept until written again.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TurningData {
     pub depth: f64,
     pub retract: f64,
+    /// G73's escape (Δi, Δk): X radius, Z.
+    pub escape: [f64; 2],
+    /// G73's number of passes (d).
+    pub divisions: u32,
 }
 
 impl Interpreter<'_> {
-    /// Step 8 of a G70/G71 block.
+    /// Step 8 of a G70 … G73 block.
     pub(super) fn turning_cycle(
         &mut self,
         w: &Words,
@@ -46,8 +55,8 @@ impl Interpreter<'_> {
     ) -> R<()> {
         self.turning_allowed(new, at)?;
         let (p, q) = match (w.p, w.q) {
-            (None, None) if kind == TurningCycle::StockRemoval => {
-                return self.depth_and_retract(w, new, at)
+            (None, None) if kind != TurningCycle::Finishing => {
+                return self.turning_data(w, new, kind, at)
             }
             (Some(p), Some(q)) => (
                 (int_value(p.value, p.at, "P")?, p.pos()),
@@ -63,18 +72,17 @@ impl Interpreter<'_> {
         };
         let start = self.cur;
         let contour = self.read_contour(p, q, start, new)?;
-        let passes = match kind {
-            TurningCycle::StockRemoval => {
-                let (shape, passes) = self.stock_removal(w, new, &contour, at)?;
-                (self.pos, self.line, self.line_start) = contour.after;
-                Some((shape, passes))
+        let run = match kind {
+            TurningCycle::Finishing => TurningRun::new(start, contour.elements, None),
+            TurningCycle::StockRemoval => self.stock_removal(w, new, &contour, false, at)?,
+            TurningCycle::Facing => self.stock_removal(w, new, &contour, true, at)?,
+            TurningCycle::PatternRepeating => {
+                self.pattern_repeating(w, new, contour.elements, at)?
             }
-            TurningCycle::Finishing => None,
         };
-        let run = match passes {
-            Some((shape, p)) => TurningRun::new(start, shape, Some(p)),
-            None => TurningRun::new(start, contour.elements, None),
-        };
+        if kind != TurningCycle::Finishing {
+            (self.pos, self.line, self.line_start) = contour.after;
+        }
         self.expansion = Some(Expansion::turning(run));
         self.expand_first(new);
         Ok(())
@@ -99,14 +107,31 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// `G71 U(Δd) R(e)`: stored for the cycles that follow.
-    fn depth_and_retract(&mut self, w: &Words, new: &ModalState, at: usize) -> R<()> {
-        let no_axes = w.axis[1].is_none() && w.axis[2].is_none();
-        let Some(u) = w.axis[0].filter(|_| no_axes && w.incremental & 1 != 0) else {
+    /// The cycle's first block, without P and Q: its data, stored.
+    fn turning_data(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        kind: TurningCycle,
+        at: usize,
+    ) -> R<()> {
+        match kind {
+            TurningCycle::PatternRepeating => self.escape_and_divisions(w, new),
+            TurningCycle::Facing => self.depth_and_retract(w, new, 2, at),
+            _ => self.depth_and_retract(w, new, 0, at),
+        }
+    }
+
+    /// `G71 U(Δd) R(e)`, `G72 W(Δd) R(e)`: the depth word is U (`axis` 0) or W (2).
+    fn depth_and_retract(&mut self, w: &Words, new: &ModalState, axis: usize, at: usize) -> R<()> {
+        let no_axes = w.axis[1].is_none() && w.axis[2 - axis].is_none();
+        let word = w.axis[axis].filter(|_| no_axes && w.incremental & (1 << axis) != 0);
+        let Some(u) = word else {
+            let name = if axis == 0 { "U" } else { "W" };
             return Err(fault(
                 AlarmCode::MissingValue,
                 at,
-                "the depth of cut block is U(depth) R(retract), or give P and Q",
+                format!("the depth of cut block is {name}(depth) R(retract), or give P and Q"),
             ));
         };
         let depth = self.length(u, new.units);
@@ -114,7 +139,7 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::BadNumber,
                 u.pos(),
-                "the depth of cut U must be greater than 0",
+                "the depth of cut must be greater than 0",
             ));
         }
         self.turning.depth = depth;
@@ -131,34 +156,75 @@ impl Interpreter<'_> {
         }
         Ok(())
     }
+
+    /// `G73 U(Δi) W(Δk) R(d)`: the escape (U a radius, with its sign) and the passes; the
+    /// words left out keep their values.
+    fn escape_and_divisions(&mut self, w: &Words, new: &ModalState) -> R<()> {
+        for i in [0, 2] {
+            if let Some(v) = w.axis[i].filter(|_| w.incremental & (1 << i) == 0) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    v.pos(),
+                    "the escape block is U(X escape, radius) W(Z escape) R(passes)",
+                ));
+            }
+        }
+        if let Some(r) = w.radius {
+            let d = int_value(r.value, r.at, "the number of passes R")?;
+            if d == 0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    r.pos(),
+                    "pattern repeating needs at least one pass (R)",
+                ));
+            }
+            self.turning.divisions = d;
+        }
+        for (k, i) in [(0, 0), (1, 2)] {
+            if let Some(v) = w.axis[i] {
+                self.turning.escape[k] = self.length(v, new.units);
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Interpreter<'_> {
-    /// G71 type I: the shape offset by the allowances and the passes, checked.
+    /// G71 (`facing` false) or G72 type I: the shape offset by the allowances and the
+    /// passes, checked. G72 runs G71's cycle with X and Z exchanged.
     fn stock_removal(
         &mut self,
         w: &Words,
         new: &ModalState,
         contour: &contour::Contour,
+        facing: bool,
         at: usize,
-    ) -> R<(Vec<Element>, Passes)> {
+    ) -> R<TurningRun> {
         if self.turning.depth <= 0.0 {
             return Err(fault(
                 AlarmCode::MissingValue,
                 at,
-                "no depth of cut: program the block U(depth) R(retract) of the cycle first",
+                "no depth of cut: program the block U(depth) R(retract) of the cycle first (W for facing)",
             ));
         }
-        if contour.first_has_z {
+        if contour.first_has[0] && contour.first_has[1] {
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
-                "stock removal type II (Z in the shape's first block: pockets) is not built yet",
+                "stock removal type II (X and Z in the shape's first block: pockets) is not built yet",
             ));
         }
+        let (depth_axis, cut_axis) = if facing { ("Z", "X") } else { ("X", "Z") };
+        let frame = |p: Pos| if facing { exchange(p) } else { p };
         let (du, dw) = self.allowances(w, new)?;
-        let shape = &contour.elements;
-        let (a, a1) = (self.cur, shape.first().map_or(self.cur, |e| e.to));
+        let (du, dw) = if facing { (dw, du) } else { (du, dw) };
+        let shape: Vec<Element> = contour
+            .elements
+            .iter()
+            .map(|e| if facing { e.exchanged() } else { *e })
+            .collect();
+        let a = frame(self.cur);
+        let a1 = shape.first().map_or(a, |e| e.to);
         let b = shape.last().map_or(a1, |e| e.to);
         let sx = sign(a[0] - a1[0]);
         let sz = sign(b[2] - a1[2]);
@@ -166,20 +232,20 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
-                "the shape must start below (or above) the start point in X and go on along Z",
+                format!("the shape must start off the start point in {depth_axis} and go on along {cut_axis}"),
             ));
         }
-        if let Some((i, what)) = stock_removal::non_monotonic(shape, sx, sz) {
+        if let Some((i, what)) = stock_removal::non_monotonic(&shape, sx, sz) {
             return Err(fault(
                 AlarmCode::NotSupported,
                 at,
                 format!(
-                    "the shape is not monotonic (type I), element {}: {what}",
+                    "the shape is not monotonic (type I), element {}: {what} ({depth_axis} the depth, {cut_axis} the cut)",
                     i + 1
                 ),
             ));
         }
-        let shape: Vec<Element> = shape.iter().map(|e| shifted(e, du, dw)).collect();
+        let shape: Vec<Element> = shape.iter().map(|e| e.shifted([du, dw])).collect();
         let total = sx * (a[0] - shape[0].to[0]);
         if sx * du < 0.0 || sz * dw > 0.0 || total <= EPS {
             return Err(fault(
@@ -198,9 +264,39 @@ impl Interpreter<'_> {
             rapid_in: contour.elements[0].mode == MotionMode::Rapid,
             count: count as u32,
         };
-        Ok((shape, passes))
+        let run = TurningRun::new(a, shape, Some(passes));
+        Ok(if facing { run.exchanged() } else { run })
     }
 
+    /// G73: the shape run d times, from the escape plus the allowances to the allowances.
+    fn pattern_repeating(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        shape: Vec<Element>,
+        at: usize,
+    ) -> R<TurningRun> {
+        let d = self.turning.divisions;
+        if d == 0 {
+            return Err(fault(
+                AlarmCode::MissingValue,
+                at,
+                "no number of passes: program the block U(escape) W(escape) R(passes) of the cycle first",
+            ));
+        }
+        let (du, dw) = self.allowances(w, new)?;
+        let [ei, ek] = self.turning.escape;
+        self.add_passes(d as u64, at)?;
+        let repeat = Repeat {
+            first: [ei + du, ek + dw],
+            last: [du, dw],
+            count: d,
+        };
+        Ok(TurningRun::repeating(self.cur, shape, repeat))
+    }
+}
+
+impl Interpreter<'_> {
     /// Δu/2 and Δw from the block's U and W (X and Z are no words of this block).
     fn allowances(&self, w: &Words, new: &ModalState) -> R<(f64, f64)> {
         let mut out = [0.0; 2];
@@ -229,20 +325,6 @@ fn sign(v: f64) -> f64 {
         -1.0
     } else {
         0.0
-    }
-}
-
-/// The element moved by the allowances (its centre with it).
-fn shifted(e: &Element, du: f64, dw: f64) -> Element {
-    let mv = |mut p: Pos| {
-        p[0] += du;
-        p[2] += dw;
-        p
-    };
-    Element {
-        to: mv(e.to),
-        centre: mv(e.centre),
-        ..*e
     }
 }
 
@@ -424,5 +506,142 @@ mod tests {
             [(8.0, 2.0), (8.0, -10.0), (7.5, -9.5), (7.5, 2.0)]
         );
         assert_eq!(ends.len(), 1 + 3 * 4 + 3 + 2);
+    }
+
+    /// (X radius, Z) of every move's end, rounded to 1e-9, X programmed as a diameter.
+    fn diameter_ends(src: &str) -> Vec<(f64, f64)> {
+        let b = lathe(src).unwrap_or_else(|a| panic!("{a}"));
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
+            .collect()
+    }
+
+    /// G72's moves by hand (radius, Z). Start A (40, 2); the shape A' (40, -6) at rapid,
+    /// (20, -6), (10, -2), B (0, -2); moved by U0.4 (0.2 on the radius) and W0.2: A' (40.2,
+    /// -5.8), (20.2, -5.8), (10.2, -1.8), (0.2, -1.8). Levels in Z 2 − 2k above -5.8: 0, -2,
+    /// -4 (7.8 / 2 rounded up less 1 = 3). Z 0 lies above the whole shape: across to B's X
+    /// 0.2. Z -2 and -4 meet the taper (20.2, -5.8)–(10.2, -1.8), X = 20.2 − 2.5·(level +
+    /// 5.8): 10.7 and 15.7. Each pass: in along Z at A's X, across at the feed, out by R0.5
+    /// at 45° (Z and X up), back to A's X; then the shape, and home Z first, then X.
+    fn g72_by_hand() -> Vec<(f64, f64)> {
+        let mut want = vec![(40.0, 2.0)];
+        for (level, x) in [(0.0, 0.2), (-2.0, 10.7), (-4.0, 15.7)] {
+            want.extend([
+                (40.0, level),
+                (x, level),
+                (x + 0.5, level + 0.5),
+                (40.0, level + 0.5),
+            ]);
+        }
+        want.extend([
+            (40.2, -5.8),
+            (20.2, -5.8),
+            (10.2, -1.8),
+            (0.2, -1.8),
+            (0.2, 2.0),
+            (40.0, 2.0),
+        ]);
+        want
+    }
+
+    #[test]
+    fn g72_faces_in_passes_along_x() {
+        let e = diameter_ends(
+            "G0 X80. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.4 W0.2 F0.2\nN10 G0 Z-6.\nG1 X40.\nX20. Z-2.\nN20 X0.\n",
+        );
+        assert_eq!(e, g72_by_hand());
+        // Radius programming: X and U are radii, the same moves.
+        let e = radius_ends(
+            "G0 X40. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.2 W0.2 F0.2\nN10 G0 Z-6.\nG1 X20.\nX10. Z-2.\nN20 X0.\n",
+        );
+        assert_eq!(e, g72_by_hand());
+    }
+
+    #[test]
+    fn g72_alarms() {
+        const FACE: &str = "N10 G0 Z-6.\nG1 X20.\nN20 Z0.\n";
+        // No depth of cut yet; W0; U in the depth block.
+        assert_eq!(
+            alarm(&format!("G72 P10 Q20\n{FACE}")),
+            (AlarmCode::MissingValue, 2, 1)
+        );
+        assert_eq!(alarm("G72 W0 R1.\n"), (AlarmCode::BadNumber, 2, 5));
+        assert_eq!(alarm("G72 U2. R1.\n"), (AlarmCode::MissingValue, 2, 1));
+        // Z turns back: not monotonic in Z (type I).
+        let got =
+            alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 Z-6.\nG1 X30. Z-2.\nX20. Z-4.\nN20 X0.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // X and Z in the first block: type II, not built.
+        let got = alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 X38. Z-6.\nG1 X20.\nN20 Z0.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // W against the cut (the face cut towards the chuck keeps W ≥ 0).
+        let got = alarm(&format!("G72 W2. R1.\nG72 P10 Q20 W-0.2\n{FACE}"));
+        assert_eq!(got, (AlarmCode::BadNumber, 3, 1));
+    }
+
+    /// G73 by hand (radius, Z): A (30, 5); the shape (10, 1) at rapid, (10, -10), (15, -20),
+    /// (25, -20). U4 W2 R3 and U0.4 W0.1: the shifts go from (4 + 0.2, 2 + 0.1) to (0.2,
+    /// 0.1) in 3 passes: (4.2, 2.1), (2.2, 1.1), (0.2, 0.1). Each pass: the whole shape
+    /// shifted, then home at rapid, X first.
+    fn g73_by_hand() -> Vec<(f64, f64)> {
+        let mut want = vec![(30.0, 5.0)];
+        for (sx, sz) in [(4.2, 2.1), (2.2, 1.1), (0.2, 0.1)] {
+            want.extend([
+                (10.0 + sx, 1.0 + sz),
+                (10.0 + sx, -10.0 + sz),
+                (15.0 + sx, -20.0 + sz),
+                (25.0 + sx, -20.0 + sz),
+                (30.0, -20.0 + sz),
+                (30.0, 5.0),
+            ]);
+        }
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        want.iter().map(|&(x, z)| (r(x), r(z))).collect()
+    }
+
+    #[test]
+    fn g73_repeats_the_shape_towards_it() {
+        let e = diameter_ends(
+            "G0 X60. Z5.\nG73 U4. W2. R3\nG73 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X20. Z1.\nG1 Z-10.\nX30. Z-20.\nN20 X50.\n",
+        );
+        assert_eq!(e, g73_by_hand());
+        // Radius programming: U4 of the escape stays a radius, U0.2 is the allowance.
+        let e = radius_ends(
+            "G0 X30. Z5.\nG73 U4. W2. R3\nG73 P10 Q20 U0.2 W0.1 F0.25\nN10 G0 X10. Z1.\nG1 Z-10.\nX15. Z-20.\nN20 X25.\n",
+        );
+        assert_eq!(e, g73_by_hand());
+        // One pass: the allowances only.
+        let e = diameter_ends(
+            "G0 X60. Z5.\nG73 U4. W2. R1\nG73 P10 Q20 U0.4 W0.1\nN10 G0 X20. Z1.\nN20 G1 X50. Z-10.\n",
+        );
+        assert_eq!(
+            e,
+            [
+                (30.0, 5.0),
+                (10.2, 1.1),
+                (25.2, -9.9),
+                (30.0, -9.9),
+                (30.0, 5.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn g73_alarms() {
+        const SHAPE3: &str = "N10 G0 X20. Z1.\nN20 G1 X40. Z-10.\n";
+        // No passes programmed yet; R0; R not whole; X instead of U.
+        assert_eq!(
+            alarm(&format!("G73 P10 Q20\n{SHAPE3}")),
+            (AlarmCode::MissingValue, 2, 1)
+        );
+        assert_eq!(alarm("G73 U2. W1. R0\n"), (AlarmCode::BadNumber, 2, 13));
+        assert_eq!(alarm("G73 U2. W1. R2.5\n"), (AlarmCode::BadNumber, 2, 13));
+        assert_eq!(alarm("G73 X2. R2\n"), (AlarmCode::Syntax, 2, 5));
+        // P without Q.
+        assert_eq!(
+            alarm(&format!("G73 U2. R2\nG73 P10\n{SHAPE3}")),
+            (AlarmCode::MissingValue, 3, 1)
+        );
     }
 }

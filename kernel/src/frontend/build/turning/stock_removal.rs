@@ -11,6 +11,11 @@
 //! After the last pass the tool runs along the offset shape from A' to B at the roughing
 //! feed and returns to A at rapid (X first, then Z). Type I needs a shape monotonic in X
 //! and in Z (pockets are type II).
+//!
+//! Stock removal in facing (G72) is the same cycle with X and Z exchanged: the caller
+//! hands the start and the shape over [`exchange`]d and asks [`TurningRun::exchanged`];
+//! the run exchanges every move back. Pattern repeating (G73) runs the whole shape again
+//! and again, shifted towards it ([`Repeat`], [`TurningRun::repeating`]).
 
 use super::super::super::block::*;
 use super::super::expand::Step;
@@ -41,11 +46,72 @@ impl Passes {
     }
 }
 
+/// G73's passes: the whole shape `count` times, the first shifted by `first`, the last by
+/// `last` (the allowances), the ones between evenly in between; (X radius, Z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Repeat {
+    pub first: [f64; 2],
+    pub last: [f64; 2],
+    pub count: u32,
+}
+
+impl Repeat {
+    /// The shift of pass `j` (1 … count).
+    pub fn shift(&self, j: u32) -> [f64; 2] {
+        if self.count <= 1 {
+            return self.last;
+        }
+        let t = (j - 1) as f64 / (self.count - 1) as f64;
+        [0, 1].map(|i| self.first[i] + (self.last[i] - self.first[i]) * t)
+    }
+}
+
+/// X and Z exchanged, so that G72's facing runs as G71's turning (an arc's sense turns
+/// with it: see [`Element::exchanged`]).
+pub fn exchange(mut p: Pos) -> Pos {
+    p.swap(0, 2);
+    p
+}
+
+impl Element {
+    /// The element mirrored about the line X = Z: its points exchanged, an arc's sense
+    /// reversed.
+    pub fn exchanged(&self) -> Element {
+        let mode = match self.mode {
+            MotionMode::ArcCw => MotionMode::ArcCcw,
+            MotionMode::ArcCcw => MotionMode::ArcCw,
+            m => m,
+        };
+        Element {
+            to: exchange(self.to),
+            centre: exchange(self.centre),
+            mode,
+            ..*self
+        }
+    }
+
+    /// The element moved by `d` (X radius, Z), its centre with it.
+    pub fn shifted(&self, d: [f64; 2]) -> Element {
+        let mv = |mut p: Pos| {
+            p[0] += d[0];
+            p[2] += d[1];
+            p
+        };
+        Element {
+            to: mv(self.to),
+            centre: mv(self.centre),
+            ..*self
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Phase {
     Pass(u32),
     Shape(usize),
     Home,
+    /// G73: element `1` of pass `0`; past the last element, the return to the start.
+    Repeat(u32, usize),
     Done,
 }
 
@@ -58,6 +124,9 @@ pub struct TurningRun {
     passes: Option<Passes>,
     /// G70: the shape's F and S act.
     own_feeds: bool,
+    /// G72: every point is handed over with X and Z exchanged, and goes out exchanged back.
+    exchanged: bool,
+    repeat: Option<Repeat>,
     phase: Phase,
     at: Pos,
     queue: heapless::Deque<Step, 8>,
@@ -74,9 +143,29 @@ impl TurningRun {
                 _ => Phase::Shape(0),
             },
             passes,
+            exchanged: false,
+            repeat: None,
             at: start,
             queue: heapless::Deque::new(),
         }
+    }
+
+    /// G72: `start`, the shape and the passes were given with X and Z exchanged
+    /// ([`exchange`], [`Element::exchanged`]); the moves come out in machine axes.
+    pub fn exchanged(mut self) -> Self {
+        self.exchanged = true;
+        self
+    }
+
+    /// G73: the shape (as programmed, from `start`) run `r.count` times, each pass shifted
+    /// by [`Repeat::shift`] and followed by the return to the start at rapid; the cycle's
+    /// F and S act, not the shape's.
+    pub fn repeating(start: Pos, shape: Vec<Element>, r: Repeat) -> Self {
+        let mut run = TurningRun::new(start, shape, None);
+        run.own_feeds = false;
+        run.repeat = Some(r);
+        run.phase = Phase::Repeat(1, 0);
+        run
     }
 
     pub fn next(&mut self) -> Option<Step> {
@@ -124,13 +213,41 @@ impl TurningRun {
                 }
             }
             Phase::Home => {
-                let mut over = self.at;
-                over[0] = self.start[0];
-                self.go(over, true, None);
-                self.go(self.start, true, None);
+                self.home();
                 self.phase = Phase::Done;
             }
+            Phase::Repeat(j, i) => self.repeat_step(j, i),
             Phase::Done => {}
+        }
+    }
+
+    /// Back to the start at rapid: X (the depth axis) first, then Z.
+    fn home(&mut self) {
+        let mut over = self.at;
+        over[0] = self.start[0];
+        self.go(over, true, None);
+        self.go(self.start, true, None);
+    }
+
+    /// G73: element `i` of pass `j`, or past the last element the return to the start.
+    fn repeat_step(&mut self, j: u32, i: usize) {
+        let Some(r) = self.repeat else {
+            self.phase = Phase::Done;
+            return;
+        };
+        match self.shape.get(i).copied() {
+            Some(e) => {
+                self.element(e.shifted(r.shift(j)), i == 0);
+                self.phase = Phase::Repeat(j, i + 1);
+            }
+            None => {
+                self.home();
+                self.phase = if j < r.count {
+                    Phase::Repeat(j + 1, 0)
+                } else {
+                    Phase::Done
+                };
+            }
         }
     }
 
@@ -198,8 +315,43 @@ impl TurningRun {
     }
 
     fn push(&mut self, s: Step) {
+        let s = if self.exchanged { exchanged(s) } else { s };
         // A refill pushes at most four steps into the empty queue of eight.
         let _ = self.queue.push_back(s);
+    }
+}
+
+/// A step of the exchanged frame in machine axes.
+fn exchanged(s: Step) -> Step {
+    match s {
+        Step::Move {
+            to,
+            rapid,
+            axes,
+            feed,
+        } => Step::Move {
+            to: exchange(to),
+            rapid,
+            axes,
+            feed,
+        },
+        Step::Path { to, rapid, feed } => Step::Path {
+            to: exchange(to),
+            rapid,
+            feed,
+        },
+        Step::Arc {
+            to,
+            centre,
+            ccw,
+            feed,
+        } => Step::Arc {
+            to: exchange(to),
+            centre: exchange(centre),
+            ccw: !ccw,
+            feed,
+        },
+        other => other,
     }
 }
 
