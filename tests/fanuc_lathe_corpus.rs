@@ -359,6 +359,82 @@ fn t10_g73_g70_forging() {
 }
 
 #[test]
+fn t11_g71_type_ii_pockets() {
+    // The arithmetic is in the program's header; (X radius, Z) below. `on(p, q, x)`: the Z
+    // of the line p–q at X = x.
+    let on = |p: (f64, f64), q: (f64, f64), x: f64| p.1 + (x - p.0) * (q.1 - p.1) / (q.0 - p.0);
+    let (down1, rise1) = (((10.2, -4.0), (4.2, -8.0)), ((4.2, -12.0), (12.2, -16.0)));
+    let (down2, rise2) = (((12.2, -18.0), (6.2, -22.0)), ((6.2, -26.0), (16.2, -30.0)));
+    let z = |l: ((f64, f64), (f64, f64)), x: f64| on(l.0, l.1, x);
+    let mut want = vec![[20.0, 0.0, 2.0]]; // G0 X40 Z2: the start point A
+                                           // Levels 17 and 14 (in at rapid: the stretch begins on N10's G00 move).
+    want.extend([[17.0, 0.0, 2.0], [17.0, 0.0, -30.0], [17.5, 0.0, -29.5]]);
+    let e14 = z(rise2, 14.0); // level 14 meets the last rise (it ends at 16.2)
+    want.extend([
+        [17.5, 0.0, 2.0],
+        [14.0, 0.0, 2.0],
+        [14.0, 0.0, e14],
+        [14.5, 0.0, e14 + 0.5],
+    ]);
+    // Level 11: back to Z 2 at X 14.5 (the top over the way is the bump, 7.8 below A, and
+    // the rise at the retract point: level 6 is cut all along).
+    let (e1, a2, e2) = (z(rise1, 11.0), z(down2, 11.0), z(rise2, 11.0));
+    want.extend([
+        [14.5, 0.0, 2.0],
+        [11.0, 0.0, 2.0],
+        [11.0, 0.0, e1],
+        [11.5, 0.0, e1 + 0.5],
+        [14.5, 0.0, e1 + 0.5], // over the bump (7.8 below A: level 6 cut there)
+        [14.5, 0.0, a2],
+        [14.0, 0.0, a2], // down to the level above at rapid
+        [11.0, 0.0, a2], // in by 3 at the feed
+        [11.0, 0.0, e2],
+        [11.5, 0.0, e2 + 0.5],
+    ]);
+    // Level 8, both pockets; level 5, the first only (the second's bottom is 6.2).
+    for (level, pockets) in [
+        (8.0, vec![(down1, rise1), (down2, rise2)]),
+        (5.0, vec![(down1, rise1)]),
+    ] {
+        for (d, r) in pockets {
+            let (a, b) = (z(d, level), z(r, level));
+            let at = *want.last().unwrap();
+            want.extend([
+                [14.5, 0.0, at[2]],
+                [14.5, 0.0, a],
+                [level + 3.0, 0.0, a],
+                [level, 0.0, a],
+                [level, 0.0, b],
+                [level + 0.5, 0.0, b + 0.5],
+            ]);
+        }
+    }
+    let last = want.last().unwrap()[2];
+    want.extend([
+        [11.5, 0.0, last], // back to A over X 11.5 (the top is 9.8 below A: level 9)
+        [11.5, 0.0, 2.0],
+        [20.0, 0.0, 2.0],
+    ]);
+    let shape = [
+        (10.0, 2.0),
+        (10.0, -4.0),
+        (4.0, -8.0),
+        (4.0, -12.0),
+        (12.0, -16.0),
+        (12.0, -18.0),
+        (6.0, -22.0),
+        (6.0, -26.0),
+        (16.0, -30.0),
+        (20.0, -30.0),
+    ];
+    want.extend(shape.iter().map(|&(x, z)| [x + 0.2, 0.0, z])); // moved by U0.4
+    want.extend([[20.0, 0.0, -30.0], [20.0, 0.0, 2.0]]); // home, X first
+    want.extend(shape.iter().map(|&(x, z)| [x, 0.0, z])); // G70
+    want.extend([[20.0, 0.0, 2.0], [40.0, 0.0, 50.0]]);
+    clean("t11_g71_type_ii_pockets.nc", &want);
+}
+
+#[test]
 fn t07_g71_g70_shaft() {
     // The arithmetic is in the program's header; (X radius, Z) below.
     let pass = |level: f64, z: f64| {

@@ -190,8 +190,8 @@ impl Interpreter<'_> {
 }
 
 impl Interpreter<'_> {
-    /// G71 (`facing` false) or G72 type I: the shape offset by the allowances and the
-    /// passes, checked. G72 runs G71's cycle with X and Z exchanged.
+    /// G71 (`facing` false) or G72: the shape offset by the allowances and the passes,
+    /// checked. G72 runs G71's cycle with X and Z exchanged.
     fn stock_removal(
         &mut self,
         w: &Words,
@@ -207,15 +207,7 @@ impl Interpreter<'_> {
                 "no depth of cut: program the block U(depth) R(retract) of the cycle first (W for facing)",
             ));
         }
-        if contour.first_has[0] && contour.first_has[1] {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                "stock removal type II (X and Z in the shape's first block: pockets) is not built yet",
-            ));
-        }
-        let (depth_axis, cut_axis) = if facing { ("Z", "X") } else { ("X", "Z") };
-        let frame = |p: Pos| if facing { exchange(p) } else { p };
+        let pockets = contour.first_has[0] && contour.first_has[1];
         let (du, dw) = self.allowances(w, new)?;
         let (du, dw) = if facing { (dw, du) } else { (du, dw) };
         let shape: Vec<Element> = contour
@@ -223,37 +215,20 @@ impl Interpreter<'_> {
             .iter()
             .map(|e| if facing { e.exchanged() } else { *e })
             .collect();
-        let a = frame(self.cur);
-        let a1 = shape.first().map_or(a, |e| e.to);
-        let b = shape.last().map_or(a1, |e| e.to);
-        let sx = sign(a[0] - a1[0]);
-        let sz = sign(b[2] - a1[2]);
-        if sx == 0.0 || sz == 0.0 {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                format!("the shape must start off the start point in {depth_axis} and go on along {cut_axis}"),
-            ));
-        }
-        if let Some((i, what)) = stock_removal::non_monotonic(&shape, sx, sz) {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                format!(
-                    "the shape is not monotonic (type I), element {}: {what} ({depth_axis} the depth, {cut_axis} the cut)",
-                    i + 1
-                ),
-            ));
-        }
+        let a = if facing { exchange(self.cur) } else { self.cur };
+        let (sx, sz) = shape_directions(a, &shape, pockets, facing, at)?;
         let shape: Vec<Element> = shape.iter().map(|e| e.shifted([du, dw])).collect();
-        let total = sx * (a[0] - shape[0].to[0]);
-        if sx * du < 0.0 || sz * dw > 0.0 || total <= EPS {
+        if sx * du < 0.0 || sz * dw > 0.0 || sx * (a[0] - shape[0].to[0]) <= EPS {
             return Err(fault(
                 AlarmCode::BadNumber,
                 at,
                 "the allowances U and W turn the shape inside out (their signs oppose the cut, or they reach the start point)",
             ));
         }
+        let total = match pockets {
+            true => stock_removal::deepest(a, &shape, sx),
+            false => sx * (a[0] - shape[0].to[0]),
+        };
         let count = Passes::count(total, self.turning.depth);
         self.add_passes(count as u64, at)?;
         let passes = Passes {
@@ -264,7 +239,10 @@ impl Interpreter<'_> {
             rapid_in: contour.elements[0].mode == MotionMode::Rapid,
             count: count as u32,
         };
-        let run = TurningRun::new(a, shape, Some(passes));
+        let mut run = TurningRun::new(a, shape, Some(passes));
+        if pockets {
+            run = run.pockets();
+        }
         Ok(if facing { run.exchanged() } else { run })
     }
 
@@ -316,6 +294,45 @@ impl Interpreter<'_> {
         }
         Ok((out[0], out[1]))
     }
+}
+
+/// The directions of the passes (`sx`: +1 towards smaller X) and of the cut (`sz`) from the
+/// start `a` and the shape (G72: exchanged), checked against the type's rule: type I
+/// monotonic in X and Z, type II (`pockets`) in Z.
+fn shape_directions(
+    a: Pos,
+    shape: &[Element],
+    pockets: bool,
+    facing: bool,
+    at: usize,
+) -> R<(f64, f64)> {
+    let (depth_axis, cut_axis) = if facing { ("Z", "X") } else { ("X", "Z") };
+    let a1 = shape.first().map_or(a, |e| e.to);
+    let b = shape.last().map_or(a1, |e| e.to);
+    let (sx, sz) = (sign(a[0] - a1[0]), sign(b[2] - a1[2]));
+    if sx == 0.0 || sz == 0.0 {
+        return Err(fault(
+            AlarmCode::NotSupported,
+            at,
+            format!("the shape must start off the start point in {depth_axis} and go on along {cut_axis}"),
+        ));
+    }
+    let broken = match pockets {
+        true => stock_removal::z_turns(a, shape, sz).map(|i| (i, "it turns back along the cut")),
+        false => stock_removal::non_monotonic(shape, sx, sz),
+    };
+    if let Some((i, what)) = broken {
+        let kind = if pockets { "type II" } else { "type I" };
+        return Err(fault(
+            AlarmCode::NotSupported,
+            at,
+            format!(
+                "the shape is not monotonic ({kind}), element {}: {what} ({depth_axis} the depth, {cut_axis} the cut)",
+                i + 1
+            ),
+        ));
+    }
+    Ok((sx, sz))
 }
 
 fn sign(v: f64) -> f64 {
@@ -425,8 +442,15 @@ mod tests {
             "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 Z-5. F0.1\nG2 Z-15. R5.\nN20 G1 X40.\n",
         );
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
-        // Z in the first block: type II, not built.
-        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nN20 X40.\n");
+        // Type II (X and Z in the first block): Z turns back.
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nX30. Z-5.\nN20 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // A type II arc passing the point where Z turns (a half circle along X).
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nG3 X30. R2.5\nN20 G1 X40.\n",
+        );
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
     }
 
@@ -572,8 +596,9 @@ mod tests {
         let got =
             alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 Z-6.\nG1 X30. Z-2.\nX20. Z-4.\nN20 X0.\n");
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
-        // X and Z in the first block: type II, not built.
-        let got = alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 X38. Z-6.\nG1 X20.\nN20 Z0.\n");
+        // Type II (X and Z in the first block): X turns back.
+        let got =
+            alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 X38. Z-6.\nG1 X20.\nX30. Z-3.\nN20 Z0.\n");
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
         // W against the cut (the face cut towards the chuck keeps W ≥ 0).
         let got = alarm(&format!("G72 W2. R1.\nG72 P10 Q20 W-0.2\n{FACE}"));
@@ -643,5 +668,113 @@ mod tests {
             alarm(&format!("G73 U2. R2\nG73 P10\n{SHAPE3}")),
             (AlarmCode::MissingValue, 3, 1)
         );
+    }
+
+    /// Type II by hand (radius, Z), depth 2, retract 0.5. A (20, 2); the boundary A → A'
+    /// (12, 2) at rapid, (12, -5), down to (6, -10), (6, -15), up to (14, -20), (14, -25),
+    /// B (20, -25). Deepest 14 below A: levels X 18 16 … 8 (14/2 rounded up less 1 = 6).
+    /// 18, 16: one stretch from A's Z to B's wall at -25; 14: to where the boundary comes up
+    /// to 14, (14, -20). 12: in at (12, -5) (the cone's top), out on the rise from (6, -15)
+    /// to (14, -20) at Z = -15 − 5·6/8 = -18.75; 10: the cone at Z = -5 − 5·2/6, the rise at
+    /// -15 − 5·4/8 = -17.5; 8: -5 − 5·4/6 and -15 − 5·2/8 = -16.25.
+    /// The way to a stretch: up to the deepest level cut over the whole way less 0.5, along
+    /// Z; off the first block's G00 move down to the level above at rapid, in by 2 at the
+    /// feed. Over (12, -5) … (14.5, -19.5) the boundary's top is 6.8 below A: levels down to
+    /// 6 are cut there: across at X 20 − 6 + 0.5 = 14.5; then 8.8: X 12.5; 10.8: X 10.5.
+    /// Back to A: the top over the way is 8 (X 12 at the start): X 14.5; then the moved
+    /// shape from A and home.
+    fn type_ii_by_hand() -> Vec<(f64, f64)> {
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let mut want = vec![(20.0, 2.0)];
+        for (level, back, end) in [
+            (18.0, 20.0, -25.0),
+            (16.0, 18.5, -25.0),
+            (14.0, 16.5, -20.0),
+        ] {
+            if back != 20.0 {
+                want.push((back, 2.0)); // along Z, e above the last level
+            }
+            want.extend([(level, 2.0), (level, end), (level + 0.5, end + 0.5)]);
+        }
+        let cone = |x: f64| -5.0 - 5.0 * (12.0 - x) / 6.0;
+        let rise = |x: f64| -15.0 - 5.0 * (x - 6.0) / 8.0;
+        for (level, over) in [(12.0, 14.5), (10.0, 12.5), (8.0, 10.5)] {
+            want.extend([
+                (over, cone(level)),
+                (level + 2.0, cone(level)),
+                (level, cone(level)),
+                (level, rise(level)),
+                (level + 0.5, rise(level) + 0.5),
+            ]);
+        }
+        want.extend([
+            (14.5, -15.75),
+            (14.5, 2.0),
+            (20.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (6.0, -10.0),
+            (6.0, -15.0),
+            (14.0, -20.0),
+            (14.0, -25.0),
+            (20.0, -25.0),
+            (20.0, 2.0),
+        ]);
+        want.iter().map(|&(x, z)| (r(x), r(z))).collect()
+    }
+
+    #[test]
+    fn type_ii_cuts_the_pockets_level_by_level() {
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nX12. Z-10.\nZ-15.\nX28. Z-20.\nZ-25.\nN20 X40.\n",
+        );
+        assert_eq!(e, type_ii_by_hand());
+        let e = radius_ends(
+            "G0 X20. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X12. W0\nG1 Z-5.\nX6. Z-10.\nZ-15.\nX14. Z-20.\nZ-25.\nN20 X20.\n",
+        );
+        assert_eq!(e, type_ii_by_hand());
+    }
+
+    #[test]
+    fn g72_type_ii_cuts_a_face_groove() {
+        // (radius, Z), depth 1.5 along Z, retract 0.5. A (20, 2); the boundary A → A' (20,
+        // -1) at rapid, (14, -1), down to (12, -4), (10, -4), up to (8, -1), B (0, -1).
+        // Deepest 6 below A's Z: levels Z 0.5, -1, -2.5. Z 0.5: from N10's move to past B
+        // (B's X); Z -1 touches the face (not below it): the groove from its edge (14, -1)
+        // to (8, -1); Z -2.5: its flanks at X 13 and 9. Between: up to the deepest level
+        // cut over the way less 0.5 (Z 1, then -0.5), along X, down to the level above at
+        // rapid, in at the feed; retract 0.5 at 45°. Back to A over Z 1; the shape; home Z
+        // first.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG72 W1.5 R0.5\nG72 P10 Q20 F0.2\nN10 G0 X40. Z-1.\nG1 X28.\nX24. Z-4.\nX20.\nX16. Z-1.\nN20 X0.\n",
+        );
+        let want = [
+            (20.0, 2.0),
+            (20.0, 0.5),
+            (0.0, 0.5),
+            (0.5, 1.0),
+            (14.0, 1.0),
+            (14.0, 0.5),
+            (14.0, -1.0),
+            (8.0, -1.0),
+            (8.5, -0.5),
+            (13.0, -0.5),
+            (13.0, -1.0),
+            (13.0, -2.5),
+            (9.0, -2.5),
+            (9.5, -2.0),
+            (9.5, 1.0),
+            (20.0, 1.0),
+            (20.0, 2.0),
+            (20.0, -1.0),
+            (14.0, -1.0),
+            (12.0, -4.0),
+            (10.0, -4.0),
+            (8.0, -1.0),
+            (0.0, -1.0),
+            (0.0, 2.0),
+            (20.0, 2.0),
+        ];
+        assert_eq!(e, want);
     }
 }

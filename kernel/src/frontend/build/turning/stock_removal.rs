@@ -21,6 +21,9 @@ use super::super::super::block::*;
 use super::super::expand::Step;
 use super::contour::Element;
 
+mod pockets;
+pub use pockets::{deepest, z_turns};
+
 /// Distances below this are equal (mm): the passes' levels, the monotony check.
 pub const EPS: f64 = 1e-9;
 
@@ -112,6 +115,8 @@ enum Phase {
     Home,
     /// G73: element `1` of pass `0`; past the last element, the return to the start.
     Repeat(u32, usize),
+    /// Type II: stretch `1` of the stock at level `0`.
+    Pocket(u32, u32),
     Done,
 }
 
@@ -154,6 +159,15 @@ impl TurningRun {
     /// ([`exchange`], [`Element::exchanged`]); the moves come out in machine axes.
     pub fn exchanged(mut self) -> Self {
         self.exchanged = true;
+        self
+    }
+
+    /// Type II (pockets): the passes cut every stretch of stock at each level, and the
+    /// moved shape is run from the start point A. `passes.count` levels: see [`deepest`].
+    pub fn pockets(mut self) -> Self {
+        if self.passes.is_some_and(|p| p.count > 0) {
+            self.phase = Phase::Pocket(1, 0);
+        }
         self
     }
 
@@ -217,6 +231,10 @@ impl TurningRun {
                 self.phase = Phase::Done;
             }
             Phase::Repeat(j, i) => self.repeat_step(j, i),
+            Phase::Pocket(k, i) => match self.passes {
+                Some(p) => self.pocket_step(&p, k, i),
+                None => self.phase = Phase::Shape(0),
+            },
             Phase::Done => {}
         }
     }
