@@ -435,6 +435,44 @@ fn t11_g71_type_ii_pockets() {
 }
 
 #[test]
+fn t12_g70_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below. `softnc check`
+    // prepares the compensated path (nose 0.8, edge position 3) without a violation.
+    let b = clean(
+        "t12_g70_nose_radius_compensation.nc",
+        &[
+            [22.0, 0.0, 2.0],   // G0 X44 Z2: the start point A
+            [8.0, 0.0, 2.0],    // N10 G42: A'
+            [8.0, 0.0, -10.0],  // Z-10
+            [12.0, 0.0, -18.0], // X24 Z-18
+            [12.0, 0.0, -30.0], // Z-30
+            [22.0, 0.0, -30.0], // N20 G40 X44
+            [22.0, 0.0, 2.0],   // back to A: Z alone
+            [40.0, 0.0, 50.0],  // G0 X80 Z50
+        ],
+    );
+    let sides: Vec<(Option<nc_kernel::TrcSide>, nc_kernel::TrcSide)> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| (b.trc, b.modal.trc))
+        .collect();
+    let (r, off) = (nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off);
+    assert_eq!(
+        sides,
+        [
+            (None, off),
+            (Some(r), r),
+            (None, r),
+            (None, r),
+            (None, r),
+            (Some(off), off),
+            (None, off),
+            (None, off),
+        ]
+    );
+}
+
+#[test]
 fn t07_g71_g70_shaft() {
     // The arithmetic is in the program's header; (X radius, Z) below.
     let pass = |level: f64, z: f64| {

@@ -71,9 +71,12 @@ impl Interpreter<'_> {
             }
         };
         let start = self.cur;
-        let contour = self.read_contour(p, q, start, new)?;
+        let finishing = kind == TurningCycle::Finishing;
+        let contour = self.read_contour(p, q, start, new, finishing)?;
         let run = match kind {
-            TurningCycle::Finishing => TurningRun::new(start, contour.elements, None),
+            TurningCycle::Finishing => {
+                TurningRun::new(start, contour.elements, None).compensated(contour.compensation)
+            }
             TurningCycle::StockRemoval => self.stock_removal(w, new, &contour, false, at)?,
             TurningCycle::Facing => self.stock_removal(w, new, &contour, true, at)?,
             TurningCycle::PatternRepeating => {
@@ -348,6 +351,7 @@ fn sign(v: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use crate::alarm::{Alarm, AlarmCode};
+    use crate::frontend::block::TrcSide;
     use crate::frontend::{interpret, Block};
     use crate::machine_data::MachineData;
     use crate::tools::ToolTable;
@@ -776,5 +780,50 @@ mod tests {
             (20.0, 2.0),
         ];
         assert_eq!(e, want);
+    }
+
+    #[test]
+    fn g70_takes_the_compensation_written_in_its_shape() {
+        // G42 in N10 starts the compensation with the move to A' (10, 2); G40 in N20 ends it
+        // with the move out to (20, -12); the return to A (X is there: Z only) runs without.
+        let b = lathe(
+            "G0 X40. Z2.\nG70 P10 Q20\nM30\nN10 G0 G42 X20. Z2.\nG1 Z-10. F0.1\nX30.\nN20 G40 X40. Z-12.\n",
+        )
+        .unwrap();
+        let got: Vec<(f64, f64, Option<TrcSide>, TrcSide)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2], b.trc, b.modal.trc)))
+            .collect();
+        let (r, off) = (TrcSide::Right, TrcSide::Off);
+        assert_eq!(
+            got,
+            [
+                (20.0, 2.0, None, off),
+                (10.0, 2.0, Some(r), r),
+                (10.0, -10.0, None, r),
+                (15.0, -10.0, None, r),
+                (20.0, -12.0, Some(off), off),
+                (20.0, 2.0, None, off),
+            ]
+        );
+        // G41 in an arc block: no start-up there (Fanuc alarm of a start-up in a circle).
+        let a =
+            lathe("G0 X40. Z2.\nG70 P10 Q20\nN10 G0 X20. Z2.\nG41 G2 X30. Z-3. R5.\nN20 G1 X40.\n")
+                .unwrap_err();
+        assert_eq!(
+            (a.code, a.line, a.col),
+            (AlarmCode::FanucTrcNotLinear, 4, 1)
+        );
+        // G41 in a roughing cycle's shape: refused at its word; G40 there changes nothing.
+        let a =
+            lathe("G0 X40. Z2.\nG73 U1. R2\nG73 P10 Q20\nN10 G0 G41 X20. Z2.\nN20 G1 X40. Z-5.\n")
+                .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 4, 8));
+        let b =
+            lathe("G0 X40. Z2.\nG73 U1. R1\nG73 P10 Q20\nN10 G0 X20. Z2.\nN20 G40 G1 X40. Z-5.\n")
+                .unwrap();
+        assert!(b
+            .iter()
+            .all(|b| b.modal.trc == TrcSide::Off && b.trc.is_none()));
     }
 }

@@ -132,6 +132,8 @@ pub struct TurningRun {
     /// G72: every point is handed over with X and Z exchanged, and goes out exchanged back.
     exchanged: bool,
     repeat: Option<Repeat>,
+    /// G70: G40/G41/G42 of the shape, before the element of the index.
+    compensation: Vec<(usize, TrcSide)>,
     phase: Phase,
     at: Pos,
     queue: heapless::Deque<Step, 8>,
@@ -150,9 +152,17 @@ impl TurningRun {
             passes,
             exchanged: false,
             repeat: None,
+            compensation: Vec::new(),
             at: start,
             queue: heapless::Deque::new(),
         }
+    }
+
+    /// G70: the shape's G40/G41/G42, each acting from the element of its index on (an index
+    /// past the last element: from the return to the start point on).
+    pub fn compensated(mut self, sides: Vec<(usize, TrcSide)>) -> Self {
+        self.compensation = sides;
+        self
     }
 
     /// G72: `start`, the shape and the passes were given with X and Z exchanged
@@ -219,7 +229,7 @@ impl TurningRun {
             }
             Phase::Shape(i) => {
                 match self.shape.get(i).copied() {
-                    Some(e) => self.element(e, i == 0),
+                    Some(e) => self.element(e, i),
                     None => self.phase = Phase::Home,
                 }
                 if let Phase::Shape(i) = self.phase {
@@ -227,6 +237,7 @@ impl TurningRun {
                 }
             }
             Phase::Home => {
+                self.compensate(self.shape.len());
                 self.home();
                 self.phase = Phase::Done;
             }
@@ -255,7 +266,7 @@ impl TurningRun {
         };
         match self.shape.get(i).copied() {
             Some(e) => {
-                self.element(e.shifted(r.shift(j)), i == 0);
+                self.element(e.shifted(r.shift(j)), i);
                 self.phase = Phase::Repeat(j, i + 1);
             }
             None => {
@@ -285,12 +296,14 @@ impl TurningRun {
         self.go(to, true, None);
     }
 
-    /// One element of the shape; G70 sets its S and F.
-    fn element(&mut self, e: Element, first: bool) {
+    /// Element `i` of the shape; G70 sets its S and F, and its compensation.
+    fn element(&mut self, e: Element, i: usize) {
+        let first = i == 0;
         let feed = if self.own_feeds { e.feed } else { None };
         if let (true, Some(s)) = (self.own_feeds, e.speed) {
             self.push(Step::Speed(s));
         }
+        self.compensate(i);
         match e.mode {
             MotionMode::ArcCw | MotionMode::ArcCcw => {
                 self.push(Step::Arc {
@@ -312,6 +325,15 @@ impl TurningRun {
                     self.at = e.to;
                 }
             }
+        }
+    }
+
+    /// The compensation programmed before element `i` (G70; of several, the last): it goes
+    /// with the next move.
+    fn compensate(&mut self, i: usize) {
+        let side = self.compensation.iter().rev().find(|c| c.0 == i);
+        if let Some(&(_, side)) = side {
+            self.push(Step::Compensation(side));
         }
     }
 
