@@ -826,4 +826,94 @@ mod tests {
             .iter()
             .all(|b| b.modal.trc == TrcSide::Off && b.trc.is_none()));
     }
+
+    #[test]
+    fn type_ii_bores_an_inner_groove() {
+        // Inner turning (radius, Z), depth 3, retract 0.5: the levels go up in X. A (5, 2);
+        // A' (12, 2) at rapid, (12, -5), out to (16, -8), (16, -12), back to (13, -15),
+        // (13, -20), B (6, -20). Deepest 11 above A: levels X 8, 11, 14. 8 and 11: from
+        // N10's move to the last element (X 13 → 6) at Z -20; 14: the groove's flanks at
+        // Z -6.5 and -14. Retract 0.5 at 45° down in X. Between: X 7.5, then 10.5 (the
+        // shallowest over the way is 7 above A: level 6 is cut), back to A over X 10.5.
+        let e = diameter_ends(
+            "G0 X10. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nX32. Z-8.\nZ-12.\nX26. Z-15.\nZ-20.\nN20 X12.\n",
+        );
+        let want = [
+            (5.0, 2.0),
+            (8.0, 2.0),
+            (8.0, -20.0),
+            (7.5, -19.5),
+            (7.5, 2.0),
+            (11.0, 2.0),
+            (11.0, -20.0),
+            (10.5, -19.5),
+            (10.5, -6.5),
+            (11.0, -6.5),
+            (14.0, -6.5),
+            (14.0, -14.0),
+            (13.5, -13.5),
+            (10.5, -13.5),
+            (10.5, 2.0),
+            (5.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (16.0, -8.0),
+            (16.0, -12.0),
+            (13.0, -15.0),
+            (13.0, -20.0),
+            (6.0, -20.0),
+            (5.0, -20.0),
+            (5.0, 2.0),
+        ];
+        assert_eq!(e, want);
+    }
+
+    #[test]
+    fn type_ii_cuts_a_round_pocket() {
+        // (radius, Z), depth 3, retract 0.5. A (20, 2); A' (12, 2), (12, -5), a half circle
+        // G2 R5 about (12, -10) down to X 7 and up to (12, -15), (12, -20), B (20, -20).
+        // Deepest 13 (the arc's bottom): levels X 17, 14, 11, 8. 17 and 14: to the last
+        // element at Z -20. 11 meets the arc where sin = -1/5: Z = -10 ± 5·√0.96; 8 where
+        // sin = -4/5: Z = -10 ± 3. The way to 11: over the arc's ends (8 below A): level 6
+        // cut, X 14.5; to 8: over the arc from Z -7 to the last retract point -14.399
+        // (X 12 − 5·√(1 − 0.879796²) = 9.6232: 10.38 below A): level 9, X 11.5; back to A:
+        // over (12, 2 … -5), 8 below A: X 14.5.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nG2 Z-15. R5.\nG1 Z-20.\nN20 X40.\n",
+        );
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let w = 5.0 * 0.96f64.sqrt();
+        let (z11a, z11b) = (-10.0 + w, -10.0 - w);
+        let want = [
+            (20.0, 2.0),
+            (17.0, 2.0),
+            (17.0, -20.0),
+            (17.5, -19.5),
+            (17.5, 2.0),
+            (14.0, 2.0),
+            (14.0, -20.0),
+            (14.5, -19.5),
+            (14.5, z11a),
+            (14.0, z11a),
+            (11.0, z11a),
+            (11.0, z11b),
+            (11.5, z11b + 0.5),
+            (11.5, -7.0),
+            (11.0, -7.0),
+            (8.0, -7.0),
+            (8.0, -13.0),
+            (8.5, -12.5),
+            (14.5, -12.5),
+            (14.5, 2.0),
+            (20.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (12.0, -15.0),
+            (12.0, -20.0),
+            (20.0, -20.0),
+            (20.0, 2.0),
+        ];
+        let want: Vec<(f64, f64)> = want.iter().map(|&(x, z)| (r(x), r(z))).collect();
+        assert_eq!(e, want);
+    }
 }

@@ -208,26 +208,60 @@ impl TurningRun {
             if vb.min(va) >= hi - EPS || vb.max(va) <= lo + EPS {
                 continue;
             }
+            let (v0, v1) = (lo.max(va.min(vb)), hi.min(va.max(vb)));
             let u = if e.mode.is_arc() {
-                // The whole arc: its top if it passes it, else its ends.
-                let s = Sweep::of(from, e);
-                let top = if s.passes(p.sx * std::f64::consts::FRAC_PI_2) {
-                    self.depth(p, s.c[0] + p.sx * s.r)
-                } else {
-                    f64::INFINITY
-                };
-                top.min(self.depth(p, from[0])).min(self.depth(p, e.to[0]))
+                self.arc_shallowest(p, from, e, v0, v1)
             } else {
                 // The line clipped to the way.
                 let at = |v: f64| {
                     let t = ((v - va) / (vb - va)).clamp(0.0, 1.0);
                     self.depth(p, from[0] + t * (e.to[0] - from[0]))
                 };
-                at(lo.max(va.min(vb))).min(at(hi.min(va.max(vb))))
+                at(v0).min(at(v1))
             };
             min = min.min(u);
         }
         min
+    }
+
+    /// The shallowest depth of the arc from `from` over the Z between `v0` and `v1` (along
+    /// the cut, within the arc's): the arc turns nowhere in Z, so that piece is one sub-arc,
+    /// shallowest at an end or at the arc's top.
+    fn arc_shallowest(&self, p: &Passes, from: Pos, e: &Element, v0: f64, v1: f64) -> f64 {
+        let s = Sweep::of(from, e);
+        // Where along the sweep the arc is at the Z `v` along the cut (of the two angles
+        // with that Z, the one on the arc).
+        let param = |v: f64| {
+            let z = self.start[2] + p.sz * v;
+            let t = libm::acos(((z - s.c[2]) / s.r).clamp(-1.0, 1.0));
+            // How far off the arc a sweep is (past its end, or just before its start after
+            // a turn), and the nearest point of the arc to it.
+            let fit = |d: f64| {
+                let back = std::f64::consts::TAU - d;
+                if d <= s.span {
+                    (0.0, d)
+                } else if back < d - s.span {
+                    (back, 0.0)
+                } else {
+                    (d - s.span, s.span)
+                }
+            };
+            let (a, b) = (fit(s.swept_to(t)), fit(s.swept_to(-t)));
+            if a.0 <= b.0 {
+                a.1
+            } else {
+                b.1
+            }
+        };
+        let (s0, s1) = (param(v0).min(param(v1)), param(v0).max(param(v1)));
+        let top = s.swept_to(p.sx * std::f64::consts::FRAC_PI_2);
+        let mut u = self
+            .depth(p, s.point(s0)[0])
+            .min(self.depth(p, s.point(s1)[0]));
+        if top > s0 && top < s1 {
+            u = u.min(self.depth(p, s.c[0] + p.sx * s.r));
+        }
+        u
     }
 
     /// The way over the stock to the Z of `to` from where the tool is, `levels` levels cut:
