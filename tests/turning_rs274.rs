@@ -1,4 +1,5 @@
-//! Differential test: the Fanuc lathe's G71 and G72 (type I) and G70 against LinuxCNC 2.9's
+//! Differential test: the Fanuc lathe's G71 and G72 (type I; G71 type II by the stretches
+//! each level cuts) and G70 against LinuxCNC 2.9's
 //! `rs274`, which implements them with its own words (the shape in an `o… sub`, `G71 Q<sub> X Z I<depth>
 //! R<retract>`). On shapes whose first element after A' runs along Z and without finishing
 //! allowances, the two controls cut the same: every feed move (the roughing cuts, the run
@@ -172,4 +173,68 @@ fn g72_g70_over_a_rounded_face_agree_with_rs274() {
         G3 X28 Z0 R6\nG1 X0\nZ2\no100 endsub\nG72 Q100 X40 Z2 I2.5 R0.5 F0.2\n\
         G70 Q100 X40 Z2 F0.2\nM2\n";
     compare("face", fanuc, ngc, 1, 2.0);
+}
+
+#[test]
+fn g72_g70_over_a_convex_corner_and_a_taper_agree_with_rs274() {
+    // Facing from (radius 30, Z 2), depth 2: levels 0, -2, -4, -6 above A' at Z -8. The
+    // shape: along the back face to radius 20, a convex quarter circle G2 R6 about (14, -8)
+    // up to (14, -2), a taper to (5, 0), the face to the centre, out to the start's Z.
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X60. Z2.\nG72 W2. R0.5\nG72 P10 Q20 F0.2\n\
+        N10 G0 Z-8.\nG1 X40.\nG2 X28. Z-2. R6.\nG1 X10. Z0.\nX0.\nN20 Z2.\nG70 P10 Q20\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X60 Z2\no100 sub\nG0 X60 Z-8\nG1 X40\n\
+        G2 X28 Z-2 R6\nG1 X10 Z0\nX0\nZ2\no100 endsub\nG72 Q100 X60 Z2 I2 R0.5 F0.2\n\
+        G70 Q100 X60 Z2 F0.2\nM2\n";
+    compare("corner", fanuc, ngc, 1, 2.0);
+}
+
+/// The stretches cut along Z at each level X of `levels`: the feeds parallel to Z there,
+/// merged where they join, as (level, [(from Z, to Z)]) in the order cut.
+fn level_cuts(moves: &[Move], levels: &[f64]) -> Vec<(f64, Vec<(f64, f64)>)> {
+    let mut out: Vec<(f64, Vec<(f64, f64)>)> = levels.iter().map(|&l| (l, Vec::new())).collect();
+    let mut at = [f64::NAN; 2];
+    for m in moves {
+        let along_z = !m.rapid && m.turn == 0 && (m.end[0] - at[0]).abs() <= TOL;
+        if let Some((_, cuts)) = out
+            .iter_mut()
+            .find(|(l, _)| along_z && (l - m.end[0]).abs() <= TOL)
+        {
+            match cuts.last_mut() {
+                Some(last) if (last.1 - at[1]).abs() <= TOL => last.1 = m.end[1],
+                _ if (m.end[1] - at[1]).abs() > TOL => cuts.push((at[1], m.end[1])),
+                _ => {}
+            }
+        }
+        at = m.end;
+    }
+    out
+}
+
+#[test]
+fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
+    // Two pockets (a cone and a half circle about (12, -22)), depth 3 from radius 20:
+    // levels 17, 14, 11, 8, 5. rs274 cuts pocket by pocket and follows the contour into
+    // and out of a pocket; softnc level by level (docs/turning.md, "Type II"). What each
+    // level cuts along Z agrees; the ways between the stretches are not compared.
+    if !rs274::present() {
+        return;
+    }
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X40. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\n\
+        N10 G0 X20. Z2.\nG1 Z-4.\nX8. Z-8.\nZ-12.\nX24. Z-16.\nZ-18.\nG2 Z-26. R4.\n\
+        G1 X32. Z-30.\nN20 X40.\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X20 Z2\nG1 Z-4\n\
+        X8 Z-8\nZ-12\nX24 Z-16\nZ-18\nG2 X24 Z-26 R4\nG1 X32 Z-30\nX40\no100 endsub\n\
+        G71 Q100 X40 Z2 I3 R0.5 F0.2\nM2\n";
+    let levels = [17.0, 14.0, 11.0, 8.0, 5.0];
+    let ours = level_cuts(&softnc(fanuc), &levels);
+    let theirs = level_cuts(&oracle(ngc, "pockets"), &levels);
+    for ((level, a), (_, b)) in ours.iter().zip(&theirs) {
+        assert!(!a.is_empty(), "level {level}: nothing cut");
+        let same = a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
+        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
+    }
+    eprintln!("pockets: {ours:?}");
 }
