@@ -56,9 +56,15 @@ fn assert_ends(file: &str, got: &[P], want: &[P]) {
 
 /// `softnc check` on the lathe machine passes.
 fn check(file: &str) {
+    check_at(&path_of(file));
+}
+
+/// `softnc check` of the program at `path` on the lathe machine passes.
+fn check_at(path: &std::path::Path) {
+    let file = path.display();
     let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
         .arg("check")
-        .arg(path_of(file))
+        .arg(path)
         .arg("--machine")
         .arg(root().join("config/fanuc-lathe.toml"))
         .output()
@@ -574,17 +580,34 @@ fn sample_shaft_rough_finish_checks_clean() {
         })
         .count();
     assert_eq!(retracts, 7);
-    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
-        .arg("check")
-        .arg(&file)
-        .arg("--machine")
-        .arg(root().join("config/fanuc-lathe.toml"))
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
+    check_at(&file);
+}
+
+#[test]
+fn sample_flange_face_checks_clean() {
+    // programs/fanuc-lathe/flange_face_rough_finish.nc: A = X84 Z2 (Z 2), A' at Z -6 moved
+    // by W0.1 to -5.9; depth 1.5 along Z: levels 0.5, -1, -2.5, -4, -5.5 (7.9 / 1.5 rounded
+    // up less 1 = 5 passes), each ending in a 45° retract of R0.5 (X and Z up).
+    let file = root().join("programs/fanuc-lathe/flange_face_rough_finish.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let blocks: Vec<Block> = Interpreter::new("flange", &text, &md, &tools)
+        .collect::<Result<_, _>>()
+        .unwrap_or_else(|a| panic!("{a}"));
+    let levels: Vec<f64> = blocks
+        .iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| {
+            let (dx, dz) = (m.end[0] - m.start[0], m.end[2] - m.start[2]);
+            m.kind == nc_kernel::MotionKind::Rapid
+                && (dx - 0.5).abs() < 1e-9
+                && (dz - 0.5).abs() < 1e-9
+        })
+        .map(|m| m.start[2])
+        .collect();
+    assert_eq!(levels.len(), 5, "{levels:?}");
+    for (got, want) in levels.iter().zip([0.5, -1.0, -2.5, -4.0, -5.5]) {
+        assert!((got - want).abs() < 1e-9, "{levels:?}");
+    }
+    check_at(&file);
 }
