@@ -916,4 +916,17 @@ mod tests {
         let want: Vec<(f64, f64)> = want.iter().map(|&(x, z)| (r(x), r(z))).collect();
         assert_eq!(e, want);
     }
+
+    #[test]
+    fn type_ii_passes_a_point_that_touches_the_level() {
+        // (radius, Z), depth 2. A (20, 2); A' (10, 2), (10, -5), up to a ridge at (14, -8),
+        // down to (8, -11), (8, -15), B (20, -15). Level 14 meets the ridge's tip only: one
+        // stretch from A's Z to the last element at Z -15, out by 0.5 at 45°.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X20. Z2.\nG1 Z-5.\nX28. Z-8.\nX16. Z-11.\nZ-15.\nN20 X40.\n",
+        );
+        let k = e.iter().position(|&p| p == (14.0, 2.0)).expect("level 14");
+        assert_eq!(e[k + 1..k + 3], [(14.0, -15.0), (14.5, -14.5)]);
+        assert!(!e.contains(&(14.5, -7.5)), "no retract at the ridge: {e:?}");
+    }
 }

@@ -169,22 +169,29 @@ impl TurningRun {
     }
 
     /// The `i`-th stretch of stock at depth `level` (0: the first along the cut): where the
-    /// boundary goes in and where it comes out (past its end: B's Z).
+    /// boundary goes in and where it comes out (past its end: B's Z). Where the boundary
+    /// only touches the level from below (out and in again at one point) the stretch goes
+    /// on: the tool passes the point on the shape.
     fn stretch(&self, p: &Passes, level: f64, i: u32) -> Option<(Pos, Pos)> {
-        let mut entry: Option<Pos> = None;
+        let (mut entry, mut exit): (Option<Pos>, Option<Pos>) = (None, None);
         let mut found = 0;
         let mut last = self.start;
         for (from, e) in self.boundary() {
             for c in self.crossings(p, from, e, level) {
+                if let (Some(a), Some(b)) = (entry, exit) {
+                    let touch = (c.at[0] - b[0]).abs() <= EPS && (c.at[2] - b[2]).abs() <= EPS;
+                    if c.down && touch {
+                        exit = None;
+                        continue;
+                    }
+                    if found == i {
+                        return Some((a, b));
+                    }
+                    (found, entry, exit) = (found + 1, None, None);
+                }
                 match (c.down, entry) {
                     (true, None) => entry = Some(c.at),
-                    (false, Some(a)) => {
-                        if found == i {
-                            return Some((a, c.at));
-                        }
-                        found += 1;
-                        entry = None;
-                    }
+                    (false, Some(_)) => exit = Some(c.at),
                     _ => {}
                 }
             }
@@ -192,7 +199,8 @@ impl TurningRun {
         }
         let mut end = last;
         end[0] = self.start[0] - p.sx * level;
-        entry.filter(|_| found == i).map(|a| (a, end))
+        let a = entry.filter(|_| found == i)?;
+        Some((a, exit.unwrap_or(end)))
     }
 
     /// The shallowest depth of the boundary over the Z between `z0` and `z1`; an element
