@@ -27,7 +27,8 @@ pub use pockets::{deepest, z_turns};
 /// Distances below this are equal (mm): the passes' levels, the monotony check.
 pub const EPS: f64 = 1e-9;
 
-/// The roughing passes of G71: depth of cut, retract, the directions.
+/// The roughing passes of G71: depth of cut, retract, the directions (G72: of the frame
+/// with X and Z exchanged, so "X" below is Z there).
 #[derive(Clone, Copy, Debug)]
 pub struct Passes {
     pub depth: f64,
