@@ -114,9 +114,10 @@ enum Phase {
     Pass(u32),
     Shape(usize),
     Home,
-    /// G73: element `1` of pass `0`; past the last element, the return to the start.
+    /// G73 (pass, element): that element of that pass; past the last element, the return
+    /// to the start.
     Repeat(u32, usize),
-    /// Type II: stretch `1` of the stock at level `0`.
+    /// Type II (level, stretch): that stretch of stock at that level.
     Pocket(u32, u32),
     Done,
 }
