@@ -5,15 +5,16 @@
 //! ```text
 //! G71 U(Δd) R(e)                  depth of cut (radius), retract: stored
 //! G71 P(ns) Q(nf) U(Δu) W(Δw) F S allowances (U a diameter); F and S for the roughing
-//! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I)
+//! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I), or
+//! …                               X and Z (type II: pockets, stock_removal/pockets.rs)
 //! N(nf) …
-//! G70 P(ns) Q(nf)                 finishing: the shape with its own F and S
+//! G70 P(ns) Q(nf)                 finishing: the shape with its own F, S and G41/G42
 //! G72 W(Δd) R(e)  G72 P Q U W F S  facing: G71 with X and Z exchanged (first block: Z only)
 //! G73 U(Δi) W(Δk) R(d)             escape (U a radius) and number of passes: stored
 //! G73 P(ns) Q(nf) U(Δu) W(Δw) F S  the shape d times, shifted from Δi+Δu/2, Δk+Δw to Δu/2, Δw
 //! ```
 //!
-//! After G71 … G73 the program goes on after block Q; after G70, after the G70 block. Both
+//! After G71 … G73 the program goes on after block Q; after G70, after the G70 block. All
 //! return to the start point at rapid. [`contour`] reads the shape, [`stock_removal`] makes
 //! the moves.
 
