@@ -56,9 +56,15 @@ fn assert_ends(file: &str, got: &[P], want: &[P]) {
 
 /// `softnc check` on the lathe machine passes.
 fn check(file: &str) {
+    check_at(&path_of(file));
+}
+
+/// `softnc check` of the program at `path` on the lathe machine passes.
+fn check_at(path: &std::path::Path) {
+    let file = path.display();
     let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
         .arg("check")
-        .arg(path_of(file))
+        .arg(path)
         .arg("--machine")
         .arg(root().join("config/fanuc-lathe.toml"))
         .output()
@@ -252,9 +258,224 @@ fn t08_g71_arc_increments() {
 fn a01_lathe_cycle_refused() {
     let (b, alarm) = run("a01_lathe_cycle_refused.nc");
     assert_ends("a01", &ends(&b), &[[20.0, 0.0, 2.0]]);
-    let a = alarm.expect("G72 is refused");
-    assert!(a.message.contains("G72"), "{}", a.message);
-    assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 6, 1));
+    // G73 U2. W1. R0: no passes; the alarm points at R (column 13).
+    let a = alarm.expect("G73 R0 is refused");
+    assert_eq!((a.code, a.line, a.col), (AlarmCode::BadNumber, 6, 13));
+}
+
+#[test]
+fn t09_g72_g70_face() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let arc = |level: f64| 20.2 - (36.0 - (level - 0.2f64).powi(2)).sqrt();
+    let mut want = vec![[22.0, 0.0, 2.0]]; // G0 X44 Z2: the start point A
+    for level in [0.0, -2.0, -4.0] {
+        let x = arc(level);
+        want.extend([
+            [22.0, 0.0, level],          // in along Z at rapid (N10 is G00)
+            [x, 0.0, level],             // across at F0.2 to the moved arc
+            [x + 0.5, 0.0, level + 0.5], // out by R0.5 at 45°
+            [22.0, 0.0, level + 0.5],    // back to A's X
+        ]);
+    }
+    want.extend([
+        [22.2, 0.0, -5.8], // the moved shape: A'
+        [20.2, 0.0, -5.8],
+        [14.2, 0.0, 0.2], // the arc about (20.2, 0.2)
+        [5.2, 0.0, 0.2],
+        [0.2, 0.0, 1.2],
+        [0.2, 0.0, 2.0],   // home: Z first (the depth axis of facing) …
+        [22.0, 0.0, 2.0],  // … then X
+        [22.0, 0.0, -6.0], // G70: the shape as written
+        [20.0, 0.0, -6.0],
+        [14.0, 0.0, 0.0],
+        [5.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [22.0, 0.0, 1.0], // home X first, then Z
+        [22.0, 0.0, 2.0],
+        [50.0, 0.0, 50.0], // G0 X100 Z50
+    ]);
+    let b = clean("t09_g72_g70_face.nc", &want);
+    let arcs: Vec<(u32, [f64; 3], nc_kernel::MotionKind)> = b
+        .iter()
+        .filter_map(|b| {
+            b.motion
+                .filter(|m| m.kind.is_arc())
+                .map(|m| (b.line, m.center, m.kind))
+        })
+        .collect();
+    // The roughing's arc is the moved one, G70's the programmed one; both counter-clockwise.
+    assert_eq!(arcs.len(), 2);
+    assert!((arcs[0].1[0] - 20.2).abs() < 1e-9 && (arcs[0].1[2] - 0.2).abs() < 1e-9);
+    assert!((arcs[1].1[0] - 20.0).abs() < 1e-9 && arcs[1].1[2].abs() < 1e-9);
+    assert!(arcs.iter().all(|a| a.2 == nc_kernel::MotionKind::ArcCcw));
+    assert_eq!((arcs[0].0, arcs[1].0), (18, 24));
+}
+
+#[test]
+fn t10_g73_g70_forging() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let mut want = vec![[30.0, 0.0, 3.0]]; // G0 X60 Z3: the start point A
+    for (sx, sz) in [(3.2, 1.6), (1.7, 0.85), (0.2, 0.1)] {
+        want.extend([
+            [8.0 + sx, 0.0, 1.0 + sz], // A' moved, at rapid (N10 is G00)
+            [8.0 + sx, 0.0, -8.0 + sz],
+            [16.0 + sx, 0.0, -16.0 + sz], // the arc, its centre (16, -8) moved with it
+            [16.0 + sx, 0.0, -24.0 + sz],
+            [13.0 + sx, 0.0, -30.0 + sz],
+            [30.0 + sx, 0.0, -30.0 + sz],
+            [30.0, 0.0, -30.0 + sz], // home X first …
+            [30.0, 0.0, 3.0],        // … then Z
+        ]);
+    }
+    want.extend([
+        [8.0, 0.0, 1.0], // G70: the shape as written
+        [8.0, 0.0, -8.0],
+        [16.0, 0.0, -16.0],
+        [16.0, 0.0, -24.0],
+        [13.0, 0.0, -30.0],
+        [30.0, 0.0, -30.0], // at the start's X: home is Z alone
+        [30.0, 0.0, 3.0],
+        [50.0, 0.0, 50.0], // G0 X100 Z50
+    ]);
+    let b = clean("t10_g73_g70_forging.nc", &want);
+    let centres: Vec<[f64; 3]> = b
+        .iter()
+        .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+        .collect();
+    let by_hand = [(19.2, -6.4), (17.7, -7.15), (16.2, -7.9), (16.0, -8.0)];
+    assert_eq!(centres.len(), 4);
+    for (c, (x, z)) in centres.iter().zip(by_hand) {
+        assert!((c[0] - x).abs() < 1e-9 && (c[2] - z).abs() < 1e-9, "{c:?}");
+    }
+    // The passes at the cycle's F0.25; G70 at the shape's F0.1.
+    let feeds: Vec<(u32, f64)> = b
+        .iter()
+        .filter(|b| {
+            b.motion
+                .is_some_and(|m| m.kind != nc_kernel::MotionKind::Rapid)
+        })
+        .map(|b| (b.line, b.modal.feed))
+        .collect();
+    assert!(
+        feeds
+            .iter()
+            .all(|&(l, f)| (l == 17 && f == 0.25) || (l == 24 && f == 0.1)),
+        "{feeds:?}"
+    );
+}
+
+#[test]
+fn t11_g71_type_ii_pockets() {
+    // The arithmetic is in the program's header; (X radius, Z) below. `on(p, q, x)`: the Z
+    // of the line p–q at X = x.
+    let on = |p: (f64, f64), q: (f64, f64), x: f64| p.1 + (x - p.0) * (q.1 - p.1) / (q.0 - p.0);
+    let (down1, rise1) = (((10.2, -4.0), (4.2, -8.0)), ((4.2, -12.0), (12.2, -16.0)));
+    let (down2, rise2) = (((12.2, -18.0), (6.2, -22.0)), ((6.2, -26.0), (16.2, -30.0)));
+    let z = |l: ((f64, f64), (f64, f64)), x: f64| on(l.0, l.1, x);
+    let mut want = vec![[20.0, 0.0, 2.0]]; // G0 X40 Z2: the start point A
+                                           // Levels 17 and 14 (in at rapid: the stretch begins on N10's G00 move).
+    want.extend([[17.0, 0.0, 2.0], [17.0, 0.0, -30.0], [17.5, 0.0, -29.5]]);
+    let e14 = z(rise2, 14.0); // level 14 meets the last rise (it ends at 16.2)
+    want.extend([
+        [17.5, 0.0, 2.0],
+        [14.0, 0.0, 2.0],
+        [14.0, 0.0, e14],
+        [14.5, 0.0, e14 + 0.5],
+    ]);
+    // Level 11: back to Z 2 at X 14.5 (the top over the way is the bump, 7.8 below A, and
+    // the rise at the retract point: level 6 is cut all along).
+    let (e1, a2, e2) = (z(rise1, 11.0), z(down2, 11.0), z(rise2, 11.0));
+    want.extend([
+        [14.5, 0.0, 2.0],
+        [11.0, 0.0, 2.0],
+        [11.0, 0.0, e1],
+        [11.5, 0.0, e1 + 0.5],
+        [14.5, 0.0, e1 + 0.5], // over the bump (7.8 below A: level 6 cut there)
+        [14.5, 0.0, a2],
+        [14.0, 0.0, a2], // down to the level above at rapid
+        [11.0, 0.0, a2], // in by 3 at the feed
+        [11.0, 0.0, e2],
+        [11.5, 0.0, e2 + 0.5],
+    ]);
+    // Level 8, both pockets; level 5, the first only (the second's bottom is 6.2).
+    for (level, pockets) in [
+        (8.0, vec![(down1, rise1), (down2, rise2)]),
+        (5.0, vec![(down1, rise1)]),
+    ] {
+        for (d, r) in pockets {
+            let (a, b) = (z(d, level), z(r, level));
+            let at = *want.last().unwrap();
+            want.extend([
+                [14.5, 0.0, at[2]],
+                [14.5, 0.0, a],
+                [level + 3.0, 0.0, a],
+                [level, 0.0, a],
+                [level, 0.0, b],
+                [level + 0.5, 0.0, b + 0.5],
+            ]);
+        }
+    }
+    let last = want.last().unwrap()[2];
+    want.extend([
+        [11.5, 0.0, last], // back to A over X 11.5 (the top is 9.8 below A: level 9)
+        [11.5, 0.0, 2.0],
+        [20.0, 0.0, 2.0],
+    ]);
+    let shape = [
+        (10.0, 2.0),
+        (10.0, -4.0),
+        (4.0, -8.0),
+        (4.0, -12.0),
+        (12.0, -16.0),
+        (12.0, -18.0),
+        (6.0, -22.0),
+        (6.0, -26.0),
+        (16.0, -30.0),
+        (20.0, -30.0),
+    ];
+    want.extend(shape.iter().map(|&(x, z)| [x + 0.2, 0.0, z])); // moved by U0.4
+    want.extend([[20.0, 0.0, -30.0], [20.0, 0.0, 2.0]]); // home, X first
+    want.extend(shape.iter().map(|&(x, z)| [x, 0.0, z])); // G70
+    want.extend([[20.0, 0.0, 2.0], [40.0, 0.0, 50.0]]);
+    clean("t11_g71_type_ii_pockets.nc", &want);
+}
+
+#[test]
+fn t12_g70_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below. `softnc check`
+    // prepares the compensated path (nose 0.8, edge position 3) without a violation.
+    let b = clean(
+        "t12_g70_nose_radius_compensation.nc",
+        &[
+            [22.0, 0.0, 2.0],   // G0 X44 Z2: the start point A
+            [8.0, 0.0, 2.0],    // N10 G42: A'
+            [8.0, 0.0, -10.0],  // Z-10
+            [12.0, 0.0, -18.0], // X24 Z-18
+            [12.0, 0.0, -30.0], // Z-30
+            [22.0, 0.0, -30.0], // N20 G40 X44
+            [22.0, 0.0, 2.0],   // back to A: Z alone
+            [40.0, 0.0, 50.0],  // G0 X80 Z50
+        ],
+    );
+    let sides: Vec<(Option<nc_kernel::TrcSide>, nc_kernel::TrcSide)> = b
+        .iter()
+        .filter(|b| b.motion.is_some())
+        .map(|b| (b.trc, b.modal.trc))
+        .collect();
+    let (r, off) = (nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off);
+    assert_eq!(
+        sides,
+        [
+            (None, off),
+            (Some(r), r),
+            (None, r),
+            (None, r),
+            (None, r),
+            (Some(off), off),
+            (None, off),
+            (None, off),
+        ]
+    );
 }
 
 #[test]
@@ -359,19 +580,36 @@ fn sample_shaft_rough_finish_checks_clean() {
         })
         .count();
     assert_eq!(retracts, 7);
-    let out = Command::new(env!("CARGO_BIN_EXE_softnc"))
-        .arg("check")
-        .arg(&file)
-        .arg("--machine")
-        .arg(root().join("config/fanuc-lathe.toml"))
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
+    check_at(&file);
+}
+
+#[test]
+fn sample_flange_face_checks_clean() {
+    // programs/fanuc-lathe/flange_face_rough_finish.nc: A = X84 Z2 (Z 2), A' at Z -6 moved
+    // by W0.1 to -5.9; depth 1.5 along Z: levels 0.5, -1, -2.5, -4, -5.5 (7.9 / 1.5 rounded
+    // up less 1 = 5 passes), each ending in a 45° retract of R0.5 (X and Z up).
+    let file = root().join("programs/fanuc-lathe/flange_face_rough_finish.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let (md, tools) = (machine(), ToolTable::builtin());
+    let blocks: Vec<Block> = Interpreter::new("flange", &text, &md, &tools)
+        .collect::<Result<_, _>>()
+        .unwrap_or_else(|a| panic!("{a}"));
+    let levels: Vec<f64> = blocks
+        .iter()
+        .filter_map(|b| b.motion)
+        .filter(|m| {
+            let (dx, dz) = (m.end[0] - m.start[0], m.end[2] - m.start[2]);
+            m.kind == nc_kernel::MotionKind::Rapid
+                && (dx - 0.5).abs() < 1e-9
+                && (dz - 0.5).abs() < 1e-9
+        })
+        .map(|m| m.start[2])
+        .collect();
+    assert_eq!(levels.len(), 5, "{levels:?}");
+    for (got, want) in levels.iter().zip([0.5, -1.0, -2.5, -4.0, -5.5]) {
+        assert!((got - want).abs() < 1e-9, "{levels:?}");
+    }
+    check_at(&file);
 }
 
 /// The path feed per revolution of each thread block, in order.

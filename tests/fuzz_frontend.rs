@@ -427,6 +427,9 @@ const LATHE_WORDS: &[&str] = &[
     "G28 U0. W0.", "X40.", "Z-10.", "G1 X20. Z-5. F0.1", "G2 X30. W-5. R5.", "G3 U10. W-5. R5.",
     "G71 U2. R1.", "G90 X20. Z-10. F0.2", "X20. U2.", ",C1.", ",R2.", "G42", "G41", "G40",
     "G4 U1.", "G4 X0.5", "G18", "G17 G0 X10. Y5.",
+    "G72 W2. R1.", "G72 P10 Q20 U0.4 W0.2", "G73 U3. W1. R3", "G73 P10 Q20", "G71 P10 Q20",
+    "N10 G0 Z-5.", "N10 G0 X20. Z1.", "N20 X40.", "N20 G1 X0.", "G70 P10 Q20",
+    "N10 G0 G42 X20. Z1.", "N20 G40 X40.", "G2 Z-5. R3.",
 ];
 
 /// The rotary axes of the 5-axis machine, with and without macro values.

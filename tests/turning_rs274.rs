@@ -1,11 +1,13 @@
-//! Differential test: the Fanuc lathe's G71 (type I) and G70 against LinuxCNC 2.9's `rs274`,
-//! which implements both with its own words (the shape in an `o… sub`, `G71 Q<sub> X Z I<depth>
+//! Differential test: the Fanuc lathe's G71 and G72 (type I; G71 type II by the stretches
+//! each level cuts) and G70 against LinuxCNC 2.9's
+//! `rs274`, which implements them with its own words (the shape in an `o… sub`, `G71 Q<sub> X Z I<depth>
 //! R<retract>`). On shapes whose first element after A' runs along Z and without finishing
 //! allowances, the two controls cut the same: every feed move (the roughing cuts, the run
 //! along the shape, G70's path, each arc's centre and direction) and every 45° retract point
 //! agree to 2e-4 mm (rs274 prints four decimals). Where they differ by design
-//! (docs/turning.md, "G71/G70 and LinuxCNC"):
-//! - rs274 makes a first cut at the start point's X, which removes nothing: left out here;
+//! (docs/turning.md, "G71/G72/G70 and LinuxCNC"):
+//! - rs274 makes a first cut at the start point's X (G72: Z), which removes nothing: left
+//!   out here;
 //! - its return after a retract goes to the start's Z less R, then in; softnc (a Fanuc) goes
 //!   back to the start's Z, then in: the rapids differ and are not compared;
 //! - its stock allowance D is an equidistant, not Fanuc's U/W shift: no allowances here;
@@ -94,16 +96,18 @@ fn near(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() <= TOL && (a[1] - b[1]).abs() <= TOL
 }
 
-/// The feed moves, and the retract points (a rapid right after a feed along Z).
-fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
+/// The feed moves, and the retract points (a rapid right after a straight feed). `depth` is
+/// the axis the passes step along (0: X for G71, 1: Z for G72), `start` the start's value
+/// on it.
+fn cuts(moves: &[Move], depth: usize, start: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
     let mut feeds = Vec::new();
     let mut retracts = Vec::new();
     let mut prev: Option<Move> = None;
     for m in moves {
         if !m.rapid {
             // rs274's first cut at the start's X removes nothing (module comment).
-            let along_start = prev.is_some_and(|p| (p.end[0] - start_x).abs() <= TOL)
-                && (m.end[0] - start_x).abs() <= TOL
+            let along_start = prev.is_some_and(|p| (p.end[depth] - start).abs() <= TOL)
+                && (m.end[depth] - start).abs() <= TOL
                 && m.turn == 0;
             if !along_start {
                 feeds.push(*m);
@@ -118,17 +122,17 @@ fn cuts(moves: &[Move], start_x: f64) -> (Vec<Move>, Vec<[f64; 2]>) {
     (feeds, retracts)
 }
 
-fn compare(tag: &str, fanuc: &str, ngc: &str, start_x: f64) {
-    compare_on("config/fanuc-lathe.toml", tag, fanuc, ngc, start_x);
+fn compare(tag: &str, fanuc: &str, ngc: &str, depth: usize, start: f64) {
+    compare_on("config/fanuc-lathe.toml", tag, fanuc, ngc, depth, start);
 }
 
-fn compare_on(machine: &str, tag: &str, ours: &str, ngc: &str, start_x: f64) {
+fn compare_on(machine: &str, tag: &str, ours: &str, ngc: &str, depth: usize, start: f64) {
     if !rs274::present() {
         return;
     }
     let (ours, theirs) = (softnc_on(machine, ours), oracle(ngc, tag));
-    let (f1, r1) = cuts(&ours, start_x);
-    let (f2, r2) = cuts(&theirs, start_x);
+    let (f1, r1) = cuts(&ours, depth, start);
+    let (f2, r2) = cuts(&theirs, depth, start);
     assert_eq!(
         f1.len(),
         f2.len(),
@@ -157,7 +161,7 @@ fn g71_g70_over_a_fillet_agree_with_rs274() {
     let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X20 Z1\nG1 Z-10\n\
         G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R0.5 F0.3\n\
         G70 Q100 X50 Z1 F0.3\nM2\n";
-    compare("fillet", fanuc, ngc, 25.0);
+    compare("fillet", fanuc, ngc, 0, 25.0);
 }
 
 #[test]
@@ -169,7 +173,84 @@ fn g71_g70_over_a_taper_agree_with_rs274() {
     let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X20 Z2\nG1 Z-10\n\
         X30 Z-20\nG3 X36 Z-23 R3\nG1 Z-30\nX40\no100 endsub\nG71 Q100 X40 Z2 I1.5 R1 F0.25\n\
         G70 Q100 X40 Z2 F0.25\nM2\n";
-    compare("taper", fanuc, ngc, 20.0);
+    compare("taper", fanuc, ngc, 0, 20.0);
+}
+
+#[test]
+fn g72_g70_over_a_rounded_face_agree_with_rs274() {
+    // Facing from (radius 20, Z 2) in passes of 2.5 along Z: levels -0.5, -3, -5.5 above A'
+    // at Z -6; the face's rounding is a quarter circle about (radius 20, Z 0). The shape
+    // ends at the start's Z (rs274 feeds from B to the start's Z, a Fanuc returns at rapid).
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X40. Z2.\nG72 W2.5 R0.5\nG72 P10 Q20 F0.2\n\
+        N10 G0 Z-6.\nG3 X28. Z0. R6.\nG1 X0.\nN20 Z2.\nG70 P10 Q20\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X40 Z-6\n\
+        G3 X28 Z0 R6\nG1 X0\nZ2\no100 endsub\nG72 Q100 X40 Z2 I2.5 R0.5 F0.2\n\
+        G70 Q100 X40 Z2 F0.2\nM2\n";
+    compare("face", fanuc, ngc, 1, 2.0);
+}
+
+#[test]
+fn g72_g70_over_a_convex_corner_and_a_taper_agree_with_rs274() {
+    // Facing from (radius 30, Z 2), depth 2: levels 0, -2, -4, -6 above A' at Z -8. The
+    // shape: along the back face to radius 20, a convex quarter circle G2 R6 about (14, -8)
+    // up to (14, -2), a taper to (5, 0), the face to the centre, out to the start's Z.
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X60. Z2.\nG72 W2. R0.5\nG72 P10 Q20 F0.2\n\
+        N10 G0 Z-8.\nG1 X40.\nG2 X28. Z-2. R6.\nG1 X10. Z0.\nX0.\nN20 Z2.\nG70 P10 Q20\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X60 Z2\no100 sub\nG0 X60 Z-8\nG1 X40\n\
+        G2 X28 Z-2 R6\nG1 X10 Z0\nX0\nZ2\no100 endsub\nG72 Q100 X60 Z2 I2 R0.5 F0.2\n\
+        G70 Q100 X60 Z2 F0.2\nM2\n";
+    compare("corner", fanuc, ngc, 1, 2.0);
+}
+
+/// The stretches cut along Z at each level X of `levels`: the feeds parallel to Z there,
+/// merged where they join, as (level, [(from Z, to Z)]) in the order cut.
+fn level_cuts(moves: &[Move], levels: &[f64]) -> Vec<(f64, Vec<(f64, f64)>)> {
+    let mut out: Vec<(f64, Vec<(f64, f64)>)> = levels.iter().map(|&l| (l, Vec::new())).collect();
+    let mut at = [f64::NAN; 2];
+    for m in moves {
+        let along_z = !m.rapid && m.turn == 0 && (m.end[0] - at[0]).abs() <= TOL;
+        if let Some((_, cuts)) = out
+            .iter_mut()
+            .find(|(l, _)| along_z && (l - m.end[0]).abs() <= TOL)
+        {
+            match cuts.last_mut() {
+                Some(last) if (last.1 - at[1]).abs() <= TOL => last.1 = m.end[1],
+                _ if (m.end[1] - at[1]).abs() > TOL => cuts.push((at[1], m.end[1])),
+                _ => {}
+            }
+        }
+        at = m.end;
+    }
+    out
+}
+
+#[test]
+fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
+    // Two pockets (a cone and a half circle about (12, -22)), depth 3 from radius 20:
+    // levels 17, 14, 11, 8, 5. rs274 cuts pocket by pocket and follows the contour into
+    // and out of a pocket; softnc level by level (docs/turning.md, "Type II"). What each
+    // level cuts along Z agrees; the ways between the stretches are not compared.
+    if !rs274::present() {
+        return;
+    }
+    let fanuc = "G18 G21 G99 S500 M3\nG0 X40. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\n\
+        N10 G0 X20. Z2.\nG1 Z-4.\nX8. Z-8.\nZ-12.\nX24. Z-16.\nZ-18.\nG2 Z-26. R4.\n\
+        G1 X32. Z-30.\nN20 X40.\nM30\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z2\no100 sub\nG0 X20 Z2\nG1 Z-4\n\
+        X8 Z-8\nZ-12\nX24 Z-16\nZ-18\nG2 X24 Z-26 R4\nG1 X32 Z-30\nX40\no100 endsub\n\
+        G71 Q100 X40 Z2 I3 R0.5 F0.2\nM2\n";
+    let levels = [17.0, 14.0, 11.0, 8.0, 5.0];
+    let ours = level_cuts(&softnc_on("config/fanuc-lathe.toml", fanuc), &levels);
+    let theirs = level_cuts(&oracle(ngc, "pockets"), &levels);
+    for ((level, a), (_, b)) in ours.iter().zip(&theirs) {
+        assert!(!a.is_empty(), "level {level}: nothing cut");
+        let same = a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
+        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
+    }
+    eprintln!("pockets: {ours:?}");
 }
 
 /// (end (X radius, Z), rapid, lead along Z for a thread) of every move.
@@ -258,7 +339,14 @@ fn cycle95_over_a_fillet_agrees_with_rs274() {
     let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X50 Z1\no100 sub\nG0 X20 Z0\nG1 Z-10\n\
         G2 X40 Z-20 R10\nG1 Z-35\nG1 X50\no100 endsub\nG71 Q100 X50 Z1 I3 R1 F0.3\n\
         G70 Q100 X50 Z1 F0.1\nM2\n";
-    compare_on("config/siemens-808d.toml", "cycle95", sinumerik, ngc, 25.0);
+    compare_on(
+        "config/siemens-808d.toml",
+        "cycle95",
+        sinumerik,
+        ngc,
+        0,
+        25.0,
+    );
 }
 
 #[test]
@@ -276,6 +364,7 @@ fn cycle95_fal_agrees_with_rs274_stock_allowance() {
         "cycle95 FAL",
         sinumerik,
         ngc,
+        0,
         25.0,
     );
 }

@@ -44,8 +44,8 @@ static GCODES: &[GCodeDef] = &[
     g(67, ModalMacroCancel),
     g(70, TurningCycle(super::TurningCycle::Finishing)),
     g(71, TurningCycle(super::TurningCycle::StockRemoval)),
-    g(72, Unsupported("stock removal in facing G72")),
-    g(73, Unsupported("pattern repeating G73")),
+    g(72, TurningCycle(super::TurningCycle::Facing)),
+    g(73, TurningCycle(super::TurningCycle::PatternRepeating)),
     g(74, LatheCycle(super::LatheCycle::FacePecking)),
     g(75, LatheCycle(super::LatheCycle::Grooving)),
     g(76, LatheCycle(super::LatheCycle::Threading)),
@@ -168,7 +168,5 @@ mod tests {
         let m = b[2].motion.unwrap();
         // X90 is 5 radius below the 50 that reads here; Z5 is 5 below the Z10 here.
         assert_eq!((m.end[0], m.end[2]), (15.0, -5.0));
-        let a = lathe("G72 W2. R1.\n").unwrap_err();
-        assert_eq!(a.code, AlarmCode::NotSupported);
     }
 }

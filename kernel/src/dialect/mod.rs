@@ -138,7 +138,7 @@ pub enum GEffect {
     /// in space, G341 axis first).
     SmoothPath(SarPath),
     /// A multiple repetitive turning cycle on the contour between the blocks P and Q
-    /// (Fanuc lathe G70, G71): one shot, the contour written once.
+    /// (Fanuc lathe G70 … G73): one shot, the contour written once.
     TurningCycle(TurningCycle),
     /// A Fanuc lathe cycle whose blocks are its data (one shot: G74, G75, G76).
     LatheCycle(LatheCycle),
@@ -166,6 +166,12 @@ pub enum TurningCycle {
     /// contour offset by the allowances (Fanuc G71 type I). A block with only the depth
     /// of cut and the retract (`U R`) stores them.
     StockRemoval,
+    /// The same in passes along X, stepping in Z (Fanuc G72); `W R` stores the depth of
+    /// cut and the retract.
+    Facing,
+    /// Runs the whole contour several times, shifted from the escape towards it (Fanuc
+    /// G73); `U W R` stores the escape and the number of passes.
+    PatternRepeating,
 }
 
 impl GEffect {

@@ -53,6 +53,9 @@ pub enum Step {
     Speed(f64),
     /// A program stop inside the expansion (SINUMERIK CYCLE87: M0 for the operator).
     Stop(ProgramStop),
+    /// G40/G41/G42 written in a turning cycle's shape (G70): the side from the next step
+    /// on, which goes into the same block (the compensation starts or ends with a move).
+    Compensation(TrcSide),
 }
 
 /// The steps still to come of the block being expanded, and the program stop of its block
@@ -249,7 +252,7 @@ impl Interpreter<'_> {
     /// program stop waits for the last step.
     pub(in crate::frontend) fn expand_first(&mut self, new: &mut ModalState) {
         if let Some(step) = self.expansion.as_mut().and_then(Expansion::next) {
-            self.apply_step(step, new);
+            self.apply_with_next(step, new);
         }
         if let Some(e) = self.expansion.as_mut() {
             if !e.done() {
@@ -278,7 +281,7 @@ impl Interpreter<'_> {
         super::reset(b, line, col, number);
         b.words.clear();
         let mut modal = b.modal;
-        self.apply_step(step, &mut modal);
+        self.apply_with_next(step, &mut modal);
         if let (true, Some(m)) = (self.d.sinumerik, self.block.motion) {
             // The element a SINUMERIK CT continues (a helix's last turn).
             self.last_move = Some(m);
@@ -309,6 +312,16 @@ impl Interpreter<'_> {
         self.finished |= b.stop.is_some_and(|s| s.ends_program());
         self.block = b;
         Some(true)
+    }
+
+    /// A step into the block being built; a compensation step takes the step after it along.
+    fn apply_with_next(&mut self, step: Step, modal: &mut ModalState) {
+        self.apply_step(step, modal);
+        if let Step::Compensation(_) = step {
+            if let Some(next) = self.expansion.as_mut().and_then(Expansion::next) {
+                self.apply_step(next, modal);
+            }
+        }
     }
 
     /// Puts a step into the block being built: its motion from the position now (exact
@@ -406,6 +419,10 @@ impl Interpreter<'_> {
                 });
             }
             Step::Stop(stop) => blk.stop = Some(stop),
+            Step::Compensation(side) => {
+                blk.trc = Some(side);
+                modal.trc = side;
+            }
             Step::Spindle(dir) => {
                 modal.spindle_dir = dir;
                 let code = self

@@ -1,8 +1,8 @@
 //! The finished shape of a multiple repetitive turning cycle: the blocks from sequence
 //! number P to Q of the running program (Fanuc 0i-TF, "Stock removal in turning (G71)":
 //! the shape is programmed once, between ns and nf). They are read here as geometry: G00
-//! G01 G02 G03 with X Z (a diameter and Z), U W (incremental), R or I K, and the F and S
-//! that the finishing cycle G70 uses. Anything else in them is refused with an alarm at
+//! G01 G02 G03 with X Z (a diameter and Z), U W (incremental), R or I K, the F and S that
+//! the finishing cycle G70 uses, and G40/G41/G42 (G70's compensation). Anything else in them is refused with an alarm at
 //! its word, so that no block of the shape is silently left out.
 
 use super::super::super::block::*;
@@ -34,8 +34,11 @@ pub struct Element {
 #[derive(Clone, Debug)]
 pub struct Contour {
     pub elements: Vec<Element>,
-    /// The first block wrote Z (or W): a type II shape for G71.
-    pub first_has_z: bool,
+    /// The first block wrote X (or U), Z (or W): with both, a type II shape.
+    pub first_has: [bool; 2],
+    /// G40/G41/G42 written in the shape (G70 only): the side from the element of that index
+    /// on (an index past the last element: from the return to the start point on).
+    pub compensation: Vec<(usize, TrcSide)>,
     pub after: Mark,
 }
 
@@ -43,6 +46,8 @@ pub struct Contour {
 #[derive(Default)]
 struct ShapeWords {
     g: Option<(MotionMode, usize)>,
+    /// G40/G41/G42 and where it was written.
+    trc: Option<(TrcSide, usize)>,
     x: Option<(Val, bool)>,
     z: Option<(Val, bool)>,
     r: Option<Val>,
@@ -55,18 +60,21 @@ struct ShapeWords {
 
 impl Interpreter<'_> {
     /// The shape from block `p` to block `q`, starting at the tool position `from`. A fault
-    /// in a block of the shape names that block's line.
+    /// in a block of the shape names that block's line. `compensation`: G41/G42 may be
+    /// written in it (G70).
     pub(super) fn read_contour(
         &mut self,
         (p, p_at): (u32, usize),
         (q, q_at): (u32, usize),
         from: Pos,
         new: &ModalState,
+        compensation: bool,
     ) -> R<Contour> {
         let (mut pos, mut line, mut line_start) = self.find_label(p, p_at)?;
         let (mut at, mut mode) = (from, None);
         let mut elements = Vec::new();
-        let mut first_has_z = false;
+        let mut first_has = [false; 2];
+        let mut sides = Vec::new();
         // Bounded by the text: every round reads one block further.
         loop {
             if pos >= self.src.len() {
@@ -82,7 +90,10 @@ impl Interpreter<'_> {
                 .and_then(|sw| {
                     if elements.is_empty() && mode.is_none() {
                         self.first_block(&sw, p, pos)?;
-                        first_has_z = sw.z.is_some();
+                        first_has = [sw.x.is_some(), sw.z.is_some()];
+                    }
+                    if let Some(side) = self.shape_side(&sw, mode, compensation)? {
+                        sides.push((elements.len(), side));
                     }
                     Ok(sw)
                 })
@@ -97,7 +108,8 @@ impl Interpreter<'_> {
             if sw.number == Some(q) {
                 return Ok(Contour {
                     elements,
-                    first_has_z,
+                    first_has,
+                    compensation: sides,
                     after: next,
                 });
             }
@@ -174,10 +186,7 @@ impl Interpreter<'_> {
 
     fn shape_word(&self, sw: &mut ShapeWords, letter: u8, v: Val, at: usize) -> R<()> {
         let slot = match letter {
-            b'G' => {
-                sw.g = Some((self.shape_motion(v, at)?, at));
-                return Ok(());
-            }
+            b'G' => return self.shape_code(sw, v, at),
             b'X' | b'U' => {
                 sw.x = Some((v, letter == b'U'));
                 return Ok(());
@@ -197,21 +206,61 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// A G code of the shape: a motion; G40 is allowed (it changes nothing here).
-    fn shape_motion(&self, v: Val, at: usize) -> R<MotionMode> {
+    /// The compensation a block of the shape programs. G41/G42 only where allowed (G70), and
+    /// in a block that moves at G00/G01 (the start-up); G40 anywhere: in a roughing
+    /// cycle, which runs without compensation, it changes nothing.
+    fn shape_side(
+        &self,
+        sw: &ShapeWords,
+        mode: Option<MotionMode>,
+        allowed: bool,
+    ) -> R<Option<TrcSide>> {
+        let Some((side, at)) = sw.trc else {
+            return Ok(None);
+        };
+        if side == TrcSide::Off {
+            return Ok(allowed.then_some(side));
+        }
+        if !allowed {
+            return Err(fault(
+                AlarmCode::NotSupported,
+                at,
+                "nose radius compensation inside a roughing cycle's shape is not supported by softnc: the finishing cycle takes it, or select it before the cycle",
+            ));
+        }
+        let m = sw.g.map(|g| g.0).or(mode);
+        let linear = matches!(m, Some(MotionMode::Rapid | MotionMode::Linear));
+        if !linear || (sw.x.is_none() && sw.z.is_none()) {
+            let codes = self.d.codes_of(&[
+                GEffect::Motion(MotionMode::Rapid),
+                GEffect::Motion(MotionMode::Linear),
+            ]);
+            return Err(fault(
+                self.d.trc_not_linear,
+                at,
+                format!("the shape's compensation starts in a block that moves at {codes}"),
+            ));
+        }
+        Ok(Some(side))
+    }
+
+    /// A G code of the shape: a motion, or the nose radius compensation (G40/G41/G42).
+    fn shape_code(&self, sw: &mut ShapeWords, v: Val, at: usize) -> R<()> {
         let code = v.value;
         let def = (code.fract() == 0.0 && (0.0..1000.0).contains(&code))
             .then(|| self.d.gcode(code as u16))
             .flatten();
         match def.map(|d| d.effect) {
-            Some(GEffect::Motion(m)) => Ok(m),
-            Some(GEffect::Trc(TrcSide::Left | TrcSide::Right)) => Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                "nose radius compensation inside a turning cycle's shape is not built yet: select it before the cycle",
-            )),
-            _ => Err(not_in_shape(at, &crate::dialect::GName(code as u16).to_string())),
+            Some(GEffect::Motion(m)) => sw.g = Some((m, at)),
+            Some(GEffect::Trc(side)) => sw.trc = Some((side, at)),
+            _ => {
+                return Err(not_in_shape(
+                    at,
+                    &crate::dialect::GName(code as u16).to_string(),
+                ))
+            }
         }
+        Ok(())
     }
 
     /// The element the block's words make, from `at` (none for a block without X or Z).

@@ -1,15 +1,20 @@
 //! Multiple repetitive turning cycles (Fanuc 0i-TF, G-code system A): the shape is written
-//! once between the blocks P and Q; G71 roughs down to it in passes along Z, G70 runs it.
+//! once between the blocks P and Q; G71 roughs down to it in passes along Z, G72 in passes
+//! along X, G73 runs it again and again from an escape towards it, G70 runs it.
 //!
 //! ```text
 //! G71 U(Δd) R(e)                  depth of cut (radius), retract: stored
 //! G71 P(ns) Q(nf) U(Δu) W(Δw) F S allowances (U a diameter); F and S for the roughing
-//! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I)
+//! N(ns) G00/G01 X(U) …            the shape: the first block moves X only (type I), or
+//! …                               X and Z (type II: pockets, stock_removal/pockets.rs)
 //! N(nf) …
-//! G70 P(ns) Q(nf)                 finishing: the shape with its own F and S
+//! G70 P(ns) Q(nf)                 finishing: the shape with its own F, S and G41/G42
+//! G72 W(Δd) R(e)  G72 P Q U W F S  facing: G71 with X and Z exchanged (first block: Z only)
+//! G73 U(Δi) W(Δk) R(d)             escape (U a radius) and number of passes: stored
+//! G73 P(ns) Q(nf) U(Δu) W(Δw) F S  the shape d times, shifted from Δi+Δu/2, Δk+Δw to Δu/2, Δw
 //! ```
 //!
-//! After G71 the program goes on after block Q; after G70, after the G70 block. Both
+//! After G71 … G73 the program goes on after block Q; after G70, after the G70 block. All
 //! return to the start point at rapid. [`contour`] reads the shape, [`stock_removal`] makes
 //! the moves.
 
@@ -26,16 +31,22 @@ use super::super::words::{int_value, Val, Words};
 use super::expand::Expansion;
 use crate::alarm::AlarmCode;
 use crate::dialect::TurningCycle;
+use stock_removal::{exchange, Repeat};
 
-/// `G71 U R`: the depth of cut and the retract, kept until written again.
+/// `G71 U R` / `G72 W R`: the depth of cut and the retract; `G73 U W R`: the escape and
+/// the number of passes. Kept until written again.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TurningData {
     pub depth: f64,
     pub retract: f64,
+    /// G73's escape (Δi, Δk): X radius, Z.
+    pub escape: [f64; 2],
+    /// G73's number of passes (d).
+    pub divisions: u32,
 }
 
 impl Interpreter<'_> {
-    /// Step 8 of a G70/G71 block.
+    /// Step 8 of a G70 … G73 block.
     pub(super) fn turning_cycle(
         &mut self,
         w: &Words,
@@ -45,8 +56,8 @@ impl Interpreter<'_> {
     ) -> R<()> {
         self.turning_allowed(new, at)?;
         let (p, q) = match (w.p, w.q) {
-            (None, None) if kind == TurningCycle::StockRemoval => {
-                return self.depth_and_retract(w, new, at)
+            (None, None) if kind != TurningCycle::Finishing => {
+                return self.turning_data(w, new, kind, at)
             }
             (Some(p), Some(q)) => (
                 (int_value(p.value, p.at, "P")?, p.pos()),
@@ -61,19 +72,21 @@ impl Interpreter<'_> {
             }
         };
         let start = self.cur;
-        let contour = self.read_contour(p, q, start, new)?;
-        let passes = match kind {
-            TurningCycle::StockRemoval => {
-                let (shape, passes) = self.stock_removal(w, new, &contour, at)?;
-                (self.pos, self.line, self.line_start) = contour.after;
-                Some((shape, passes))
+        let finishing = kind == TurningCycle::Finishing;
+        let contour = self.read_contour(p, q, start, new, finishing)?;
+        let run = match kind {
+            TurningCycle::Finishing => {
+                TurningRun::new(start, contour.elements, None).compensated(contour.compensation)
             }
-            TurningCycle::Finishing => None,
+            TurningCycle::StockRemoval => self.stock_removal(w, new, &contour, false, at)?,
+            TurningCycle::Facing => self.stock_removal(w, new, &contour, true, at)?,
+            TurningCycle::PatternRepeating => {
+                self.pattern_repeating(w, new, contour.elements, at)?
+            }
         };
-        let run = match passes {
-            Some((shape, p)) => TurningRun::new(start, shape, Some(p)),
-            None => TurningRun::new(start, contour.elements, None),
-        };
+        if kind != TurningCycle::Finishing {
+            (self.pos, self.line, self.line_start) = contour.after;
+        }
         self.expansion = Some(Expansion::turning(run));
         self.expand_first(new);
         Ok(())
@@ -98,14 +111,31 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// `G71 U(Δd) R(e)`: stored for the cycles that follow.
-    fn depth_and_retract(&mut self, w: &Words, new: &ModalState, at: usize) -> R<()> {
-        let no_axes = w.axis[1].is_none() && w.axis[2].is_none();
-        let Some(u) = w.axis[0].filter(|_| no_axes && w.incremental & 1 != 0) else {
+    /// The cycle's first block, without P and Q: its data, stored.
+    fn turning_data(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        kind: TurningCycle,
+        at: usize,
+    ) -> R<()> {
+        match kind {
+            TurningCycle::PatternRepeating => self.escape_and_divisions(w, new),
+            TurningCycle::Facing => self.depth_and_retract(w, new, 2, at),
+            _ => self.depth_and_retract(w, new, 0, at),
+        }
+    }
+
+    /// `G71 U(Δd) R(e)`, `G72 W(Δd) R(e)`: the depth word is U (`axis` 0) or W (2).
+    fn depth_and_retract(&mut self, w: &Words, new: &ModalState, axis: usize, at: usize) -> R<()> {
+        let no_axes = w.axis[1].is_none() && w.axis[2 - axis].is_none();
+        let word = w.axis[axis].filter(|_| no_axes && w.incremental & (1 << axis) != 0);
+        let Some(u) = word else {
+            let name = if axis == 0 { "U" } else { "W" };
             return Err(fault(
                 AlarmCode::MissingValue,
                 at,
-                "the depth of cut block is U(depth) R(retract), or give P and Q",
+                format!("the depth of cut block is {name}(depth) R(retract), or give P and Q"),
             ));
         };
         let depth = self.length(u, new.units);
@@ -113,7 +143,7 @@ impl Interpreter<'_> {
             return Err(fault(
                 AlarmCode::BadNumber,
                 u.pos(),
-                "the depth of cut U must be greater than 0",
+                "the depth of cut must be greater than 0",
             ));
         }
         self.turning.depth = depth;
@@ -130,63 +160,79 @@ impl Interpreter<'_> {
         }
         Ok(())
     }
+
+    /// `G73 U(Δi) W(Δk) R(d)`: the escape (U a radius, with its sign) and the passes; the
+    /// words left out keep their values.
+    fn escape_and_divisions(&mut self, w: &Words, new: &ModalState) -> R<()> {
+        for i in [0, 2] {
+            if let Some(v) = w.axis[i].filter(|_| w.incremental & (1 << i) == 0) {
+                return Err(fault(
+                    AlarmCode::Syntax,
+                    v.pos(),
+                    "the escape block is U(X escape, radius) W(Z escape) R(passes)",
+                ));
+            }
+        }
+        if let Some(r) = w.radius {
+            let d = int_value(r.value, r.at, "the number of passes R")?;
+            if d == 0 {
+                return Err(fault(
+                    AlarmCode::BadNumber,
+                    r.pos(),
+                    "pattern repeating needs at least one pass (R)",
+                ));
+            }
+            self.turning.divisions = d;
+        }
+        for (k, i) in [(0, 0), (1, 2)] {
+            if let Some(v) = w.axis[i] {
+                self.turning.escape[k] = self.length(v, new.units);
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Interpreter<'_> {
-    /// G71 type I: the shape offset by the allowances and the passes, checked.
+    /// G71 (`facing` false) or G72: the shape offset by the allowances and the passes,
+    /// checked. G72 runs G71's cycle with X and Z exchanged.
     fn stock_removal(
         &mut self,
         w: &Words,
         new: &ModalState,
         contour: &contour::Contour,
+        facing: bool,
         at: usize,
-    ) -> R<(Vec<Element>, Passes)> {
+    ) -> R<TurningRun> {
         if self.turning.depth <= 0.0 {
             return Err(fault(
                 AlarmCode::MissingValue,
                 at,
-                "no depth of cut: program the block U(depth) R(retract) of the cycle first",
+                "no depth of cut: program the block U(depth) R(retract) of the cycle first (W for facing)",
             ));
         }
-        if contour.first_has_z {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                "stock removal type II (Z in the shape's first block: pockets) is not built yet",
-            ));
-        }
+        let pockets = contour.first_has[0] && contour.first_has[1];
         let (du, dw) = self.allowances(w, new)?;
-        let shape = &contour.elements;
-        let (a, a1) = (self.cur, shape.first().map_or(self.cur, |e| e.to));
-        let b = shape.last().map_or(a1, |e| e.to);
-        let sx = sign(a[0] - a1[0]);
-        let sz = sign(b[2] - a1[2]);
-        if sx == 0.0 || sz == 0.0 {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                "the shape must start below (or above) the start point in X and go on along Z",
-            ));
-        }
-        if let Some((i, what)) = stock_removal::non_monotonic(shape, sx, sz) {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                format!(
-                    "the shape is not monotonic (type I), element {}: {what}",
-                    i + 1
-                ),
-            ));
-        }
-        let shape: Vec<Element> = shape.iter().map(|e| shifted(e, du, dw)).collect();
-        let total = sx * (a[0] - shape[0].to[0]);
-        if sx * du < 0.0 || sz * dw > 0.0 || total <= EPS {
+        let (du, dw) = if facing { (dw, du) } else { (du, dw) };
+        let shape: Vec<Element> = contour
+            .elements
+            .iter()
+            .map(|e| if facing { e.exchanged() } else { *e })
+            .collect();
+        let a = if facing { exchange(self.cur) } else { self.cur };
+        let (sx, sz) = shape_directions(a, &shape, pockets, facing, at)?;
+        let shape: Vec<Element> = shape.iter().map(|e| e.shifted([du, dw])).collect();
+        if sx * du < 0.0 || sz * dw > 0.0 || sx * (a[0] - shape[0].to[0]) <= EPS {
             return Err(fault(
                 AlarmCode::BadNumber,
                 at,
                 "the allowances U and W turn the shape inside out (their signs oppose the cut, or they reach the start point)",
             ));
         }
+        let total = match pockets {
+            true => stock_removal::deepest(a, &shape, sx),
+            false => sx * (a[0] - shape[0].to[0]),
+        };
         let count = Passes::count(total, self.turning.depth);
         self.add_passes(count as u64, at)?;
         let passes = Passes {
@@ -197,9 +243,42 @@ impl Interpreter<'_> {
             rapid_in: contour.elements[0].mode == MotionMode::Rapid,
             count: count as u32,
         };
-        Ok((shape, passes))
+        let mut run = TurningRun::new(a, shape, Some(passes));
+        if pockets {
+            run = run.pockets();
+        }
+        Ok(if facing { run.exchanged() } else { run })
     }
 
+    /// G73: the shape run d times, from the escape plus the allowances to the allowances.
+    fn pattern_repeating(
+        &mut self,
+        w: &Words,
+        new: &ModalState,
+        shape: Vec<Element>,
+        at: usize,
+    ) -> R<TurningRun> {
+        let d = self.turning.divisions;
+        if d == 0 {
+            return Err(fault(
+                AlarmCode::MissingValue,
+                at,
+                "no number of passes: program the block U(escape) W(escape) R(passes) of the cycle first",
+            ));
+        }
+        let (du, dw) = self.allowances(w, new)?;
+        let [ei, ek] = self.turning.escape;
+        self.add_passes(d as u64, at)?;
+        let repeat = Repeat {
+            first: [ei + du, ek + dw],
+            last: [du, dw],
+            count: d,
+        };
+        Ok(TurningRun::repeating(self.cur, shape, repeat))
+    }
+}
+
+impl Interpreter<'_> {
     /// Δu/2 and Δw from the block's U and W (X and Z are no words of this block).
     fn allowances(&self, w: &Words, new: &ModalState) -> R<(f64, f64)> {
         let mut out = [0.0; 2];
@@ -221,6 +300,45 @@ impl Interpreter<'_> {
     }
 }
 
+/// The directions of the passes (`sx`: +1 towards smaller X) and of the cut (`sz`) from the
+/// start `a` and the shape (G72: exchanged), checked against the type's rule: type I
+/// monotonic in X and Z, type II (`pockets`) in Z.
+fn shape_directions(
+    a: Pos,
+    shape: &[Element],
+    pockets: bool,
+    facing: bool,
+    at: usize,
+) -> R<(f64, f64)> {
+    let (depth_axis, cut_axis) = if facing { ("Z", "X") } else { ("X", "Z") };
+    let a1 = shape.first().map_or(a, |e| e.to);
+    let b = shape.last().map_or(a1, |e| e.to);
+    let (sx, sz) = (sign(a[0] - a1[0]), sign(b[2] - a1[2]));
+    if sx == 0.0 || sz == 0.0 {
+        return Err(fault(
+            AlarmCode::NotSupported,
+            at,
+            format!("the shape must start off the start point in {depth_axis} and go on along {cut_axis}"),
+        ));
+    }
+    let broken = match pockets {
+        true => stock_removal::z_turns(a, shape, sz).map(|i| (i, "it turns back along the cut")),
+        false => stock_removal::non_monotonic(shape, sx, sz),
+    };
+    if let Some((i, what)) = broken {
+        let kind = if pockets { "type II" } else { "type I" };
+        return Err(fault(
+            AlarmCode::NotSupported,
+            at,
+            format!(
+                "the shape is not monotonic ({kind}), element {}: {what} ({depth_axis} the depth, {cut_axis} the cut)",
+                i + 1
+            ),
+        ));
+    }
+    Ok((sx, sz))
+}
+
 pub fn sign(v: f64) -> f64 {
     if v > EPS {
         1.0
@@ -231,23 +349,10 @@ pub fn sign(v: f64) -> f64 {
     }
 }
 
-/// The element moved by the allowances (its centre with it).
-pub fn shifted(e: &Element, du: f64, dw: f64) -> Element {
-    let mv = |mut p: Pos| {
-        p[0] += du;
-        p[2] += dw;
-        p
-    };
-    Element {
-        to: mv(e.to),
-        centre: mv(e.centre),
-        ..*e
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use crate::alarm::{Alarm, AlarmCode};
+    use crate::frontend::block::TrcSide;
     use crate::frontend::{interpret, Block};
     use crate::machine_data::MachineData;
     use crate::tools::ToolTable;
@@ -342,8 +447,15 @@ mod tests {
             "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 Z-5. F0.1\nG2 Z-15. R5.\nN20 G1 X40.\n",
         );
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
-        // Z in the first block: type II, not built.
-        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nN20 X40.\n");
+        // Type II (X and Z in the first block): Z turns back.
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nX30. Z-5.\nN20 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // A type II arc passing the point where Z turns (a half circle along X).
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20. Z1.\nG1 Z-10. F0.1\nG3 X30. R2.5\nN20 G1 X40.\n",
+        );
         assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
     }
 
@@ -423,5 +535,399 @@ mod tests {
             [(8.0, 2.0), (8.0, -10.0), (7.5, -9.5), (7.5, 2.0)]
         );
         assert_eq!(ends.len(), 1 + 3 * 4 + 3 + 2);
+    }
+
+    /// (X radius, Z) of every move's end, rounded to 1e-9, X programmed as a diameter.
+    fn diameter_ends(src: &str) -> Vec<(f64, f64)> {
+        let b = lathe(src).unwrap_or_else(|a| panic!("{a}"));
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
+            .collect()
+    }
+
+    /// G72's moves by hand (radius, Z). Start A (40, 2); the shape A' (40, -6) at rapid,
+    /// (20, -6), (10, -2), B (0, -2); moved by U0.4 (0.2 on the radius) and W0.2: A' (40.2,
+    /// -5.8), (20.2, -5.8), (10.2, -1.8), (0.2, -1.8). Levels in Z 2 − 2k above -5.8: 0, -2,
+    /// -4 (7.8 / 2 rounded up less 1 = 3). Z 0 lies above the whole shape: across to B's X
+    /// 0.2. Z -2 and -4 meet the taper (20.2, -5.8)–(10.2, -1.8), X = 20.2 − 2.5·(level +
+    /// 5.8): 10.7 and 15.7. Each pass: in along Z at A's X, across at the feed, out by R0.5
+    /// at 45° (Z and X up), back to A's X; then the shape, and home Z first, then X.
+    fn g72_by_hand() -> Vec<(f64, f64)> {
+        let mut want = vec![(40.0, 2.0)];
+        for (level, x) in [(0.0, 0.2), (-2.0, 10.7), (-4.0, 15.7)] {
+            want.extend([
+                (40.0, level),
+                (x, level),
+                (x + 0.5, level + 0.5),
+                (40.0, level + 0.5),
+            ]);
+        }
+        want.extend([
+            (40.2, -5.8),
+            (20.2, -5.8),
+            (10.2, -1.8),
+            (0.2, -1.8),
+            (0.2, 2.0),
+            (40.0, 2.0),
+        ]);
+        want
+    }
+
+    #[test]
+    fn g72_faces_in_passes_along_x() {
+        let e = diameter_ends(
+            "G0 X80. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.4 W0.2 F0.2\nN10 G0 Z-6.\nG1 X40.\nX20. Z-2.\nN20 X0.\n",
+        );
+        assert_eq!(e, g72_by_hand());
+        // Radius programming: X and U are radii, the same moves.
+        let e = radius_ends(
+            "G0 X40. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.2 W0.2 F0.2\nN10 G0 Z-6.\nG1 X20.\nX10. Z-2.\nN20 X0.\n",
+        );
+        assert_eq!(e, g72_by_hand());
+    }
+
+    #[test]
+    fn g72_alarms() {
+        const FACE: &str = "N10 G0 Z-6.\nG1 X20.\nN20 Z0.\n";
+        // No depth of cut yet; W0; U in the depth block.
+        assert_eq!(
+            alarm(&format!("G72 P10 Q20\n{FACE}")),
+            (AlarmCode::MissingValue, 2, 1)
+        );
+        assert_eq!(alarm("G72 W0 R1.\n"), (AlarmCode::BadNumber, 2, 5));
+        assert_eq!(alarm("G72 U2. R1.\n"), (AlarmCode::MissingValue, 2, 1));
+        // Z turns back: not monotonic in Z (type I).
+        let got =
+            alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 Z-6.\nG1 X30. Z-2.\nX20. Z-4.\nN20 X0.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // Type II (X and Z in the first block): X turns back.
+        let got =
+            alarm("G72 W2. R1.\nG72 P10 Q20\nN10 G0 X38. Z-6.\nG1 X20.\nX30. Z-3.\nN20 Z0.\n");
+        assert_eq!(got, (AlarmCode::NotSupported, 3, 1));
+        // W against the cut (the face cut towards the chuck keeps W ≥ 0).
+        let got = alarm(&format!("G72 W2. R1.\nG72 P10 Q20 W-0.2\n{FACE}"));
+        assert_eq!(got, (AlarmCode::BadNumber, 3, 1));
+    }
+
+    /// G73 by hand (radius, Z): A (30, 5); the shape (10, 1) at rapid, (10, -10), (15, -20),
+    /// (25, -20). U4 W2 R3 and U0.4 W0.1: the shifts go from (4 + 0.2, 2 + 0.1) to (0.2,
+    /// 0.1) in 3 passes: (4.2, 2.1), (2.2, 1.1), (0.2, 0.1). Each pass: the whole shape
+    /// shifted, then home at rapid, X first.
+    fn g73_by_hand() -> Vec<(f64, f64)> {
+        let mut want = vec![(30.0, 5.0)];
+        for (sx, sz) in [(4.2, 2.1), (2.2, 1.1), (0.2, 0.1)] {
+            want.extend([
+                (10.0 + sx, 1.0 + sz),
+                (10.0 + sx, -10.0 + sz),
+                (15.0 + sx, -20.0 + sz),
+                (25.0 + sx, -20.0 + sz),
+                (30.0, -20.0 + sz),
+                (30.0, 5.0),
+            ]);
+        }
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        want.iter().map(|&(x, z)| (r(x), r(z))).collect()
+    }
+
+    #[test]
+    fn g73_repeats_the_shape_towards_it() {
+        let e = diameter_ends(
+            "G0 X60. Z5.\nG73 U4. W2. R3\nG73 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X20. Z1.\nG1 Z-10.\nX30. Z-20.\nN20 X50.\n",
+        );
+        assert_eq!(e, g73_by_hand());
+        // Radius programming: U4 of the escape stays a radius, U0.2 is the allowance.
+        let e = radius_ends(
+            "G0 X30. Z5.\nG73 U4. W2. R3\nG73 P10 Q20 U0.2 W0.1 F0.25\nN10 G0 X10. Z1.\nG1 Z-10.\nX15. Z-20.\nN20 X25.\n",
+        );
+        assert_eq!(e, g73_by_hand());
+        // One pass: the allowances only.
+        let e = diameter_ends(
+            "G0 X60. Z5.\nG73 U4. W2. R1\nG73 P10 Q20 U0.4 W0.1\nN10 G0 X20. Z1.\nN20 G1 X50. Z-10.\n",
+        );
+        assert_eq!(
+            e,
+            [
+                (30.0, 5.0),
+                (10.2, 1.1),
+                (25.2, -9.9),
+                (30.0, -9.9),
+                (30.0, 5.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn g73_alarms() {
+        const SHAPE3: &str = "N10 G0 X20. Z1.\nN20 G1 X40. Z-10.\n";
+        // No passes programmed yet; R0; R not whole; X instead of U.
+        assert_eq!(
+            alarm(&format!("G73 P10 Q20\n{SHAPE3}")),
+            (AlarmCode::MissingValue, 2, 1)
+        );
+        assert_eq!(alarm("G73 U2. W1. R0\n"), (AlarmCode::BadNumber, 2, 13));
+        assert_eq!(alarm("G73 U2. W1. R2.5\n"), (AlarmCode::BadNumber, 2, 13));
+        assert_eq!(alarm("G73 X2. R2\n"), (AlarmCode::Syntax, 2, 5));
+        // P without Q.
+        assert_eq!(
+            alarm(&format!("G73 U2. R2\nG73 P10\n{SHAPE3}")),
+            (AlarmCode::MissingValue, 3, 1)
+        );
+    }
+
+    /// Type II by hand (radius, Z), depth 2, retract 0.5. A (20, 2); the boundary A → A'
+    /// (12, 2) at rapid, (12, -5), down to (6, -10), (6, -15), up to (14, -20), (14, -25),
+    /// B (20, -25). Deepest 14 below A: levels X 18 16 … 8 (14/2 rounded up less 1 = 6).
+    /// 18, 16: one stretch from A's Z to B's wall at -25; 14: to where the boundary comes up
+    /// to 14, (14, -20). 12: in at (12, -5) (the cone's top), out on the rise from (6, -15)
+    /// to (14, -20) at Z = -15 − 5·6/8 = -18.75; 10: the cone at Z = -5 − 5·2/6, the rise at
+    /// -15 − 5·4/8 = -17.5; 8: -5 − 5·4/6 and -15 − 5·2/8 = -16.25.
+    /// The way to a stretch: up to the deepest level cut over the whole way less 0.5, along
+    /// Z; off the first block's G00 move down to the level above at rapid, in by 2 at the
+    /// feed. Over (12, -5) … (14.5, -19.5) the boundary's top is 6.8 below A: levels down to
+    /// 6 are cut there: across at X 20 − 6 + 0.5 = 14.5; then 8.8: X 12.5; 10.8: X 10.5.
+    /// Back to A: the top over the way is 8 (X 12 at the start): X 14.5; then the moved
+    /// shape from A and home.
+    fn type_ii_by_hand() -> Vec<(f64, f64)> {
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let mut want = vec![(20.0, 2.0)];
+        for (level, back, end) in [
+            (18.0, 20.0, -25.0),
+            (16.0, 18.5, -25.0),
+            (14.0, 16.5, -20.0),
+        ] {
+            if back != 20.0 {
+                want.push((back, 2.0)); // along Z, e above the last level
+            }
+            want.extend([(level, 2.0), (level, end), (level + 0.5, end + 0.5)]);
+        }
+        let cone = |x: f64| -5.0 - 5.0 * (12.0 - x) / 6.0;
+        let rise = |x: f64| -15.0 - 5.0 * (x - 6.0) / 8.0;
+        for (level, over) in [(12.0, 14.5), (10.0, 12.5), (8.0, 10.5)] {
+            want.extend([
+                (over, cone(level)),
+                (level + 2.0, cone(level)),
+                (level, cone(level)),
+                (level, rise(level)),
+                (level + 0.5, rise(level) + 0.5),
+            ]);
+        }
+        want.extend([
+            (14.5, -15.75),
+            (14.5, 2.0),
+            (20.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (6.0, -10.0),
+            (6.0, -15.0),
+            (14.0, -20.0),
+            (14.0, -25.0),
+            (20.0, -25.0),
+            (20.0, 2.0),
+        ]);
+        want.iter().map(|&(x, z)| (r(x), r(z))).collect()
+    }
+
+    #[test]
+    fn type_ii_cuts_the_pockets_level_by_level() {
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nX12. Z-10.\nZ-15.\nX28. Z-20.\nZ-25.\nN20 X40.\n",
+        );
+        assert_eq!(e, type_ii_by_hand());
+        let e = radius_ends(
+            "G0 X20. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X12. W0\nG1 Z-5.\nX6. Z-10.\nZ-15.\nX14. Z-20.\nZ-25.\nN20 X20.\n",
+        );
+        assert_eq!(e, type_ii_by_hand());
+    }
+
+    #[test]
+    fn g72_type_ii_cuts_a_face_groove() {
+        // (radius, Z), depth 1.5 along Z, retract 0.5. A (20, 2); the boundary A → A' (20,
+        // -1) at rapid, (14, -1), down to (12, -4), (10, -4), up to (8, -1), B (0, -1).
+        // Deepest 6 below A's Z: levels Z 0.5, -1, -2.5. Z 0.5: from N10's move to past B
+        // (B's X); Z -1 touches the face (not below it): the groove from its edge (14, -1)
+        // to (8, -1); Z -2.5: its flanks at X 13 and 9. Between: up to the deepest level
+        // cut over the way less 0.5 (Z 1, then -0.5), along X, down to the level above at
+        // rapid, in at the feed; retract 0.5 at 45°. Back to A over Z 1; the shape; home Z
+        // first.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG72 W1.5 R0.5\nG72 P10 Q20 F0.2\nN10 G0 X40. Z-1.\nG1 X28.\nX24. Z-4.\nX20.\nX16. Z-1.\nN20 X0.\n",
+        );
+        let want = [
+            (20.0, 2.0),
+            (20.0, 0.5),
+            (0.0, 0.5),
+            (0.5, 1.0),
+            (14.0, 1.0),
+            (14.0, 0.5),
+            (14.0, -1.0),
+            (8.0, -1.0),
+            (8.5, -0.5),
+            (13.0, -0.5),
+            (13.0, -1.0),
+            (13.0, -2.5),
+            (9.0, -2.5),
+            (9.5, -2.0),
+            (9.5, 1.0),
+            (20.0, 1.0),
+            (20.0, 2.0),
+            (20.0, -1.0),
+            (14.0, -1.0),
+            (12.0, -4.0),
+            (10.0, -4.0),
+            (8.0, -1.0),
+            (0.0, -1.0),
+            (0.0, 2.0),
+            (20.0, 2.0),
+        ];
+        assert_eq!(e, want);
+    }
+
+    #[test]
+    fn g70_takes_the_compensation_written_in_its_shape() {
+        // G42 in N10 starts the compensation with the move to A' (10, 2); G40 in N20 ends it
+        // with the move out to (20, -12); the return to A (X is there: Z only) runs without.
+        let b = lathe(
+            "G0 X40. Z2.\nG70 P10 Q20\nM30\nN10 G0 G42 X20. Z2.\nG1 Z-10. F0.1\nX30.\nN20 G40 X40. Z-12.\n",
+        )
+        .unwrap();
+        let got: Vec<(f64, f64, Option<TrcSide>, TrcSide)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2], b.trc, b.modal.trc)))
+            .collect();
+        let (r, off) = (TrcSide::Right, TrcSide::Off);
+        assert_eq!(
+            got,
+            [
+                (20.0, 2.0, None, off),
+                (10.0, 2.0, Some(r), r),
+                (10.0, -10.0, None, r),
+                (15.0, -10.0, None, r),
+                (20.0, -12.0, Some(off), off),
+                (20.0, 2.0, None, off),
+            ]
+        );
+        // G41 in an arc block: no start-up there (Fanuc alarm of a start-up in a circle).
+        let a =
+            lathe("G0 X40. Z2.\nG70 P10 Q20\nN10 G0 X20. Z2.\nG41 G2 X30. Z-3. R5.\nN20 G1 X40.\n")
+                .unwrap_err();
+        assert_eq!(
+            (a.code, a.line, a.col),
+            (AlarmCode::FanucTrcNotLinear, 4, 1)
+        );
+        // G41 in a roughing cycle's shape: refused at its word; G40 there changes nothing.
+        let a =
+            lathe("G0 X40. Z2.\nG73 U1. R2\nG73 P10 Q20\nN10 G0 G41 X20. Z2.\nN20 G1 X40. Z-5.\n")
+                .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 4, 8));
+        let b =
+            lathe("G0 X40. Z2.\nG73 U1. R1\nG73 P10 Q20\nN10 G0 X20. Z2.\nN20 G40 G1 X40. Z-5.\n")
+                .unwrap();
+        assert!(b
+            .iter()
+            .all(|b| b.modal.trc == TrcSide::Off && b.trc.is_none()));
+    }
+
+    #[test]
+    fn type_ii_bores_an_inner_groove() {
+        // Inner turning (radius, Z), depth 3, retract 0.5: the levels go up in X. A (5, 2);
+        // A' (12, 2) at rapid, (12, -5), out to (16, -8), (16, -12), back to (13, -15),
+        // (13, -20), B (6, -20). Deepest 11 above A: levels X 8, 11, 14. 8 and 11: from
+        // N10's move to the last element (X 13 → 6) at Z -20; 14: the groove's flanks at
+        // Z -6.5 and -14. Retract 0.5 at 45° down in X. Between: X 7.5, then 10.5 (the
+        // shallowest over the way is 7 above A: level 6 is cut), back to A over X 10.5.
+        let e = diameter_ends(
+            "G0 X10. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nX32. Z-8.\nZ-12.\nX26. Z-15.\nZ-20.\nN20 X12.\n",
+        );
+        let want = [
+            (5.0, 2.0),
+            (8.0, 2.0),
+            (8.0, -20.0),
+            (7.5, -19.5),
+            (7.5, 2.0),
+            (11.0, 2.0),
+            (11.0, -20.0),
+            (10.5, -19.5),
+            (10.5, -6.5),
+            (11.0, -6.5),
+            (14.0, -6.5),
+            (14.0, -14.0),
+            (13.5, -13.5),
+            (10.5, -13.5),
+            (10.5, 2.0),
+            (5.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (16.0, -8.0),
+            (16.0, -12.0),
+            (13.0, -15.0),
+            (13.0, -20.0),
+            (6.0, -20.0),
+            (5.0, -20.0),
+            (5.0, 2.0),
+        ];
+        assert_eq!(e, want);
+    }
+
+    #[test]
+    fn type_ii_cuts_a_round_pocket() {
+        // (radius, Z), depth 3, retract 0.5. A (20, 2); A' (12, 2), (12, -5), a half circle
+        // G2 R5 about (12, -10) down to X 7 and up to (12, -15), (12, -20), B (20, -20).
+        // Deepest 13 (the arc's bottom): levels X 17, 14, 11, 8. 17 and 14: to the last
+        // element at Z -20. 11 meets the arc where sin = -1/5: Z = -10 ± 5·√0.96; 8 where
+        // sin = -4/5: Z = -10 ± 3. The way to 11: over the arc's ends (8 below A): level 6
+        // cut, X 14.5; to 8: over the arc from Z -7 to the last retract point -14.399
+        // (X 12 − 5·√(1 − 0.879796²) = 9.6232: 10.38 below A): level 9, X 11.5; back to A:
+        // over (12, 2 … -5), 8 below A: X 14.5.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U3. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X24. Z2.\nG1 Z-5.\nG2 Z-15. R5.\nG1 Z-20.\nN20 X40.\n",
+        );
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let w = 5.0 * 0.96f64.sqrt();
+        let (z11a, z11b) = (-10.0 + w, -10.0 - w);
+        let want = [
+            (20.0, 2.0),
+            (17.0, 2.0),
+            (17.0, -20.0),
+            (17.5, -19.5),
+            (17.5, 2.0),
+            (14.0, 2.0),
+            (14.0, -20.0),
+            (14.5, -19.5),
+            (14.5, z11a),
+            (14.0, z11a),
+            (11.0, z11a),
+            (11.0, z11b),
+            (11.5, z11b + 0.5),
+            (11.5, -7.0),
+            (11.0, -7.0),
+            (8.0, -7.0),
+            (8.0, -13.0),
+            (8.5, -12.5),
+            (14.5, -12.5),
+            (14.5, 2.0),
+            (20.0, 2.0),
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (12.0, -15.0),
+            (12.0, -20.0),
+            (20.0, -20.0),
+            (20.0, 2.0),
+        ];
+        let want: Vec<(f64, f64)> = want.iter().map(|&(x, z)| (r(x), r(z))).collect();
+        assert_eq!(e, want);
+    }
+
+    #[test]
+    fn type_ii_passes_a_point_that_touches_the_level() {
+        // (radius, Z), depth 2. A (20, 2); A' (10, 2), (10, -5), up to a ridge at (14, -8),
+        // down to (8, -11), (8, -15), B (20, -15). Level 14 meets the ridge's tip only: one
+        // stretch from A's Z to the last element at Z -15, out by 0.5 at 45°.
+        let e = diameter_ends(
+            "G0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X20. Z2.\nG1 Z-5.\nX28. Z-8.\nX16. Z-11.\nZ-15.\nN20 X40.\n",
+        );
+        let k = e.iter().position(|&p| p == (14.0, 2.0)).expect("level 14");
+        assert_eq!(e[k + 1..k + 3], [(14.0, -15.0), (14.5, -14.5)]);
+        assert!(!e.contains(&(14.5, -7.5)), "no retract at the ridge: {e:?}");
     }
 }

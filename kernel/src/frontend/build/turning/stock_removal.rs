@@ -11,15 +11,24 @@
 //! After the last pass the tool runs along the offset shape from A' to B at the roughing
 //! feed and returns to A at rapid (X first, then Z). Type I needs a shape monotonic in X
 //! and in Z (pockets are type II).
+//!
+//! Stock removal in facing (G72) is the same cycle with X and Z exchanged: the caller
+//! hands the start and the shape over [`exchange`]d and asks [`TurningRun::exchanged`];
+//! the run exchanges every move back. Pattern repeating (G73) runs the whole shape again
+//! and again, shifted towards it ([`Repeat`], [`TurningRun::repeating`]).
 
 use super::super::super::block::*;
 use super::super::expand::Step;
 use super::contour::Element;
 
+mod pockets;
+pub use pockets::{deepest, z_turns};
+
 /// Distances below this are equal (mm): the passes' levels, the monotony check.
 pub const EPS: f64 = 1e-9;
 
-/// The roughing passes of G71: depth of cut, retract, the directions.
+/// The roughing passes of G71: depth of cut, retract, the directions (G72: of the frame
+/// with X and Z exchanged, so "X" below is Z there).
 #[derive(Clone, Copy, Debug)]
 pub struct Passes {
     pub depth: f64,
@@ -41,11 +50,75 @@ impl Passes {
     }
 }
 
+/// G73's passes: the whole shape `count` times, the first shifted by `first`, the last by
+/// `last` (the allowances), the ones between evenly in between; (X radius, Z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Repeat {
+    pub first: [f64; 2],
+    pub last: [f64; 2],
+    pub count: u32,
+}
+
+impl Repeat {
+    /// The shift of pass `j` (1 … count).
+    pub fn shift(&self, j: u32) -> [f64; 2] {
+        if self.count <= 1 {
+            return self.last;
+        }
+        let t = (j - 1) as f64 / (self.count - 1) as f64;
+        [0, 1].map(|i| self.first[i] + (self.last[i] - self.first[i]) * t)
+    }
+}
+
+/// X and Z exchanged, so that G72's facing runs as G71's turning (an arc's sense turns
+/// with it: see [`Element::exchanged`]).
+pub fn exchange(mut p: Pos) -> Pos {
+    p.swap(0, 2);
+    p
+}
+
+impl Element {
+    /// The element mirrored about the line X = Z: its points exchanged, an arc's sense
+    /// reversed.
+    pub fn exchanged(&self) -> Element {
+        let mode = match self.mode {
+            MotionMode::ArcCw => MotionMode::ArcCcw,
+            MotionMode::ArcCcw => MotionMode::ArcCw,
+            m => m,
+        };
+        Element {
+            to: exchange(self.to),
+            centre: exchange(self.centre),
+            mode,
+            ..*self
+        }
+    }
+
+    /// The element moved by `d` (X radius, Z), its centre with it.
+    pub fn shifted(&self, d: [f64; 2]) -> Element {
+        let mv = |mut p: Pos| {
+            p[0] += d[0];
+            p[2] += d[1];
+            p
+        };
+        Element {
+            to: mv(self.to),
+            centre: mv(self.centre),
+            ..*self
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Phase {
     Pass(u32),
     Shape(usize),
     Home,
+    /// G73 (pass, element): that element of that pass; past the last element, the return
+    /// to the start.
+    Repeat(u32, usize),
+    /// Type II (level, stretch): that stretch of stock at that level.
+    Pocket(u32, u32),
     Done,
 }
 
@@ -58,6 +131,11 @@ pub struct TurningRun {
     passes: Option<Passes>,
     /// G70: the shape's F and S act.
     own_feeds: bool,
+    /// G72: every point is handed over with X and Z exchanged, and goes out exchanged back.
+    exchanged: bool,
+    repeat: Option<Repeat>,
+    /// G70: G40/G41/G42 of the shape, before the element of the index.
+    compensation: Vec<(usize, TrcSide)>,
     phase: Phase,
     at: Pos,
     queue: heapless::Deque<Step, 8>,
@@ -74,9 +152,46 @@ impl TurningRun {
                 _ => Phase::Shape(0),
             },
             passes,
+            exchanged: false,
+            repeat: None,
+            compensation: Vec::new(),
             at: start,
             queue: heapless::Deque::new(),
         }
+    }
+
+    /// G70: the shape's G40/G41/G42, each acting from the element of its index on (an index
+    /// past the last element: from the return to the start point on).
+    pub fn compensated(mut self, sides: Vec<(usize, TrcSide)>) -> Self {
+        self.compensation = sides;
+        self
+    }
+
+    /// G72: `start`, the shape and the passes were given with X and Z exchanged
+    /// ([`exchange`], [`Element::exchanged`]); the moves come out in machine axes.
+    pub fn exchanged(mut self) -> Self {
+        self.exchanged = true;
+        self
+    }
+
+    /// Type II (pockets): the passes cut every stretch of stock at each level, and the
+    /// moved shape is run from the start point A. `passes.count` levels: see [`deepest`].
+    pub fn pockets(mut self) -> Self {
+        if self.passes.is_some_and(|p| p.count > 0) {
+            self.phase = Phase::Pocket(1, 0);
+        }
+        self
+    }
+
+    /// G73: the shape (as programmed, from `start`) run `r.count` times, each pass shifted
+    /// by [`Repeat::shift`] and followed by the return to the start at rapid; the cycle's
+    /// F and S act, not the shape's.
+    pub fn repeating(start: Pos, shape: Vec<Element>, r: Repeat) -> Self {
+        let mut run = TurningRun::new(start, shape, None);
+        run.own_feeds = false;
+        run.repeat = Some(r);
+        run.phase = Phase::Repeat(1, 0);
+        run
     }
 
     pub fn next(&mut self) -> Option<Step> {
@@ -116,7 +231,7 @@ impl TurningRun {
             }
             Phase::Shape(i) => {
                 match self.shape.get(i).copied() {
-                    Some(e) => self.element(e, i == 0),
+                    Some(e) => self.element(e, i),
                     None => self.phase = Phase::Home,
                 }
                 if let Phase::Shape(i) = self.phase {
@@ -124,13 +239,46 @@ impl TurningRun {
                 }
             }
             Phase::Home => {
-                let mut over = self.at;
-                over[0] = self.start[0];
-                self.go(over, true, None);
-                self.go(self.start, true, None);
+                self.compensate(self.shape.len());
+                self.home();
                 self.phase = Phase::Done;
             }
+            Phase::Repeat(j, i) => self.repeat_step(j, i),
+            Phase::Pocket(k, i) => match self.passes {
+                Some(p) => self.pocket_step(&p, k, i),
+                None => self.phase = Phase::Shape(0),
+            },
             Phase::Done => {}
+        }
+    }
+
+    /// Back to the start at rapid: X (the depth axis) first, then Z.
+    fn home(&mut self) {
+        let mut over = self.at;
+        over[0] = self.start[0];
+        self.go(over, true, None);
+        self.go(self.start, true, None);
+    }
+
+    /// G73: element `i` of pass `j`, or past the last element the return to the start.
+    fn repeat_step(&mut self, j: u32, i: usize) {
+        let Some(r) = self.repeat else {
+            self.phase = Phase::Done;
+            return;
+        };
+        match self.shape.get(i).copied() {
+            Some(e) => {
+                self.element(e.shifted(r.shift(j)), i);
+                self.phase = Phase::Repeat(j, i + 1);
+            }
+            None => {
+                self.home();
+                self.phase = if j < r.count {
+                    Phase::Repeat(j + 1, 0)
+                } else {
+                    Phase::Done
+                };
+            }
         }
     }
 
@@ -150,12 +298,14 @@ impl TurningRun {
         self.go(to, true, None);
     }
 
-    /// One element of the shape; G70 sets its S and F.
-    fn element(&mut self, e: Element, first: bool) {
+    /// Element `i` of the shape; G70 sets its S and F, and its compensation.
+    fn element(&mut self, e: Element, i: usize) {
+        let first = i == 0;
         let feed = if self.own_feeds { e.feed } else { None };
         if let (true, Some(s)) = (self.own_feeds, e.speed) {
             self.push(Step::Speed(s));
         }
+        self.compensate(i);
         match e.mode {
             MotionMode::ArcCw | MotionMode::ArcCcw => {
                 self.push(Step::Arc {
@@ -180,6 +330,15 @@ impl TurningRun {
         }
     }
 
+    /// The compensation programmed before element `i` (G70; of several, the last): it goes
+    /// with the next move.
+    fn compensate(&mut self, i: usize) {
+        let side = self.compensation.iter().rev().find(|c| c.0 == i);
+        if let Some(&(_, side)) = side {
+            self.push(Step::Compensation(side));
+        }
+    }
+
     fn rapid_in(&self) -> bool {
         self.passes.is_some_and(|p| p.rapid_in)
     }
@@ -198,8 +357,43 @@ impl TurningRun {
     }
 
     fn push(&mut self, s: Step) {
+        let s = if self.exchanged { exchanged(s) } else { s };
         // A refill pushes at most four steps into the empty queue of eight.
         let _ = self.queue.push_back(s);
+    }
+}
+
+/// A step of the exchanged frame in machine axes.
+fn exchanged(s: Step) -> Step {
+    match s {
+        Step::Move {
+            to,
+            rapid,
+            axes,
+            feed,
+        } => Step::Move {
+            to: exchange(to),
+            rapid,
+            axes,
+            feed,
+        },
+        Step::Path { to, rapid, feed } => Step::Path {
+            to: exchange(to),
+            rapid,
+            feed,
+        },
+        Step::Arc {
+            to,
+            centre,
+            ccw,
+            feed,
+        } => Step::Arc {
+            to: exchange(to),
+            centre: exchange(centre),
+            ccw: !ccw,
+            feed,
+        },
+        other => other,
     }
 }
 

@@ -24,8 +24,7 @@
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    non_monotonic, shifted, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun,
-    EPS,
+    non_monotonic, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun, EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -267,7 +266,7 @@ impl Interpreter<'_> {
         let moved: Vec<Element> = self
             .along_contour(&contour, s.fal * sx * sz, p)?
             .iter()
-            .map(|e| shifted(e, sx * s.falx, -sz * s.falz))
+            .map(|e| e.shifted([sx * s.falx, -sz * s.falz]))
             .collect();
         let start = cycle_start(&moved, sx, sz, s.vrt);
         let total = sx * (start[0] - moved[0].to[0]);
