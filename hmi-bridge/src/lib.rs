@@ -5,7 +5,7 @@
 
 mod api;
 pub mod client;
-mod link;
+pub mod link;
 mod net;
 mod plot;
 mod work;
@@ -84,7 +84,12 @@ pub fn main(args: BridgeArgs) -> Result<(), Failure> {
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .map_err(|e| format!("cannot install the signal handler: {e}"))?;
     }
-    let (link, link_thread) = link::start(instance.clone(), api::status_text, stop.clone())?;
+    let (link, link_thread) = link::start(
+        instance.clone(),
+        "hmi-bridge",
+        api::status_text,
+        stop.clone(),
+    )?;
     let listener = net::listen(addr).map_err(|e| format!("{addr}: {e}"))?;
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     let api = Arc::new(api::Api::new(link, token.clone(), md, programs));

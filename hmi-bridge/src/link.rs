@@ -97,9 +97,12 @@ pub fn fake(snapshot: Snapshot) -> (Link, Receiver<Job>) {
     (link, rx)
 }
 
-/// Starts the link thread; returns when its ports are open (or why they could not be).
+/// Starts the link thread under the iceoryx2 node name `role` (the bridge's, or another
+/// reader's such as the OPC UA server); returns when its ports are open (or why they could
+/// not be). `to_json` renders the snapshot for the event-stream subscribers.
 pub fn start(
     instance: Instance,
+    role: &'static str,
     to_json: fn(&Snapshot) -> String,
     stop: Arc<AtomicBool>,
 ) -> Result<(Link, std::thread::JoinHandle<()>), String> {
@@ -117,6 +120,7 @@ pub fn start(
         .spawn(move || {
             if let Err(e) = serve(
                 &instance,
+                role,
                 &jobs_rx,
                 &snapshot,
                 &subscribers,
@@ -143,8 +147,10 @@ pub fn start(
 
 type Client = softnc_protocol::iceoryx2::port::client::Client<ipc::Service, Command, (), Reply, ()>;
 
+#[allow(clippy::too_many_arguments)]
 fn serve(
     instance: &Instance,
+    role: &str,
     jobs: &Receiver<Job>,
     snapshot: &Mutex<Snapshot>,
     subscribers: &Mutex<Vec<Sender<String>>>,
@@ -152,7 +158,7 @@ fn serve(
     stop: &AtomicBool,
     ready: &Sender<Result<(), String>>,
 ) -> Result<(), String> {
-    let node = instance.node("hmi-bridge").map_err(|e| e.to_string())?;
+    let node = instance.node(role).map_err(|e| e.to_string())?;
     let e = |w: &str, x: &dyn std::fmt::Debug| format!("cannot create the {w}: {x:?}");
     let client: Client = instance
         .commands(&node)

@@ -1,0 +1,472 @@
+//! The address space: `Objects/Machines/<name>` with the OPC 40501-1 subset softnc fills,
+//! built once from the standard types (FolderType, BaseObjectType, BaseDataVariableType,
+//! PropertyType) and written from [`Values`] while the server runs. The companion
+//! specification's browse names are in its namespace, softnc's additions in its own; every
+//! node id is a string in softnc's namespace (docs/opcua.md has the tree).
+
+use crate::model::{self, Values};
+use opcua::nodes::{NodeSetImport, NodeSetNamespaceMapper};
+use opcua::server::address_space::{AddressSpace, ImportedItem, ObjectBuilder, VariableBuilder};
+use opcua::server::node_manager::memory::SimpleNodeManager;
+use opcua::server::SubscriptionCache;
+use opcua::types::{
+    DataTypeId, DataValue, DateTime, LocalizedText, NodeId, ObjectId, ObjectTypeId, QualifiedName,
+    StatusCode, VariableTypeId, Variant,
+};
+use softnc_protocol::ToolTableMsg;
+use std::sync::Arc;
+
+/// OPC 40501-1's namespace: the browse names the companion specification defines.
+pub const MACHINE_TOOL_NS: &str = "http://opcfoundation.org/UA/MachineTool/";
+/// softnc's own: its node ids and the variables the specification does not have.
+pub const SOFTNC_NS: &str = "urn:softnc:UA";
+
+/// Registers both namespaces with the server; no nodes come from it (they are built here).
+pub struct Namespaces;
+
+impl NodeSetImport for Namespaces {
+    fn register_namespaces(&self, namespaces: &mut NodeSetNamespaceMapper) {
+        namespaces.add_namespace(MACHINE_TOOL_NS, 1);
+        namespaces.add_namespace(SOFTNC_NS, 2);
+    }
+
+    fn get_own_namespaces(&self) -> Vec<String> {
+        vec![MACHINE_TOOL_NS.to_string(), SOFTNC_NS.to_string()]
+    }
+
+    fn load<'a>(
+        &'a self,
+        _namespaces: &'a NodeSetNamespaceMapper,
+    ) -> Box<dyn Iterator<Item = ImportedItem> + 'a> {
+        Box::new(std::iter::empty())
+    }
+}
+
+/// Which namespace a browse name is in.
+#[derive(Clone, Copy)]
+enum Ns {
+    MachineTool,
+    Softnc,
+}
+
+/// What Identification says.
+pub struct Identity {
+    pub model: String,
+    pub serial: String,
+}
+
+/// The machine's nodes and the server's handles to write them.
+pub struct Space {
+    manager: Arc<SimpleNodeManager>,
+    subscriptions: Arc<SubscriptionCache>,
+    mt: u16,
+    own: u16,
+    /// The machine's name: the first part of every node id.
+    root: String,
+    /// The tool table's version the Tools folder shows, and its entries' nodes.
+    tools_version: Option<u32>,
+    tool_nodes: Vec<NodeId>,
+}
+
+/// A variable: its path under the machine, its namespace, data type and array-ness.
+struct Var(&'static str, Ns, DataTypeId, bool);
+
+/// The variables written every update, in the order [`Space::values`] gives them.
+const VARIABLES: &[Var] = &[
+    Var(
+        "Monitoring/Channel_1/ChannelState",
+        Ns::MachineTool,
+        DataTypeId::Int32,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/ChannelMode",
+        Ns::MachineTool,
+        DataTypeId::Int32,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/FeedOverride",
+        Ns::MachineTool,
+        DataTypeId::Double,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/FeedRate",
+        Ns::Softnc,
+        DataTypeId::Double,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/ProgramName",
+        Ns::Softnc,
+        DataTypeId::String,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/ProgramPath",
+        Ns::Softnc,
+        DataTypeId::String,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/Line",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/Block",
+        Ns::Softnc,
+        DataTypeId::String,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/Tool",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/Edge",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        false,
+    ),
+    Var(
+        "Monitoring/Channel_1/KernelConnected",
+        Ns::Softnc,
+        DataTypeId::Boolean,
+        false,
+    ),
+    Var(
+        "Monitoring/Spindle_1/IsRotating",
+        Ns::MachineTool,
+        DataTypeId::Boolean,
+        false,
+    ),
+    Var(
+        "Monitoring/Spindle_1/SpeedSetpoint",
+        Ns::Softnc,
+        DataTypeId::Double,
+        false,
+    ),
+    Var(
+        "Monitoring/Spindle_1/SpeedActual",
+        Ns::Softnc,
+        DataTypeId::Double,
+        false,
+    ),
+    Var(
+        "Production/ActiveProgram/Name",
+        Ns::MachineTool,
+        DataTypeId::String,
+        false,
+    ),
+    Var(
+        "Production/ActiveProgram/State/CurrentState",
+        Ns::MachineTool,
+        DataTypeId::LocalizedText,
+        false,
+    ),
+    Var(
+        "Notification/Alarms/AlarmCount",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        false,
+    ),
+    Var(
+        "Notification/Alarms/Numbers",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        true,
+    ),
+    Var(
+        "Notification/Alarms/Texts",
+        Ns::Softnc,
+        DataTypeId::String,
+        true,
+    ),
+    Var(
+        "Notification/Alarms/Programs",
+        Ns::Softnc,
+        DataTypeId::String,
+        true,
+    ),
+    Var(
+        "Notification/Alarms/Lines",
+        Ns::Softnc,
+        DataTypeId::UInt32,
+        true,
+    ),
+];
+
+/// The objects, parent before child: path, namespace, folder (FolderType) or not.
+const OBJECTS: &[(&str, Ns, bool)] = &[
+    ("Identification", Ns::MachineTool, false),
+    ("Monitoring", Ns::MachineTool, false),
+    ("Monitoring/Channel_1", Ns::MachineTool, false),
+    ("Monitoring/Spindle_1", Ns::MachineTool, false),
+    ("Production", Ns::MachineTool, false),
+    ("Production/ActiveProgram", Ns::MachineTool, false),
+    ("Production/ActiveProgram/State", Ns::MachineTool, false),
+    ("Notification", Ns::MachineTool, false),
+    ("Notification/Alarms", Ns::Softnc, false),
+    ("Equipment", Ns::MachineTool, false),
+    ("Equipment/Tools", Ns::MachineTool, true),
+];
+
+impl Space {
+    /// Builds the machine's nodes under Objects/Machines.
+    pub fn new(
+        manager: Arc<SimpleNodeManager>,
+        subscriptions: Arc<SubscriptionCache>,
+        name: &str,
+        identity: &Identity,
+    ) -> Result<Space, String> {
+        let (mt, own) = {
+            let space = manager.address_space().read();
+            let index = |uri: &str| {
+                space
+                    .namespace_index(uri)
+                    .ok_or_else(|| format!("namespace {uri} is not registered"))
+            };
+            (index(MACHINE_TOOL_NS)?, index(SOFTNC_NS)?)
+        };
+        let s = Space {
+            manager,
+            subscriptions,
+            mt,
+            own,
+            root: name.to_string(),
+            tools_version: None,
+            tool_nodes: Vec::new(),
+        };
+        s.build(identity);
+        Ok(s)
+    }
+
+    fn id(&self, path: &str) -> NodeId {
+        if path.is_empty() {
+            NodeId::new(self.own, self.root.clone())
+        } else {
+            NodeId::new(self.own, format!("{}/{path}", self.root))
+        }
+    }
+
+    fn name(&self, ns: Ns, name: &str) -> QualifiedName {
+        let index = match ns {
+            Ns::MachineTool => self.mt,
+            Ns::Softnc => self.own,
+        };
+        QualifiedName::new(index, name)
+    }
+
+    /// The parent's id and the last part of a path.
+    fn split<'p>(&self, path: &'p str) -> (NodeId, &'p str) {
+        match path.rsplit_once('/') {
+            Some((parent, last)) => (self.id(parent), last),
+            None => (self.id(""), path),
+        }
+    }
+
+    fn build(&self, identity: &Identity) {
+        let mut space = self.manager.address_space().write();
+        let machines = NodeId::new(self.own, "Machines");
+        ObjectBuilder::new(
+            &machines,
+            self.name(Ns::MachineTool, "Machines"),
+            "Machines",
+        )
+        .is_folder()
+        .organized_by(ObjectId::ObjectsFolder)
+        .insert(&mut *space);
+        ObjectBuilder::new(
+            &self.id(""),
+            self.name(Ns::Softnc, &self.root),
+            self.root.as_str(),
+        )
+        .has_type_definition(ObjectTypeId::BaseObjectType)
+        .organized_by(machines)
+        .insert(&mut *space);
+        for &(path, ns, folder) in OBJECTS {
+            let (parent, last) = self.split(path);
+            let b = ObjectBuilder::new(&self.id(path), self.name(ns, last), last);
+            let b = if folder {
+                b.is_folder()
+            } else {
+                b.has_type_definition(ObjectTypeId::BaseObjectType)
+            };
+            b.component_of(parent).insert(&mut *space);
+        }
+        self.identification(&mut space, identity);
+        for v in VARIABLES {
+            let (parent, last) = self.split(v.0);
+            let b = VariableBuilder::new(&self.id(v.0), self.name(v.1, last), last)
+                .data_type(v.2)
+                .has_type_definition(VariableTypeId::BaseDataVariableType)
+                .component_of(parent);
+            let b = if v.3 {
+                b.value_rank(1)
+            } else {
+                b.value_rank(-1)
+            };
+            b.insert(&mut *space);
+        }
+        self.tools_folder_version(&mut space);
+    }
+
+    /// Identification's properties (OPC 40501-1 8.2: MachineToolIdentificationType).
+    fn identification(&self, space: &mut AddressSpace, identity: &Identity) {
+        let revision = env!("CARGO_PKG_VERSION");
+        let uri = format!("urn:softnc:{}", identity.serial);
+        let properties: [(&str, Variant); 5] = [
+            ("Manufacturer", LocalizedText::new("", "softnc").into()),
+            ("Model", LocalizedText::new("", &identity.model).into()),
+            ("SerialNumber", identity.serial.as_str().into()),
+            ("SoftwareRevision", revision.into()),
+            ("ProductInstanceUri", uri.as_str().into()),
+        ];
+        for (name, value) in properties {
+            let path = format!("Identification/{name}");
+            let data_type = match value {
+                Variant::LocalizedText(_) => DataTypeId::LocalizedText,
+                _ => DataTypeId::String,
+            };
+            VariableBuilder::new(&self.id(&path), self.name(Ns::MachineTool, name), name)
+                .data_type(data_type)
+                .value(value)
+                .has_type_definition(VariableTypeId::PropertyType)
+                .property_of(self.id("Identification"))
+                .insert(space);
+        }
+    }
+
+    fn tools_folder_version(&self, space: &mut AddressSpace) {
+        let path = "Equipment/Tools/TableVersion";
+        VariableBuilder::new(
+            &self.id(path),
+            self.name(Ns::Softnc, "TableVersion"),
+            "TableVersion",
+        )
+        .data_type(DataTypeId::UInt32)
+        .value(0u32)
+        .has_type_definition(VariableTypeId::PropertyType)
+        .property_of(self.id("Equipment/Tools"))
+        .insert(space);
+    }
+
+    /// The variables' values, in [`VARIABLES`] order.
+    fn values(v: &Values) -> Vec<Variant> {
+        let texts = |f: fn(&model::AlarmView) -> String| -> Vec<String> {
+            v.alarms.iter().map(f).collect()
+        };
+        vec![
+            v.channel_state.into(),
+            v.channel_mode.into(),
+            v.feed_override.into(),
+            v.feed_rate.into(),
+            v.program_name.as_str().into(),
+            v.program_path.as_str().into(),
+            v.line.into(),
+            v.block.as_str().into(),
+            v.tool.into(),
+            v.edge.into(),
+            v.connected.into(),
+            v.spindle_rotating.into(),
+            v.spindle_setpoint.into(),
+            v.spindle_actual.into(),
+            v.program_name.as_str().into(),
+            LocalizedText::new("", v.production_state).into(),
+            (v.alarms.len() as u32).into(),
+            v.alarms
+                .iter()
+                .map(|a| a.number)
+                .collect::<Vec<u32>>()
+                .into(),
+            texts(|a| a.text.clone()).into(),
+            texts(|a| a.program.clone()).into(),
+            v.alarms.iter().map(|a| a.line).collect::<Vec<u32>>().into(),
+        ]
+    }
+
+    /// Writes `v` into the variables; without a kernel the last values stay, marked
+    /// uncertain.
+    pub fn update(&self, v: &Values) {
+        let status = if v.connected {
+            StatusCode::Good
+        } else {
+            StatusCode::UncertainLastUsableValue
+        };
+        let now = DateTime::now();
+        let ids: Vec<NodeId> = VARIABLES.iter().map(|x| self.id(x.0)).collect();
+        let values = Self::values(v).into_iter().map(|value| DataValue {
+            value: Some(value),
+            status: Some(status),
+            source_timestamp: Some(now),
+            server_timestamp: Some(now),
+            ..DataValue::default()
+        });
+        let items = ids.iter().zip(values).map(|(id, dv)| (id, None, dv));
+        if let Err(e) = self.manager.set_values(&self.subscriptions, items) {
+            eprintln!("opcua: cannot write the values: {e}");
+        }
+    }
+
+    /// The Tools folder for the kernel's table: its entries' nodes made anew when the
+    /// table's version changes.
+    pub fn update_tools(&mut self, table: Option<&ToolTableMsg>) {
+        let Some(table) = table else { return };
+        if self.tools_version == Some(table.version) {
+            return;
+        }
+        self.tools_version = Some(table.version);
+        let mut space = self.manager.address_space().write();
+        for id in self.tool_nodes.drain(..) {
+            space.delete(&id, true);
+        }
+        for e in table.entries() {
+            let name = model::tool_name(e);
+            let path = format!("Equipment/Tools/{name}");
+            let tool = self.id(&path);
+            ObjectBuilder::new(&tool, self.name(Ns::Softnc, &name), name.as_str())
+                .has_type_definition(ObjectTypeId::BaseObjectType)
+                .organized_by(self.id("Equipment/Tools"))
+                .insert(&mut *space);
+            self.tool_nodes.push(tool.clone());
+            let fields: [(&str, Ns, Variant); 7] = [
+                ("ControlIdentifier1", Ns::MachineTool, e.t.into()),
+                ("ControlIdentifier2", Ns::MachineTool, e.d.into()),
+                ("Name", Ns::MachineTool, name.as_str().into()),
+                ("Radius", Ns::Softnc, e.radius.into()),
+                ("RadiusWear", Ns::Softnc, e.radius_wear.into()),
+                ("Length", Ns::Softnc, e.length.into()),
+                ("LengthWear", Ns::Softnc, e.length_wear.into()),
+            ];
+            for (field, ns, value) in fields {
+                let id = self.id(&format!("{path}/{field}"));
+                let data_type = match value {
+                    Variant::UInt32(_) => DataTypeId::UInt32,
+                    Variant::Double(_) => DataTypeId::Double,
+                    _ => DataTypeId::String,
+                };
+                VariableBuilder::new(&id, self.name(ns, field), field)
+                    .data_type(data_type)
+                    .value(value)
+                    .has_type_definition(VariableTypeId::BaseDataVariableType)
+                    .component_of(tool.clone())
+                    .insert(&mut *space);
+                self.tool_nodes.push(id);
+            }
+        }
+        drop(space);
+        let version = self.id("Equipment/Tools/TableVersion");
+        let dv = DataValue::new_now(Variant::from(table.version));
+        if let Err(e) = self
+            .manager
+            .set_value(&self.subscriptions, &version, None, dv)
+        {
+            eprintln!("opcua: cannot write the tool table's version: {e}");
+        }
+    }
+}
