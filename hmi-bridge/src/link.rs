@@ -2,7 +2,8 @@
 //! thread that made them). It keeps the newest kernel status, actual values, tool table and
 //! work-offset table in a [`Snapshot`] for the HTTP workers, sends their commands to the kernel one at a time
 //! (so edits from several clients are serialised here, and again in the kernel), and pushes
-//! the snapshot to the Server-Sent-Events subscribers.
+//! the snapshot to the Server-Sent-Events subscribers. The OPC UA server (softnc-opcua)
+//! reads the kernel through the same link, under a node name of its own.
 
 use crossbeam::channel::{Receiver, Sender, TrySendError};
 use softnc_protocol::iceoryx2::prelude::ipc;
