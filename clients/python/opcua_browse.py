@@ -124,8 +124,14 @@ async def main(args):
     async with client_for(args) as client:
         deadline = time.monotonic() + args.wait_running
         while True:
-            out = await read_machine(client)
-            if args.wait_running == 0 or out["channel_state"] == "Active":
+            try:
+                out = await read_machine(client)
+            except ua.UaStatusCodeError as e:
+                # Uncertain values: no kernel status yet (or any more).
+                if args.wait_running == 0 or time.monotonic() > deadline:
+                    raise
+                out = {"error": str(e)}
+            if args.wait_running == 0 or out.get("channel_state") == "Active":
                 print(json.dumps(out))
                 return 0
             if time.monotonic() > deadline:

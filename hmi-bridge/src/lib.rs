@@ -49,21 +49,27 @@ pub fn address_in(log: &str) -> Option<&str> {
     Some(addr)
 }
 
+/// The address `--listen` names, `ADDRESS` (on `port`) or `ADDRESS:PORT`; 127.0.0.1 on
+/// `port` without one. The bridge's rule, and the OPC UA server's.
+pub fn listen_address(listen: Option<&str>, port: u16) -> Result<SocketAddr, String> {
+    match listen {
+        None => Ok(SocketAddr::from(([127, 0, 0, 1], port))),
+        Some(a) => a
+            .parse::<SocketAddr>()
+            .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
+            .map_err(|_| {
+                format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:{port}")
+            }),
+    }
+}
+
 /// The hmi-bridge process.
 pub fn main(args: BridgeArgs) -> Result<(), Failure> {
     let instance = args.control.instance;
     let md = machine(args.control.machine.as_deref())?;
     // 0: any free port (tests); the address taken is printed.
     let port = args.port.unwrap_or(md.hmi.port);
-    let addr = match &args.listen {
-        None => SocketAddr::from(([127, 0, 0, 1], port)),
-        Some(a) => a
-            .parse::<SocketAddr>()
-            .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
-            .map_err(|_| {
-                format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:8640")
-            })?,
-    };
+    let addr = listen_address(args.listen.as_deref(), port)?;
     let token = args
         .token
         .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())

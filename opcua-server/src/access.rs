@@ -7,7 +7,7 @@ use opcua::server::authenticator::{AuthManager, DefaultAuthenticator, Password, 
 use opcua::server::{ServerBuilder, ServerEndpoint, ServerUserToken, ANONYMOUS_USER_TOKEN_ID};
 use opcua::types::{Error, StatusCode, UserTokenPolicy};
 use std::collections::BTreeMap;
-use std::net::{IpAddr, SocketAddr};
+use std::net::SocketAddr;
 use std::sync::Arc;
 
 /// The port OPC UA servers listen on by convention (IANA: opcua-tcp).
@@ -44,15 +44,7 @@ impl Access {
         user: &str,
         password: Option<String>,
     ) -> Result<Access, String> {
-        let addr = match listen {
-            None => SocketAddr::from(([127, 0, 0, 1], port)),
-            Some(a) => a
-                .parse::<SocketAddr>()
-                .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
-                .map_err(|_| {
-                    format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:4840")
-                })?,
-        };
+        let addr = hmi_bridge::listen_address(listen, port)?;
         let password = password.filter(|p| !p.is_empty());
         if !addr.ip().is_loopback() && password.is_none() {
             return Err(format!(
