@@ -470,3 +470,183 @@ impl Space {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{channel_state, production_state};
+    use opcua::server::node_manager::memory::simple_node_manager_imports;
+    use opcua::server::{ServerBuilder, ServerEndpoint, ANONYMOUS_USER_TOKEN_ID};
+    use opcua::types::{AttributeId, DataEncoding, NumericRange, TimestampsToReturn};
+    use softnc_protocol::ToolEntry;
+
+    /// A built server (not listening) with the machine `mill` in it; its certificate
+    /// folder is removed when the test ends.
+    struct Fixture {
+        space: Space,
+        pki: std::path::PathBuf,
+        // The server's sampler lives on it; never driven here.
+        _rt: tokio::runtime::Runtime,
+    }
+
+    impl Drop for Fixture {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.pki);
+        }
+    }
+
+    fn fixture(tag: &str) -> Fixture {
+        let pki =
+            std::env::temp_dir().join(format!("softnc-opcua-test-{tag}-{}", std::process::id()));
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .build()
+            .unwrap();
+        let _inside = rt.enter();
+        let (_server, handle) = ServerBuilder::new()
+            .application_name("test")
+            .pki_dir(&pki)
+            .add_endpoint(
+                "none",
+                ServerEndpoint::new_none("/", &[ANONYMOUS_USER_TOKEN_ID.to_string()]),
+            )
+            .discovery_urls(vec!["/".into()])
+            .with_node_manager(simple_node_manager_imports(
+                vec![Box::new(Namespaces)],
+                "softnc",
+            ))
+            .build()
+            .unwrap();
+        let manager = handle
+            .node_managers()
+            .get_of_type::<SimpleNodeManager>()
+            .unwrap();
+        let identity = Identity {
+            model: "softnc test".into(),
+            serial: "mill".into(),
+        };
+        let space = Space::new(manager, handle.subscriptions().clone(), "mill", &identity).unwrap();
+        drop(_inside);
+        Fixture {
+            space,
+            pki,
+            _rt: rt,
+        }
+    }
+
+    /// The node at `path` under the machine: its browse name and its value.
+    fn read(s: &Space, path: &str) -> Option<(QualifiedName, DataValue)> {
+        let space = s.manager.address_space().read();
+        let node = space.find(&s.id(path))?;
+        let value = node.as_node().get_attribute(
+            TimestampsToReturn::Neither,
+            AttributeId::Value,
+            &NumericRange::None,
+            &DataEncoding::Binary,
+        )?;
+        Some((node.as_node().browse_name().clone(), value))
+    }
+
+    fn running() -> Values {
+        Values {
+            connected: true,
+            channel_state: channel_state::ACTIVE,
+            channel_mode: 0,
+            feed_override: 80.0,
+            feed_rate: 1200.0,
+            program_name: "part.mpf".into(),
+            program_path: "/shop/part.mpf".into(),
+            line: 7,
+            block: "N70 X10".into(),
+            production_state: production_state::RUNNING,
+            spindle_setpoint: 1500.0,
+            spindle_actual: 1498.0,
+            spindle_rotating: true,
+            tool: 1,
+            edge: 2,
+            alarms: vec![model::AlarmView {
+                number: 14040,
+                text: "program alarm".into(),
+                program: "part.mpf".into(),
+                line: 7,
+            }],
+        }
+    }
+
+    /// The variables carry the values under the specification's browse names in its
+    /// namespace, softnc's own in softnc's; Identification is there from the start.
+    #[test]
+    fn the_channel_under_its_browse_names() {
+        let f = fixture("names");
+        let s = &f.space;
+        f.space.update(&running());
+        let (name, v) = read(s, "Monitoring/Channel_1/ChannelState").unwrap();
+        assert_eq!(name, QualifiedName::new(s.mt, "ChannelState"));
+        assert_eq!(v.value, Some(Variant::Int32(0)));
+        assert_eq!(v.status, Some(StatusCode::Good));
+        let (_, v) = read(s, "Monitoring/Channel_1/FeedOverride").unwrap();
+        assert_eq!(v.value, Some(Variant::Double(80.0)));
+        let (name, v) = read(s, "Monitoring/Channel_1/ProgramName").unwrap();
+        assert_eq!(name, QualifiedName::new(s.own, "ProgramName"));
+        assert_eq!(v.value, Some(Variant::from("part.mpf")));
+        let (_, v) = read(s, "Production/ActiveProgram/State/CurrentState").unwrap();
+        assert_eq!(v.value, Some(LocalizedText::new("", "Running").into()));
+        let (_, v) = read(s, "Notification/Alarms/Numbers").unwrap();
+        assert_eq!(v.value, Some(Variant::from(vec![14040u32])));
+        let (name, v) = read(s, "Identification/SerialNumber").unwrap();
+        assert_eq!(name, QualifiedName::new(s.mt, "SerialNumber"));
+        assert_eq!(v.value, Some(Variant::from("mill")));
+    }
+
+    /// Without a kernel the last values stay, uncertain.
+    #[test]
+    fn without_a_kernel_the_values_are_uncertain() {
+        let f = fixture("uncertain");
+        let mut v = running();
+        v.connected = false;
+        f.space.update(&v);
+        let (_, dv) = read(&f.space, "Monitoring/Channel_1/ChannelState").unwrap();
+        assert_eq!(dv.status, Some(StatusCode::UncertainLastUsableValue));
+        assert_eq!(dv.value, Some(Variant::Int32(0)));
+    }
+
+    /// The tool list follows the table's version: two offsets, then one; the other's
+    /// nodes go.
+    #[test]
+    fn the_tool_list_follows_the_table() {
+        let mut f = fixture("tools");
+        let mut table = ToolTableMsg {
+            version: 1,
+            count: 2,
+            ..ToolTableMsg::default()
+        };
+        table.entries[0] = ToolEntry {
+            t: 1,
+            d: 2,
+            radius: 0.4,
+            ..ToolEntry::default()
+        };
+        table.entries[1] = ToolEntry {
+            d: 3,
+            radius: 5.0,
+            length: 80.0,
+            ..ToolEntry::default()
+        };
+        f.space.update_tools(Some(&table));
+        let s = &f.space;
+        let (_, v) = read(s, "Equipment/Tools/T1 D2/Radius").unwrap();
+        assert_eq!(v.value, Some(Variant::Double(0.4)));
+        let (name, v) = read(s, "Equipment/Tools/D3/ControlIdentifier2").unwrap();
+        assert_eq!(name, QualifiedName::new(s.mt, "ControlIdentifier2"));
+        assert_eq!(v.value, Some(Variant::UInt32(3)));
+        table.version = 2;
+        table.count = 1;
+        f.space.update_tools(Some(&table));
+        let s = &f.space;
+        assert!(read(s, "Equipment/Tools/D3/Radius").is_none());
+        let gone = s.id("Equipment/Tools/D3");
+        assert!(s.manager.address_space().read().find(&gone).is_none());
+        assert!(read(s, "Equipment/Tools/T1 D2/Radius").is_some());
+        let (_, v) = read(s, "Equipment/Tools/TableVersion").unwrap();
+        assert_eq!(v.value, Some(Variant::UInt32(2)));
+    }
+}
