@@ -150,9 +150,10 @@ fn own_address() -> Option<IpAddr> {
     (!ip.is_loopback() && !ip.is_unspecified()).then_some(ip)
 }
 
-/// On another address the server takes only `operator` with the password: an anonymous
-/// client, a wrong password and another user are refused, the right login reads the
-/// machine's serial number (its instance). SIGTERM
+/// On another address the server offers only a user name and password, the password to be
+/// encrypted with Basic256Sha256, and takes only `operator` with the password: an
+/// anonymous client, a wrong password and another user are refused, the right login reads
+/// the machine's serial number (its instance). SIGTERM
 /// ends it with exit status 0.
 #[test]
 fn another_address_takes_only_the_user_with_the_password() {
@@ -183,6 +184,13 @@ fn another_address_takes_only_the_user_with_the_password() {
     );
     let addr = announced(&mut server, &log, "opc.tcp://");
     let url = format!("opc.tcp://{addr}/");
+    // Only a user and password is offered, the password to be encrypted.
+    let offered: Value = serde_json::from_str(client(&py, &[&url, "--policies"]).trim()).unwrap();
+    let user = serde_json::json!({
+        "type": "UserName",
+        "security_policy": "http://opcfoundation.org/UA/SecurityPolicy#Basic256Sha256",
+    });
+    assert_eq!(offered, serde_json::json!([user]));
     // Refused at session activation, each for its reason (not a timeout or a lost line).
     let anonymous = client(&py, &[&url, "--try-login"]);
     assert!(

@@ -5,6 +5,7 @@
     python3 clients/python/opcua_browse.py URL --user operator --password SECRET
     python3 clients/python/opcua_browse.py URL --wait-running 30   # until a program runs
     python3 clients/python/opcua_browse.py URL --try-login          # accepted / refused
+    python3 clients/python/opcua_browse.py URL --policies           # the logins offered
 
 Browses Objects/Machines/<machine> by browse name (OPC 40501-1's namespace, softnc's for
 its own variables) and prints one JSON object: Identification, the channel's ChannelState,
@@ -117,7 +118,20 @@ async def try_login(args):
         print(f"refused: {type(e).__name__}: {e}")
 
 
+async def policies(args):
+    """The user token policies of the server's endpoints, without a session."""
+    client = Client(url=args.url, timeout=5)
+    out = []
+    for ep in await client.connect_and_get_server_endpoints():
+        for p in ep.UserIdentityTokens:
+            out.append({"type": p.TokenType.name, "security_policy": p.SecurityPolicyUri})
+    print(json.dumps(out))
+
+
 async def main(args):
+    if args.policies:
+        await policies(args)
+        return 0
     if args.try_login:
         await try_login(args)
         return 0
@@ -150,4 +164,6 @@ if __name__ == "__main__":
                    help="read until ChannelState is Active, at most this long")
     p.add_argument("--try-login", action="store_true",
                    help="print whether the server takes this login")
+    p.add_argument("--policies", action="store_true",
+                   help="print the logins the server offers and how passwords are encrypted")
     sys.exit(asyncio.run(main(p.parse_args())))

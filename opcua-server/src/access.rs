@@ -3,9 +3,10 @@
 //! one without it. A password given on 127.0.0.1 is required there too.
 
 use async_trait::async_trait;
+use opcua::crypto::SecurityPolicy;
 use opcua::server::authenticator::{AuthManager, DefaultAuthenticator, Password, UserToken};
 use opcua::server::{ServerBuilder, ServerEndpoint, ServerUserToken, ANONYMOUS_USER_TOKEN_ID};
-use opcua::types::{Error, StatusCode, UserTokenPolicy};
+use opcua::types::{Error, StatusCode, UserTokenPolicy, UserTokenType};
 use std::collections::BTreeMap;
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -18,6 +19,8 @@ pub const DEFAULT_USER: &str = "operator";
 const MIN_PASSWORD: usize = 12;
 /// The server's id of the one user token.
 const USER_TOKEN_ID: &str = "softnc-user";
+/// How clients encrypt the password on the endpoint without message security.
+const PASSWORD_POLICY: SecurityPolicy = SecurityPolicy::Basic256Sha256;
 
 /// Where the server listens and whom it takes.
 #[derive(Clone)]
@@ -79,12 +82,13 @@ impl Access {
             Some((user, pass)) => {
                 let token = ServerUserToken::user_pass(user.as_str(), pass.as_str());
                 let users = BTreeMap::from([(USER_TOKEN_ID.to_string(), token.clone())]);
+                let mut endpoint = ServerEndpoint::new_none("/", &[USER_TOKEN_ID.to_string()]);
+                // The password is encrypted with the server's certificate (made at start).
+                endpoint.password_security_policy = Some(PASSWORD_POLICY.to_str().to_string());
                 builder
+                    .create_sample_keypair(true)
                     .add_user_token(USER_TOKEN_ID, token)
-                    .add_endpoint(
-                        "none",
-                        ServerEndpoint::new_none("/", &[USER_TOKEN_ID.to_string()]),
-                    )
+                    .add_endpoint("none", endpoint)
                     .with_authenticator(Arc::new(Authenticator {
                         policies: DefaultAuthenticator::new(users),
                         user: user.clone(),
@@ -139,8 +143,16 @@ impl AuthManager for Authenticator {
         }
     }
 
+    /// The library's policies, the password's marked to be encrypted with
+    /// [`PASSWORD_POLICY`] (the library leaves its URI empty: clients would send it plain).
     fn user_token_policies(&self, endpoint: &ServerEndpoint) -> Vec<UserTokenPolicy> {
-        self.policies.user_token_policies(endpoint)
+        let mut policies = self.policies.user_token_policies(endpoint);
+        for p in &mut policies {
+            if p.token_type == UserTokenType::UserName {
+                p.security_policy_uri = PASSWORD_POLICY.to_uri().into();
+            }
+        }
+        policies
     }
 }
 
@@ -171,6 +183,28 @@ mod tests {
         assert_eq!(a.addr, "10.0.0.5:4841".parse().unwrap());
         assert_eq!(a.describe(), "(user 'op' with password)");
         assert!(Access::new(Some("nowhere"), 1, "op", None).is_err());
+    }
+
+    /// On another address the password is to be encrypted with Basic256Sha256 (the
+    /// server's certificate); no anonymous policy is offered.
+    #[test]
+    fn the_password_policy_asks_for_encryption() {
+        let token = ServerUserToken::user_pass("op", "long enough pw");
+        let users = BTreeMap::from([(USER_TOKEN_ID.to_string(), token)]);
+        let auth = Authenticator {
+            policies: DefaultAuthenticator::new(users),
+            user: "op".into(),
+            pass: "long enough pw".into(),
+        };
+        let mut endpoint = ServerEndpoint::new_none("/", &[USER_TOKEN_ID.to_string()]);
+        endpoint.password_security_policy = Some(PASSWORD_POLICY.to_str().to_string());
+        let policies = auth.user_token_policies(&endpoint);
+        assert_eq!(policies.len(), 1, "{policies:?}");
+        assert_eq!(policies[0].token_type, UserTokenType::UserName);
+        assert_eq!(
+            policies[0].security_policy_uri.as_ref(),
+            "http://opcfoundation.org/UA/SecurityPolicy#Basic256Sha256"
+        );
     }
 
     #[test]

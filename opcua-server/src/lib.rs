@@ -78,8 +78,7 @@ pub fn main(args: OpcuaArgs) -> Result<(), Failure> {
         model: format!("softnc {} {}", md.dialect.as_str(), machine_kind(&md)),
         serial: instance.name().to_string(),
     };
-    // The server's certificate store: its own folder per instance, removed at the end.
-    let pki = std::env::temp_dir().join(format!("softnc-opcua-{}-pki", instance.name()));
+    let pki = certificate_folder(instance.name())?;
     let result = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -90,6 +89,23 @@ pub fn main(args: OpcuaArgs) -> Result<(), Failure> {
     let _ = link_thread.join();
     let _ = std::fs::remove_dir_all(&pki);
     result.map_err(Failure::Error)
+}
+
+/// The server's certificate store: a folder of its own per instance, only the user's
+/// (the key to the password's encryption is made in it at start), removed at the end.
+fn certificate_folder(instance: &str) -> Result<PathBuf, String> {
+    use std::os::unix::fs::DirBuilderExt;
+    let pki = std::env::temp_dir().join(format!(
+        "softnc-opcua-{instance}-{}-pki",
+        std::process::id()
+    ));
+    // A folder of that name left by a crashed server of an earlier process is not trusted.
+    let _ = std::fs::remove_dir_all(&pki);
+    std::fs::DirBuilder::new()
+        .mode(0o700)
+        .create(&pki)
+        .map_err(|e| format!("{}: {e}", pki.display()))?;
+    Ok(pki)
 }
 
 fn machine_kind(md: &nc_kernel::MachineData) -> &'static str {
