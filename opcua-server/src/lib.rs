@@ -72,13 +72,19 @@ pub fn main(args: OpcuaArgs) -> Result<(), Failure> {
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .map_err(|e| format!("cannot install the signal handler: {e}"))?;
     }
-    let (link, link_thread) =
-        hmi_bridge::link::start(instance.clone(), "opcua", |_| String::new(), stop.clone())?;
+    let pki = certificate_folder(instance.name())?;
     let identity = Identity {
         model: format!("softnc {} {}", md.dialect.as_str(), machine_kind(&md)),
         serial: instance.name().to_string(),
     };
-    let pki = certificate_folder(instance.name())?;
+    let (link, link_thread) =
+        match hmi_bridge::link::start(instance.clone(), "opcua", |_| String::new(), stop.clone()) {
+            Ok(l) => l,
+            Err(e) => {
+                let _ = std::fs::remove_dir_all(&pki);
+                return Err(Failure::Error(e));
+            }
+        };
     let result = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -91,7 +97,7 @@ pub fn main(args: OpcuaArgs) -> Result<(), Failure> {
     result.map_err(Failure::Error)
 }
 
-/// The server's certificate store: a folder of its own per instance, only the user's
+/// The server's certificate store: a folder of its own per process, only the user's
 /// (the key to the password's encryption is made in it at start), removed at the end.
 fn certificate_folder(instance: &str) -> Result<PathBuf, String> {
     use std::os::unix::fs::DirBuilderExt;
