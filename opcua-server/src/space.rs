@@ -205,6 +205,7 @@ const VARIABLES: &[Var] = &[
 const OBJECTS: &[(&str, Ns, bool)] = &[
     ("Identification", Ns::MachineTool, false),
     ("Monitoring", Ns::MachineTool, false),
+    ("Monitoring/MachineTool", Ns::MachineTool, false),
     ("Monitoring/Channel_1", Ns::MachineTool, false),
     ("Monitoring/Spindle_1", Ns::MachineTool, false),
     ("Production", Ns::MachineTool, false),
@@ -299,7 +300,7 @@ impl Space {
             };
             b.component_of(parent).insert(&mut *space);
         }
-        self.identification(&mut space, identity);
+        self.fixed_values(&mut space, identity);
         for v in VARIABLES {
             let (parent, last) = self.split(v.0);
             let b = VariableBuilder::new(&self.id(v.0), self.name(v.1, last), last)
@@ -313,47 +314,62 @@ impl Space {
             };
             b.insert(&mut *space);
         }
-        self.tools_folder_version(&mut space);
     }
 
-    /// Identification's properties (OPC 40501-1 8.2: MachineToolIdentificationType).
-    fn identification(&self, space: &mut AddressSpace, identity: &Identity) {
+    /// Identification's properties (OPC 40501-1 8.2: MachineToolIdentificationType), the
+    /// monitored elements' names (8.3.2 ElementMonitoringType) and the machine's operation
+    /// mode (8.3.3: Automatic, 1, the only one softnc has).
+    fn fixed_values(&self, space: &mut AddressSpace, identity: &Identity) {
         let revision = env!("CARGO_PKG_VERSION");
         let uri = format!("urn:softnc:{}", identity.serial);
-        let properties: [(&str, Variant); 5] = [
-            ("Manufacturer", LocalizedText::new("", "softnc").into()),
-            ("Model", LocalizedText::new("", &identity.model).into()),
-            ("SerialNumber", identity.serial.as_str().into()),
-            ("SoftwareRevision", revision.into()),
-            ("ProductInstanceUri", uri.as_str().into()),
+        let properties: [(&str, Variant); 7] = [
+            (
+                "Identification/Manufacturer",
+                LocalizedText::new("", "softnc").into(),
+            ),
+            (
+                "Identification/Model",
+                LocalizedText::new("", &identity.model).into(),
+            ),
+            (
+                "Identification/SerialNumber",
+                identity.serial.as_str().into(),
+            ),
+            ("Identification/SoftwareRevision", revision.into()),
+            ("Identification/ProductInstanceUri", uri.as_str().into()),
+            ("Monitoring/Channel_1/Name", "Channel 1".into()),
+            ("Monitoring/Spindle_1/Name", "Spindle 1".into()),
         ];
-        for (name, value) in properties {
-            let path = format!("Identification/{name}");
-            let data_type = match value {
-                Variant::LocalizedText(_) => DataTypeId::LocalizedText,
-                _ => DataTypeId::String,
-            };
-            VariableBuilder::new(&self.id(&path), self.name(Ns::MachineTool, name), name)
-                .data_type(data_type)
-                .value(value)
-                .has_type_definition(VariableTypeId::PropertyType)
-                .property_of(self.id("Identification"))
-                .insert(space);
+        for (path, value) in properties {
+            self.fixed(space, path, Ns::MachineTool, value, true);
         }
+        let mode = "Monitoring/MachineTool/OperationMode";
+        self.fixed(space, mode, Ns::MachineTool, Variant::Int32(1), false);
+        let version = "Equipment/Tools/TableVersion";
+        self.fixed(space, version, Ns::Softnc, Variant::UInt32(0), true);
     }
 
-    fn tools_folder_version(&self, space: &mut AddressSpace) {
-        let path = "Equipment/Tools/TableVersion";
-        VariableBuilder::new(
-            &self.id(path),
-            self.name(Ns::Softnc, "TableVersion"),
-            "TableVersion",
-        )
-        .data_type(DataTypeId::UInt32)
-        .value(0u32)
-        .has_type_definition(VariableTypeId::PropertyType)
-        .property_of(self.id("Equipment/Tools"))
-        .insert(space);
+    /// A variable with its value at `path`: a property of its parent or a component.
+    fn fixed(&self, space: &mut AddressSpace, path: &str, ns: Ns, value: Variant, property: bool) {
+        let (parent, last) = self.split(path);
+        let data_type = match value {
+            Variant::LocalizedText(_) => DataTypeId::LocalizedText,
+            Variant::Int32(_) => DataTypeId::Int32,
+            Variant::UInt32(_) => DataTypeId::UInt32,
+            Variant::Double(_) => DataTypeId::Double,
+            _ => DataTypeId::String,
+        };
+        let b = VariableBuilder::new(&self.id(path), self.name(ns, last), last)
+            .data_type(data_type)
+            .value(value);
+        let b = if property {
+            b.has_type_definition(VariableTypeId::PropertyType)
+                .property_of(parent)
+        } else {
+            b.has_type_definition(VariableTypeId::BaseDataVariableType)
+                .component_of(parent)
+        };
+        b.insert(space);
     }
 
     /// The variables' values, in [`VARIABLES`] order.
@@ -444,19 +460,9 @@ impl Space {
                 ("LengthWear", Ns::Softnc, e.length_wear.into()),
             ];
             for (field, ns, value) in fields {
-                let id = self.id(&format!("{path}/{field}"));
-                let data_type = match value {
-                    Variant::UInt32(_) => DataTypeId::UInt32,
-                    Variant::Double(_) => DataTypeId::Double,
-                    _ => DataTypeId::String,
-                };
-                VariableBuilder::new(&id, self.name(ns, field), field)
-                    .data_type(data_type)
-                    .value(value)
-                    .has_type_definition(VariableTypeId::BaseDataVariableType)
-                    .component_of(tool.clone())
-                    .insert(&mut *space);
-                self.tool_nodes.push(id);
+                let field = format!("{path}/{field}");
+                self.fixed(&mut space, &field, ns, value, false);
+                self.tool_nodes.push(self.id(&field));
             }
         }
         drop(space);
@@ -592,6 +598,11 @@ mod tests {
         assert_eq!(v.value, Some(LocalizedText::new("", "Running").into()));
         let (_, v) = read(s, "Notification/Alarms/Numbers").unwrap();
         assert_eq!(v.value, Some(Variant::from(vec![14040u32])));
+        let (name, v) = read(s, "Monitoring/MachineTool/OperationMode").unwrap();
+        assert_eq!(name, QualifiedName::new(s.mt, "OperationMode"));
+        assert_eq!(v.value, Some(Variant::Int32(1)));
+        let (_, v) = read(s, "Monitoring/Channel_1/Name").unwrap();
+        assert_eq!(v.value, Some(Variant::from("Channel 1")));
         let (name, v) = read(s, "Identification/SerialNumber").unwrap();
         assert_eq!(name, QualifiedName::new(s.mt, "SerialNumber"));
         assert_eq!(v.value, Some(Variant::from("mill")));
