@@ -107,6 +107,10 @@ enum Command {
         /// The bridge's port (default: machine data hmi.port; 0: any free one).
         #[arg(long, value_name = "PORT", requires = "hmi")]
         hmi_port: Option<u16>,
+        /// Also start the OPC UA server (docs/opcua.md) on 127.0.0.1, port PORT (default
+        /// 4840; 0: any free one); it ends with the run.
+        #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "4840")]
+        opcua: Option<u16>,
         /// Record every input the kernel takes (HMI commands, PLC signals, offset edits) with
         /// its cycle to FILE, for `softnc simulate --replay FILE`.
         #[arg(long, value_name = "FILE")]
@@ -162,6 +166,9 @@ enum Command {
     PlcSim(plc_sim::PlcArgs),
     #[command(hide = true)]
     HmiBridge(hmi_bridge::BridgeArgs),
+    /// The OPC UA server: the OPC 40501-1 machine-tool model subset of a running control,
+    /// read-only (docs/opcua.md).
+    Opcua(softnc_opcua::OpcuaArgs),
 }
 
 impl Command {
@@ -172,6 +179,7 @@ impl Command {
             Command::NcKernel(_) => Some("nc-kernel"),
             Command::PlcSim(_) => Some("plc-sim"),
             Command::HmiBridge(_) => Some("hmi-bridge"),
+            Command::Opcua(_) => Some("opcua"),
             _ => None,
         }
     }
@@ -727,6 +735,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             quiet,
             hmi,
             hmi_port,
+            opcua,
             record,
             setpoints,
         } => {
@@ -747,6 +756,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 plc_args: &plc,
                 quiet,
                 hmi: hmi.then_some(hmi_port),
+                opcua,
                 record: record.as_deref(),
                 setpoints: setpoints.as_deref(),
             })
@@ -776,6 +786,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         Command::NcKernel(args) => nc_runtime::process::main(args),
         Command::PlcSim(args) => plc_sim::main(args),
         Command::HmiBridge(args) => hmi_bridge::main(args),
+        Command::Opcua(args) => softnc_opcua::main(args),
     }
 }
 

@@ -37,6 +37,7 @@ const CODE: &[&str] = &[
     "protocol/src",
     "plc-sim/src",
     "hmi-bridge/src",
+    "opcua-server/src",
     "src",
 ];
 

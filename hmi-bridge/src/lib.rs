@@ -5,7 +5,7 @@
 
 mod api;
 pub mod client;
-mod link;
+pub mod link;
 mod net;
 mod plot;
 mod work;
@@ -49,21 +49,27 @@ pub fn address_in(log: &str) -> Option<&str> {
     Some(addr)
 }
 
+/// The address `--listen` names, `ADDRESS` (on `port`) or `ADDRESS:PORT`; 127.0.0.1 on
+/// `port` without one. The bridge's rule, and the OPC UA server's.
+pub fn listen_address(listen: Option<&str>, port: u16) -> Result<SocketAddr, String> {
+    match listen {
+        None => Ok(SocketAddr::from(([127, 0, 0, 1], port))),
+        Some(a) => a
+            .parse::<SocketAddr>()
+            .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
+            .map_err(|_| {
+                format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:{port}")
+            }),
+    }
+}
+
 /// The hmi-bridge process.
 pub fn main(args: BridgeArgs) -> Result<(), Failure> {
     let instance = args.control.instance;
     let md = machine(args.control.machine.as_deref())?;
     // 0: any free port (tests); the address taken is printed.
     let port = args.port.unwrap_or(md.hmi.port);
-    let addr = match &args.listen {
-        None => SocketAddr::from(([127, 0, 0, 1], port)),
-        Some(a) => a
-            .parse::<SocketAddr>()
-            .or_else(|_| a.parse::<IpAddr>().map(|ip| SocketAddr::new(ip, port)))
-            .map_err(|_| {
-                format!("--listen {a}: expected an address like 0.0.0.0 or 10.0.0.5:8640")
-            })?,
-    };
+    let addr = listen_address(args.listen.as_deref(), port)?;
     let token = args
         .token
         .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())
@@ -84,7 +90,12 @@ pub fn main(args: BridgeArgs) -> Result<(), Failure> {
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .map_err(|e| format!("cannot install the signal handler: {e}"))?;
     }
-    let (link, link_thread) = link::start(instance.clone(), api::status_text, stop.clone())?;
+    let (link, link_thread) = link::start(
+        instance.clone(),
+        "hmi-bridge",
+        api::status_text,
+        stop.clone(),
+    )?;
     let listener = net::listen(addr).map_err(|e| format!("{addr}: {e}"))?;
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     let api = Arc::new(api::Api::new(link, token.clone(), md, programs));

@@ -2,7 +2,8 @@
 //! thread that made them). It keeps the newest kernel status, actual values, tool table and
 //! work-offset table in a [`Snapshot`] for the HTTP workers, sends their commands to the kernel one at a time
 //! (so edits from several clients are serialised here, and again in the kernel), and pushes
-//! the snapshot to the Server-Sent-Events subscribers.
+//! the snapshot to the Server-Sent-Events subscribers. The OPC UA server (softnc-opcua)
+//! reads the kernel through the same link, under a node name of its own.
 
 use crossbeam::channel::{Receiver, Sender, TrySendError};
 use softnc_protocol::iceoryx2::prelude::ipc;
@@ -97,9 +98,12 @@ pub fn fake(snapshot: Snapshot) -> (Link, Receiver<Job>) {
     (link, rx)
 }
 
-/// Starts the link thread; returns when its ports are open (or why they could not be).
+/// Starts the link thread under the iceoryx2 node name `role` (the bridge's, or another
+/// reader's such as the OPC UA server); returns when its ports are open (or why they could
+/// not be). `to_json` renders the snapshot for the event-stream subscribers.
 pub fn start(
     instance: Instance,
+    role: &'static str,
     to_json: fn(&Snapshot) -> String,
     stop: Arc<AtomicBool>,
 ) -> Result<(Link, std::thread::JoinHandle<()>), String> {
@@ -117,6 +121,7 @@ pub fn start(
         .spawn(move || {
             if let Err(e) = serve(
                 &instance,
+                role,
                 &jobs_rx,
                 &snapshot,
                 &subscribers,
@@ -143,8 +148,10 @@ pub fn start(
 
 type Client = softnc_protocol::iceoryx2::port::client::Client<ipc::Service, Command, (), Reply, ()>;
 
+#[allow(clippy::too_many_arguments)]
 fn serve(
     instance: &Instance,
+    role: &str,
     jobs: &Receiver<Job>,
     snapshot: &Mutex<Snapshot>,
     subscribers: &Mutex<Vec<Sender<String>>>,
@@ -152,7 +159,7 @@ fn serve(
     stop: &AtomicBool,
     ready: &Sender<Result<(), String>>,
 ) -> Result<(), String> {
-    let node = instance.node("hmi-bridge").map_err(|e| e.to_string())?;
+    let node = instance.node(role).map_err(|e| e.to_string())?;
     let e = |w: &str, x: &dyn std::fmt::Debug| format!("cannot create the {w}: {x:?}");
     let client: Client = instance
         .commands(&node)

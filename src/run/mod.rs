@@ -40,6 +40,8 @@ pub struct RunOptions<'a> {
     /// Also start hmi-bridge (`Some(port)`; `None` in the port: machine data `hmi.port`),
     /// and keep the control up after the program's end until Ctrl-C.
     pub hmi: Option<Option<u16>>,
+    /// Also start the OPC UA server on this port of 127.0.0.1; it ends with the run.
+    pub opcua: Option<u16>,
     /// nc-kernel records its inputs to this file (and its setpoints to `setpoints`).
     pub record: Option<&'a Path>,
     pub setpoints: Option<&'a Path>,
@@ -50,8 +52,8 @@ pub struct RunOptions<'a> {
 struct Files {
     machine: PathBuf,
     trace: PathBuf,
-    /// nc-kernel's, plc-sim's and hmi-bridge's.
-    logs: [PathBuf; 3],
+    /// nc-kernel's, plc-sim's, hmi-bridge's and the OPC UA server's.
+    logs: [PathBuf; 4],
     temp: Vec<PathBuf>,
 }
 
@@ -67,7 +69,7 @@ impl Files {
             temp.push(at("trace.csv"));
             at("trace.csv")
         });
-        let logs = ["nc-kernel", "plc-sim", "hmi-bridge"].map(|r| at(&format!("{r}.log")));
+        let logs = ["nc-kernel", "plc-sim", "hmi-bridge", "opcua"].map(|r| at(&format!("{r}.log")));
         temp.extend(logs.iter().cloned());
         Ok(Files {
             machine,
@@ -81,7 +83,8 @@ impl Files {
         match role {
             "nc-kernel" => &self.logs[0],
             "plc-sim" => &self.logs[1],
-            _ => &self.logs[2],
+            "hmi-bridge" => &self.logs[2],
+            _ => &self.logs[3],
         }
     }
 
@@ -337,6 +340,13 @@ impl Supervisor<'_> {
             kernel.extend(["--setpoints".into(), f.display().to_string()]);
         }
         self.start("nc-kernel", &kernel)?;
+        if let Some(port) = o.opcua {
+            let mut args = common.clone();
+            args.extend(["--port".into(), port.to_string()]);
+            self.start("opcua", &args)?;
+            let addr = self.announced("opcua", softnc_opcua::address_in)?;
+            eprintln!("OPC UA: opc.tcp://{addr}/");
+        }
         let Some(port) = o.hmi else {
             return Ok(None);
         };
@@ -351,7 +361,10 @@ impl Supervisor<'_> {
             common.extend(["--programs".into(), dir.display().to_string()]);
         }
         self.start("hmi-bridge", &common)?;
-        let url = self.bridge_url()?;
+        let url = format!(
+            "http://{}/",
+            self.announced("hmi-bridge", hmi_bridge::address_in)?
+        );
         eprintln!("HMI: {url}");
         Ok(Some(url))
     }
@@ -377,22 +390,27 @@ impl Supervisor<'_> {
         Ok(())
     }
 
-    /// The page's address, from the bridge's first line (it may have taken any free port).
-    fn bridge_url(&mut self) -> Result<String, String> {
+    /// The `host:port` a server of the run announces on its first line (it may have taken
+    /// any free port): the bridge's page, the OPC UA server's endpoint.
+    fn announced(
+        &mut self,
+        role: &'static str,
+        address_in: fn(&str) -> Option<&str>,
+    ) -> Result<String, String> {
         let t = Instant::now();
-        let log = self.files.log("hmi-bridge").to_path_buf();
+        let log = self.files.log(role).to_path_buf();
         loop {
             let text = std::fs::read_to_string(&log).unwrap_or_default();
-            if let Some(a) = hmi_bridge::address_in(&text) {
-                return Ok(format!("http://{a}/"));
+            if let Some(a) = address_in(&text) {
+                return Ok(a.to_string());
             }
-            if let Some((_, c)) = self.children.0.iter_mut().find(|(r, _)| *r == "hmi-bridge") {
+            if let Some((_, c)) = self.children.0.iter_mut().find(|(r, _)| *r == role) {
                 if let Ok(Some(s)) = c.try_wait() {
-                    return Err(format!("hmi-bridge ended ({s}):\n{}", text.trim_end()));
+                    return Err(format!("{role} ended ({s}):\n{}", text.trim_end()));
                 }
             }
             if t.elapsed() > Duration::from_secs(20) {
-                return Err(format!("hmi-bridge did not come up:\n{}", text.trim_end()));
+                return Err(format!("{role} did not come up:\n{}", text.trim_end()));
             }
             std::thread::sleep(Duration::from_millis(20));
         }
@@ -486,10 +504,12 @@ impl Supervisor<'_> {
         Ok(())
     }
 
-    /// The orderly end: the HMI first (no command arrives meanwhile), the kernel (it brakes
-    /// if the path moves and stops its setpoints), then plc-sim. How each ended.
+    /// The orderly end: the HMI and the OPC UA server first (no command arrives meanwhile),
+    /// the kernel (it brakes if the path moves and stops its setpoints), then plc-sim. How
+    /// each ended.
     fn shut_down(&mut self, hmi: &Hmi) -> Vec<(&'static str, Option<ExitStatus>)> {
         let mut ended: Vec<_> = self.children.end("hmi-bridge").into_iter().collect();
+        ended.extend(self.children.end("opcua"));
         let _ = hmi.ask(Command::new(command::SHUTDOWN), Duration::from_secs(2));
         ended.extend(self.children.end("nc-kernel"));
         ended.extend(self.children.end("plc-sim"));
