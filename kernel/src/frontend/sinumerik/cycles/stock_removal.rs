@@ -18,9 +18,11 @@
 //! rapid; roughing cuts along Z at equal depths from S's X down to the shifted contour's
 //! start, each lifted off by _VRT at 45° and back to S's Z at rapid; a last cut along the
 //! shifted contour; back to S (X first). Finishing: from S to the contour's start at rapid,
-//! along the contour at FF3, back to S. The passes are the Fanuc lathe's engine
-//! (build/turning: `Passes`, `TurningRun`); this module gives it the contour, S, the depth
-//! and the feeds (docs/turning.md, "CYCLE95").
+//! along the contour at FF3, back to S. Transverse machining is the same with X and Z
+//! exchanged; a contour with undercut elements (its depth axis turns back) is roughed level
+//! by level, every cut deeper into the stock at FF2. The passes are the Fanuc lathe's
+//! engine (build/turning: `Passes`, `TurningRun`, its exchange and its pockets); this
+//! module gives it the contour, S, the depth and the feeds (docs/turning.md, "CYCLE95").
 
 use super::super::super::block::*;
 use super::super::super::build::{
@@ -1015,6 +1017,37 @@ mod tests {
             &[("F.SPF", radii)],
         );
         assert_eq!(ends(&r), got);
+    }
+
+    #[test]
+    fn fal_on_a_face_lies_on_the_stock_side() {
+        // Transverse outside, roughing (VARI 2), FAL 0.5: A' (30, −10), (20, −10), (20, 0),
+        // B (0, 0). The equidistant on the stock's side: the back face to Z −9.5, the wall
+        // to X 20.5 (the concave corner trimmed at (20.5, −9.5)), the front face to Z 0.5,
+        // the convex corner (20, 0) rounded by an arc of 0.5 about it. S = (30 + _VRT 1,
+        // 0.5); the stock 10 in one cut of MID 10: no pass, only the run along it.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"F\", 10, , , 0.5, 0.3, , , 2)\nM30\n"),
+            &[("F.SPF", "G1 X60 Z-10\nX40\nZ0\nX0\n")],
+        );
+        assert_eq!(
+            ends(&b),
+            [
+                (30.0, 5.0),
+                (31.0, 0.5),
+                (30.0, -9.5),
+                (20.5, -9.5),
+                (20.5, 0.0),
+                (20.0, 0.5),
+                (0.0, 0.5),
+                (31.0, 0.5)
+            ]
+        );
+        let arcs: Vec<[f64; 3]> = b
+            .iter()
+            .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+            .collect();
+        assert_eq!(arcs, [[20.0, 0.0, 0.0]]);
     }
 
     #[test]
