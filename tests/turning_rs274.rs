@@ -226,6 +226,18 @@ fn level_cuts(moves: &[Move], levels: &[f64]) -> Vec<(f64, Vec<(f64, f64)>)> {
     out
 }
 
+/// Every level cuts something, and the same stretches in both.
+fn same_stretches(ours: &[(f64, Vec<(f64, f64)>)], theirs: &[(f64, Vec<(f64, f64)>)]) {
+    for ((level, a), (_, b)) in ours.iter().zip(theirs) {
+        assert!(!a.is_empty(), "level {level}: nothing cut");
+        let same = a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
+        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
+    }
+}
+
 #[test]
 fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
     // Two pockets (a cone and a half circle about (12, -22)), depth 3 from radius 20:
@@ -244,14 +256,7 @@ fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
     let levels = [17.0, 14.0, 11.0, 8.0, 5.0];
     let ours = level_cuts(&softnc_on("config/fanuc-lathe.toml", fanuc), &levels);
     let theirs = level_cuts(&oracle(ngc, "pockets"), &levels);
-    for ((level, a), (_, b)) in ours.iter().zip(&theirs) {
-        assert!(!a.is_empty(), "level {level}: nothing cut");
-        let same = a.len() == b.len()
-            && a.iter()
-                .zip(b)
-                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
-        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
-    }
+    same_stretches(&ours, &theirs);
     eprintln!("pockets: {ours:?}");
 }
 
@@ -414,13 +419,6 @@ fn cycle95_undercuts_cut_the_same_stretches_as_rs274() {
     let levels = [17.0, 14.0, 11.0, 8.0];
     let ours = level_cuts(&softnc_on("config/siemens-808d.toml", sinumerik), &levels);
     let theirs = level_cuts(&oracle(ngc, "cycle95 pockets"), &levels);
-    for ((level, a), (_, b)) in ours.iter().zip(&theirs) {
-        assert!(!a.is_empty(), "level {level}: nothing cut");
-        let same = a.len() == b.len()
-            && a.iter()
-                .zip(b)
-                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
-        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
-    }
+    same_stretches(&ours, &theirs);
     eprintln!("cycle95 pockets: {ours:?}");
 }

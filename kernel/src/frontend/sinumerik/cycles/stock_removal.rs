@@ -656,6 +656,17 @@ mod tests {
         [(level, zs), (level, z), (up, z + vrt), (up, zs)]
     }
 
+    /// `got` and `want` the same moves to 1e-9.
+    fn assert_near(got: &[(f64, f64)], want: &[(f64, f64)]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+    }
+
     fn run(main: &str, files: &[(&str, &str)]) -> Vec<Block> {
         lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
     }
@@ -701,13 +712,7 @@ mod tests {
             (35.0, 0.6),
         ]);
         let got = ends(&b);
-        assert_eq!(got.len(), want.len(), "{got:?}");
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
-                "{got:?}"
-            );
-        }
+        assert_near(&got, &want);
         // Cuts at FF1 0.3, the finishing at FF3 0.1, the rapids and the next block at F0.25.
         let feeds: Vec<(MotionKind, f64)> = b
             .iter()
@@ -753,13 +758,7 @@ mod tests {
             (25.0, 1.0),
         ]);
         let got = ends(&b);
-        assert_eq!(got.len(), want.len(), "{got:?}");
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
-                "{got:?}"
-            );
-        }
+        assert_near(&got, &want);
     }
 
     const SHAFT: &str = "PROC SHAFT\nG1 X10 Z0\nZ-10 RND=2\nX30\nZ-20\nX36 Z-26\nM17\n";
@@ -996,13 +995,7 @@ mod tests {
         let cycle = "CYCLE95(\"F\", 3, 0.2, 0.1, , 0.3, , 0.1, 10, , , 1)";
         let b = run(&format!("{HEAD}{cycle}\nM30\n"), &[("F.SPF", FACE)]);
         let got = ends(&b);
-        assert_eq!(got.len(), want.len(), "{got:?}");
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
-                "{got:?}"
-            );
-        }
+        assert_near(&got, &want);
         // The cuts along X at FF1, the finishing at FF3.
         let feeds: Vec<f64> = b
             .iter()
