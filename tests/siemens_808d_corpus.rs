@@ -348,3 +348,121 @@ fn d10_cycle95_label_section() {
     // The contour's lines never run as blocks of the program.
     assert!(b.iter().all(|b| b.line <= 21), "{f}");
 }
+
+/// The feeds of the moves that are no rapids, with their ends.
+fn cut_feeds(b: &[Block]) -> Vec<(P, f64)> {
+    b.iter()
+        .filter_map(|b| b.motion.map(|m| (m, b.modal.feed)))
+        .filter(|(m, _)| m.kind != MotionKind::Rapid)
+        .map(|(m, f)| (m.end, f))
+        .collect()
+}
+
+#[test]
+fn d11_cycle95_face() {
+    let f = "d11_cycle95_face.mpf";
+    let mut want = vec![[30.0, 0.0, 5.0], [25.5, 0.0, 0.1]];
+    for (z, x) in [(-1.9, 14.0), (-3.9, 16.0), (-5.9, 16.0)] {
+        want.extend([
+            [25.5, 0.0, z],
+            [x, 0.0, z],
+            [x + 0.5, 0.0, z + 0.5],
+            [25.5, 0.0, z + 0.5],
+        ]);
+    }
+    want.extend([
+        [25.0, 0.0, -7.9],
+        [16.0, 0.0, -7.9],
+        [16.0, 0.0, -3.9],
+        [12.0, 0.0, 0.1],
+        [0.0, 0.0, 0.1],
+        [25.5, 0.0, 0.1],
+        [25.0, 0.0, -8.0],
+        [16.0, 0.0, -8.0],
+        [16.0, 0.0, -4.0],
+        [12.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.1],
+        [25.5, 0.0, 0.1],
+        [30.0, 0.0, 10.0],
+    ]);
+    let b = clean(f, &want);
+    // Three passes and the shifted contour's four moves at FF1 0.2, the finishing at FF3.
+    let feeds: Vec<f64> = cut_feeds(&b).iter().map(|c| c.1).collect();
+    assert_eq!(feeds, [[0.2; 7].as_slice(), &[0.08; 4]].concat(), "{f}");
+}
+
+#[test]
+fn d12_cycle95_undercut() {
+    let f = "d12_cycle95_undercut.mpf";
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let want = [
+        p(25.0, 5.0),
+        p(18.2, 0.5),
+        // X 15.7
+        p(18.2, 0.375),
+        p(15.7, 0.375),
+        p(15.7, -30.0),
+        p(16.2, -29.5),
+        // X 13.2: in front of the collar, then in the undercut
+        p(16.2, 0.25),
+        p(13.2, 0.25),
+        p(13.2, -10.0),
+        p(13.7, -9.5),
+        p(16.2, -9.5),
+        p(16.2, -15.0),
+        p(15.7, -15.0),
+        p(13.2, -15.0),
+        p(13.2, -22.0),
+        p(13.7, -21.5),
+        // X 10.7
+        p(16.2, -21.5),
+        p(16.2, 0.125),
+        p(10.7, 0.125),
+        p(10.7, -10.0),
+        p(11.2, -9.5),
+        // back to S, the shifted contour, back to S
+        p(18.2, -9.5),
+        p(18.2, 0.5),
+        p(8.2, 0.0),
+        p(8.2, -10.0),
+        p(14.2, -10.0),
+        p(14.2, -14.0),
+        p(11.2, -17.0),
+        p(11.2, -22.0),
+        p(14.2, -22.0),
+        p(14.2, -30.0),
+        p(18.2, -30.0),
+        p(18.2, 0.5),
+        // finishing
+        p(8.0, 0.0),
+        p(8.0, -10.0),
+        p(14.0, -10.0),
+        p(14.0, -14.0),
+        p(11.0, -17.0),
+        p(11.0, -22.0),
+        p(14.0, -22.0),
+        p(14.0, -30.0),
+        p(18.0, -30.0),
+        p(18.2, -30.0),
+        p(18.2, 0.5),
+        p(30.0, 10.0),
+    ];
+    let b = clean(f, &want);
+    // FF2 0.1 for the in-feed into the undercut and the taper down into it while roughing;
+    // FF1 0.25 for the other roughing cuts; the finishing all at FF3 0.08.
+    let cuts = cut_feeds(&b);
+    let (rough, finish) = cuts.split_at(5 + 8);
+    let slow: Vec<P> = rough.iter().filter(|c| c.1 == 0.1).map(|c| c.0).collect();
+    assert!(
+        slow.len() == 2 && near(slow[0], p(13.2, -15.0)) && near(slow[1], p(11.2, -17.0)),
+        "{f}: {cuts:?}"
+    );
+    assert!(rough.iter().all(|c| c.1 == 0.1 || c.1 == 0.25), "{f}");
+    assert!(
+        finish.iter().all(|c| c.1 == 0.08) && finish.len() == 8,
+        "{f}"
+    );
+    // The contour's lines never run as blocks of the program.
+    assert!(b.iter().all(|b| b.line < 32), "{f}");
+}

@@ -20,7 +20,9 @@
 //! rs274's G76 has another format and infeed rule.
 //! The 808D's CYCLE95 (longitudinal, complete machining) is compared the same way: its S is
 //! rs274's start point and MID divides the stock into rs274's depth I; its FAL (the
-//! contour's equidistant) against rs274's stock allowance D.
+//! contour's equidistant) against rs274's stock allowance D; its transverse machining
+//! (VARI 10) against rs274's G72/G70, and its undercuts by the stretches each level cuts
+//! against rs274's G71 over pockets.
 //!
 //! Without `rs274` on the PATH the test says so and passes, unless SOFTNC_REQUIRE_ORACLES is
 //! set.
@@ -224,6 +226,18 @@ fn level_cuts(moves: &[Move], levels: &[f64]) -> Vec<(f64, Vec<(f64, f64)>)> {
     out
 }
 
+/// Every level cuts something, and the same stretches in both.
+fn same_stretches(ours: &[(f64, Vec<(f64, f64)>)], theirs: &[(f64, Vec<(f64, f64)>)]) {
+    for ((level, a), (_, b)) in ours.iter().zip(theirs) {
+        assert!(!a.is_empty(), "level {level}: nothing cut");
+        let same = a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
+        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
+    }
+}
+
 #[test]
 fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
     // Two pockets (a cone and a half circle about (12, -22)), depth 3 from radius 20:
@@ -242,14 +256,7 @@ fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
     let levels = [17.0, 14.0, 11.0, 8.0, 5.0];
     let ours = level_cuts(&softnc_on("config/fanuc-lathe.toml", fanuc), &levels);
     let theirs = level_cuts(&oracle(ngc, "pockets"), &levels);
-    for ((level, a), (_, b)) in ours.iter().zip(&theirs) {
-        assert!(!a.is_empty(), "level {level}: nothing cut");
-        let same = a.len() == b.len()
-            && a.iter()
-                .zip(b)
-                .all(|(p, q)| (p.0 - q.0).abs() <= TOL && (p.1 - q.1).abs() <= TOL);
-        assert!(same, "level {level}: softnc {a:?}, rs274 {b:?}");
-    }
+    same_stretches(&ours, &theirs);
     eprintln!("pockets: {ours:?}");
 }
 
@@ -367,4 +374,51 @@ fn cycle95_fal_agrees_with_rs274_stock_allowance() {
         0,
         25.0,
     );
+}
+
+#[test]
+fn cycle95_face_machining_agrees_with_rs274_g72() {
+    // The 808D's CYCLE95 transverse outside (VARI 10) on G72's rounded face, written from
+    // the outer diameter at the deepest Z towards the centre: A' (radius 20, Z −6), the
+    // quarter circle to (14, 0), the face to the centre. S = (A''s X + _VRT 0.5, the largest
+    // Z 0) = (20.5, 0) is rs274's start point; stock 6 in Z in three equal cuts of MID 2 =
+    // rs274's I2: passes at Z −2, −4, lifted off by 0.5 = R0.5 (Z up, X out).
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X41 Z0\n\
+        CYCLE95(\"C_A:C_E\", 2, , , , 0.3, , 0.1, 10, , , 0.5)\nM30\n\
+        C_A: G1 X40 Z-6\nG3 X28 Z0 CR=6\nC_E: G1 X0\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X41 Z0\no100 sub\nG0 X40 Z-6\n\
+        G3 X28 Z0 R6\nG1 X0\no100 endsub\nG72 Q100 X41 Z0 I2 R0.5 F0.3\n\
+        G70 Q100 X41 Z0 F0.1\nM2\n";
+    compare_on(
+        "config/siemens-808d.toml",
+        "cycle95 face",
+        sinumerik,
+        ngc,
+        1,
+        0.0,
+    );
+}
+
+#[test]
+fn cycle95_undercuts_cut_the_same_stretches_as_rs274() {
+    // CYCLE95 (VARI 1) on the two pockets of the type II test, A' at Z 0 and the cone's
+    // bottom at radius 5: S = (the largest X 20, 0 + _VRT 0.5); the deepest point lies 15
+    // below S: five cuts of MID 3 = rs274's I3 from its start (20, 0.5), levels 17, 14,
+    // 11, 8. Both bound the stock by the line from the start point to A'. What each level
+    // cuts along Z agrees; the ways between the stretches differ (docs/turning.md).
+    if !rs274::present() {
+        return;
+    }
+    let sinumerik = "G18 G90 G95 S500 M3\nG0 X40 Z2\n\
+        CYCLE95(\"C_A:C_E\", 3, , , , 0.2, , , 1, , , 0.5)\nM30\n\
+        C_A: G1 X20 Z0\nZ-4\nX10 Z-8\nZ-12\nX24 Z-16\nZ-18\nG2 Z-26 CR=4\n\
+        G1 X32 Z-30\nC_E: X40\n";
+    let ngc = "G18 G7 G21 G90 G95 S500 M3\nG0 X40 Z0.5\no100 sub\nG0 X20 Z0\nG1 Z-4\n\
+        X10 Z-8\nZ-12\nX24 Z-16\nZ-18\nG2 X24 Z-26 R4\nG1 X32 Z-30\nX40\no100 endsub\n\
+        G71 Q100 X40 Z0.5 I3 R0.5 F0.2\nM2\n";
+    let levels = [17.0, 14.0, 11.0, 8.0];
+    let ours = level_cuts(&softnc_on("config/siemens-808d.toml", sinumerik), &levels);
+    let theirs = level_cuts(&oracle(ngc, "cycle95 pockets"), &levels);
+    same_stretches(&ours, &theirs);
+    eprintln!("cycle95 pockets: {ours:?}");
 }

@@ -37,7 +37,7 @@ pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
 pub(super) use turning::TurningData;
 pub(in crate::frontend) use turning::{
-    non_monotonic, sign, Element as TurningElement, Passes, TurningRun, EPS,
+    deepest, non_monotonic, sign, z_turns, Element as TurningElement, Passes, TurningRun, EPS,
 };
 
 use super::block::{Block, BlockNo, ModalState};

@@ -22,7 +22,7 @@ mod contour;
 mod stock_removal;
 
 pub use contour::Element;
-pub use stock_removal::{non_monotonic, Passes, TurningRun, EPS};
+pub use stock_removal::{deepest, non_monotonic, z_turns, Passes, TurningRun, EPS};
 
 use super::super::block::*;
 use super::super::fault::{fault, R};

@@ -18,13 +18,16 @@
 //! rapid; roughing cuts along Z at equal depths from S's X down to the shifted contour's
 //! start, each lifted off by _VRT at 45° and back to S's Z at rapid; a last cut along the
 //! shifted contour; back to S (X first). Finishing: from S to the contour's start at rapid,
-//! along the contour at FF3, back to S. The passes are the Fanuc lathe's engine
-//! (build/turning: `Passes`, `TurningRun`); this module gives it the contour, S, the depth
-//! and the feeds (docs/turning.md, "CYCLE95").
+//! along the contour at FF3, back to S. Transverse machining is the same with X and Z
+//! exchanged; a contour with undercut elements (its depth axis turns back) is roughed level
+//! by level, every cut deeper into the stock at FF2. The passes are the Fanuc lathe's
+//! engine (build/turning: `Passes`, `TurningRun`, its exchange and its pockets); this
+//! module gives it the contour, S, the depth and the feeds (docs/turning.md, "CYCLE95").
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    non_monotonic, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun, EPS,
+    deepest, non_monotonic, sign, z_turns, Expansion, Passes, Step, TurningElement as Element,
+    TurningRun, EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -61,6 +64,8 @@ enum Machining {
 struct Vari {
     machining: Machining,
     inside: bool,
+    /// Transverse (face) machining: passes along X, levels in Z.
+    transverse: bool,
 }
 
 /// Whether the cycle name at the cursor is CYCLE95.
@@ -80,21 +85,17 @@ fn vari(p: &Params) -> R<Vari> {
         ));
     }
     let k = v as u32 - 1;
-    if k % 2 == 1 {
-        return Err(fault(
-            AlarmCode::NotSupported,
-            p.at(VARI),
-            format!("VARI {v}: transverse (face) machining is not built in softnc (longitudinal: VARI 1, 3, 5, 7, 9, 11)"),
-        ));
-    }
     let machining = match k / 4 {
         0 => Machining::Roughing,
         1 => Machining::Finishing,
         _ => Machining::Complete,
     };
+    // Within each kind: longitudinal outside, transverse outside, longitudinal inside,
+    // transverse inside.
     Ok(Vari {
         machining,
-        inside: k % 4 == 2,
+        inside: k % 4 >= 2,
+        transverse: k % 2 == 1,
     })
 }
 
@@ -108,6 +109,8 @@ struct Setup {
     fal: f64,
     vrt: f64,
     rough_feed: f64,
+    /// FF2: into undercut elements (left out: FF1) **[unconfirmed]**.
+    plunge_feed: f64,
     finish_feed: f64,
     chip: Option<ChipBreak>,
 }
@@ -215,6 +218,7 @@ impl Interpreter<'_> {
         } else {
             VRT_DEFAULT
         };
+        let rough_feed = if roughs { feed(FF1)? } else { 0.0 };
         Ok(Setup {
             vari,
             mid: p.get(MID) * unit,
@@ -222,7 +226,12 @@ impl Interpreter<'_> {
             falx: p.get(FALX) * unit,
             fal: p.get(FAL) * unit,
             vrt,
-            rough_feed: if roughs { feed(FF1)? } else { 0.0 },
+            rough_feed,
+            plunge_feed: if p.get(FF2) > 0.0 {
+                p.get(FF2)
+            } else {
+                rough_feed
+            },
             finish_feed: if finishes { feed(FF3)? } else { 0.0 },
             chip,
         })
@@ -248,7 +257,9 @@ impl Interpreter<'_> {
     }
 
     /// S, the passes and the finishing of `contour` (its first element the move to its
-    /// start), checked: a contour whose X or Z turns back (undercuts) is not built.
+    /// start), checked. Transverse machining runs in the frame with X and Z exchanged (as
+    /// the Fanuc G72 runs G71); a contour whose depth axis turns back (undercut elements)
+    /// is roughed as the engine's pockets, level by level.
     fn stock_removal_run(
         &mut self,
         s: &Setup,
@@ -256,52 +267,60 @@ impl Interpreter<'_> {
         p: &Params,
         new: &ModalState,
     ) -> R<StockRemovalRun> {
-        let sx = if s.vari.inside { -1.0 } else { 1.0 };
-        let (a1, b) = (contour[0].to, contour[contour.len() - 1].to);
-        let sz = sign(b[2] - a1[2]);
-        let bad = |m: String| Err(fault(AlarmCode::CycleContour, p.call, m));
-        if sz == 0.0 {
-            return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
-        }
+        let face = s.vari.transverse;
+        let frame: Vec<Element> = match face {
+            true => contour.iter().map(Element::exchanged).collect(),
+            false => contour,
+        };
+        let (sx, sz) = directions(s.vari, &frame, p)?;
+        // The allowances along the frame's depth axis and along its cut.
+        let (depth_fal, cut_fal) = if face {
+            (s.falz, s.falx)
+        } else {
+            (s.falx, s.falz)
+        };
         let moved: Vec<Element> = self
-            .along_contour(&contour, s.fal * sx * sz, p)?
+            .along_contour(&frame, s.fal * sx * sz, p)?
             .iter()
-            .map(|e| e.shifted([sx * s.falx, -sz * s.falz]))
+            .map(|e| e.shifted([sx * depth_fal, -sz * cut_fal]))
             .collect();
         let start = cycle_start(&moved, sx, sz, s.vrt);
-        let total = sx * (start[0] - moved[0].to[0]);
-        if total <= EPS {
-            return bad(format!(
-                "the contour starts at its {} X: nothing to remove along Z (program it from the end with the {} diameter, or check VARI)",
-                if s.vari.inside { "smallest" } else { "largest" },
-                if s.vari.inside { "largest" } else { "smallest" },
-            ));
-        }
-        if let Some((i, what)) = non_monotonic(&contour, sx, sz) {
-            let m = format!(
-                "the contour is not monotonic in X and Z ({} machining), element {}: {what}: undercut elements are not built in softnc",
-                if s.vari.inside { "inside" } else { "outside" },
-                i + 1
-            );
-            return Err(fault(AlarmCode::NotSupported, p.call, m));
-        }
+        let undercut = non_monotonic(&frame, sx, sz).is_some();
+        let total = match undercut {
+            true => deepest(start, &moved, sx),
+            false => sx * (start[0] - moved[0].to[0]),
+        };
+        check_stock(s.vari, &frame, start, &moved, sx, sz, p)?;
         let rough = match s.vari.machining {
             Machining::Finishing => None,
-            _ => Some(self.roughing(s, moved, start, total, p)?),
+            _ => Some(self.roughing(s, moved, start, total, undercut, p)?),
         };
         let finish = (s.vari.machining != Machining::Roughing).then(|| {
-            let mut shape = contour;
+            let mut shape = frame;
             shape[0].mode = MotionMode::Rapid;
-            TurningRun::new(start, shape, None)
+            let run = TurningRun::new(start, shape, None);
+            if face {
+                run.exchanged()
+            } else {
+                run
+            }
         });
+        let real = |mut q: Pos| {
+            if face {
+                q.swap(0, 2);
+            }
+            q
+        };
         Ok(StockRemovalRun {
-            approach: Some(start),
+            approach: Some(real(start)),
             rough,
             finish,
             rough_feed: s.rough_feed,
+            plunge_feed: s.plunge_feed,
             finish_feed: s.finish_feed,
             feed: new.feed,
             chip: s.chip,
+            deeper: if face { (2, -sx) } else { (0, -sx) },
             cut: None,
             at: self.cur,
         })
@@ -321,14 +340,16 @@ impl Interpreter<'_> {
         })
     }
 
-    /// The roughing passes: `total` (from S's X to the shifted contour's start) in equal
-    /// cuts of at most MID; the last cut is the run along the shifted contour.
+    /// The roughing passes (in the frame: transverse exchanged): `total` (from S's X to
+    /// the shifted contour's start, with undercuts to its deepest point) in equal cuts of
+    /// at most MID; the last cut is the run along the shifted contour.
     fn roughing(
         &mut self,
         s: &Setup,
         moved: Vec<Element>,
         start: Pos,
         total: f64,
+        undercut: bool,
         p: &Params,
     ) -> R<TurningRun> {
         let cuts = libm::ceil((total - EPS) / s.mid).max(1.0);
@@ -343,26 +364,108 @@ impl Interpreter<'_> {
         let passes = Passes {
             depth: total / cuts,
             retract: s.vrt,
-            sx: if s.vari.inside { -1.0 } else { 1.0 },
+            sx: depth_sign(s.vari),
             sz: sign(moved[moved.len() - 1].to[2] - moved[0].to[2]),
             rapid_in: true,
             count: count as u32,
         };
-        Ok(TurningRun::new(start, moved, Some(passes)))
+        let mut run = TurningRun::new(start, moved, Some(passes));
+        if undercut {
+            run = run.pockets();
+        }
+        Ok(if s.vari.transverse {
+            run.exchanged()
+        } else {
+            run
+        })
     }
 }
 
-/// S: the shifted contour's outermost X (`sx` +1; innermost for −1), `vrt` before its start
-/// in Z (against the cut's direction `sz`).
+/// S (in the frame): the shifted contour's outermost X (`sx` +1; innermost for −1; an
+/// arc's top included), `vrt` before its start in Z (against the cut's direction `sz`).
 fn cycle_start(moved: &[Element], sx: f64, sz: f64, vrt: f64) -> Pos {
-    let extreme = moved
+    let mut s = moved[0].to;
+    let ends = moved
         .iter()
         .map(|e| sx * e.to[0])
         .fold(f64::NEG_INFINITY, f64::max);
-    let mut s = moved[0].to;
-    s[0] = sx * extreme;
+    // The highest point above A' is the deepest below it, seen from the other side: an
+    // arc's top counts where it lies above every end point (else the end point, exactly).
+    let top = sx * s[0] + deepest(s, &moved[1..], -sx);
+    s[0] = sx * if top > ends + EPS { top } else { ends };
     s[2] -= sz * vrt;
     s
+}
+
+/// The frame's depth direction (+1: the passes go towards smaller X): longitudinal, from
+/// VARI's side; transverse, always towards smaller Z (the stock in front of the faces)
+/// **[unconfirmed]**.
+fn depth_sign(v: Vari) -> f64 {
+    if v.inside && !v.transverse {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+/// The directions of the passes (`sx`) and of the cut (`sz`) in the frame (transverse: X and
+/// Z exchanged): a longitudinal contour runs along Z either way; a transverse one along X
+/// towards the centre (outside) or away from it (inside) **[unconfirmed]**.
+fn directions(v: Vari, frame: &[Element], p: &Params) -> R<(f64, f64)> {
+    let (a1, b) = (frame[0].to, frame[frame.len() - 1].to);
+    let sz = sign(b[2] - a1[2]);
+    let bad = |m: &str| Err(fault(AlarmCode::CycleContour, p.call, m));
+    if !v.transverse {
+        if sz == 0.0 {
+            return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z");
+        }
+        return Ok((depth_sign(v), sz));
+    }
+    if sz == 0.0 {
+        return bad(
+            "the contour's start and end lie at the same X: a transverse contour runs along X",
+        );
+    }
+    match (v.inside, sz > 0.0) {
+        (false, true) => bad("a transverse contour outside runs towards the centre (from its largest X to its smallest), or VARI names the wrong side"),
+        (true, false) => bad("a transverse contour inside runs away from the centre (from its smallest X to its largest), or VARI names the wrong side"),
+        _ => Ok((1.0, sz)),
+    }
+}
+
+/// The stock the roughing removes lies between S and the contour: the contour must not
+/// start at S's depth, and along the cut it must go one way (the depth axis may turn
+/// back: undercut elements).
+fn check_stock(
+    v: Vari,
+    frame: &[Element],
+    start: Pos,
+    moved: &[Element],
+    sx: f64,
+    sz: f64,
+    p: &Params,
+) -> R<()> {
+    let (depth_axis, cut_axis) = if v.transverse { ("Z", "X") } else { ("X", "Z") };
+    let bad = |m: String| Err(fault(AlarmCode::CycleContour, p.call, m));
+    if sx * (start[0] - moved[0].to[0]) <= EPS {
+        let (at, other) = match (v.transverse, v.inside) {
+            (true, _) => ("largest", "smallest"),
+            (false, false) => ("largest", "smallest"),
+            (false, true) => ("smallest", "largest"),
+        };
+        return bad(format!(
+            "the contour starts at its {at} {depth_axis}: nothing to remove along {cut_axis} (program it from its end at the {other} {depth_axis}, or check VARI)"
+        ));
+    }
+    if non_monotonic(frame, sx, sz).is_some() {
+        if let Some(i) = z_turns(start, moved, sz) {
+            return bad(format!(
+                "element {} of the contour turns back along {cut_axis}, the direction of the cut: undercut elements may turn back in {depth_axis} only",
+                i + 1
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// CYCLE95's moves still to come: to S, the roughing run, the finishing run; every cut at
@@ -374,9 +477,13 @@ pub struct StockRemovalRun {
     rough: Option<TurningRun>,
     finish: Option<TurningRun>,
     rough_feed: f64,
+    plunge_feed: f64,
     finish_feed: f64,
     feed: f64,
     chip: Option<ChipBreak>,
+    /// The depth axis (0 X, 2 Z) and the sign of a move deeper into the stock along it: a
+    /// roughing move that goes deeper is an insertion into an undercut (FF2).
+    deeper: (usize, f64),
     /// The roughing cut being interrupted for chip breaking: its end, and whether a dwell
     /// comes next.
     cut: Option<(Pos, bool)>,
@@ -400,11 +507,12 @@ impl StockRemovalRun {
             }
         }
         let (step, rough) = self.inner()?;
-        let step = self.with_feed(step, rough);
+        let plunge = rough && self.plunges(&step);
+        let step = self.with_feed(step, rough, plunge);
         match step {
             Step::Move {
                 to, rapid: false, ..
-            } if rough && self.chip.is_some() => {
+            } if rough && !plunge && self.chip.is_some() => {
                 self.cut = Some((to, false));
                 self.piece()
             }
@@ -435,12 +543,30 @@ impl StockRemovalRun {
         self.finish.as_mut()?.next().map(|s| (s, false))
     }
 
-    /// The step with its feed: the cycle's for a cut, the caller's for a rapid.
-    fn with_feed(&self, step: Step, rough: bool) -> Step {
-        let cut = if rough {
-            self.rough_feed
-        } else {
-            self.finish_feed
+    /// Whether a cut goes deeper into the stock: the insertion into an undercut element,
+    /// in a pass or along the contour (Cycles, "CYCLE95": FF2).
+    fn plunges(&self, step: &Step) -> bool {
+        let (axis, deeper) = self.deeper;
+        let to = match step {
+            Step::Move {
+                to, rapid: false, ..
+            }
+            | Step::Path {
+                to, rapid: false, ..
+            }
+            | Step::Arc { to, .. } => to,
+            _ => return false,
+        };
+        deeper * (to[axis] - self.at[axis]) > EPS
+    }
+
+    /// The step with its feed: the cycle's for a cut (FF2 for an insertion into an
+    /// undercut), the caller's for a rapid.
+    fn with_feed(&self, step: Step, rough: bool, plunge: bool) -> Step {
+        let cut = match (rough, plunge) {
+            (true, true) => self.plunge_feed,
+            (true, false) => self.rough_feed,
+            _ => self.finish_feed,
         };
         let of = |rapid: bool| Some(if rapid { self.feed } else { cut });
         match step {
@@ -530,6 +656,17 @@ mod tests {
         [(level, zs), (level, z), (up, z + vrt), (up, zs)]
     }
 
+    /// `got` and `want` the same moves to 1e-9.
+    fn assert_near(got: &[(f64, f64)], want: &[(f64, f64)]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                "{got:?}"
+            );
+        }
+    }
+
     fn run(main: &str, files: &[(&str, &str)]) -> Vec<Block> {
         lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
     }
@@ -575,13 +712,7 @@ mod tests {
             (35.0, 0.6),
         ]);
         let got = ends(&b);
-        assert_eq!(got.len(), want.len(), "{got:?}");
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
-                "{got:?}"
-            );
-        }
+        assert_near(&got, &want);
         // Cuts at FF1 0.3, the finishing at FF3 0.1, the rapids and the next block at F0.25.
         let feeds: Vec<(MotionKind, f64)> = b
             .iter()
@@ -627,13 +758,7 @@ mod tests {
             (25.0, 1.0),
         ]);
         let got = ends(&b);
-        assert_eq!(got.len(), want.len(), "{got:?}");
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
-                "{got:?}"
-            );
-        }
+        assert_near(&got, &want);
     }
 
     const SHAFT: &str = "PROC SHAFT\nG1 X10 Z0\nZ-10 RND=2\nX30\nZ-20\nX36 Z-26\nM17\n";
@@ -750,6 +875,231 @@ mod tests {
         assert_eq!(ends(&b)[2..4], [(5.0, 0.0), (5.0, -8.0)]);
     }
 
+    /// A shaft with an undercut (diameters): A' (radius 5, Z 0), (5, −10), the face to
+    /// (15, −10), (15, −15), the taper down into the undercut to (10, −20), (10, −25), the
+    /// face up to (15, −25), (15, −30), B (20, −30).
+    const UNDERCUT: &str = "G1 X10 Z0\nZ-10\nX30\nZ-15\nX20 Z-20\nZ-25\nX30\nZ-30\nX40\n";
+
+    #[test]
+    fn undercuts_are_roughed_level_by_level_with_ff2_into_them() {
+        // No allowances, _VRT 1: S = (B's X 20, 0 + 1). The stock reaches down to A' (depth
+        // 15 below S): MID 4 gives ⌈3.75⌉ = 4 cuts of 3.75, levels at X 16.25, 12.5, 8.75;
+        // the boundary runs from S to A' first (X = 20 − 15t, Z = 1 − t).
+        // Level 16.25: one stretch, from the S–A' line at Z 0.75 to the last face at −30;
+        //   lift-off to (17.25, −29).
+        // Level 12.5: stretches (0.5 → the face at −10) and (the taper at −17.5 → the
+        //   face at −25). Over the stock the shallowest point is X 15 (depth 5), so the
+        //   deepest level cut over the way is 3.75, less e: X 17.25. The second stretch: up
+        //   to 17.25, along Z, down at rapid to the level above (16.25), in to 12.5 at FF2.
+        // Level 8.75: one stretch (0.25 → −10); X 10 of the undercut stays above it.
+        // Back over the stock to X 20 (S's X: the way passes the S–A' line), to S; the
+        // shifted contour from S, its falling taper at FF2; home X first.
+        let main = format!("{HEAD}CYCLE95(\"U\", 4, , , , 0.3, 0.1, , 1, , , 1)\nM30\n");
+        let b = run(&main, &[("U.SPF", UNDERCUT)]);
+        let want = [
+            (30.0, 5.0),
+            (20.0, 1.0),
+            (20.0, 0.75),
+            (16.25, 0.75),
+            (16.25, -30.0),
+            (17.25, -29.0),
+            (17.25, 0.5),
+            (12.5, 0.5),
+            (12.5, -10.0),
+            (13.5, -9.0),
+            (17.25, -9.0),
+            (17.25, -17.5),
+            (16.25, -17.5),
+            (12.5, -17.5),
+            (12.5, -25.0),
+            (13.5, -24.0),
+            (17.25, -24.0),
+            (17.25, 0.25),
+            (8.75, 0.25),
+            (8.75, -10.0),
+            (9.75, -9.0),
+            (20.0, -9.0),
+            (20.0, 1.0),
+            (5.0, 0.0),
+            (5.0, -10.0),
+            (15.0, -10.0),
+            (15.0, -15.0),
+            (10.0, -20.0),
+            (10.0, -25.0),
+            (15.0, -25.0),
+            (15.0, -30.0),
+            (20.0, -30.0),
+            (20.0, 1.0),
+        ];
+        assert_eq!(ends(&b), want);
+        // The cuts: FF1 0.3, the insertions into the undercut (the in-feed at Z −17.5, the
+        // taper along the contour) FF2 0.1.
+        let cuts: Vec<((f64, f64), f64)> = b
+            .iter()
+            .filter_map(|b| b.motion.map(|m| (m, b.modal.feed)))
+            .filter(|(m, _)| m.kind != MotionKind::Rapid)
+            .map(|(m, f)| ((m.end[0], m.end[2]), f))
+            .collect();
+        let slow: Vec<(f64, f64)> = cuts.iter().filter(|c| c.1 == 0.1).map(|c| c.0).collect();
+        assert_eq!(slow, [(12.5, -17.5), (10.0, -20.0)]);
+        assert!(cuts.iter().all(|c| c.1 == 0.1 || c.1 == 0.3), "{cuts:?}");
+        assert_eq!(cuts.len(), 5 + 8);
+        // Radius programming (DIAMOF, the contour in radii): the same moves.
+        let radii = "G1 X5 Z0\nZ-10\nX15\nZ-15\nX10 Z-20\nZ-25\nX15\nZ-30\nX20\n";
+        let r = run(
+            &format!("{HEAD}DIAMOF\nCYCLE95(\"U\", 4, , , , 0.3, 0.1, , 1, , , 1)\n"),
+            &[("U.SPF", radii)],
+        );
+        assert_eq!(ends(&r), want);
+    }
+
+    /// A face contour outside, from the outer diameter towards the centre (diameters):
+    /// A' (radius 30, Z −10), (20, −10), (20, −5), (10, −5), (10, 0), B (0, 0).
+    const FACE: &str = "G1 X60 Z-10\nX40\nZ-5\nX20\nZ0\nX0\n";
+
+    #[test]
+    fn transverse_machining_cuts_along_x_in_levels_of_z() {
+        // VARI 10 (complete, transverse outside). FALZ 0.2 moves the faces to +Z, FALX 0.1
+        // the diameters out: A'm (30.1, −9.8), (20.1, −9.8), (20.1, −4.8), (10.1, −4.8),
+        // (10.1, 0.2), Bm (0.1, 0.2). S = (A'm's X + _VRT 1 = 31.1, the largest Z 0.2).
+        // Stock 0.2 − (−9.8) = 10 in Z, MID 3: 4 cuts of 2.5, levels at Z −2.3, −4.8, −7.3.
+        // Each: G0 in along Z at X 31.1, G1 along −X to the contour (−2.3 meets the wall
+        // X 10.1, −4.8 and −7.3 the wall X 20.1), lift-off 1 in Z and X (Z up, X out), G0
+        // back to X 31.1.
+        let mut want = vec![(30.0, 5.0), (31.1, 0.2)];
+        for (z, x) in [(-2.3, 10.1), (-4.8, 20.1), (-7.3, 20.1)] {
+            let r = |v: f64| (v * 1e9).round() / 1e9;
+            want.extend([(31.1, z), (x, z), (x + 1.0, r(z + 1.0)), (31.1, r(z + 1.0))]);
+        }
+        // The shifted contour at FF1; home Z first (there), then X.
+        want.extend([
+            (30.1, -9.8),
+            (20.1, -9.8),
+            (20.1, -4.8),
+            (10.1, -4.8),
+            (10.1, 0.2),
+            (0.1, 0.2),
+            (31.1, 0.2),
+        ]);
+        // Finishing: G0 to A', the contour at FF3, G0 home Z first, then X.
+        want.extend([
+            (30.0, -10.0),
+            (20.0, -10.0),
+            (20.0, -5.0),
+            (10.0, -5.0),
+            (10.0, 0.0),
+            (0.0, 0.0),
+            (0.0, 0.2),
+            (31.1, 0.2),
+        ]);
+        let cycle = "CYCLE95(\"F\", 3, 0.2, 0.1, , 0.3, , 0.1, 10, , , 1)";
+        let b = run(&format!("{HEAD}{cycle}\nM30\n"), &[("F.SPF", FACE)]);
+        let got = ends(&b);
+        assert_near(&got, &want);
+        // The cuts along X at FF1, the finishing at FF3.
+        let feeds: Vec<f64> = b
+            .iter()
+            .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+            .map(|b| b.modal.feed)
+            .collect();
+        assert_eq!(feeds, [[0.3; 8].as_slice(), &[0.1; 5]].concat());
+        // Radius programming: the same moves.
+        let radii = "G1 X30 Z-10\nX20\nZ-5\nX10\nZ0\nX0\n";
+        let r = run(
+            &format!("{HEAD}DIAMOF\n{cycle}\nM30\n"),
+            &[("F.SPF", radii)],
+        );
+        assert_eq!(ends(&r), got);
+    }
+
+    #[test]
+    fn fal_on_a_face_lies_on_the_stock_side() {
+        // Transverse outside, roughing (VARI 2), FAL 0.5: A' (30, −10), (20, −10), (20, 0),
+        // B (0, 0). The equidistant on the stock's side: the back face to Z −9.5, the wall
+        // to X 20.5 (the concave corner trimmed at (20.5, −9.5)), the front face to Z 0.5,
+        // the convex corner (20, 0) rounded by an arc of 0.5 about it. S = (30 + _VRT 1,
+        // 0.5); the stock 10 in one cut of MID 10: no pass, only the run along it.
+        let b = run(
+            &format!("{HEAD}CYCLE95(\"F\", 10, , , 0.5, 0.3, , , 2)\nM30\n"),
+            &[("F.SPF", "G1 X60 Z-10\nX40\nZ0\nX0\n")],
+        );
+        assert_eq!(
+            ends(&b),
+            [
+                (30.0, 5.0),
+                (31.0, 0.5),
+                (30.0, -9.5),
+                (20.5, -9.5),
+                (20.5, 0.0),
+                (20.0, 0.5),
+                (0.0, 0.5),
+                (31.0, 0.5)
+            ]
+        );
+        let arcs: Vec<[f64; 3]> = b
+            .iter()
+            .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
+            .collect();
+        assert_eq!(arcs, [[20.0, 0.0, 0.0]]);
+    }
+
+    #[test]
+    fn a_face_undercut_is_roughed_as_pockets_in_z() {
+        // Transverse inside (VARI 4): the passes cut along +X, from the bore outwards.
+        // Radius: A' (5, −6), (10, −6), (10, −2), a flank down into the face to (14, −4),
+        // (18, −4), (18, 0), B (25, 0): Z turns back (an undercut in the face), X goes one
+        // way. No allowances, _VRT 1: S = (A''s X − 1 = 4, the largest Z 0). The deepest
+        // point is A' (6 below S): MID 2.5 gives ⌈2.4⌉ = 3 cuts of 2, levels at Z −2, −4.
+        // The boundary runs from S to A' first (X = 4 + t, Z = −6t).
+        // Z −2: from that line at X 13/3 out along +X; the wall X 10 comes up to −2 and the
+        //   flank goes down again at once (a ridge touching the level): one stretch to the
+        //   wall X 18; lift-off 1 (Z up, X back) to (17, −1).
+        // Z −4: up to Z 0 (the ridge's top lies on the level cut, nothing deeper is cut
+        //   over the whole way), along Z 0 to X 14/3, in at rapid, along +X to the wall X 10
+        //   (the groove's bottom lies on the level: the contour's own), lift-off to (9, −3).
+        // Back to S over Z 0; the contour from S, its flank into the groove at FF2; home
+        // Z first (there), then X.
+        let spf = "G1 X10 Z-6\nX20\nZ-2\nX28 Z-4\nX36\nZ0\nX50\n";
+        let b = run(
+            &format!("{HEAD}G0 X8 Z5\nCYCLE95(\"G\", 2.5, , , , 0.3, 0.1, , 4, , , 1)\nM30\n"),
+            &[("G.SPF", spf)],
+        );
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let want = [
+            (30.0, 5.0),
+            (4.0, 5.0),
+            (4.0, 0.0),
+            (r(13.0 / 3.0), 0.0),
+            (r(13.0 / 3.0), -2.0),
+            (18.0, -2.0),
+            (17.0, -1.0),
+            (17.0, 0.0),
+            (r(14.0 / 3.0), 0.0),
+            (r(14.0 / 3.0), -4.0),
+            (10.0, -4.0),
+            (9.0, -3.0),
+            (9.0, 0.0),
+            (4.0, 0.0),
+            (5.0, -6.0),
+            (10.0, -6.0),
+            (10.0, -2.0),
+            (14.0, -4.0),
+            (18.0, -4.0),
+            (18.0, 0.0),
+            (25.0, 0.0),
+            (4.0, 0.0),
+        ];
+        assert_eq!(ends(&b), want);
+        let slow: Vec<(f64, f64)> = b
+            .iter()
+            .filter(|b| {
+                b.modal.feed == 0.1 && b.motion.is_some_and(|m| m.kind != MotionKind::Rapid)
+            })
+            .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
+            .collect();
+        assert_eq!(slow, [(14.0, -4.0)]);
+    }
+
     /// The alarm of cycle `cycle` (line 3) with SHAFT.SPF beside it: code, program, line,
     /// column.
     fn alarm(cycle: &str, files: &[(&str, &str)]) -> (AlarmCode, String, u32, u32) {
@@ -766,10 +1116,10 @@ mod tests {
         let shaft = [("SHAFT.SPF", SHAFT)];
         // (parameters after the contour's name, the alarm, its column in line 3)
         let cases = [
-            // VARI 13, VARI 2 (face machining: not built), MID 0 and MID left out for
-            // roughing (at the cycle's name).
+            // VARI 13; VARI 2 (face outside) on SHAFT, which runs away from the centre (at
+            // the cycle's name); MID 0 and MID left out for roughing.
             (" 3, , , , 0.3, , , 13)", AlarmCode::CycleMachiningType, 36),
-            (" 3, , , , 0.3, , , 2)", AlarmCode::NotSupported, 36),
+            (" 3, , , , 0.3, , , 2)", AlarmCode::CycleContour, 1),
             (" 0, , , , 0.3, , , 9)", AlarmCode::CycleParameter, 18),
             (" , , , , 0.3, , , 1)", AlarmCode::CycleParameter, 1),
             // A signed allowance, FAL as large as the fillet RND=2 (its parallel vanishes),
@@ -831,12 +1181,33 @@ mod tests {
             alarm("CYCLE95(\"A1:B1\", 3, , , , 0.3, , , 1)", &shaft),
             main_at(AlarmCode::JumpTarget, 9)
         );
-        // An undercut (X turns back down to 12): not built, at the call.
-        let pocket = [("P.SPF", "G1 X10 Z0\nZ-10\nX30 Z-15\nX24 Z-20\nX40\n")];
+        // Z turns back (from −10 to −5), against the cut along Z: no undercut the passes
+        // can reach, at the call. The same shape along X for face machining: X turns back.
+        let back_z = [("P.SPF", "G1 X10 Z0\nZ-10\nX20 Z-5\nZ-20\nX40\n")];
         assert_eq!(
-            alarm("CYCLE95(\"P\", 3, , , , 0.3, , , 1)", &pocket),
-            main_at(AlarmCode::NotSupported, 1)
+            alarm("CYCLE95(\"P\", 3, , , , 0.3, , , 1)", &back_z),
+            main_at(AlarmCode::CycleContour, 1)
         );
+        let back_x = [("P.SPF", "G1 X60 Z-20\nX40\nX50 Z-10\nX20\nZ0\n")];
+        assert_eq!(
+            alarm("CYCLE95(\"P\", 3, , , , 0.3, , , 2)", &back_x),
+            main_at(AlarmCode::CycleContour, 1)
+        );
+        // A face contour outside that starts at its largest Z (nothing in front of it), one
+        // whose start and end lie at the same X, and a face contour inside that runs
+        // towards the centre.
+        for (spf, vari) in [
+            ("G1 X60 Z0\nX40\nZ-5\nX20\n", 2),
+            ("G1 X60 Z-10\nX20\nZ0\nX60\n", 2),
+            ("G1 X60 Z-10\nX20\nZ0\nX0\n", 4),
+        ] {
+            let cycle = format!("CYCLE95(\"F\", 3, , , , 0.3, , , {vari})");
+            assert_eq!(
+                alarm(&cycle, &[("F.SPF", spf)]),
+                main_at(AlarmCode::CycleContour, 1),
+                "{spf}"
+            );
+        }
         // A contour programmed from the chuck towards the face starts at its largest X.
         let back = [("B.SPF", "G1 X40 Z-20\nX20\nZ0\n")];
         assert_eq!(
