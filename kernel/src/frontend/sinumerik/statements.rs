@@ -81,6 +81,8 @@ const KEYWORDS: &[(&str, Keyword)] = &[
     ("CYCLE87", Keyword::Cycle),
     ("CYCLE88", Keyword::Cycle),
     ("CYCLE89", Keyword::Cycle),
+    ("CYCLE93", Keyword::Cycle),
+    ("CYCLE97", Keyword::Cycle),
     ("TRANS", Keyword::Trans),
     ("ATRANS", Keyword::ATrans),
     ("ROT", Keyword::Rot),
