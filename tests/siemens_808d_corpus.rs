@@ -307,5 +307,8 @@ fn d22_cycle93_groove() {
     let f = "d22_cycle93_groove.mpf";
     let b = clean(f, &want);
     let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
-    assert_eq!(dwells, [0.5; 3], "{f}: a dwell at the bottom of each plunge");
+    assert_eq!(
+        dwells, [0.5; 3],
+        "{f}: a dwell at the bottom of each plunge"
+    );
 }
