@@ -25,8 +25,9 @@
 
 use super::super::super::block::Pos;
 use super::super::super::build::Step;
-use super::super::super::fault::R;
+use super::super::super::fault::{fault, R};
 use super::lathe::{cut, rapid, Lathe};
+use crate::alarm::AlarmCode;
 
 const SPD: usize = 0;
 const SPL: usize = 1;
@@ -177,7 +178,7 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
         ));
     }
     if l.feed <= 0.0 {
-        return Err(l.bad(VARI, "CYCLE93 needs a feed F"));
+        return Err(fault(AlarmCode::NoFeed, l.p.call, "CYCLE93 needs a feed F"));
     }
     let dwell = dwell(l)?;
     let face = vari % 2 == 0;
@@ -343,6 +344,10 @@ mod tests {
         // T2 has one edge: no grooving tool (at the call's name).
         let one = "N10 G18 G95 T2 D1 F0.1\nG0 X50 Z10\nCYCLE93(40, -10, 10, 5)\n";
         assert_eq!(alarm(one), (AlarmCode::CycleParameter, 3, 1));
+        // No feed (at the call's name).
+        let slow =
+            "N10 G18 G95 T3 D1\nG0 X50 Z10\nCYCLE93(40, -10, 10, 5, , , , , , , , , , , , 1)\n";
+        assert_eq!(alarm(slow), (AlarmCode::NoFeed, 3, 1));
         // As a modal call.
         let modal = "N10 G18 G95 T3 D1 F0.1\nMCALL CYCLE93(40, -10, 10, 5)\nG0 X50 Z10\n";
         assert_eq!(alarm(modal).0, AlarmCode::NotSupported);
