@@ -312,3 +312,24 @@ fn d22_cycle93_groove() {
         "{f}: a dwell at the bottom of each plunge"
     );
 }
+
+#[test]
+fn d23_cycle93_trapezoid_face() {
+    let mut want = vec![[30.0, 0.0, 5.0]];
+    for x in [23.0, 21.0] {
+        want.extend([[x, 0.0, 1.0], [x, 0.0, -2.0], [x, 0.0, 1.0]]);
+    }
+    want.extend([
+        [25.0, 0.0, 1.0],
+        [25.0, 0.0, 0.0],
+        [23.0, 0.0, -2.0],
+        [22.0, 0.0, -2.0],
+        [22.0, 0.0, 1.0],
+        [21.0, 0.0, 1.0],
+        [21.0, 0.0, -2.0],
+        [22.0, 0.0, -2.0],
+        [22.0, 0.0, 1.0],
+        [40.0, 0.0, 20.0],
+    ]);
+    clean("d23_cycle93_trapezoid_face.mpf", &want);
+}

@@ -332,6 +332,16 @@ mod tests {
     }
 
     #[test]
+    fn the_modal_state_after_the_call_is_the_one_before() {
+        // G0 and F0.1 before the call: a bare X after it is a rapid, a G1 feeds at 0.1 (not
+        // at the pitch 1.5).
+        let m = moves(&format!(
+            "{START}F0.1\nCYCLE97(1.5, , 0, -30, 20, 20, 3, 2, 0.92, 0, 0, 0, 2, 0, 1)\nX60\nG1 X70\n"
+        ));
+        assert_eq!(m[m.len() - 2..], [(R, 30.0, 3.0), (F(0.1), 35.0, 3.0)]);
+    }
+
+    #[test]
     fn bad_parameters_are_alarms_at_their_place() {
         let at = |call: &str| alarm(&format!("{START}{call}\n"));
         // VARI 5 (column 56 on line 3).
