@@ -161,7 +161,7 @@ impl Groove {
         let deeper = self.reached + self.infeed;
         let last = self.infeed <= 0.0 || deeper >= depth - 1e-9;
         let to = if last { depth } else { deeper };
-        push(cut(self.at(s, to), None));
+        push(cut(self.at(s, to)));
         if last {
             if let Some(t) = self.dwell {
                 push(Step::Dwell(t));
@@ -189,10 +189,10 @@ impl Groove {
         };
         push(rapid(self.at(top, self.lift)));
         if slanted {
-            push(cut(self.at(top, 0.0), None));
+            push(cut(self.at(top, 0.0)));
         }
-        push(cut(self.at(bottom, self.deep), None));
-        push(cut(self.at(middle, self.deep), None));
+        push(cut(self.at(bottom, self.deep)));
+        push(cut(self.at(middle, self.deep)));
         push(rapid(self.at(middle, self.lift)));
     }
 }

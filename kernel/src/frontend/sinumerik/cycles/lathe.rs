@@ -7,7 +7,7 @@
 
 use super::super::super::block::{ModalState, Pos};
 use super::super::super::build::{Expansion, LatheRun, Step};
-use super::super::super::fault::{fault, R};
+use super::super::super::fault::{fault, Fault, R};
 use super::super::super::interpreter::Interpreter;
 use super::{grooving, threading, CycleName, Params};
 use crate::alarm::AlarmCode;
@@ -84,16 +84,12 @@ impl Lathe {
     }
 
     /// Alarm 61101 at parameter `k`.
-    pub fn bad(&self, k: usize, m: impl Into<String>) -> Box<super::super::super::fault::Fault> {
+    pub fn bad(&self, k: usize, m: impl Into<String>) -> Box<Fault> {
         fault(AlarmCode::CycleParameter, self.p.at(k), m.into())
     }
 
     /// Alarm 12580 at parameter `k`: a value the cycle has but softnc does not build.
-    pub fn not_built(
-        &self,
-        k: usize,
-        m: impl Into<String>,
-    ) -> Box<super::super::super::fault::Fault> {
+    pub fn not_built(&self, k: usize, m: impl Into<String>) -> Box<Fault> {
         fault(AlarmCode::NotSupported, self.p.at(k), m.into())
     }
 }
@@ -108,13 +104,13 @@ pub(super) fn rapid(to: Pos) -> Step {
     }
 }
 
-/// A move at `feed` (`None`: the modal feed).
-pub(super) fn cut(to: Pos, feed: Option<f64>) -> Step {
+/// A move at the feed in force.
+pub(super) fn cut(to: Pos) -> Step {
     Step::Move {
         to,
         rapid: false,
         axes: None,
-        feed,
+        feed: None,
     }
 }
 
