@@ -9,8 +9,9 @@
 //! its flanks leaning out by ANG1 (on the starting point's side) and ANG2, its corner on the
 //! starting point's side at (SPD, SPL) on the surface. VARI's units digit says where (840D
 //! sl Cycles, CYCLE93 "VARI"): 1 3 5 7 longitudinal, 2 4 6 8 face; 1 2 5 6 outside, 3 4 7 8
-//! inside; 1 … 4 starting point left, 5 … 8 right; its tens digit (chamfers or radii)
-//! matters only with RCO/RCI, which are not built. Longitudinal: the groove lies along Z
+//! inside; 1 … 4 starting point left, 5 … 8 right; its tens digit says how a chamfer is
+//! given: 0 by its length, 1 by its leg. RCO1/RCO2 (< 0) chamfer the corners at the surface,
+//! RCI1/RCI2 those at the base (1: the starting point's side). Longitudinal: the groove lies along Z
 //! from SPL to the right (left start) or the left (right start), its depth into X. Face:
 //! along X from SPD towards the centre (outside) or away from it (inside), its depth into
 //! Z, towards +Z for a left, −Z for a right start [unconfirmed].
@@ -22,9 +23,10 @@
 //! FAL2 off the flanks and FAL1 off the base, in infeeds of IDEP (all at once where IDEP is
 //! 0) with a 1 mm retraction between them to break the chip, a dwell of DTB at the bottom,
 //! out at rapid to the start level, _VRT (1 mm where empty) off the surface. Finishing,
-//! where FAL1 or FAL2 is given and always for a trapezoid: down each flank and along the
-//! base to the middle, first from the starting point's side [unconfirmed]. Radii and
-//! chamfers (RCO1 … RCI2) and an inclined contour (STA1) are refused with alarm 12580.
+//! where FAL1 or FAL2 is given and always for a trapezoid or chamfers: down each flank
+//! (over its chamfers) and along the base to the middle, first from the starting point's
+//! side [unconfirmed]. Radii (RCO1 … RCI2 > 0) and an inclined contour (STA1) are refused
+//! with alarm 12580.
 
 use super::super::super::block::Pos;
 use super::super::super::build::Step;
@@ -45,8 +47,10 @@ const IDEP: usize = 13;
 const DTB: usize = 14;
 const VARI: usize = 15;
 const VRT: usize = 16;
-/// RCO1, RCO2, RCI1, RCI2: not built.
-const EDGES: [(usize, &str); 4] = [(7, "RCO1"), (8, "RCO2"), (9, "RCI1"), (10, "RCI2")];
+const RCO1: usize = 7;
+const RCO2: usize = 8;
+const RCI1: usize = 9;
+const RCI2: usize = 10;
 
 /// The retraction between two infeeds to break the chip (840D sl Cycles, CYCLE93).
 const CHIP_BREAK: f64 = 1.0;
@@ -65,10 +69,9 @@ pub struct Groove {
     way: f64,
     into: f64,
     y: f64,
-    /// tan ANG1, tan ANG2; the width at the base, the depth, the allowances at the base and
-    /// at the flanks, the tool's width.
-    t1: f64,
-    t2: f64,
+    /// The flank on the starting point's side and the other; the width at the base, the
+    /// depth, the allowances at the base and at the flanks, the tool's width.
+    flanks: [Flank; 2],
     base: f64,
     deep: f64,
     fal1: f64,
@@ -112,21 +115,24 @@ impl Groove {
 
     /// The width at the surface.
     fn top(&self) -> f64 {
-        self.base + self.deep * (self.t1 + self.t2)
+        self.base + self.deep * (self.flanks[0].tan + self.flanks[1].tan)
     }
 
-    /// How deep roughing may cut at u: FAL2 off the flanks (along u), FAL1 off the base.
+    /// How deep roughing may cut at u: FAL2 off the flanks and the chamfers at the base
+    /// (along u), FAL1 off the base. The shape is convex: each edge's half-plane holds it.
     fn floor(&self, u: f64) -> f64 {
         let mut v = self.deep - self.fal1;
-        for (d, t) in [
-            (u - self.fal2, self.t1),
-            (self.top() - self.fal2 - u, self.t2),
-        ] {
-            if d < -1e-9 {
+        for (f, w) in self.flanks.iter().zip([u, self.top() - u]) {
+            let w = w - self.fal2;
+            if w < -1e-9 {
                 return 0.0;
             }
-            if t > 0.0 {
-                v = v.min(d / t);
+            if f.tan > 0.0 {
+                v = v.min(w / f.tan);
+            }
+            if f.inner > 0.0 {
+                let (q, b) = (f.inner_from(self.deep), f.inner_to(self.deep));
+                v = v.min(q.1 + (w - q.0) * (b.1 - q.1) / (b.0 - q.0));
             }
         }
         v
@@ -175,25 +181,83 @@ impl Groove {
     }
 
     /// Finishing cut 1 (the starting point's flank) or 2: edge D down the flank from the
-    /// surface, along the base to the middle, out.
+    /// surface (over the chamfers), along the base to the middle, out.
     fn finishing_cut(&self, q: &mut heapless::Deque<Step, 8>) {
-        let (top, bottom, slanted) = if self.finishing == 1 {
-            (0.0, self.deep * self.t1, self.t1 > 0.0)
-        } else {
-            let u = self.top() - self.width;
-            (u, u - self.deep * self.t2, self.t2 > 0.0)
+        let side = usize::from(self.finishing == 2);
+        let f = &self.flanks[side];
+        // A point (w from the flank's top corner into the groove, v) as edge D's u.
+        let u = |w: f64| {
+            if side == 0 {
+                w
+            } else {
+                self.top() - w - self.width
+            }
         };
-        let middle = self.deep * self.t1 + (self.base - self.width) / 2.0;
+        let mut path: heapless::Vec<(f64, f64), 6> = heapless::Vec::new();
+        let mut add = |p: (f64, f64)| {
+            let _ = path.push(p);
+        };
+        if f.outer > 0.0 {
+            add((-f.outer, 0.0));
+            add(f.outer_to());
+        } else if f.tan > 0.0 {
+            add((0.0, 0.0));
+        }
+        if f.inner > 0.0 {
+            add(f.inner_from(self.deep));
+            add(f.inner_to(self.deep));
+        } else {
+            add((self.deep * f.tan, self.deep));
+        }
+        let middle = self.deep * self.flanks[0].tan + (self.base - self.width) / 2.0;
         let mut push = |st| {
             let _ = q.push_back(st);
         };
-        push(rapid(self.at(top, self.lift)));
-        if slanted {
-            push(cut(self.at(top, 0.0)));
+        let first = path.first().map_or(0.0, |p| u(p.0));
+        push(rapid(self.at(first, self.lift)));
+        for &(w, v) in &path {
+            push(cut(self.at(u(w), v)));
         }
-        push(cut(self.at(bottom, self.deep)));
         push(cut(self.at(middle, self.deep)));
         push(rapid(self.at(middle, self.lift)));
+    }
+}
+
+/// A flank: the tangent of its angle and the legs of the chamfers at its outer (surface)
+/// and inner (base) corner (0: none).
+#[derive(Clone, Copy, Debug)]
+struct Flank {
+    tan: f64,
+    outer: f64,
+    inner: f64,
+}
+
+impl Flank {
+    /// The unit vector down the flank, (w, v).
+    fn down(&self) -> (f64, f64) {
+        let n = libm::sqrt(1.0 + self.tan * self.tan);
+        (self.tan / n, 1.0 / n)
+    }
+
+    /// The outer chamfer's end on the flank.
+    fn outer_to(&self) -> (f64, f64) {
+        let d = self.down();
+        (self.outer * d.0, self.outer * d.1)
+    }
+
+    /// The inner chamfer's start on the flank and its end on the base.
+    fn inner_from(&self, deep: f64) -> (f64, f64) {
+        let d = self.down();
+        (deep * self.tan - self.inner * d.0, deep - self.inner * d.1)
+    }
+
+    fn inner_to(&self, deep: f64) -> (f64, f64) {
+        (deep * self.tan + self.inner, deep)
+    }
+
+    /// Along the flank, without its chamfers.
+    fn length(&self, deep: f64) -> f64 {
+        deep * libm::sqrt(1.0 + self.tan * self.tan)
     }
 }
 
@@ -203,9 +267,24 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
     if !(1..=8).contains(&vari) {
         return Err(l.bad(VARI, "VARI: 1 … 8 or 11 … 18"));
     }
-    shape_built(l)?;
-    let (t1, t2) = (flank(l, ANG1)?, flank(l, ANG2)?);
+    if l.p.get(STA1) != 0.0 {
+        return Err(l.not_built(
+            STA1,
+            "STA1: a groove on an inclined contour is not supported",
+        ));
+    }
     let (base, deep) = (l.len(WIDG), l.len(DIAG));
+    let chr = l.p.get(VARI) >= 10.0;
+    let flanks = [
+        flank(l, ANG1, RCO1, RCI1, chr, deep)?,
+        flank(l, ANG2, RCO2, RCI2, chr, deep)?,
+    ];
+    if flanks[0].inner + flanks[1].inner > base + 1e-9 {
+        return Err(l.bad(
+            RCI2,
+            "the chamfers RCI1 and RCI2 are wider than the groove's base",
+        ));
+    }
     let (fal1, fal2) = (l.len(FAL1), l.len(FAL2));
     if deep <= fal1 {
         return Err(l.bad(DIAG, "the groove depth DIAG must be greater than FAL1"));
@@ -223,6 +302,7 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
     let (along, across, way, into) = placement(vari);
     let corner = l.point(SPL, SPD);
     let lift_by = if l.p.given(VRT) { l.len(VRT) } else { LIFT_OFF };
+    let (t1, t2) = (flanks[0].tan, flanks[1].tan);
     let span = base + deep * (t1 + t2) - 2.0 * fal2 - width;
     let plunges = libm::ceil((span / width).min(1e9) - 1e-9).max(0.0) as u32 + 1;
     let step = if plunges > 1 {
@@ -237,8 +317,7 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
         way,
         into,
         y: l.at[1],
-        t1,
-        t2,
+        flanks,
         base,
         deep,
         fal1,
@@ -250,38 +329,57 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
         plunges,
         infeed: l.len(IDEP),
         dwell,
-        // The plunges cannot cut a slanted flank: a trapezoid is always finished.
-        finish: fal1 > 0.0 || fal2 > 0.0 || t1 > 0.0 || t2 > 0.0,
+        // The plunges cut neither a slanted flank nor a chamfer: those are always finished.
+        finish: fal1 > 0.0
+            || fal2 > 0.0
+            || flanks
+                .iter()
+                .any(|f| f.tan > 0.0 || f.outer > 0.0 || f.inner > 0.0),
         k: 0,
         reached: 0.0,
         finishing: 0,
     })
 }
 
-/// Radii, chamfers and an inclined contour are not built.
-fn shape_built(l: &Lathe) -> R<()> {
-    if l.p.get(STA1) != 0.0 {
-        return Err(l.not_built(
-            STA1,
-            "STA1: a groove on an inclined contour is not supported",
-        ));
+/// Flank `ang` (0 ≤ ANG < 89.999°, 840D sl Cycles) with the chamfers `outer` and `inner`
+/// name: < 0 a chamfer, its leg (`chr`, VARI 11 … 18) or its length (VARI 1 … 8); > 0 a
+/// radius, not built.
+fn flank(l: &Lathe, ang: usize, outer: usize, inner: usize, chr: bool, deep: f64) -> R<Flank> {
+    let a = l.p.get(ang);
+    if !(0.0..89.999).contains(&a) {
+        return Err(l.bad(ang, format!("a flank angle {a}: 0 … 89.999 degrees")));
     }
-    if let Some((k, name)) = EDGES.iter().find(|(k, _)| l.p.get(*k) != 0.0) {
-        return Err(l.not_built(
-            *k,
-            format!("{name}: radii and chamfers at a groove's edges are not supported"),
-        ));
+    // Both corners of a flank open by 90° + ANG: a chamfer of length c has legs
+    // c / (2·sin((90° + ANG)/2)).
+    let legs = c_legs(chr, a);
+    let mut f = Flank {
+        tan: libm::tan(a.to_radians()),
+        outer: 0.0,
+        inner: 0.0,
+    };
+    for (k, leg) in [(outer, &mut f.outer), (inner, &mut f.inner)] {
+        let v = l.p.get(k);
+        if v > 0.0 {
+            return Err(l.not_built(
+                k,
+                "a radius at a groove's edge is not supported (chamfers: < 0)",
+            ));
+        }
+        *leg = -v * l.unit() * legs;
     }
-    Ok(())
+    if f.outer + f.inner > f.length(deep) + 1e-9 {
+        return Err(l.bad(inner, "the chamfers are longer than their flank"));
+    }
+    Ok(f)
 }
 
-/// The tangent of flank angle `k` (0 ≤ ANG < 89.999°, 840D sl Cycles).
-fn flank(l: &Lathe, k: usize) -> R<f64> {
-    let a = l.p.get(k);
-    if !(0.0..89.999).contains(&a) {
-        return Err(l.bad(k, format!("a flank angle {a}: 0 … 89.999 degrees")));
+/// The leg of a chamfer per unit of the programmed value.
+fn c_legs(chr: bool, ang: f64) -> f64 {
+    if chr {
+        1.0
+    } else {
+        1.0 / (2.0 * libm::sin((90.0 + ang).to_radians() / 2.0))
     }
-    Ok(libm::tan(a.to_radians()))
 }
 
 /// VARI's units digit: (axis along the groove, axis of its depth, the way along, the way in).
@@ -423,10 +521,57 @@ mod tests {
     }
 
     #[test]
+    fn chamfers_at_the_edges_are_finished_and_kept_out_of_the_plunges() {
+        // VARI 11 (chamfers by their legs): D40 at Z-10, 6 wide, 3 deep; RCO1 -1 (the surface
+        // corner on the starting side), RCI2 -0.5 (the base corner on the far side). The
+        // 3 mm tool: plunges at u 0 and 3 (span 3: 2 plunges). The far base chamfer runs from
+        // (w 0, v 2.5) to (w 0.5, v 3) on the far flank (w = 6 − u): v ≤ 2.5 + w. Plunge u 0:
+        // both edges 3 deep (radius 17); u 3: its far edge at w 0 goes 2.5 deep (radius 17.5).
+        // Finishing 1: from the surface 1 before the corner (Z-11) down the chamfer to the
+        // flank 1 below the surface (radius 19, Z-10), down to the base (17), to the middle
+        // u 1.5 (Z-8.5). Finishing 2: edge D at u 6 − 3 = 3 (Z-7) down to the chamfer's start
+        // (radius 17.5), along it to u 2.5 (Z-7.5) on the base, to the middle.
+        let m = cycle("CYCLE93(40, -10, 6, 3, 0, 0, 0, -1, 0, 0, -0.5, 0, 0, 0, 0, 11)");
+        let f = F(0.1);
+        assert_eq!(
+            m,
+            [
+                (R, 21.0, -10.0),
+                (f, 17.0, -10.0),
+                (R, 21.0, -10.0),
+                (R, 21.0, -7.0),
+                (f, 17.5, -7.0),
+                (R, 21.0, -7.0),
+                (R, 21.0, -11.0),
+                (f, 20.0, -11.0),
+                (f, 19.0, -10.0),
+                (f, 17.0, -10.0),
+                (f, 17.0, -8.5),
+                (R, 21.0, -8.5),
+                (R, 21.0, -7.0),
+                (f, 17.5, -7.0),
+                (f, 17.0, -7.5),
+                (f, 17.0, -8.5),
+                (R, 21.0, -8.5)
+            ]
+        );
+        // VARI 1: the same -1 is the chamfer's length: legs 1/(2·sin 45°) = 0.707107.
+        let m = cycle("CYCLE93(40, -10, 6, 3, 0, 0, 0, -1, 0, 0, 0, 0, 0, 0, 0, 1)");
+        assert_eq!(
+            m[6..9],
+            [
+                (R, 21.0, -10.707107),
+                (f, 20.0, -10.707107),
+                (f, 19.292893, -10.0)
+            ]
+        );
+    }
+
+    #[test]
     fn what_is_not_built_and_what_contradicts_is_an_alarm() {
         let at = |call: &str| alarm(&format!("{START}{call}\n"));
         // A flank angle of 90° (ANG1, column 28), a radius RCO1 (column 34), an inclined
-        // contour STA1 (column 25).
+        // contour STA1 (column 25), chamfers longer than the flank (at RCI1, column 41).
         assert_eq!(
             at("CYCLE93(40, -10, 10, 5, 0, 90, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)"),
             (AlarmCode::CycleParameter, 3, 28)
@@ -438,6 +583,10 @@ mod tests {
         assert_eq!(
             at("CYCLE93(40, -10, 10, 5, 10, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)"),
             (AlarmCode::NotSupported, 3, 25)
+        );
+        assert_eq!(
+            at("CYCLE93(40, -10, 10, 5, 0, 0, 0, -3, 0, -3, 0, 0, 0, 0, 0, 11)"),
+            (AlarmCode::CycleParameter, 3, 41)
         );
         // The groove narrower than the tool; DIAG not more than FAL1; VARI 9.
         assert_eq!(
