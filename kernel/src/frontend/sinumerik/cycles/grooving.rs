@@ -267,24 +267,8 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
     if !(1..=8).contains(&vari) {
         return Err(l.bad(VARI, "VARI: 1 … 8 or 11 … 18"));
     }
-    if l.p.get(STA1) != 0.0 {
-        return Err(l.not_built(
-            STA1,
-            "STA1: a groove on an inclined contour is not supported",
-        ));
-    }
     let (base, deep) = (l.len(WIDG), l.len(DIAG));
-    let chr = l.p.get(VARI) >= 10.0;
-    let flanks = [
-        flank(l, ANG1, RCO1, RCI1, chr, deep)?,
-        flank(l, ANG2, RCO2, RCI2, chr, deep)?,
-    ];
-    if flanks[0].inner + flanks[1].inner > base + 1e-9 {
-        return Err(l.bad(
-            RCI2,
-            "the chamfers RCI1 and RCI2 are wider than the groove's base",
-        ));
-    }
+    let flanks = flanks(l, base, deep)?;
     let (fal1, fal2) = (l.len(FAL1), l.len(FAL2));
     if deep <= fal1 {
         return Err(l.bad(DIAG, "the groove depth DIAG must be greater than FAL1"));
@@ -339,6 +323,28 @@ pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
         reached: 0.0,
         finishing: 0,
     })
+}
+
+/// The groove's flanks, checked: on a straight contour, the base chamfers within the base.
+fn flanks(l: &Lathe, base: f64, deep: f64) -> R<[Flank; 2]> {
+    if l.p.get(STA1) != 0.0 {
+        return Err(l.not_built(
+            STA1,
+            "STA1: a groove on an inclined contour is not supported",
+        ));
+    }
+    let chr = l.p.get(VARI) >= 10.0;
+    let flanks = [
+        flank(l, ANG1, RCO1, RCI1, chr, deep)?,
+        flank(l, ANG2, RCO2, RCI2, chr, deep)?,
+    ];
+    if flanks[0].inner + flanks[1].inner > base + 1e-9 {
+        return Err(l.bad(
+            RCI2,
+            "the chamfers RCI1 and RCI2 are wider than the groove's base",
+        ));
+    }
+    Ok(flanks)
 }
 
 /// Flank `ang` (0 ≤ ANG < 89.999°, 840D sl Cycles) with the chamfers `outer` and `inner`
