@@ -10,8 +10,8 @@
 //! starting point's side at (SPD, SPL) on the surface. VARI's units digit says where (840D
 //! sl Cycles, CYCLE93 "VARI"): 1 3 5 7 longitudinal, 2 4 6 8 face; 1 2 5 6 outside, 3 4 7 8
 //! inside; 1 … 4 starting point left, 5 … 8 right; its tens digit says how a chamfer is
-//! given: 0 by its length, 1 by its leg. RCO1/RCO2 (< 0) chamfer the corners at the surface,
-//! RCI1/RCI2 those at the base (1: the starting point's side). Longitudinal: the groove lies along Z
+//! given: 0 by its length, 1 by its leg. RCO1/RCO2 round (> 0) or chamfer (< 0) the corners
+//! at the surface, RCI1/RCI2 those at the base (1: the starting point's side). Longitudinal: the groove lies along Z
 //! from SPL to the right (left start) or the left (right start), its depth into X. Face:
 //! along X from SPD towards the centre (outside) or away from it (inside), its depth into
 //! Z, towards +Z for a left, −Z for a right start [unconfirmed].
@@ -24,9 +24,8 @@
 //! 0) with a 1 mm retraction between them to break the chip, a dwell of DTB at the bottom,
 //! out at rapid to the start level, _VRT (1 mm where empty) off the surface. Finishing,
 //! where FAL1 or FAL2 is given and always for a trapezoid or chamfers: down each flank
-//! (over its chamfers) and along the base to the middle, first from the starting point's
-//! side [unconfirmed]. Radii (RCO1 … RCI2 > 0) and an inclined contour (STA1) are refused
-//! with alarm 12580.
+//! (over its chamfers and radii) and along the base to the middle, first from the starting
+//! point's side [unconfirmed]. An inclined contour (STA1) is refused with alarm 12580.
 
 use super::super::super::block::Pos;
 use super::super::super::build::Step;
@@ -180,6 +179,16 @@ impl Groove {
         }
     }
 
+    /// Whether the arc from `a` about `c` to `b` ((u, v)) turns counter-clockwise in the
+    /// plane (Z the abscissa, X the ordinate) — the way it turns the shorter way round.
+    fn ccw(&self, a: (f64, f64), c: (f64, f64), b: (f64, f64)) -> bool {
+        let (s, e) = ((a.0 - c.0, a.1 - c.1), (b.0 - c.0, b.1 - c.1));
+        // In (u, v); u runs along `way`, v along `into`; (Z, X) or (X, Z).
+        let turn = (s.0 * e.1 - s.1 * e.0) * self.way * self.into;
+        let swapped = self.along == 0;
+        (turn > 0.0) != swapped
+    }
+
     /// Finishing cut 1 (the starting point's flank) or 2: edge D down the flank from the
     /// surface (over the chamfers), along the base to the middle, out.
     fn finishing_cut(&self, q: &mut heapless::Deque<Step, 8>) {
@@ -193,35 +202,52 @@ impl Groove {
                 self.top() - w - self.width
             }
         };
-        let mut path: heapless::Vec<(f64, f64), 6> = heapless::Vec::new();
-        let mut add = |p: (f64, f64)| {
-            let _ = path.push(p);
+        let mut path: heapless::Vec<Cut, 6> = heapless::Vec::new();
+        let mut add = |p: (f64, f64), c: Option<(f64, f64)>| {
+            let _ = path.push((p, c));
         };
         if f.outer > 0.0 {
-            add((-f.outer, 0.0));
-            add(f.outer_to());
+            add((-f.outer, 0.0), None);
+            let centre = (f.outer_radius > 0.0).then_some((-f.outer, f.outer_radius));
+            add(f.outer_to(), centre);
         } else if f.tan > 0.0 {
-            add((0.0, 0.0));
+            add((0.0, 0.0), None);
         }
         if f.inner > 0.0 {
-            add(f.inner_from(self.deep));
-            add(f.inner_to(self.deep));
+            let to = f.inner_to(self.deep);
+            add(f.inner_from(self.deep), None);
+            let centre = (f.inner_radius > 0.0).then_some((to.0, to.1 - f.inner_radius));
+            add(to, centre);
         } else {
-            add((self.deep * f.tan, self.deep));
+            add((self.deep * f.tan, self.deep), None);
         }
         let middle = self.deep * self.flanks[0].tan + (self.base - self.width) / 2.0;
         let mut push = |st| {
             let _ = q.push_back(st);
         };
-        let first = path.first().map_or(0.0, |p| u(p.0));
+        let first = path.first().map_or(0.0, |p| u(p.0 .0));
         push(rapid(self.at(first, self.lift)));
-        for &(w, v) in &path {
-            push(cut(self.at(u(w), v)));
+        let mut from = (first, self.lift);
+        for &((w, v), centre) in &path {
+            let to = self.at(u(w), v);
+            push(match centre {
+                Some(c) => Step::Arc {
+                    to,
+                    centre: self.at(u(c.0), c.1),
+                    ccw: self.ccw(from, (u(c.0), c.1), (u(w), v)),
+                    feed: None,
+                },
+                None => cut(to),
+            });
+            from = (u(w), v);
         }
         push(cut(self.at(middle, self.deep)));
         push(rapid(self.at(middle, self.lift)));
     }
 }
+
+/// A finishing cut's end (w, v), and the centre of a rounded corner's arc ending there.
+type Cut = ((f64, f64), Option<(f64, f64)>);
 
 /// A flank: the tangent of its angle and the legs of the chamfers at its outer (surface)
 /// and inner (base) corner (0: none).
@@ -230,6 +256,9 @@ struct Flank {
     tan: f64,
     outer: f64,
     inner: f64,
+    /// The radii of the rounded corners (0: a chamfer or a sharp corner).
+    outer_radius: f64,
+    inner_radius: f64,
 }
 
 impl Flank {
@@ -341,15 +370,15 @@ fn flanks(l: &Lathe, base: f64, deep: f64) -> R<[Flank; 2]> {
     if flanks[0].inner + flanks[1].inner > base + 1e-9 {
         return Err(l.bad(
             RCI2,
-            "the chamfers RCI1 and RCI2 are wider than the groove's base",
+            "the corners RCI1 and RCI2 are wider than the groove's base",
         ));
     }
     Ok(flanks)
 }
 
-/// Flank `ang` (0 ≤ ANG < 89.999°, 840D sl Cycles) with the chamfers `outer` and `inner`
+/// Flank `ang` (0 ≤ ANG < 89.999°, 840D sl Cycles) with the corners `outer` and `inner`
 /// name: < 0 a chamfer, its leg (`chr`, VARI 11 … 18) or its length (VARI 1 … 8); > 0 a
-/// radius, not built.
+/// radius.
 fn flank(l: &Lathe, ang: usize, outer: usize, inner: usize, chr: bool, deep: f64) -> R<Flank> {
     let a = l.p.get(ang);
     if !(0.0..89.999).contains(&a) {
@@ -358,23 +387,28 @@ fn flank(l: &Lathe, ang: usize, outer: usize, inner: usize, chr: bool, deep: f64
     // Both corners of a flank open by 90° + ANG: a chamfer of length c has legs
     // c / (2·sin((90° + ANG)/2)).
     let legs = c_legs(chr, a);
+    // A radius r touches both lines r / tan((90° + ANG)/2) from the corner.
+    let touch = 1.0 / libm::tan((90.0 + a).to_radians() / 2.0);
     let mut f = Flank {
         tan: libm::tan(a.to_radians()),
         outer: 0.0,
         inner: 0.0,
+        outer_radius: 0.0,
+        inner_radius: 0.0,
     };
-    for (k, leg) in [(outer, &mut f.outer), (inner, &mut f.inner)] {
-        let v = l.p.get(k);
+    for (k, leg, radius) in [
+        (outer, &mut f.outer, &mut f.outer_radius),
+        (inner, &mut f.inner, &mut f.inner_radius),
+    ] {
+        let v = l.p.get(k) * l.unit();
         if v > 0.0 {
-            return Err(l.not_built(
-                k,
-                "a radius at a groove's edge is not supported (chamfers: < 0)",
-            ));
+            (*leg, *radius) = (v * touch, v);
+        } else {
+            *leg = -v * legs;
         }
-        *leg = -v * l.unit() * legs;
     }
     if f.outer + f.inner > f.length(deep) + 1e-9 {
-        return Err(l.bad(inner, "the chamfers are longer than their flank"));
+        return Err(l.bad(inner, "the chamfers or radii are longer than their flank"));
     }
     Ok(f)
 }
@@ -421,6 +455,7 @@ fn dwell(l: &Lathe) -> R<Option<f64>> {
 mod tests {
     use super::super::lathe::tests::{alarm, lathe, moves, r6, How, How::*};
     use crate::alarm::AlarmCode;
+    use crate::frontend::MotionKind;
 
     /// T3 is the 3 mm grooving tool of config/tools.toml (D1 length 0, D2 length 3).
     const START: &str = "N10 G18 G90 G95 T3 D1 S500 M3 F0.1\nN20 G0 X50 Z10\n";
@@ -574,17 +609,73 @@ mod tests {
     }
 
     #[test]
+    fn radii_at_the_edges_are_arcs_of_the_finishing_cut() {
+        // As the chamfer test, with RCO1 1 and RCI2 0.5 radii (> 0): on a square corner a
+        // radius touches both lines r from the corner, so the plunges and the points are
+        // those of the chamfers, the chamfers now arcs. The outer arc from (20, Z-11) about
+        // (19, Z-11) to (19, Z-10): in (Z, X) from (0, 1) to (1, 0) about the centre, a
+        // clockwise turn; the inner from (17.5, Z-7) about (17.5, Z-7.5) to (17, Z-7.5):
+        // from (0.5, 0) to (0, -0.5), clockwise too.
+        let call = "CYCLE93(40, -10, 6, 3, 0, 0, 0, 1, 0, 0, 0.5, 0, 0, 0, 0, 1)";
+        let m = cycle(call);
+        let f = F(0.1);
+        assert_eq!(
+            m[6..],
+            [
+                (R, 21.0, -11.0),
+                (f, 20.0, -11.0),
+                (f, 19.0, -10.0),
+                (f, 17.0, -10.0),
+                (f, 17.0, -8.5),
+                (R, 21.0, -8.5),
+                (R, 21.0, -7.0),
+                (f, 17.5, -7.0),
+                (f, 17.0, -7.5),
+                (f, 17.0, -8.5),
+                (R, 21.0, -8.5)
+            ]
+        );
+        let b = lathe(&format!("{START}{call}\n")).unwrap();
+        let arcs: Vec<(MotionKind, [f64; 3])> = b
+            .iter()
+            .filter_map(|b| b.motion)
+            .filter(|m| m.kind.is_arc())
+            .map(|m| (m.kind, m.center))
+            .collect();
+        assert_eq!(
+            arcs,
+            [
+                (MotionKind::ArcCw, [19.0, 0.0, -11.0]),
+                (MotionKind::ArcCw, [17.5, 0.0, -7.5])
+            ]
+        );
+        // On the face (VARI 6, radius programming: X20 at Z0, the groove towards the centre
+        // and -Z), RCO1 0.5: from (20.5, Z0) about (20.5, Z-0.5) to (20, Z-0.5): in (Z, X)
+        // from (0.5, 0) to (0, -0.5), clockwise.
+        let face = "DIAMOF\nCYCLE93(20, 0, 4, 2, 0, 0, 0, 0.5, 0, 0, 0, 0, 0, 0, 0, 6)\n";
+        let b = lathe(&format!("{START}{face}")).unwrap();
+        let arc = b.iter().filter_map(|b| b.motion).find(|m| m.kind.is_arc());
+        let r = |p: [f64; 3]| p.map(r6);
+        let arc = arc.map(|m| (m.kind, r(m.start), r(m.end), r(m.center)));
+        assert_eq!(
+            arc,
+            Some((
+                MotionKind::ArcCw,
+                [20.5, 0.0, 0.0],
+                [20.0, 0.0, -0.5],
+                [20.5, 0.0, -0.5]
+            ))
+        );
+    }
+
+    #[test]
     fn what_is_not_built_and_what_contradicts_is_an_alarm() {
         let at = |call: &str| alarm(&format!("{START}{call}\n"));
-        // A flank angle of 90° (ANG1, column 28), a radius RCO1 (column 34), an inclined
-        // contour STA1 (column 25), chamfers longer than the flank (at RCI1, column 41).
+        // A flank angle of 90° (ANG1, column 28), an inclined contour STA1 (column 25),
+        // chamfers longer than the flank (at RCI1, column 41).
         assert_eq!(
             at("CYCLE93(40, -10, 10, 5, 0, 90, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)"),
             (AlarmCode::CycleParameter, 3, 28)
-        );
-        assert_eq!(
-            at("CYCLE93(40, -10, 10, 5, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 1)"),
-            (AlarmCode::NotSupported, 3, 34)
         );
         assert_eq!(
             at("CYCLE93(40, -10, 10, 5, 10, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)"),
