@@ -701,6 +701,14 @@ mod tests {
         // T2 has one edge: no grooving tool (at the call's name).
         let one = "N10 G18 G95 T2 D1 F0.1\nG0 X50 Z10\nCYCLE93(40, -10, 10, 5)\n";
         assert_eq!(alarm(one), (AlarmCode::CycleParameter, 3, 1));
+        // Base corners wider than the base (at RCI2); a dwell in revolutions without S.
+        assert_eq!(
+            at("CYCLE93(40, -10, 4, 5, 0, 0, 0, 0, 0, -3, -3, 0, 0, 0, 0, 11)"),
+            (AlarmCode::CycleParameter, 3, 43)
+        );
+        let no_s = "N10 G18 G95 T3 D1 F0.1\nG0 X50 Z10\n\
+            CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, -2, 1)\n";
+        assert_eq!(alarm(no_s), (AlarmCode::CycleParameter, 3, 55));
         // No feed (at the call's name).
         let slow =
             "N10 G18 G95 T3 D1\nG0 X50 Z10\nCYCLE93(40, -10, 10, 5, , , , , , , , , , , , 1)\n";

@@ -371,6 +371,19 @@ mod tests {
             at("CYCLE97(1, , 0, 0, 20, 20, 0, 0, 0.5, 0, 0, 0, 1, 0, 1)"),
             (AlarmCode::CycleParameter, 3, 17)
         );
+        // TDEP 0; IANG 90; a fractional NID.
+        assert_eq!(
+            at("CYCLE97(1, , 0, -20, 20, 20, 0, 0, 0, 0, 0, 0, 1, 0, 1)"),
+            (AlarmCode::CycleParameter, 3, 36)
+        );
+        assert_eq!(
+            at("CYCLE97(1, , 0, -20, 20, 20, 0, 0, 0.5, 0, 90, 0, 1, 0, 1)"),
+            (AlarmCode::CycleParameter, 3, 44)
+        );
+        assert_eq!(
+            at("CYCLE97(1, , 0, -20, 20, 20, 0, 0, 0.5, 0, 0, 0, 1, 1.5, 1)"),
+            (AlarmCode::CycleParameter, 3, 53)
+        );
         // A start angle and two starts are not built.
         assert_eq!(
             at("CYCLE97(1, , 0, -20, 20, 20, 0, 0, 0.5, 0, 0, 90, 1, 0, 1)"),
