@@ -466,3 +466,75 @@ fn d12_cycle95_undercut() {
     // The contour's lines never run as blocks of the program.
     assert!(b.iter().all(|b| b.line < 32), "{f}");
 }
+
+#[test]
+fn d20_cycle97_m24_thread() {
+    let mut want = vec![[20.0, 0.0, 20.0], [13.0, 0.0, 6.0]];
+    let rough = |n: f64| 1.6 * (n / 4.0).sqrt();
+    for depth in [rough(1.0), rough(2.0), rough(3.0), rough(4.0), 1.8, 1.8] {
+        let r = 12.0 - depth;
+        want.extend([
+            [r, 0.0, 6.0],
+            [r, 0.0, -43.0],
+            [13.0, 0.0, -43.0],
+            [13.0, 0.0, 6.0],
+        ]);
+    }
+    want.push([30.0, 0.0, 50.0]);
+    let f = "d20_cycle97_m24_thread.mpf";
+    let b = clean(f, &want);
+    let threads: Vec<f64> = b.iter().filter_map(|b| b.thread).collect();
+    assert_eq!(threads, [3.0; 6], "{f}: six passes at the pitch of M24");
+}
+
+#[test]
+fn d21_alarm_cycle97_two_starts() {
+    let f = "d21_alarm_cycle97_two_starts.mpf";
+    let a = CORPUS.stops(f, &[[20.0, 0.0, 20.0]], AlarmCode::NotSupported, 5, 64);
+    assert_eq!(a.number(), 12580);
+}
+
+#[test]
+fn d22_cycle93_groove() {
+    let mut want = vec![[20.0, 0.0, 5.0]];
+    for z in [-20.5, -22.5, -24.5] {
+        want.extend([[16.0, 0.0, z], [11.3, 0.0, z], [16.0, 0.0, z]]);
+    }
+    for z in [-20.0, -25.0] {
+        want.extend([
+            [16.0, 0.0, z],
+            [11.0, 0.0, z],
+            [11.0, 0.0, -22.5],
+            [16.0, 0.0, -22.5],
+        ]);
+    }
+    want.push([30.0, 0.0, 50.0]);
+    let f = "d22_cycle93_groove.mpf";
+    let b = clean(f, &want);
+    let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
+    assert_eq!(
+        dwells, [0.5; 3],
+        "{f}: a dwell at the bottom of each plunge"
+    );
+}
+
+#[test]
+fn d23_cycle93_trapezoid_face() {
+    let mut want = vec![[30.0, 0.0, 5.0]];
+    for x in [23.0, 21.0] {
+        want.extend([[x, 0.0, 1.0], [x, 0.0, -2.0], [x, 0.0, 1.0]]);
+    }
+    want.extend([
+        [25.0, 0.0, 1.0],
+        [25.0, 0.0, 0.0],
+        [23.0, 0.0, -2.0],
+        [22.0, 0.0, -2.0],
+        [22.0, 0.0, 1.0],
+        [21.0, 0.0, 1.0],
+        [21.0, 0.0, -2.0],
+        [22.0, 0.0, -2.0],
+        [22.0, 0.0, 1.0],
+        [40.0, 0.0, 20.0],
+    ]);
+    clean("d23_cycle93_trapezoid_face.mpf", &want);
+}

@@ -16,8 +16,9 @@
 //! Threads: Fanuc G32 (and G92's thread) against LinuxCNC's G33 on straight threads and
 //! tapers whose longer axis is Z: both synchronise Z at the lead per revolution; every end
 //! point and the lead agree (rs274's G33 K is along Z; softnc's path feed per revolution
-//! times Δz over the path's length gives it back). G76 is compared in docs/turning.md only:
-//! rs274's G76 has another format and infeed rule.
+//! times Δz over the path's length gives it back). Fanuc G76 is compared in docs/turning.md
+//! only: rs274's G76 has another format and infeed rule. SINUMERIK CYCLE97 at a constant
+//! cross-section cuts at the depths of rs274's G76 with degression 2: their cuts agree.
 //! The 808D's CYCLE95 (longitudinal, complete machining) is compared the same way: its S is
 //! rs274's start point and MID divides the stock into rs274's depth I; its FAL (the
 //! contour's equidistant) against rs274's stock allowance D; its transverse machining
@@ -264,8 +265,12 @@ fn g71_type_ii_cuts_the_same_stretches_as_rs274() {
 type ThreadMove = ([f64; 2], bool, Option<f64>);
 
 fn softnc_threads(text: &str) -> Vec<ThreadMove> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/fanuc-lathe.toml");
-    let md = MachineData::load(Some(Path::new(path)), &[]).unwrap();
+    softnc_threads_on("config/fanuc-lathe.toml", text)
+}
+
+fn softnc_threads_on(machine: &str, text: &str) -> Vec<ThreadMove> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(machine);
+    let md = MachineData::load(Some(&path), &[]).unwrap();
     let blocks =
         interpret("g32.nc", text, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"));
     blocks
@@ -280,8 +285,9 @@ fn softnc_threads(text: &str) -> Vec<ThreadMove> {
         .collect()
 }
 
-fn rs274_threads(ngc: &str) -> Vec<ThreadMove> {
-    let (text, status) = rs274::output(ngc, "g33", None);
+/// rs274's moves of `ngc`, its files named by `tag` (one per test: the tests run at once).
+fn rs274_threads(ngc: &str, tag: &str) -> Vec<ThreadMove> {
+    let (text, status) = rs274::output(ngc, tag, None);
     let mut out = Vec::new();
     let mut sync = None;
     for line in text.lines() {
@@ -311,7 +317,7 @@ fn g32_and_g92_threads_agree_with_rs274_g33() {
         G32 X34. Z-28. F2.\nG0 Z5.\nG92 X36. Z-25. F1.25\nM30\n";
     let ngc = "G18 G7 G21 G90 S600 M3\nG0 X30 Z3\nG33 Z-20 K1.5\nG0 X40\n\
         G33 X34 Z-28 K2\nG0 Z5\nG0 X36\nG33 Z-25 K1.25\nG0 X34\nG0 Z5\nM2\n";
-    let (ours, theirs) = (softnc_threads(fanuc), rs274_threads(ngc));
+    let (ours, theirs) = (softnc_threads(fanuc), rs274_threads(ngc, "g33"));
     // rs274 starts its listing at the first move; softnc from machine zero alike.
     assert_eq!(
         ours.len(),
@@ -421,4 +427,41 @@ fn cycle95_undercuts_cut_the_same_stretches_as_rs274() {
     let theirs = level_cuts(&oracle(ngc, "cycle95 pockets"), &levels);
     same_stretches(&ours, &theirs);
     eprintln!("cycle95 pockets: {ours:?}");
+}
+
+/// (start, end, lead) of every thread move: its start is the end of the move before it.
+fn thread_cuts(m: &[ThreadMove]) -> Vec<([f64; 2], [f64; 2], f64)> {
+    m.windows(2)
+        .filter_map(|w| w[1].2.map(|lead| (w[0].0, w[1].0, lead)))
+        .collect()
+}
+
+#[test]
+fn cycle97_constant_section_cuts_where_rs274_g76_cuts() {
+    if !rs274::present() {
+        return;
+    }
+    // SINUMERIK CYCLE97 VARI 3 (constant cross-section), TDEP 0.8, NRC 4, no allowance, no
+    // idle pass: depths 0.8·√(n/4) = 0.4·√n. rs274's G76 with degression R2 cuts at J·√n up
+    // to K; under G7 J and K are diameters (J0.8: 0.4, K1.6: 0.8 on the radius). Crest radius
+    // 12 (rs274: X26 with I-2, a diameter), from Z6 to Z-43 at pitch 3: both cut at radius
+    // 11.6, 11.434315, 11.307180, 11.2. The moves between the cuts differ (rs274 lifts to its
+    // drive line, CYCLE97 to 1 mm over the crest): only the cuts are compared.
+    let sinumerik = "G18 G90 G95 S400 M3\nG0 X26 Z6\n\
+        CYCLE97(3, , 6, -43, 24, 24, 0, 0, 0.8, 0, 0, 0, 4, 0, 3)\nM30\n";
+    let ngc = "G18 G7 G21 G90 S400 M3\nG0 X26 Z6\nG76 P3 Z-43 I-2 J0.8 R2 K1.6 Q0 H0 L0\nM2\n";
+    let ours = thread_cuts(&softnc_threads_on("config/siemens-808d.toml", sinumerik));
+    let theirs = thread_cuts(&rs274_threads(ngc, "g76"));
+    assert_eq!(ours.len(), 4, "softnc {ours:?}");
+    assert_eq!(
+        ours.len(),
+        theirs.len(),
+        "softnc {ours:?}\nrs274 {theirs:?}"
+    );
+    for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+        assert!(
+            near(a.0, b.0) && near(a.1, b.1) && (a.2 - b.2).abs() <= 1e-9,
+            "cut {k}: softnc {a:?}, rs274 {b:?}"
+        );
+    }
 }

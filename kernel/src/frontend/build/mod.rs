@@ -32,6 +32,7 @@ pub use cycles::CycleKind;
 pub(super) use cycles::CycleMode;
 pub(super) use expand::{Expansion, Step};
 pub(super) use lathe::LatheData;
+pub(in crate::frontend) use lathe::{push_all, thread_pass, LatheRun};
 pub(super) use motion::{in_range, WorkingArea};
 pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;

@@ -21,6 +21,7 @@ mod thread;
 mod threading;
 
 pub use thread::thread_feed;
+pub(in crate::frontend) use threading::thread_pass;
 
 use super::super::block::*;
 use super::super::fault::{fault, R};
@@ -29,6 +30,7 @@ use super::super::words::{Val, Words};
 use super::expand::{Expansion, Step};
 use crate::alarm::AlarmCode;
 use crate::dialect::LatheCycle;
+use crate::frontend::sinumerik::cycles::SinumerikPasses;
 use crate::machine_data::Units;
 
 /// The lathe cycles' stored data: kept from block to block until written again.
@@ -82,6 +84,8 @@ pub struct LatheRun {
 enum Passes {
     Threading(threading::Passes),
     Pecking(grooving::Pecks),
+    /// A SINUMERIK turning cycle's passes (CYCLE93, CYCLE97).
+    Sinumerik(SinumerikPasses),
 }
 
 impl LatheRun {
@@ -90,6 +94,11 @@ impl LatheRun {
             queue: heapless::Deque::new(),
             passes,
         }
+    }
+
+    /// The passes of a SINUMERIK turning cycle.
+    pub(in crate::frontend) fn sinumerik(passes: SinumerikPasses) -> Self {
+        Self::new(Passes::Sinumerik(passes))
     }
 
     pub fn next(&mut self) -> Option<Step> {
@@ -110,12 +119,13 @@ impl LatheRun {
         match &mut self.passes {
             Passes::Threading(p) => p.refill(&mut self.queue),
             Passes::Pecking(p) => p.refill(&mut self.queue),
+            Passes::Sinumerik(p) => p.refill(&mut self.queue),
         }
     }
 }
 
 /// Puts the steps of one pass (at most eight) into an empty queue.
-fn push_all(q: &mut heapless::Deque<Step, 8>, steps: &[Step]) {
+pub(in crate::frontend) fn push_all(q: &mut heapless::Deque<Step, 8>, steps: &[Step]) {
     for &s in steps {
         let _ = q.push_back(s);
     }
@@ -190,7 +200,12 @@ impl Interpreter<'_> {
 
     /// No nose radius compensation, frame or hole cycle mode, and the Z-X plane: the
     /// cycles cut the tool tip's path.
-    fn lathe_allowed(&self, new: &ModalState, at: usize, what: &str) -> R<()> {
+    pub(in crate::frontend) fn lathe_allowed(
+        &self,
+        new: &ModalState,
+        at: usize,
+        what: &str,
+    ) -> R<()> {
         if new.trc != TrcSide::Off {
             return Err(fault(
                 AlarmCode::ForbiddenWithTrc,

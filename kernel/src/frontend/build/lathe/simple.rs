@@ -77,7 +77,7 @@ impl Interpreter<'_> {
             BoxCycle::Threading => {
                 let gamma = self.chamfer(new.feed, a, end, col)?;
                 let from = at(end[0] + taper, a[2], a[1]);
-                thread_pass(a, from, end, new.feed, gamma)
+                thread_pass(a, from, end, new.feed, gamma, 0)
             }
         };
         self.expand(Expansion::of(&steps), new);

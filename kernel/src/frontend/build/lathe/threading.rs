@@ -24,13 +24,15 @@ use super::{at, push_all, rapid, sign, LatheRun, ThreadData};
 use crate::alarm::AlarmCode;
 
 /// The steps of one thread pass from A: rapid to `from`, the thread to `to` (the last
-/// `gamma` of Z as a chamfer out by `gamma` at the lead), rapid out to A's X, rapid to A.
-pub(super) fn thread_pass(
+/// `gamma` of Z as a chamfer out by `gamma` at the lead), rapid out to A's level on axis
+/// `out` (X for a longitudinal thread, Z for a face thread), rapid to A.
+pub(in crate::frontend) fn thread_pass(
     a: Pos,
     from: Pos,
     to: Pos,
     lead: f64,
     gamma: f64,
+    out_axis: usize,
 ) -> heapless::Vec<Step, 8> {
     let mut q = heapless::Vec::new();
     let mut push = |s| {
@@ -56,7 +58,9 @@ pub(super) fn thread_pass(
         lead,
         stop: true,
     });
-    push(rapid(at(a[0], out[2], a[1])));
+    let mut lifted = out;
+    lifted[out_axis] = a[out_axis];
+    push(rapid(lifted));
     push(rapid(a));
     q
 }
@@ -135,7 +139,7 @@ impl Passes {
         let (a, end) = (self.a, self.end);
         let from = at(end[0] + self.taper + self.sx * h, a[2] + shift, a[1]);
         let to = at(end[0] + self.sx * h, end[2] + shift, a[1]);
-        push_all(q, &thread_pass(a, from, to, self.lead, self.gamma));
+        push_all(q, &thread_pass(a, from, to, self.lead, self.gamma, 0));
     }
 }
 

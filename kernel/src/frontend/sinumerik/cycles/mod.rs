@@ -19,9 +19,13 @@ mod allowance;
 mod boring;
 mod contour;
 mod drilling;
+mod grooving;
+mod lathe;
 mod stock_removal;
 mod tapping;
+mod threading;
 
+pub use lathe::SinumerikPasses;
 pub use stock_removal::StockRemovalRun;
 
 use super::super::block::*;
@@ -45,6 +49,9 @@ pub enum CycleName {
     Bore87,
     Bore88,
     Bore89,
+    /// The turning cycles (cycles/lathe.rs).
+    Groove93,
+    Thread97,
 }
 
 const CYCLES: &[(&str, CycleName, usize)] = &[
@@ -58,9 +65,11 @@ const CYCLES: &[(&str, CycleName, usize)] = &[
     ("CYCLE87", CycleName::Bore87, 6),
     ("CYCLE88", CycleName::Bore88, 7),
     ("CYCLE89", CycleName::Bore89, 6),
+    ("CYCLE93", CycleName::Groove93, 18),
+    ("CYCLE97", CycleName::Thread97, 17),
 ];
 
-/// The longest parameter list (CYCLE84).
+/// The longest parameter list (CYCLE84, CYCLE93).
 const MAX_PARAMS: usize = 18;
 
 impl CycleName {
@@ -79,6 +88,11 @@ impl CycleName {
 
     pub fn text(self) -> &'static str {
         self.entry().0
+    }
+
+    /// A turning cycle (cuts in the Z-X plane) rather than a hole.
+    fn turns(self) -> bool {
+        matches!(self, CycleName::Groove93 | CycleName::Thread97)
     }
 }
 
@@ -291,8 +305,12 @@ impl Interpreter<'_> {
         }
         let (name, p) = self.cycle_call(c, at)?;
         let new = self.block.modal;
-        let run = self.cycle_run(name, p, &new)?;
-        self.start_cycle(at, super::super::build::Expansion::cycle(run), new);
+        let expansion = if name.turns() {
+            self.sinumerik_lathe_cycle(name, p, &new)?
+        } else {
+            super::super::build::Expansion::cycle(self.cycle_run(name, p, &new)?)
+        };
+        self.start_cycle(at, expansion, new);
         Ok(())
     }
 
@@ -323,7 +341,7 @@ impl Interpreter<'_> {
             fault(
                 AlarmCode::UndefinedName,
                 at,
-                "a drilling cycle CYCLE81 … CYCLE89 or CYCLE840",
+                "a cycle CYCLE81 … CYCLE89, CYCLE840, CYCLE93 or CYCLE97",
             )
         })?;
         Ok((name, self.cycle_params(c, name, at)?))
@@ -332,6 +350,10 @@ impl Interpreter<'_> {
     /// MCALL of a cycle after a block that moved: the hole where the block ended, its steps
     /// after the block (Job planning, "Modal subprogram call").
     pub(in crate::frontend) fn modal_cycle(&mut self, name: CycleName, p: Params) -> R<()> {
+        if name.turns() {
+            let m = format!("{} as a modal call (MCALL)", name.text());
+            return Err(fault(AlarmCode::NotSupported, p.call, m));
+        }
         let modal = self.block.modal;
         let run = self.cycle_run(name, p, &modal)?;
         self.expansion = Some(super::super::build::Expansion::cycle(run));

@@ -6,7 +6,7 @@
 use super::super::super::block::SpindleDir;
 use super::super::super::build::Step;
 use super::super::super::fault::{fault, R};
-use super::{CycleName, CycleRun, Hole, DTB};
+use super::{CycleName, CycleRun, Hole, Params, DTB};
 use crate::alarm::AlarmCode;
 
 /// Metric coarse threads (ISO 261): the lead of each size MPIT names.
@@ -66,27 +66,33 @@ const SDR: usize = 6;
 /// The thread's lead (mm, signed: negative is left-hand) from MPIT or PIT; `None` where
 /// neither is given.
 fn lead(h: &Hole, l: &Layout) -> R<Option<f64>> {
-    let (mpit, pit) = (h.p.get(l.mpit), h.p.get(l.pit) * h.unit);
-    let from_size = if mpit != 0.0 {
-        let size = COARSE.iter().find(|c| c.0 == mpit.abs()).ok_or_else(|| {
+    pitch(&h.p, l.mpit, l.pit, h.unit)
+}
+
+/// A lead from the metric size at parameter `mpit` or the pitch at `pit` (program units
+/// times `unit`), which must agree where both are given; `None` where neither is.
+pub(super) fn pitch(p: &Params, mpit: usize, pit: usize, unit: f64) -> R<Option<f64>> {
+    let (size, lead) = (p.get(mpit), p.get(pit) * unit);
+    let from_size = if size != 0.0 {
+        let row = COARSE.iter().find(|c| c.0 == size.abs()).ok_or_else(|| {
             fault(
                 AlarmCode::CycleParameter,
-                h.p.at(l.mpit),
-                format!("MPIT={mpit}: a metric coarse thread size 3 … 48"),
+                p.at(mpit),
+                format!("MPIT={size}: a metric coarse thread size 3 … 48"),
             )
         })?;
-        Some(size.1 * mpit.signum())
+        Some(row.1 * size.signum())
     } else {
         None
     };
-    match (from_size, pit) {
-        (Some(a), p) if p != 0.0 && (a - p).abs() > 1e-9 => Err(fault(
+    match (from_size, lead) {
+        (Some(a), v) if v != 0.0 && (a - v).abs() > 1e-9 => Err(fault(
             AlarmCode::CycleParameter,
-            h.p.at(l.pit),
-            format!("PIT={p} contradicts MPIT (lead {a})"),
+            p.at(pit),
+            format!("PIT={v} contradicts MPIT (lead {a})"),
         )),
         (Some(a), _) => Ok(Some(a)),
-        (None, p) if p != 0.0 => Ok(Some(p)),
+        (None, v) if v != 0.0 => Ok(Some(v)),
         _ => Ok(None),
     }
 }
