@@ -292,9 +292,13 @@ impl Flank {
 
 /// The groove of a CYCLE93 call, its parameters checked; `width` the tool's.
 pub(super) fn groove(l: &Lathe, width: f64) -> R<Groove> {
-    let vari = l.whole(VARI, 1, 18, "VARI")? % 10;
+    let vari = l.machining_type(VARI, 1, 18)? % 10;
     if !(1..=8).contains(&vari) {
-        return Err(l.bad(VARI, "VARI: 1 … 8 or 11 … 18"));
+        return Err(fault(
+            AlarmCode::CycleMachiningType,
+            l.p.at(VARI),
+            "VARI: 1 … 8 or 11 … 18",
+        ));
     }
     let (base, deep) = (l.len(WIDG), l.len(DIAG));
     let flanks = flanks(l, base, deep)?;
@@ -696,10 +700,11 @@ mod tests {
         );
         assert_eq!(
             at("CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 9)"),
-            (AlarmCode::CycleParameter, 3, 58)
+            (AlarmCode::CycleMachiningType, 3, 58)
         );
         // T2 has one edge: no grooving tool (at the call's name).
-        let one = "N10 G18 G95 T2 D1 F0.1\nG0 X50 Z10\nCYCLE93(40, -10, 10, 5)\n";
+        let one = "N10 G18 G95 T2 D1 F0.1\nG0 X50 Z10\n\
+            CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)\n";
         assert_eq!(alarm(one), (AlarmCode::CycleParameter, 3, 1));
         // Base corners wider than the base (at RCI2); a dwell in revolutions without S.
         assert_eq!(

@@ -83,6 +83,15 @@ impl Lathe {
         Ok(v as u32)
     }
 
+    /// The machining type VARI at `k`, a whole number `lo` … `hi`: else alarm 61002, as for
+    /// CYCLE95.
+    pub fn machining_type(&self, k: usize, lo: u32, hi: u32) -> R<u32> {
+        self.whole(k, lo, hi, "VARI").map_err(|mut f| {
+            f.code = AlarmCode::CycleMachiningType;
+            f
+        })
+    }
+
     /// Alarm 61101 at parameter `k`.
     pub fn bad(&self, k: usize, m: impl Into<String>) -> Box<Fault> {
         fault(AlarmCode::CycleParameter, self.p.at(k), m.into())

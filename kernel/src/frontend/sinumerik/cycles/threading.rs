@@ -134,7 +134,7 @@ impl Thread {
 
 /// The thread of a CYCLE97 call, its parameters checked.
 pub(super) fn thread(l: &Lathe) -> R<Thread> {
-    let vari = l.whole(VARI, 1, 4, "VARI")?;
+    let vari = l.machining_type(VARI, 1, 4)?;
     // PIT and MPIT are entered without sign: the spindle's direction makes a left-hand thread.
     let lead = pitch(&l.p, MPIT, PIT, l.unit())?
         .map(f64::abs)
@@ -344,10 +344,10 @@ mod tests {
     #[test]
     fn bad_parameters_are_alarms_at_their_place() {
         let at = |call: &str| alarm(&format!("{START}{call}\n"));
-        // VARI 5 (column 56 on line 3).
+        // VARI 5 (column 56 on line 3): the machining type, 61002 as for CYCLE95.
         assert_eq!(
             at("CYCLE97(1, , 0, -20, 20, 20, 0, 0, 0.5, 0, 0, 0, 1, 0, 5)"),
-            (AlarmCode::CycleParameter, 3, 56)
+            (AlarmCode::CycleMachiningType, 3, 56)
         );
         // PIT contradicts MPIT 10 (1.5).
         assert_eq!(
