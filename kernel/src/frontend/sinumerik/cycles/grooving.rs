@@ -702,9 +702,9 @@ mod tests {
             at("CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 9)"),
             (AlarmCode::CycleMachiningType, 3, 58)
         );
-        // T2 has one edge: no grooving tool (at the call's name).
+        // T2's second edge, _DN 99, is in no table: no grooving tool (at the call's name).
         let one = "N10 G18 G95 T2 D1 F0.1\nG0 X50 Z10\n\
-            CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)\n";
+            CYCLE93(40, -10, 10, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, , 99)\n";
         assert_eq!(alarm(one), (AlarmCode::CycleParameter, 3, 1));
         // Base corners wider than the base (at RCI2); a dwell in revolutions without S.
         assert_eq!(
