@@ -37,7 +37,8 @@ pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
 pub(super) use turning::TurningData;
 pub(in crate::frontend) use turning::{
-    non_monotonic, sign, Element as TurningElement, Passes, TurningRun, EPS,
+    equidistant, non_monotonic, sign, tip_path, Element as TurningElement, Nose, Passes,
+    TurningRun, EPS,
 };
 
 use super::block::{Block, BlockNo, ModalState};

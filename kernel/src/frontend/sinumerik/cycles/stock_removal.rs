@@ -5,7 +5,7 @@
 //!   NPP   the contour: a subprogram's name, or "START:END" labels of this program (contour.rs)
 //!   MID   the largest infeed (radius, no sign); the cuts are equal and at most MID deep
 //!   FALZ  FALX  the finishing allowances along Z and X (X a radius); FAL along the contour
-//!         (allowance.rs: the contour's equidistant), the three add up
+//!         (build/turning/equidistant.rs: the contour's equidistant), the three add up
 //!   FF1   the roughing feed; FF2 into undercuts; FF3 the finishing feed
 //!   VARI  1 … 12: roughing (1 … 4), finishing (5 … 8), complete (9 … 12); within each,
 //!         longitudinal outside, transverse outside, longitudinal inside, transverse inside
@@ -24,7 +24,8 @@
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    non_monotonic, sign, Expansion, Passes, Step, TurningElement as Element, TurningRun, EPS,
+    equidistant, non_monotonic, sign, Expansion, Passes, Step, TurningElement as Element,
+    TurningRun, EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -312,7 +313,7 @@ impl Interpreter<'_> {
         if fal == 0.0 {
             return Ok(contour.to_vec());
         }
-        super::allowance::equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
+        equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
             let m = format!(
                 "FAL {} is too large for element {k} of the contour: its parallel vanishes",
                 fal.abs()
