@@ -262,44 +262,58 @@ fn d08_alarm_ap_without_plane_axis() {
     assert!(a.message.contains("Y is not configured"), "{a}");
 }
 
-/// CYCLE95's roughing of d09/d10's shaft (their headers): from S (22.3, 0.6) five passes
-/// at 22.3 − 7k/3, each in at rapid, along Z to the shifted contour, lifted off 0.5 at 45°
-/// and back to Z 0.6; then the shifted contour and back to S.
+/// CYCLE95's roughing of d09/d10's shaft (their headers): the cycle compensates the nose
+/// (R 0.8, position 3) and works on the tip path moved by FALX/FALZ; from S (21.5,
+/// 0.365685) five passes at 21.5 − k·13.434315/6, each in at rapid, along Z to the moved
+/// tip path, lifted off 0.5 at 45° and back to S's Z; then the moved tip path and back to S.
 fn shaft_roughing() -> Vec<P> {
-    let fillet = |level: f64| -14.9 - (25.0 - (level - 15.3_f64).powi(2)).sqrt();
-    let mut want = vec![[22.3, 0.0, 0.6]];
+    let q = 0.8 / 2f64.sqrt();
+    let s = [21.5, 0.0, -0.7 + q + 0.5];
+    let fillet = |level: f64| -15.7 - (4.2f64 * 4.2 - (14.5 - level).powi(2)).sqrt();
+    let depth = (21.5 - (7.5 + q)) / 6.0;
+    let mut want = vec![s];
     for k in 1..=5 {
-        let level = 22.3 - 7.0 * k as f64 / 3.0;
+        let level = 21.5 - depth * k as f64;
         let z = match k {
             1 => -34.9,
             2 | 3 => -19.9,
             _ => fillet(level),
         };
         want.extend([
-            [level, 0.0, 0.6],
+            [level, 0.0, s[2]],
             [level, 0.0, z],
             [level + 0.5, 0.0, z + 0.5],
-            [level + 0.5, 0.0, 0.6],
+            [level + 0.5, 0.0, s[2]],
         ]);
     }
     want.extend([
-        [8.3, 0.0, 0.1],
-        [10.3, 0.0, -1.9],
-        [10.3, 0.0, -14.9],
-        [15.3, 0.0, -19.9], // the fillet about (15.3, −14.9)
-        [18.3, 0.0, -19.9],
+        [7.5 + q, 0.0, -0.7 + q],
+        [9.5 + q, 0.0, -2.7 + q],
+        [10.3, 0.0, -2.7], // the arc about the chamfer's edge
+        [10.3, 0.0, -15.7],
+        [14.5, 0.0, -19.9], // the fillet at R 4.2 about (14.5, −15.7)
+        [17.5, 0.0, -19.9],
+        [18.3, 0.0, -20.7], // the arc about the shoulder's edge
         [18.3, 0.0, -34.9],
-        [22.3, 0.0, -34.9],
-        [22.3, 0.0, 0.6],
+        [21.5, 0.0, -34.9],
+        s,
     ]);
     want
 }
 
-/// The fillet of the shifted contour (roughing) and of the contour (finishing).
-const SHAFT_FILLETS: [(MotionKind, P); 2] = [
-    (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
-    (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
-];
+/// The arcs of the moved tip path (roughing: the edges' arcs turn counter-clockwise in
+/// (Z, X), the fillet clockwise) and the contour's fillet (finishing).
+fn shaft_arcs(finishing: bool) -> Vec<(MotionKind, P)> {
+    let mut arcs = vec![
+        (MotionKind::ArcCcw, [9.5, 0.0, -2.7]),
+        (MotionKind::ArcCw, [14.5, 0.0, -15.7]),
+        (MotionKind::ArcCcw, [17.5, 0.0, -20.7]),
+    ];
+    if finishing {
+        arcs.push((MotionKind::ArcCw, [15.0, 0.0, -15.0]));
+    }
+    arcs
+}
 
 /// The finishing run along the contour from A' to B, each move's end.
 const SHAFT_CONTOUR: [P; 7] = [
@@ -318,17 +332,21 @@ fn d09_cycle95_subprogram() {
     let mut want = vec![[25.0, 0.0, 5.0]];
     want.extend(shaft_roughing());
     want.extend(SHAFT_CONTOUR);
-    want.extend([[22.3, 0.0, -35.0], [22.3, 0.0, 0.6], [30.0, 0.0, 10.0]]);
+    let s_z = -0.7 + 0.8 / 2f64.sqrt() + 0.5;
+    want.extend([[21.5, 0.0, -35.0], [21.5, 0.0, s_z], [30.0, 0.0, 10.0]]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
-    assert_arcs(f, &b, &SHAFT_FILLETS);
+    assert_arcs(f, &b, &shaft_arcs(true));
+    // The finishing selects G42 with the move to A' and deselects it with the return.
+    let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
+    assert_eq!(sides, [nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off], "{f}");
     // The roughing cuts at FF1 0.25, the finishing at FF3 0.1.
     let feeds: Vec<f64> = b
         .iter()
         .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
         .map(|b| b.modal.feed)
         .collect();
-    let (rough, finish) = feeds.split_at(5 + 6);
+    let (rough, finish) = feeds.split_at(5 + 8);
     assert!(rough.iter().all(|&f| f == 0.25), "{f}: {feeds:?}");
     assert!(finish.iter().all(|&f| f == 0.1), "{f}: {feeds:?}");
 }
@@ -338,13 +356,15 @@ fn d10_cycle95_label_section() {
     let f = "d10_cycle95_label_section.mpf";
     let mut want = vec![[25.0, 0.0, 5.0]];
     want.extend(shaft_roughing());
-    want.extend([[30.0, 0.0, 10.0], [25.0, 0.0, 5.0], [22.0, 0.0, 1.0]]);
+    // T2 D1 (R 1.2): S = (22 − 1.2, 1.2/√2 − 1.2 + 1).
+    let s = [20.8, 0.0, 1.2 / 2f64.sqrt() - 0.2];
+    want.extend([[30.0, 0.0, 10.0], [25.0, 0.0, 5.0], s]);
     want.extend(SHAFT_CONTOUR);
-    want.extend([[22.0, 0.0, 1.0], [30.0, 0.0, 10.0]]);
+    want.extend([[20.8, 0.0, -35.0], s, [30.0, 0.0, 10.0]]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
     // RND=5 makes the fillet d09 programs as G2 CR=5.
-    assert_arcs(f, &b, &SHAFT_FILLETS);
+    assert_arcs(f, &b, &shaft_arcs(true));
     // The contour's lines never run as blocks of the program.
-    assert!(b.iter().all(|b| b.line <= 21), "{f}");
+    assert!(b.iter().all(|b| b.line <= 25), "{f}");
 }

@@ -24,8 +24,8 @@
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    equidistant, non_monotonic, sign, Expansion, Passes, Step, TurningElement as Element,
-    TurningRun, EPS,
+    equidistant, non_monotonic, sign, tip_path, Expansion, Nose, Passes, Step,
+    TurningElement as Element, TurningRun, EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -264,8 +264,21 @@ impl Interpreter<'_> {
         if sz == 0.0 {
             return bad("the contour's start and end lie at the same Z: a longitudinal contour runs along Z".into());
         }
+        // The cycle selects the nose radius compensation itself, on the side away from the
+        // material (outside towards the chuck: G42): the passes work on the tool tip's
+        // compensated path, the finishing run carries the side to preparation.
+        let nose = Nose {
+            side: if sx * sz < 0.0 {
+                TrcSide::Right
+            } else {
+                TrcSide::Left
+            },
+            radius: new.radius.abs(),
+            edge: new.edge,
+        };
+        let allowed = self.along_contour(&contour, s.fal * sx * sz, p)?;
         let moved: Vec<Element> = self
-            .along_contour(&contour, s.fal * sx * sz, p)?
+            .compensated(&allowed, nose, p)?
             .iter()
             .map(|e| e.shifted([sx * s.falx, -sz * s.falz]))
             .collect();
@@ -293,7 +306,12 @@ impl Interpreter<'_> {
         let finish = (s.vari.machining != Machining::Roughing).then(|| {
             let mut shape = contour;
             shape[0].mode = MotionMode::Rapid;
-            TurningRun::new(start, shape, None)
+            // Selected with the approach to the contour's start, deselected with the return.
+            let sides = match nose.radius > 0.0 {
+                true => vec![(0, nose.side), (shape.len(), TrcSide::Off)],
+                false => Vec::new(),
+            };
+            TurningRun::new(start, shape, None).compensated(sides)
         });
         Ok(StockRemovalRun {
             approach: Some(start),
@@ -319,6 +337,24 @@ impl Interpreter<'_> {
                 fal.abs()
             );
             fault(AlarmCode::CycleContour, p.at(FAL), m)
+        })
+    }
+
+    /// The tool tip's path with the nose centre on the equidistant of `allowed` (the contour
+    /// with FAL) at the nose radius; an element the nose does not fit is an alarm at the
+    /// cycle (61605), naming the element.
+    fn compensated(&self, allowed: &[Element], nose: Nose, p: &Params) -> R<Vec<Element>> {
+        tip_path(allowed, nose, 0, allowed.len()).map_err(|k| {
+            let arc = allowed.get(k).is_some_and(|e| e.mode.is_arc());
+            let what = match arc {
+                true => "an arc not larger than the nose radius on the tool's side",
+                false => "an element shorter than the nose radius's trim at its corners",
+            };
+            let m = format!(
+                "the tool nose radius {} does not fit the contour (with FAL) at element {k}: {what}",
+                nose.radius
+            );
+            fault(AlarmCode::CycleContour, p.call, m)
         })
     }
 
@@ -535,7 +571,9 @@ mod tests {
         lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
     }
 
-    const HEAD: &str = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\n";
+    /// The tests of the passes' geometry run with D0 (no offset: nose radius 0, the cycle's
+    /// compensation moves nothing); `nose_radius_*` with D1 (R 0.8, edge position 3).
+    const HEAD: &str = "G18 G90 G95 T1 D0 S1000 M3 F0.25\nG0 X60 Z5\n";
 
     #[test]
     fn complete_machining_of_a_label_section() {
@@ -682,7 +720,7 @@ mod tests {
         // face at −19.9, the others the face at −9.9. DAM 4: each cut stops 4 mm at a time
         // (from Z 0.6: −3.4, −7.4, …) with DT 0.5 s between; the lift-off goes down in X.
         let b = run(
-            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
+            "G18 G90 G95 T1 D0 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
             &[("BORE.SPF", "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n")],
         );
         let mut want = vec![(5.0, 5.0), (9.5, 0.6), (12.0, 0.6)];
