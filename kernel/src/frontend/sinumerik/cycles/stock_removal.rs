@@ -576,6 +576,55 @@ mod tests {
     const HEAD: &str = "G18 G90 G95 T1 D0 S1000 M3 F0.25\nG0 X60 Z5\n";
 
     #[test]
+    fn nose_radius_compensates_the_passes_and_the_finishing() {
+        // T1 D1: nose R 0.8, edge position 3; outside towards the chuck: the cycle's G42.
+        // Contour (radius, Z): A' (10, 0), (10, −20), (20, −20), (20, −40), B (25, −40).
+        // Nose centre: X 10.8 from Z 0 to the face's parallel Z −19.2 (concave corner
+        // trimmed), the face to X 20, an arc of 0.8 about the edge (20, −20) to (20.8, −20),
+        // X 20.8 to the next face's parallel Z −39.2, up to X 25. The tip (−0.8, −0.8 from
+        // the centre): A' (10, −0.8), (10, −20), (19.2, −20), the arc about (19.2, −20.8) to
+        // (20, −20.8), (20, −40), (24.2, −40). S = (24.2, −0.8 + 0.5). Stock 14.2, MID 2.5:
+        // 6 cuts of 14.2/6; passes at 24.2 − 14.2k/6: 21.8333 meets the last face (Z −40),
+        // 19.4667 the edge's arc at Z −20.8 + √(0.64 − (19.4667 − 19.2)²), the lower three
+        // the face at Z −20.
+        let main = format!(
+            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9, , , 0.5)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
+        );
+        let b = run(&main, &[]);
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let zs = -0.3;
+        let mut want = vec![(30.0, 5.0), (24.2, zs)];
+        for k in 1..=5 {
+            let level = 24.2 - 14.2 * k as f64 / 6.0;
+            let z = match k {
+                1 => -40.0,
+                2 => -20.8 + (0.64 - (level - 19.2f64).powi(2)).sqrt(),
+                _ => -20.0,
+            };
+            want.extend(pass(r(level), r(z), zs, 0.5, 1.0));
+        }
+        want.extend([(10.0, -0.8), (10.0, -20.0), (19.2, -20.0), (20.0, -20.8)]);
+        want.extend([(20.0, -40.0), (24.2, -40.0), (24.2, zs)]);
+        // Finishing: the contour as programmed, G42 with the G0 to A', G40 with the return.
+        want.extend([(10.0, 0.0), (10.0, -20.0), (20.0, -20.0), (20.0, -40.0)]);
+        want.extend([(25.0, -40.0), (24.2, -40.0), (24.2, zs)]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g.0 - w.0).abs() < 1e-8 && (g.1 - w.1).abs() < 1e-8, "{got:?}");
+        }
+        let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
+        assert_eq!(sides, [crate::TrcSide::Right, crate::TrcSide::Off]);
+        // A nose of 0.8 in a concave R0.5 of the contour: 61605 at the call.
+        let a = lathe(
+            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nG2 X21 Z-20.5 CR=0.5\nG1 X40\nEND: Z-40\n",
+            &[],
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::CycleContour, 3, 1));
+    }
+
+    #[test]
     fn complete_machining_of_a_label_section() {
         // Contour (radius, Z): A' (10, 0), (10, −20), (20, −20), (20, −40), B (25, −40).
         // FALX 0.2, FALZ 0.1 shift it by (+0.2, +0.1): (10.2, 0.1) … (25.2, −39.9).
