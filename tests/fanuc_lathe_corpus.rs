@@ -823,3 +823,45 @@ fn t30_g70_tip_path_is_the_roughing_run_without_the_allowances() {
     // on the radius 5.8 about (15, −15): (20.8 − 0.8, −15 − 0.8).
     assert!((finish[3][0] - 20.0).abs() < 1e-9 && (finish[3][1] + 15.8).abs() < 1e-9);
 }
+
+#[test]
+fn t31_g72_g70_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let taper = |z: f64| 31.354066 - 2.5 * (z + 6.8);
+    let mut want = vec![[42.0, 0.0, 2.0]];
+    for z in [0.5, -1.0, -2.5, -4.0, -5.5] {
+        let x = if z > -2.0 { 9.2 + 0.2 * (z + 2.0) } else { taper(z) };
+        want.extend([
+            [42.0, 0.0, z],
+            [x, 0.0, z],
+            [x + 0.5, 0.0, z + 0.5],
+            [42.0, 0.0, z + 0.5],
+        ]);
+    }
+    want.extend([
+        [41.2, 0.0, -6.0], // the run along the tip path
+        [29.354066, 0.0, -6.0],
+        [19.497113, 0.0, -2.057219],
+        [19.2, 0.0, -2.0],
+        [9.2, 0.0, -2.0],
+        [10.0, 0.0, 2.0],
+        [42.0, 0.0, 2.0], // back to A: Z is there, X
+        [42.0, 0.0, -6.0], // G70: the shape as programmed, G41 ... G40
+        [30.0, 0.0, -6.0],
+        [20.0, 0.0, -2.0],
+        [10.0, 0.0, -2.0],
+        [10.0, 0.0, 2.0],
+        [42.0, 0.0, 2.0],
+        [50.0, 0.0, 50.0],
+    ]);
+    // The header's decimals are rounded to 1e-6.
+    let (b, alarm) = run("t31_g72_g70_nose_radius_compensation.nc");
+    assert!(alarm.is_none(), "{alarm:?}");
+    let got = ends(&b);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        let ok = (0..3).all(|i| (g[i] - w[i]).abs() < 1e-6);
+        assert!(ok, "move {k}: {g:?}, by hand {w:?}");
+    }
+    check("t31_g72_g70_nose_radius_compensation.nc");
+}
