@@ -830,7 +830,11 @@ fn t31_g72_g70_nose_radius_compensation() {
     let taper = |z: f64| 31.354066 - 2.5 * (z + 6.8);
     let mut want = vec![[42.0, 0.0, 2.0]];
     for z in [0.5, -1.0, -2.5, -4.0, -5.5] {
-        let x = if z > -2.0 { 9.2 + 0.2 * (z + 2.0) } else { taper(z) };
+        let x = if z > -2.0 {
+            9.2 + 0.2 * (z + 2.0)
+        } else {
+            taper(z)
+        };
         want.extend([
             [42.0, 0.0, z],
             [x, 0.0, z],
@@ -845,7 +849,7 @@ fn t31_g72_g70_nose_radius_compensation() {
         [19.2, 0.0, -2.0],
         [9.2, 0.0, -2.0],
         [10.0, 0.0, 2.0],
-        [42.0, 0.0, 2.0], // back to A: Z is there, X
+        [42.0, 0.0, 2.0],  // back to A: Z is there, X
         [42.0, 0.0, -6.0], // G70: the shape as programmed, G41 ... G40
         [30.0, 0.0, -6.0],
         [20.0, 0.0, -2.0],

@@ -339,7 +339,11 @@ fn d09_cycle95_subprogram() {
     assert_arcs(f, &b, &shaft_arcs(true));
     // The finishing selects G42 with the move to A' and deselects it with the return.
     let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
-    assert_eq!(sides, [nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off], "{f}");
+    assert_eq!(
+        sides,
+        [nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off],
+        "{f}"
+    );
     // The roughing cuts at FF1 0.25, the finishing at FF3 0.1.
     let feeds: Vec<f64> = b
         .iter()

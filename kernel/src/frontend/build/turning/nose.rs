@@ -75,7 +75,7 @@ impl Interpreter<'_> {
                 (Some(_), TrcSide::Off) => {}
                 (Some(st), s) if st.off == n && s == st.side => {}
                 (Some(_), _) => {
-                    let m = "a roughing cycle's shape takes one compensated stretch (G41 or G42 … G40) in softnc".to_string();
+                    let m = "a roughing cycle's shape takes one compensated stretch (a selection and its deselection) in softnc".to_string();
                     return Err(self.element_fault(contour, i, AlarmCode::NotSupported, m));
                 }
             }

@@ -587,10 +587,8 @@ mod tests {
         // 6 cuts of 14.2/6; passes at 24.2 − 14.2k/6: 21.8333 meets the last face (Z −40),
         // 19.4667 the edge's arc at Z −20.8 + √(0.64 − (19.4667 − 19.2)²), the lower three
         // the face at Z −20.
-        let main = format!(
-            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9, , , 0.5)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n"
-        );
-        let b = run(&main, &[]);
+        let main = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9, , , 0.5)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n";
+        let b = run(main, &[]);
         let r = |v: f64| (v * 1e9).round() / 1e9;
         let zs = -0.3;
         let mut want = vec![(30.0, 5.0), (24.2, zs)];
@@ -611,7 +609,10 @@ mod tests {
         let got = ends(&b);
         assert_eq!(got.len(), want.len(), "{got:?}");
         for (g, w) in got.iter().zip(&want) {
-            assert!((g.0 - w.0).abs() < 1e-8 && (g.1 - w.1).abs() < 1e-8, "{got:?}");
+            assert!(
+                (g.0 - w.0).abs() < 1e-8 && (g.1 - w.1).abs() < 1e-8,
+                "{got:?}"
+            );
         }
         let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
         assert_eq!(sides, [crate::TrcSide::Right, crate::TrcSide::Off]);
