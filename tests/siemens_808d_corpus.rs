@@ -372,3 +372,37 @@ fn d10_cycle95_label_section() {
     // The contour's lines never run as blocks of the program.
     assert!(b.iter().all(|b| b.line <= 25), "{f}");
 }
+
+#[test]
+fn d30_cycle95_nose_radius_fal() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let f = "d30_cycle95_nose_radius_fal.mpf";
+    let taper_z = -(11.0 - 2f64.sqrt()) - 0.8; // the tip path's corner before the taper
+    let h = 1.0 / 2f64.sqrt();
+    let mut want = vec![[25.0, 0.0, 5.0], [19.2, 0.0, 0.2]];
+    for (level, z) in [
+        (17.4, -24.8),
+        (15.6, taper_z - 5.4),
+        (13.8, taper_z - 3.6),
+        (12.0, taper_z - 1.8),
+    ] {
+        want.extend([
+            [level, 0.0, 0.2],
+            [level, 0.0, z],
+            [level + 1.0, 0.0, z + 1.0],
+            [level + 1.0, 0.0, 0.2],
+        ]);
+    }
+    want.extend([
+        [10.2, 0.0, -0.8],
+        [10.2, 0.0, taper_z],
+        [15.2 + h, 0.0, -16.8 + h],
+        [16.2, 0.0, -16.8], // the arc about the edge
+        [16.2, 0.0, -24.8],
+        [19.2, 0.0, -24.8],
+        [19.2, 0.0, 0.2],
+        [30.0, 0.0, 10.0],
+    ]);
+    let b = clean(f, &want);
+    assert_arcs(f, &b, &[(MotionKind::ArcCcw, [15.2, 0.0, -16.8])]);
+}
