@@ -1076,6 +1076,13 @@ mod tests {
              Z-20.\nN20 G40 X40.\n",
         );
         assert_eq!(got, (AlarmCode::ContourViolation, 7, 1));
+        // G40 in an arc block of a roughing shape: the lathe's start-up/cancel alarm, at the
+        // arc's block (line 7).
+        let got = alarm(
+            "T0101\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\n\
+             N20 G40 G2 X30. Z-15. R5.\n",
+        );
+        assert_eq!(got, (AlarmCode::FanucTrcNotLinear, 7, 1));
         // The same shapes without a nose radius (T0100: no offset) rough as programmed.
         assert!(lathe(
             "G0 X40. Z2.\nT0100\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\nX20.4\nZ-20.\nN20 G40 X40.\n"
