@@ -186,11 +186,25 @@ pub fn equidistant(contour: &[Element], d: f64, side: f64) -> Result<Vec<Element
 
 /// The tool nose under compensation: the side (G41 left of travel, G42 right), the nose
 /// radius R and the cutting edge position (1 … 9, 0 none) of the active offset.
+/// `exchanged`: the shape is given with X and Z exchanged (facing, G72 or a transverse
+/// cycle), `side` as seen in that frame (the mirror of the machine's side).
 #[derive(Clone, Copy, Debug)]
 pub struct Nose {
     pub side: TrcSide,
     pub radius: f64,
     pub edge: u8,
+    pub exchanged: bool,
+}
+
+impl Nose {
+    /// The side in the other frame (mirroring X and Z swaps left and right).
+    pub fn mirrored(side: TrcSide) -> TrcSide {
+        match side {
+            TrcSide::Left => TrcSide::Right,
+            TrcSide::Right => TrcSide::Left,
+            TrcSide::Off => TrcSide::Off,
+        }
+    }
 }
 
 /// The path of the tool tip P when the nose centre S runs on the equidistant at R of the
@@ -217,9 +231,15 @@ pub fn tip_path(
         return Ok(shape.to_vec());
     }
     let eq = equidistant(&shape[on..off], nose.radius, side).map_err(|k| on + k)?;
+    // v is (Z, X); `shifted` takes the frame's (first, third) coordinates.
     let v = tip_vector(nose.edge, nose.radius, Plane::ZX);
+    let shift = if nose.exchanged {
+        [v.x, v.y]
+    } else {
+        [v.y, v.x]
+    };
     let mut out = shape[..on].to_vec();
-    out.extend(eq.iter().map(|e| e.shifted([v.y, v.x])));
+    out.extend(eq.iter().map(|e| e.shifted(shift)));
     out.extend_from_slice(&shape[off..]);
     Ok(out)
 }
@@ -297,5 +317,47 @@ mod tests {
         // 1 beyond the centre, the parallel inside out.
         assert_eq!(equidistant(&contour, 5.0, -1.0).unwrap_err(), 3);
         assert_eq!(equidistant(&contour, 6.0, -1.0).unwrap_err(), 3);
+    }
+
+    #[test]
+    fn the_tip_path_in_the_exchanged_frame_is_the_machine_one_exchanged() {
+        // A face (X down), a taper and a rounding (G2 R5), G41, R 0.8, position 3:
+        // computed in machine axes, or with X and Z exchanged and the side mirrored, the
+        // tip path is the same point for point (the exchange is a mirror: it swaps left and
+        // right and the tip vector's components).
+        let shape = [
+            line(42.0, -6.0),
+            line(30.0, -6.0),
+            line(20.0, -2.0),
+            el(15.0, 3.0, MotionMode::ArcCw, (15.0, -2.0)),
+            line(0.0, 3.0),
+        ];
+        let nose = Nose {
+            side: TrcSide::Left,
+            radius: 0.8,
+            edge: 3,
+            exchanged: false,
+        };
+        let machine = tip_path(&shape, nose, 0, shape.len()).unwrap();
+        let frame: Vec<Element> = shape.iter().map(Element::exchanged).collect();
+        let mirrored = Nose {
+            side: Nose::mirrored(nose.side),
+            exchanged: true,
+            ..nose
+        };
+        let swapped = tip_path(&frame, mirrored, 0, frame.len()).unwrap();
+        assert_eq!(machine.len(), swapped.len());
+        for (m, f) in machine.iter().zip(&swapped) {
+            let back = f.exchanged();
+            assert!(
+                near(back.to, [m.to[0], m.to[2]]),
+                "{machine:?}\n{swapped:?}"
+            );
+            assert!(near(back.centre, [m.centre[0], m.centre[2]]));
+            assert_eq!(back.mode, m.mode);
+        }
+        // And the face's first point by hand: the nose centre 0.8 on the +Z side of the
+        // face at Z −6 (left of travel along −X), the tip 0.8 lower and towards −Z.
+        assert!(near(machine[0].to, [41.2, -6.0]));
     }
 }

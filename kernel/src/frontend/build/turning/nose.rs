@@ -34,6 +34,7 @@ impl Interpreter<'_> {
             side: st.side,
             radius: new.radius.abs(),
             edge: new.edge,
+            exchanged: false,
         };
         tip_path(&contour.elements, nose, st.on, st.off).map_err(|k| {
             let arc = contour.elements.get(k).is_some_and(|e| e.mode.is_arc());

@@ -275,6 +275,7 @@ impl Interpreter<'_> {
             },
             radius: new.radius.abs(),
             edge: new.edge,
+            exchanged: false,
         };
         let allowed = self.along_contour(&contour, s.fal * sx * sz, p)?;
         let moved: Vec<Element> = self
