@@ -196,17 +196,6 @@ pub struct Nose {
     pub exchanged: bool,
 }
 
-impl Nose {
-    /// The side in the other frame (mirroring X and Z swaps left and right).
-    pub fn mirrored(side: TrcSide) -> TrcSide {
-        match side {
-            TrcSide::Left => TrcSide::Right,
-            TrcSide::Right => TrcSide::Left,
-            TrcSide::Off => TrcSide::Off,
-        }
-    }
-}
-
 /// The path of the tool tip P when the nose centre S runs on the equidistant at R of the
 /// elements `on + 1 .. off` of `shape`: element `on` (the selection, G41/G42's block) goes
 /// to the first S + v, element `off` (the deselection, G40's; `shape.len()`: none) from
@@ -341,7 +330,7 @@ mod tests {
         let machine = tip_path(&shape, nose, 0, shape.len()).unwrap();
         let frame: Vec<Element> = shape.iter().map(Element::exchanged).collect();
         let mirrored = Nose {
-            side: Nose::mirrored(nose.side),
+            side: TrcSide::Right, // mirroring X and Z swaps left and right
             exchanged: true,
             ..nose
         };
