@@ -757,3 +757,115 @@ fn t24_g74_g75_pecks() {
     ]);
     clean("t24_g74_g75_pecks.nc", &want);
 }
+
+#[test]
+fn t30_g71_g70_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let arc = |l: f64| -15.7 + (5.8f64 * 5.8 - (l - 14.4) * (l - 14.4)).sqrt();
+    let mut want = vec![[22.0, 0.0, 2.0]];
+    for l in [20.0, 18.0, 16.0, 14.0, 12.0] {
+        let z = if l < 15.0 { -9.9 } else { arc(l) };
+        want.extend([
+            [l, 0.0, 2.0],
+            [l, 0.0, z],
+            [l + 1.0, 0.0, z + 1.0],
+            [l + 1.0, 0.0, 2.0],
+        ]);
+    }
+    want.extend([
+        [10.2, 0.0, 1.3], // the run along the moved tip path
+        [10.2, 0.0, -9.9],
+        [14.4, 0.0, -9.9],
+        [20.2, 0.0, -15.7],
+        [20.2, 0.0, -25.7],
+        [24.2, 0.0, -24.9],
+        [22.0, 0.0, -24.9], // back to A, X first
+        [22.0, 0.0, 2.0],
+        [10.0, 0.0, 2.0], // G70: the shape as programmed, G42 ... G40
+        [10.0, 0.0, -10.0],
+        [15.0, 0.0, -10.0],
+        [20.0, 0.0, -15.0],
+        [20.0, 0.0, -25.0],
+        [24.0, 0.0, -25.0],
+        [22.0, 0.0, -25.0],
+        [22.0, 0.0, 2.0],
+        [40.0, 0.0, 50.0],
+    ]);
+    clean("t30_g71_g70_nose_radius_compensation.nc", &want);
+}
+
+#[test]
+fn t30_g70_tip_path_is_the_roughing_run_without_the_allowances() {
+    // Preparation compensates G70 (nose centre on the equidistant, tip = centre − (0.8,
+    // 0.8)); the roughing run of G71 is that tip path moved by U0.4 W0.1 = (0.2, 0.1):
+    // the front end's equidistant and preparation's compensation agree on every end point.
+    let file = path_of("t30_g71_g70_nose_radius_compensation.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let segs = nc_kernel::prepare("t30", &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    let ends = |line: u32| -> Vec<[f64; 2]> {
+        segs.iter()
+            .filter(|s| s.source.line == line)
+            .map(|s| [s.to[0], s.to[2]])
+            .collect()
+    };
+    let (rough, finish) = (ends(22), ends(29));
+    // The run: the six moves before the return to A; G70: the six after the start point.
+    let run = &rough[rough.len() - 8..rough.len() - 2];
+    assert_eq!(finish.len(), 8, "{finish:?}");
+    for (r, f) in run.iter().zip(&finish[..6]) {
+        assert!(
+            (r[0] - 0.2 - f[0]).abs() < 1e-9 && (r[1] - 0.1 - f[1]).abs() < 1e-9,
+            "roughing {r:?} less (0.2, 0.1) against G70's tip {f:?}"
+        );
+    }
+    // And the tip at the arc's end lies 0.8 below and 0.8 towards −Z of the nose centre
+    // on the radius 5.8 about (15, −15): (20.8 − 0.8, −15 − 0.8).
+    assert!((finish[3][0] - 20.0).abs() < 1e-9 && (finish[3][1] + 15.8).abs() < 1e-9);
+}
+
+#[test]
+fn t31_g72_g70_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let taper = |z: f64| 31.354066 - 2.5 * (z + 6.8);
+    let mut want = vec![[42.0, 0.0, 2.0]];
+    for z in [0.5, -1.0, -2.5, -4.0, -5.5] {
+        let x = if z > -2.0 {
+            9.2 + 0.2 * (z + 2.0)
+        } else {
+            taper(z)
+        };
+        want.extend([
+            [42.0, 0.0, z],
+            [x, 0.0, z],
+            [x + 0.5, 0.0, z + 0.5],
+            [42.0, 0.0, z + 0.5],
+        ]);
+    }
+    want.extend([
+        [41.2, 0.0, -6.0], // the run along the tip path
+        [29.354066, 0.0, -6.0],
+        [19.497113, 0.0, -2.057219],
+        [19.2, 0.0, -2.0],
+        [9.2, 0.0, -2.0],
+        [10.0, 0.0, 2.0],
+        [42.0, 0.0, 2.0],  // back to A: Z is there, X
+        [42.0, 0.0, -6.0], // G70: the shape as programmed, G41 ... G40
+        [30.0, 0.0, -6.0],
+        [20.0, 0.0, -2.0],
+        [10.0, 0.0, -2.0],
+        [10.0, 0.0, 2.0],
+        [42.0, 0.0, 2.0],
+        [50.0, 0.0, 50.0],
+    ]);
+    // The header's decimals are rounded to 1e-6.
+    let (b, alarm) = run("t31_g72_g70_nose_radius_compensation.nc");
+    assert!(alarm.is_none(), "{alarm:?}");
+    let got = ends(&b);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        let ok = (0..3).all(|i| (g[i] - w[i]).abs() < 1e-6);
+        assert!(ok, "move {k}: {g:?}, by hand {w:?}");
+    }
+    check("t31_g72_g70_nose_radius_compensation.nc");
+}

@@ -11,7 +11,7 @@
 mod corpus;
 
 use corpus::*;
-use nc_kernel::{AlarmCode, Block, MotionKind};
+use nc_kernel::{AlarmCode, Block, MotionKind, ToolTable};
 
 const CORPUS: Corpus = Corpus {
     dir: "tests/corpus/siemens-808d",
@@ -262,44 +262,58 @@ fn d08_alarm_ap_without_plane_axis() {
     assert!(a.message.contains("Y is not configured"), "{a}");
 }
 
-/// CYCLE95's roughing of d09/d10's shaft (their headers): from S (22.3, 0.6) five passes
-/// at 22.3 − 7k/3, each in at rapid, along Z to the shifted contour, lifted off 0.5 at 45°
-/// and back to Z 0.6; then the shifted contour and back to S.
+/// CYCLE95's roughing of d09/d10's shaft (their headers): the cycle compensates the nose
+/// (R 0.8, position 3) and works on the tip path moved by FALX/FALZ; from S (21.5,
+/// 0.365685) five passes at 21.5 − k·13.434315/6, each in at rapid, along Z to the moved
+/// tip path, lifted off 0.5 at 45° and back to S's Z; then the moved tip path and back to S.
 fn shaft_roughing() -> Vec<P> {
-    let fillet = |level: f64| -14.9 - (25.0 - (level - 15.3_f64).powi(2)).sqrt();
-    let mut want = vec![[22.3, 0.0, 0.6]];
+    let q = 0.8 / 2f64.sqrt();
+    let s = [21.5, 0.0, -0.7 + q + 0.5];
+    let fillet = |level: f64| -15.7 - (4.2f64 * 4.2 - (14.5 - level).powi(2)).sqrt();
+    let depth = (21.5 - (7.5 + q)) / 6.0;
+    let mut want = vec![s];
     for k in 1..=5 {
-        let level = 22.3 - 7.0 * k as f64 / 3.0;
+        let level = 21.5 - depth * k as f64;
         let z = match k {
             1 => -34.9,
             2 | 3 => -19.9,
             _ => fillet(level),
         };
         want.extend([
-            [level, 0.0, 0.6],
+            [level, 0.0, s[2]],
             [level, 0.0, z],
             [level + 0.5, 0.0, z + 0.5],
-            [level + 0.5, 0.0, 0.6],
+            [level + 0.5, 0.0, s[2]],
         ]);
     }
     want.extend([
-        [8.3, 0.0, 0.1],
-        [10.3, 0.0, -1.9],
-        [10.3, 0.0, -14.9],
-        [15.3, 0.0, -19.9], // the fillet about (15.3, −14.9)
-        [18.3, 0.0, -19.9],
+        [7.5 + q, 0.0, -0.7 + q],
+        [9.5 + q, 0.0, -2.7 + q],
+        [10.3, 0.0, -2.7], // the arc about the chamfer's edge
+        [10.3, 0.0, -15.7],
+        [14.5, 0.0, -19.9], // the fillet at R 4.2 about (14.5, −15.7)
+        [17.5, 0.0, -19.9],
+        [18.3, 0.0, -20.7], // the arc about the shoulder's edge
         [18.3, 0.0, -34.9],
-        [22.3, 0.0, -34.9],
-        [22.3, 0.0, 0.6],
+        [21.5, 0.0, -34.9],
+        s,
     ]);
     want
 }
 
-/// The fillet of the shifted contour (roughing) and of the contour (finishing).
-const SHAFT_FILLETS: [(MotionKind, P); 2] = [
-    (MotionKind::ArcCw, [15.3, 0.0, -14.9]),
-    (MotionKind::ArcCw, [15.0, 0.0, -15.0]),
-];
+/// The arcs of the moved tip path (roughing: the edges' arcs turn counter-clockwise in
+/// (Z, X), the fillet clockwise) and the contour's fillet (finishing).
+fn shaft_arcs(finishing: bool) -> Vec<(MotionKind, P)> {
+    let mut arcs = vec![
+        (MotionKind::ArcCcw, [9.5, 0.0, -2.7]),
+        (MotionKind::ArcCw, [14.5, 0.0, -15.7]),
+        (MotionKind::ArcCcw, [17.5, 0.0, -20.7]),
+    ];
+    if finishing {
+        arcs.push((MotionKind::ArcCw, [15.0, 0.0, -15.0]));
+    }
+    arcs
+}
 
 /// The finishing run along the contour from A' to B, each move's end.
 const SHAFT_CONTOUR: [P; 7] = [
@@ -318,17 +332,25 @@ fn d09_cycle95_subprogram() {
     let mut want = vec![[25.0, 0.0, 5.0]];
     want.extend(shaft_roughing());
     want.extend(SHAFT_CONTOUR);
-    want.extend([[22.3, 0.0, -35.0], [22.3, 0.0, 0.6], [30.0, 0.0, 10.0]]);
+    let s_z = -0.7 + 0.8 / 2f64.sqrt() + 0.5;
+    want.extend([[21.5, 0.0, -35.0], [21.5, 0.0, s_z], [30.0, 0.0, 10.0]]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
-    assert_arcs(f, &b, &SHAFT_FILLETS);
+    assert_arcs(f, &b, &shaft_arcs(true));
+    // The finishing selects G42 with the move to A' and deselects it with the return.
+    let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
+    assert_eq!(
+        sides,
+        [nc_kernel::TrcSide::Right, nc_kernel::TrcSide::Off],
+        "{f}"
+    );
     // The roughing cuts at FF1 0.25, the finishing at FF3 0.1.
     let feeds: Vec<f64> = b
         .iter()
         .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
         .map(|b| b.modal.feed)
         .collect();
-    let (rough, finish) = feeds.split_at(5 + 6);
+    let (rough, finish) = feeds.split_at(5 + 8);
     assert!(rough.iter().all(|&f| f == 0.25), "{f}: {feeds:?}");
     assert!(finish.iter().all(|&f| f == 0.1), "{f}: {feeds:?}");
 }
@@ -338,15 +360,51 @@ fn d10_cycle95_label_section() {
     let f = "d10_cycle95_label_section.mpf";
     let mut want = vec![[25.0, 0.0, 5.0]];
     want.extend(shaft_roughing());
-    want.extend([[30.0, 0.0, 10.0], [25.0, 0.0, 5.0], [22.0, 0.0, 1.0]]);
+    // T2 D1 (R 1.2): S = (22 − 1.2, 1.2/√2 − 1.2 + 1).
+    let s = [20.8, 0.0, 1.2 / 2f64.sqrt() - 0.2];
+    want.extend([[30.0, 0.0, 10.0], [25.0, 0.0, 5.0], s]);
     want.extend(SHAFT_CONTOUR);
-    want.extend([[22.0, 0.0, 1.0], [30.0, 0.0, 10.0]]);
+    want.extend([[20.8, 0.0, -35.0], s, [30.0, 0.0, 10.0]]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
     // RND=5 makes the fillet d09 programs as G2 CR=5.
-    assert_arcs(f, &b, &SHAFT_FILLETS);
+    assert_arcs(f, &b, &shaft_arcs(true));
     // The contour's lines never run as blocks of the program.
-    assert!(b.iter().all(|b| b.line <= 21), "{f}");
+    assert!(b.iter().all(|b| b.line <= 25), "{f}");
+}
+
+#[test]
+fn d30_cycle95_nose_radius_fal() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let f = "d30_cycle95_nose_radius_fal.mpf";
+    let taper_z = -(11.0 - 2f64.sqrt()) - 0.8; // the tip path's corner before the taper
+    let h = 1.0 / 2f64.sqrt();
+    let mut want = vec![[25.0, 0.0, 5.0], [19.2, 0.0, 0.2]];
+    for (level, z) in [
+        (17.4, -24.8),
+        (15.6, taper_z - 5.4),
+        (13.8, taper_z - 3.6),
+        (12.0, taper_z - 1.8),
+    ] {
+        want.extend([
+            [level, 0.0, 0.2],
+            [level, 0.0, z],
+            [level + 1.0, 0.0, z + 1.0],
+            [level + 1.0, 0.0, 0.2],
+        ]);
+    }
+    want.extend([
+        [10.2, 0.0, -0.8],
+        [10.2, 0.0, taper_z],
+        [15.2 + h, 0.0, -16.8 + h],
+        [16.2, 0.0, -16.8], // the arc about the edge
+        [16.2, 0.0, -24.8],
+        [19.2, 0.0, -24.8],
+        [19.2, 0.0, 0.2],
+        [30.0, 0.0, 10.0],
+    ]);
+    let b = clean(f, &want);
+    assert_arcs(f, &b, &[(MotionKind::ArcCcw, [15.2, 0.0, -16.8])]);
 }
 
 /// The feeds of the moves that are no rapids, with their ends.
@@ -463,8 +521,8 @@ fn d12_cycle95_undercut() {
         finish.iter().all(|c| c.1 == 0.08) && finish.len() == 8,
         "{f}"
     );
-    // The contour's lines never run as blocks of the program.
-    assert!(b.iter().all(|b| b.line < 32), "{f}");
+    // The contour's lines (from U_START: on line 34) never run as blocks of the program.
+    assert!(b.iter().all(|b| b.line < 34), "{f}");
 }
 
 #[test]
@@ -537,4 +595,55 @@ fn d23_cycle93_trapezoid_face() {
         [40.0, 0.0, 20.0],
     ]);
     clean("d23_cycle93_trapezoid_face.mpf", &want);
+}
+
+/// CYCLE95 on a face (VARI 10) with the nose radius of T1 D1 (R0.8, cutting edge 3), no
+/// allowances: the roughing's last run along the contour is the tool tip's compensated
+/// path worked out in the exchanged frame; the finishing run is compensated by preparation
+/// in machine axes (the frame's side mirrored). Both must give the same tip points.
+#[test]
+fn cycle95_face_roughing_and_finishing_agree_on_the_compensated_tip_path() {
+    let text = "N10 G18 G90 G95 T1 D1 S1000 M3\nN20 G0 X60 Z5\n\
+        N30 CYCLE95(\"F_A:F_E\", 2, 0, 0, 0, 0.2, , 0.08, 10, , , 0.5)\nN40 G0 X60 Z10\n\
+        N50 M30\nF_A: G1 X50 Z-8\nX32\nZ-4\nX24 Z0\nF_E: X0\n";
+    let segs = nc_kernel::prepare("face", text, &CORPUS.machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"));
+    let cycle: Vec<_> = segs.iter().filter(|s| s.source.line == 3).collect();
+    let feeds = |compensated: bool| -> Vec<[f64; 2]> {
+        cycle
+            .iter()
+            .filter(|s| !s.rapid && (s.role != nc_kernel::Role::Uncompensated) == compensated)
+            .map(|s| [s.to[0], s.to[2]])
+            .collect()
+    };
+    let (rough, finish) = (feeds(false), feeds(true));
+    // The finishing, by hand (radius, Z): the step face at Z −8 (tip on the face), the
+    // diameter 16 up to the chamfer's equidistant, the corner arc, the chamfer's parallel
+    // 0.8 off it, (16, −4) + 0.8·(1, 1)/√2 − (0.8, 0.8) = (15.7657, −4.2343) to
+    // (11.7657, −0.2343), the arc to the front face, and the face to −0.8 (the tip beyond
+    // the centre by the nose radius).
+    let h = 0.8 / 2f64.sqrt() - 0.8;
+    let want = [
+        [16.0, -8.0],
+        [16.0, -4.8],
+        [16.0 + h, -4.0 + h],
+        [12.0 + h, h],
+        [11.2, 0.0],
+        [-0.8, 0.0],
+    ];
+    assert_eq!(finish.len(), want.len(), "{finish:?}");
+    for (f, w) in finish.iter().zip(&want) {
+        assert!(
+            (f[0] - w[0]).abs() < 1e-4 && (f[1] - w[1]).abs() < 1e-4,
+            "finishing {f:?}, by hand {w:?}"
+        );
+    }
+    // The roughing's last run along the contour: the same points, bit for bit close.
+    let run = &rough[rough.len() - want.len()..];
+    for (r, f) in run.iter().zip(&finish) {
+        assert!(
+            (r[0] - f[0]).abs() < 1e-9 && (r[1] - f[1]).abs() < 1e-9,
+            "roughing {r:?}, finishing {f:?}"
+        );
+    }
 }

@@ -38,7 +38,8 @@ pub(super) use pole::Polar;
 pub(super) use smooth::Smooth;
 pub(super) use turning::TurningData;
 pub(in crate::frontend) use turning::{
-    deepest, non_monotonic, sign, z_turns, Element as TurningElement, Passes, TurningRun, EPS,
+    deepest, equidistant, non_monotonic, sign, tip_path, z_turns, Element as TurningElement, Nose,
+    Passes, TurningRun, EPS,
 };
 
 use super::block::{Block, BlockNo, ModalState};

@@ -2,8 +2,9 @@
 //! number P to Q of the running program (Fanuc 0i-TF, "Stock removal in turning (G71)":
 //! the shape is programmed once, between ns and nf). They are read here as geometry: G00
 //! G01 G02 G03 with X Z (a diameter and Z), U W (incremental), R or I K, the F and S that
-//! the finishing cycle G70 uses, and G40/G41/G42 (G70's compensation). Anything else in them is refused with an alarm at
-//! its word, so that no block of the shape is silently left out.
+//! the finishing cycle G70 uses, and G40/G41/G42 (the nose radius compensation: G70 carries
+//! it, G71–G73 rough the compensated shape). Anything else in them is refused with an alarm
+//! at its word, so that no block of the shape is silently left out.
 
 use super::super::super::block::*;
 use super::super::super::block_text::{self, BlockEnd};
@@ -36,9 +37,12 @@ pub struct Contour {
     pub elements: Vec<Element>,
     /// The first block wrote X (or U), Z (or W): with both, a type II shape.
     pub first_has: [bool; 2],
-    /// G40/G41/G42 written in the shape (G70 only): the side from the element of that index
-    /// on (an index past the last element: from the return to the start point on).
+    /// G40/G41/G42 written in the shape: the side from the element of that index on (an
+    /// index past the last element: from the return to the start point on).
     pub compensation: Vec<(usize, TrcSide)>,
+    /// Where each element's block starts (position, line, line start): alarms about an
+    /// element name its block.
+    pub blocks: Vec<Mark>,
     pub after: Mark,
 }
 
@@ -60,21 +64,20 @@ struct ShapeWords {
 
 impl Interpreter<'_> {
     /// The shape from block `p` to block `q`, starting at the tool position `from`. A fault
-    /// in a block of the shape names that block's line. `compensation`: G41/G42 may be
-    /// written in it (G70).
+    /// in a block of the shape names that block's line.
     pub(super) fn read_contour(
         &mut self,
         (p, p_at): (u32, usize),
         (q, q_at): (u32, usize),
         from: Pos,
         new: &ModalState,
-        compensation: bool,
     ) -> R<Contour> {
         let (mut pos, mut line, mut line_start) = self.find_label(p, p_at)?;
         let (mut at, mut mode) = (from, None);
         let mut elements = Vec::new();
         let mut first_has = [false; 2];
         let mut sides = Vec::new();
+        let mut blocks = Vec::new();
         // Bounded by the text: every round reads one block further.
         loop {
             if pos >= self.src.len() {
@@ -92,7 +95,7 @@ impl Interpreter<'_> {
                         self.first_block(&sw, p, pos)?;
                         first_has = [sw.x.is_some(), sw.z.is_some()];
                     }
-                    if let Some(side) = self.shape_side(&sw, mode, compensation)? {
+                    if let Some(side) = self.shape_side(&sw, mode)? {
                         sides.push((elements.len(), side));
                     }
                     Ok(sw)
@@ -104,12 +107,14 @@ impl Interpreter<'_> {
             {
                 at = e.to;
                 elements.push(e);
+                blocks.push((pos, line, line_start));
             }
             if sw.number == Some(q) {
                 return Ok(Contour {
                     elements,
                     first_has,
                     compensation: sides,
+                    blocks,
                     after: next,
                 });
             }
@@ -147,7 +152,7 @@ impl Interpreter<'_> {
     }
 
     /// A fault in another block than the one being built: the alarm names its line.
-    fn fault_at_line(
+    pub(super) fn fault_at_line(
         &mut self,
         f: Box<super::super::super::fault::Fault>,
         line: u32,
@@ -206,27 +211,14 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    /// The compensation a block of the shape programs. G41/G42 only where allowed (G70), and
-    /// in a block that moves at G00/G01 (the start-up); G40 anywhere: in a roughing
-    /// cycle, which runs without compensation, it changes nothing.
-    fn shape_side(
-        &self,
-        sw: &ShapeWords,
-        mode: Option<MotionMode>,
-        allowed: bool,
-    ) -> R<Option<TrcSide>> {
+    /// The compensation a block of the shape programs: G41/G42 in a block that moves at
+    /// G00/G01 (the start-up), G40 anywhere (with the next move).
+    fn shape_side(&self, sw: &ShapeWords, mode: Option<MotionMode>) -> R<Option<TrcSide>> {
         let Some((side, at)) = sw.trc else {
             return Ok(None);
         };
         if side == TrcSide::Off {
-            return Ok(allowed.then_some(side));
-        }
-        if !allowed {
-            return Err(fault(
-                AlarmCode::NotSupported,
-                at,
-                "nose radius compensation inside a roughing cycle's shape is not supported by softnc: the finishing cycle takes it, or select it before the cycle",
-            ));
+            return Ok(Some(side));
         }
         let m = sw.g.map(|g| g.0).or(mode);
         let linear = matches!(m, Some(MotionMode::Rapid | MotionMode::Linear));

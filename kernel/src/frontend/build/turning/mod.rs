@@ -19,9 +19,12 @@
 //! the moves.
 
 mod contour;
+mod equidistant;
+mod nose;
 mod stock_removal;
 
 pub use contour::Element;
+pub use equidistant::{equidistant, tip_path, Nose};
 pub use stock_removal::{deepest, non_monotonic, z_turns, Passes, TurningRun, EPS};
 
 use super::super::block::*;
@@ -72,8 +75,7 @@ impl Interpreter<'_> {
             }
         };
         let start = self.cur;
-        let finishing = kind == TurningCycle::Finishing;
-        let contour = self.read_contour(p, q, start, new, finishing)?;
+        let contour = self.read_contour(p, q, start, new)?;
         let run = match kind {
             TurningCycle::Finishing => {
                 TurningRun::new(start, contour.elements, None).compensated(contour.compensation)
@@ -81,7 +83,8 @@ impl Interpreter<'_> {
             TurningCycle::StockRemoval => self.stock_removal(w, new, &contour, false, at)?,
             TurningCycle::Facing => self.stock_removal(w, new, &contour, true, at)?,
             TurningCycle::PatternRepeating => {
-                self.pattern_repeating(w, new, contour.elements, at)?
+                let shape = self.rough_shape(&contour, new)?;
+                self.pattern_repeating(w, new, shape, at)?
             }
         };
         if kind != TurningCycle::Finishing {
@@ -214,14 +217,17 @@ impl Interpreter<'_> {
         let pockets = contour.first_has[0] && contour.first_has[1];
         let (du, dw) = self.allowances(w, new)?;
         let (du, dw) = if facing { (dw, du) } else { (du, dw) };
-        let shape: Vec<Element> = contour
-            .elements
-            .iter()
-            .map(|e| if facing { e.exchanged() } else { *e })
-            .collect();
+        let frame = |e: &Element| if facing { e.exchanged() } else { *e };
+        let programmed: Vec<Element> = contour.elements.iter().map(frame).collect();
         let a = if facing { exchange(self.cur) } else { self.cur };
-        let (sx, sz) = shape_directions(a, &shape, pockets, facing, at)?;
-        let shape: Vec<Element> = shape.iter().map(|e| e.shifted([du, dw])).collect();
+        let (sx, sz) = shape_directions(a, &programmed, pockets, facing, at)?;
+        // The passes work on the tool tip's path: compensated in machine axes (G72's
+        // exchange mirrors the sides), then moved by the allowances.
+        let shape: Vec<Element> = self
+            .rough_shape(contour, new)?
+            .iter()
+            .map(|e| frame(e).shifted([du, dw]))
+            .collect();
         if sx * du < 0.0 || sz * dw > 0.0 || sx * (a[0] - shape[0].to[0]) <= EPS {
             return Err(fault(
                 AlarmCode::BadNumber,
@@ -473,9 +479,11 @@ mod tests {
 
     #[test]
     fn unsupported_words_in_the_shape_name_their_block() {
-        // Nose radius compensation inside the shape: not built yet, alarm at its G41.
-        let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG41 G1 Z-10. F0.1\nN20 X40.\n");
-        assert_eq!(got, (AlarmCode::NotSupported, 5, 1));
+        // A second compensated stretch in a roughing shape: refused at its block.
+        let got = alarm(
+            "G71 U2. R1.\nG71 P10 Q20\nN10 G42 G0 X20.\nG40 G1 Z-10. F0.1\nG42 X30.\nN20 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::NotSupported, 6, 1));
         // A chamfer word, a macro expression.
         let got = alarm("G71 U2. R1.\nG71 P10 Q20\nN10 G0 X20.\nG1 Z-10. ,C1. F0.1\nN20 X40.\n");
         assert_eq!(got, (AlarmCode::NotSupported, 5, 10));
@@ -815,11 +823,7 @@ mod tests {
             (a.code, a.line, a.col),
             (AlarmCode::FanucTrcNotLinear, 4, 1)
         );
-        // G41 in a roughing cycle's shape: refused at its word; G40 there changes nothing.
-        let a =
-            lathe("G0 X40. Z2.\nG73 U1. R2\nG73 P10 Q20\nN10 G0 G41 X20. Z2.\nN20 G1 X40. Z-5.\n")
-                .unwrap_err();
-        assert_eq!((a.code, a.line, a.col), (AlarmCode::NotSupported, 4, 8));
+        // G40 alone in a roughing cycle's shape changes nothing.
         let b =
             lathe("G0 X40. Z2.\nG73 U1. R1\nG73 P10 Q20\nN10 G0 X20. Z2.\nN20 G40 G1 X40. Z-5.\n")
                 .unwrap();
@@ -929,5 +933,160 @@ mod tests {
         let k = e.iter().position(|&p| p == (14.0, 2.0)).expect("level 14");
         assert_eq!(e[k + 1..k + 3], [(14.0, -15.0), (14.5, -14.5)]);
         assert!(!e.contains(&(14.5, -7.5)), "no retract at the ridge: {e:?}");
+    }
+
+    /// δ = R − R/√2 for the nose radius 0.8: a 45° taper's compensated tip path lies δ
+    /// beside the programmed taper in X and in Z (the nose centre is R/√2 off the taper in
+    /// X and Z, the tip R below and R towards −Z of the centre).
+    fn delta() -> f64 {
+        0.8 - 0.8 / 2f64.sqrt()
+    }
+
+    fn close(got: &[(f64, f64)], want: &[(f64, f64)]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (k, (g, w)) in got.iter().zip(want).enumerate() {
+            let ok = (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9;
+            assert!(ok, "move {k}: {g:?}, by hand {w:?}\n{got:?}");
+        }
+    }
+
+    /// The moves of G71 at levels `levels`, each ending at the Z given, from A (`a`), with
+    /// retract 1 (radius programming).
+    fn passes(a: (f64, f64), levels: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        let mut want = vec![a];
+        for &(x, z) in levels {
+            want.extend([(x, a.1), (x, z), (x + 1.0, z + 1.0), (x + 1.0, a.1)]);
+        }
+        want
+    }
+
+    #[test]
+    fn g71_roughs_a_taper_against_the_compensated_shape() {
+        // Radius programming, T0101: nose R 0.8, edge position 3 (P − S = (−0.8, −0.8) in
+        // (X, Z)). The shape (10, 2) → (10, −10) → 45° taper to (16, −16) → G40 up to
+        // (20, −16), G42 (the nose above the contour). The nose centre: X 10.8 along the
+        // diameter; the taper's parallel 0.8/√2 up and to +Z; the concave corner trimmed
+        // where X 10.8 meets it, at Z −10 + 0.8(√2 − 1) = −10 + 0.8 − 2δ with δ = 0.8 −
+        // 0.8/√2. The tip P = centre − (0.8, 0.8): A' (10, 1.2), (10, −10 − 2δ), the
+        // taper's end (16 − δ, −16 − δ), then the G40 ramp to (20, −16) as programmed.
+        // U0.2 W0.1 move it all by (0.2, 0.1): A' (10.2, 1.3), (10.2, −9.9 − 2δ),
+        // (16.2 − δ, −15.9 − δ), (20.2, −15.9). From A (20, 2) the stock to 10.2 is 9.8:
+        // levels 18 16 14 12 (4). Level 12 and 14 meet the taper (Z falls as X rises, 45°):
+        // Z = −9.9 − 2δ − (L − 10.2); levels 16 and 18
+        // the ramp, from (16.2 − δ, −15.9 − δ) rising 4 + δ in X over δ in Z.
+        let d = delta();
+        let ramp = |l: f64| -15.9 - d + (l - 16.2 + d) * d / (4.0 + d);
+        let taper = |l: f64| -9.9 - 2.0 * d - (l - 10.2);
+        let e = radius_ends(
+            "T0101\nG0 X20. Z2.\nG71 U2. R1.\nG71 P10 Q20 U0.2 W0.1 F0.2\n\
+             N10 G0 G42 X10.\nG1 Z-10.\nX16. Z-16.\nN20 G40 X20.\n",
+        );
+        let mut want = passes(
+            (20.0, 2.0),
+            &[
+                (18.0, ramp(18.0)),
+                (16.0, ramp(16.0)),
+                (14.0, taper(14.0)),
+                (12.0, taper(12.0)),
+            ],
+        );
+        want.extend([
+            (10.2, 1.3),
+            (10.2, -9.9 - 2.0 * d),
+            (16.2 - d, -15.9 - d),
+            (20.2, -15.9),
+            (20.0, -15.9),
+            (20.0, 2.0),
+        ]);
+        close(&e, &want);
+    }
+
+    #[test]
+    fn g71_roughs_a_convex_radius_against_the_compensated_shape() {
+        // Radius programming, nose R 0.8, edge 3, G42. The shape (10, 2) → (10, −10) → the
+        // face to (15, −10) → G3 R5 about (15, −15) to (20, −15) → (20, −25) → G40 to
+        // (24, −25). The nose centre: X 10.8, trimmed at the face's parallel Z −9.2; the
+        // face at Z −9.2 up to X 15; the arc at radius 5.8 about (15, −15) to (20.8, −15);
+        // X 20.8 to Z −25. The tip, 0.8 lower and 0.8 towards −Z: A' (10, 1.2), (10, −10),
+        // (14.2, −10), the arc about (14.2, −15.8) radius 5.8 to (20, −15.8), (20, −25.8),
+        // then the ramp to (24, −25). From A (24, 2): stock 14, levels 22 20 … 12 (6).
+        // 12, 14 end on the face at Z −10; 16, 18 on the arc, Z = −15.8 + √(5.8² − (L −
+        // 14.2)²): 16 → −15.8 + √30.4, 18 → −15.8 + √19.2; 20 at the arc's end −15.8; 22 on
+        // the ramp rising 4 over 0.8: −25.8 + 2 · 0.2 = −25.4.
+        let arc = |l: f64| -15.8 + (5.8f64 * 5.8 - (l - 14.2) * (l - 14.2)).sqrt();
+        let e = radius_ends(
+            "T0101\nG0 X24. Z2.\nG71 U2. R1.\nG71 P10 Q20 F0.2\nN10 G0 G42 X10.\n\
+             G1 Z-10.\nX15.\nG3 X20. Z-15. R5.\nG1 Z-25.\nN20 G40 X24.\n",
+        );
+        let mut want = passes(
+            (24.0, 2.0),
+            &[
+                (22.0, -25.4),
+                (20.0, -15.8),
+                (18.0, arc(18.0)),
+                (16.0, arc(16.0)),
+                (14.0, -10.0),
+                (12.0, -10.0),
+            ],
+        );
+        want.extend([
+            (10.0, 1.2),
+            (10.0, -10.0),
+            (14.2, -10.0),
+            (20.0, -15.8),
+            (20.0, -25.8),
+            (24.0, -25.0),
+            (24.0, 2.0),
+        ]);
+        close(&e, &want);
+    }
+
+    #[test]
+    fn g73_runs_the_compensated_shape() {
+        // One pass (R1) at the allowances 0: the tip path of the taper test above without
+        // U and W, from A (20, 2), then back to A (X first).
+        let d = delta();
+        let e = radius_ends(
+            "T0101\nG0 X20. Z2.\nG73 U0 W0 R1\nG73 P10 Q20 F0.2\n\
+             N10 G0 G42 X10.\nG1 Z-10.\nX16. Z-16.\nN20 G40 X20.\n",
+        );
+        let want = [
+            (20.0, 2.0),
+            (10.0, 1.2),
+            (10.0, -10.0 - 2.0 * d),
+            (16.0 - d, -16.0 - d),
+            (20.0, -16.0),
+            (20.0, 2.0),
+        ];
+        close(&e, &want);
+    }
+
+    #[test]
+    fn a_shape_the_nose_does_not_fit_is_refused_at_its_block() {
+        // A concave fillet R0.5 (diameter programming) under a nose of 0.8: 10758 at the G2
+        // block (line 7). A face step of 0.2 (radius) shorter than the nose's trim at the
+        // concave corner before it: the equidistant turns inside out, 3021 at its block.
+        let got = alarm(
+            "T0101\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\n\
+             G2 X21. Z-10.5 R0.5\nG1 X30.\nN20 G40 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::ArcRadiusTooSmall, 7, 1));
+        let got = alarm(
+            "T0101\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\nX20.4\n\
+             Z-20.\nN20 G40 X40.\n",
+        );
+        assert_eq!(got, (AlarmCode::ContourViolation, 7, 1));
+        // G40 in an arc block of a roughing shape: the lathe's start-up/cancel alarm, at the
+        // arc's block (line 7).
+        let got = alarm(
+            "T0101\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\n\
+             N20 G40 G2 X30. Z-15. R5.\n",
+        );
+        assert_eq!(got, (AlarmCode::FanucTrcNotLinear, 7, 1));
+        // The same shapes without a nose radius (T0100: no offset) rough as programmed.
+        assert!(lathe(
+            "G0 X40. Z2.\nT0100\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\nX20.4\nZ-20.\nN20 G40 X40.\n"
+        )
+        .is_ok());
     }
 }

@@ -15,7 +15,6 @@
 //! moves stream out of the [`CycleRun`] one block each, every move at its own feed; the feed
 //! in force before the call is in force again after it.
 
-mod allowance;
 mod boring;
 mod contour;
 mod drilling;

@@ -5,7 +5,7 @@
 //!   NPP   the contour: a subprogram's name, or "START:END" labels of this program (contour.rs)
 //!   MID   the largest infeed (radius, no sign); the cuts are equal and at most MID deep
 //!   FALZ  FALX  the finishing allowances along Z and X (X a radius); FAL along the contour
-//!         (allowance.rs: the contour's equidistant), the three add up
+//!         (build/turning/equidistant.rs: the contour's equidistant), the three add up
 //!   FF1   the roughing feed; FF2 into undercuts; FF3 the finishing feed
 //!   VARI  1 … 12: roughing (1 … 4), finishing (5 … 8), complete (9 … 12); within each,
 //!         longitudinal outside, transverse outside, longitudinal inside, transverse inside
@@ -26,8 +26,8 @@
 
 use super::super::super::block::*;
 use super::super::super::build::{
-    deepest, non_monotonic, sign, z_turns, Expansion, Passes, Step, TurningElement as Element,
-    TurningRun, EPS,
+    deepest, equidistant, non_monotonic, sign, tip_path, z_turns, Expansion, Nose, Passes, Step,
+    TurningElement as Element, TurningRun, EPS,
 };
 use super::super::super::fault::{fault, R};
 use super::super::super::interpreter::Interpreter;
@@ -279,8 +279,23 @@ impl Interpreter<'_> {
         } else {
             (s.falx, s.falz)
         };
+        // The cycle selects the nose radius compensation itself, on the side away from the
+        // material (outside towards the chuck: G42): the passes work on the tool tip's
+        // compensated path, the finishing run carries the side to preparation. The side
+        // here is the frame's; the exchange of X and Z mirrors it.
+        let nose = Nose {
+            side: if sx * sz < 0.0 {
+                TrcSide::Right
+            } else {
+                TrcSide::Left
+            },
+            radius: new.radius.abs(),
+            edge: new.edge,
+            exchanged: face,
+        };
+        let allowed = self.along_contour(&frame, s.fal * sx * sz, p)?;
         let moved: Vec<Element> = self
-            .along_contour(&frame, s.fal * sx * sz, p)?
+            .compensated(&allowed, nose, p)?
             .iter()
             .map(|e| e.shifted([sx * depth_fal, -sz * cut_fal]))
             .collect();
@@ -298,7 +313,18 @@ impl Interpreter<'_> {
         let finish = (s.vari.machining != Machining::Roughing).then(|| {
             let mut shape = frame;
             shape[0].mode = MotionMode::Rapid;
-            let run = TurningRun::new(start, shape, None);
+            // Selected with the approach to the contour's start, deselected with the return;
+            // in machine axes (the frame's side mirrored for a face contour).
+            let side = match (face, nose.side) {
+                (true, TrcSide::Left) => TrcSide::Right,
+                (true, TrcSide::Right) => TrcSide::Left,
+                (_, side) => side,
+            };
+            let sides = match nose.radius > 0.0 {
+                true => vec![(0, side), (shape.len(), TrcSide::Off)],
+                false => Vec::new(),
+            };
+            let run = TurningRun::new(start, shape, None).compensated(sides);
             if face {
                 run.exchanged()
             } else {
@@ -331,12 +357,30 @@ impl Interpreter<'_> {
         if fal == 0.0 {
             return Ok(contour.to_vec());
         }
-        super::allowance::equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
+        equidistant(contour, fal.abs(), fal.signum()).map_err(|k| {
             let m = format!(
                 "FAL {} is too large for element {k} of the contour: its parallel vanishes",
                 fal.abs()
             );
             fault(AlarmCode::CycleContour, p.at(FAL), m)
+        })
+    }
+
+    /// The tool tip's path with the nose centre on the equidistant of `allowed` (the contour
+    /// with FAL) at the nose radius; an element the nose does not fit is an alarm at the
+    /// cycle (61605), naming the element.
+    fn compensated(&self, allowed: &[Element], nose: Nose, p: &Params) -> R<Vec<Element>> {
+        tip_path(allowed, nose, 0, allowed.len()).map_err(|k| {
+            let arc = allowed.get(k).is_some_and(|e| e.mode.is_arc());
+            let what = match arc {
+                true => "an arc not larger than the nose radius on the tool's side",
+                false => "an element shorter than the nose radius's trim at its corners",
+            };
+            let m = format!(
+                "the tool nose radius {} does not fit the contour (with FAL) at element {k}: {what}",
+                nose.radius
+            );
+            fault(AlarmCode::CycleContour, p.call, m)
         })
     }
 
@@ -671,7 +715,59 @@ mod tests {
         lathe(main, files).unwrap_or_else(|a| panic!("{a}"))
     }
 
-    const HEAD: &str = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\n";
+    /// The tests of the passes' geometry run with D0 (no offset: nose radius 0, the cycle's
+    /// compensation moves nothing); `nose_radius_*` with D1 (R 0.8, edge position 3).
+    const HEAD: &str = "G18 G90 G95 T1 D0 S1000 M3 F0.25\nG0 X60 Z5\n";
+
+    #[test]
+    fn nose_radius_compensates_the_passes_and_the_finishing() {
+        // T1 D1: nose R 0.8, edge position 3; outside towards the chuck: the cycle's G42.
+        // Contour (radius, Z): A' (10, 0), (10, −20), (20, −20), (20, −40), B (25, −40).
+        // Nose centre: X 10.8 from Z 0 to the face's parallel Z −19.2 (concave corner
+        // trimmed), the face to X 20, an arc of 0.8 about the edge (20, −20) to (20.8, −20),
+        // X 20.8 to the next face's parallel Z −39.2, up to X 25. The tip (−0.8, −0.8 from
+        // the centre): A' (10, −0.8), (10, −20), (19.2, −20), the arc about (19.2, −20.8) to
+        // (20, −20.8), (20, −40), (24.2, −40). S = (24.2, −0.8 + 0.5). Stock 14.2, MID 2.5:
+        // 6 cuts of 14.2/6; passes at 24.2 − 14.2k/6: 21.8333 meets the last face (Z −40),
+        // 19.4667 the edge's arc at Z −20.8 + √(0.64 − (19.4667 − 19.2)²), the lower three
+        // the face at Z −20.
+        let main = "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9, , , 0.5)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nX40\nZ-40\nEND: X50\n";
+        let b = run(main, &[]);
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let zs = -0.3;
+        let mut want = vec![(30.0, 5.0), (24.2, zs)];
+        for k in 1..=5 {
+            let level = 24.2 - 14.2 * k as f64 / 6.0;
+            let z = match k {
+                1 => -40.0,
+                2 => -20.8 + (0.64 - (level - 19.2f64).powi(2)).sqrt(),
+                _ => -20.0,
+            };
+            want.extend(pass(r(level), r(z), zs, 0.5, 1.0));
+        }
+        want.extend([(10.0, -0.8), (10.0, -20.0), (19.2, -20.0), (20.0, -20.8)]);
+        want.extend([(20.0, -40.0), (24.2, -40.0), (24.2, zs)]);
+        // Finishing: the contour as programmed, G42 with the G0 to A', G40 with the return.
+        want.extend([(10.0, 0.0), (10.0, -20.0), (20.0, -20.0), (20.0, -40.0)]);
+        want.extend([(25.0, -40.0), (24.2, -40.0), (24.2, zs)]);
+        let got = ends(&b);
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g.0 - w.0).abs() < 1e-8 && (g.1 - w.1).abs() < 1e-8,
+                "{got:?}"
+            );
+        }
+        let sides: Vec<_> = b.iter().filter_map(|b| b.trc).collect();
+        assert_eq!(sides, [crate::TrcSide::Right, crate::TrcSide::Off]);
+        // A nose of 0.8 in a concave R0.5 of the contour: 61605 at the call.
+        let a = lathe(
+            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X60 Z5\nCYCLE95(\"START:END\", 2.5, , , , 0.3, , 0.1, 9)\nM30\nSTART: G0 X20 Z0\nG1 Z-20\nG2 X21 Z-20.5 CR=0.5\nG1 X40\nEND: Z-40\n",
+            &[],
+        )
+        .unwrap_err();
+        assert_eq!((a.code, a.line, a.col), (AlarmCode::CycleContour, 3, 1));
+    }
 
     #[test]
     fn complete_machining_of_a_label_section() {
@@ -806,7 +902,7 @@ mod tests {
         // face at −19.9, the others the face at −9.9. DAM 4: each cut stops 4 mm at a time
         // (from Z 0.6: −3.4, −7.4, …) with DT 0.5 s between; the lift-off goes down in X.
         let b = run(
-            "G18 G90 G95 T1 D1 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
+            "G18 G90 G95 T1 D0 S1000 M3 F0.25\nG0 X10 Z5\nCYCLE95(\"BORE\", 2.5, 0.1, 0.5, , 0.3, , , 3, 0.5, 4, 0.5)\n",
             &[("BORE.SPF", "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n")],
         );
         let mut want = vec![(5.0, 5.0), (9.5, 0.6), (12.0, 0.6)];

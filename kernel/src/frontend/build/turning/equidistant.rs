@@ -1,16 +1,22 @@
-//! FAL, CYCLE95's finishing allowance along the contour (Cycles, "CYCLE95": "FAL finishing
-//! allowance according to the contour"): the contour's equidistant at FAL on the side away
-//! from the material. Every line moves along its normal, every arc keeps its centre and
-//! changes its radius by FAL; where two elements meet at a corner that opens on that side
-//! (a convex corner) an arc of radius FAL about the corner joins them, where it closes (a
-//! concave corner) both are trimmed to where their parallels meet. FALZ and FALX shift the
-//! result on top (the allowances add up).
+//! The equidistant of a turning contour: the curve at a constant distance d beside it, on
+//! one side of the direction of travel. Every line moves along its normal, every arc keeps
+//! its centre and changes its radius by d; where two elements meet at a corner that opens
+//! on that side (a convex corner) an arc of radius d about the corner joins them, where it
+//! closes (a concave corner) both are trimmed to where their parallels meet.
+//!
+//! Two users, one construction: SINUMERIK CYCLE95's finishing allowance FAL (Cycles,
+//! "CYCLE95": "FAL finishing allowance according to the contour"), and the nose centre's
+//! path in the roughing cycles under nose radius compensation ([`tip_path`]: the
+//! equidistant at the nose radius, shifted to the tool tip; docs/turning.md).
 //!
 //! Plane vectors are (Z, X): the turning plane's abscissa and ordinate, X a radius.
 
 use super::super::super::block::*;
-use super::super::super::build::{intersections, Curve, TurningElement as Element, EPS};
-use super::super::super::plane::{add, cross, dist, dot, left, scale, sub, unit, V};
+use super::super::{intersections, Curve};
+use super::contour::Element;
+use super::stock_removal::EPS;
+use crate::frontend::plane::{add, cross, dist, dot, left, scale, sub, unit, V};
+use crate::trc::cutting_edge::tip_vector;
 
 fn zx(p: Pos) -> V {
     [p[2], p[0]]
@@ -71,7 +77,11 @@ impl Piece {
             ..*self
         };
         match self.arc {
-            Some((c, _)) => (dist(p.from, c) > EPS).then_some(p),
+            // The shifted start must stay on the centre's side it was on: a distance
+            // larger than an arc's radius on its inside turns the parallel inside out.
+            Some((c, _)) => {
+                (dist(p.from, c) > EPS && dot(sub(p.from, c), sub(self.from, c)) > 0.0).then_some(p)
+            }
             None => Some(p),
         }
     }
@@ -123,7 +133,7 @@ impl Piece {
 
 /// The equidistant of `contour` (its first element the move to its start) at `d` on the
 /// left of the direction of travel (`side` +1, in (Z, X)) or the right (−1). `Err(k)`: the
-/// allowance makes element k vanish (an arc smaller than FAL on its inside, an element
+/// distance makes element k vanish (an arc smaller than d on its inside, an element
 /// shorter than the corner's trim).
 pub fn equidistant(contour: &[Element], d: f64, side: f64) -> Result<Vec<Element>, usize> {
     let orig: Vec<Piece> = contour
@@ -171,6 +181,55 @@ pub fn equidistant(contour: &[Element], d: f64, side: f64) -> Result<Vec<Element
             out.push(j.element(&contour[k + 1]));
         }
     }
+    Ok(out)
+}
+
+/// The tool nose under compensation: the side (G41 left of travel, G42 right), the nose
+/// radius R and the cutting edge position (1 … 9, 0 none) of the active offset.
+/// `exchanged`: the shape is given with X and Z exchanged (facing, G72 or a transverse
+/// cycle), `side` as seen in that frame (the mirror of the machine's side).
+#[derive(Clone, Copy, Debug)]
+pub struct Nose {
+    pub side: TrcSide,
+    pub radius: f64,
+    pub edge: u8,
+    pub exchanged: bool,
+}
+
+/// The path of the tool tip P when the nose centre S runs on the equidistant at R of the
+/// elements `on + 1 .. off` of `shape`: element `on` (the selection, G41/G42's block) goes
+/// to the first S + v, element `off` (the deselection, G40's; `shape.len()`: none) from
+/// the last S + v to its programmed end, the others are as programmed. v = P − S of the
+/// cutting edge position (`trc::cutting_edge`), so these points are what preparation
+/// addresses for an uncompensated block. `Err(k)`: element k's equidistant vanishes or
+/// turns inside out (an arc not larger than R on the nose's side, an element shorter than
+/// its corners' trim).
+pub fn tip_path(
+    shape: &[Element],
+    nose: Nose,
+    on: usize,
+    off: usize,
+) -> Result<Vec<Element>, usize> {
+    let side = match nose.side {
+        TrcSide::Left => 1.0,
+        TrcSide::Right => -1.0,
+        TrcSide::Off => return Ok(shape.to_vec()),
+    };
+    let off = off.min(shape.len());
+    if nose.radius <= 0.0 || on >= off {
+        return Ok(shape.to_vec());
+    }
+    let eq = equidistant(&shape[on..off], nose.radius, side).map_err(|k| on + k)?;
+    // v is (Z, X); `shifted` takes the frame's (first, third) coordinates.
+    let v = tip_vector(nose.edge, nose.radius, Plane::ZX);
+    let shift = if nose.exchanged {
+        [v.x, v.y]
+    } else {
+        [v.y, v.x]
+    };
+    let mut out = shape[..on].to_vec();
+    out.extend(eq.iter().map(|e| e.shifted(shift)));
+    out.extend_from_slice(&shape[off..]);
     Ok(out)
 }
 
@@ -243,7 +302,51 @@ mod tests {
         assert!(near(e[2].to, [10.5, -15.0]), "{e:?}");
         assert!(near(e[3].to, [15.0, -19.5]) && near(e[3].centre, [15.0, -15.0]));
         assert!(near(e[4].to, [20.0, -19.5]));
-        // FAL 5 or more swallows the fillet (element 3).
+        // FAL 5 or more swallows the fillet (element 3): at 6 the shifted points would lie
+        // 1 beyond the centre, the parallel inside out.
         assert_eq!(equidistant(&contour, 5.0, -1.0).unwrap_err(), 3);
+        assert_eq!(equidistant(&contour, 6.0, -1.0).unwrap_err(), 3);
+    }
+
+    #[test]
+    fn the_tip_path_in_the_exchanged_frame_is_the_machine_one_exchanged() {
+        // A face (X down), a taper and a rounding (G2 R5), G41, R 0.8, position 3:
+        // computed in machine axes, or with X and Z exchanged and the side mirrored, the
+        // tip path is the same point for point (the exchange is a mirror: it swaps left and
+        // right and the tip vector's components).
+        let shape = [
+            line(42.0, -6.0),
+            line(30.0, -6.0),
+            line(20.0, -2.0),
+            el(15.0, 3.0, MotionMode::ArcCw, (15.0, -2.0)),
+            line(0.0, 3.0),
+        ];
+        let nose = Nose {
+            side: TrcSide::Left,
+            radius: 0.8,
+            edge: 3,
+            exchanged: false,
+        };
+        let machine = tip_path(&shape, nose, 0, shape.len()).unwrap();
+        let frame: Vec<Element> = shape.iter().map(Element::exchanged).collect();
+        let mirrored = Nose {
+            side: TrcSide::Right, // mirroring X and Z swaps left and right
+            exchanged: true,
+            ..nose
+        };
+        let swapped = tip_path(&frame, mirrored, 0, frame.len()).unwrap();
+        assert_eq!(machine.len(), swapped.len());
+        for (m, f) in machine.iter().zip(&swapped) {
+            let back = f.exchanged();
+            assert!(
+                near(back.to, [m.to[0], m.to[2]]),
+                "{machine:?}\n{swapped:?}"
+            );
+            assert!(near(back.centre, [m.centre[0], m.centre[2]]));
+            assert_eq!(back.mode, m.mode);
+        }
+        // And the face's first point by hand: the nose centre 0.8 on the +Z side of the
+        // face at Z −6 (left of travel along −X), the tip 0.8 lower and towards −Z.
+        assert!(near(machine[0].to, [41.2, -6.0]));
     }
 }
