@@ -899,3 +899,33 @@ fn isg_g05_approach_and_retract_arcs_carry_their_radius() {
     );
     assert!(matches!(n305.shape, Shape::Arc { r0, .. } if (r0 - 65.0 / 3.0).abs() < TOL));
 }
+
+/// A selection block followed at once by a deselection block (no contour element between
+/// them): the selection block runs to its programmed point, and the deselection block's
+/// own move goes out from there to its end — the path has no gap (840C, 808D, Fanuc lathe).
+#[test]
+fn deselection_right_after_selection_keeps_its_move() {
+    // 840C mill, D1 R10: N20 G41 to (20, 10) — nothing to compensate against, so the
+    // programmed point; N30 G40 to (30, 10); N40 on to (30, 40).
+    let p = path(
+        "siemens-840c.toml",
+        &[],
+        &[],
+        "N10 G17 G90 G0 X0 Y0 D1\nN20 G41 G1 X20 Y10 F1000\nN30 G40 G0 X30\nN40 G1 Y40\nM30\n",
+    );
+    continuous(&p);
+    let n30 = of_block(&p, 30);
+    assert_eq!(roles(&n30), [Role::Retract]);
+    at("N30 from", n30[0].from, 20.0, 10.0);
+    at("N30 to", n30[0].to, 30.0, 10.0);
+    // Fanuc lathe, T0101 (nose R0.8, cutting edge 3): G42 to X44 Z2, G40 G0 X40, on along Z.
+    let lathe = path(
+        "fanuc-lathe.toml",
+        &[],
+        &[],
+        "N10 G18 G99 T0101 S500 M3\nN20 G0 X50. Z5.\nN30 G42 G1 X44. Z2. F0.2\n\
+         N40 G40 G0 X40.\nN50 G1 Z-14.\nM30\n",
+    );
+    continuous(&lathe);
+    assert_eq!(roles(&of_block(&lathe, 40)), [Role::Retract]);
+}

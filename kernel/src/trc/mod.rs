@@ -1490,6 +1490,15 @@ impl Compensator {
         }
         let Some(p) = self.pending.take() else {
             self.flush_held(out);
+            // No contour element: the deselection block runs from where the tool stands
+            // (the selection block's point) to its own end.
+            if let Some(m) = m.filter(|_| !reselect) {
+                let (f, w1) = split(&m.end, self.plane);
+                let (from, w) = (self.tool, self.tool_w);
+                if f.dist(from) > EPS || (w1 - w).abs() > EPS {
+                    self.line(tag, Role::Retract, from, f, w, w1, out);
+                }
+            }
             return Ok(());
         };
         if let (SelectionPolicy::InnerCorner, Some(x)) = (policy, self.inner_exit.take()) {
