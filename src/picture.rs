@@ -781,7 +781,11 @@ fn programmed_group(v: &View, prog: &[ProgElem], alarm_line: Option<u32>) -> Gro
 }
 
 fn grid(v: &View, plane: Plane, w: f64, h: f64) -> Group {
-    let step = nice_step(w.max(h) / 8.0);
+    // About eight steps along the longer side, but at least two labels along the shorter
+    // (a long shaft in a flat frame), and never more than ~24 along the longer.
+    let coarse = nice_step(w.max(h) / 8.0);
+    let fine = nice_step(w.min(h) / 2.5).max(nice_step(w.max(h) / 24.0));
+    let step = coarse.min(fine);
     let mut g = Group::new()
         .set("id", "grid")
         .set("stroke", GRID)
