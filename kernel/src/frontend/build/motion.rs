@@ -40,6 +40,25 @@ pub fn in_range(x: f64) -> bool {
 }
 
 impl Interpreter<'_> {
+    /// A length that must not be negative (a cycle's retract, relief or allowance R), in
+    /// mm: else alarm 12160 at the word, naming it (`what`).
+    pub(in crate::frontend) fn non_negative(
+        &self,
+        v: Val,
+        units: Units,
+        what: &str,
+    ) -> super::super::fault::R<f64> {
+        let d = self.length(v, units);
+        if d < 0.0 {
+            return Err(super::super::fault::fault(
+                crate::alarm::AlarmCode::BadNumber,
+                v.pos(),
+                format!("{what} must not be negative"),
+            ));
+        }
+        Ok(d)
+    }
+
     /// A length value in mm: decimal-input switch, inch conversion.
     pub(in crate::frontend) fn length(&self, v: Val, units: Units) -> f64 {
         let x = self.in_program_units(v, units);

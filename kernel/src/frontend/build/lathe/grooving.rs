@@ -99,14 +99,7 @@ impl Interpreter<'_> {
     ) -> R<()> {
         if w.axis[0].is_none() && w.axis[2].is_none() {
             if let Some(r) = w.radius {
-                let e = self.length(r, new.units);
-                if e < 0.0 {
-                    return Err(fault(
-                        AlarmCode::BadNumber,
-                        r.pos(),
-                        "the return R must not be negative",
-                    ));
-                }
+                let e = self.non_negative(r, new.units, "the return R")?;
                 self.lathe.peck_return = e;
             }
             return Ok(());

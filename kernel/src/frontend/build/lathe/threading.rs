@@ -261,14 +261,7 @@ impl Interpreter<'_> {
             data.min_depth = q;
         }
         if let Some(r) = w.radius {
-            let d = self.length(r, new.units);
-            if d < 0.0 {
-                return Err(fault(
-                    AlarmCode::BadNumber,
-                    r.pos(),
-                    "the finishing allowance R must not be negative",
-                ));
-            }
+            let d = self.non_negative(r, new.units, "the finishing allowance R")?;
             data.allowance = d;
         }
         self.lathe.thread = data;

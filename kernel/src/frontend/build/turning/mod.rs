@@ -151,14 +151,7 @@ impl Interpreter<'_> {
         }
         self.turning.depth = depth;
         if let Some(r) = w.radius {
-            let e = self.length(r, new.units);
-            if e < 0.0 {
-                return Err(fault(
-                    AlarmCode::BadNumber,
-                    r.pos(),
-                    "the retract R must not be negative",
-                ));
-            }
+            let e = self.non_negative(r, new.units, "the retract R")?;
             self.turning.retract = e;
         }
         Ok(())
