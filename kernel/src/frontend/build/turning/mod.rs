@@ -352,7 +352,7 @@ pub fn sign(v: f64) -> f64 {
 mod tests {
     use crate::alarm::{Alarm, AlarmCode};
     use crate::frontend::block::TrcSide;
-    use crate::frontend::{interpret, Block};
+    use crate::frontend::{interpret, Block, MotionKind};
     use crate::machine_data::MachineData;
     use crate::tools::ToolTable;
 
@@ -362,13 +362,17 @@ mod tests {
         interpret("l.nc", src, &md, &ToolTable::builtin())
     }
 
-    /// (X radius, Z) of every move's end, rounded to 1e-9, with X programmed as a radius.
-    fn radius_ends(src: &str) -> Vec<(f64, f64)> {
+    /// The blocks of `src` with X programmed as a radius.
+    fn lathe_radius(src: &str) -> Vec<Block> {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/fanuc-lathe.toml");
         let ov = ["program.diameter_programming=false".to_string()];
         let md = MachineData::load(Some(std::path::Path::new(path)), &ov).unwrap();
-        let b =
-            interpret("r.nc", src, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"));
+        interpret("r.nc", src, &md, &ToolTable::builtin()).unwrap_or_else(|a| panic!("{a}"))
+    }
+
+    /// (X radius, Z) of every move's end, rounded to 1e-9, with X programmed as a radius.
+    fn radius_ends(src: &str) -> Vec<(f64, f64)> {
+        let b = lathe_radius(src);
         let r = |v: f64| (v * 1e9).round() / 1e9;
         b.iter()
             .filter_map(|b| b.motion.map(|m| (r(m.end[0]), r(m.end[2]))))
@@ -946,9 +950,15 @@ mod tests {
     /// The moves of G71 at levels `levels`, each ending at the Z given, from A (`a`), with
     /// retract 1 (radius programming).
     fn passes(a: (f64, f64), levels: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        passes_by(a, 1.0, levels)
+    }
+
+    /// The moves of G71 (outer turning towards the chuck) at `levels`, each ending at the
+    /// Z given, from A (`a`): in at A's Z, along Z, out by `e` at 45°, back to A's Z.
+    fn passes_by(a: (f64, f64), e: f64, levels: &[(f64, f64)]) -> Vec<(f64, f64)> {
         let mut want = vec![a];
         for &(x, z) in levels {
-            want.extend([(x, a.1), (x, z), (x + 1.0, z + 1.0), (x + 1.0, a.1)]);
+            want.extend([(x, a.1), (x, z), (x + e, z + e), (x + e, a.1)]);
         }
         want
     }
@@ -1081,5 +1091,276 @@ mod tests {
             "G0 X40. Z2.\nT0100\nG71 U2. R1.\nG71 P10 Q20\nN10 G0 G42 X20.\nG1 Z-10. F0.1\nX20.4\nZ-20.\nN20 G40 X40.\n"
         )
         .is_ok());
+    }
+
+    /// (X radius, Z, centre X, centre Z, counter-clockwise) of every arc.
+    fn arcs(b: &[Block]) -> Vec<(f64, f64, f64, f64, bool)> {
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        b.iter()
+            .filter_map(|b| b.motion)
+            .filter(|m| m.kind.is_arc())
+            .map(|m| {
+                let ccw = m.kind == MotionKind::ArcCcw;
+                (
+                    r(m.end[0]),
+                    r(m.end[2]),
+                    r(m.center[0]),
+                    r(m.center[2]),
+                    ccw,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn g70_after_g71_finishes_the_shape_in_radius_programming() {
+        // Radius programming: X6 is radius 6, U0.3 is 0.3 on the radius. A (15, 2); the
+        // shape A' (6, 2) at rapid, (6, −4), G2 R4 (concave, centre (10, −4)) to (10, −8),
+        // (10, −14), B (16, −14). Moved by (0.3, 0.1): (6.3, 2.1), (6.3, −3.9), the arc
+        // about (10.3, −3.9) to (10.3, −7.9), (10.3, −13.9), (16.3, −13.9). Stock 15 − 6.3
+        // = 8.7: levels 13 11 9 7 (8.7/2 rounded up less 1 = 4). 13 and 11 lie above 10.3:
+        // they end on the last element, Z −13.9; 9 and 7 on the arc, Z = −3.9 − √(16 −
+        // (L − 10.3)²): −3.9 − √14.31, −3.9 − √5.11. Retract 0.5 at 45°, rapid back to Z 2.
+        // The run along the moved shape, home X first (B lies beyond A's X). G70: the
+        // shape as written at its F0.1, home X first: (15, −14), then Z 2.
+        let src = "G0 X15. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.3 W0.1 F0.25\nN10 G0 X6.\n\
+                   G1 Z-4. F0.1\nG2 X10. Z-8. R4.\nG1 Z-14.\nN20 X16.\nG70 P10 Q20\n";
+        let arc = |l: f64| -3.9 - (16.0 - (l - 10.3f64).powi(2)).sqrt();
+        let mut want = passes_by(
+            (15.0, 2.0),
+            0.5,
+            &[
+                (13.0, -13.9),
+                (11.0, -13.9),
+                (9.0, arc(9.0)),
+                (7.0, arc(7.0)),
+            ],
+        );
+        want.extend([
+            (6.3, 2.1),
+            (6.3, -3.9),
+            (10.3, -7.9),
+            (10.3, -13.9),
+            (16.3, -13.9),
+            (15.0, -13.9),
+            (15.0, 2.0),
+            (6.0, 2.0),
+            (6.0, -4.0),
+            (10.0, -8.0),
+            (10.0, -14.0),
+            (16.0, -14.0),
+            (15.0, -14.0),
+            (15.0, 2.0),
+        ]);
+        close(&radius_ends(src), &want);
+        let b = lathe_radius(src);
+        assert_eq!(
+            arcs(&b),
+            [
+                (10.3, -7.9, 10.3, -3.9, false),
+                (10.0, -8.0, 10.0, -4.0, false)
+            ]
+        );
+        // The roughing cuts at the cycle's F0.25, G70's at the shape's F0.1.
+        let feeds: Vec<f64> = b
+            .iter()
+            .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+            .map(|b| b.modal.feed)
+            .collect();
+        assert_eq!(feeds.len(), 4 + 4 + 4);
+        assert!(feeds[..8].iter().all(|&f| f == 0.25), "{feeds:?}");
+        assert!(feeds[8..].iter().all(|&f| f == 0.1), "{feeds:?}");
+    }
+
+    #[test]
+    fn g72_type_ii_cuts_a_face_groove_in_radius_programming() {
+        // (radius, Z), depth 1.5 along Z, retract 0.5, U0.2 (radius) W0.5. A (22, 2); the
+        // boundary A → A' (20, −1) at rapid, (14, −1), a 45° flank down to (11, −4), (9,
+        // −4), a 45° flank up to (6, −1), B (0, −1); moved by (0.2, 0.5): A' (20.2, −0.5),
+        // (14.2, −0.5), (11.2, −3.5), (9.2, −3.5), (6.2, −0.5), (0.2, −0.5). Deepest 5.5
+        // below A's Z: levels Z 0.5, −1, −2.5 (5.5/1.5 rounded up less 1 = 3).
+        // Z 0.5: from N10's move (X = 22 − 1.8·1.5/2.5 = 20.92, in at rapid) to past B (B's
+        // X). Z −1 and −2.5: between the flanks, X = 14.2 + (Z + 0.5) and 9.2 − (Z + 3.5):
+        // 13.7 to 6.7, 12.2 to 8.2. The way over: the shallowest boundary between is the
+        // face at −0.5 (2.5 deep), then the second flank at X 7.2 (Z −1.5, 3.5 deep): the
+        // deepest level cut less 0.5, Z 1 and −0.5, where the retract already is; down at
+        // rapid to the level above, in at F. Back to A over Z 2 (A's own point is 0 deep);
+        // the moved shape from A, home Z first.
+        let want = [
+            (22.0, 2.0),
+            (20.92, 2.0),
+            (20.92, 0.5),
+            (0.2, 0.5),
+            (0.7, 1.0),
+            (13.7, 1.0),
+            (13.7, 0.5),
+            (13.7, -1.0),
+            (6.7, -1.0),
+            (7.2, -0.5),
+            (12.2, -0.5),
+            (12.2, -1.0),
+            (12.2, -2.5),
+            (8.2, -2.5),
+            (8.7, -2.0),
+            (8.7, 2.0),
+            (22.0, 2.0),
+            (20.2, -0.5),
+            (14.2, -0.5),
+            (11.2, -3.5),
+            (9.2, -3.5),
+            (6.2, -0.5),
+            (0.2, -0.5),
+            (0.2, 2.0),
+            (22.0, 2.0),
+        ];
+        let e = radius_ends(
+            "G0 X22. Z2.\nG72 W1.5 R0.5\nG72 P10 Q20 U0.2 W0.5 F0.2\nN10 G0 X20. Z-1.\n\
+             G1 X14.\nX11. Z-4.\nX9.\nX6. Z-1.\nN20 X0.\n",
+        );
+        close(&e, &want);
+        // The same groove in diameters: U0.4 is 0.2 on the radius.
+        let e = diameter_ends(
+            "G0 X44. Z2.\nG72 W1.5 R0.5\nG72 P10 Q20 U0.4 W0.5 F0.2\nN10 G0 X40. Z-1.\n\
+             G1 X28.\nX22. Z-4.\nX18.\nX12. Z-1.\nN20 X0.\n",
+        );
+        close(&e, &want);
+    }
+
+    /// G71 type II under G42, (radius, Z), nose R 0.8 in edge position 3 (P = S − (0.8,
+    /// 0.8)), U0.2 on the radius, depth 3, retract 0.5. The shape: A (17, 2), N10 G42 to
+    /// A' (12, 2), (12, −5), a 45° flank down to (6, −11), (6, −15), a 45° flank up to
+    /// (12, −21), (12, −25), N20 G40 out to (20, −25). With q = 0.8/√2:
+    /// - the nose centre S runs 0.8 above: X 12.8 to Z −5; round the convex edge (12, −5)
+    ///   (a left turn in (Z, X): counter-clockwise) to (12 + q, −5 − q); the flank's
+    ///   parallel X − Z = 17 + 0.8√2 meets X 6.8 at the concave bottom corner, Z = −10.2 −
+    ///   0.8√2; the rising flank's X + Z = −9 + 0.8√2 meets it at Z −15.8 + 0.8√2; up to
+    ///   (12 + q, −21 + q), round the edge (12, −21) to (12.8, −21), X 12.8 to Z −25;
+    /// - the tip P = S − (0.8, 0.8), moved by (0.2, 0): A' (12.2, 1.2), (12.2, −5.8), the
+    ///   arc about (11.4, −5.8) to (11.4 + q, −5.8 − q), (6.2, −11 − 0.8√2), (6.2, −16.6 +
+    ///   0.8√2), (11.4 + q, −21.8 + q), the arc about (11.4, −21.8) to (12.2, −21.8),
+    ///   (12.2, −25.8), then the G40 ramp to (20.2, −25).
+    ///
+    /// The flanks of the moved tip path: X − Z = c1 = 17.2 + 0.8√2 falling, X + Z = c2 =
+    /// −10.4 + 0.8√2 rising. Deepest 17 − 6.2 = 10.8: levels X 14, 11, 8 (10.8/3 rounded up
+    /// less 1 = 3). 14: from N10's move (the line (17, 2) → (12.2, 1.2) at X 14: Z 2 − 0.8 ·
+    /// 3/4.8 = 1.5, in at rapid) to the G40 ramp at X 14 (Z −25.8 + 0.8 · 1.8/8 = −25.62).
+    /// 11 and 8: from the falling flank (Z = L − c1) to the rising one (Z = c2 − L). The
+    /// way over to 11 starts at Z −25.12, behind the ramp's end (−25): the ramp turns back
+    /// in Z and rises to X 19 there, above A: no level is cut over the whole way, so up to
+    /// A's X 17, along Z, down at rapid to the level above (14), in by 3 at F. To 8 the
+    /// shallowest boundary between is X 10.5 on the rising flank (6.5 deep): level 11 is
+    /// cut, 11.5 is where the retract already is; down to 11, in. Back to A over X 17 (A's
+    /// own point); the moved tip path from A, home X first.
+    fn type_ii_nose_by_hand() -> Vec<(f64, f64)> {
+        let (q, b) = (0.8 / 2f64.sqrt(), 0.8 * 2f64.sqrt());
+        let (c1, c2) = (17.2 + b, -10.4 + b);
+        let mut want = vec![
+            (17.0, 2.0),
+            (17.0, 1.5),
+            (14.0, 1.5),
+            (14.0, -25.62),
+            (14.5, -25.12),
+            (17.0, -25.12),
+        ];
+        for (level, over) in [(11.0, 17.0), (8.0, 11.5)] {
+            want.extend([
+                (over, level - c1),
+                (level + 3.0, level - c1),
+                (level, level - c1),
+                (level, c2 - level),
+                (level + 0.5, c2 - level + 0.5),
+            ]);
+        }
+        want.extend([
+            (17.0, c2 - 7.5),
+            (17.0, 2.0),
+            (12.2, 1.2),
+            (12.2, -5.8),
+            (11.4 + q, -5.8 - q),
+            (6.2, -11.0 - b),
+            (6.2, -16.6 + b),
+            (11.4 + q, -21.8 + q),
+            (12.2, -21.8),
+            (12.2, -25.8),
+            (20.2, -25.0),
+            (17.0, -25.0),
+            (17.0, 2.0),
+        ]);
+        want
+    }
+
+    #[test]
+    fn type_ii_roughs_the_pockets_against_the_compensated_shape() {
+        let src = "T0101\nG0 X34. Z2.\nG71 U3. R0.5\nG71 P10 Q20 U0.4 F0.2\n\
+                   N10 G0 G42 X24. Z2.\nG1 Z-5.\nX12. Z-11.\nZ-15.\nX24. Z-21.\nZ-25.\nN20 G40 X40.\n";
+        close(&diameter_ends(src), &type_ii_nose_by_hand());
+        // The nose's arcs round the two convex edges, counter-clockwise.
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let q = r(0.8 / 2f64.sqrt());
+        assert_eq!(
+            arcs(&lathe(src).unwrap()),
+            [
+                (r(11.4 + q), r(-5.8 - q), 11.4, -5.8, true),
+                (12.2, -21.8, 11.4, -21.8, true)
+            ]
+        );
+        // Radius programming: X and U are radii, the same moves.
+        let e = radius_ends(
+            "T0101\nG0 X17. Z2.\nG71 U3. R0.5\nG71 P10 Q20 U0.2 F0.2\n\
+             N10 G0 G42 X12. Z2.\nG1 Z-5.\nX6. Z-11.\nZ-15.\nX12. Z-21.\nZ-25.\nN20 G40 X20.\n",
+        );
+        close(&e, &type_ii_nose_by_hand());
+    }
+
+    #[test]
+    fn g72_roughs_the_compensated_face_in_radius_programming_and_g70_finishes_it() {
+        // Radius programming, T0101 (R 0.8, edge 3), G41: travelling along −X the nose
+        // stands on the +Z side. The shape: A (30, 2), N10 to A' (30, −6), the face to
+        // (20, −6), a 45° taper to (16, −2), the face to (6, −2), N20 G40 out to (6, 1).
+        // Nose centre S, q = 0.8/√2: the face at Z −5.2; the concave corner where it meets
+        // the taper's parallel X + Z = 14 + 0.8√2: X 19.2 + 0.8√2; the taper to (16 + q,
+        // −2 + q); round the convex edge (16, −2) to (16, −1.2); the face at Z −1.2 to X 6.
+        // The tip P = S − (0.8, 0.8), moved by U0.2 (radius) W0.1: A' (29.4, −5.9), (18.6 +
+        // 0.8√2, −5.9), (15.4 + q, −2.7 + q), the arc about (15.4, −2.7) to (15.4, −1.9),
+        // (5.4, −1.9), then the G40 ramp to (6.2, 1.1).
+        // Levels Z 2 − 2k above −5.9: 0, −2, −4 (7.9/2 rounded up less 1 = 3). Z 0 meets the
+        // ramp, X = 5.4 + 0.8 · 1.9/3; Z −2 the arc, X = 15.4 + √(0.8² − 0.7²); Z −4 the
+        // taper X + Z = 12.7 + 0.8√2. Each pass: in along Z at A's X at rapid (N10 is G00),
+        // across at F, out 0.5 at 45° (Z and X up), back to X 30. The run along the tip
+        // path, home Z first. G70: the shape as written from A, home X first: (30, 1), Z 2.
+        let b = 0.8 * 2f64.sqrt();
+        let q = 0.8 / 2f64.sqrt();
+        let mut want = vec![(30.0, 2.0)];
+        for (z, x) in [
+            (0.0, 5.4 + 0.8 * 1.9 / 3.0),
+            (-2.0, 15.4 + 0.15f64.sqrt()),
+            (-4.0, 16.7 + b),
+        ] {
+            want.extend([(30.0, z), (x, z), (x + 0.5, z + 0.5), (30.0, z + 0.5)]);
+        }
+        want.extend([
+            (29.4, -5.9),
+            (18.6 + b, -5.9),
+            (15.4 + q, -2.7 + q),
+            (15.4, -1.9),
+            (5.4, -1.9),
+            (6.2, 1.1),
+            (6.2, 2.0),
+            (30.0, 2.0),
+            (30.0, -6.0),
+            (20.0, -6.0),
+            (16.0, -2.0),
+            (6.0, -2.0),
+            (6.0, 1.0),
+            (30.0, 1.0),
+            (30.0, 2.0),
+        ]);
+        let src = "T0101\nG0 X30. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.2 W0.1 F0.2\n\
+                   N10 G0 G41 Z-6.\nG1 X20. F0.1\nX16. Z-2.\nX6.\nN20 G40 Z1.\nG70 P10 Q20\n";
+        close(&radius_ends(src), &want);
+        // The roughing's arc about the edge: the taper turns right into the face in (Z, X),
+        // so the nose goes round it clockwise.
+        let got = arcs(&lathe_radius(src));
+        assert_eq!(got, [(15.4, -1.9, 15.4, -2.7, false)]);
     }
 }
