@@ -224,6 +224,37 @@ mod tests {
     }
 
     #[test]
+    fn g74_in_radius_programming_takes_x_and_u_as_radii() {
+        // Radius programming: A (r10, Z1), e 0.5. U-5 ends the columns at r5 (a diameter
+        // would end them at r7.5); P2000 steps 2 on the radius: columns r10, 8, 6 and the
+        // last, shorter step, 5. Pecks of 2.5 (Q2500) to Z-6 (7 deep): feed to Z-1.5, back
+        // 0.5 to -1, feed to -4, back to -3.5, feed to -6. Relief R0.3 back towards A's side
+        // (+X: the columns go towards smaller X), rapid out to Z1, on to the next column;
+        // after the last, back to A.
+        let m = moves_with(
+            "G74 R0.5\nG0 X10. Z1.\nG74 U-5. Z-6. P2000 Q2500 R0.3 F0.1\n",
+            true,
+        );
+        let column = |x: f64, next: f64| {
+            vec![
+                (F, x, -1.5),
+                (R, x, -1.0),
+                (F, x, -4.0),
+                (R, x, -3.5),
+                (F, x, -6.0),
+                (R, x + 0.3, -6.0),
+                (R, x + 0.3, 1.0),
+                (R, next, 1.0),
+            ]
+        };
+        let mut want = vec![(R, 10.0, 1.0)];
+        for (x, next) in [(10.0, 8.0), (8.0, 6.0), (6.0, 5.0), (5.0, 10.0)] {
+            want.extend(column(x, next));
+        }
+        assert_eq!(m, want);
+    }
+
+    #[test]
     fn a_single_groove_without_p_stepping() {
         // G75 with Z at A's: one groove, Q not needed; diameter programming X30 → r15.
         // No return e: feed to r16, on to r15, out to r20 (A: the return to A is no move).

@@ -254,6 +254,36 @@ mod tests {
     }
 
     #[test]
+    fn g92_taper_and_chamfer_in_radius_programming() {
+        // Radius programming. G76's P: m 01, chamfer 05 (0.5 lead), angle 60; lead 2: γ = 1
+        // along Z at 45°. A (r20, Z5); X15 is r15 (a diameter would be r7.5), R-1.5 (a
+        // radius either way): the thread from (13.5, 5) to (15, −25), 1.5 in X over 30 in Z.
+        // The chamfer starts γ before the end, at Z −24: X 13.5 + 1.5·29/30 = 14.95; it runs
+        // out to (15 + 1, −25). Rapid out to r20 at Z −25, back to Z5.
+        // Feeds: the taper, Z the longer axis, 2·√(1.5² + 30²)/30 = √902.25/15; the chamfer
+        // moves 1.05 in X and 1 in Z: X the longer, 2·√(1.05² + 1)/1.05 = 2·1.45/1.05.
+        // X14.6: the next pass with Z and R kept, 0.4 lower on the radius: from (13.1, 5),
+        // the chamfer from (14.55, −24) to (15.6, −25), the same feeds.
+        let m = moves_with(
+            "G76 P010560 Q100 R0.05\nG0 X20. Z5.\nG92 X15. Z-25. R-1.5 F2.\nX14.6\n",
+            true,
+        );
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        let (taper, chamfer) = (T(r(902.25f64.sqrt() / 15.0)), T(r(2.0 * 1.45 / 1.05)));
+        let mut want = vec![(R, 20.0, 5.0)];
+        for x in [15.0, 14.6] {
+            want.extend([
+                (R, r(x - 1.5), 5.0),
+                (taper, r(x - 1.5 + 1.5 * 29.0 / 30.0), -24.0),
+                (chamfer, r(x + 1.0), -25.0),
+                (R, 20.0, -25.0),
+                (R, 20.0, 5.0),
+            ]);
+        }
+        assert_eq!(m, want);
+    }
+
+    #[test]
     fn box_cycles_need_feed_and_no_compensation() {
         assert_eq!(
             alarm("G0 X40. Z5.\nG92 X29.2 Z-30.\n"),

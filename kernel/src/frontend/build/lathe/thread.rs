@@ -71,6 +71,38 @@ mod tests {
     }
 
     #[test]
+    fn every_move_of_straight_taper_and_face_threads_in_radius_programming() {
+        // Radius programming, lead F2 (then F1.5). From (12, 5): in to r9.6, a straight
+        // thread to Z-30 at 2/rev, out, back; in to r8.9, a taper to (9.9, −30): 1 in X over
+        // 35 in Z, Z the longer axis: path feed 2·√(1 + 35²)/35 = 2·√1226/35; out, back.
+        // Then from (20, 0) U-8 W-3: 8 on the radius (a diameter would be 4), X the longer
+        // axis: lead 1.5 along X, path feed 1.5·√(8² + 3²)/8 = 1.5·√73/8.
+        let m = moves_with(
+            "G0 X12. Z5.\nX9.6\nG32 Z-30. F2.\nG0 X12.\nZ5.\nX8.9\nG32 X9.9 Z-30.\n\
+             G0 X12.\nZ5.\nX20. Z0.\nG32 U-8. W-3. F1.5\nG0 X30. Z20.\n",
+            true,
+        );
+        let r = |v: f64| (v * 1e9).round() / 1e9;
+        assert_eq!(
+            m,
+            [
+                (R, 12.0, 5.0),
+                (R, 9.6, 5.0),
+                (T(2.0), 9.6, -30.0),
+                (R, 12.0, -30.0),
+                (R, 12.0, 5.0),
+                (R, 8.9, 5.0),
+                (T(r(2.0 * 1226f64.sqrt() / 35.0)), 9.9, -30.0),
+                (R, 12.0, -30.0),
+                (R, 12.0, 5.0),
+                (R, 20.0, 0.0),
+                (T(r(1.5 * 73f64.sqrt() / 8.0)), 12.0, -3.0),
+                (R, 30.0, 20.0),
+            ]
+        );
+    }
+
+    #[test]
     fn a_thread_needs_its_lead_and_no_compensation() {
         assert_eq!(
             alarm("G98 G0 X30. Z3.\nG32 Z-20.\n"),
