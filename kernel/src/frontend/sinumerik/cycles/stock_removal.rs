@@ -892,6 +892,14 @@ mod tests {
             .filter_map(|b| b.motion.filter(|m| m.kind.is_arc()).map(|m| m.center))
             .collect();
         assert_eq!(arcs, [[7.0, 0.0, -8.0]]);
+        // Radius programming (DIAMOF in the caller, the contour in radii, RND= a radius as
+        // always): the same passes; the block after the cycle X30 is a radius too.
+        let radii = "G1 X5 Z0\nZ-10 RND=2\nX15\nZ-20\nX18 Z-26\n";
+        let r = run(
+            &format!("{HEAD}DIAMOF\nCYCLE95(\"R\", 3, , , , 0.3, , , 1)\nG0 X30 Z10\n"),
+            &[("R.SPF", radii)],
+        );
+        assert_eq!(ends(&r), want);
     }
 
     #[test]
@@ -924,6 +932,148 @@ mod tests {
         assert_eq!(ends(&b), want);
         let dwells: Vec<f64> = b.iter().filter_map(|b| b.dwell).collect();
         assert_eq!(dwells, [0.5; 9]);
+    }
+
+    /// The bore of `inside_roughing_breaks_chips_every_dam`, in diameters and in radii:
+    /// A' (radius 20, Z 0), (20, −10), (15, −10), (15, −20), B (10, −20).
+    const BORE_DIAMETERS: &str = "G0 X40 Z0\nG1 Z-10\nX30\nZ-20\nX20\n";
+    const BORE_RADII: &str = "G0 X20 Z0\nG1 Z-10\nX15\nZ-20\nX10\n";
+
+    /// The bore's finishing from S (9.5, 0.6): G0 to A', the contour, G0 back to S with X
+    /// first (in to S's X at B's Z, then out along Z), then the block after the cycle.
+    const BORE_FINISHING: [(f64, f64); 8] = [
+        (20.0, 0.0),
+        (20.0, -10.0),
+        (15.0, -10.0),
+        (15.0, -20.0),
+        (10.0, -20.0),
+        (9.5, -20.0),
+        (9.5, 0.6),
+        (5.0, 10.0),
+    ];
+
+    /// `CYCLE95("BORE", …, vari, …)` on the bore from (radius 5, Z 5), with X a diameter
+    /// (DIAMON) or a radius (DIAMOF) in the program and the contour alike.
+    fn bore(vari: u32, diamof: bool) -> Vec<Block> {
+        let (mode, start, spf) = match diamof {
+            true => ("DIAMOF", "X5", BORE_RADII),
+            false => ("DIAMON", "X10", BORE_DIAMETERS),
+        };
+        let cycle = format!("CYCLE95(\"BORE\", 2, 0.1, 0.5, , 0.3, , 0.1, {vari}, , , 0.5)");
+        let main = format!(
+            "G18 G90 G95 T1 D0 S1000 M3 F0.25\n{mode}\nG0 {start} Z5\n{cycle}\nG0 {start} Z10\n"
+        );
+        run(&main, &[("BORE.SPF", spf)])
+    }
+
+    #[test]
+    fn inside_complete_machining_roughs_the_bore_then_finishes_it() {
+        // VARI 11 (complete, longitudinal inside). FALX 0.5 moves X in (towards the
+        // centre), FALZ 0.1 towards the cut's start: A'm (19.5, 0.1), (19.5, −9.9),
+        // (14.5, −9.9), (14.5, −19.9), Bm (9.5, −19.9). S = (the smallest X 9.5, 0.1 +
+        // _VRT 0.5). Stock 19.5 − 9.5 = 10, MID 2: 5 cuts of 2, passes at 9.5 + 2k: 11.5 and
+        // 13.5 meet the face at −19.9 (the wall 14.5 lies outside them), 15.5 and 17.5 the
+        // face at −9.9. Each lifted off 0.5 at 45° (X in, Z back) and back to Z 0.6.
+        let mut want = vec![(5.0, 5.0), (9.5, 0.6)];
+        for (level, z) in [(11.5, -19.9), (13.5, -19.9), (15.5, -9.9), (17.5, -9.9)] {
+            want.extend(pass(level, z, 0.6, 0.5, -1.0));
+        }
+        // The moved contour from A'm at FF1, home X first (there), then Z.
+        want.extend([(19.5, 0.1), (19.5, -9.9), (14.5, -9.9), (14.5, -19.9)]);
+        want.extend([(9.5, -19.9), (9.5, 0.6)]);
+        want.extend(BORE_FINISHING);
+        for diamof in [false, true] {
+            let b = bore(11, diamof);
+            assert_near(&ends(&b), &want);
+            // Four passes and the moved contour's four moves at FF1, the contour at FF3.
+            let feeds: Vec<f64> = b
+                .iter()
+                .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+                .map(|b| b.modal.feed)
+                .collect();
+            assert_eq!(feeds, [[0.3; 8].as_slice(), &[0.1; 4]].concat());
+        }
+    }
+
+    #[test]
+    fn inside_finishing_alone_goes_from_s_to_the_contour_and_back() {
+        // VARI 7 with the same parameters: S as for roughing (the allowances still place
+        // it), then the finishing only; MID is not needed.
+        let mut want = vec![(5.0, 5.0), (9.5, 0.6)];
+        want.extend(BORE_FINISHING);
+        for diamof in [false, true] {
+            assert_eq!(ends(&bore(7, diamof)), want);
+        }
+    }
+
+    /// An inside face (a counterbore's bottom and wall), from its smallest X at its
+    /// deepest Z outwards (radius, Z): A' (6, −5), (12, −5), the wall to (12, −2), a 45°
+    /// chamfer to (14, 0), the front face to B (25, 0).
+    const COUNTERBORE_DIAMETERS: &str = "G1 X12 Z-5\nX24\nZ-2\nX28 Z0\nX50\n";
+    const COUNTERBORE_RADII: &str = "G1 X6 Z-5\nX12\nZ-2\nX14 Z0\nX25\n";
+
+    /// `CYCLE95("H", …, vari, …)` on the counterbore from (radius 4, Z 5).
+    fn counterbore(vari: u32, diamof: bool) -> Vec<Block> {
+        let (mode, start, spf) = match diamof {
+            true => ("DIAMOF", "X4", COUNTERBORE_RADII),
+            false => ("DIAMON", "X8", COUNTERBORE_DIAMETERS),
+        };
+        let cycle = format!("CYCLE95(\"H\", 1.5, 0.2, 0.1, , 0.25, , 0.08, {vari}, , , 1)");
+        let main = format!("G18 G90 G95 T1 D0 S1000 M3 F0.25\n{mode}\nG0 {start} Z5\n{cycle}\n");
+        run(&main, &[("H.SPF", spf)])
+    }
+
+    /// The counterbore's finishing from S (4.9, 0.2): G0 to A', the contour, G0 back to S
+    /// with Z first (out of the face to S's Z at B's X, then in along X).
+    const COUNTERBORE_FINISHING: [(f64, f64); 7] = [
+        (6.0, -5.0),
+        (12.0, -5.0),
+        (12.0, -2.0),
+        (14.0, 0.0),
+        (25.0, 0.0),
+        (25.0, 0.2),
+        (4.9, 0.2),
+    ];
+
+    #[test]
+    fn inside_face_machining_cuts_outwards_in_levels_of_z_then_finishes() {
+        // VARI 12 (complete, transverse inside). FALZ 0.2 moves the faces to +Z, FALX 0.1
+        // the wall against the cut (in, −X): A'm (5.9, −4.8), (11.9, −4.8), (11.9, −1.8),
+        // (13.9, 0.2), Bm (24.9, 0.2). S = (A'm's X − _VRT 1 = 4.9, the largest Z 0.2).
+        // Stock 0.2 − (−4.8) = 5 along Z, MID 1.5: 4 cuts of 1.25, levels at Z −1.05, −2.3,
+        // −3.55. Each: G0 in along Z at X 4.9, G1 along +X to the moved contour (−1.05 the
+        // chamfer at X 11.9 + (−1.05 + 1.8) = 12.65, the others the wall X 11.9), lift-off
+        // 1 (Z up, X back in), G0 back to X 4.9.
+        let mut want = vec![(4.0, 5.0), (4.9, 0.2)];
+        for (z, x) in [(-1.05, 12.65), (-2.3, 11.9), (-3.55, 11.9)] {
+            let r = |v: f64| (v * 1e9).round() / 1e9;
+            want.extend([
+                (4.9, z),
+                (x, z),
+                (r(x - 1.0), r(z + 1.0)),
+                (4.9, r(z + 1.0)),
+            ]);
+        }
+        // The moved contour at FF1; home Z first (there), then X.
+        want.extend([(5.9, -4.8), (11.9, -4.8), (11.9, -1.8), (13.9, 0.2)]);
+        want.extend([(24.9, 0.2), (4.9, 0.2)]);
+        want.extend(COUNTERBORE_FINISHING);
+        for diamof in [false, true] {
+            let b = counterbore(12, diamof);
+            assert_near(&ends(&b), &want);
+            let feeds: Vec<f64> = b
+                .iter()
+                .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+                .map(|b| b.modal.feed)
+                .collect();
+            assert_eq!(feeds, [[0.25; 7].as_slice(), &[0.08; 4]].concat());
+        }
+        // VARI 8: the finishing alone, from the same S.
+        let mut want = vec![(4.0, 5.0), (4.9, 0.2)];
+        want.extend(COUNTERBORE_FINISHING);
+        for diamof in [false, true] {
+            assert_near(&ends(&counterbore(8, diamof)), &want);
+        }
     }
 
     #[test]
@@ -1194,6 +1344,13 @@ mod tests {
             .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
             .collect();
         assert_eq!(slow, [(14.0, -4.0)]);
+        // Radius programming (DIAMOF, the contour and the start in radii): the same moves.
+        let radii = "G1 X5 Z-6\nX10\nZ-2\nX14 Z-4\nX18\nZ0\nX25\n";
+        let r = run(
+            &format!("{HEAD}DIAMOF\nG0 X4 Z5\nCYCLE95(\"G\", 2.5, , , , 0.3, 0.1, , 4, , , 1)\n"),
+            &[("G.SPF", radii)],
+        );
+        assert_eq!(ends(&r), want);
     }
 
     /// The alarm of cycle `cycle` (line 3) with SHAFT.SPF beside it: code, program, line,
