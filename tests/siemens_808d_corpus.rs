@@ -11,7 +11,7 @@
 mod corpus;
 
 use corpus::*;
-use nc_kernel::{AlarmCode, Block, MotionKind, ToolTable};
+use nc_kernel::{AlarmCode, Block, MotionKind, Segment, ToolTable};
 
 const CORPUS: Corpus = Corpus {
     dir: "tests/corpus/siemens-808d",
@@ -646,4 +646,389 @@ fn cycle95_face_roughing_and_finishing_agree_on_the_compensated_tip_path() {
             "roughing {r:?}, finishing {f:?}"
         );
     }
+}
+
+#[test]
+fn d31_cycle95_bore_diamof() {
+    // (X radius, Z) as the header works them out: the roughing (VARI 3) from S (9.5, 0.7),
+    // then the finishing (VARI 7) from its own S (10, 0.5).
+    let f = "d31_cycle95_bore_diamof.mpf";
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let mut want = vec![p(5.0, 5.0), p(9.5, 0.7)];
+    for (level, z) in [(12.0, -19.8), (14.5, -19.8), (17.0, -10.3)] {
+        want.extend([p(level, 0.7), p(level, z), p(level - 0.5, z + 0.5)]);
+        want.push(p(level - 0.5, 0.7));
+    }
+    want.extend([p(19.5, 0.2), p(19.5, -7.8), p(15.5, -11.8), p(15.5, -19.8)]);
+    want.extend([p(9.5, -19.8), p(9.5, 0.7), p(5.0, 5.0)]);
+    want.extend([p(10.0, 0.5), p(20.0, 0.0), p(20.0, -8.0), p(16.0, -12.0)]);
+    want.extend([p(16.0, -20.0), p(10.0, -20.0), p(10.0, 0.5), p(5.0, 10.0)]);
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    // Three passes and the moved contour's four moves at FF1 0.3, the finishing at FF3 0.1.
+    let feeds: Vec<f64> = cut_feeds(&b).iter().map(|c| c.1).collect();
+    assert_eq!(feeds, [[0.3; 7].as_slice(), &[0.1; 4]].concat(), "{f}");
+}
+
+#[test]
+fn d32_cycle95_face_undercut_diamof() {
+    let f = "d32_cycle95_face_undercut_diamof.mpf";
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let want = [
+        p(30.0, 5.0),
+        p(26.5, 0.25),
+        // Z -1.75: from the S-A'm line to the wall X 20, then the groove's stretch
+        p(26.0, 0.25),
+        p(26.0, -1.75),
+        p(20.0, -1.75),
+        p(21.5, -0.25),
+        p(21.5, 0.25),
+        p(15.5, 0.25),
+        p(15.5, -1.75),
+        p(10.0, -1.75),
+        p(11.5, -0.25),
+        // Z -3.75: from the line to the wall X 20
+        p(11.5, 0.25),
+        p(25.5, 0.25),
+        p(25.5, -3.75),
+        p(20.0, -3.75),
+        p(21.5, -2.25),
+        // back to S, the moved contour, back to S
+        p(21.5, 0.25),
+        p(26.5, 0.25),
+        p(25.0, -5.75),
+        p(20.0, -5.75),
+        p(20.0, -1.25),
+        p(16.0, -1.25),
+        p(14.0, -3.25),
+        p(10.0, -3.25),
+        p(10.0, 0.25),
+        p(0.0, 0.25),
+        p(26.5, 0.25),
+        // finishing
+        p(25.0, -6.0),
+        p(20.0, -6.0),
+        p(20.0, -1.5),
+        p(16.0, -1.5),
+        p(14.0, -3.5),
+        p(10.0, -3.5),
+        p(10.0, 0.0),
+        p(0.0, 0.0),
+        p(0.0, 0.25),
+        p(26.5, 0.25),
+        p(30.0, 10.0),
+    ];
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    // FF2 0.1 for the in-feed into the groove and its flank along the moved contour; FF1
+    // 0.2 for the other roughing cuts; the finishing all at FF3 0.08.
+    let cuts = cut_feeds(&b);
+    let (rough, finish) = cuts.split_at(4 + 7);
+    let slow: Vec<P> = rough.iter().filter(|c| c.1 == 0.1).map(|c| c.0).collect();
+    assert!(
+        slow.len() == 2 && near(slow[0], p(15.5, -1.75)) && near(slow[1], p(14.0, -3.25)),
+        "{f}: {cuts:?}"
+    );
+    assert!(rough.iter().all(|c| c.1 == 0.1 || c.1 == 0.2), "{f}");
+    assert!(
+        finish.iter().all(|c| c.1 == 0.08) && finish.len() == 7,
+        "{f}"
+    );
+}
+
+/// A point of the prepared path (X radius, Z) and, for an arc's end, the arc's centre.
+type Tip = ([f64; 2], Option<[f64; 2]>);
+
+/// The prepared path of the CYCLE95 block at line `line` of `text`, with `tools`: the
+/// roughing (every segment before the first compensated one: uncompensated blocks the
+/// cycle has compensated itself) and the finishing (the start of its first compensated
+/// feed move, then every compensated feed move's end), tip points P.
+fn prepared_cycle(name: &str, text: &str, line: u32, tools: &ToolTable) -> (Vec<Tip>, Vec<Tip>) {
+    let segs = nc_kernel::prepare(name, text, &CORPUS.machine_for(name), tools)
+        .unwrap_or_else(|a| panic!("{name}: {a}"));
+    let cycle: Vec<&Segment> = segs.iter().filter(|s| s.source.line == line).collect();
+    let compensated = |s: &Segment| s.role != nc_kernel::Role::Uncompensated;
+    let rough = cycle
+        .iter()
+        .take_while(|s| !compensated(s))
+        .map(|s| tip(s))
+        .collect();
+    let cuts: Vec<&Segment> = cycle
+        .into_iter()
+        .filter(|s| compensated(s) && !s.rapid)
+        .collect();
+    let mut finish: Vec<Tip> = cuts
+        .first()
+        .map(|s| ([s.from[0], s.from[2]], None))
+        .into_iter()
+        .collect();
+    finish.extend(cuts.iter().map(|s| tip(s)));
+    (rough, finish)
+}
+
+/// A segment's end and, for an arc, its centre.
+fn tip(s: &Segment) -> Tip {
+    let centre = match s.shape {
+        nc_kernel::Shape::Arc { center, .. } => Some([center[0], center[2]]),
+        nc_kernel::Shape::Line => None,
+    };
+    ([s.to[0], s.to[2]], centre)
+}
+
+/// `got` ends with the points and arc centres `want` (to 1e-9).
+fn assert_tips(what: &str, got: &[Tip], want: &[Tip]) {
+    assert!(got.len() >= want.len(), "{what}: {got:?}");
+    let tail = &got[got.len() - want.len()..];
+    let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+    for (g, w) in tail.iter().zip(want) {
+        let centres = match (g.1, w.1) {
+            (Some(a), Some(b)) => close(a, b),
+            (a, b) => a.is_none() && b.is_none(),
+        };
+        assert!(
+            close(g.0, w.0) && centres,
+            "{what}: {g:?}, by hand {w:?}\n{got:?}"
+        );
+    }
+}
+
+/// The corpus program `file` as text, and the line of its first CYCLE95 block.
+fn cycle_line(file: &str) -> (String, u32) {
+    let text = std::fs::read_to_string(CORPUS.path_of(file)).expect("corpus file");
+    let line = text
+        .lines()
+        .position(|l| l.contains(" CYCLE95("))
+        .expect("a CYCLE95 block") as u32
+        + 1;
+    (text, line)
+}
+
+/// `centre` moved to the tip P by `v` (X, Z), arcs' centres with it.
+fn to_tip(centre: &[Tip], v: [f64; 2]) -> Vec<Tip> {
+    let mv = |p: [f64; 2]| [p[0] + v[0], p[1] + v[1]];
+    centre.iter().map(|&(p, c)| (mv(p), c.map(mv))).collect()
+}
+
+/// d33's contour: the nose centre's path on its equidistant at `d` outside (right of
+/// travel in (Z, X)), from A' to B, every element's end (X radius, Z) and the rounding's
+/// centre. The concave corners (10, -10) and (18, -25) are trimmed where the parallels
+/// meet; the rounding R4 about (14, -14) becomes R 4 + d about the same centre.
+fn d33_centre_path(d: f64) -> Vec<Tip> {
+    vec![
+        ([10.0 + d, 0.0], None),
+        ([10.0 + d, -10.0 + d], None),
+        ([14.0, -10.0 + d], None),
+        ([18.0 + d, -14.0], Some([14.0, -14.0])),
+        ([18.0 + d, -25.0 + d], None),
+        ([22.0, -25.0 + d], None),
+    ]
+}
+
+#[test]
+fn d33_cycle95_nose_fal_finishing() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let f = "d33_cycle95_nose_fal_finishing.mpf";
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let mut want = vec![p(25.0, 5.0), p(21.2, -0.3)];
+    let arc = |level: f64| -14.8 + (25.0 - (level - 13.2f64).powi(2)).sqrt();
+    for (level, z) in [
+        (19.0, -24.8),
+        (16.8, arc(16.8)),
+        (14.6, -10.0),
+        (12.4, -9.8),
+    ] {
+        want.extend([p(level, -0.3), p(level, z), p(level + 0.5, z + 0.5)]);
+        want.push(p(level + 0.5, -0.3));
+    }
+    want.extend([p(10.2, -0.8), p(10.2, -9.8), p(13.2, -9.8), p(18.2, -14.8)]);
+    want.extend([p(18.2, -24.8), p(21.2, -24.8), p(21.2, -0.3)]);
+    want.extend([p(10.0, 0.0), p(10.0, -10.0), p(14.0, -10.0), p(18.0, -14.0)]);
+    want.extend([
+        p(18.0, -25.0),
+        p(22.0, -25.0),
+        p(21.2, -25.0),
+        p(21.2, -0.3),
+    ]);
+    want.push(p(30.0, 10.0));
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    assert_arcs(
+        f,
+        &b,
+        &[
+            (MotionKind::ArcCcw, [13.2, 0.0, -14.8]),
+            (MotionKind::ArcCcw, [14.0, 0.0, -14.0]),
+        ],
+    );
+    // Prepared: the roughing's run along the contour is the nose centre's path at FAL +
+    // R = 1.0, the finishing's (compensated by preparation, G42) at R = 0.8, both moved to
+    // the tip by P - S = (-0.8, -0.8) of cutting edge 3.
+    let (text, line) = cycle_line(f);
+    let (rough, finish) = prepared_cycle(f, &text, line, &ToolTable::builtin());
+    let v = [-0.8, -0.8];
+    let mut run = to_tip(&d33_centre_path(1.0), v);
+    run.push(([21.2, -0.3], None)); // back to S
+    assert_tips(&format!("{f}: roughing"), &rough, &run);
+    let contour = to_tip(&d33_centre_path(0.8), v);
+    assert_eq!(finish.len(), contour.len(), "{f}: {finish:?}");
+    assert_tips(&format!("{f}: finishing"), &finish, &contour);
+}
+
+/// d34's contour (d12's undercut): the nose centre's path on its equidistant at `d`
+/// outside (right of travel), from A' to B. Convex edges (14, -10), (14, -14), (14, -22)
+/// are rounded by arcs of d about them; the concave corners are trimmed where the
+/// parallels meet: the taper X = Z + 28 moves by (+q, -q) in (X, Z), q = d/sqrt 2, to
+/// X = Z + 28 + 2q, which meets X 11 + d at Z = d - 17 - 2q.
+fn d34_centre_path(d: f64) -> Vec<Tip> {
+    let q = d / 2f64.sqrt();
+    vec![
+        ([8.0 + d, 0.0], None),
+        ([8.0 + d, -10.0 + d], None),
+        ([14.0, -10.0 + d], None),
+        ([14.0 + d, -10.0], Some([14.0, -10.0])),
+        ([14.0 + d, -14.0], None),
+        ([14.0 + q, -14.0 - q], Some([14.0, -14.0])),
+        ([11.0 + d, d - 17.0 - 2.0 * q], None),
+        ([11.0 + d, -22.0 + d], None),
+        ([14.0, -22.0 + d], None),
+        ([14.0 + d, -22.0], Some([14.0, -22.0])),
+        ([14.0 + d, -30.0 + d], None),
+        ([18.0, -30.0 + d], None),
+    ]
+}
+
+#[test]
+fn d34_cycle95_undercut_nose() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let f = "d34_cycle95_undercut_nose.mpf";
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    // The moved tip path's taper: X = Z + 28 + 2q less the tip's (0.8, 0.8), plus FALX
+    // 0.2 in X: X = Z + 28.2 + 0.8 sqrt 2; it passes X 12.8 at:
+    let taper = 12.8 - (28.2 + 0.8 * 2f64.sqrt());
+    let mut want = vec![p(25.0, 5.0), p(17.4, -0.3)];
+    // X 15.1: from the S-A'm line to the last face
+    want.extend([
+        p(17.4, -0.425),
+        p(15.1, -0.425),
+        p(15.1, -30.0),
+        p(15.6, -29.5),
+    ]);
+    // X 12.8: in front of the first collar, then in the undercut (in at FF2)
+    want.extend([
+        p(15.6, -0.55),
+        p(12.8, -0.55),
+        p(12.8, -10.0),
+        p(13.3, -9.5),
+    ]);
+    want.extend([
+        p(15.6, -9.5),
+        p(15.6, taper),
+        p(15.1, taper),
+        p(12.8, taper),
+    ]);
+    want.extend([p(12.8, -22.0), p(13.3, -21.5)]);
+    // X 10.5, back to S
+    want.extend([
+        p(15.6, -21.5),
+        p(15.6, -0.675),
+        p(10.5, -0.675),
+        p(10.5, -10.0),
+    ]);
+    want.extend([p(11.0, -9.5), p(17.4, -9.5), p(17.4, -0.3)]);
+    // The moved tip path from S, back to S; the finishing
+    let v = [-0.8, -0.8];
+    let run = to_tip(&d34_centre_path(0.8), [v[0] + 0.2, v[1]]);
+    want.extend(run.iter().map(|t| p(t.0[0], t.0[1])));
+    want.push(p(17.4, -0.3));
+    want.extend([p(8.0, 0.0), p(8.0, -10.0), p(14.0, -10.0), p(14.0, -14.0)]);
+    want.extend([
+        p(11.0, -17.0),
+        p(11.0, -22.0),
+        p(14.0, -22.0),
+        p(14.0, -30.0),
+    ]);
+    want.extend([p(18.0, -30.0), p(17.4, -30.0), p(17.4, -0.3), p(30.0, 10.0)]);
+    let b = clean(f, &want);
+    assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
+    // FF2 0.1 for the in-feed into the undercut, and for the edge's arc and the taper
+    // down into it along the moved tip path.
+    let slow: Vec<P> = cut_feeds(&b)
+        .iter()
+        .filter(|c| c.1 == 0.1)
+        .map(|c| c.0)
+        .collect();
+    let at = |k: usize| p(run[k].0[0], run[k].0[1]);
+    let by_hand = [p(12.8, taper), at(5), at(6)];
+    assert_eq!(slow.len(), by_hand.len(), "{f}: {slow:?}");
+    assert!(
+        slow.iter().zip(&by_hand).all(|(s, h)| near(*s, *h)),
+        "{f}: {slow:?}"
+    );
+    // Prepared: the roughing's run is the nose centre's path at R 0.8 moved to the tip and
+    // by FALX; the finishing's tip path is the same less FALX.
+    let (text, line) = cycle_line(f);
+    let (rough, finish) = prepared_cycle(f, &text, line, &ToolTable::builtin());
+    let mut tail = run.clone();
+    tail.push(([17.4, -0.3], None));
+    assert_tips(&format!("{f}: roughing"), &rough, &tail);
+    let contour = to_tip(&d34_centre_path(0.8), v);
+    assert_eq!(finish.len(), contour.len(), "{f}: {finish:?}");
+    assert_tips(&format!("{f}: finishing"), &finish, &contour);
+}
+
+/// A boring bar: nose R 0.4, cutting edge position 2 (P - S = (-R, +R) in (Z, X): the tip
+/// towards the chuck and out into the bore's wall).
+const BORING_BAR: &str = "[[offset]]\nt = 4\nd = 1\nradius = 0.4\nlength = 0.0\nedge = 2\n";
+
+/// The bore of d31 (diameters here): the nose centre's path on its equidistant at `d`
+/// inside (left of travel in (Z, X), towards the centre), from A' to B. The bore's wall X
+/// 20 meets the taper X = Z + 28 at a corner the nose cannot reach: both parallels
+/// trimmed where they meet, the taper's moved by (-h, +h) in (X, Z), h = d/sqrt 2, to X =
+/// Z + 28 - 2h, which meets X 20 - d at Z = -8 - d + 2h; the taper's end (16, -12) is an
+/// edge the nose goes round (an arc of d about it); the corner (16, -20) trimmed.
+fn bore_centre_path(d: f64) -> Vec<Tip> {
+    let h = d / 2f64.sqrt();
+    vec![
+        ([20.0 - d, 0.0], None),
+        ([20.0 - d, -8.0 - d + 2.0 * h], None),
+        ([16.0 - h, -12.0 + h], None),
+        ([16.0 - d, -12.0], Some([16.0, -12.0])),
+        ([16.0 - d, -20.0 + d], None),
+        ([10.0, -20.0 + d], None),
+    ]
+}
+
+#[test]
+fn cycle95_inside_rough_and_finish_on_the_boring_bars_tip_path() {
+    // VARI 11 (complete, longitudinal inside), FAL 0.1, the boring bar (R 0.4, edge 2): the
+    // cycle's side G41. Roughing: the nose centre at FAL + R = 0.5 inside, the tip at
+    // centre + (0.4, -0.4) in (X, Z): A'm (19.9, -0.4), the taper's parallel from Z
+    // -8.5 + 0.5 sqrt 2 - 0.4 = -8.192893 (X = Z + 28.8 - 0.5 sqrt 2) to (16.046447,
+    // -12.046447), the arc about (16.4, -12.4) to (15.9, -12.4), (15.9, -19.9), Bm (10.4,
+    // -19.9). S = (the smallest X 10.4, -0.4 + _VRT 0.5). Stock 9.5, MID 2.5: 4 cuts of
+    // 2.375, passes at 12.775 and 15.15 (the face at -19.9) and 17.525 (the taper at Z =
+    // 17.525 - 28.8 + 0.5 sqrt 2), each lifted off 0.5 (X in, Z back).
+    let text = "N10 G18 G90 G95 T4 D1 S1000 M3\nN20 G0 X10 Z5\n\
+        N30 CYCLE95(\"B_A:B_E\", 2.5, , , 0.1, 0.3, , 0.1, 11, , , 0.5)\nN40 G0 X10 Z10\n\
+        N50 M30\nB_A: G1 X40 Z0\nZ-8\nX32 Z-12\nZ-20\nB_E: X20\n";
+    let tools = ToolTable::from_toml_str(BORING_BAR, "boring bar").expect("tool table");
+    let (rough, finish) = prepared_cycle("bore", text, 3, &tools);
+    let v = [0.4, -0.4];
+    let s = [10.4, 0.1];
+    let taper = 17.525 - 28.8 + 0.5 * 2f64.sqrt();
+    let mut want: Vec<Tip> = vec![(s, None)];
+    for (level, z) in [(12.775, -19.9), (15.15, -19.9), (17.525, taper)] {
+        let up = level - 0.5;
+        want.extend([[level, s[1]], [level, z], [up, z + 0.5], [up, s[1]]].map(|p| (p, None)));
+    }
+    want.extend(to_tip(&bore_centre_path(0.5), v));
+    want.push((s, None));
+    assert_eq!(rough.len(), want.len(), "{rough:?}");
+    assert_tips("roughing", &rough, &want);
+    // Finishing: preparation's G41 puts the nose centre at R 0.4 inside, the tip at
+    // centre + (0.4, -0.4): on the wall X 16 and the face Z -20 the tip runs on the
+    // contour, on the bore X 20 too.
+    let contour = to_tip(&bore_centre_path(0.4), v);
+    assert_eq!(finish.len(), contour.len(), "{finish:?}");
+    assert_tips("finishing", &finish, &contour);
 }
