@@ -869,3 +869,145 @@ fn t31_g72_g70_nose_radius_compensation() {
     }
     check("t31_g72_g70_nose_radius_compensation.nc");
 }
+
+/// The prepared path of a corpus program: tool tip segments.
+fn prepared(file: &str) -> Vec<nc_kernel::Segment> {
+    let text = std::fs::read_to_string(path_of(file)).unwrap();
+    nc_kernel::prepare(file, &text, &machine(), &ToolTable::builtin())
+        .unwrap_or_else(|a| panic!("{a}"))
+}
+
+/// (X radius, Z) of each segment's end, and (centre X, Z, counter-clockwise) of an arc.
+type Tip = ([f64; 2], Option<(f64, f64, bool)>);
+
+fn tips_of_line(segs: &[nc_kernel::Segment], line: u32) -> Vec<Tip> {
+    segs.iter()
+        .filter(|s| s.source.line == line)
+        .map(|s| {
+            let arc = match s.shape {
+                nc_kernel::Shape::Arc { center, ccw, .. } => Some((center[0], center[2], ccw)),
+                nc_kernel::Shape::Line => None,
+            };
+            ([s.to[0], s.to[2]], arc)
+        })
+        .collect()
+}
+
+fn assert_tips(file: &str, got: &[Tip], want: &[Tip]) {
+    assert_eq!(got.len(), want.len(), "{file}: {got:?}");
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        let arcs = match (g.1, w.1) {
+            (Some(a), Some(b)) => near(a.0, b.0) && near(a.1, b.1) && a.2 == b.2,
+            (a, b) => a.is_none() && b.is_none(),
+        };
+        let ok = near(g.0[0], w.0[0]) && near(g.0[1], w.0[1]) && arcs;
+        assert!(ok, "{file}: segment {k}: {g:?}, by hand {w:?}");
+    }
+}
+
+#[test]
+fn t31_g70_tip_path_is_the_nose_centre_equidistant_shifted_to_the_tip() {
+    // G70 (line 27) prepared with G41, nose 0.8, edge position 3 (tip = centre − (0.8,
+    // 0.8)). The nose centre, left of travel: on the face along −X at Z −6 + 0.8; on the
+    // taper (30, −6) → (20, −2), direction (Z, X) = (4, −10)/√116, moved along its left
+    // normal (10, 4)/√116 by 0.8, which is 0.8·√116/4 = 0.2·√116 in X at a fixed Z: X =
+    // 30 + 0.2√116 − 2.5(Z + 6); the concave corner with the face at Z −5.2: X = 28 +
+    // 0.2√116; the taper's end (20 + 3.2/√116, −2 + 8/√116); the convex edge (20, −2)
+    // rounded at 0.8 (a right turn in (Z, X): clockwise) to (20, −1.2); the face at Z −1.2
+    // to X 10; the G40 block from there to the programmed (10, 2); home X first.
+    let s = 116f64.sqrt();
+    let file = "t31_g72_g70_nose_radius_compensation.nc";
+    let want: [Tip; 7] = [
+        ([42.0 - 0.8, -6.0], None), // the selection from A to the first S + v
+        ([27.2 + 0.2 * s, -6.0], None),
+        ([19.2 + 3.2 / s, -2.8 + 8.0 / s], None),
+        ([19.2, -2.0], Some((19.2, -2.8, false))),
+        ([9.2, -2.0], None),
+        ([10.0, 2.0], None),
+        ([42.0, 2.0], None),
+    ];
+    assert_tips(file, &tips_of_line(&prepared(file), 27), &want);
+}
+
+/// t32's moved tip path (X radius, Z): q = 0.8/√2, b = 0.8·√2; the header derives it.
+fn t32_tip_path(u: f64) -> [[f64; 2]; 9] {
+    let (q, b) = (0.8 / 2f64.sqrt(), 0.8 * 2f64.sqrt());
+    [
+        [12.0 + u, 1.2],
+        [12.0 + u, -5.8],
+        [11.2 + u + q, -5.8 - q],
+        [6.0 + u, -11.0 - b],
+        [6.0 + u, -16.6 + b],
+        [11.2 + u + q, -21.8 + q],
+        [12.0 + u, -21.8],
+        [12.0 + u, -25.8],
+        [20.0 + u, -25.0],
+    ]
+}
+
+#[test]
+fn t32_g71_type_ii_nose_radius_compensation() {
+    // The arithmetic is in the program's header; (X radius, Z) below.
+    let b = 0.8 * 2f64.sqrt();
+    let (c1, c2) = (17.2 + b, -10.4 + b); // the moved tip path's flanks: X − Z, X + Z
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let (z15, z13) = (2.0 - 0.8 * 2.0 / 4.8, 2.0 - 0.8 * 4.0 / 4.8); // on N10's move
+    let mut want = vec![
+        p(17.0, 2.0),
+        p(17.0, z15),
+        p(15.0, z15), // in at rapid
+        p(15.0, -25.52),
+        p(15.5, -25.02),
+        p(17.0, -25.02), // up to A's X: behind the ramp's end
+        p(17.0, z13),
+        p(13.0, z13),
+        p(13.0, -25.72),
+        p(13.5, -25.22),
+        p(17.0, -25.22),
+    ];
+    for (level, over) in [(11.0, 17.0), (9.0, 11.5), (7.0, 9.5)] {
+        let (z0, z1) = (level - c1, c2 - level);
+        want.extend([
+            p(over, z0),
+            p(level + 2.0, z0), // down to the level above at rapid
+            p(level, z0),       // in at F
+            p(level, z1),
+            p(level + 0.5, z1 + 0.5),
+        ]);
+    }
+    want.extend([p(17.0, c2 - 7.0 + 0.5), p(17.0, 2.0)]);
+    want.extend(t32_tip_path(0.2).map(|[x, z]| p(x, z)));
+    want.extend([p(17.0, -25.0), p(17.0, 2.0)]);
+    // G70: the shape as programmed, home X first; then G0 X80 Z50.
+    want.extend(
+        [
+            (12.0, 2.0),
+            (12.0, -5.0),
+            (6.0, -11.0),
+            (6.0, -15.0),
+            (12.0, -21.0),
+            (12.0, -25.0),
+            (20.0, -25.0),
+            (17.0, -25.0),
+            (17.0, 2.0),
+            (40.0, 50.0),
+        ]
+        .map(|(x, z)| p(x, z)),
+    );
+    clean("t32_g71_type_ii_nose_radius_compensation.nc", &want);
+}
+
+#[test]
+fn t32_g70_tip_path_is_the_nose_centre_equidistant_shifted_to_the_tip() {
+    // G70 (line 41) prepared with G42, nose 0.8, edge position 3: the tip path of the
+    // header without the allowance, the convex edges rounded counter-clockwise about the
+    // edges less (0.8, 0.8); then home X first.
+    let file = "t32_g71_type_ii_nose_radius_compensation.nc";
+    let t = t32_tip_path(0.0);
+    let mut want: Vec<Tip> = t.iter().map(|&e| (e, None)).collect();
+    want[2].1 = Some((11.2, -5.8, true));
+    want[6].1 = Some((11.2, -21.8, true));
+    want.extend([([17.0, -25.0], None), ([17.0, 2.0], None)]);
+    assert_tips(file, &tips_of_line(&prepared(file), 41), &want);
+}
