@@ -674,50 +674,31 @@ fn d31_cycle95_bore_diamof() {
 fn d32_cycle95_face_undercut_diamof() {
     let f = "d32_cycle95_face_undercut_diamof.mpf";
     let p = |x: f64, z: f64| [x, 0.0, z];
-    let want = [
-        p(30.0, 5.0),
-        p(26.5, 0.25),
-        // Z -1.75: from the S-A'm line to the wall X 20, then the groove's stretch
+    let mut want = vec![p(30.0, 5.0), p(26.5, 0.25)];
+    // Z -1.75: from the S-A'm line to the wall X 20, then the groove's stretch
+    want.extend([
         p(26.0, 0.25),
         p(26.0, -1.75),
         p(20.0, -1.75),
         p(21.5, -0.25),
-        p(21.5, 0.25),
-        p(15.5, 0.25),
-        p(15.5, -1.75),
-        p(10.0, -1.75),
-        p(11.5, -0.25),
-        // Z -3.75: from the line to the wall X 20
-        p(11.5, 0.25),
-        p(25.5, 0.25),
-        p(25.5, -3.75),
-        p(20.0, -3.75),
-        p(21.5, -2.25),
-        // back to S, the moved contour, back to S
-        p(21.5, 0.25),
-        p(26.5, 0.25),
-        p(25.0, -5.75),
-        p(20.0, -5.75),
+    ]);
+    want.extend([p(21.5, 0.25), p(15.5, 0.25), p(15.5, -1.75), p(10.0, -1.75)]);
+    // Z -3.75: from the line to the wall X 20
+    want.extend([p(11.5, -0.25), p(11.5, 0.25), p(25.5, 0.25), p(25.5, -3.75)]);
+    want.extend([p(20.0, -3.75), p(21.5, -2.25)]);
+    // back to S, the moved contour, back to S
+    want.extend([p(21.5, 0.25), p(26.5, 0.25), p(25.0, -5.75), p(20.0, -5.75)]);
+    want.extend([
         p(20.0, -1.25),
         p(16.0, -1.25),
         p(14.0, -3.25),
         p(10.0, -3.25),
-        p(10.0, 0.25),
-        p(0.0, 0.25),
-        p(26.5, 0.25),
-        // finishing
-        p(25.0, -6.0),
-        p(20.0, -6.0),
-        p(20.0, -1.5),
-        p(16.0, -1.5),
-        p(14.0, -3.5),
-        p(10.0, -3.5),
-        p(10.0, 0.0),
-        p(0.0, 0.0),
-        p(0.0, 0.25),
-        p(26.5, 0.25),
-        p(30.0, 10.0),
-    ];
+    ]);
+    want.extend([p(10.0, 0.25), p(0.0, 0.25), p(26.5, 0.25)]);
+    // finishing, back to S (Z first), the next block
+    want.extend([p(25.0, -6.0), p(20.0, -6.0), p(20.0, -1.5), p(16.0, -1.5)]);
+    want.extend([p(14.0, -3.5), p(10.0, -3.5), p(10.0, 0.0), p(0.0, 0.0)]);
+    want.extend([p(0.0, 0.25), p(26.5, 0.25), p(30.0, 10.0)]);
     let b = clean(f, &want);
     assert_eq!(ends(&b).len(), want.len(), "{f}: {:?}", ends(&b));
     // FF2 0.1 for the in-feed into the groove and its flank along the moved contour; FF1
@@ -863,15 +844,9 @@ fn d33_cycle95_nose_fal_finishing() {
     // Prepared: the roughing's run along the contour is the nose centre's path at FAL +
     // R = 1.0, the finishing's (compensated by preparation, G42) at R = 0.8, both moved to
     // the tip by P - S = (-0.8, -0.8) of cutting edge 3.
-    let (text, line) = cycle_line(f);
-    let (rough, finish) = prepared_cycle(f, &text, line, &ToolTable::builtin());
     let v = [-0.8, -0.8];
-    let mut run = to_tip(&d33_centre_path(1.0), v);
-    run.push(([21.2, -0.3], None)); // back to S
-    assert_tips(&format!("{f}: roughing"), &rough, &run);
-    let contour = to_tip(&d33_centre_path(0.8), v);
-    assert_eq!(finish.len(), contour.len(), "{f}: {finish:?}");
-    assert_tips(&format!("{f}: finishing"), &finish, &contour);
+    let (run, contour) = (d33_centre_path(1.0), d33_centre_path(0.8));
+    assert_prepared(f, &to_tip(&run, v), [21.2, -0.3], &to_tip(&contour, v));
 }
 
 /// d34's contour (d12's undercut): the nose centre's path on its equidistant at `d`
@@ -897,6 +872,31 @@ fn d34_centre_path(d: f64) -> Vec<Tip> {
     ]
 }
 
+/// d34's roughing levels up to the return to S (X radius, Z), as its header works them
+/// out; `taper` is where the moved tip path's taper passes X 12.8.
+fn d34_levels(taper: f64) -> Vec<P> {
+    let p = |x: f64, z: f64| [x, 0.0, z];
+    let mut want = vec![p(17.4, -0.425), p(15.1, -0.425), p(15.1, -30.0)];
+    // X 15.1 lifted off; X 12.8 in front of the first collar, then in the undercut
+    want.extend([
+        p(15.6, -29.5),
+        p(15.6, -0.55),
+        p(12.8, -0.55),
+        p(12.8, -10.0),
+    ]);
+    want.extend([p(13.3, -9.5), p(15.6, -9.5), p(15.6, taper), p(15.1, taper)]);
+    want.extend([p(12.8, taper), p(12.8, -22.0), p(13.3, -21.5)]);
+    // X 10.5, back to S
+    want.extend([
+        p(15.6, -21.5),
+        p(15.6, -0.675),
+        p(10.5, -0.675),
+        p(10.5, -10.0),
+    ]);
+    want.extend([p(11.0, -9.5), p(17.4, -9.5), p(17.4, -0.3)]);
+    want
+}
+
 #[test]
 fn d34_cycle95_undercut_nose() {
     // The arithmetic is in the program's header; (X radius, Z) below.
@@ -906,36 +906,9 @@ fn d34_cycle95_undercut_nose() {
     // 0.2 in X: X = Z + 28.2 + 0.8 sqrt 2; it passes X 12.8 at:
     let taper = 12.8 - (28.2 + 0.8 * 2f64.sqrt());
     let mut want = vec![p(25.0, 5.0), p(17.4, -0.3)];
-    // X 15.1: from the S-A'm line to the last face
-    want.extend([
-        p(17.4, -0.425),
-        p(15.1, -0.425),
-        p(15.1, -30.0),
-        p(15.6, -29.5),
-    ]);
-    // X 12.8: in front of the first collar, then in the undercut (in at FF2)
-    want.extend([
-        p(15.6, -0.55),
-        p(12.8, -0.55),
-        p(12.8, -10.0),
-        p(13.3, -9.5),
-    ]);
-    want.extend([
-        p(15.6, -9.5),
-        p(15.6, taper),
-        p(15.1, taper),
-        p(12.8, taper),
-    ]);
-    want.extend([p(12.8, -22.0), p(13.3, -21.5)]);
-    // X 10.5, back to S
-    want.extend([
-        p(15.6, -21.5),
-        p(15.6, -0.675),
-        p(10.5, -0.675),
-        p(10.5, -10.0),
-    ]);
-    want.extend([p(11.0, -9.5), p(17.4, -9.5), p(17.4, -0.3)]);
-    // The moved tip path from S, back to S; the finishing
+    want.extend(d34_levels(taper));
+    // The moved tip path from S (the nose centre's at R 0.8, moved to the tip and by
+    // FALX), back to S; the finishing
     let v = [-0.8, -0.8];
     let run = to_tip(&d34_centre_path(0.8), [v[0] + 0.2, v[1]]);
     want.extend(run.iter().map(|t| p(t.0[0], t.0[1])));
@@ -964,16 +937,22 @@ fn d34_cycle95_undercut_nose() {
         slow.iter().zip(&by_hand).all(|(s, h)| near(*s, *h)),
         "{f}: {slow:?}"
     );
-    // Prepared: the roughing's run is the nose centre's path at R 0.8 moved to the tip and
-    // by FALX; the finishing's tip path is the same less FALX.
-    let (text, line) = cycle_line(f);
-    let (rough, finish) = prepared_cycle(f, &text, line, &ToolTable::builtin());
-    let mut tail = run.clone();
-    tail.push(([17.4, -0.3], None));
-    assert_tips(&format!("{f}: roughing"), &rough, &tail);
-    let contour = to_tip(&d34_centre_path(0.8), v);
-    assert_eq!(finish.len(), contour.len(), "{f}: {finish:?}");
-    assert_tips(&format!("{f}: finishing"), &finish, &contour);
+    // Prepared: the finishing's tip path is the nose centre's at R 0.8 moved to the tip,
+    // without FALX.
+    assert_prepared(f, &run, [17.4, -0.3], &to_tip(&d34_centre_path(0.8), v));
+}
+
+/// The prepared path of `file`'s CYCLE95 (the shipped tools): the roughing ends with
+/// `run` (from the G0 to its start) and the return to `s`; the finishing's compensated
+/// tip path, from its start, is `contour`.
+fn assert_prepared(file: &str, run: &[Tip], s: [f64; 2], contour: &[Tip]) {
+    let (text, line) = cycle_line(file);
+    let (rough, finish) = prepared_cycle(file, &text, line, &ToolTable::builtin());
+    let mut tail = run.to_vec();
+    tail.push((s, None));
+    assert_tips(&format!("{file}: roughing"), &rough, &tail);
+    assert_eq!(finish.len(), contour.len(), "{file}: {finish:?}");
+    assert_tips(&format!("{file}: finishing"), &finish, contour);
 }
 
 /// A boring bar: nose R 0.4, cutting edge position 2 (P - S = (-R, +R) in (Z, X): the tip

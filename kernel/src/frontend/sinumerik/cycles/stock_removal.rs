@@ -1006,6 +1006,71 @@ mod tests {
         }
     }
 
+    #[test]
+    fn an_inside_undercut_is_roughed_level_by_level_outwards() {
+        // VARI 3 (roughing, longitudinal inside), an inner groove (radius, Z): A' (16, 0),
+        // (16, −5), a 45° taper out into the groove to (22, −11), (22, −13), its back face
+        // in to (18, −13), (18, −20), B (12, −20). X turns back (goes out again): an
+        // undercut. No allowances, _VRT 1: S = (the smallest X 12, 0 + 1). The deepest
+        // point is the groove's X 22, 10 beyond S: MID 2.5 gives 4 cuts of 2.5, levels at
+        // X 14.5, 17, 19.5; the boundary runs from S to A' first (X = 12 + 4t, Z = 1 − t).
+        // 14.5: from that line (t = 0.625: Z 0.375), in at rapid, to the face at −20;
+        //   lift-off 1 (X in, Z back) to (13.5, −19).
+        // 17: the taper (X = 11 − Z) passes it at Z −6, the stretch ends at the face −20;
+        //   the way there passes only the level 14.5 cut (the stretch's start lies on 17):
+        //   along Z at 14.5 − 1, G0 out to 14.5, in to 17 at FF2; lift-off to (16, −19).
+        // 19.5: the taper at Z −8.5 to the groove's back face at −13; over the bore X 18
+        //   (6 beyond S: two levels cut) at 17 − 1, G0 out to 17, in at FF2; lift-off to
+        //   (18.5, −12), the Z part 1 within the stretch.
+        // Back over the stock to S's X (the way passes the S–A' line), to S; the contour
+        // from S, its taper out into the groove at FF2; home X first (there).
+        let want = [
+            (5.0, 5.0),
+            (12.0, 1.0),
+            (12.0, 0.375),
+            (14.5, 0.375),
+            (14.5, -20.0),
+            (13.5, -19.0),
+            (13.5, -6.0),
+            (14.5, -6.0),
+            (17.0, -6.0),
+            (17.0, -20.0),
+            (16.0, -19.0),
+            (16.0, -8.5),
+            (17.0, -8.5),
+            (19.5, -8.5),
+            (19.5, -13.0),
+            (18.5, -12.0),
+            (12.0, -12.0),
+            (12.0, 1.0),
+            (16.0, 0.0),
+            (16.0, -5.0),
+            (22.0, -11.0),
+            (22.0, -13.0),
+            (18.0, -13.0),
+            (18.0, -20.0),
+            (12.0, -20.0),
+            (12.0, 1.0),
+        ];
+        let cycle = "CYCLE95(\"I\", 2.5, , , , 0.3, 0.1, , 3, , , 1)";
+        let diameters = "G1 X32 Z0\nZ-5\nX44 Z-11\nZ-13\nX36\nZ-20\nX24\n";
+        let radii = "G1 X16 Z0\nZ-5\nX22 Z-11\nZ-13\nX18\nZ-20\nX12\n";
+        for (mode, start, spf) in [("DIAMON", "X10", diameters), ("DIAMOF", "X5", radii)] {
+            let main = format!("G18 G90 G95 T1 D0 S1000 M3\n{mode}\nG0 {start} Z5\n{cycle}\n");
+            let b = run(&main, &[("I.SPF", spf)]);
+            assert_eq!(ends(&b), want, "{mode}");
+            // The in-feeds at 17 and 19.5 and the taper along the contour at FF2 0.1.
+            let slow: Vec<(f64, f64)> = b
+                .iter()
+                .filter(|b| {
+                    b.modal.feed == 0.1 && b.motion.is_some_and(|m| m.kind != MotionKind::Rapid)
+                })
+                .filter_map(|b| b.motion.map(|m| (m.end[0], m.end[2])))
+                .collect();
+            assert_eq!(slow, [(17.0, -6.0), (19.5, -8.5), (22.0, -11.0)], "{mode}");
+        }
+    }
+
     /// An inside face (a counterbore's bottom and wall), from its smallest X at its
     /// deepest Z outwards (radius, Z): A' (6, −5), (12, −5), the wall to (12, −2), a 45°
     /// chamfer to (14, 0), the front face to B (25, 0).
