@@ -291,4 +291,73 @@ mod tests {
         assert_eq!((p.axes, p.index), (["Z", "X"], [Some(1), Some(0)]));
         assert_eq!(wire_index(&md, 1), None);
     }
+
+    /// A lathe's roughing cycle as the kernel's preparation streams it: the plot has every
+    /// G71 pass of the Fanuc shaft sample as a cut of its own (rapids in between), and G70's
+    /// finishing on the part's diameters.
+    #[test]
+    fn a_lathe_roughing_cycle_plots_every_pass_and_the_finishing() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let md = MachineData::load(Some(&root.join("config/fanuc-lathe.toml")), &[]).unwrap();
+        let file = root.join("programs/fanuc-lathe/shaft_rough_finish.nc");
+        let source = std::fs::read_to_string(file).unwrap();
+        // The kernel's own table (config/tools.toml): T0201 is T2 D1, nose R 1.2, and T0101
+        // T1 D1, R 0.8, both in cutting edge position 3 (tip P = nose centre + (−R, −R)).
+        let p = plot("shaft_rough_finish.nc", &source, &md, &ToolTable::builtin());
+        assert_eq!(p.axes, ["Z", "X"]);
+        assert!(p.alarm.is_none(), "{:?}", p.alarm);
+
+        // G71 U2. from A (Z 2, X 22), shape moved by (W, U/2) = (0.1, 0.2), A' tip at X 6.2:
+        // levels 20, 18 … 8. Each ends on the moved tip path of the G42 shape (worked out in
+        // tests/lathe_samples.rs): 20 on the G40 ramp (−71.1, 19.2) … (−69.9, 22.2); 18 and 16
+        // at the face Z −49 + 0.1 (16 where the fillet's tip circle, radius 4 − R about
+        // (−46.1, 16), meets it); 14 on that circle; 12 on the taper's tip line; 10 on the
+        // face at Z −20 + 0.1; 8 on the convex corner's circle, radius R about (−3.1, 7).
+        let r: f64 = 1.2;
+        let s26 = 26f64.sqrt();
+        let (tz, tx) = (
+            -20.0 + r * (1.0 / s26 - 1.0) + 0.1,
+            11.0 + r * (5.0 / s26 - 1.0) + 0.2,
+        );
+        let want = [
+            (20.0, -71.1 + r * 0.8 / 3.0),
+            (18.0, -48.9),
+            (16.0, -46.1 - (4.0 - r)),
+            (14.0, -46.1 - ((4.0 - r).powi(2) - 4.0).sqrt()),
+            (12.0, tz - 5.0 * (12.0 - tx)),
+            (10.0, -19.9),
+            (8.0, -3.1 + (r * r - 1.0).sqrt()),
+        ];
+        let cuts: Vec<&Vec<[f64; 2]>> = p
+            .path
+            .iter()
+            .filter(|l| l.len() == 2 && l[0][0] == 2.0 && l[0][1] == l[1][1])
+            .collect();
+        assert_eq!(cuts.len(), want.len(), "{cuts:?}");
+        for (c, (level, end)) in cuts.iter().zip(want) {
+            assert!(
+                (c[0][1] - level).abs() < 1e-9 && (c[1][0] - end).abs() < 1e-9,
+                "cut {c:?}, by hand X{level} to Z{end}"
+            );
+        }
+
+        // G70 (R 0.8 under G42): from its rapid approach to the tip's first point (Z 2 − R,
+        // X 6) along the shape to the G40 ramp's end (Z −70, X 22), with the tip on the
+        // diameters: Ø16 down to the face at Z −20, Ø26 to the fillet at −45 − R, Ø38 to
+        // −70 − R.
+        let finishing = p
+            .path
+            .iter()
+            .find(|l| l[0] == [2.0 - 0.8, 6.0])
+            .expect("G70's finishing");
+        assert_eq!(finishing.last(), Some(&[-70.0, 22.0]));
+        for corner in [[-20.0, 8.0], [-45.8, 13.0], [-70.8, 19.0]] {
+            assert!(
+                finishing
+                    .iter()
+                    .any(|q| (q[0] - corner[0]).abs() < 1e-9 && (q[1] - corner[1]).abs() < 1e-9),
+                "the finishing passes {corner:?}"
+            );
+        }
+    }
 }
