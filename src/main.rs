@@ -107,10 +107,9 @@ enum Command {
         /// The bridge's port (default: machine data hmi.port; 0: any free one).
         #[arg(long, value_name = "PORT", requires = "hmi")]
         hmi_port: Option<u16>,
-        /// Also start the OPC UA server (docs/opcua.md) on 127.0.0.1, port PORT (default
-        /// 4840; 0: any free one); it ends with the run.
-        #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "4840")]
-        opcua: Option<u16>,
+        // The OPC UA server beside the run (docs/opcua.md); it ends with the run.
+        #[command(flatten)]
+        opcua: softnc_opcua::ServerOptions,
         /// Record every input the kernel takes (HMI commands, PLC signals, offset edits) with
         /// its cycle to FILE, for `softnc simulate --replay FILE`.
         #[arg(long, value_name = "FILE")]
@@ -164,8 +163,16 @@ enum Command {
     NcKernel(nc_runtime::process::KernelArgs),
     #[command(hide = true)]
     PlcSim(plc_sim::PlcArgs),
+    /// The operator's side of a softnc control: an HTTP JSON API, a live status stream and a
+    /// web page (docs/hmi.md), and with --opcua the OPC UA server (docs/opcua.md).
     #[command(hide = true)]
-    HmiBridge(hmi_bridge::BridgeArgs),
+    HmiBridge {
+        #[command(flatten)]
+        bridge: hmi_bridge::BridgeArgs,
+        // The OPC UA server inside the bridge's process, on its link (docs/opcua.md).
+        #[command(flatten)]
+        opcua: softnc_opcua::ServerOptions,
+    },
     /// The OPC UA server: the OPC 40501-1 machine-tool model subset of a running control,
     /// read-only (docs/opcua.md).
     Opcua(softnc_opcua::OpcuaArgs),
@@ -178,7 +185,7 @@ impl Command {
         match self {
             Command::NcKernel(_) => Some("nc-kernel"),
             Command::PlcSim(_) => Some("plc-sim"),
-            Command::HmiBridge(_) => Some("hmi-bridge"),
+            Command::HmiBridge { .. } => Some("hmi-bridge"),
             Command::Opcua(_) => Some("opcua"),
             _ => None,
         }
@@ -785,7 +792,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         // so one `cargo run` builds everything the run needs.
         Command::NcKernel(args) => nc_runtime::process::main(args),
         Command::PlcSim(args) => plc_sim::main(args),
-        Command::HmiBridge(args) => hmi_bridge::main(args),
+        Command::HmiBridge { bridge, opcua } => softnc_opcua::bridge_main(bridge, opcua),
         Command::Opcua(args) => softnc_opcua::main(args),
     }
 }

@@ -63,25 +63,30 @@ pub fn listen_address(listen: Option<&str>, port: u16) -> Result<SocketAddr, Str
     }
 }
 
+/// A server that shares the bridge's link to the kernel instead of opening a link of its
+/// own (the OPC UA server, `softnc hmi-bridge --opcua`, docs/opcua.md). Called once the link
+/// is up, with the link and the bridge's stop flag, it starts in threads of its own and
+/// returns when it serves (or why it cannot: the bridge then does not start); it runs until
+/// the flag is set, and sets it itself if it fails, so that the bridge ends with it. The
+/// bridge waits for its thread at the end.
+pub type Guest = Box<dyn FnOnce(link::Link, Arc<AtomicBool>) -> Result<GuestThread, String> + Send>;
+
+/// A guest's thread: how the guest ended.
+pub type GuestThread = std::thread::JoinHandle<Result<(), String>>;
+
 /// The hmi-bridge process.
 pub fn main(args: BridgeArgs) -> Result<(), Failure> {
+    main_with(args, None)
+}
+
+/// The hmi-bridge process with a guest server on its link.
+pub fn main_with(args: BridgeArgs, guest: Option<Guest>) -> Result<(), Failure> {
     let instance = args.control.instance;
     let md = machine(args.control.machine.as_deref())?;
     // 0: any free port (tests); the address taken is printed.
     let port = args.port.unwrap_or(md.hmi.port);
     let addr = listen_address(args.listen.as_deref(), port)?;
-    let token = args
-        .token
-        .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())
-        .filter(|t| !t.is_empty());
-    if !addr.ip().is_loopback() && token.is_none() {
-        return Err(Failure::Error(format!(
-            "listening on {addr} lets other machines command the control: give --token (or SOFTNC_HMI_TOKEN)"
-        )));
-    }
-    if token.as_ref().is_some_and(|t| t.len() < 12) {
-        return Err("the token is too short: use at least 12 characters".into());
-    }
+    let token = token(args.token, addr)?;
     let programs = args.programs;
 
     let stop = Arc::new(AtomicBool::new(false));
@@ -96,7 +101,14 @@ pub fn main(args: BridgeArgs) -> Result<(), Failure> {
         api::status_text,
         stop.clone(),
     )?;
-    let listener = net::listen(addr).map_err(|e| format!("{addr}: {e}"))?;
+    let (listener, guest) = match open(addr, guest, &link, &stop) {
+        Ok(o) => o,
+        Err(e) => {
+            stop.store(true, Ordering::SeqCst);
+            let _ = link_thread.join();
+            return Err(Failure::Error(e));
+        }
+    };
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     let api = Arc::new(api::Api::new(link, token.clone(), md, programs));
     eprintln!(
@@ -112,8 +124,42 @@ pub fn main(args: BridgeArgs) -> Result<(), Failure> {
         Arc::new(move |req| api.handle(req));
     net::serve(listener, handler, stop.clone());
     stop.store(true, Ordering::SeqCst);
+    let guest = guest.map(|g| {
+        g.join()
+            .unwrap_or_else(|_| Err("the guest server's thread panicked".into()))
+    });
     let _ = link_thread.join();
-    Ok(())
+    guest.transpose().map(|_| ()).map_err(Failure::Error)
+}
+
+/// The HTTP listener, then the guest on the link: the bridge announces its address only
+/// when both serve.
+fn open(
+    addr: SocketAddr,
+    guest: Option<Guest>,
+    link: &link::Link,
+    stop: &Arc<AtomicBool>,
+) -> Result<(std::net::TcpListener, Option<GuestThread>), String> {
+    let listener = net::listen(addr).map_err(|e| format!("{addr}: {e}"))?;
+    let guest = guest.map(|g| g(link.clone(), stop.clone())).transpose()?;
+    Ok((listener, guest))
+}
+
+/// The token requests must carry: `given`, or the environment's; required on an address
+/// other than loopback, and at least 12 characters.
+fn token(given: Option<String>, addr: SocketAddr) -> Result<Option<String>, Failure> {
+    let token = given
+        .or_else(|| std::env::var("SOFTNC_HMI_TOKEN").ok())
+        .filter(|t| !t.is_empty());
+    if !addr.ip().is_loopback() && token.is_none() {
+        return Err(Failure::Error(format!(
+            "listening on {addr} lets other machines command the control: give --token (or SOFTNC_HMI_TOKEN)"
+        )));
+    }
+    if token.as_ref().is_some_and(|t| t.len() < 12) {
+        return Err("the token is too short: use at least 12 characters".into());
+    }
+    Ok(token)
 }
 
 #[cfg(test)]

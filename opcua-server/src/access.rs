@@ -15,6 +15,9 @@ use std::sync::Arc;
 pub const DEFAULT_PORT: u16 = 4840;
 /// The user name clients log in with when none is given.
 pub const DEFAULT_USER: &str = "operator";
+/// The environment variable that gives the password when no argument does (it stays out of
+/// the process list).
+pub const PASSWORD_VARIABLE: &str = "SOFTNC_OPCUA_PASSWORD";
 /// A password this short is refused (the HMI's token rule).
 const MIN_PASSWORD: usize = 12;
 /// The server's id of the one user token.
@@ -40,18 +43,21 @@ impl std::fmt::Debug for Access {
 }
 
 impl Access {
-    /// `listen`: `ADDRESS` or `ADDRESS:PORT` (default 127.0.0.1 and `port`).
+    /// `listen`: `ADDRESS` or `ADDRESS:PORT` (default 127.0.0.1 and `port`); an address
+    /// that is not loopback, the unspecified 0.0.0.0 and :: among them, needs the password
+    /// (`password_flag` names the argument that gives it, for the message).
     pub fn new(
         listen: Option<&str>,
         port: u16,
         user: &str,
         password: Option<String>,
+        password_flag: &str,
     ) -> Result<Access, String> {
         let addr = hmi_bridge::listen_address(listen, port)?;
         let password = password.filter(|p| !p.is_empty());
         if !addr.ip().is_loopback() && password.is_none() {
             return Err(format!(
-                "listening on {addr} lets other machines read the control: give --password (or SOFTNC_OPCUA_PASSWORD)"
+                "listening on {addr} lets other machines read the control: give {password_flag} (or {PASSWORD_VARIABLE})"
             ));
         }
         if password
@@ -160,29 +166,48 @@ impl AuthManager for Authenticator {
 mod tests {
     use super::*;
 
+    const FLAG: &str = "--password";
+
     #[test]
     fn loopback_takes_anonymous_clients() {
-        let a = Access::new(None, 4840, DEFAULT_USER, None).unwrap();
+        let a = Access::new(None, 4840, DEFAULT_USER, None, FLAG).unwrap();
         assert_eq!(a.addr, "127.0.0.1:4840".parse().unwrap());
         assert!(a.credential.is_none());
-        let a = Access::new(Some("127.0.0.1:0"), 4840, DEFAULT_USER, None).unwrap();
+        let a = Access::new(Some("127.0.0.1:0"), 4840, DEFAULT_USER, None, FLAG).unwrap();
         assert_eq!(a.addr.port(), 0);
     }
 
     #[test]
     fn another_address_needs_a_long_password() {
-        let e = Access::new(Some("0.0.0.0"), 4840, DEFAULT_USER, None).unwrap_err();
+        let e = Access::new(Some("0.0.0.0"), 4840, DEFAULT_USER, None, FLAG).unwrap_err();
+        assert!(e.contains("--password (or SOFTNC_OPCUA_PASSWORD)"), "{e}");
+        let e = Access::new(Some("0.0.0.0"), 4840, "op", Some(String::new()), FLAG).unwrap_err();
         assert!(e.contains("--password"), "{e}");
-        let e = Access::new(Some("0.0.0.0"), 4840, DEFAULT_USER, Some(String::new())).unwrap_err();
-        assert!(e.contains("--password"), "{e}");
-        let e = Access::new(Some("10.0.0.5:4841"), 1, "op", Some("short".into())).unwrap_err();
+        let e = Access::new(Some("[::]:4841"), 1, "op", None, "--opcua-password").unwrap_err();
+        assert!(
+            e.contains("[::]:4841") && e.contains("--opcua-password"),
+            "{e}"
+        );
+        let e =
+            Access::new(Some("10.0.0.5:4841"), 1, "op", Some("short".into()), FLAG).unwrap_err();
         assert!(e.contains("at least 12"), "{e}");
-        let e = Access::new(Some("10.0.0.5"), 1, " ", Some("long enough pw".into())).unwrap_err();
+        let long = || Some("long enough pw".to_string());
+        let e = Access::new(Some("10.0.0.5"), 1, " ", long(), FLAG).unwrap_err();
         assert!(e.contains("user"), "{e}");
-        let a = Access::new(Some("10.0.0.5"), 4841, "op", Some("long enough pw".into())).unwrap();
+        let a = Access::new(Some("10.0.0.5"), 4841, "op", long(), FLAG).unwrap();
         assert_eq!(a.addr, "10.0.0.5:4841".parse().unwrap());
         assert_eq!(a.describe(), "(user 'op' with password)");
-        assert!(Access::new(Some("nowhere"), 1, "op", None).is_err());
+        let a = Access::new(Some("0.0.0.0"), 0, "op", long(), FLAG).unwrap();
+        assert!(a.credential.is_some());
+        assert!(Access::new(Some("nowhere"), 1, "op", None, FLAG).is_err());
+    }
+
+    /// IPv6 loopback is loopback: anonymous clients there as on 127.0.0.1.
+    #[test]
+    fn ipv6_loopback_takes_anonymous_clients() {
+        let a = Access::new(Some("::1"), 4840, DEFAULT_USER, None, FLAG).unwrap();
+        assert_eq!(a.addr, "[::1]:4840".parse().unwrap());
+        assert_eq!(a.describe(), "(anonymous)");
     }
 
     /// On another address the password is to be encrypted with Basic256Sha256 (the

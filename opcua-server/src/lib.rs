@@ -3,30 +3,25 @@
 //! (alarms), Equipment (tools) — over what the kernel publishes, read through the HMI
 //! bridge's link (one thread owns the iceoryx2 ports; the kernel is never waited for). It
 //! listens on 127.0.0.1 and takes anonymous clients there; another address needs a user
-//! and password, and then only those are taken.
+//! and password, and then only those are taken. It runs as a process of its own (`softnc
+//! opcua`, which `softnc run --opcua` starts) or inside the HMI bridge's process (`softnc
+//! hmi-bridge --opcua`, hosted.rs), on the bridge's link.
 
 mod access;
+mod hosted;
 mod model;
+mod server;
 mod space;
 
-pub use access::{Access, DEFAULT_PORT, DEFAULT_USER};
-pub use space::{MACHINE_TOOL_NS, SOFTNC_NS};
+pub use access::{Access, DEFAULT_PORT, DEFAULT_USER, PASSWORD_VARIABLE};
+pub use hosted::bridge_main;
+pub use server::{start, url_host, Running};
+pub use space::{Identity, MACHINE_TOOL_NS, SOFTNC_NS};
 
-use hmi_bridge::link::{Link, Snapshot};
 use nc_runtime::process::args::{machine, ControlArgs};
 use nc_runtime::Failure;
-use opcua::server::node_manager::memory::{simple_node_manager_imports, SimpleNodeManager};
-use opcua::server::ServerBuilder;
-use space::{Identity, Space};
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Duration;
-
-/// How often the variables are written from the kernel's status.
-const UPDATE_EVERY: Duration = Duration::from_millis(100);
-/// A program file read for its block texts at most (larger ones show no text).
-const MAX_PROGRAM_TEXT: u64 = 8 << 20;
 
 /// softnc's OPC UA server: the OPC 40501-1 machine-tool model subset, read-only
 /// (docs/opcua.md). It listens on 127.0.0.1 and takes anonymous clients; another address
@@ -51,6 +46,57 @@ pub struct OpcuaArgs {
     pub password: Option<String>,
 }
 
+/// The OPC UA server beside another command (`softnc run`) or inside it (`softnc
+/// hmi-bridge`): the arguments of `softnc opcua`, prefixed.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct ServerOptions {
+    /// Also serve OPC UA (docs/opcua.md) on port PORT (default 4840; 0: any free one) of
+    /// 127.0.0.1, or of --opcua-listen.
+    #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "4840")]
+    pub opcua: Option<u16>,
+    /// The OPC UA server listens on another address than 127.0.0.1; needs --opcua-password.
+    #[arg(long, value_name = "ADDRESS[:PORT]", requires = "opcua")]
+    pub opcua_listen: Option<String>,
+    /// The user name OPC UA clients log in with [default: operator].
+    #[arg(long, value_name = "NAME", requires = "opcua")]
+    pub opcua_user: Option<String>,
+    /// The OPC UA password, at least 12 characters (or the environment variable
+    /// SOFTNC_OPCUA_PASSWORD).
+    #[arg(long, value_name = "PASSWORD", requires = "opcua")]
+    pub opcua_password: Option<String>,
+}
+
+impl ServerOptions {
+    /// The user name clients log in with.
+    pub fn user(&self) -> &str {
+        self.opcua_user.as_deref().unwrap_or(DEFAULT_USER)
+    }
+
+    /// The password given, by argument or by [`PASSWORD_VARIABLE`].
+    pub fn password(&self) -> Option<String> {
+        self.opcua_password
+            .clone()
+            .or_else(|| std::env::var(PASSWORD_VARIABLE).ok())
+    }
+
+    /// Where the server is to listen and whom it takes (by `softnc opcua`'s rules);
+    /// `None` without --opcua.
+    pub fn access(&self) -> Result<Option<Access>, String> {
+        let Some(port) = self.opcua else {
+            return Ok(None);
+        };
+        let listen = self.opcua_listen.as_deref();
+        Access::new(
+            listen,
+            port,
+            self.user(),
+            self.password(),
+            "--opcua-password",
+        )
+        .map(Some)
+    }
+}
+
 /// The `host:port` in a log the server wrote: it announces `opc.tcp://HOST:PORT/` on its
 /// first line; `None` until the address is written in full (up to its `/`).
 pub fn address_in(log: &str) -> Option<&str> {
@@ -58,158 +104,51 @@ pub fn address_in(log: &str) -> Option<&str> {
     Some(addr)
 }
 
-/// The OPC UA server process: until SIGINT or SIGTERM.
+/// What Identification says of the control: its machine data's kind, its instance.
+pub fn identity(control: &ControlArgs) -> Result<Identity, String> {
+    let md = machine(control.machine.as_deref())?;
+    let kind = match md.machine {
+        nc_kernel::MachineKind::Milling => "milling machine",
+        nc_kernel::MachineKind::Turning => "lathe",
+    };
+    Ok(Identity {
+        model: format!("softnc {} {kind}", md.dialect.as_str()),
+        serial: control.instance.name().to_string(),
+    })
+}
+
+/// The OPC UA server process: until SIGINT or SIGTERM. It reads the kernel through a link
+/// of its own, under the node name `opcua`.
 pub fn main(args: OpcuaArgs) -> Result<(), Failure> {
     let password = args
         .password
-        .or_else(|| std::env::var("SOFTNC_OPCUA_PASSWORD").ok());
-    let access = Access::new(args.listen.as_deref(), args.port, &args.user, password)?;
-    let instance = args.control.instance;
-    let md = machine(args.control.machine.as_deref())?;
+        .or_else(|| std::env::var(PASSWORD_VARIABLE).ok());
+    let access = Access::new(
+        args.listen.as_deref(),
+        args.port,
+        &args.user,
+        password,
+        "--password",
+    )?;
+    let identity = identity(&args.control)?;
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .map_err(|e| format!("cannot install the signal handler: {e}"))?;
     }
-    let pki = certificate_folder(instance.name())?;
-    let identity = Identity {
-        model: format!("softnc {} {}", md.dialect.as_str(), machine_kind(&md)),
-        serial: instance.name().to_string(),
-    };
+    let instance = args.control.instance;
     let (link, link_thread) =
-        match hmi_bridge::link::start(instance.clone(), "opcua", |_| String::new(), stop.clone()) {
-            Ok(l) => l,
-            Err(e) => {
-                let _ = std::fs::remove_dir_all(&pki);
-                return Err(Failure::Error(e));
-            }
-        };
-    let result = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .map_err(|e| format!("cannot start the runtime: {e}"))
-        .and_then(|rt| rt.block_on(serve(&access, &identity, &pki, link, stop.clone())));
+        hmi_bridge::link::start(instance, "opcua", |_| String::new(), stop.clone())?;
+    let result = start(access, identity, link, stop.clone()).and_then(|running| {
+        running
+            .thread
+            .join()
+            .unwrap_or_else(|_| Err("the OPC UA server's thread panicked".into()))
+    });
     stop.store(true, Ordering::SeqCst);
     let _ = link_thread.join();
-    let _ = std::fs::remove_dir_all(&pki);
     result.map_err(Failure::Error)
-}
-
-/// The server's certificate store: a folder of its own per process, only the user's
-/// (the key to the password's encryption is made in it at start), removed at the end.
-fn certificate_folder(instance: &str) -> Result<PathBuf, String> {
-    use std::os::unix::fs::DirBuilderExt;
-    let pki = std::env::temp_dir().join(format!(
-        "softnc-opcua-{instance}-{}-pki",
-        std::process::id()
-    ));
-    // A folder of that name left by a crashed server of an earlier process is not trusted.
-    let _ = std::fs::remove_dir_all(&pki);
-    std::fs::DirBuilder::new()
-        .mode(0o700)
-        .create(&pki)
-        .map_err(|e| format!("{}: {e}", pki.display()))?;
-    Ok(pki)
-}
-
-fn machine_kind(md: &nc_kernel::MachineData) -> &'static str {
-    match md.machine {
-        nc_kernel::MachineKind::Milling => "milling machine",
-        nc_kernel::MachineKind::Turning => "lathe",
-    }
-}
-
-/// Builds the server, announces its address and runs it until `stop`.
-async fn serve(
-    access: &Access,
-    identity: &Identity,
-    pki: &std::path::Path,
-    link: Link,
-    stop: Arc<AtomicBool>,
-) -> Result<(), String> {
-    let listener = tokio::net::TcpListener::bind(access.addr)
-        .await
-        .map_err(|e| format!("{}: {e}", access.addr))?;
-    let bound = listener.local_addr().map_err(|e| e.to_string())?;
-    let builder = ServerBuilder::new()
-        .application_name("softnc OPC UA server")
-        .application_uri(format!("urn:softnc:{}", identity.serial))
-        .product_uri("urn:softnc")
-        .pki_dir(PathBuf::from(pki))
-        .host(bound.ip().to_string())
-        .port(bound.port())
-        .with_node_manager(simple_node_manager_imports(
-            vec![Box::new(space::Namespaces)],
-            "softnc",
-        ));
-    let (server, handle) = access.configure(builder).build()?;
-    let manager = handle
-        .node_managers()
-        .get_of_type::<SimpleNodeManager>()
-        .ok_or("the server has no node manager for the machine")?;
-    let mut space = Space::new(
-        manager,
-        handle.subscriptions().clone(),
-        &identity.serial,
-        identity,
-    )?;
-    eprintln!(
-        "opcua: instance '{}': opc.tcp://{bound}/ {}",
-        identity.serial,
-        access.describe()
-    );
-    let cancel = handle.clone();
-    let updater = tokio::spawn(async move {
-        let mut program = ProgramText::default();
-        let mut tick = tokio::time::interval(UPDATE_EVERY);
-        while !stop.load(Ordering::Relaxed) {
-            tick.tick().await;
-            let snap = link.snapshot();
-            space.update(&program.values(&snap));
-            space.update_tools(snap.tools.as_ref());
-        }
-        cancel.cancel();
-    });
-    let result = server.run_with(listener).await;
-    updater.abort();
-    result
-}
-
-/// The loaded program's text, read once per program for the running line's text, and
-/// whether it has been seen running.
-#[derive(Default)]
-struct ProgramText {
-    program: u32,
-    path: Option<String>,
-    text: String,
-    started: bool,
-}
-
-impl ProgramText {
-    fn values(&mut self, snap: &Snapshot) -> model::Values {
-        let st = snap.status.unwrap_or_default();
-        if st.program != self.program || snap.program_path != self.path {
-            self.program = st.program;
-            self.path = snap.program_path.clone();
-            self.text = self.path.as_deref().map(read_program).unwrap_or_default();
-            self.started = false;
-        }
-        self.started |= st.state == softnc_protocol::state::ACTIVE;
-        let block = model::line_text(&self.text, st.line);
-        model::Values::new(snap, block, self.started)
-    }
-}
-
-/// A program's text; empty when it cannot be read or is too large to show.
-fn read_program(path: &str) -> String {
-    match std::fs::metadata(path) {
-        Ok(m) if m.len() <= MAX_PROGRAM_TEXT => std::fs::read(path)
-            .map(|b| String::from_utf8_lossy(&b).into_owned())
-            .unwrap_or_default(),
-        _ => String::new(),
-    }
 }
 
 #[cfg(test)]

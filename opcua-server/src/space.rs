@@ -608,6 +608,40 @@ mod tests {
         assert_eq!(v.value, Some(Variant::from("mill")));
     }
 
+    /// Every variable is read-only for every user: clients' writes are refused (docs/opcua.md,
+    /// Access).
+    #[test]
+    fn every_variable_is_read_only() {
+        use opcua::nodes::{AccessLevel, NodeType};
+        let mut f = fixture("read-only");
+        let table = ToolTableMsg {
+            version: 1,
+            count: 1,
+            ..ToolTableMsg::default()
+        };
+        f.space.update_tools(Some(&table));
+        let fixed = [
+            "Identification/SerialNumber",
+            "Monitoring/MachineTool/OperationMode",
+            "Equipment/Tools/TableVersion",
+            "Equipment/Tools/D0/Radius",
+        ];
+        let paths = VARIABLES.iter().map(|v| v.0).chain(fixed);
+        let space = f.space.manager.address_space().read();
+        for path in paths {
+            let Some(NodeType::Variable(v)) = space.find(&f.space.id(path)) else {
+                panic!("no variable {path}");
+            };
+            assert_eq!(
+                v.access_level().bits(),
+                AccessLevel::CURRENT_READ.bits(),
+                "{path}"
+            );
+            let user = v.user_access_level().bits();
+            assert_eq!(user, AccessLevel::CURRENT_READ.bits(), "{path}");
+        }
+    }
+
     /// Without a kernel the last values stay, uncertain.
     #[test]
     fn without_a_kernel_the_values_are_uncertain() {

@@ -40,8 +40,9 @@ pub struct RunOptions<'a> {
     /// Also start hmi-bridge (`Some(port)`; `None` in the port: machine data `hmi.port`),
     /// and keep the control up after the program's end until Ctrl-C.
     pub hmi: Option<Option<u16>>,
-    /// Also start the OPC UA server on this port of 127.0.0.1; it ends with the run.
-    pub opcua: Option<u16>,
+    /// Also start the OPC UA server (`--opcua`, on 127.0.0.1 or `--opcua-listen` with a
+    /// password); it ends with the run.
+    pub opcua: softnc_opcua::ServerOptions,
     /// nc-kernel records its inputs to this file (and its setpoints to `setpoints`).
     pub record: Option<&'a Path>,
     pub setpoints: Option<&'a Path>,
@@ -212,6 +213,8 @@ pub fn run(o: RunOptions<'_>) -> Result<(), Failure> {
         .instance
         .clone()
         .unwrap_or_else(|| format!("run-{}", std::process::id()));
+    // The server's address and password are checked before anything starts.
+    o.opcua.access()?;
     let instance = claim(&name)?;
     let files = Files::new(&o, &name)?;
     let mut run = Supervisor {
@@ -340,12 +343,8 @@ impl Supervisor<'_> {
             kernel.extend(["--setpoints".into(), f.display().to_string()]);
         }
         self.start("nc-kernel", &kernel)?;
-        if let Some(port) = o.opcua {
-            let mut args = common.clone();
-            args.extend(["--port".into(), port.to_string()]);
-            self.start("opcua", &args)?;
-            let addr = self.announced("opcua", softnc_opcua::address_in)?;
-            eprintln!("OPC UA: opc.tcp://{addr}/");
+        if let Some(port) = o.opcua.opcua {
+            self.start_opcua(&common, port)?;
         }
         let Some(port) = o.hmi else {
             return Ok(None);
@@ -369,8 +368,36 @@ impl Supervisor<'_> {
         Ok(Some(url))
     }
 
+    /// `softnc opcua` with the run's OPC UA options; the password goes in its environment,
+    /// not in its arguments, which every user of the machine can list.
+    fn start_opcua(&mut self, common: &[String], port: u16) -> Result<(), String> {
+        let options = &self.o.opcua;
+        let mut args = common.to_vec();
+        args.extend(["--port".into(), port.to_string()]);
+        args.extend(["--user".into(), options.user().to_string()]);
+        if let Some(listen) = &options.opcua_listen {
+            args.extend(["--listen".into(), listen.clone()]);
+        }
+        let password = options.password().unwrap_or_default();
+        let env = [(softnc_opcua::PASSWORD_VARIABLE, password.as_str())];
+        self.start_with("opcua", &args, &env)?;
+        let addr = self.announced("opcua", softnc_opcua::address_in)?;
+        eprintln!("OPC UA: opc.tcp://{addr}/");
+        Ok(())
+    }
+
     /// This executable in `role`, its stderr to the role's log.
     fn start(&mut self, role: &'static str, args: &[String]) -> Result<(), String> {
+        self.start_with(role, args, &[])
+    }
+
+    /// `start`, with these variables in the child's environment.
+    fn start_with(
+        &mut self,
+        role: &'static str,
+        args: &[String],
+        env: &[(&str, &str)],
+    ) -> Result<(), String> {
         let exe =
             std::env::current_exe().map_err(|e| format!("cannot find this executable: {e}"))?;
         let path = self.files.log(role);
@@ -378,6 +405,7 @@ impl Supervisor<'_> {
         let child = std::process::Command::new(exe)
             .arg(role)
             .args(args)
+            .envs(env.iter().copied())
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(log)
@@ -409,7 +437,10 @@ impl Supervisor<'_> {
                     return Err(format!("{role} ended ({s}):\n{}", text.trim_end()));
                 }
             }
-            if t.elapsed() > Duration::from_secs(20) {
+            // The OPC UA server with a password makes its certificate first: an RSA key,
+            // seconds in a debug build on a busy machine.
+            let limit = Duration::from_secs(if role == "opcua" { 60 } else { 20 });
+            if t.elapsed() > limit {
                 return Err(format!("{role} did not come up:\n{}", text.trim_end()));
             }
             std::thread::sleep(Duration::from_millis(20));
