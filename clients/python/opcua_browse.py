@@ -4,13 +4,16 @@
     python3 clients/python/opcua_browse.py opc.tcp://127.0.0.1:4840/
     python3 clients/python/opcua_browse.py URL --user operator --password SECRET
     python3 clients/python/opcua_browse.py URL --wait-running 30   # until a program runs
+    python3 clients/python/opcua_browse.py URL --wait-running 30 --min-line 4 --try-write
     python3 clients/python/opcua_browse.py URL --try-login          # accepted / refused
     python3 clients/python/opcua_browse.py URL --policies           # the logins offered
 
 Browses Objects/Machines/<machine> by browse name (OPC 40501-1's namespace, softnc's for
 its own variables) and prints one JSON object: Identification, the channel's ChannelState,
-ChannelMode, FeedOverride, program, line and block, the spindle, the active program's
-production state, the standing alarms and the tool list. Needs `pip install asyncua`.
+ChannelMode, FeedOverride, program, line and block (read together, in one request), the
+spindle, the active program's production state, the standing alarms and the tool list.
+With --try-write it also tries to set FeedOverride to 50 % and says how the server answered
+(the server is read-only: refused). Needs `pip install asyncua`.
 """
 
 import argparse
@@ -63,6 +66,10 @@ async def read_machine(client):
         for n in ("Manufacturer", "Model", "SerialNumber", "SoftwareRevision")
     }
     state = await value(m, channel + [(mt, "ChannelState")])
+    # Line and block in one Read: the server writes them together, so they match.
+    line_node = await path(m, channel + [(own, "Line")])
+    block_node = await path(m, channel + [(own, "Block")])
+    line, block = await client.read_values([line_node, block_node])
     out = {
         "machine": (await m.read_browse_name()).Name,
         "identification": ident,
@@ -70,9 +77,15 @@ async def read_machine(client):
         "channel_mode": await value(m, channel + [(mt, "ChannelMode")]),
         "feed_override": await value(m, channel + [(mt, "FeedOverride")]),
         "program": await value(m, channel + [(own, "ProgramName")]),
-        "line": await value(m, channel + [(own, "Line")]),
-        "block": await value(m, channel + [(own, "Block")]),
+        "feed_rate": await value(m, channel + [(own, "FeedRate")]),
+        "line": line,
+        "block": block,
+        "tool": await value(m, channel + [(own, "Tool")]),
+        "edge": await value(m, channel + [(own, "Edge")]),
+        "kernel_connected": await value(m, channel + [(own, "KernelConnected")]),
         "spindle_setpoint": await value(m, spindle + [(own, "SpeedSetpoint")]),
+        "spindle_actual": await value(m, spindle + [(own, "SpeedActual")]),
+        "spindle_rotating": await value(m, spindle + [(mt, "IsRotating")]),
         "active_program": await value(m, program + [(mt, "Name")]),
         "production_state": await value(m, program + [(mt, "State"), (mt, "CurrentState")]),
         "alarms": await value(m, alarms + [(own, "Numbers")]),
@@ -99,6 +112,21 @@ def client_for(args):
     if args.password is not None:
         client.set_password(args.password)
     return client
+
+
+async def try_write(client):
+    """Tries to set FeedOverride to 50 %: `refused: <status>` or `written`, and the value
+    read back."""
+    mt = await client.get_namespace_index(MACHINE_TOOL)
+    machines = await child(client.nodes.objects, mt, "Machines")
+    m = (await machines.get_children())[0]
+    node = await path(m, [(mt, "Monitoring"), (mt, "Channel_1"), (mt, "FeedOverride")])
+    try:
+        await node.write_value(ua.DataValue(ua.Variant(50.0, ua.VariantType.Double)))
+        answer = "written"
+    except ua.UaStatusCodeError as e:
+        answer = f"refused: {type(e).__name__}"
+    return {"answer": answer, "read_back": await node.read_value()}
 
 
 async def identification(client):
@@ -145,12 +173,15 @@ async def main(args):
                 if args.wait_running == 0 or time.monotonic() > deadline:
                     raise
                 out = {"error": str(e)}
-            if args.wait_running == 0 or out.get("channel_state") == "Active":
+            running = out.get("channel_state") == "Active" and out.get("line", 0) >= args.min_line
+            if args.wait_running == 0 or running:
+                if args.try_write:
+                    out["feed_override_write"] = await try_write(client)
                 print(json.dumps(out))
                 return 0
             if time.monotonic() > deadline:
                 print(json.dumps(out))
-                print("the channel did not become Active in time", file=sys.stderr)
+                print("the channel did not become Active (at --min-line) in time", file=sys.stderr)
                 return 1
             await asyncio.sleep(0.1)
 
@@ -162,6 +193,10 @@ if __name__ == "__main__":
     p.add_argument("--password")
     p.add_argument("--wait-running", type=float, default=0, metavar="SECONDS",
                    help="read until ChannelState is Active, at most this long")
+    p.add_argument("--min-line", type=int, default=0, metavar="LINE",
+                   help="with --wait-running: until the running line is at least LINE too")
+    p.add_argument("--try-write", action="store_true",
+                   help="also try to write FeedOverride and print the server's answer")
     p.add_argument("--try-login", action="store_true",
                    help="print whether the server takes this login")
     p.add_argument("--policies", action="store_true",
