@@ -778,6 +778,54 @@ fn offsets_numbered_per_tool_are_edited_by_tool_and_d() {
     assert_eq!(st.status()["tools_version"], json!(3));
 }
 
+/// A lathe's plot on the live page: the kernel publishes each offset's cutting edge
+/// position with its tool table, so the bridge draws the tool tip P the axes run, not the
+/// nose centre. The Fanuc shaft's Ø40 roughing pass (T2 D1: nose R 1.2, position 3) ends at
+/// the tip's Z −71.1 + R·0.8/3 = −70.78 (worked out in tests/lathe_samples.rs); the nose
+/// centre's would end at Z −48.0.
+#[test]
+fn a_lathes_plot_draws_the_tool_tip_from_the_kernels_table() {
+    let md = root().join("config/fanuc-lathe.toml");
+    let md = ["--machine", md.to_str().unwrap()];
+    let prog = root().join("programs/fanuc-lathe/shaft_rough_finish.nc");
+    let st = station_with("lathe-plot", &md, Some(&prog), &md, &md);
+    let tools = st.bridge.get("/api/tools").unwrap().json();
+    let entry = |t: Value, d: u64| {
+        tools["offsets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["t"] == t && o["d"] == json!(d))
+            .unwrap_or_else(|| panic!("T{t} D{d} in {tools}"))
+            .clone()
+    };
+    let t2d1 = entry(json!(2), 1);
+    assert_eq!(
+        (&t2d1["radius"], &t2d1["cutting_edge"]),
+        (&json!(1.2), &json!(3))
+    );
+    assert_eq!(entry(Value::Null, 1)["cutting_edge"], Value::Null);
+
+    let t = Instant::now();
+    let plot = loop {
+        let p = st.bridge.get("/api/plot").unwrap().json();
+        if p["path"].as_array().is_some_and(|l| !l.is_empty()) {
+            break p;
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "no plot: {p}");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(plot["alarm"], Value::Null, "{plot}");
+    let cut = plot["path"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l[0] == json!([2.0, 20.0]))
+        .unwrap_or_else(|| panic!("no pass at X20 from Z2 in {plot}"));
+    let end = cut[1][0].as_f64().unwrap();
+    assert!((end - (-71.1 + 1.2 * 0.8 / 3.0)).abs() < 1e-9, "{cut}");
+}
+
 /// `softnc run --hmi`: the bridge comes up with the run, the page's API answers while the
 /// program runs and after its end, the control stays up until Ctrl-C, and then all three
 /// processes end cleanly and nothing is left in shared memory.

@@ -15,9 +15,9 @@
 #include <stdint.h>
 
 /* The protocol this header describes: the services' attribute "softnc.abi" has this value. */
-#define SOFTNC_PROTOCOL_VERSION 4
+#define SOFTNC_PROTOCOL_VERSION 5
 #define SOFTNC_ABI_KEY "softnc.abi"
-#define SOFTNC_ABI "softnc-ipc/4/f5c511fb81e0e9a1"
+#define SOFTNC_ABI "softnc-ipc/5/2257ae8dd09418d4"
 
 #define SOFTNC_MAX_AXES 8
 #define SOFTNC_MAX_SPINDLES 2
@@ -166,13 +166,15 @@ struct softnc_Reply {
 
 /* softnc::ToolEntry: One tool offset. */
 struct softnc_ToolEntry {
-    uint32_t t;         /*    0: tool number on T/D machines (0: global D) */
-    uint32_t d;         /*    4 */
-    double radius;      /*    8: mm */
-    double radius_wear; /*   16: mm */
-    double length;      /*   24: mm */
-    double length_wear; /*   32: mm */
-}; /* size 40, align 8 */
+    uint32_t t;           /*    0: tool number on T/D machines (0: global D) */
+    uint32_t d;           /*    4 */
+    double radius;        /*    8: mm */
+    double radius_wear;   /*   16: mm */
+    double length;        /*   24: mm */
+    double length_wear;   /*   32: mm */
+    uint8_t cutting_edge; /*   40: cutting edge position 1-9 of a turning tool (0: none) */
+    uint8_t _pad[7];      /*   41 */
+}; /* size 48, align 8 */
 
 /* softnc::ToolTableMsg: <instance>/tools: kernel -> anyone when it changes (history 1). */
 struct softnc_ToolTableMsg {
@@ -182,7 +184,7 @@ struct softnc_ToolTableMsg {
     uint8_t truncated;                                    /*    9: 1: more offsets than fit */
     uint8_t _pad[6];                                      /*   10 */
     struct softnc_ToolEntry entries[SOFTNC_TOOL_ENTRIES]; /*   16 */
-}; /* size 2576, align 8 */
+}; /* size 3088, align 8 */
 
 /* softnc::WorkOffsetEntry: One work offset. */
 struct softnc_WorkOffsetEntry {
@@ -220,9 +222,9 @@ _Static_assert(sizeof(struct softnc_Command) == 608, "softnc::Command: size");
 _Static_assert(_Alignof(struct softnc_Command) == 8, "softnc::Command: alignment");
 _Static_assert(sizeof(struct softnc_Reply) == 528, "softnc::Reply: size");
 _Static_assert(_Alignof(struct softnc_Reply) == 4, "softnc::Reply: alignment");
-_Static_assert(sizeof(struct softnc_ToolEntry) == 40, "softnc::ToolEntry: size");
+_Static_assert(sizeof(struct softnc_ToolEntry) == 48, "softnc::ToolEntry: size");
 _Static_assert(_Alignof(struct softnc_ToolEntry) == 8, "softnc::ToolEntry: alignment");
-_Static_assert(sizeof(struct softnc_ToolTableMsg) == 2576, "softnc::ToolTableMsg: size");
+_Static_assert(sizeof(struct softnc_ToolTableMsg) == 3088, "softnc::ToolTableMsg: size");
 _Static_assert(_Alignof(struct softnc_ToolTableMsg) == 8, "softnc::ToolTableMsg: alignment");
 _Static_assert(sizeof(struct softnc_WorkOffsetEntry) == 80, "softnc::WorkOffsetEntry: size");
 _Static_assert(_Alignof(struct softnc_WorkOffsetEntry) == 8, "softnc::WorkOffsetEntry: alignment");

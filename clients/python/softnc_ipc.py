@@ -13,9 +13,9 @@ package asks for: with ctypes' size and alignment it must equal the Rust type's.
 import ctypes
 
 # The protocol this module describes: the services' attribute "softnc.abi" has this value.
-PROTOCOL_VERSION = 4
+PROTOCOL_VERSION = 5
 ABI_KEY = "softnc.abi"
-ABI = "softnc-ipc/4/f5c511fb81e0e9a1"
+ABI = "softnc-ipc/5/2257ae8dd09418d4"
 
 MAX_AXES = 8
 MAX_SPINDLES = 2
@@ -232,7 +232,7 @@ class Reply(ctypes.Structure):
 
 
 class ToolEntry(ctypes.Structure):
-    """softnc::ToolEntry: One tool offset. Size 40, align 8."""
+    """softnc::ToolEntry: One tool offset. Size 48, align 8."""
 
     _fields_ = [
         ("t", ctypes.c_uint32),  # 0: tool number on T/D machines (0: global D)
@@ -241,6 +241,8 @@ class ToolEntry(ctypes.Structure):
         ("radius_wear", ctypes.c_double),  # 16: mm
         ("length", ctypes.c_double),  # 24: mm
         ("length_wear", ctypes.c_double),  # 32: mm
+        ("cutting_edge", ctypes.c_uint8),  # 40: cutting edge position 1-9 of a turning tool (0: none)
+        ("_pad", ctypes.c_uint8 * 7),  # 41
     ]
 
     @staticmethod
@@ -249,7 +251,7 @@ class ToolEntry(ctypes.Structure):
 
 
 class ToolTableMsg(ctypes.Structure):
-    """softnc::ToolTableMsg: <instance>/tools: kernel -> anyone when it changes (history 1). Size 2576, align 8."""
+    """softnc::ToolTableMsg: <instance>/tools: kernel -> anyone when it changes (history 1). Size 3088, align 8."""
 
     _fields_ = [
         ("version", ctypes.c_uint32),  # 0: as KernelStatus.tools_version

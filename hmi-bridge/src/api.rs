@@ -218,7 +218,7 @@ impl Api {
             .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         let snap = self.link.snapshot();
         if let Some(table) = snap.tools.as_ref().filter(|m| m.truncated == 0) {
-            plot::table(table)
+            nc_runtime::tool_table(table)
                 .edit(t, b.d, b.wear, b.radius, limit)
                 .map_err(|e| refuse(422, format!("{e}; nothing changed")))?;
         }
@@ -264,6 +264,7 @@ impl Api {
                     "radius_wear": e.radius_wear,
                     "length": e.length,
                     "length_wear": e.length_wear,
+                    "cutting_edge": (e.cutting_edge != 0).then_some(e.cutting_edge),
                 })
             })
             .collect();
@@ -365,7 +366,7 @@ impl Api {
         // plot then ends where the kernel's alarm says).
         let library = nc_runtime::program_library(Path::new(&path), &md.program.search_path);
         md.programs = Arc::new(library.unwrap_or_default());
-        let pl = plot::plot(&path, &source, &md, &plot::table(&t));
+        let pl = plot::plot(&path, &source, &md, &nc_runtime::tool_table(&t));
         let text = serde_json::to_string(&pl).map_err(|e| refuse(500, e.to_string()))?;
         if let Ok(mut c) = self.plot_cache.lock() {
             *c = Some(PlotCache {

@@ -1,13 +1,14 @@
 //! What the page plots: the programmed contour (from the interpreter) and the compensated
-//! tool-centre path (from preparation, with the kernel's current tool table), as polylines
-//! in the program's plane, arcs sampled finely enough to look round.
+//! path (from preparation, with the kernel's current tool table: the tool centre, and on a
+//! lathe the tool tip P of the offset's cutting edge position), as polylines in the
+//! program's plane, arcs sampled finely enough to look round.
 
 use nc_kernel::geometry::{Curve, Fineness};
 use nc_kernel::Prepared;
-use nc_kernel::{Interpreter, MachineData, Preparation, ToolOffset, ToolTable, WorkOffsets};
+use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable, WorkOffsets};
 use nc_kernel::{MotionKind, Plane, Pos};
 use nc_runtime::WireAxes;
-use softnc_protocol::{ToolTableMsg, WorkOffsetsMsg};
+use softnc_protocol::WorkOffsetsMsg;
 
 /// Points kept at most per picture: longer programs are thinned.
 const MAX_POINTS: usize = 100_000;
@@ -24,26 +25,6 @@ pub struct Plot {
     pub path: Vec<Vec<[f64; 2]>>,
     /// Preparation's first alarm, rendered (the path ends there).
     pub alarm: Option<String>,
-}
-
-/// The kernel's table as the preparation reads it.
-pub fn table(m: &ToolTableMsg) -> ToolTable {
-    ToolTable {
-        offset: m
-            .entries()
-            .iter()
-            .map(|e| ToolOffset {
-                t: (e.t != 0).then_some(e.t),
-                d: e.d,
-                radius: e.radius,
-                radius_wear: e.radius_wear,
-                length: e.length,
-                length_wear: e.length_wear,
-                edge: None,
-            })
-            .collect(),
-        ..Default::default()
-    }
 }
 
 /// The kernel's work offsets as the preparation reads them. Axes are matched by letter;
@@ -292,18 +273,23 @@ mod tests {
         assert_eq!(wire_index(&md, 1), None);
     }
 
-    /// A lathe's roughing cycle as the kernel's preparation streams it: the plot has every
-    /// G71 pass of the Fanuc shaft sample as a cut of its own (rapids in between), and G70's
-    /// finishing on the part's diameters.
+    /// A lathe's roughing cycle as the kernel's preparation streams it, with the tool table
+    /// as the kernel publishes it and the bridge reads it: the plot has every G71 pass of
+    /// the Fanuc shaft sample as a cut of its own (rapids in between), ending where the
+    /// tool tip does, and G70's finishing on the part's diameters.
     #[test]
     fn a_lathe_roughing_cycle_plots_every_pass_and_the_finishing() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let md = MachineData::load(Some(&root.join("config/fanuc-lathe.toml")), &[]).unwrap();
         let file = root.join("programs/fanuc-lathe/shaft_rough_finish.nc");
         let source = std::fs::read_to_string(file).unwrap();
-        // The kernel's own table (config/tools.toml): T0201 is T2 D1, nose R 1.2, and T0101
-        // T1 D1, R 0.8, both in cutting edge position 3 (tip P = nose centre + (−R, −R)).
-        let p = plot("shaft_rough_finish.nc", &source, &md, &ToolTable::builtin());
+        // The kernel's own table (config/tools.toml) through the wire: T0201 is T2 D1, nose
+        // R 1.2, and T0101 T1 D1, R 0.8, both in cutting edge position 3 (tip P = nose
+        // centre + (−R, −R)). Without the position the plot is the nose centre's: the Ø40
+        // pass then ends at Z −48.0, the finishing R off the part.
+        let wire = nc_runtime::tool_table_msg(&ToolTable::builtin(), 1, false);
+        let tools = nc_runtime::tool_table(&wire);
+        let p = plot("shaft_rough_finish.nc", &source, &md, &tools);
         assert_eq!(p.axes, ["Z", "X"]);
         assert!(p.alarm.is_none(), "{:?}", p.alarm);
 

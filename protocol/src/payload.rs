@@ -415,6 +415,10 @@ pub struct ToolEntry {
     pub radius_wear: f64,
     pub length: f64,
     pub length_wear: f64,
+    /// Cutting edge position 1–9 of a turning tool (docs/turning.md: where the tip P lies
+    /// from the nose centre); 0: none given (P is the nose centre, as for a milling cutter).
+    pub cutting_edge: u8,
+    pub _pad: [u8; 7],
 }
 
 /// The kernel's tool table, kernel → anyone, when it changes (the newest kept for late

@@ -25,8 +25,8 @@ use std::fmt;
 use std::path::PathBuf;
 
 /// Version of the protocol; with the payloads' layouts it makes the ABI string.
-/// 2: `Command::t` (offsets of T/D tables).
-pub const PROTOCOL_VERSION: u32 = 4;
+/// 2: `Command::t` (offsets of T/D tables); 5: `ToolEntry::cutting_edge`.
+pub const PROTOCOL_VERSION: u32 = 5;
 pub const ABI_KEY: &str = "softnc.abi";
 
 /// The default instance; tests and side-by-side machines take their own.
@@ -527,7 +527,7 @@ mod tests {
     #[test]
     fn abi_names_version_and_layout() {
         let a = abi();
-        assert!(a.starts_with("softnc-ipc/4/"), "{a}");
+        assert!(a.starts_with("softnc-ipc/5/"), "{a}");
         assert_eq!(a, abi());
         assert!(a.len() < 64);
     }

@@ -18,11 +18,13 @@ pub mod process;
 mod program_files;
 pub mod record;
 mod wire_axes;
+mod wire_tools;
 
 pub use clock::{CycleClock, Tick};
 pub use failure::{exit, Failure};
 pub use program_files::program_library;
 pub use wire_axes::WireAxes;
+pub use wire_tools::{tool_table, tool_table_msg};
 
 /// A latency histogram (ns) in cyclictest's format, so that scripts sum rounds of either
 /// alike: `# title`, `# name value` comment lines, then "`<µs> <count>`" per 1 µs bucket.

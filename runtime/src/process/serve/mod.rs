@@ -908,32 +908,7 @@ impl Desk<'_> {
 
     /// The table as HMIs get it.
     fn table_msg(&self, version: u32) -> softnc_protocol::ToolTableMsg {
-        let mut m = softnc_protocol::ToolTableMsg {
-            version,
-            saved: self.tools_path.is_some() as u8,
-            ..Default::default()
-        };
-        let n = self.tools.offset.len().min(softnc_protocol::TOOL_ENTRIES);
-        m.count = n as u32;
-        m.truncated = (self.tools.offset.len() > n) as u8;
-        for (e, o) in m.entries.iter_mut().zip(&self.tools.offset) {
-            // A `--set Dn=R` override stands for radius R with wear 0.
-            let (radius, radius_wear) = self
-                .tools
-                .radius_overrides
-                .iter()
-                .find(|(d, _)| *d == o.d)
-                .map_or((o.radius, o.radius_wear), |(_, r)| (*r, 0.0));
-            *e = softnc_protocol::ToolEntry {
-                t: o.t.unwrap_or(0),
-                d: o.d,
-                radius,
-                radius_wear,
-                length: o.length,
-                length_wear: o.length_wear,
-            };
-        }
-        m
+        crate::tool_table_msg(&self.tools, version, self.tools_path.is_some())
     }
 }
 
