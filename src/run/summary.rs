@@ -256,16 +256,21 @@ pub struct Summary {
     pub rotary: Vec<(char, f64)>,
 }
 
+/// Rows either side of an actual point's row whose setpoints it is measured against: the
+/// actual position lags its setpoint by the following error, well within this, and a wider
+/// window would also find the passes that come back over the same place.
+const WINDOW: usize = 2000;
+
 /// Following error (the linear axes' together in mm, each rotary axis's alone in degrees),
 /// and the actual path's distance from the setpoint polyline in X Y Z (the setpoints lie on
 /// the compensated path; between two of them the chord is within (v·T)²/8r of it), searched
-/// within ±2000 rows of the actual point's row. `rotary[n]`: the trace's axis n is rotary.
+/// within ±[`WINDOW`] rows of the actual point's row. `rotary[n]`: the trace's axis n is rotary.
 pub fn summarize(trace: &Trace, rotary: &[bool]) -> Summary {
     let rows = &trace.rows;
     let rotary_at = |n: usize| rotary.get(n).copied().unwrap_or(false);
     let mut s = Summary {
         max_following_error: 0.0,
-        max_deviation: 0.0,
+        max_deviation: max_deviation(trace, WINDOW),
         max_v: 0.0,
         lost: lost(rows),
         rotary: (0..trace.axes.len())
@@ -273,7 +278,7 @@ pub fn summarize(trace: &Trace, rotary: &[bool]) -> Summary {
             .map(|n| (trace.axes[n], 0.0))
             .collect(),
     };
-    for (i, r) in rows.iter().enumerate() {
+    for r in rows {
         let mut linear = 0.0;
         let mut turning = s.rotary.iter_mut();
         for (n, e) in r.following_error.iter().enumerate().take(trace.axes.len()) {
@@ -285,16 +290,130 @@ pub fn summarize(trace: &Trace, rotary: &[bool]) -> Summary {
         }
         s.max_following_error = s.max_following_error.max(linear.sqrt());
         s.max_v = s.max_v.max(r.v_path);
-        let (lo, hi) = (i.saturating_sub(2000), (i + 2000).min(rows.len() - 1));
-        let at = |j: usize| trace.xyz(&rows[j].setpoint);
-        let p = trace.xyz(&r.actual);
-        // The last index pairs with itself: a point, which also covers a one-row trace.
-        let best = (lo..=hi)
-            .map(|j| point_segment(p, at(j), at((j + 1).min(hi))))
-            .fold(f64::INFINITY, f64::min);
-        s.max_deviation = s.max_deviation.max(best);
     }
     s
+}
+
+/// The largest distance of an actual point from the setpoint pieces within ±`window` rows
+/// of its own row (the window's last setpoint counts as a point of its own, which also
+/// covers a one-row trace).
+fn max_deviation(trace: &Trace, window: usize) -> f64 {
+    let rows = &trace.rows;
+    let pieces = Pieces::new(rows.iter().map(|r| trace.xyz(&r.setpoint)).collect());
+    let mut max = 0.0_f64;
+    for (i, r) in rows.iter().enumerate() {
+        let (lo, hi) = (i.saturating_sub(window), (i + window).min(rows.len() - 1));
+        max = max.max(pieces.nearest(trace.xyz(&r.actual), lo, hi));
+    }
+    max
+}
+
+/// A box, as its lowest and highest corner.
+type Bounds = [Pos; 2];
+
+/// Nothing inside: its distance from any point is infinite.
+const EMPTY: Bounds = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+
+/// Rounding slack when a box is ruled out: it is passed over only when it lies farther
+/// than the nearest piece found by more than this, so no piece that [`point_segment`]
+/// measures nearer is missed and the answer is the plain search's to the bit.
+const SLACK: f64 = 1e-9;
+
+/// The setpoint polyline's pieces (piece j from point j to point j + 1) under a binary tree
+/// of bounding boxes: the nearest piece of a window of rows is found by opening only the
+/// boxes near the actual point instead of measuring every piece of the window.
+struct Pieces {
+    points: Vec<Pos>,
+    /// Node 1 is the root, node k's children are 2k and 2k + 1; leaf `leaves + j` bounds
+    /// piece j (empty past the last piece).
+    boxes: Vec<Bounds>,
+    leaves: usize,
+}
+
+impl Pieces {
+    fn new(points: Vec<Pos>) -> Pieces {
+        let n = points.len().saturating_sub(1);
+        let leaves = n.next_power_of_two();
+        let mut boxes = vec![EMPTY; 2 * leaves];
+        for (j, w) in points.windows(2).enumerate() {
+            boxes[leaves + j] = union(&[w[0], w[0]], &[w[1], w[1]]);
+        }
+        for k in (1..leaves).rev() {
+            boxes[k] = union(&boxes[2 * k], &boxes[2 * k + 1]);
+        }
+        Pieces {
+            points,
+            boxes,
+            leaves,
+        }
+    }
+
+    /// The distance from `p` to the nearest piece j with `lo <= j < hi` and to point `hi`:
+    /// the minimum [`point_segment`] gives over them.
+    fn nearest(&self, p: Pos, lo: usize, hi: usize) -> f64 {
+        let end = self.points[hi];
+        let mut best = f64::INFINITY.min(point_segment(p, end, end));
+        if lo < hi {
+            self.descend(1, (0, self.leaves), p, (lo, hi), &mut best);
+        }
+        best
+    }
+
+    /// Searches node `k` (pieces `span.0 .. span.1`) for pieces of `window` nearer than
+    /// `best`, nearer child first.
+    fn descend(
+        &self,
+        k: usize,
+        span: (usize, usize),
+        p: Pos,
+        window: (usize, usize),
+        best: &mut f64,
+    ) {
+        if span.1 <= window.0 || span.0 >= window.1 || !self.may_hold(k, p, *best) {
+            return;
+        }
+        if k >= self.leaves {
+            let j = span.0;
+            *best = best.min(point_segment(p, self.points[j], self.points[j + 1]));
+            return;
+        }
+        let mid = (span.0 + span.1) / 2;
+        let (near, far) = ((2 * k, (span.0, mid)), (2 * k + 1, (mid, span.1)));
+        let (near, far) =
+            if box_distance2(&self.boxes[far.0], p) < box_distance2(&self.boxes[near.0], p) {
+                (far, near)
+            } else {
+                (near, far)
+            };
+        self.descend(near.0, near.1, p, window, best);
+        self.descend(far.0, far.1, p, window, best);
+    }
+
+    /// Whether node `k`'s box may hold a piece nearer to `p` than `best`.
+    fn may_hold(&self, k: usize, p: Pos, best: f64) -> bool {
+        let bound = best + SLACK;
+        box_distance2(&self.boxes[k], p) <= bound * bound
+    }
+}
+
+fn union(a: &Bounds, b: &Bounds) -> Bounds {
+    let mut u = *a;
+    for n in 0..3 {
+        u[0][n] = u[0][n].min(b[0][n]);
+        u[1][n] = u[1][n].max(b[1][n]);
+    }
+    u
+}
+
+/// The squared distance from `p` to box `b` (0 inside it; `max` passes over a NaN
+/// coordinate, so a box is never ruled out by one).
+fn box_distance2(b: &Bounds, p: Pos) -> f64 {
+    (0..3)
+        .map(|n| {
+            let d = (b[0][n] - p[n]).max(p[n] - b[1][n]).max(0.0);
+            d * d
+        })
+        .sum()
 }
 
 /// Setpoints missing from the sequence (watchdog rows, seq 0, aside).
@@ -362,6 +481,127 @@ mod tests {
         assert_eq!(s.rotary, [('C', 1.0)]);
         assert_eq!(s.lost, 1);
         assert!((s.max_deviation - 0.5).abs() < 1e-12, "{}", s.max_deviation);
+    }
+
+    /// A trace in the turning plane (X, Z) from setpoints and actual positions.
+    fn lathe_trace(points: &[([f64; 2], [f64; 2])]) -> Trace {
+        let axes = |p: [f64; 2]| {
+            let mut a = [0.0; MAX_AXES];
+            a[..2].copy_from_slice(&p);
+            a
+        };
+        let rows = points
+            .iter()
+            .enumerate()
+            .map(|(i, &(sp, act))| Row {
+                setpoint: axes(sp),
+                actual: axes(act),
+                following_error: axes([sp[0] - act[0], sp[1] - act[1]]),
+                v_path: 0.0,
+                seq: i as u64 + 1,
+            })
+            .collect();
+        Trace {
+            axes: vec!['X', 'Z'],
+            geo: [Some(0), None, Some(1)],
+            rows,
+        }
+    }
+
+    /// The search as it was first written: every piece of the window measured.
+    fn every_piece_of_the_window(trace: &Trace, window: usize) -> f64 {
+        let rows = &trace.rows;
+        let mut max = 0.0_f64;
+        for (i, r) in rows.iter().enumerate() {
+            let (lo, hi) = (i.saturating_sub(window), (i + window).min(rows.len() - 1));
+            let at = |j: usize| trace.xyz(&rows[j].setpoint);
+            let p = trace.xyz(&r.actual);
+            let best = (lo..=hi)
+                .map(|j| point_segment(p, at(j), at((j + 1).min(hi))))
+                .fold(f64::INFINITY, f64::min);
+            max = max.max(best);
+        }
+        max
+    }
+
+    /// Two roughing passes 0.25 mm apart in X, the second more than a window's rows after
+    /// the first: the first pass digs 0.3 mm below its setpoint once, and that is measured
+    /// against its own pass, not against the second pass 0.05 mm away. The same answer as
+    /// every piece of the window gives.
+    #[test]
+    fn the_deviation_is_measured_within_the_window_of_rows() {
+        const ROWS: usize = 50;
+        let mut points = Vec::new();
+        let pass = |points: &mut Vec<_>, x: f64, dig: Option<usize>| {
+            for k in 0..200 {
+                let z = -0.3 * k as f64;
+                let act = if dig == Some(k) { x - 0.3 } else { x };
+                points.push(([x, z], [act, z + 0.01]));
+            }
+        };
+        pass(&mut points, 20.0, Some(20));
+        for k in 0..30 {
+            let z = -60.0 + 2.0 * k as f64;
+            points.push(([20.5, z], [20.5, z - 0.05]));
+        }
+        pass(&mut points, 19.75, None);
+        let trace = lathe_trace(&points);
+        let dev = max_deviation(&trace, ROWS);
+        assert_eq!(dev, every_piece_of_the_window(&trace, ROWS));
+        assert!((dev - 0.3).abs() < 1e-9, "{dev}");
+        // Over the whole trace the dig would be 0.05 from the second pass.
+        let at = |j: usize| trace.xyz(&trace.rows[j].setpoint);
+        let dig = trace.xyz(&trace.rows[20].actual);
+        let nearest = (0..trace.rows.len() - 1)
+            .map(|j| point_segment(dig, at(j), at(j + 1)))
+            .fold(f64::INFINITY, f64::min);
+        assert!((nearest - 0.05).abs() < 1e-9, "{nearest}");
+    }
+
+    /// A path that winds back over itself many times, with rests (repeated setpoints) and
+    /// an actual path wandering about it: the tree's answer is bit for bit the one of
+    /// measuring every piece of the window, for the trace and for single rows.
+    #[test]
+    fn the_tree_finds_what_every_piece_of_the_window_finds() {
+        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let points: Vec<([f64; 2], [f64; 2])> = (0..3000)
+            .map(|i| {
+                let t = (i / 3) as f64 * 0.02; // every setpoint three times: rests
+                let sp = [20.0 + 5.0 * (t * 0.7).sin(), 30.0 * (t * 0.31).cos()];
+                (sp, [sp[0] + next(), sp[1] + next()])
+            })
+            .collect();
+        let trace = lathe_trace(&points);
+        for window in [40, 700] {
+            assert_eq!(
+                max_deviation(&trace, window),
+                every_piece_of_the_window(&trace, window),
+                "window {window}"
+            );
+        }
+        let at = |j: usize| trace.xyz(&trace.rows[j].setpoint);
+        let pieces = Pieces::new((0..trace.rows.len()).map(at).collect());
+        let last = trace.rows.len() - 1;
+        for i in (0..trace.rows.len()).step_by(7) {
+            let p = trace.xyz(&trace.rows[i].actual);
+            // Windows cut at the trace's ends, and a single point.
+            for (lo, hi) in [(i.saturating_sub(WINDOW), (i + WINDOW).min(last)), (i, i)] {
+                let every = (lo..=hi)
+                    .map(|j| point_segment(p, at(j), at((j + 1).min(hi))))
+                    .fold(f64::INFINITY, f64::min);
+                assert_eq!(
+                    pieces.nearest(p, lo, hi),
+                    every,
+                    "row {i}, rows {lo}..={hi}"
+                );
+            }
+        }
     }
 
     #[test]
