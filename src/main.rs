@@ -100,6 +100,10 @@ enum Command {
         /// No progress line.
         #[arg(long)]
         quiet: bool,
+        /// Path override in percent from NC start on (above 0, at most 120), as the operator
+        /// sets it at the machine.
+        #[arg(long = "override", value_name = "PERCENT", default_value_t = 100.0)]
+        override_percent: f64,
         /// Also start hmi-bridge (the web page and JSON API, docs/hmi.md) and keep the control
         /// up after the program's end until Ctrl-C.
         #[arg(long)]
@@ -740,12 +744,14 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             svg,
             plc,
             quiet,
+            override_percent,
             hmi,
             hmi_port,
             opcua,
             record,
             setpoints,
         } => {
+            let override_ = path_override(override_percent)?;
             let l = load(&input)?;
             run::run(run::RunOptions {
                 name: &l.name,
@@ -762,6 +768,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 svg,
                 plc_args: &plc,
                 quiet,
+                override_,
                 hmi: hmi.then_some(hmi_port),
                 opcua,
                 record: record.as_deref(),
@@ -817,6 +824,19 @@ fn replay(input: &ProgramArgs, file: &Path, output: Option<&PathBuf>) -> Result<
     Ok(())
 }
 
+/// `--override PERCENT` as the fraction the kernel takes. 0 % is refused: it holds the path
+/// for ever, and neither a simulation nor a run would end.
+fn path_override(percent: f64) -> Result<f64, Failure> {
+    nc_kernel::cycle::Override::from_percent(percent)
+        .map(|o| o.fraction())
+        .ok_or_else(|| {
+            fail(format!(
+                "--override {percent}: expected a percentage {}",
+                nc_kernel::cycle::Override::RANGE
+            ))
+        })
+}
+
 fn simulate(
     input: &ProgramArgs,
     output: Option<&PathBuf>,
@@ -824,18 +844,11 @@ fn simulate(
     single_block: bool,
     ack_cycles: u64,
 ) -> Result<(), Failure> {
-    // 0 % holds the path forever: a simulation would never end.
-    let override_ =
-        nc_kernel::cycle::Override::from_percent(override_percent).ok_or_else(|| {
-            fail(format!(
-                "--override {override_percent}: expected a percentage {}",
-                nc_kernel::cycle::Override::RANGE
-            ))
-        })?;
+    let override_ = path_override(override_percent)?;
     let l = load(input)?;
     let opts = nc_kernel::simulate::Options {
         ack_cycles,
-        override_: override_.fraction(),
+        override_,
         single_block,
         ..Default::default()
     };

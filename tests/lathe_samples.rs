@@ -529,10 +529,11 @@ fn softnc_check_passes_the_cycle95_shaft_and_softnc_path_lists_its_passes() {
 
 // --- softnc run ----------------------------------------------------------------------------
 
-/// The Fanuc shaft on the control, nc-kernel and plc-sim over iceoryx2. It runs at the
-/// program's feeds per revolution in real time (89 s of machine time: `softnc run` has no
-/// time scale, and feed per revolution follows the programmed S), so only this, the
-/// shorter of the two lathe samples, runs end to end here.
+/// The Fanuc shaft on the control, nc-kernel and plc-sim over iceoryx2. It runs in real
+/// time (`softnc run` has no time scale, and feed per revolution follows the programmed S:
+/// 89 s of machine time at 100 %), so only this, the shorter of the two lathe samples, runs
+/// end to end here, at the control's highest path override, 120 % (76 s): the path, its exact
+/// stops at the pass ends and the picture are the same at any override.
 #[test]
 fn softnc_run_turns_the_fanuc_shaft_to_its_end_with_every_pass_in_the_picture() {
     let (tr, svg) = (scratch("lathe-shaft.csv"), scratch("lathe-shaft.svg"));
@@ -540,11 +541,27 @@ fn softnc_run_turns_the_fanuc_shaft_to_its_end_with_every_pass_in_the_picture() 
         Path::new(FANUC_SHAFT),
         &instance("lathe-shaft"),
         &tr,
-        &["--machine", FANUC_LATHE, "--svg", svg.to_str().unwrap()],
+        &[
+            "--machine",
+            FANUC_LATHE,
+            "--svg",
+            svg.to_str().unwrap(),
+            "--override",
+            "120",
+        ],
     );
     let said = run.said();
     assert!(run.success(), "{said}");
     assert!(run.stdout.contains("ran to its end"), "{said}");
+    // The override acted from NC start: well under the 89 s of 100 %.
+    let secs: f64 = run
+        .stdout
+        .split("ran to its end in ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no run time in {said}"));
+    assert!((70.0..80.0).contains(&secs), "{secs} s: {said}");
     assert!(run.stdout.contains("setpoints: 0 lost"), "{said}");
     assert!(run.stdout.contains("shared memory files left: 0"), "{said}");
 

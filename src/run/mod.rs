@@ -37,6 +37,8 @@ pub struct RunOptions<'a> {
     pub svg: Option<PathBuf>,
     pub plc_args: &'a [String],
     pub quiet: bool,
+    /// Path override from NC start on, a fraction (1: 100 %).
+    pub override_: f64,
     /// Also start hmi-bridge (`Some(port)`; `None` in the port: machine data `hmi.port`),
     /// and keep the control up after the program's end until Ctrl-C.
     pub hmi: Option<Option<u16>>,
@@ -510,6 +512,14 @@ impl Supervisor<'_> {
                 return Err("plc-sim did not come up".into());
             }
             std::thread::sleep(Duration::from_millis(5));
+        }
+        if self.o.override_ != 1.0 {
+            let mut c = Command::new(command::OVERRIDE);
+            c.value = self.o.override_;
+            let r = hmi.ask(c, Duration::from_secs(5))?;
+            if r.ok == 0 {
+                return Err(format!("override refused: {}", r.message()).into());
+            }
         }
         let r = hmi.ask(Command::new(command::START), Duration::from_secs(5))?;
         if r.ok == 0 {
