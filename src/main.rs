@@ -511,7 +511,7 @@ fn with_preparation<R>(l: &Loaded, whole: WholeMode, f: impl FnOnce(&mut Prepara
     if l.source.len() >= LONG && cores >= 2 {
         std::thread::scope(|s| {
             let prep = Preparation::threaded(s, &l.name, &l.source, &l.md, &l.tools);
-            let mut prep = checked(prep, &l.md, whole);
+            let mut prep = checked(prep, &l.md, whole).with_join(&nc_runtime::Threads);
             f(&mut prep)
         })
     } else {

@@ -79,12 +79,25 @@ fn prep(c: &mut Criterion) {
     group.finish();
 }
 
-/// The whole-program check as `softnc check` runs it, interpreter threaded.
+/// The whole-program check as `softnc check` runs it: interpreter threaded, a long run
+/// checked in two halves at once (as nc_runtime::Threads joins them).
 fn run_checked(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
     std::thread::scope(|s| {
         let prep = Preparation::threaded(s, "bench", black_box(text), md, tools);
-        drain(prep.checking_whole(WholeMode::Collect))
+        drain(prep.checking_whole(WholeMode::Collect).with_join(&Halves))
     })
+}
+
+/// Two pieces of work at once, one in a scoped thread.
+struct Halves;
+
+impl nc_kernel::Join for Halves {
+    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
+        std::thread::scope(|s| {
+            s.spawn(a);
+            b();
+        });
+    }
 }
 
 fn corners(c: &mut Criterion) {

@@ -12,6 +12,7 @@
 
 mod clock;
 mod failure;
+mod join;
 pub mod live;
 pub mod os;
 pub mod process;
@@ -22,6 +23,7 @@ mod wire_tools;
 
 pub use clock::{CycleClock, Tick};
 pub use failure::{exit, Failure};
+pub use join::Threads;
 pub use program_files::program_library;
 pub use wire_axes::WireAxes;
 pub use wire_tools::{tool_table, tool_table_msg};

@@ -23,8 +23,8 @@ use super::leads::{part_of, span_of};
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    clear_by_ends_of, contains, dist_elems, dist_point, intersections, sweep, v2, Elem, Fence,
-    Measured, V2,
+    clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear, sweep, v2,
+    Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -959,6 +959,11 @@ impl Bottleneck {
 #[inline]
 fn too_close(path: &Measured, elem: &Elem, fence: &Fence, r: f64) -> Option<f64> {
     let limit = r - gouge_tol(&path.e);
+    if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (path.e, *elem) {
+        if lines_clear(a, b, p, q, limit.max(0.0)) {
+            return None;
+        }
+    }
     if clear_by_ends_of(path, elem, fence, limit) {
         return None;
     }

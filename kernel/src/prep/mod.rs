@@ -17,6 +17,7 @@ mod whole;
 pub use bottleneck::{Bottleneck, Gouge, Reaction, MAX_WINDOW};
 pub use resume::{Interruption, Resumed};
 pub use s_points::{AuxFunction, Prepared, SPoints, Stop};
+pub use whole::Join;
 
 use crate::alarm::{Alarm, AlarmCode};
 use crate::frontend::Interpreter;
@@ -62,7 +63,7 @@ pub struct Preparation<'a> {
     /// `softnc simulate` and `check`): a segment beyond them is an alarm.
     limits: Option<soft_limits::SoftLimits>,
     /// The whole-program check, when asked for (it allocates as the run grows).
-    whole: Option<Box<whole::WholeCheck>>,
+    whole: Option<Box<whole::WholeCheck<'a>>>,
     whole_mode: WholeMode,
     /// Violations the whole-program check collected (`WholeMode::Collect`), and the run of
     /// consecutive path blocks too close to one element that is still growing.
@@ -192,6 +193,15 @@ impl<'a> Preparation<'a> {
     pub fn checking_whole(mut self, mode: WholeMode) -> Self {
         self.whole = Some(Box::new(whole::WholeCheck::new()));
         self.whole_mode = mode;
+        self
+    }
+
+    /// The whole-program check does the check of a long run in two halves at once through
+    /// `join` (without the check, nothing changes).
+    pub fn with_join(mut self, join: &'a dyn Join) -> Self {
+        if let Some(w) = &mut self.whole {
+            w.with_join(join);
+        }
         self
     }
 

@@ -6,22 +6,24 @@
 //! The definition is the window's (prep/bottleneck.rs): the tool circle along a segment
 //! must stay at least R from every programmed element of its side, its own block's element
 //! aside (an equidistant is R from it by construction); a radius change over an arc is
-//! checked with the radius at each point. What differs is the reach: elements and segments
-//! go into a uniform grid over the plane, so each new one meets only those near it, and
-//! every pair is looked at once, when the later of the two comes — a cost close to linear
-//! in the length of the program. Under ISG masking the segments checked are the masked path
-//! (the window's output).
+//! checked with the radius at each point. What differs is the reach: when a run is complete
+//! its elements go into a uniform grid over their extent and each segment meets only those
+//! in the cells its box covers — a cost close to linear in the length of the program. Under
+//! ISG masking the segments checked are the masked path (the window's output).
 
 use super::bottleneck::{bbox, elem_in, overlap, Gouge, PathPiece};
-use super::leads::{part_of, Closure};
+use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{Elem, Fence, Measured};
-use std::collections::HashMap;
 
-/// An element or a segment whose box covers more grid cells than this is kept in a list of
-/// its own and met by everything (a large arc's box is its whole circle).
-const MAX_CELLS: i64 = 64;
+/// An element whose box covers more grid cells than this is kept in a list of its own and
+/// met by every segment (a large arc's box is its whole circle).
+const MAX_CELLS: usize = 64;
+
+/// Grid cell edge in tool radii: a segment's box (grown by R) meets a few cells, and a cell
+/// holds the few elements near it.
+const CELL_RADII: f64 = 4.0;
 
 #[derive(Clone, Copy, Debug)]
 struct Element {
@@ -37,10 +39,6 @@ struct Element {
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
     source: Source,
-    /// A violation of it is on record: it is not reported again.
-    reported: bool,
-    /// Violations of it waiting for the end of the run (at most `MAX_WAITING`).
-    waiting: u8,
     piece: PathPiece,
     r: f64,
     side: i8,
@@ -48,165 +46,283 @@ struct PathSegment {
     bb: [f64; 4],
 }
 
-/// Where the members of one kind lie: grid cells, and the large ones apart. A cell holds the
-/// head of a list threaded through `entries` (member, next entry): no allocation per cell.
+/// The elements of one run in a uniform grid over their extent, built when the run is
+/// complete: each cell's members lie together in `members` (a counting sort), so a query is
+/// index arithmetic and a scan, no hashing and no allocation per cell.
 #[derive(Default)]
 struct Grid {
-    cells: HashMap<(i64, i64), u32, Cells>,
-    entries: Vec<(u32, u32)>,
+    /// Lower corner of the extent, the inverse cell edge, the cells along x and y.
+    x0: f64,
+    y0: f64,
+    inv: f64,
+    nx: usize,
+    ny: usize,
+    /// Cell k's members are `members[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    members: Vec<u32>,
+    /// Elements whose box covers more than `MAX_CELLS` cells (or is not finite).
     large: Vec<u32>,
+    /// Each element's cells (x0, y0, x1, y1), between the counting and the filling pass.
+    spans: Vec<[u32; 4]>,
 }
 
-/// Violations of one segment that wait for the end of its run, at most (a lead is one to
-/// three elements at each end of a run: the first few suffice).
-const MAX_WAITING: u8 = 8;
+/// Each cell of span `s` in a grid `nx` cells wide, by its index.
+#[inline]
+fn each_cell(nx: usize, s: [u32; 4], mut f: impl FnMut(usize)) {
+    for y in s[1]..=s[3] {
+        let row = y as usize * nx;
+        for x in s[0]..=s[2] {
+            f(row + x as usize);
+        }
+    }
+}
 
-/// The end of a cell's list.
-const NONE: u32 = u32::MAX;
+/// The cell index of `v` on an axis of `n` cells, clamped to the grid: a truncation with a
+/// correction for negative values (the core's floor is a library call).
+#[inline]
+fn cell_of(v: f64, n: usize) -> usize {
+    if v >= 0.0 {
+        // `as` saturates: a huge value lands in the last cell.
+        (v as usize).min(n - 1)
+    } else {
+        0
+    }
+}
 
 impl Grid {
-    fn clear(&mut self) {
-        self.cells.clear();
-        self.entries.clear();
+    /// The grid of `elements`, cells about `edge` mm, never many more cells than elements.
+    fn build(&mut self, elements: &[Element], edge: f64) {
+        self.start.clear();
+        self.members.clear();
         self.large.clear();
-    }
-
-    fn insert(&mut self, cells: Option<[i64; 4]>, i: u32) {
-        match cells {
-            Some([x0, y0, x1, y1]) => {
-                for x in x0..=x1 {
-                    for y in y0..=y1 {
-                        let at = self.entries.len() as u32;
-                        let head = self.cells.entry((x, y)).or_insert(NONE);
-                        self.entries.push((i, *head));
-                        *head = at;
-                    }
+        self.spans.clear();
+        let mut ext = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for e in elements
+            .iter()
+            .filter(|e| e.bb.iter().all(|v| v.is_finite()))
+        {
+            ext = [
+                ext[0].min(e.bb[0]),
+                ext[1].min(e.bb[1]),
+                ext[2].max(e.bb[2]),
+                ext[3].max(e.bb[3]),
+            ];
+        }
+        let (w, h) = ((ext[2] - ext[0]).max(0.0), (ext[3] - ext[1]).max(0.0));
+        // Cells enough for the elements: the edge grows where the extent is large for them.
+        let room = 4.0 * elements.len() as f64 + 64.0;
+        let edge = edge
+            .max(((w * h) / room).sqrt())
+            .max(w / room)
+            .max(h / room);
+        if !(edge.is_finite() && edge > 0.0) {
+            self.nx = 0;
+            self.large.extend(0..elements.len() as u32);
+            return;
+        }
+        (self.x0, self.y0, self.inv) = (ext[0], ext[1], 1.0 / edge);
+        self.nx = (w * self.inv) as usize + 1;
+        self.ny = (h * self.inv) as usize + 1;
+        self.start.resize(self.nx * self.ny + 1, 0);
+        for (i, e) in elements.iter().enumerate() {
+            let s = self.span(&e.bb);
+            let n = s.map_or(usize::MAX, |s| {
+                (s[2] - s[0] + 1) as usize * (s[3] - s[1] + 1) as usize
+            });
+            match s {
+                Some(s) if n <= MAX_CELLS => {
+                    each_cell(self.nx, s, |k| self.start[k + 1] += 1);
+                    self.spans.push(s);
+                }
+                _ => {
+                    self.large.push(i as u32);
+                    self.spans.push([1, 1, 0, 0]);
                 }
             }
-            None => self.large.push(i),
         }
+        for k in 1..self.start.len() {
+            self.start[k] += self.start[k - 1];
+        }
+        self.members
+            .resize(self.start[self.nx * self.ny] as usize, 0);
+        // Filled from each cell's end backwards: `start` ends as the cells' beginnings.
+        let mut fill = std::mem::take(&mut self.start);
+        fill.rotate_left(1);
+        for (i, s) in self.spans.iter().enumerate() {
+            each_cell(self.nx, *s, |k| {
+                fill[k] -= 1;
+                self.members[fill[k] as usize] = i as u32;
+            });
+        }
+        // Each cell's fill has come down to its beginning; the last entry closes the last cell.
+        if let Some(last) = fill.last_mut() {
+            *last = self.members.len() as u32;
+        }
+        self.start = fill;
     }
 
-    /// Every member in the cells of `cells` (a large box: every member), each once: `seen`
-    /// holds the query's stamp for those already met.
-    fn each(
-        &self,
-        cells: Option<[i64; 4]>,
-        all: usize,
-        seen: &mut [u32],
-        stamp: u32,
-        mut f: impl FnMut(u32) -> bool,
-    ) -> bool {
-        let mut visit = |i: u32| {
-            let s = &mut seen[i as usize];
-            if *s == stamp {
-                return false;
-            }
-            *s = stamp;
-            f(i)
-        };
-        let Some([x0, y0, x1, y1]) = cells else {
-            return (0..all as u32).any(&mut visit);
-        };
-        for x in x0..=x1 {
-            for y in y0..=y1 {
-                let mut at = self.cells.get(&(x, y)).copied().unwrap_or(NONE);
-                while let Some(&(i, next)) = self.entries.get(at as usize) {
-                    if visit(i) {
-                        return true;
-                    }
-                    at = next;
-                }
-            }
+    /// The cells a box covers, clamped to the grid; `None` for a box not finite or off it.
+    #[inline]
+    fn span(&self, bb: &[f64; 4]) -> Option<[u32; 4]> {
+        if self.nx == 0 || !bb.iter().all(|v| v.is_finite()) {
+            return None;
         }
-        self.large.iter().any(|&i| visit(i))
+        let (x0, y0) = ((bb[0] - self.x0) * self.inv, (bb[1] - self.y0) * self.inv);
+        let (x1, y1) = ((bb[2] - self.x0) * self.inv, (bb[3] - self.y0) * self.inv);
+        if x1 < 0.0 || y1 < 0.0 || x0 >= self.nx as f64 || y0 >= self.ny as f64 {
+            return None;
+        }
+        Some([
+            cell_of(x0, self.nx) as u32,
+            cell_of(y0, self.ny) as u32,
+            cell_of(x1, self.nx) as u32,
+            cell_of(y1, self.ny) as u32,
+        ])
+    }
+
+    /// Every element near box `bb`, each once (`seen` holds the query's stamp for those
+    /// already met), the large ones last.
+    #[inline]
+    fn each(&self, bb: &[f64; 4], seen: &mut [u32], stamp: u32, mut f: impl FnMut(u32)) {
+        if let Some(s) = self.span(bb) {
+            each_cell(self.nx, s, |k| {
+                let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
+                for &i in &self.members[a..b] {
+                    let m = &mut seen[i as usize];
+                    if *m != stamp {
+                        *m = stamp;
+                        f(i);
+                    }
+                }
+            });
+        }
+        for &i in &self.large {
+            f(i);
+        }
     }
 }
 
-/// The whole-program check of one preparation.
-pub struct WholeCheck {
+/// Runs two pieces of work, at once where the runtime can: the core starts no thread of its
+/// own (the command line gives one that does, the kernel none).
+pub trait Join: Sync {
+    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send));
+}
+
+/// A run with fewer segments than this is checked in one piece (a thread costs more than
+/// its half).
+const PARALLEL_SEGMENTS: usize = 8192;
+
+/// One half's check of a run: its own stamps, and the violations it found.
+#[derive(Default)]
+struct Share {
+    /// The query's stamp of each element already met by it.
+    seen: Vec<u32>,
+    stamp: u32,
+    /// Each segment's first violation of the part, in path order.
+    hits: Vec<Gouge>,
+}
+
+impl Share {
+    /// Checks `segments` against the run's `elements` (in `grid`).
+    fn check(&mut self, segments: &[PathSegment], elements: &[Element], grid: &Grid) {
+        self.hits.clear();
+        self.seen.clear();
+        self.seen.resize(elements.len(), 0);
+        self.stamp = 0;
+        // The run's closed loops, worked out at its first violation (prep/leads.rs).
+        let mut span: Option<Span> = None;
+        for s in segments {
+            self.stamp = self.stamp.wrapping_add(1);
+            if self.stamp == 0 {
+                // Wrapped: no stale stamp may equal a new one.
+                self.seen.fill(0);
+                self.stamp = 1;
+            }
+            let mut first: Option<(u32, Gouge)> = None;
+            grid.each(&s.bb, &mut self.seen, self.stamp, |k| {
+                if first.is_some_and(|(f, _)| f < k) {
+                    return;
+                }
+                let Some(g) = gouge(s, &elements[k as usize]) else {
+                    return;
+                };
+                let span = *span.get_or_insert_with(|| loops(elements));
+                if part_of(span, k + 1) {
+                    first = Some((k, g));
+                }
+            });
+            self.hits.extend(first.map(|(_, g)| g));
+        }
+    }
+}
+
+/// The whole-program check of one preparation: the run's elements and segments are kept as
+/// they come, and checked against each other when the run is complete (the kernel lets no
+/// segment of a run go before the whole run is met, and a violation of a lead is known only
+/// then: prep/leads.rs).
+pub struct WholeCheck<'a> {
     plane: Plane,
-    /// Grid cell edge, mm: set by the first element of a run from its tool radius.
-    cell: f64,
     elements: Vec<Element>,
     segments: Vec<PathSegment>,
-    element_grid: Grid,
-    segment_grid: Grid,
-    element_seen: Vec<u32>,
-    segment_seen: Vec<u32>,
-    stamp: u32,
+    grid: Grid,
+    /// The two halves' work of a long run (one does all of a short one).
+    shares: [Share; 2],
+    join: Option<&'a dyn Join>,
     /// The last element's tool radius and side: what a segment of a block without an
     /// element takes (as in the window).
     last: Option<(f64, i8)>,
-    /// Violations found in the run: the segment, the violation and the element's index;
-    /// settled at the end of the run, when its closed loops are known (prep/leads.rs).
-    pending: Vec<(u32, Gouge, u32)>,
 }
 
-impl Default for WholeCheck {
+impl Default for WholeCheck<'_> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl WholeCheck {
+impl<'a> WholeCheck<'a> {
     pub fn new() -> Self {
         WholeCheck {
             plane: Plane::XY,
-            cell: 0.0,
             elements: Vec::new(),
             segments: Vec::new(),
-            element_grid: Grid::default(),
-            segment_grid: Grid::default(),
-            element_seen: Vec::new(),
-            segment_seen: Vec::new(),
-            stamp: 0,
+            grid: Grid::default(),
+            shares: Default::default(),
+            join: None,
             last: None,
-            pending: Vec::new(),
         }
+    }
+
+    /// Long runs are checked in two halves at once through `join`.
+    pub fn with_join(&mut self, join: &'a dyn Join) {
+        self.join = Some(join);
     }
 
     pub fn set_plane(&mut self, plane: Plane) {
         self.plane = plane;
     }
 
-    /// A programmed contour element of block `source`, cut with radius `r` on `side`: each
-    /// segment of the run already out that comes too close to it is on record for the end
-    /// of the run.
+    /// A programmed contour element of block `source`, cut with radius `r` on `side`.
     pub fn element(&mut self, source: Source, elem: Elem, r: f64, side: i8) {
-        if self.cell == 0.0 {
-            self.cell = (8.0 * r.abs()).max(1.0);
-        }
         self.last = Some((r, side));
-        let e = Element {
+        self.elements.push(Element {
             source,
             elem,
             r,
             fence: Fence::new(&elem),
             bb: bbox(&elem, 0.0),
             side,
-        };
-        let (cells, i) = self.add_element(e);
-        let stamp = self.next_stamp();
-        let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
-        let all = segments.len();
-        self.segment_grid
-            .each(cells, all, &mut self.segment_seen, stamp, |k| {
-                report(
-                    &mut segments[k as usize],
-                    k,
-                    &elements[i as usize],
-                    i,
-                    pending,
-                );
-                false
-            });
+        });
     }
 
-    /// A segment of the tool-centre path as it goes out: each element of its run it comes
-    /// too close to is on record. A segment that is no contour, corner or intermediate
-    /// block (an approach, a retract, a move without compensation) ends the run: `found`
-    /// gets its violations (until it says to stop), and what comes after is met afresh.
+    /// A segment of the tool-centre path as it goes out. A segment that is no contour,
+    /// corner or intermediate block (an approach, a retract, a move without compensation)
+    /// ends the run: the run is checked and `found` gets its violations in path order (until
+    /// it says to stop); what comes after is met afresh.
     pub fn segment(&mut self, seg: &Segment, found: &mut impl FnMut(Gouge) -> bool) {
         if !matches!(seg.role, Role::Contour | Role::Corner | Role::Intermediate) {
             self.settle(Some(seg.source.seq), found);
@@ -223,65 +339,53 @@ impl WholeCheck {
         if matches!(piece, PathPiece::Off) {
             return;
         }
-        let s = PathSegment {
+        self.segments.push(PathSegment {
             source: seg.source,
-            reported: false,
-            waiting: 0,
             piece,
             r,
             side,
             bb: piece.bbox(r),
-        };
-        let cells = self.cells(&s.bb);
-        let i = self.segments.len() as u32;
-        self.segments.push(s);
-        self.segment_seen.push(0);
-        self.segment_grid.insert(cells, i);
-        let stamp = self.next_stamp();
-        let (segments, elements, pending) = (&mut self.segments, &self.elements, &mut self.pending);
-        let s = &mut segments[i as usize];
-        self.element_grid
-            .each(cells, elements.len(), &mut self.element_seen, stamp, |k| {
-                report(s, i, &elements[k as usize], k, pending);
-                false
-            });
+        });
     }
 
-    /// The program ends: violations still waiting for the run's end are settled.
+    /// The program ends: the last run is checked.
     pub fn finish(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
         self.settle(None, found);
     }
 
     /// The run's contour is complete (it ends before the block of `end`; the elements of
-    /// later blocks belong to the next): a violation of an element that is part of it goes
-    /// to `found` (in path order, one a segment), one of a lead is dropped.
+    /// later blocks belong to the next): each segment too close to an element that is part
+    /// of it goes to `found` (in path order, one violation a segment: the earliest element
+    /// it reaches); one of a lead is dropped. A long run is checked in two halves at once
+    /// where the runtime gave a [`Join`].
     fn settle(&mut self, end: Option<u32>, found: &mut impl FnMut(Gouge) -> bool) {
-        if self.pending.is_empty() {
+        if self.segments.is_empty() {
             return;
         }
-        let mut closure = Closure::default();
-        let before = |e: &&Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
-        for e in self.elements.iter().take_while(before) {
-            closure.element(&e.elem);
-        }
-        let span = closure.span();
-        let mut pending = std::mem::take(&mut self.pending);
-        pending.sort_by_key(|p| p.0);
-        for (i, g, ordinal) in pending.drain(..) {
-            let Some(s) = self.segments.get_mut(i as usize) else {
-                continue;
-            };
-            // One violation a segment: its first in the part.
-            if s.reported || !part_of(span, ordinal + 1) {
-                continue;
+        let before = |e: &Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
+        let n = self.elements.iter().take_while(|e| before(e)).count();
+        let (elements, segments) = (&self.elements[..n], &self.segments[..]);
+        let edge = CELL_RADII * elements.first().map_or(1.0, |e| e.r.abs()).max(0.25);
+        self.grid.build(elements, edge);
+        let grid = &self.grid;
+        let [first, second] = &mut self.shares;
+        match self.join {
+            Some(join) if segments.len() >= PARALLEL_SEGMENTS => {
+                let (a, b) = segments.split_at(segments.len() / 2);
+                join.join(&mut || first.check(a, elements, grid), &mut || {
+                    second.check(b, elements, grid)
+                });
             }
-            s.reported = true;
-            if found(g) {
-                break;
+            _ => {
+                first.check(segments, elements, grid);
+                second.hits.clear();
             }
         }
-        // Drained: empty, its capacity kept for the next run.
-        self.pending = pending;
+        for g in first.hits.iter().chain(&second.hits) {
+            if found(*g) {
+                return;
+            }
+        }
     }
 
     /// The element of block `seq`, if the run has one (elements come in block order).
@@ -296,77 +400,25 @@ impl WholeCheck {
     /// The run ends before the block of `seq`: everything before it goes; an element of a
     /// later block (the next run's first, read before its approach came out) stays.
     fn end_run(&mut self, seq: u32) {
-        if self.segments.is_empty() && self.elements.is_empty() {
-            return;
-        }
-        let keep: Vec<Element> = self
-            .elements
-            .iter()
-            .filter(|e| (e.source.seq.wrapping_sub(seq) as i32) >= 0)
-            .copied()
-            .collect();
         self.segments.clear();
-        self.segment_seen.clear();
-        self.elements.clear();
-        self.element_seen.clear();
-        self.element_grid.clear();
-        self.segment_grid.clear();
-        self.pending.clear();
-        self.cell = 0.0;
-        for e in keep {
-            if self.cell == 0.0 {
-                self.cell = (8.0 * self.last.map_or(1.0, |l| l.0.abs())).max(1.0);
-            }
-            self.add_element(e);
-        }
-    }
-
-    /// An element on record and in the grid: its cells and its index.
-    fn add_element(&mut self, e: Element) -> (Option<[i64; 4]>, u32) {
-        let cells = self.cells(&e.bb);
-        let i = self.elements.len() as u32;
-        self.elements.push(e);
-        self.element_seen.push(0);
-        self.element_grid.insert(cells, i);
-        (cells, i)
-    }
-
-    /// The grid cells a box covers; `None` for a box too large to list (or not finite).
-    fn cells(&self, bb: &[f64; 4]) -> Option<[i64; 4]> {
-        let c = |v: f64| (v / self.cell).floor();
-        let (x0, y0, x1, y1) = (c(bb[0]), c(bb[1]), c(bb[2]), c(bb[3]));
-        let n = (x1 - x0 + 1.0) * (y1 - y0 + 1.0);
-        (n.is_finite() && n <= MAX_CELLS as f64)
-            .then_some([x0 as i64, y0 as i64, x1 as i64, y1 as i64])
-    }
-
-    fn next_stamp(&mut self) -> u32 {
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            // Wrapped: no stale stamp may equal a new one.
-            self.element_seen.fill(0);
-            self.segment_seen.fill(0);
-            self.stamp = 1;
-        }
-        self.stamp
+        self.elements
+            .retain(|e| (e.source.seq.wrapping_sub(seq) as i32) >= 0);
     }
 }
 
-/// Segment `s` (index `i`) at element `e` (index `k`): a violation waits in `pending` for
-/// the end of the run, where it is reported if `e` is part of the contour and not a lead
-/// (prep/leads.rs). A segment keeps its first few.
-fn report(s: &mut PathSegment, i: u32, e: &Element, k: u32, pending: &mut Vec<(u32, Gouge, u32)>) {
-    if s.reported || s.waiting >= MAX_WAITING {
-        return;
+/// The closed loops of a run's elements (prep/leads.rs).
+#[cold]
+fn loops(elements: &[Element]) -> Span {
+    let mut closure = Closure::default();
+    for e in elements {
+        closure.element(&e.elem);
     }
-    if let Some(g) = gouge(s, e) {
-        s.waiting += 1;
-        pending.push((i, g, k));
-    }
+    closure.span()
 }
 
 /// The gouge of segment `s` at element `e`, if it comes too close (its own block's element,
 /// the other side's and far ones are not compared).
+#[inline]
 fn gouge(s: &PathSegment, e: &Element) -> Option<Gouge> {
     if s.side != e.side || s.source.seq == e.source.seq || !overlap(&s.bb, &e.bb) {
         return None;
@@ -407,5 +459,64 @@ impl std::hash::Hasher for CellHasher {
     }
     fn write_i64(&mut self, v: i64) {
         self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trc::geom::v2;
+    use proptest::prelude::*;
+
+    fn element(elem: Elem) -> Element {
+        Element {
+            source: Source::default(),
+            elem,
+            r: 1.0,
+            fence: Fence::new(&elem),
+            bb: bbox(&elem, 0.0),
+            side: 1,
+        }
+    }
+
+    fn elem() -> impl Strategy<Value = Elem> {
+        let p = || (-200.0..200.0f64, -50.0..50.0f64).prop_map(|(x, y)| v2(x, y));
+        prop_oneof![
+            4 => (p(), (-8.0..8.0f64, -8.0..8.0f64)).prop_map(|(a, (dx, dy))| Elem::Line { a, b: v2(a.x + dx, a.y + dy) }),
+            1 => (p(), 0.5..60.0f64, any::<bool>()).prop_map(|(c, r, ccw)| Elem::Arc {
+                a: v2(c.x + r, c.y),
+                b: v2(c.x, c.y + r),
+                c,
+                ccw,
+            }),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// A query meets every element whose box overlaps its own, each once, whatever the
+        /// cell edge (small edges grow where the extent is large for the elements).
+        #[test]
+        fn the_grid_meets_every_element_near_a_box(
+            elems in proptest::collection::vec(elem(), 1..120),
+            edge in 0.05..40.0f64,
+            boxes in proptest::collection::vec(((-250.0..250.0f64, -80.0..80.0f64), (0.0..30.0f64, 0.0..30.0f64)), 1..20),
+        ) {
+            let elements: Vec<Element> = elems.into_iter().map(element).collect();
+            let mut grid = Grid::default();
+            grid.build(&elements, edge);
+            let mut seen = vec![0u32; elements.len()];
+            for (stamp, ((x, y), (w, h))) in boxes.into_iter().enumerate() {
+                let bb = [x, y, x + w, y + h];
+                let mut met = vec![0u32; elements.len()];
+                grid.each(&bb, &mut seen, stamp as u32 + 1, |k| met[k as usize] += 1);
+                for (k, e) in elements.iter().enumerate() {
+                    prop_assert!(met[k] <= 1, "element {k} met {} times", met[k]);
+                    if overlap(&bb, &e.bb) {
+                        prop_assert_eq!(met[k], 1, "element {} not met by {:?}", k, bb);
+                    }
+                }
+            }
+        }
     }
 }

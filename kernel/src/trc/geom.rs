@@ -724,6 +724,43 @@ pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
     clear_by_ends_of(&Measured::new(*path), other, &Fence::new(other), limit)
 }
 
+/// Whether two line segments are surely at least `limit` (≥ 0) apart: they do not cross and
+/// every end is that far from the other segment, by squared distances with a margin for
+/// rounding. `false` says nothing (the exact distance decides): the cheap test for the most
+/// common pair, two lines that meet at a corner or lie side by side.
+#[inline]
+pub fn lines_clear(a: V2, b: V2, p: V2, q: V2, limit: f64) -> bool {
+    let (d, e) = (b - a, q - p);
+    let (s1, s2) = (d.cross(p - a), d.cross(q - a));
+    let (s3, s4) = (e.cross(a - p), e.cross(b - p));
+    if (s1 <= 0.0 && s2 >= 0.0 || s1 >= 0.0 && s2 <= 0.0)
+        && (s3 <= 0.0 && s4 >= 0.0 || s3 >= 0.0 && s4 <= 0.0)
+    {
+        return false;
+    }
+    let l2 = limit * limit * (1.0 + 1e-9);
+    point_seg_sq(p, a, d) >= l2
+        && point_seg_sq(q, a, d) >= l2
+        && point_seg_sq(a, p, e) >= l2
+        && point_seg_sq(b, p, e) >= l2
+}
+
+/// Squared distance from `x` to the segment from `a` along `d`.
+#[inline]
+fn point_seg_sq(x: V2, a: V2, d: V2) -> f64 {
+    let ax = x - a;
+    let (t, dd) = (ax.dot(d), d.dot(d));
+    if t <= 0.0 || dd <= 0.0 {
+        ax.dot(ax)
+    } else if t >= dd {
+        let bx = ax - d;
+        bx.dot(bx)
+    } else {
+        let c = ax.cross(d);
+        c * c / dd
+    }
+}
+
 /// [`clear_by_ends`] with the path measured and the element's fence worked out beforehand
 /// (`fence` is `Fence::new(other)`): the bottleneck window's hot path.
 #[inline]
@@ -839,8 +876,26 @@ mod clear_tests {
         ]
     }
 
+    fn point() -> impl Strategy<Value = V2> {
+        (-20.0..20.0f64, -20.0..20.0f64).prop_map(|(x, y)| v2(x, y))
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(20_000))]
+        /// Two lines shown clear are as far apart as the exact distance says, and two that
+        /// do not cross and lie clearly farther apart than the limit are shown clear.
+        #[test]
+        fn lines_clear_agrees_with_the_exact_distance(
+            a in point(), b in point(), p in point(), q in point(), limit in 0.0..12.0f64
+        ) {
+            let d = dist_elems(&Elem::Line { a, b }, &Elem::Line { a: p, b: q });
+            if lines_clear(a, b, p, q, limit) {
+                prop_assert!(d >= limit, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
+            } else {
+                prop_assert!(d <= limit * (1.0 + 1e-6) + 1e-9, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
+            }
+        }
+
         /// Never "clear" when the exact distance says otherwise.
         #[test]
         fn shown_clear_means_clear(p in elem(), o in elem(), limit in 0.0..12.0f64) {
