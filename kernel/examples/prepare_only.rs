@@ -1,16 +1,29 @@
 //! Prepares a program (interpretation, tool length and radius compensation) and prints the
 //! block and segment counts: a profiling target for block preparation.
-//! `prepare_only [--threaded] PROGRAM [DIALECT] [KEY=VALUE]...` (machine data overrides, e.g.
-//! `trc.bottleneck_window=0`; `--threaded`: the front in a thread of its own, as
-//! `Preparation::threaded`).
+//! `prepare_only [--threaded] [--check] PROGRAM [DIALECT] [KEY=VALUE]...` (machine data
+//! overrides, e.g. `trc.bottleneck_window=0`; `--threaded`: the front in a thread of its own,
+//! as `Preparation::threaded`; `--check`: the software limits and the whole-program check
+//! collecting, as `softnc check` prepares, every record taken).
 
-use nc_kernel::Preparation;
+use nc_kernel::{Preparation, Prepared, WholeMode};
 
-fn drain(mut prep: Preparation) -> (u64, usize) {
+fn drain(mut prep: Preparation, check: bool) -> (u64, usize) {
     let mut segments = 0usize;
     loop {
-        match prep.next_segment() {
-            Ok(Some(_)) => segments += 1,
+        // Some(true): a segment; Some(false): another record; None: the end.
+        let next = if check {
+            let item = prep.next_item();
+            if let Some(v) = prep.take_violations(!matches!(item, Ok(Some(_)))).first() {
+                eprintln!("{v}");
+                std::process::exit(1);
+            }
+            item.map(|i| i.map(|i| matches!(i, Prepared::Segment(_))))
+        } else {
+            prep.next_segment().map(|s| s.map(|_| true))
+        };
+        match next {
+            Ok(Some(true)) => segments += 1,
+            Ok(Some(false)) => {}
             Ok(None) => break,
             Err(a) => {
                 eprintln!("{a}");
@@ -24,6 +37,7 @@ fn drain(mut prep: Preparation) -> (u64, usize) {
 fn main() {
     let mut args = std::env::args().skip(1).peekable();
     let threaded = args.next_if(|a| a == "--threaded").is_some();
+    let check = args.next_if(|a| a == "--check").is_some();
     let path = args
         .next()
         .expect("usage: prepare_only [--threaded] PROGRAM [DIALECT] [KEY=VALUE]...");
@@ -34,9 +48,22 @@ fn main() {
     let md = nc_kernel::MachineData::load(None, &md_over).expect("machine data");
     let tools = nc_kernel::ToolTable::builtin();
     let (blocks, segments) = if threaded {
-        std::thread::scope(|s| drain(Preparation::threaded(s, &path, &text, &md, &tools)))
+        std::thread::scope(|s| {
+            let prep = Preparation::threaded(s, &path, &text, &md, &tools);
+            drain(checked(prep, &md, check), check)
+        })
     } else {
-        drain(Preparation::new(&path, &text, &md, &tools))
+        let prep = Preparation::new(&path, &text, &md, &tools);
+        drain(checked(prep, &md, check), check)
     };
     println!("{blocks} blocks, {segments} segments");
+}
+
+/// As `softnc check` prepares: the software limits and the whole-program check collecting.
+fn checked<'a>(prep: Preparation<'a>, md: &nc_kernel::MachineData, check: bool) -> Preparation<'a> {
+    if check {
+        prep.with_soft_limits(md).checking_whole(WholeMode::Collect)
+    } else {
+        prep
+    }
 }
