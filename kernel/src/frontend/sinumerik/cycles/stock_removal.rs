@@ -686,6 +686,14 @@ mod tests {
     }
 
     /// (X radius, Z) of every move's end, rounded to 1e-9.
+    /// The feed of every move that is no rapid traverse, in order.
+    fn cut_feeds(b: &[Block]) -> Vec<f64> {
+        b.iter()
+            .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
+            .map(|b| b.modal.feed)
+            .collect()
+    }
+
     fn ends(b: &[Block]) -> Vec<(f64, f64)> {
         let r = |v: f64| (v * 1e9).round() / 1e9;
         b.iter()
@@ -986,11 +994,7 @@ mod tests {
             let b = bore(11, diamof);
             assert_near(&ends(&b), &want);
             // Four passes and the moved contour's four moves at FF1, the contour at FF3.
-            let feeds: Vec<f64> = b
-                .iter()
-                .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
-                .map(|b| b.modal.feed)
-                .collect();
+            let feeds = cut_feeds(&b);
             assert_eq!(feeds, [[0.3; 8].as_slice(), &[0.1; 4]].concat());
         }
     }
@@ -1126,11 +1130,7 @@ mod tests {
         for diamof in [false, true] {
             let b = counterbore(12, diamof);
             assert_near(&ends(&b), &want);
-            let feeds: Vec<f64> = b
-                .iter()
-                .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
-                .map(|b| b.modal.feed)
-                .collect();
+            let feeds = cut_feeds(&b);
             assert_eq!(feeds, [[0.25; 7].as_slice(), &[0.08; 4]].concat());
         }
         // VARI 8: the finishing alone, from the same S.
@@ -1308,11 +1308,7 @@ mod tests {
         let got = ends(&b);
         assert_near(&got, &want);
         // The cuts along X at FF1, the finishing at FF3.
-        let feeds: Vec<f64> = b
-            .iter()
-            .filter(|b| b.motion.is_some_and(|m| m.kind != MotionKind::Rapid))
-            .map(|b| b.modal.feed)
-            .collect();
+        let feeds = cut_feeds(&b);
         assert_eq!(feeds, [[0.3; 8].as_slice(), &[0.1; 5]].concat());
         // Radius programming: the same moves.
         let radii = "G1 X30 Z-10\nX20\nZ-5\nX10\nZ0\nX0\n";
