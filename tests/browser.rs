@@ -288,7 +288,8 @@ fn the_page_stops_edits_an_offset_and_resumes() {
 
 /// A lathe with a C axis (config/siemens-808d-c.toml): the page lists X, Z and C by name, C
 /// in degrees within one turn while the setpoint counts on past 360°, the plot in the Z/X
-/// plane; plc-sim's trace has X, Z and C columns and no Y.
+/// plane, the tool table with each offset's cutting edge position; plc-sim's trace has X, Z
+/// and C columns and no Y.
 #[test]
 fn the_page_shows_a_lathes_axes_by_name() {
     let Some((chromium, chromedriver)) = browser() else {
@@ -323,6 +324,13 @@ fn the_page_shows_a_lathes_axes_by_name() {
     b.wait(
         "return document.querySelector('#plane').textContent",
         &json!("Z → X ↑"),
+        Duration::from_secs(5),
+    );
+    // The tool table names each turning tool's cutting edge position (config/tools.toml:
+    // T1 D1 in position 3, T1 D2 in 4), a milling cutter's none.
+    b.wait(
+        "return [...document.querySelectorAll('#tools tr')].map(r => r.cells[0].textContent + ':' + r.cells[1].textContent).filter(s => /^(D1|T1 D1|T1 D2):/.test(s)).join()",
+        &json!("D1:–,T1 D1:3,T1 D2:4"),
         Duration::from_secs(5),
     );
     let end = st.status();
