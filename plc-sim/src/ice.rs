@@ -12,8 +12,6 @@ use softnc_protocol::iceoryx2::port::publisher::Publisher;
 use softnc_protocol::iceoryx2::port::server::Server;
 use softnc_protocol::iceoryx2::prelude::ipc;
 use softnc_protocol::{ActualValues, AuxAck, AuxRequest, Instance, PlcSignals, SetpointMsg, Sub};
-use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::time::Duration;
 
 type Request = ActiveRequest<ipc::Service, AuxRequest, (), AuxAck, ()>;
@@ -31,13 +29,13 @@ pub struct Ice {
     next_ticket: u64,
     signal_seq: u64,
     actual_seq: u64,
-    trace: Option<BufWriter<File>>,
+    trace: Option<trace::Trace>,
 }
 
 impl Ice {
     /// Opens plc-sim's ports of `instance`, after removing what dead processes of it left;
     /// the trace, if any, goes to `trace`.
-    pub fn open(instance: &Instance, trace: Option<BufWriter<File>>) -> Result<Ice, String> {
+    pub fn open(instance: &Instance, trace: Option<trace::Trace>) -> Result<Ice, String> {
         let (cleaned, _) = instance.cleanup_dead_nodes();
         if cleaned > 0 {
             eprintln!(
@@ -93,10 +91,7 @@ impl Ice {
 
     /// Ends the trace: what is buffered is written.
     pub fn finish(&mut self) -> Result<(), String> {
-        match self.trace.take() {
-            Some(mut w) => w.flush().map_err(|e| e.to_string()),
-            None => Ok(()),
-        }
+        self.trace.take().map_or(Ok(()), trace::Trace::finish)
     }
 }
 
@@ -171,9 +166,9 @@ impl Transport for Ice {
     }
 
     fn row(&mut self, r: &Row<'_>) {
-        if let Some(w) = &mut self.trace {
-            // A full disk shows at the end, when the trace is flushed.
-            let _ = trace::write(w, r);
+        if let Some(t) = &mut self.trace {
+            // A full disk or a disk far behind shows at the end, when the trace is finished.
+            t.row(r);
         }
     }
 
