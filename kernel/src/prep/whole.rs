@@ -25,25 +25,33 @@ const MAX_CELLS: usize = 64;
 /// holds the few elements near it.
 const CELL_RADII: f64 = 4.0;
 
+/// A programmed element as the run keeps it. Its box lies apart (`WholeCheck::boxes`: the
+/// grid's build reads only the boxes, densely), and its [`Fence`] is worked out when the run
+/// is checked, beside the grid's build, not while the path streams.
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
     elem: Elem,
     /// Tool radius the element is cut with.
     r: f64,
-    fence: Fence,
-    bb: [f64; 4],
     side: i8,
 }
 
+/// A tool-centre segment as the run keeps it (its box is worked out when it is checked).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
     source: Source,
     piece: PathPiece,
     r: f64,
     side: i8,
-    /// Box in the plane grown by the tool radius.
-    bb: [f64; 4],
+}
+
+/// What the check reads of the run's elements.
+#[derive(Clone, Copy)]
+struct Run<'r> {
+    elements: &'r [Element],
+    boxes: &'r [[f64; 4]],
+    fences: &'r [Fence],
 }
 
 /// The elements of one run in a uniform grid over their extent, built when the run is
@@ -90,8 +98,9 @@ fn cell_of(v: f64, n: usize) -> usize {
 }
 
 impl Grid {
-    /// The grid of `elements`, cells about `edge` mm, never many more cells than elements.
-    fn build(&mut self, elements: &[Element], edge: f64) {
+    /// The grid of the elements with `boxes`, cells about `edge` mm, never many more cells
+    /// than elements.
+    fn build(&mut self, boxes: &[[f64; 4]], edge: f64) {
         self.start.clear();
         self.members.clear();
         self.large.clear();
@@ -102,35 +111,32 @@ impl Grid {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         ];
-        for e in elements
-            .iter()
-            .filter(|e| e.bb.iter().all(|v| v.is_finite()))
-        {
+        for bb in boxes.iter().filter(|bb| bb.iter().all(|v| v.is_finite())) {
             ext = [
-                ext[0].min(e.bb[0]),
-                ext[1].min(e.bb[1]),
-                ext[2].max(e.bb[2]),
-                ext[3].max(e.bb[3]),
+                ext[0].min(bb[0]),
+                ext[1].min(bb[1]),
+                ext[2].max(bb[2]),
+                ext[3].max(bb[3]),
             ];
         }
         let (w, h) = ((ext[2] - ext[0]).max(0.0), (ext[3] - ext[1]).max(0.0));
         // Cells enough for the elements: the edge grows where the extent is large for them.
-        let room = 4.0 * elements.len() as f64 + 64.0;
+        let room = 4.0 * boxes.len() as f64 + 64.0;
         let edge = edge
             .max(((w * h) / room).sqrt())
             .max(w / room)
             .max(h / room);
         if !(edge.is_finite() && edge > 0.0) {
             self.nx = 0;
-            self.large.extend(0..elements.len() as u32);
+            self.large.extend(0..boxes.len() as u32);
             return;
         }
         (self.x0, self.y0, self.inv) = (ext[0], ext[1], 1.0 / edge);
         self.nx = (w * self.inv) as usize + 1;
         self.ny = (h * self.inv) as usize + 1;
         self.start.resize(self.nx * self.ny + 1, 0);
-        for (i, e) in elements.iter().enumerate() {
-            let s = self.span(&e.bb);
+        for (i, bb) in boxes.iter().enumerate() {
+            let s = self.span(bb);
             let n = s.map_or(usize::MAX, |s| {
                 (s[2] - s[0] + 1) as usize * (s[3] - s[1] + 1) as usize
             });
@@ -228,11 +234,11 @@ struct Share {
 }
 
 impl Share {
-    /// Checks `segments` against the run's `elements` (in `grid`).
-    fn check(&mut self, segments: &[PathSegment], elements: &[Element], grid: &Grid) {
+    /// Checks `segments` against the elements of `run` (in `grid`).
+    fn check(&mut self, segments: &[PathSegment], run: Run<'_>, grid: &Grid) {
         self.hits.clear();
         self.seen.clear();
-        self.seen.resize(elements.len(), 0);
+        self.seen.resize(run.elements.len(), 0);
         self.stamp = 0;
         // The run's closed loops, worked out at its first violation (prep/leads.rs).
         let mut span: Option<Span> = None;
@@ -244,14 +250,15 @@ impl Share {
                 self.stamp = 1;
             }
             let mut first: Option<(u32, Gouge)> = None;
-            grid.each(&s.bb, &mut self.seen, self.stamp, |k| {
+            let bb = s.piece.bbox(s.r);
+            grid.each(&bb, &mut self.seen, self.stamp, |k| {
                 if first.is_some_and(|(f, _)| f < k) {
                     return;
                 }
-                let Some(g) = gouge(s, &elements[k as usize]) else {
+                let Some(g) = gouge(s, &bb, run, k as usize) else {
                     return;
                 };
-                let span = *span.get_or_insert_with(|| loops(elements));
+                let span = *span.get_or_insert_with(|| loops(run.elements));
                 if part_of(span, k + 1) {
                     first = Some((k, g));
                 }
@@ -268,6 +275,10 @@ impl Share {
 pub struct WholeCheck<'a> {
     plane: Plane,
     elements: Vec<Element>,
+    /// Each element's box, beside it.
+    boxes: Vec<[f64; 4]>,
+    /// Each element's fence, worked out when the run is checked.
+    fences: Vec<Fence>,
     segments: Vec<PathSegment>,
     grid: Grid,
     /// The two halves' work of a long run (one does all of a short one).
@@ -289,6 +300,8 @@ impl<'a> WholeCheck<'a> {
         WholeCheck {
             plane: Plane::XY,
             elements: Vec::new(),
+            boxes: Vec::new(),
+            fences: Vec::new(),
             segments: Vec::new(),
             grid: Grid::default(),
             shares: Default::default(),
@@ -313,10 +326,9 @@ impl<'a> WholeCheck<'a> {
             source,
             elem,
             r,
-            fence: Fence::new(&elem),
-            bb: bbox(&elem, 0.0),
             side,
         });
+        self.boxes.push(bbox(&elem, 0.0));
     }
 
     /// A segment of the tool-centre path as it goes out. A segment that is no contour,
@@ -344,7 +356,6 @@ impl<'a> WholeCheck<'a> {
             piece,
             r,
             side,
-            bb: piece.bbox(r),
         });
     }
 
@@ -364,20 +375,38 @@ impl<'a> WholeCheck<'a> {
         }
         let before = |e: &Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
         let n = self.elements.iter().take_while(|e| before(e)).count();
-        let (elements, segments) = (&self.elements[..n], &self.segments[..]);
+        let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
+        let segments = &self.segments[..];
         let edge = CELL_RADII * elements.first().map_or(1.0, |e| e.r.abs()).max(0.25);
-        self.grid.build(elements, edge);
-        let grid = &self.grid;
+        let (grid, fences) = (&mut self.grid, &mut self.fences);
+        let mut fence = || {
+            fences.clear();
+            fences.extend(elements.iter().map(|e| Fence::new(&e.elem)));
+        };
+        let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
+        match long {
+            Some(join) => join.join(&mut || grid.build(boxes, edge), &mut fence),
+            None => {
+                grid.build(boxes, edge);
+                fence();
+            }
+        }
+        let (grid, fences) = (&self.grid, &self.fences[..]);
+        let run = Run {
+            elements,
+            boxes,
+            fences,
+        };
         let [first, second] = &mut self.shares;
-        match self.join {
-            Some(join) if segments.len() >= PARALLEL_SEGMENTS => {
+        match long {
+            Some(join) => {
                 let (a, b) = segments.split_at(segments.len() / 2);
-                join.join(&mut || first.check(a, elements, grid), &mut || {
-                    second.check(b, elements, grid)
+                join.join(&mut || first.check(a, run, grid), &mut || {
+                    second.check(b, run, grid)
                 });
             }
-            _ => {
-                first.check(segments, elements, grid);
+            None => {
+                first.check(segments, run, grid);
                 second.hits.clear();
             }
         }
@@ -401,8 +430,14 @@ impl<'a> WholeCheck<'a> {
     /// later block (the next run's first, read before its approach came out) stays.
     fn end_run(&mut self, seq: u32) {
         self.segments.clear();
-        self.elements
-            .retain(|e| (e.source.seq.wrapping_sub(seq) as i32) >= 0);
+        // Elements come in block order: those that stay are the last few.
+        let gone = self
+            .elements
+            .iter()
+            .take_while(|e| (e.source.seq.wrapping_sub(seq) as i32) < 0)
+            .count();
+        self.elements.drain(..gone);
+        self.boxes.drain(..gone);
     }
 }
 
@@ -416,14 +451,15 @@ fn loops(elements: &[Element]) -> Span {
     closure.span()
 }
 
-/// The gouge of segment `s` at element `e`, if it comes too close (its own block's element,
-/// the other side's and far ones are not compared).
+/// The gouge of segment `s` (box `bb`) at element `k` of `run`, if it comes too close (its
+/// own block's element, the other side's and far ones are not compared).
 #[inline]
-fn gouge(s: &PathSegment, e: &Element) -> Option<Gouge> {
-    if s.side != e.side || s.source.seq == e.source.seq || !overlap(&s.bb, &e.bb) {
+fn gouge(s: &PathSegment, bb: &[f64; 4], run: Run<'_>, k: usize) -> Option<Gouge> {
+    let e = &run.elements[k];
+    if s.side != e.side || s.source.seq == e.source.seq || !overlap(bb, &run.boxes[k]) {
         return None;
     }
-    let (distance, radius) = s.piece.too_close(&e.elem, &e.fence, s.r)?;
+    let (distance, radius) = s.piece.too_close(&e.elem, &run.fences[k], s.r)?;
     Some(Gouge {
         path: s.source,
         element: e.source,
@@ -468,17 +504,6 @@ mod tests {
     use crate::trc::geom::v2;
     use proptest::prelude::*;
 
-    fn element(elem: Elem) -> Element {
-        Element {
-            source: Source::default(),
-            elem,
-            r: 1.0,
-            fence: Fence::new(&elem),
-            bb: bbox(&elem, 0.0),
-            side: 1,
-        }
-    }
-
     fn elem() -> impl Strategy<Value = Elem> {
         let p = || (-200.0..200.0f64, -50.0..50.0f64).prop_map(|(x, y)| v2(x, y));
         prop_oneof![
@@ -500,19 +525,19 @@ mod tests {
         fn the_grid_meets_every_element_near_a_box(
             elems in proptest::collection::vec(elem(), 1..120),
             edge in 0.05..40.0f64,
-            boxes in proptest::collection::vec(((-250.0..250.0f64, -80.0..80.0f64), (0.0..30.0f64, 0.0..30.0f64)), 1..20),
+            queries in proptest::collection::vec(((-250.0..250.0f64, -80.0..80.0f64), (0.0..30.0f64, 0.0..30.0f64)), 1..20),
         ) {
-            let elements: Vec<Element> = elems.into_iter().map(element).collect();
+            let boxes: Vec<[f64; 4]> = elems.iter().map(|e| bbox(e, 0.0)).collect();
             let mut grid = Grid::default();
-            grid.build(&elements, edge);
-            let mut seen = vec![0u32; elements.len()];
-            for (stamp, ((x, y), (w, h))) in boxes.into_iter().enumerate() {
+            grid.build(&boxes, edge);
+            let mut seen = vec![0u32; boxes.len()];
+            for (stamp, ((x, y), (w, h))) in queries.into_iter().enumerate() {
                 let bb = [x, y, x + w, y + h];
-                let mut met = vec![0u32; elements.len()];
+                let mut met = vec![0u32; boxes.len()];
                 grid.each(&bb, &mut seen, stamp as u32 + 1, |k| met[k as usize] += 1);
-                for (k, e) in elements.iter().enumerate() {
+                for (k, ebb) in boxes.iter().enumerate() {
                     prop_assert!(met[k] <= 1, "element {k} met {} times", met[k]);
-                    if overlap(&bb, &e.bb) {
+                    if overlap(&bb, ebb) {
                         prop_assert_eq!(met[k], 1, "element {} not met by {:?}", k, bb);
                     }
                 }
