@@ -299,7 +299,7 @@ impl<'a> Preparation<'a> {
                 }
                 continue;
             }
-            if let Some(seg) = self.pop_path()? {
+            if let Some(seg) = self.pop_path() {
                 if self.s_points.idle() {
                     // Nothing waits for an S point (the common case): no queueing.
                     self.s_points.pass(&seg);
@@ -321,7 +321,7 @@ impl<'a> Preparation<'a> {
             if let Some(x) = self.ready.pop_front() {
                 return Ok(Some(x));
             }
-            if let Some(seg) = self.pop_path()? {
+            if let Some(seg) = self.pop_path() {
                 if let Some(m) = self.axes_out.take() {
                     // Ahead of the segment and what waits for its start: the next segment's.
                     let _ = self.ready.push_back(Prepared::Axes(m, seg.source));
@@ -340,10 +340,11 @@ impl<'a> Preparation<'a> {
     }
 
     /// The next path segment through the bottleneck window (held back there until the
-    /// window has passed it).
+    /// window has passed it). An alarm on the way ends preparation through `deferred`; no
+    /// `Result` around the segment, which the hot path would copy once more.
     #[inline]
-    fn pop_path(&mut self) -> Result<Option<Segment>, Alarm> {
-        let mut seg = self.pop_centre_path()?;
+    fn pop_path(&mut self) -> Option<Segment> {
+        let mut seg = self.pop_centre_path();
         if self.whole.is_some() && seg.is_some() && self.whole_segment(seg.as_ref()) {
             seg = None;
         }
@@ -365,10 +366,10 @@ impl<'a> Preparation<'a> {
                 .map(|l| l.check(s, self.axes_out.as_ref()))
             {
                 self.overrun(&s.source, o);
-                return Ok(None);
+                return None;
             }
         }
-        Ok(seg)
+        seg
     }
 
     /// A segment past a software limit: preparation ends with the alarm before it.
@@ -383,17 +384,15 @@ impl<'a> Preparation<'a> {
 
     /// The path of the nose centre (the tool centre) through the bottleneck window.
     #[inline]
-    fn pop_centre_path(&mut self) -> Result<Option<Segment>, Alarm> {
+    fn pop_centre_path(&mut self) -> Option<Segment> {
         loop {
             if let Some(s) = self.released.pop_front() {
-                return Ok(Some(s));
+                return Some(s);
             }
-            let Some(seg) = self.out.pop_front() else {
-                return Ok(None);
-            };
+            let seg = self.out.pop_front()?;
             let reaction = self.reaction();
             if self.bottleneck.bypass(reaction) || !self.windowed() {
-                return Ok(Some(seg));
+                return Some(seg);
             }
             let found = self.bottleneck.push(seg, reaction, &mut self.released);
             self.on_gouge(found);
