@@ -162,6 +162,8 @@ pub fn long_program(seconds: f64) -> PathBuf {
 /// A row of plc-sim's trace. `sp`, `act` and `fe` are X, Y and Z (0 for an axis the
 /// machine does not have); `axes` has every configured axis.
 pub struct TraceRow {
+    /// plc-sim's clock when it drove the row's cycle, s.
+    pub time: f64,
     pub cycle: u64,
     pub seq: u64,
     pub sp: [f64; 3],
@@ -243,6 +245,7 @@ pub fn trace(path: &Path) -> Vec<TraceRow> {
                 .collect();
             let rest = 3 + 3 * n + 2 * s;
             TraceRow {
+                time: num(0),
                 cycle: f[1].parse().unwrap(),
                 seq: f[2].parse().unwrap(),
                 sp: xyz(0),
