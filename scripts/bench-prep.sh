@@ -6,6 +6,8 @@
 # The two files differ only in the header: softnc selects with `G41` and D1 (radius 10),
 # rs274 with `G41.1 D20` (a diameter there).
 # Needs Debian's linuxcnc-uspace (rs274). Usage: scripts/bench-prep.sh [BLOCKS] [RUNS] [SHAPE]
+# With BEFORE=path/to/an/older/softnc, its `softnc check` runs in the same rounds (a before
+# and after table on a noisy machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 blocks=${1:-200000}
@@ -25,7 +27,7 @@ travel="--md axes.X.software_limits=[-1e9,1e9] --md axes.Y.software_limits=[-1e9
 ./target/release/softnc check "$work/prog.mpf" $travel
 rs274 -g "$work/prog.ngc" > "$work/rs274.out" 2>&1
 grep -q "G41.1\|ENABLE_CUTTER\|STRAIGHT_FEED" "$work/rs274.out" || { echo "rs274 failed:"; tail "$work/rs274.out"; exit 1; }
-echo "rs274: $(grep -c -E 'STRAIGHT_FEED|ARC_FEED' "$work/rs274.out") moves; softnc: $(./target/release/softnc path "$work/prog.mpf" | wc -l) segments"
+echo "rs274: $(grep -c -E 'STRAIGHT_FEED|ARC_FEED' "$work/rs274.out") moves; softnc: $(./target/release/softnc path "$work/prog.mpf" $travel | wc -l) segments"
 
 median() { sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 # softnc with the shipped machine data (whole-program check, window 64), with the window
@@ -38,6 +40,11 @@ cmds=("./target/release/softnc check $work/prog.mpf $travel"
       "./target/release/softnc check $work/prog.mpf $only"
       "./target/release/softnc check $work/prog.mpf $off"
       "rs274 -g $work/prog.ngc")
+if [ -n "${BEFORE:-}" ]; then
+  [ -x "$BEFORE" ] || { echo "BEFORE=$BEFORE is not an executable" >&2; exit 1; }
+  labels+=("softnc check (BEFORE)")
+  cmds+=("$BEFORE check $work/prog.mpf $travel")
+fi
 declare -A times
 echo "program: $shape, $blocks contour blocks, $(wc -c < "$work/prog.mpf") bytes; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
 # Interleaved rounds, so that a noisy neighbour hits all three alike.
@@ -55,7 +62,8 @@ for i in "${!cmds[@]}"; do
   printf '%-28s median %.3f s over %d runs (%s)  %.2f M blocks/s\n' "${labels[$i]}" "${med[$i]}" "$runs" \
     "$(printf '%.3f ' ${times[$i]} | sed 's/ $//')" "$(echo "$blocks / ${med[$i]} / 1000000" | bc -l)"
 done
-for i in 0 1 2 3; do
+for i in "${!cmds[@]}"; do
+  [ "$i" -eq 4 ] && continue
   printf 'ratio: %-26s %.1fx faster than rs274 -g\n' "${labels[$i]}" "$(echo "${med[4]} / ${med[$i]}" | bc -l)"
 done
 # Memory: the whole-program check keeps the longest compensation run.
