@@ -13,7 +13,7 @@ use crate::plc::Row;
 use crossbeam::queue::ArrayQueue;
 use softnc_protocol::{state, AxisList, MAX_SPINDLES};
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -52,9 +52,10 @@ pub fn header(axes: &AxisList, spindles: usize) -> String {
 /// `Row::spindles`: pass the same count.
 pub fn create(path: &Path, axes: &AxisList, spindles: usize) -> Result<Trace, String> {
     let err = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut w = BufWriter::new(File::create(path).map_err(err)?);
-    writeln!(w, "{}", header(axes, spindles)).map_err(err)?;
-    Trace::new(w, CHUNKS, CHUNK).map_err(err)
+    // No BufWriter: the writer thread hands the file whole chunks.
+    let mut f = File::create(path).map_err(err)?;
+    writeln!(f, "{}", header(axes, spindles)).map_err(err)?;
+    Trace::new(f, CHUNKS, CHUNK).map_err(err)
 }
 
 /// Bytes a chunk of rows holds, and how many chunks there are: ~25 s of a 1 ms cycle's rows

@@ -11,7 +11,6 @@
 //! the check protects. A run that never closes is all part. The manuals are silent here:
 //! docs/trc.md "Lead-in and lead-out elements" gives the decision.
 
-use super::whole::Cells;
 use crate::trc::geom::{Elem, V2};
 use std::collections::HashMap;
 
@@ -93,6 +92,35 @@ pub(super) fn span_of<'a>(elems: impl Iterator<Item = &'a Elem> + Clone) -> Span
         }
     }
     span
+}
+
+/// A fast hash for the point cells (the standard SipHash guards against inputs chosen to collide,
+/// which two integer coordinates of a part program are not).
+#[derive(Default, Clone, Copy)]
+struct Cells;
+
+impl std::hash::BuildHasher for Cells {
+    type Hasher = CellHasher;
+    fn build_hasher(&self) -> CellHasher {
+        CellHasher(0)
+    }
+}
+
+struct CellHasher(u64);
+
+impl std::hash::Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 =
+                (self.0.rotate_left(5) ^ u64::from(*b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        }
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
 }
 
 #[cfg(test)]

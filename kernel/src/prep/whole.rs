@@ -469,35 +469,6 @@ fn gouge(s: &PathSegment, bb: &[f64; 4], run: Run<'_>, k: usize) -> Option<Gouge
     })
 }
 
-/// A fast hash for grid cells (the standard SipHash guards against inputs chosen to collide,
-/// which two integer coordinates of a part program are not).
-#[derive(Default, Clone, Copy)]
-pub(super) struct Cells;
-
-impl std::hash::BuildHasher for Cells {
-    type Hasher = CellHasher;
-    fn build_hasher(&self) -> CellHasher {
-        CellHasher(0)
-    }
-}
-
-pub(super) struct CellHasher(u64);
-
-impl std::hash::Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 =
-                (self.0.rotate_left(5) ^ u64::from(*b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-        }
-    }
-    fn write_i64(&mut self, v: i64) {
-        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
