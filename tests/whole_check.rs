@@ -293,3 +293,78 @@ fn a_far_violation_inside_a_closed_profile_is_still_reported() {
     );
     check_names_lines_4_and_207("far-closed.mpf", &text);
 }
+
+/// Two pieces of work at once, one in a scoped thread (as the runtime's `Threads`).
+struct Scoped;
+
+impl nc_kernel::Join for Scoped {
+    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
+        std::thread::scope(|s| {
+            s.spawn(a);
+            b();
+        });
+    }
+}
+
+/// A hairpin under R 10: 6000 blocks of 4 mm along Y0, round below and 6000 back along Y18,
+/// so every segment of either row comes closer than R to the other's elements: a run of some
+/// 12 000 segments, violations all along it.
+fn hairpin() -> String {
+    let mut p = vec![
+        "G17 G90 G0 X-40 Y20 D1".to_string(),
+        "G1 F1000".into(),
+        "G41 X-20 Y0".into(),
+    ];
+    p.extend((0..=6000).map(|i| format!("G1 X{} Y0", 4 * i)));
+    p.extend(["G1 X24000 Y-30".into(), "G1 X24040 Y-30".into()]);
+    p.push("G1 X24040 Y18".into());
+    p.extend((0..=6000).rev().map(|i| format!("G1 X{} Y18", 4 * i)));
+    p.extend(["G40 G1 X-20 Y40".into(), "M30".into()]);
+    p.join("\n") + "\n"
+}
+
+/// Every violation of `text` as `softnc check` collects them, with the run checked by two
+/// workers through `join` or by one.
+fn collected(text: &str, join: Option<&dyn nc_kernel::Join>) -> Vec<String> {
+    let md = machine(&["trc.bottleneck_window=0"]);
+    let tools = ToolTable::builtin();
+    let prep = nc_kernel::Preparation::new("hairpin", text, &md, &tools)
+        .checking_whole(nc_kernel::WholeMode::Collect);
+    let mut prep = match join {
+        Some(j) => prep.with_join(j),
+        None => prep,
+    };
+    let mut found = Vec::new();
+    loop {
+        let item = prep.next_item();
+        let end = !matches!(item, Ok(Some(_)));
+        found.extend(prep.take_violations(end).iter().map(|a| a.to_string()));
+        if end {
+            assert!(item.is_ok(), "{item:?}");
+            return found;
+        }
+    }
+}
+
+/// A long run is checked by two workers taking pieces of it as they finish one: they report
+/// what one worker does, every violation, in path order.
+#[test]
+fn two_workers_report_a_long_run_as_one_does() {
+    let text = hairpin();
+    let one = collected(&text, None);
+    let two = collected(&text, Some(&Scoped));
+    assert!(one.len() > 2, "{one:?}");
+    assert_eq!(one, two);
+    // Both rows' stretches, the first row's first.
+    let line = |a: &String| {
+        let rest = a.split("hairpin:").nth(1).unwrap_or_default();
+        rest.split(':').next().and_then(|l| l.parse::<u32>().ok())
+    };
+    let lines: Vec<u32> = one.iter().filter_map(line).collect();
+    assert_eq!(lines.len(), one.len(), "{one:?}");
+    assert!(lines.windows(2).all(|w| w[0] < w[1]), "{lines:?}");
+    assert!(
+        lines[0] < 6004 && *lines.last().unwrap() > 6008,
+        "{lines:?}"
+    );
+}

@@ -196,7 +196,7 @@ impl<'a> Preparation<'a> {
         self
     }
 
-    /// The whole-program check does the check of a long run in two halves at once through
+    /// The whole-program check does the check of a long run by two workers at once through
     /// `join` (without the check, nothing changes).
     pub fn with_join(mut self, join: &'a dyn Join) -> Self {
         if let Some(w) = &mut self.whole {

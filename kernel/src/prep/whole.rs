@@ -16,6 +16,7 @@ use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{Elem, Fence, Measured};
+use core::sync::atomic::{AtomicUsize, Ordering};
 
 /// An element whose box covers more grid cells than this is kept in a list of its own and
 /// met by every segment (a large arc's box is its whole circle).
@@ -223,36 +224,59 @@ pub trait Join: Sync {
 /// its half).
 const PARALLEL_SEGMENTS: usize = 8192;
 
-/// One half's check of a run: its own stamps, and the violations it found.
+/// Segments a worker takes at a time from a long run: the two take the next piece as they
+/// finish one, so neither waits on a half that turned out longer (cache misses and exact
+/// distances are not spread evenly over a program).
+const PIECE: usize = 2048;
+
+/// One worker's check of a run: its own stamps, and the violations it found.
 #[derive(Default)]
 struct Share {
     /// The query's stamp of each element already met by it.
     seen: Vec<u32>,
     stamp: u32,
-    /// Each segment's first violation of the part, in path order.
-    hits: Vec<Gouge>,
+    /// Each segment's first violation of the part, in path order, with the segment's index.
+    hits: Vec<(u32, Gouge)>,
 }
 
 impl Share {
-    /// Checks `segments` against the elements of `run` (in `grid`).
-    fn check(&mut self, segments: &[PathSegment], run: Run<'_>, grid: &Grid) {
+    /// Starts a check of `run`.
+    fn reset(&mut self, run: Run<'_>) {
         self.hits.clear();
         self.seen.clear();
         self.seen.resize(run.elements.len(), 0);
         self.stamp = 0;
+    }
+
+    /// Takes pieces of `segments` (by `next`, shared with the other worker) until none is
+    /// left, and checks each against the elements of `run` (in `grid`).
+    fn take(&mut self, segments: &[PathSegment], next: &AtomicUsize, run: Run<'_>, grid: &Grid) {
+        loop {
+            let from = next.fetch_add(PIECE, Ordering::Relaxed);
+            if from >= segments.len() {
+                return;
+            }
+            let to = (from + PIECE).min(segments.len());
+            self.check(&segments[from..to], from, run, grid);
+        }
+    }
+
+    /// Checks `segments` (the first is the run's segment `first`) against the elements of
+    /// `run` (in `grid`).
+    fn check(&mut self, segments: &[PathSegment], first: usize, run: Run<'_>, grid: &Grid) {
         // The run's closed loops, worked out at its first violation (prep/leads.rs).
         let mut span: Option<Span> = None;
-        for s in segments {
+        for (i, s) in segments.iter().enumerate() {
             self.stamp = self.stamp.wrapping_add(1);
             if self.stamp == 0 {
                 // Wrapped: no stale stamp may equal a new one.
                 self.seen.fill(0);
                 self.stamp = 1;
             }
-            let mut first: Option<(u32, Gouge)> = None;
+            let mut found: Option<(u32, Gouge)> = None;
             let bb = s.piece.bbox(s.r);
             grid.each(&bb, &mut self.seen, self.stamp, |k| {
-                if first.is_some_and(|(f, _)| f < k) {
+                if found.is_some_and(|(f, _)| f < k) {
                     return;
                 }
                 let Some(g) = gouge(s, &bb, run, k as usize) else {
@@ -260,10 +284,11 @@ impl Share {
                 };
                 let span = *span.get_or_insert_with(|| loops(run.elements));
                 if part_of(span, k + 1) {
-                    first = Some((k, g));
+                    found = Some((k, g));
                 }
             });
-            self.hits.extend(first.map(|(_, g)| g));
+            self.hits
+                .extend(found.map(|(_, g)| ((first + i) as u32, g)));
         }
     }
 }
@@ -281,7 +306,7 @@ pub struct WholeCheck<'a> {
     fences: Vec<Fence>,
     segments: Vec<PathSegment>,
     grid: Grid,
-    /// The two halves' work of a long run (one does all of a short one).
+    /// The two workers of a long run (one does all of a short one).
     shares: [Share; 2],
     join: Option<&'a dyn Join>,
     /// The last element's tool radius and side: what a segment of a block without an
@@ -310,7 +335,7 @@ impl<'a> WholeCheck<'a> {
         }
     }
 
-    /// Long runs are checked in two halves at once through `join`.
+    /// Long runs are checked by two workers at once through `join`.
     pub fn with_join(&mut self, join: &'a dyn Join) {
         self.join = Some(join);
     }
@@ -367,8 +392,8 @@ impl<'a> WholeCheck<'a> {
     /// The run's contour is complete (it ends before the block of `end`; the elements of
     /// later blocks belong to the next): each segment too close to an element that is part
     /// of it goes to `found` (in path order, one violation a segment: the earliest element
-    /// it reaches); one of a lead is dropped. A long run is checked in two halves at once
-    /// where the runtime gave a [`Join`].
+    /// it reaches); one of a lead is dropped. A long run is checked by two workers at
+    /// once, piece by piece, where the runtime gave a [`Join`].
     fn settle(&mut self, end: Option<u32>, found: &mut impl FnMut(Gouge) -> bool) {
         if self.segments.is_empty() {
             return;
@@ -398,20 +423,23 @@ impl<'a> WholeCheck<'a> {
             fences,
         };
         let [first, second] = &mut self.shares;
+        first.reset(run);
+        second.reset(run);
+        let next = AtomicUsize::new(0);
         match long {
-            Some(join) => {
-                let (a, b) = segments.split_at(segments.len() / 2);
-                join.join(&mut || first.check(a, run, grid), &mut || {
-                    second.check(b, run, grid)
-                });
-            }
-            None => {
-                first.check(segments, run, grid);
-                second.hits.clear();
-            }
+            Some(join) => join.join(&mut || first.take(segments, &next, run, grid), &mut || {
+                second.take(segments, &next, run, grid)
+            }),
+            None => first.check(segments, 0, run, grid),
         }
-        for g in first.hits.iter().chain(&second.hits) {
-            if found(*g) {
+        // Each worker's hits come in path order: merged, all of them do.
+        let (mut a, mut b) = (first.hits.iter().peekable(), second.hits.iter().peekable());
+        while let Some(&(_, g)) = match (a.peek(), b.peek()) {
+            (Some(x), Some(y)) if y.0 < x.0 => b.next(),
+            (Some(_), _) => a.next(),
+            (None, _) => b.next(),
+        } {
+            if found(g) {
                 return;
             }
         }

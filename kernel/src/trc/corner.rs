@@ -64,22 +64,35 @@ pub enum CornerError {
     NoIntersection,
 }
 
+/// A turn whose sine (of unit directions) exceeds this is far from both `ANGLE_EPS` limits
+/// (|a| ≥ |sin a| and π − |a| ≥ |sin a|): its kind needs no angle.
+const CLEAR_TURN: f64 = 1e-6;
+
 /// Classifies the corner between an element ending in direction `t1` and one starting in
 /// direction `t2`, the tool at offset `d` (> 0 left).
-pub fn classify(t1: V2, t2: V2, d: f64) -> (CornerKind, f64) {
+pub fn classify(t1: V2, t2: V2, d: f64) -> CornerKind {
     // Most contour transitions are tangent: no atan2 for them (atan z ≤ z for z ≥ 0).
     let (y, x) = (t1.cross(t2), t1.dot(t2));
     if x > 0.0 && y.abs() <= ANGLE_EPS * x {
-        return (CornerKind::Tangent, y / x);
+        return CornerKind::Tangent;
+    }
+    // |sin a| well above the tolerance: neither tangent nor a reversal, and the side of the
+    // turn is the sign of the cross product (no atan2 for the common sharp corner).
+    if y.abs() > CLEAR_TURN {
+        return if y * d < 0.0 {
+            CornerKind::Outer
+        } else {
+            CornerKind::Inner
+        };
     }
     let a = turn(t1, t2);
     if a.abs() <= ANGLE_EPS {
-        (CornerKind::Tangent, a)
+        CornerKind::Tangent
     } else if PI - a.abs() <= ANGLE_EPS || a * d < 0.0 {
         // A reversal is always outer: the tool has to go round the end.
-        (CornerKind::Outer, a)
+        CornerKind::Outer
     } else {
-        (CornerKind::Inner, a)
+        CornerKind::Inner
     }
 }
 
@@ -113,7 +126,7 @@ pub fn corner(
         });
     }
     let (t1, t2) = (h1.unit(), h2.unit());
-    let (kind, a) = classify(t1, t2, d);
+    let kind = classify(t1, t2, d);
     let mut out = Corner {
         end1: p1,
         start2: p2,
@@ -134,7 +147,7 @@ pub fn corner(
         o2,
         c,
         d,
-        a,
+        a: turn(t1, t2),
         t1,
         t2,
     };
@@ -147,7 +160,7 @@ pub fn corner(
         OuterCorner::IntersectionBlocks { cap } => g.intersection_blocks(&mut out, cap, s),
         OuterCorner::Intersection { limit } => g.intersection_limited(&mut out, limit),
         OuterCorner::FanucC => g.fanuc_c(&mut out),
-        OuterCorner::LinearTransition => linear_transition(&mut out, o1, o2, a, d),
+        OuterCorner::LinearTransition => linear_transition(&mut out, o1, o2, g.a, d),
     }
     Ok(out)
 }
@@ -399,14 +412,14 @@ mod tests {
     fn a_turn_towards_the_tool_is_inner_away_from_it_or_back_outer() {
         let (e, n, w) = (v2(1.0, 0.0), v2(0.0, 1.0), v2(-1.0, 0.0));
         // East → north turns left by 90°: the tool on the left is inside the turn.
-        assert_eq!(classify(e, n, 2.0).0, CornerKind::Inner);
-        assert!((classify(e, n, 2.0).1 - FRAC_PI_2).abs() < 1e-15);
+        assert_eq!(classify(e, n, 2.0), CornerKind::Inner);
+        assert!((turn(e, n) - FRAC_PI_2).abs() < 1e-15);
         // The tool on the right (d < 0) is outside it.
-        assert_eq!(classify(e, n, -2.0).0, CornerKind::Outer);
+        assert_eq!(classify(e, n, -2.0), CornerKind::Outer);
         // Straight on: tangent; back the way it came: outer on either side.
-        assert_eq!(classify(e, e, 2.0).0, CornerKind::Tangent);
-        assert_eq!(classify(e, w, 2.0).0, CornerKind::Outer);
-        assert_eq!(classify(e, w, -2.0).0, CornerKind::Outer);
+        assert_eq!(classify(e, e, 2.0), CornerKind::Tangent);
+        assert_eq!(classify(e, w, 2.0), CornerKind::Outer);
+        assert_eq!(classify(e, w, -2.0), CornerKind::Outer);
     }
 
     /// 840C 11.1, G450: the outer corner east → south with the tool left at R 2. P1 = (10,2),

@@ -51,7 +51,7 @@ pub fn exit(
     match policy {
         // 840C G455 mirrors the selection: α < 180° takes the corner mode (11.5).
         SelectionPolicy::Compensated => {
-            let (kind, _) = classify(en.tangent_end(), dir, d);
+            let kind = classify(en.tangent_end(), dir, d);
             if kind == CornerKind::Outer {
                 compensated()
             } else {

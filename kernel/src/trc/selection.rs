@@ -56,7 +56,7 @@ pub fn entry(
     match policy {
         // 840C G455: α < 180° takes the corner mode, α ≥ 180° the normal position (11.2, 11.3).
         SelectionPolicy::Compensated => {
-            let (kind, _) = classify(dir, e1.tangent_start(), d);
+            let kind = classify(dir, e1.tangent_start(), d);
             if kind == CornerKind::Outer {
                 compensated(&ol)
             } else {
@@ -112,7 +112,7 @@ pub fn inner_corner(
     if en.end().dist(q) > 1e-6 {
         return Err(InnerCornerError::NotClosed);
     }
-    let (kind, _) = classify(en.tangent_end(), e1.tangent_start(), d);
+    let kind = classify(en.tangent_end(), e1.tangent_start(), d);
     if kind != CornerKind::Inner {
         return Err(InnerCornerError::NotInner);
     }
