@@ -178,6 +178,110 @@ struct Programmed {
     side: i8,
 }
 
+/// Consecutive programmed elements of the window under one box: a path piece skips the
+/// chunks its box misses (most of a deep window lies far back along the path), and meets the
+/// elements of the others in order.
+#[derive(Clone, Copy, Debug)]
+struct Chunk {
+    /// Covers every element ever put in the chunk (those gone from the window too).
+    bb: [f64; 4],
+    /// Elements of the chunk still in the window, and all put in it.
+    live: u32,
+    filled: u32,
+}
+
+/// Elements a chunk takes.
+const CHUNK: u32 = 8;
+
+/// A ring's records in chunks, kept beside it: pushed and popped with it.
+#[derive(Debug)]
+struct Chunks(std::collections::VecDeque<Chunk>);
+
+impl Chunks {
+    fn with_capacity(records: usize) -> Self {
+        Chunks(std::collections::VecDeque::with_capacity(
+            records / CHUNK as usize + 2,
+        ))
+    }
+
+    /// A record with box `bb` comes at the back.
+    fn push(&mut self, bb: &[f64; 4]) {
+        match self.0.back_mut().filter(|c| c.filled < CHUNK) {
+            Some(c) => {
+                c.grow(bb);
+                c.live += 1;
+                c.filled += 1;
+            }
+            None => self.0.push_back(Chunk {
+                bb: *bb,
+                live: 1,
+                filled: 1,
+            }),
+        }
+    }
+
+    /// The front record goes.
+    fn pop_front(&mut self) {
+        if let Some(c) = self.0.front_mut() {
+            c.live -= 1;
+            if c.live == 0 {
+                self.0.pop_front();
+            }
+        }
+    }
+
+    /// The back record goes.
+    fn pop_back(&mut self) {
+        if let Some(c) = self.0.back_mut() {
+            c.live -= 1;
+            if c.live == 0 {
+                self.0.pop_back();
+            }
+        }
+    }
+
+    /// The back record's box now is `bb`.
+    fn regrow_back(&mut self, bb: &[f64; 4]) {
+        if let Some(c) = self.0.back_mut() {
+            c.grow(bb);
+        }
+    }
+
+    fn clear(&mut self) {
+        self.0.clear();
+    }
+
+    /// The records the chunks hold (the ring's length).
+    fn records(&self) -> usize {
+        self.0.iter().map(|c| c.live as usize).sum()
+    }
+
+    /// The index ranges of the ring's records whose chunks box `bb` may overlap, in order.
+    fn near<'c>(&'c self, bb: &'c [f64; 4]) -> impl Iterator<Item = std::ops::Range<usize>> + 'c {
+        self.0
+            .iter()
+            .scan(0, |from, c| {
+                let r = *from..*from + c.live as usize;
+                *from = r.end;
+                Some((r, c))
+            })
+            // A box that misses the chunk's misses each of its records'.
+            .filter(|(_, c)| overlap(&c.bb, bb))
+            .map(|(r, _)| r)
+    }
+}
+
+impl Chunk {
+    fn grow(&mut self, bb: &[f64; 4]) {
+        self.bb = [
+            self.bb[0].min(bb[0]),
+            self.bb[1].min(bb[1]),
+            self.bb[2].max(bb[2]),
+            self.bb[3].max(bb[3]),
+        ];
+    }
+}
+
 /// Programmed elements kept for a window of `depth` blocks: a path segment meets elements up
 /// to `depth` blocks before and after its own.
 fn programmed_for(depth: usize) -> usize {
@@ -203,6 +307,9 @@ pub struct Bottleneck {
     /// Sized once for the window (masking's 3 at least): never grown on the per-block path.
     held: std::collections::VecDeque<Held>,
     programmed: std::collections::VecDeque<Programmed>,
+    /// The held segments and the programmed elements in chunks (their `live` add up to them).
+    held_chunks: Chunks,
+    chunks: Chunks,
     /// Distinct blocks among the held segments, and the last one's number.
     blocks: usize,
     last_seq: Option<u32>,
@@ -218,6 +325,8 @@ impl Bottleneck {
             programmed: std::collections::VecDeque::with_capacity(programmed_for(
                 window.clamp(3, MAX_WINDOW),
             )),
+            held_chunks: Chunks::with_capacity(held_for(window.clamp(3, MAX_WINDOW))),
+            chunks: Chunks::with_capacity(programmed_for(window.clamp(3, MAX_WINDOW))),
             blocks: 0,
             last_seq: None,
         }
@@ -248,8 +357,9 @@ impl Bottleneck {
         let fence = Fence::new(&elem);
         // A path segment meets elements up to `depth` blocks before and after its own.
         while self.programmed.len() >= 2 * self.depth(reaction) + 2 {
-            self.programmed.pop_front();
+            self.pop_programmed();
         }
+        self.chunks.push(&bb);
         self.programmed.push_back(Programmed {
             source,
             elem,
@@ -260,15 +370,12 @@ impl Bottleneck {
         });
         let newest = self.programmed.len() - 1;
         let mut found = None;
-        let (x, y) = self.held.as_slices();
         // Masking checks a segment when it leaves the window: a loop cut out later may drop
         // what comes too close now.
-        let checked = if reaction == Reaction::Mask {
-            0
-        } else {
-            x.len() + y.len()
-        };
-        for h in x.iter().chain(y).take(checked) {
+        let checked = reaction != Reaction::Mask;
+        debug_assert_eq!(self.held_chunks.records(), self.held.len());
+        let near_ones = self.held_chunks.near(&bb).filter(|_| checked);
+        for h in near_ones.flat_map(|r| self.held.range(r)) {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
@@ -326,7 +433,7 @@ impl Bottleneck {
                     .front()
                     .is_some_and(|p| (p.source.seq.wrapping_sub(seg.source.seq) as i32) < 0)
                 {
-                    self.programmed.pop_front();
+                    self.pop_programmed();
                 }
             }
             out.push_back(seg);
@@ -404,7 +511,7 @@ impl Bottleneck {
         if self.held.len() >= held_for(depth) {
             self.release_block(out, mask)?;
         }
-        self.held.push_back(Held {
+        self.hold(Held {
             seg,
             piece,
             backwards,
@@ -699,7 +806,7 @@ impl Bottleneck {
             }
             self.cut_loop(joint, &mut seg);
             let piece = PathPiece::plain(self.elem(&seg));
-            self.held.push_back(Held {
+            self.hold(Held {
                 seg,
                 piece,
                 bb: piece.bbox(h.r),
@@ -798,6 +905,7 @@ impl Bottleneck {
         let bridge = bridge.and_then(|(k, y)| Some((*self.held.get(k)?, y)));
         while self.held.len() > i + 1 {
             self.held.pop_back();
+            self.held_chunks.pop_back();
         }
         let plane = self.plane;
         let own = self
@@ -807,13 +915,14 @@ impl Bottleneck {
             .map(|p| p.elem);
         if let Some(h) = self.held.back_mut() {
             h.rejoined(plane, None, x, own.as_ref());
+            self.held_chunks.regrow_back(&h.bb);
         }
         let mut start = x;
         if let Some((mut h, y)) = bridge {
             let own = self.own(h.seg.source.seq).map(|p| p.elem);
             h.rejoined(plane, Some(x), y, own.as_ref());
             h.after_gap = false;
-            self.held.push_back(h);
+            self.hold(h);
             start = y;
         }
         seg.from = at(plane, &seg.from, start);
@@ -825,7 +934,9 @@ impl Bottleneck {
     /// is not known to be clear.
     pub fn discard(&mut self) {
         self.held.clear();
+        self.held_chunks.clear();
         self.programmed.clear();
+        self.chunks.clear();
         self.blocks = 0;
         self.last_seq = None;
     }
@@ -875,6 +986,7 @@ impl Bottleneck {
             }
             out.push_back(h.seg);
             self.held.pop_front();
+            self.held_chunks.pop_front();
         }
         self.blocks = self.blocks.saturating_sub(1);
         Ok(())
@@ -901,24 +1013,48 @@ impl Bottleneck {
         bb: &[f64; 4],
         own: bool,
     ) -> Option<Gouge> {
-        let (a, b) = self.programmed.as_slices();
-        a.iter().chain(b).enumerate().find_map(|(j, p)| {
-            if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
-                return None;
+        debug_assert_eq!(self.chunks.records(), self.programmed.len());
+        for range in self.chunks.near(bb) {
+            let from = range.start;
+            {
+                let found = self.programmed.range(range).enumerate().find_map(|(i, p)| {
+                    if p.side != side
+                        || (!own && near(p.source.seq, path.seq))
+                        || !overlap(&p.bb, bb)
+                    {
+                        return None;
+                    }
+                    let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
+                    // A lead of a closed contour is no surface (its own block's piece still is).
+                    if p.source.seq != path.seq && self.lead(from + i) {
+                        return None;
+                    }
+                    Some(Gouge {
+                        path,
+                        element: p.source,
+                        distance,
+                        radius,
+                        unjoined: false,
+                    })
+                });
+                if found.is_some() {
+                    return found;
+                }
             }
-            let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
-            // A lead of a closed contour is no surface (its own block's piece still is).
-            if p.source.seq != path.seq && self.lead(j) {
-                return None;
-            }
-            Some(Gouge {
-                path,
-                element: p.source,
-                distance,
-                radius,
-                unjoined: false,
-            })
-        })
+        }
+        None
+    }
+
+    /// The oldest programmed element leaves the window (and its chunk, once it has none).
+    fn pop_programmed(&mut self) {
+        self.programmed.pop_front();
+        self.chunks.pop_front();
+    }
+
+    /// A segment comes into the window.
+    fn hold(&mut self, h: Held) {
+        self.held_chunks.push(&h.bb);
+        self.held.push_back(h);
     }
 
     /// Whether programmed element `j` is a lead-in or lead-out of a contour that closes in the
