@@ -294,18 +294,6 @@ fn a_far_violation_inside_a_closed_profile_is_still_reported() {
     check_names_lines_4_and_207("far-closed.mpf", &text);
 }
 
-/// Two pieces of work at once, one in a scoped thread (as the runtime's `Threads`).
-struct Scoped;
-
-impl nc_kernel::Join for Scoped {
-    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
-        std::thread::scope(|s| {
-            s.spawn(a);
-            b();
-        });
-    }
-}
-
 /// A hairpin under R 10: 6000 blocks of 4 mm along Y0, round below and 6000 back along Y18,
 /// so every segment of either row comes closer than R to the other's elements: a run of some
 /// 12 000 segments, violations all along it.
@@ -352,7 +340,7 @@ fn collected(text: &str, join: Option<&dyn nc_kernel::Join>) -> Vec<String> {
 fn two_workers_report_a_long_run_as_one_does() {
     let text = hairpin();
     let one = collected(&text, None);
-    let two = collected(&text, Some(&Scoped));
+    let two = collected(&text, Some(&nc_runtime::Threads));
     assert!(one.len() > 2, "{one:?}");
     assert_eq!(one, two);
     // Both rows' stretches, the first row's first.

@@ -309,7 +309,7 @@ pub struct Bottleneck {
     programmed: std::collections::VecDeque<Programmed>,
     /// The held segments and the programmed elements in chunks (their `live` add up to them).
     held_chunks: Chunks,
-    chunks: Chunks,
+    programmed_chunks: Chunks,
     /// Distinct blocks among the held segments, and the last one's number.
     blocks: usize,
     last_seq: Option<u32>,
@@ -326,7 +326,7 @@ impl Bottleneck {
                 window.clamp(3, MAX_WINDOW),
             )),
             held_chunks: Chunks::with_capacity(held_for(window.clamp(3, MAX_WINDOW))),
-            chunks: Chunks::with_capacity(programmed_for(window.clamp(3, MAX_WINDOW))),
+            programmed_chunks: Chunks::with_capacity(programmed_for(window.clamp(3, MAX_WINDOW))),
             blocks: 0,
             last_seq: None,
         }
@@ -359,7 +359,7 @@ impl Bottleneck {
         while self.programmed.len() >= 2 * self.depth(reaction) + 2 {
             self.pop_programmed();
         }
-        self.chunks.push(&bb);
+        self.programmed_chunks.push(&bb);
         self.programmed.push_back(Programmed {
             source,
             elem,
@@ -936,7 +936,7 @@ impl Bottleneck {
         self.held.clear();
         self.held_chunks.clear();
         self.programmed.clear();
-        self.chunks.clear();
+        self.programmed_chunks.clear();
         self.blocks = 0;
         self.last_seq = None;
     }
@@ -1013,33 +1013,28 @@ impl Bottleneck {
         bb: &[f64; 4],
         own: bool,
     ) -> Option<Gouge> {
-        debug_assert_eq!(self.chunks.records(), self.programmed.len());
-        for range in self.chunks.near(bb) {
+        debug_assert_eq!(self.programmed_chunks.records(), self.programmed.len());
+        for range in self.programmed_chunks.near(bb) {
             let from = range.start;
-            {
-                let found = self.programmed.range(range).enumerate().find_map(|(i, p)| {
-                    if p.side != side
-                        || (!own && near(p.source.seq, path.seq))
-                        || !overlap(&p.bb, bb)
-                    {
-                        return None;
-                    }
-                    let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
-                    // A lead of a closed contour is no surface (its own block's piece still is).
-                    if p.source.seq != path.seq && self.lead(from + i) {
-                        return None;
-                    }
-                    Some(Gouge {
-                        path,
-                        element: p.source,
-                        distance,
-                        radius,
-                        unjoined: false,
-                    })
-                });
-                if found.is_some() {
-                    return found;
+            let found = self.programmed.range(range).enumerate().find_map(|(i, p)| {
+                if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
+                    return None;
                 }
+                let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
+                // A lead of a closed contour is no surface (its own block's piece still is).
+                if p.source.seq != path.seq && self.lead(from + i) {
+                    return None;
+                }
+                Some(Gouge {
+                    path,
+                    element: p.source,
+                    distance,
+                    radius,
+                    unjoined: false,
+                })
+            });
+            if found.is_some() {
+                return found;
             }
         }
         None
@@ -1048,7 +1043,7 @@ impl Bottleneck {
     /// The oldest programmed element leaves the window (and its chunk, once it has none).
     fn pop_programmed(&mut self) {
         self.programmed.pop_front();
-        self.chunks.pop_front();
+        self.programmed_chunks.pop_front();
     }
 
     /// A segment comes into the window.

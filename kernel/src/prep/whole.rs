@@ -237,6 +237,8 @@ struct Share {
     stamp: u32,
     /// Each segment's first violation of the part, in path order, with the segment's index.
     hits: Vec<(u32, Gouge)>,
+    /// The run's closed loops, worked out at the worker's first violation (prep/leads.rs).
+    span: Option<Span>,
 }
 
 impl Share {
@@ -246,6 +248,7 @@ impl Share {
         self.seen.clear();
         self.seen.resize(run.elements.len(), 0);
         self.stamp = 0;
+        self.span = None;
     }
 
     /// Takes pieces of `segments` (by `next`, shared with the other worker) until none is
@@ -264,8 +267,7 @@ impl Share {
     /// Checks `segments` (the first is the run's segment `first`) against the elements of
     /// `run` (in `grid`).
     fn check(&mut self, segments: &[PathSegment], first: usize, run: Run<'_>, grid: &Grid) {
-        // The run's closed loops, worked out at its first violation (prep/leads.rs).
-        let mut span: Option<Span> = None;
+        let span = &mut self.span;
         for (i, s) in segments.iter().enumerate() {
             self.stamp = self.stamp.wrapping_add(1);
             if self.stamp == 0 {
@@ -430,7 +432,7 @@ impl<'a> WholeCheck<'a> {
             Some(join) => join.join(&mut || first.take(segments, &next, run, grid), &mut || {
                 second.take(segments, &next, run, grid)
             }),
-            None => first.check(segments, 0, run, grid),
+            None => first.take(segments, &next, run, grid),
         }
         // Each worker's hits come in path order: merged, all of them do.
         let (mut a, mut b) = (first.hits.iter().peekable(), second.hits.iter().peekable());
