@@ -97,6 +97,41 @@ fn a_violation_200_blocks_on_is_refused_at_load_with_both_lines() {
     assert!(a.message.contains("8.0000 mm"), "{}", a.message);
 }
 
+/// The far program with the radius changed to D2 (5 mm) one block into the run of short
+/// moves: line 4's tool path (radius 10) still comes within 8 mm of line 207's element.
+fn far_program_with_a_radius_change() -> String {
+    let text = far_program();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    lines[6].push_str(" D2");
+    lines.join("\n") + "\n"
+}
+
+/// The kernel's check sees each segment when the 64-block window lets it go, after the
+/// elements of the blocks behind it: a segment is still measured with its own block's tool
+/// radius (10 here), not the one the window has reached (5: 8 mm would pass).
+#[test]
+fn a_segment_is_checked_with_its_own_radius_when_the_window_lets_it_go() {
+    let text = far_program_with_a_radius_change();
+    assert!(text.lines().nth(6).unwrap().ends_with("D2"));
+    let refused = spawn_preparation(
+        "far-d2.mpf".into(),
+        text,
+        machine(&[]),
+        ToolTable::builtin(),
+        None,
+    )
+    .expect("thread");
+    let Err(a) = refused else {
+        panic!("the kernel took the program")
+    };
+    assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 4), "{a}");
+    assert!(
+        a.message.contains("line 207") && a.message.contains("tool radius 10.0000"),
+        "{}",
+        a.message
+    );
+}
+
 #[test]
 fn softnc_check_names_both_places() {
     check_names_lines_4_and_207("whole-far.mpf", &far_program());

@@ -447,13 +447,16 @@ impl<'a> WholeCheck<'a> {
         }
     }
 
-    /// The element of block `seq`, if the run has one (elements come in block order).
+    /// The element of block `seq`, if the run has one. Elements come in block order, and
+    /// ahead of their segments by as many blocks as the bottleneck window holds back: the
+    /// search goes back over those, no further.
     fn own(&self, seq: u32) -> Option<&Element> {
         self.elements
             .iter()
             .rev()
-            .take(8)
-            .find(|e| e.source.seq == seq)
+            .take(super::bottleneck::MAX_WINDOW + 8)
+            .find(|e| (e.source.seq.wrapping_sub(seq) as i32) <= 0)
+            .filter(|e| e.source.seq == seq)
     }
 
     /// The run ends before the block of `seq`: everything before it goes; an element of a
