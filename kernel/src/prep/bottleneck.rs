@@ -23,8 +23,8 @@ use super::leads::{part_of, span_of};
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear, sweep, v2,
-    Elem, Fence, Measured, V2,
+    arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear,
+    sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -1095,7 +1095,7 @@ fn too_close(path: &Measured, elem: &Elem, fence: &Fence, r: f64) -> Option<f64>
             return None;
         }
     }
-    if clear_by_ends_of(path, elem, fence, limit) {
+    if clear_by_ends_of(path, elem, fence, limit) || arcs_clear(path, elem, limit.max(0.0)) {
         return None;
     }
     let d = dist_elems(&path.e, elem);

@@ -488,8 +488,12 @@ fn loops(elements: &[Element]) -> Span {
 /// own block's element, the other side's and far ones are not compared).
 #[inline]
 fn gouge(s: &PathSegment, bb: &[f64; 4], run: Run<'_>, k: usize) -> Option<Gouge> {
+    // The box first: the boxes lie densely, and it settles most pairs.
+    if !overlap(bb, &run.boxes[k]) {
+        return None;
+    }
     let e = &run.elements[k];
-    if s.side != e.side || s.source.seq == e.source.seq || !overlap(bb, &run.boxes[k]) {
+    if s.side != e.side || s.source.seq == e.source.seq {
         return None;
     }
     let (distance, radius) = s.piece.too_close(&e.elem, &run.fences[k], s.r)?;

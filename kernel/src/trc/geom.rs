@@ -761,6 +761,87 @@ fn point_seg_sq(x: V2, a: V2, d: V2) -> f64 {
     }
 }
 
+/// Whether `path` and `other` are surely at least `limit` (≥ 0) apart where one of them is an
+/// arc and [`clear_by_ends_of`] could not tell: an arc and a line by the few places their
+/// closest points can be ([`arc_line_clear`]), two arcs by their whole circles. `false` says
+/// nothing (the exact distance decides).
+#[inline]
+pub fn arcs_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
+    match (path.e, *other) {
+        (Elem::Arc { .. }, Elem::Line { a, b }) => arc_line_clear(&path.e, path.r, a, b, limit),
+        (Elem::Line { a, b }, Elem::Arc { a: s, c, .. }) => {
+            arc_line_clear(other, s.dist(c), a, b, limit)
+        }
+        (Elem::Arc { c, .. }, Elem::Arc { a, c: c2, .. }) => {
+            // Circles apart, or one inside the other, `limit` clear of each other.
+            let (r1, r2, d) = (path.r, a.dist(c2), c.dist(c2));
+            let (small, big) = (r1.min(r2), r1.max(r2));
+            d >= (r1 + r2 + limit) * CLEAR_MARGIN || (d + small + limit) * CLEAR_MARGIN <= big
+        }
+        _ => false,
+    }
+}
+
+/// A cheap test's margin for rounding (relative): far above the rounding of its few
+/// operations, far below the gouge tolerance's effect.
+const CLEAR_MARGIN: f64 = 1.0 + 1e-9;
+
+/// Whether the arc `arc` (radius `r`) and the line from `p` to `q` are surely at least `limit`
+/// (≥ 0) apart, by squared distances with a margin for rounding. Where the line crosses the
+/// arc it says `false`; elsewhere the closest points are an end of either, or the arc's point
+/// towards (or away from) the foot of its centre on the line: the only places a distance
+/// between the two can be least.
+#[inline]
+pub fn arc_line_clear(arc: &Elem, r: f64, p: V2, q: V2, limit: f64) -> bool {
+    let Elem::Arc { a, b, c, .. } = *arc else {
+        return false;
+    };
+    let l2 = limit * limit * CLEAR_MARGIN;
+    // A distance δ from the circle along a radius: |ρ − r| ≥ limit, ρ² given.
+    let out = (r + limit) * (r + limit) * CLEAR_MARGIN;
+    let inside = if r > limit {
+        (r - limit) * (r - limit) / CLEAR_MARGIN
+    } else {
+        -1.0
+    };
+    let off_circle = |rho2: f64| rho2 >= out || rho2 <= inside;
+    let (d, pc) = (q - p, c - p);
+    let (t, dd) = (pc.dot(d), d.dot(d));
+    if dd > 0.0 {
+        let x = pc.cross(d);
+        let (foot2, at) = (x * x / dd, t / dd);
+        let foot = p + d * at;
+        // Where the line meets the circle, on the line and on the arc: they cross.
+        let w2 = r * r - foot2;
+        if w2 >= 0.0 {
+            let h = (w2 / dd).sqrt();
+            let crosses = |s: f64| (0.0..=1.0).contains(&s) && in_sweep(arc, p + d * s - c);
+            if crosses(at - h) || crosses(at + h) {
+                return false;
+            }
+        }
+        // The arc's points towards and away from the foot, where the foot is on the line.
+        if at > 0.0 && at < 1.0 {
+            let u = foot - c;
+            if in_sweep(arc, u) && !off_circle(foot2) {
+                return false;
+            }
+            let far = r + foot2.sqrt();
+            if in_sweep(arc, -u) && far * far < l2 {
+                return false;
+            }
+        }
+    }
+    let end_clear = |x: V2| {
+        if in_sweep(arc, x - c) {
+            off_circle((x - c).dot(x - c))
+        } else {
+            (x - a).dot(x - a) >= l2 && (x - b).dot(x - b) >= l2
+        }
+    };
+    end_clear(p) && end_clear(q) && point_seg_sq(a, p, d) >= l2 && point_seg_sq(b, p, d) >= l2
+}
+
 /// [`clear_by_ends`] with the path measured and the element's fence worked out beforehand
 /// (`fence` is `Fence::new(other)`): the bottleneck window's hot path.
 #[inline]
@@ -896,6 +977,22 @@ mod clear_tests {
             }
         }
 
+        /// An arc and a line shown clear are as far apart as the exact distance says, and
+        /// ones clearly farther apart than the limit are shown clear; two arcs shown clear by
+        /// their circles are clear.
+        #[test]
+        fn arcs_clear_agrees_with_the_exact_distance(
+            p in elem(), o in elem(), limit in 0.0..12.0f64
+        ) {
+            let d = dist_elems(&p, &o);
+            let clear = arcs_clear(&Measured::new(p), &o, limit);
+            if clear {
+                prop_assert!(d >= limit, "{p:?} {o:?} limit {limit} dist {d}");
+            } else if matches!((p, o), (Elem::Arc { .. }, Elem::Line { .. }) | (Elem::Line { .. }, Elem::Arc { .. })) {
+                prop_assert!(d <= limit * (1.0 + 1e-6) + 1e-9, "{p:?} {o:?} limit {limit} dist {d}");
+            }
+        }
+
         /// Never "clear" when the exact distance says otherwise.
         #[test]
         fn shown_clear_means_clear(p in elem(), o in elem(), limit in 0.0..12.0f64) {
@@ -907,10 +1004,10 @@ mod clear_tests {
 
     }
 
-    /// Paths sharing an end with the element, tangent or at a corner, both sides, lines and
-    /// arcs: never wrong, and shown clear often (where it saves the exact distance).
-    #[test]
-    fn shown_clear_at_shared_corners() {
+    /// Paths beside an element they share an end with, tangent or at a corner, both sides,
+    /// lines and arcs: a path (the equidistant of the next element), the element, the radius.
+    fn shared_corner_cases() -> Vec<(Elem, Elem, f64)> {
+        let mut cases = Vec::new();
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = move |lo: f64, hi: f64| {
             seed ^= seed << 13;
@@ -918,7 +1015,6 @@ mod clear_tests {
             seed ^= seed << 17;
             lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
         };
-        let (mut tried, mut shown) = (0, 0);
         for i in 0..40_000 {
             let c = v2(rnd(-20.0, 20.0), rnd(-20.0, 20.0));
             let o = if i % 2 == 0 {
@@ -963,16 +1059,51 @@ mod clear_tests {
             let Some(path) = next.offset(if i % 5 < 2 { r } else { -r }) else {
                 continue;
             };
-            tried += 1;
-            if clear_by_ends(&path, &o, r - 1e-9) {
+            cases.push((path, o, r));
+        }
+        cases
+    }
+
+    /// Paths sharing an end with the element: never wrong, and shown clear often (where it
+    /// saves the exact distance).
+    #[test]
+    fn shown_clear_at_shared_corners() {
+        let cases = shared_corner_cases();
+        let mut shown = 0;
+        for (path, o, r) in &cases {
+            if clear_by_ends(path, o, r - 1e-9) {
                 shown += 1;
-                let d = dist_elems(&path, &o);
+                let d = dist_elems(path, o);
                 assert!(d >= r - 2e-9, "{path:?} {o:?} r {r} dist {d}");
             }
         }
         assert!(
-            tried > 30_000 && shown * 4 > tried,
-            "shown clear {shown} of {tried}"
+            cases.len() > 30_000 && shown * 4 > cases.len(),
+            "shown clear {shown} of {}",
+            cases.len()
+        );
+    }
+
+    /// The same pairs where one is an arc: the arcs' test is never wrong either, and shows
+    /// most of those the ends' test leaves clear.
+    #[test]
+    fn arcs_shown_clear_at_shared_corners() {
+        let (mut left, mut shown) = (0, 0);
+        for (path, o, r) in shared_corner_cases() {
+            let limit = r - 1e-9;
+            let d = dist_elems(&path, &o);
+            if arcs_clear(&Measured::new(path), &o, limit) {
+                assert!(d >= limit, "{path:?} {o:?} r {r} dist {d}");
+                shown += 1;
+            }
+            let arc = matches!(path, Elem::Arc { .. }) || matches!(o, Elem::Arc { .. });
+            if arc && !clear_by_ends(&path, &o, limit) && d > limit * (1.0 + 1e-6) {
+                left += 1;
+            }
+        }
+        assert!(
+            shown * 10 > left * 9,
+            "shown clear {shown}, left by the ends' test {left}"
         );
     }
 }
