@@ -3,9 +3,22 @@
 //! `prepare_only [--threaded] [--check] PROGRAM [DIALECT] [KEY=VALUE]...` (machine data
 //! overrides, e.g. `trc.bottleneck_window=0`; `--threaded`: the front in a thread of its own,
 //! as `Preparation::threaded`; `--check`: the software limits and the whole-program check
-//! collecting, as `softnc check` prepares, every record taken).
+//! collecting, as `softnc check` prepares, every record taken; with `--threaded` a long run
+//! is checked by two workers, as there).
 
-use nc_kernel::{Preparation, Prepared, WholeMode};
+use nc_kernel::{Join, Preparation, Prepared, WholeMode};
+
+/// Two pieces of work in two threads, as the runtime's `Threads` does.
+struct Scoped;
+
+impl Join for Scoped {
+    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
+        std::thread::scope(|s| {
+            s.spawn(a);
+            b();
+        });
+    }
+}
 
 fn drain(mut prep: Preparation, check: bool) -> (u64, usize) {
     let mut segments = 0usize;
@@ -50,7 +63,7 @@ fn main() {
     let (blocks, segments) = if threaded {
         std::thread::scope(|s| {
             let prep = Preparation::threaded(s, &path, &text, &md, &tools);
-            drain(checked(prep, &md, check), check)
+            drain(checked(prep, &md, check).with_join(&Scoped), check)
         })
     } else {
         let prep = Preparation::new(&path, &text, &md, &tools);
