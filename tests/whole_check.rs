@@ -79,22 +79,21 @@ fn the_far_program_is_what_it_claims() {
 
 #[test]
 fn a_violation_200_blocks_on_is_refused_at_load_with_both_lines() {
-    let md = machine(&[]);
-    let refused = spawn_preparation(
-        "far.mpf".into(),
-        far_program(),
-        md,
-        ToolTable::builtin(),
-        None,
-    )
-    .expect("thread");
-    // Refused: no hand-over exists, so nothing was queued for the IPO.
-    let Err(a) = refused else {
-        panic!("the kernel took the program")
-    };
+    let a = refused_at_load("far.mpf", far_program());
     assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 4), "{a}");
     assert!(a.message.contains("line 207"), "{}", a.message);
     assert!(a.message.contains("8.0000 mm"), "{}", a.message);
+}
+
+/// The alarm the kernel refuses `text` with at load, on the shipped machine data (refused:
+/// no hand-over exists, so nothing was queued for the IPO).
+fn refused_at_load(name: &str, text: String) -> nc_kernel::Alarm {
+    let refused = spawn_preparation(name.into(), text, machine(&[]), ToolTable::builtin(), None)
+        .expect("thread");
+    match refused {
+        Err(a) => a,
+        Ok(_) => panic!("the kernel took the program"),
+    }
 }
 
 /// The far program with the radius changed to D2 (5 mm) one block into the run of short
@@ -113,17 +112,7 @@ fn far_program_with_a_radius_change() -> String {
 fn a_segment_is_checked_with_its_own_radius_when_the_window_lets_it_go() {
     let text = far_program_with_a_radius_change();
     assert!(text.lines().nth(6).unwrap().ends_with("D2"));
-    let refused = spawn_preparation(
-        "far-d2.mpf".into(),
-        text,
-        machine(&[]),
-        ToolTable::builtin(),
-        None,
-    )
-    .expect("thread");
-    let Err(a) = refused else {
-        panic!("the kernel took the program")
-    };
+    let a = refused_at_load("far-d2.mpf", text);
     assert_eq!((a.code, a.line), (AlarmCode::ContourViolation, 4), "{a}");
     assert!(
         a.message.contains("line 207") && a.message.contains("tool radius 10.0000"),

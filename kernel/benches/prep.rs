@@ -15,6 +15,10 @@ use nc_kernel::synthetic::{bars_program, compensated_program, roughing_program, 
 use nc_kernel::{MachineData, Preparation, Shape, ToolTable, WholeMode};
 use std::hint::black_box;
 
+#[path = "support/join.rs"]
+mod join;
+use join::Scoped;
+
 const BLOCKS: usize = 1_000_000;
 
 fn run(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
@@ -80,24 +84,12 @@ fn prep(c: &mut Criterion) {
 }
 
 /// The whole-program check as `softnc check` runs it: interpreter threaded, a long run
-/// checked in two halves at once (as nc_runtime::Threads joins them).
+/// checked by two workers at once (as nc_runtime::Threads joins them).
 fn run_checked(text: &str, md: &MachineData, tools: &ToolTable) -> (usize, f64) {
     std::thread::scope(|s| {
         let prep = Preparation::threaded(s, "bench", black_box(text), md, tools);
-        drain(prep.checking_whole(WholeMode::Collect).with_join(&Halves))
+        drain(prep.checking_whole(WholeMode::Collect).with_join(&Scoped))
     })
-}
-
-/// Two pieces of work at once, one in a scoped thread.
-struct Halves;
-
-impl nc_kernel::Join for Halves {
-    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
-        std::thread::scope(|s| {
-            s.spawn(a);
-            b();
-        });
-    }
 }
 
 fn corners(c: &mut Criterion) {

@@ -6,19 +6,11 @@
 //! collecting, as `softnc check` prepares, every record taken; with `--threaded` a long run
 //! is checked by two workers, as there).
 
-use nc_kernel::{Join, Preparation, Prepared, WholeMode};
+use nc_kernel::{Preparation, Prepared, WholeMode};
 
-/// Two pieces of work in two threads, as the runtime's `Threads` does.
-struct Scoped;
-
-impl Join for Scoped {
-    fn join(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
-        std::thread::scope(|s| {
-            s.spawn(a);
-            b();
-        });
-    }
-}
+#[path = "../benches/support/join.rs"]
+mod join;
+use join::Scoped;
 
 fn drain(mut prep: Preparation, check: bool) -> (u64, usize) {
     let mut segments = 0usize;
