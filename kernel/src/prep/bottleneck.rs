@@ -24,7 +24,7 @@ use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
     arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear,
-    sweep, v2, Elem, Fence, Measured, V2,
+    margin, sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -154,7 +154,14 @@ impl PathPiece {
     /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
     /// its radius, beyond rounding: the distance there and the tool radius.
     #[inline]
-    pub(super) fn too_close(&self, other: &Elem, fence: &Fence, r: f64) -> Option<(f64, f64)> {
+    /// `fence` gives the element's fence ([`Fence::new`]), asked for only where the cheap
+    /// test by the element's ends is tried.
+    pub(super) fn too_close(
+        &self,
+        other: &Elem,
+        fence: impl FnOnce() -> Fence,
+        r: f64,
+    ) -> Option<(f64, f64)> {
         match self {
             PathPiece::Plain(m) => too_close(m, other, fence, r).map(|d| (d, r)),
             PathPiece::Spiral(sp) => sp.too_close(other),
@@ -379,7 +386,7 @@ impl Bottleneck {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            if let Some((d, radius)) = h.piece.too_close(&elem, &fence, h.r) {
+            if let Some((d, radius)) = h.piece.too_close(&elem, || fence, h.r) {
                 if self.lead(newest) {
                     break;
                 }
@@ -887,7 +894,7 @@ impl Bottleneck {
         self.programmed
             .iter()
             .filter(|p| p.side == side && among(p) && overlap(&p.bb, &bb))
-            .all(|p| too_close(&path, &p.elem, &p.fence, r).is_none())
+            .all(|p| too_close(&path, &p.elem, || p.fence, r).is_none())
     }
 
     /// Whether the tool circle at `x` keeps clear of every programmed element of its side.
@@ -1020,7 +1027,7 @@ impl Bottleneck {
                 if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
                     return None;
                 }
-                let (distance, radius) = piece.too_close(&p.elem, &p.fence, r)?;
+                let (distance, radius) = piece.too_close(&p.elem, || p.fence, r)?;
                 // A lead of a closed contour is no surface (its own block's piece still is).
                 if p.source.seq != path.seq && self.lead(from + i) {
                     return None;
@@ -1088,14 +1095,15 @@ impl Bottleneck {
 /// (beyond rounding). The cheap test by the element's ends settles most pairs that share a
 /// corner; the rest get the exact distance.
 #[inline]
-fn too_close(path: &Measured, elem: &Elem, fence: &Fence, r: f64) -> Option<f64> {
+fn too_close(path: &Measured, elem: &Elem, fence: impl FnOnce() -> Fence, r: f64) -> Option<f64> {
     let limit = r - gouge_tol(&path.e);
+    let sure = limit.max(0.0) + margin(path, elem);
     if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (path.e, *elem) {
-        if lines_clear(a, b, p, q, limit.max(0.0)) {
+        if lines_clear(a, b, p, q, sure) {
             return None;
         }
     }
-    if clear_by_ends_of(path, elem, fence, limit) || arcs_clear(path, elem, limit.max(0.0)) {
+    if clear_by_ends_of(path, elem, &fence(), limit) || arcs_clear(path, elem, sure) {
         return None;
     }
     let d = dist_elems(&path.e, elem);

@@ -7,28 +7,27 @@
 //! must stay at least R from every programmed element of its side, its own block's element
 //! aside (an equidistant is R from it by construction); a radius change over an arc is
 //! checked with the radius at each point. What differs is the reach: when a run is complete
-//! its elements go into a uniform grid over their extent and each segment meets only those
-//! in the cells its box covers — a cost close to linear in the length of the program. Under
-//! ISG masking the segments checked are the masked path (the window's output).
+//! its elements, in their order along the contour, go into a tree of boxes (a leaf holds a
+//! few consecutive elements and the segments of their blocks), and the tree is walked against
+//! itself: a pair of subtrees whose boxes are apart is left, so neighbours along the contour
+//! meet in a leaf or one level up, and a part of the contour that comes back near another
+//! meets it where their boxes overlap — a cost close to linear in the length of the program.
+//! Under ISG masking the segments checked are the masked path (the window's output).
 
-use super::bottleneck::{bbox, elem_in, overlap, Gouge, PathPiece};
+use super::bottleneck::{elem_in, overlap, Gouge, PathPiece};
 use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
-use crate::trc::geom::{Elem, Fence, Measured};
+use crate::trc::geom::{bounds, Elem, Fence, Measured};
 use core::sync::atomic::{AtomicUsize, Ordering};
 
-/// An element whose box covers more grid cells than this is kept in a list of its own and
-/// met by every segment (a large arc's box is its whole circle).
-const MAX_CELLS: usize = 64;
-
-/// Grid cell edge in tool radii: a segment's box (grown by R) meets a few cells, and a cell
-/// holds the few elements near it.
-const CELL_RADII: f64 = 4.0;
+/// Consecutive elements a leaf of the tree holds (and the segments of their blocks): few, so
+/// a leaf meets its neighbour in a few box tests.
+const LEAF: usize = 4;
 
 /// A programmed element as the run keeps it. Its box lies apart (`WholeCheck::boxes`: the
-/// grid's build reads only the boxes, densely), and its [`Fence`] is worked out when the run
-/// is checked, beside the grid's build, not while the path streams.
+/// tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for a
+/// pair that needs it.
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
@@ -38,7 +37,7 @@ struct Element {
     side: i8,
 }
 
-/// A tool-centre segment as the run keeps it (its box is worked out when it is checked).
+/// A tool-centre segment as the run keeps it (its box lies apart: `WholeCheck::reach`).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
     source: Source,
@@ -47,169 +46,320 @@ struct PathSegment {
     side: i8,
 }
 
+impl PathSegment {
+    /// Where the tool circle along the segment reaches: its box grown by the radius (an arc's
+    /// by its sweep, not its whole circle).
+    fn piece_box(&self) -> [f64; 4] {
+        match self.piece {
+            PathPiece::Plain(m) => {
+                let b = bounds(&m.e);
+                let r = self.r.abs();
+                [b[0] - r, b[1] - r, b[2] + r, b[3] + r]
+            }
+            _ => self.piece.bbox(self.r),
+        }
+    }
+}
+
 /// What the check reads of the run's elements.
 #[derive(Clone, Copy)]
 struct Run<'r> {
     elements: &'r [Element],
-    boxes: &'r [[f64; 4]],
-    fences: &'r [Fence],
 }
 
-/// The elements of one run in a uniform grid over their extent, built when the run is
-/// complete: each cell's members lie together in `members` (a counting sort), so a query is
-/// index arithmetic and a scan, no hashing and no allocation per cell.
+/// The boxes under a node of the tree: of the path segments (each grown by its tool radius)
+/// and of the programmed elements.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    path: [f64; 4],
+    elements: [f64; 4],
+}
+
+/// The empty box: every union leaves it, no overlap meets it.
+const NOTHING: [f64; 4] = [
+    f64::INFINITY,
+    f64::INFINITY,
+    f64::NEG_INFINITY,
+    f64::NEG_INFINITY,
+];
+
+fn grow(bb: &mut [f64; 4], by: &[f64; 4]) {
+    *bb = [
+        bb[0].min(by[0]),
+        bb[1].min(by[1]),
+        bb[2].max(by[2]),
+        bb[3].max(by[3]),
+    ];
+}
+
+/// Part of the walk, done by one worker at a time: a subtree against itself, or two subtrees
+/// of one level against each other (by level and index).
+#[derive(Clone, Copy, Debug)]
+enum Task {
+    Within(usize, usize),
+    Across(usize, usize, usize),
+}
+
+/// The boxes the walk reads: each element's, and each segment's grown by its tool radius.
+#[derive(Clone, Copy)]
+struct Boxes<'r> {
+    elements: &'r [[f64; 4]],
+    segments: &'r [[f64; 4]],
+}
+
+/// A run's elements in their order along the contour, in a tree of boxes: leaf l holds
+/// elements `LEAF·l ..` and the segments anchored at them, node i of a level the nodes 2i and
+/// 2i + 1 of the level below. The leaves grow as the elements and segments come (the thread
+/// that takes the path has time to spare while the front works); the levels above are built
+/// when the run is complete, from the order alone, in linear time: no sorting by place.
 #[derive(Default)]
-struct Grid {
-    /// Lower corner of the extent, the inverse cell edge, the cells along x and y.
-    x0: f64,
-    y0: f64,
-    inv: f64,
-    nx: usize,
-    ny: usize,
-    /// Cell k's members are `members[start[k]..start[k + 1]]`.
-    start: Vec<u32>,
-    members: Vec<u32>,
-    /// Elements whose box covers more than `MAX_CELLS` cells (or is not finite).
-    large: Vec<u32>,
-    /// Each element's cells (x0, y0, x1, y1), between the counting and the filling pass.
-    spans: Vec<[u32; 4]>,
+struct Tree {
+    /// `levels[0]` are the leaves, the last level the root.
+    levels: Vec<Vec<Node>>,
+    /// Segments anchored at each leaf, then (at the run's end) where each leaf's begin:
+    /// leaf l's are `first[l]..first[l + 1]` in path order, or the indices in `order` there
+    /// where a segment came anchored before one of an earlier leaf (a counting sort).
+    first: Vec<u32>,
+    order: Vec<u32>,
+    /// Each segment's leaf, while they come in leaf order and then too (`order` is built
+    /// from it otherwise).
+    leaf: Vec<u32>,
+    in_order: bool,
+    /// Elements under the leaves.
+    elements: usize,
 }
 
-/// Each cell of span `s` in a grid `nx` cells wide, by its index.
-#[inline]
-fn each_cell(nx: usize, s: [u32; 4], mut f: impl FnMut(usize)) {
-    for y in s[1]..=s[3] {
-        let row = y as usize * nx;
-        for x in s[0]..=s[2] {
-            f(row + x as usize);
-        }
+impl Tree {
+    fn new() -> Self {
+        let mut t = Tree::default();
+        t.clear();
+        t
     }
-}
 
-/// The cell index of `v` on an axis of `n` cells, clamped to the grid: a truncation with a
-/// correction for negative values (the core's floor is a library call).
-#[inline]
-fn cell_of(v: f64, n: usize) -> usize {
-    if v >= 0.0 {
-        // `as` saturates: a huge value lands in the last cell.
-        (v as usize).min(n - 1)
-    } else {
-        0
+    /// A new run: no leaves.
+    fn clear(&mut self) {
+        self.levels.resize_with(1, Vec::new);
+        self.levels[0].clear();
+        self.first.clear();
+        self.order.clear();
+        self.leaf.clear();
+        self.in_order = true;
+        self.elements = 0;
     }
-}
 
-impl Grid {
-    /// The grid of the elements with `boxes`, cells about `edge` mm, never many more cells
-    /// than elements.
-    fn build(&mut self, boxes: &[[f64; 4]], edge: f64) {
-        self.start.clear();
-        self.members.clear();
-        self.large.clear();
-        self.spans.clear();
-        let mut ext = [
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ];
-        for bb in boxes.iter().filter(|bb| bb.iter().all(|v| v.is_finite())) {
-            ext = [
-                ext[0].min(bb[0]),
-                ext[1].min(bb[1]),
-                ext[2].max(bb[2]),
-                ext[3].max(bb[3]),
-            ];
+    /// The leaf of element `k`, there from now on.
+    fn leaf_of(&mut self, k: usize) -> usize {
+        let l = k / LEAF;
+        if self.levels.is_empty() {
+            self.levels.push(Vec::new());
         }
-        let (w, h) = ((ext[2] - ext[0]).max(0.0), (ext[3] - ext[1]).max(0.0));
-        // Cells enough for the elements: the edge grows where the extent is large for them.
-        let room = 4.0 * boxes.len() as f64 + 64.0;
-        let edge = edge
-            .max(((w * h) / room).sqrt())
-            .max(w / room)
-            .max(h / room);
-        if !(edge.is_finite() && edge > 0.0) {
-            self.nx = 0;
-            self.large.extend(0..boxes.len() as u32);
-            return;
+        let leaves = &mut self.levels[0];
+        if leaves.len() <= l {
+            let empty = Node {
+                path: NOTHING,
+                elements: NOTHING,
+            };
+            leaves.resize(l + 1, empty);
+            self.first.resize(l + 1, 0);
         }
-        (self.x0, self.y0, self.inv) = (ext[0], ext[1], 1.0 / edge);
-        self.nx = (w * self.inv) as usize + 1;
-        self.ny = (h * self.inv) as usize + 1;
-        self.start.resize(self.nx * self.ny + 1, 0);
-        for (i, bb) in boxes.iter().enumerate() {
-            let s = self.span(bb);
-            let n = s.map_or(usize::MAX, |s| {
-                (s[2] - s[0] + 1) as usize * (s[3] - s[1] + 1) as usize
-            });
-            match s {
-                Some(s) if n <= MAX_CELLS => {
-                    each_cell(self.nx, s, |k| self.start[k + 1] += 1);
-                    self.spans.push(s);
-                }
-                _ => {
-                    self.large.push(i as u32);
-                    self.spans.push([1, 1, 0, 0]);
-                }
+        l
+    }
+
+    /// Element `k` (they come in order) with box `bb`.
+    fn element(&mut self, k: usize, bb: &[f64; 4]) {
+        let l = self.leaf_of(k);
+        grow(&mut self.levels[0][l].elements, bb);
+    }
+
+    /// The next segment, anchored at element `k` (any element is right; one near it keeps
+    /// the walk short), with box `bb` (grown by its tool radius).
+    fn segment(&mut self, k: usize, bb: &[f64; 4]) {
+        let l = self.leaf_of(k);
+        grow(&mut self.levels[0][l].path, bb);
+        self.first[l] += 1;
+        self.in_order &= self.leaf.last().is_none_or(|&last| last as usize <= l);
+        self.leaf.push(l as u32);
+    }
+
+    /// The run is complete with its first `elements` elements (those after them belong to
+    /// the next run; no segment of this run is anchored there).
+    fn build(&mut self, elements: usize) {
+        self.elements = elements;
+        let leaves = elements.div_ceil(LEAF).max(1);
+        self.leaf_of((leaves - 1) * LEAF);
+        self.fold_beyond(leaves);
+        // Counts to beginnings.
+        self.first.push(0);
+        let mut at = 0;
+        for f in &mut self.first {
+            (*f, at) = (at, at + *f);
+        }
+        if !self.in_order {
+            self.order.clear();
+            self.order.resize(self.leaf.len(), 0);
+            let mut next = self.first.clone();
+            for (i, &l) in self.leaf.iter().enumerate() {
+                self.order[next[l as usize] as usize] = i as u32;
+                next[l as usize] += 1;
             }
         }
-        for k in 1..self.start.len() {
-            self.start[k] += self.start[k - 1];
-        }
-        self.members
-            .resize(self.start[self.nx * self.ny] as usize, 0);
-        // Filled from each cell's end backwards: `start` ends as the cells' beginnings.
-        let mut fill = std::mem::take(&mut self.start);
-        fill.rotate_left(1);
-        for (i, s) in self.spans.iter().enumerate() {
-            each_cell(self.nx, *s, |k| {
-                fill[k] -= 1;
-                self.members[fill[k] as usize] = i as u32;
+        self.build_levels();
+    }
+
+    /// Leaves past the run's `leaves` hold the next run's first elements and no segment; one
+    /// anchored there all the same goes to the run's last leaf, so that none is left out.
+    fn fold_beyond(&mut self, leaves: usize) {
+        let extra: u32 = self.first[leaves..].iter().sum();
+        if extra > 0 {
+            let path = self.levels[0][leaves..].iter().fold(NOTHING, |mut bb, n| {
+                grow(&mut bb, &n.path);
+                bb
             });
+            grow(&mut self.levels[0][leaves - 1].path, &path);
+            self.first[leaves - 1] += extra;
+            for l in self.leaf.iter_mut().filter(|l| **l as usize >= leaves) {
+                *l = (leaves - 1) as u32;
+                self.in_order = false;
+            }
         }
-        // Each cell's fill has come down to its beginning; the last entry closes the last cell.
-        if let Some(last) = fill.last_mut() {
-            *last = self.members.len() as u32;
-        }
-        self.start = fill;
+        self.levels[0].truncate(leaves);
+        self.first.truncate(leaves);
     }
 
-    /// The cells a box covers, clamped to the grid; `None` for a box not finite or off it.
-    #[inline]
-    fn span(&self, bb: &[f64; 4]) -> Option<[u32; 4]> {
-        if self.nx == 0 || !bb.iter().all(|v| v.is_finite()) {
-            return None;
+    fn build_levels(&mut self) {
+        self.levels.truncate(1);
+        while let Some(below) = self.levels.last().filter(|l| l.len() > 1) {
+            let up: Vec<Node> = below
+                .chunks(2)
+                .map(|pair| {
+                    let mut n = pair[0];
+                    if let Some(b) = pair.get(1) {
+                        grow(&mut n.path, &b.path);
+                        grow(&mut n.elements, &b.elements);
+                    }
+                    n
+                })
+                .collect();
+            self.levels.push(up);
         }
-        let (x0, y0) = ((bb[0] - self.x0) * self.inv, (bb[1] - self.y0) * self.inv);
-        let (x1, y1) = ((bb[2] - self.x0) * self.inv, (bb[3] - self.y0) * self.inv);
-        if x1 < 0.0 || y1 < 0.0 || x0 >= self.nx as f64 || y0 >= self.ny as f64 {
-            return None;
-        }
-        Some([
-            cell_of(x0, self.nx) as u32,
-            cell_of(y0, self.ny) as u32,
-            cell_of(x1, self.nx) as u32,
-            cell_of(y1, self.ny) as u32,
-        ])
     }
 
-    /// Every element near box `bb`, each once (`seen` holds the query's stamp for those
-    /// already met), the large ones last.
+    /// The walk in tasks: subtrees of the first level with at most `nodes` nodes, and the
+    /// pairs of them whose boxes overlap (all of it in one task when the tree is that small).
+    fn tasks(&self, nodes: usize, out: &mut Vec<Task>) {
+        out.clear();
+        let at = self.levels.iter().position(|l| l.len() <= nodes);
+        let top = self.levels.len() - 1;
+        self.split_within(top, 0, at.unwrap_or(top), out);
+    }
+
+    fn split_within(&self, level: usize, i: usize, at: usize, out: &mut Vec<Task>) {
+        if level <= at {
+            out.push(Task::Within(level, i));
+            return;
+        }
+        let (a, b) = (2 * i, 2 * i + 1);
+        self.split_within(level - 1, a, at, out);
+        if b < self.levels[level - 1].len() {
+            self.split_within(level - 1, b, at, out);
+            self.split_across(level - 1, a, b, at, out);
+        }
+    }
+
+    fn split_across(&self, level: usize, a: usize, b: usize, at: usize, out: &mut Vec<Task>) {
+        if !self.meet(level, a, b) {
+            return;
+        }
+        if level <= at {
+            out.push(Task::Across(level, a, b));
+            return;
+        }
+        for (x, y) in self.children(level, a, b) {
+            self.split_across(level - 1, x, y, at, out);
+        }
+    }
+
+    /// Whether some segment under node `a` may reach an element under `b`, or back.
     #[inline]
-    fn each(&self, bb: &[f64; 4], seen: &mut [u32], stamp: u32, mut f: impl FnMut(u32)) {
-        if let Some(s) = self.span(bb) {
-            each_cell(self.nx, s, |k| {
-                let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
-                for &i in &self.members[a..b] {
-                    let m = &mut seen[i as usize];
-                    if *m != stamp {
-                        *m = stamp;
-                        f(i);
+    fn meet(&self, level: usize, a: usize, b: usize) -> bool {
+        let (na, nb) = (&self.levels[level][a], &self.levels[level][b]);
+        overlap(&na.path, &nb.elements) || overlap(&nb.path, &na.elements)
+    }
+
+    /// The pairs of children of nodes `a` and `b` of `level`.
+    fn children(&self, level: usize, a: usize, b: usize) -> impl Iterator<Item = (usize, usize)> {
+        let n = self.levels[level - 1].len();
+        [(0, 0), (0, 1), (1, 0), (1, 1)]
+            .into_iter()
+            .map(move |(i, j)| (2 * a + i, 2 * b + j))
+            .filter(move |&(x, y)| x < n && y < n)
+    }
+
+    /// Each pair of a segment and an element of `task` whose boxes overlap, to `f`.
+    fn run(&self, task: Task, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+        match task {
+            Task::Within(level, i) => self.within(level, i, boxes, f),
+            Task::Across(level, a, b) => self.across(level, a, b, boxes, f),
+        }
+    }
+
+    fn within(&self, level: usize, i: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+        if level == 0 {
+            return self.leaves(i, i, boxes, f);
+        }
+        let (a, b) = (2 * i, 2 * i + 1);
+        self.within(level - 1, a, boxes, f);
+        if b < self.levels[level - 1].len() {
+            self.within(level - 1, b, boxes, f);
+            self.across(level - 1, a, b, boxes, f);
+        }
+    }
+
+    fn across(
+        &self,
+        level: usize,
+        a: usize,
+        b: usize,
+        boxes: Boxes<'_>,
+        f: &mut impl FnMut(u32, u32),
+    ) {
+        if level > 0 {
+            if self.meet(level, a, b) {
+                for (x, y) in self.children(level, a, b) {
+                    self.across(level - 1, x, y, boxes, f);
+                }
+            }
+            return;
+        }
+        let (na, nb) = (&self.levels[0][a], &self.levels[0][b]);
+        if overlap(&na.path, &nb.elements) {
+            self.leaves(a, b, boxes, f);
+        }
+        if overlap(&nb.path, &na.elements) {
+            self.leaves(b, a, boxes, f);
+        }
+    }
+
+    /// The segments of leaf `a` against the elements of leaf `b`, box by box.
+    #[inline]
+    fn leaves(&self, a: usize, b: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+        let elements = &boxes.elements[b * LEAF..((b + 1) * LEAF).min(self.elements)];
+        let near = &self.levels[0][b].elements;
+        let mut meet = |s: usize| {
+            let bb = &boxes.segments[s];
+            if overlap(bb, near) {
+                for (i, e) in elements.iter().enumerate() {
+                    if overlap(bb, e) {
+                        f(s as u32, (b * LEAF + i) as u32);
                     }
                 }
-            });
-        }
-        for &i in &self.large {
-            f(i);
+            }
+        };
+        let range = self.first[a] as usize..self.first[a + 1] as usize;
+        if self.in_order {
+            range.for_each(&mut meet);
+        } else {
+            self.order[range].iter().for_each(|&s| meet(s as usize));
         }
     }
 }
@@ -224,75 +374,52 @@ pub trait Join: Sync {
 /// its half).
 const PARALLEL_SEGMENTS: usize = 8192;
 
-/// Segments a worker takes at a time from a long run: the two take the next piece as they
-/// finish one, so neither waits on a half that turned out longer (cache misses and exact
-/// distances are not spread evenly over a program).
-const PIECE: usize = 2048;
+/// The walk of a long run is cut into tasks at the first level of the tree with at most this
+/// many nodes: the two workers take the next task as they finish one, so neither waits on a
+/// half that turned out longer (a contour that comes back on itself, exact distances, are not
+/// spread evenly over a program).
+const TASK_NODES: usize = 256;
 
-/// One worker's check of a run: its own stamps, and the violations it found.
+/// One worker's check of a run: the violations it found.
 #[derive(Default)]
 struct Share {
-    /// The query's stamp of each element already met by it.
-    seen: Vec<u32>,
-    stamp: u32,
-    /// Each segment's first violation of the part, in path order, with the segment's index.
-    hits: Vec<(u32, Gouge)>,
+    /// Each violation of a segment, by the segment's and the element's index.
+    hits: Vec<(u32, u32, Gouge)>,
     /// The run's closed loops, worked out at the worker's first violation (prep/leads.rs).
     span: Option<Span>,
 }
 
 impl Share {
-    /// Starts a check of `run`.
-    fn reset(&mut self, run: Run<'_>) {
+    /// Takes tasks (by `next`, shared with the other worker) until none is left, and checks
+    /// the pairs of segments and elements each meets.
+    fn take(&mut self, tasks: &[Task], next: &AtomicUsize, tree: &Tree, c: Checked<'_>) {
         self.hits.clear();
-        self.seen.clear();
-        self.seen.resize(run.elements.len(), 0);
-        self.stamp = 0;
         self.span = None;
-    }
-
-    /// Takes pieces of `segments` (by `next`, shared with the other worker) until none is
-    /// left, and checks each against the elements of `run` (in `grid`).
-    fn take(&mut self, segments: &[PathSegment], next: &AtomicUsize, run: Run<'_>, grid: &Grid) {
         loop {
-            let from = next.fetch_add(PIECE, Ordering::Relaxed);
-            if from >= segments.len() {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&task) = tasks.get(i) else {
                 return;
-            }
-            let to = (from + PIECE).min(segments.len());
-            self.check(&segments[from..to], from, run, grid);
-        }
-    }
-
-    /// Checks `segments` (the first is the run's segment `first`) against the elements of
-    /// `run` (in `grid`).
-    fn check(&mut self, segments: &[PathSegment], first: usize, run: Run<'_>, grid: &Grid) {
-        let span = &mut self.span;
-        for (i, s) in segments.iter().enumerate() {
-            self.stamp = self.stamp.wrapping_add(1);
-            if self.stamp == 0 {
-                // Wrapped: no stale stamp may equal a new one.
-                self.seen.fill(0);
-                self.stamp = 1;
-            }
-            let mut found: Option<(u32, Gouge)> = None;
-            let bb = s.piece.bbox(s.r);
-            grid.each(&bb, &mut self.seen, self.stamp, |k| {
-                if found.is_some_and(|(f, _)| f < k) {
-                    return;
-                }
-                let Some(g) = gouge(s, &bb, run, k as usize) else {
+            };
+            tree.run(task, c.boxes, &mut |s, k| {
+                let seg = &c.segments[s as usize];
+                let Some(g) = gouge(seg, c.run, k as usize) else {
                     return;
                 };
-                let span = *span.get_or_insert_with(|| loops(run.elements));
+                let span = *self.span.get_or_insert_with(|| loops(c.run.elements));
                 if part_of(span, k + 1) {
-                    found = Some((k, g));
+                    self.hits.push((s, k, g));
                 }
             });
-            self.hits
-                .extend(found.map(|(_, g)| ((first + i) as u32, g)));
         }
     }
+}
+
+/// What the workers read: the run and its segments.
+#[derive(Clone, Copy)]
+struct Checked<'r> {
+    run: Run<'r>,
+    segments: &'r [PathSegment],
+    boxes: Boxes<'r>,
 }
 
 /// The whole-program check of one preparation: the run's elements and segments are kept as
@@ -304,10 +431,11 @@ pub struct WholeCheck<'a> {
     elements: Vec<Element>,
     /// Each element's box, beside it.
     boxes: Vec<[f64; 4]>,
-    /// Each element's fence, worked out when the run is checked.
-    fences: Vec<Fence>,
     segments: Vec<PathSegment>,
-    grid: Grid,
+    /// Each segment's box grown by its tool radius, worked out as it comes.
+    reach: Vec<[f64; 4]>,
+    tree: Tree,
+    tasks: Vec<Task>,
     /// The two workers of a long run (one does all of a short one).
     shares: [Share; 2],
     join: Option<&'a dyn Join>,
@@ -328,9 +456,10 @@ impl<'a> WholeCheck<'a> {
             plane: Plane::XY,
             elements: Vec::new(),
             boxes: Vec::new(),
-            fences: Vec::new(),
             segments: Vec::new(),
-            grid: Grid::default(),
+            reach: Vec::new(),
+            tree: Tree::new(),
+            tasks: Vec::new(),
             shares: Default::default(),
             join: None,
             last: None,
@@ -355,7 +484,9 @@ impl<'a> WholeCheck<'a> {
             r,
             side,
         });
-        self.boxes.push(bbox(&elem, 0.0));
+        let bb = bounds(&elem);
+        self.tree.element(self.boxes.len(), &bb);
+        self.boxes.push(bb);
     }
 
     /// A segment of the tool-centre path as it goes out. A segment that is no contour,
@@ -368,7 +499,8 @@ impl<'a> WholeCheck<'a> {
             self.end_run(seg.source.seq);
             return;
         }
-        let own = self.own(seg.source.seq).copied();
+        let (own, anchor) = self.own(seg.source.seq);
+        let own = own.copied();
         let (r, side) = own.map(|e| (e.r, e.side)).or(self.last).unwrap_or((0.0, 0));
         let piece = match (elem_in(seg, self.plane), own) {
             (Some(e), _) => PathPiece::Plain(Measured::new(e)),
@@ -378,12 +510,16 @@ impl<'a> WholeCheck<'a> {
         if matches!(piece, PathPiece::Off) {
             return;
         }
-        self.segments.push(PathSegment {
+        let s = PathSegment {
             source: seg.source,
             piece,
             r,
             side,
-        });
+        };
+        let bb = s.piece_box();
+        self.tree.segment(anchor, &bb);
+        self.reach.push(bb);
+        self.segments.push(s);
     }
 
     /// The program ends: the last run is checked.
@@ -395,74 +531,80 @@ impl<'a> WholeCheck<'a> {
     /// later blocks belong to the next): each segment too close to an element that is part
     /// of it goes to `found` (in path order, one violation a segment: the earliest element
     /// it reaches); one of a lead is dropped. A long run is checked by two workers at
-    /// once, piece by piece, where the runtime gave a [`Join`].
+    /// once, task by task, where the runtime gave a [`Join`].
     fn settle(&mut self, end: Option<u32>, found: &mut impl FnMut(Gouge) -> bool) {
-        if self.segments.is_empty() {
-            return;
-        }
         let before = |e: &Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
         let n = self.elements.iter().take_while(|e| before(e)).count();
+        if self.segments.is_empty() || n == 0 {
+            return;
+        }
         let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
         let segments = &self.segments[..];
-        let edge = CELL_RADII * elements.first().map_or(1.0, |e| e.r.abs()).max(0.25);
-        let (grid, fences) = (&mut self.grid, &mut self.fences);
-        let mut fence = || {
-            fences.clear();
-            fences.extend(elements.iter().map(|e| Fence::new(&e.elem)));
-        };
         let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
-        match long {
-            Some(join) => join.join(&mut || grid.build(boxes, edge), &mut fence),
-            None => {
-                grid.build(boxes, edge);
-                fence();
-            }
-        }
-        let (grid, fences) = (&self.grid, &self.fences[..]);
-        let run = Run {
-            elements,
-            boxes,
-            fences,
+        self.tree.build(n);
+        let nodes = if long.is_some() { TASK_NODES } else { 1 };
+        self.tree.tasks(nodes, &mut self.tasks);
+        let (tree, tasks) = (&self.tree, &self.tasks[..]);
+        let run = Run { elements };
+        let c = Checked {
+            run,
+            segments,
+            boxes: Boxes {
+                elements: boxes,
+                segments: &self.reach,
+            },
         };
         let [first, second] = &mut self.shares;
-        first.reset(run);
-        second.reset(run);
         let next = AtomicUsize::new(0);
         match long {
-            Some(join) => join.join(&mut || first.take(segments, &next, run, grid), &mut || {
-                second.take(segments, &next, run, grid)
+            Some(join) => join.join(&mut || first.take(tasks, &next, tree, c), &mut || {
+                second.take(tasks, &next, tree, c)
             }),
-            None => first.take(segments, &next, run, grid),
-        }
-        // Each worker's hits come in path order: merged, all of them do.
-        let (mut a, mut b) = (first.hits.iter().peekable(), second.hits.iter().peekable());
-        while let Some(&(_, g)) = match (a.peek(), b.peek()) {
-            (Some(x), Some(y)) if y.0 < x.0 => b.next(),
-            (Some(_), _) => a.next(),
-            (None, _) => b.next(),
-        } {
-            if found(g) {
-                return;
+            None => {
+                second.hits.clear();
+                first.take(tasks, &next, tree, c);
             }
         }
+        // One violation a segment, in path order: the earliest element it reaches.
+        let mut hits = std::mem::take(&mut first.hits);
+        hits.append(&mut second.hits);
+        hits.sort_unstable_by_key(|&(s, k, _)| (s, k));
+        let mut last = None;
+        for &(s, _, g) in &hits {
+            if last.replace(s) != Some(s) && found(g) {
+                break;
+            }
+        }
+        hits.clear();
+        first.hits = hits;
     }
 
-    /// The element of block `seq`, if the run has one. Elements come in block order, and
-    /// ahead of their segments by as many blocks as the bottleneck window holds back: the
-    /// search goes back over those, no further.
-    fn own(&self, seq: u32) -> Option<&Element> {
-        self.elements
+    /// The element of block `seq`, if the run has one, and the element a segment of the block
+    /// is anchored at in the tree: the last of its block or before. Elements come in block
+    /// order, and ahead of their segments by as many blocks as the bottleneck window holds
+    /// back: the search goes back over those, no further (past them any anchor is right).
+    fn own(&self, seq: u32) -> (Option<&Element>, usize) {
+        let n = self.elements.len();
+        let back = self
+            .elements
             .iter()
             .rev()
             .take(super::bottleneck::MAX_WINDOW + 8)
-            .find(|e| (e.source.seq.wrapping_sub(seq) as i32) <= 0)
-            .filter(|e| e.source.seq == seq)
+            .position(|e| (e.source.seq.wrapping_sub(seq) as i32) <= 0);
+        match back {
+            Some(i) => {
+                let e = &self.elements[n - 1 - i];
+                (Some(e).filter(|e| e.source.seq == seq), n - 1 - i)
+            }
+            None => (None, n.saturating_sub(1)),
+        }
     }
 
     /// The run ends before the block of `seq`: everything before it goes; an element of a
     /// later block (the next run's first, read before its approach came out) stays.
     fn end_run(&mut self, seq: u32) {
         self.segments.clear();
+        self.reach.clear();
         // Elements come in block order: those that stay are the last few.
         let gone = self
             .elements
@@ -471,6 +613,10 @@ impl<'a> WholeCheck<'a> {
             .count();
         self.elements.drain(..gone);
         self.boxes.drain(..gone);
+        self.tree.clear();
+        for (k, bb) in self.boxes.iter().enumerate() {
+            self.tree.element(k, bb);
+        }
     }
 }
 
@@ -484,19 +630,17 @@ fn loops(elements: &[Element]) -> Span {
     closure.span()
 }
 
-/// The gouge of segment `s` (box `bb`) at element `k` of `run`, if it comes too close (its
-/// own block's element, the other side's and far ones are not compared).
+/// The gouge of segment `s` at element `k` of `run` (their boxes overlap), if it comes too
+/// close (its own block's element and the other side's are not compared).
 #[inline]
-fn gouge(s: &PathSegment, bb: &[f64; 4], run: Run<'_>, k: usize) -> Option<Gouge> {
-    // The box first: the boxes lie densely, and it settles most pairs.
-    if !overlap(bb, &run.boxes[k]) {
-        return None;
-    }
+fn gouge(s: &PathSegment, run: Run<'_>, k: usize) -> Option<Gouge> {
     let e = &run.elements[k];
     if s.side != e.side || s.source.seq == e.source.seq {
         return None;
     }
-    let (distance, radius) = s.piece.too_close(&e.elem, &run.fences[k], s.r)?;
+    // The fence is worked out here, for the few pairs that get that far: most elements are
+    // met by two or three segments, and a line beside a line never needs it.
+    let (distance, radius) = s.piece.too_close(&e.elem, || Fence::new(&e.elem), s.r)?;
     Some(Gouge {
         path: s.source,
         element: e.source,
@@ -527,29 +671,68 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
-        /// A query meets every element whose box overlaps its own, each once, whatever the
-        /// cell edge (small edges grow where the extent is large for the elements).
+        /// The walk meets every pair of a segment and an element whose boxes overlap, each
+        /// once, wherever the segments are anchored, whether in one task or cut into many.
         #[test]
-        fn the_grid_meets_every_element_near_a_box(
+        fn the_tree_meets_every_pair_whose_boxes_overlap(
             elems in proptest::collection::vec(elem(), 1..120),
-            edge in 0.05..40.0f64,
-            queries in proptest::collection::vec(((-250.0..250.0f64, -80.0..80.0f64), (0.0..30.0f64, 0.0..30.0f64)), 1..20),
+            paths in proptest::collection::vec((elem(), 0.0..12.0f64, 0..200usize), 0..150),
+            nodes in prop_oneof![Just(1usize), Just(2), Just(5), Just(256)],
+            in_order in any::<bool>(),
         ) {
-            let boxes: Vec<[f64; 4]> = elems.iter().map(|e| bbox(e, 0.0)).collect();
-            let mut grid = Grid::default();
-            grid.build(&boxes, edge);
-            let mut seen = vec![0u32; boxes.len()];
-            for (stamp, ((x, y), (w, h))) in queries.into_iter().enumerate() {
-                let bb = [x, y, x + w, y + h];
-                let mut met = vec![0u32; boxes.len()];
-                grid.each(&bb, &mut seen, stamp as u32 + 1, |k| met[k as usize] += 1);
+            let boxes: Vec<[f64; 4]> = elems.iter().map(bounds).collect();
+            let reach: Vec<([f64; 4], usize)> = paths
+                .iter()
+                .map(|(e, r, k)| {
+                    let b = bounds(e);
+                    ([b[0] - r, b[1] - r, b[2] + r, b[3] + r], *k)
+                })
+                .collect();
+            let mut reach = reach;
+            if in_order {
+                reach.sort_by_key(|r| r.1);
+            }
+            // The segments anchored anywhere, beyond the run's elements too.
+            let mut tree = Tree::new();
+            for (k, bb) in boxes.iter().enumerate() {
+                tree.element(k, bb);
+            }
+            for (bb, k) in &reach {
+                tree.segment(*k, bb);
+            }
+            tree.build(boxes.len());
+            let seg_boxes: Vec<[f64; 4]> = reach.iter().map(|r| r.0).collect();
+            let all = Boxes { elements: &boxes, segments: &seg_boxes };
+            let mut tasks = Vec::new();
+            tree.tasks(nodes, &mut tasks);
+            let mut met = vec![0u32; reach.len() * boxes.len()];
+            for &t in &tasks {
+                tree.run(t, all, &mut |s, k| met[s as usize * boxes.len() + k as usize] += 1);
+            }
+            for (s, (bb, _)) in reach.iter().enumerate() {
                 for (k, ebb) in boxes.iter().enumerate() {
-                    prop_assert!(met[k] <= 1, "element {k} met {} times", met[k]);
-                    if overlap(&bb, ebb) {
-                        prop_assert_eq!(met[k], 1, "element {} not met by {:?}", k, bb);
-                    }
+                    let m = met[s * boxes.len() + k];
+                    prop_assert_eq!(m, u32::from(overlap(bb, ebb)), "segment {} element {}", s, k);
                 }
             }
+        }
+
+        /// An element's box holds every point of it.
+        #[test]
+        fn an_elements_box_holds_it(e in elem(), t in 0.0..1.0f64) {
+            let bb = bounds(&e);
+            let p = match e {
+                Elem::Line { a, b } => a + (b - a) * t,
+                Elem::Arc { a, b, c, ccw } => {
+                    let (u, w) = (a - c, b - c);
+                    let mut sweep = w.y.atan2(w.x) - u.y.atan2(u.x);
+                    if ccw && sweep <= 0.0 { sweep += std::f64::consts::TAU; }
+                    if !ccw && sweep >= 0.0 { sweep -= std::f64::consts::TAU; }
+                    let th = u.y.atan2(u.x) + sweep * t;
+                    c + v2(th.cos(), th.sin()) * a.dist(c)
+                }
+            };
+            prop_assert!(overlap(&bb, &[p.x, p.y, p.x, p.y]), "{:?} {:?} {:?}", e, bb, p);
         }
     }
 }

@@ -528,6 +528,31 @@ pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
     d
 }
 
+/// The element's bounding box (x0, y0, x1, y1): an arc's ends and the points of its circle
+/// furthest along ±x and ±y that lie within its sweep.
+pub fn bounds(e: &Elem) -> [f64; 4] {
+    let (a, b) = (e.start(), e.end());
+    let mut bb = [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)];
+    if let Elem::Arc { a, b, c, .. } = *e {
+        let r = a.dist(c).max(b.dist(c));
+        let full = a == b;
+        let reach = |w: V2| full || in_sweep(e, w);
+        if reach(v2(-1.0, 0.0)) {
+            bb[0] = bb[0].min(c.x - r);
+        }
+        if reach(v2(0.0, -1.0)) {
+            bb[1] = bb[1].min(c.y - r);
+        }
+        if reach(v2(1.0, 0.0)) {
+            bb[2] = bb[2].max(c.x + r);
+        }
+        if reach(v2(0.0, 1.0)) {
+            bb[3] = bb[3].max(c.y + r);
+        }
+    }
+    bb
+}
+
 /// Whether direction `w` from an arc's centre lies within the arc's sweep, for the cheap
 /// tests below: no tolerance (a direction within rounding of an end changes their values by
 /// a second-order amount).
@@ -547,16 +572,49 @@ pub struct Measured {
     pub e: Elem,
     /// The circle's radius (0 for a line).
     r: f64,
+    /// Rounding margin: a few 1e-14 of the coordinates (the centre's too).
+    eta: f64,
 }
 
 impl Measured {
     pub fn new(e: Elem) -> Self {
-        let r = match e {
-            Elem::Line { .. } => 0.0,
-            Elem::Arc { a, c, .. } => a.dist(c),
+        let (r, c) = match e {
+            Elem::Line { a, .. } => (0.0, a),
+            Elem::Arc { a, c, .. } => (a.dist(c), c),
         };
-        Measured { e, r }
+        let m = [e.start(), e.end(), c]
+            .iter()
+            .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+        Measured {
+            e,
+            r,
+            eta: 1e-14 * m,
+        }
     }
+}
+
+/// What the cheap tests ([`lines_clear`], [`arcs_clear`]) add to a limit for rounding: a few
+/// 1e-14 of the pair's coordinates. Their operations round by about 1e-16 of the coordinates,
+/// so a pair shown clear with the margin is clear by the exact distance; the margin lies far
+/// below the gouge tolerance (1e-9 mm, 1e-12 of the coordinates), so a neighbour at exactly
+/// the tool radius is still shown clear.
+#[inline]
+pub fn margin(path: &Measured, other: &Elem) -> f64 {
+    4.0 * path.eta.max(eta_of(other))
+}
+
+/// Rounding margin of an element: 1e-14 of its largest coordinate (its centre's too), at
+/// least of 1 mm.
+#[inline]
+fn eta_of(e: &Elem) -> f64 {
+    let c = match *e {
+        Elem::Line { a, .. } => a,
+        Elem::Arc { c, .. } => c,
+    };
+    let m = [e.start(), e.end(), c]
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    1e-14 * m
 }
 
 /// What [`clear_by_ends`] needs of the element a path must keep away from, worked out once
@@ -597,13 +655,7 @@ enum FenceShape {
 impl Fence {
     pub fn new(other: &Elem) -> Self {
         let (a, b) = (other.start(), other.end());
-        let m =
-            a.x.abs()
-                .max(a.y.abs())
-                .max(b.x.abs())
-                .max(b.y.abs())
-                .max(1.0);
-        let eta = 1e-14 * m;
+        let eta = eta_of(other);
         let shape = match *other {
             Elem::Line { .. } => {
                 let d = b - a;
@@ -724,9 +776,9 @@ pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
     clear_by_ends_of(&Measured::new(*path), other, &Fence::new(other), limit)
 }
 
-/// Whether two line segments are surely at least `limit` (≥ 0) apart: they do not cross and
-/// every end is that far from the other segment, by squared distances with a margin for
-/// rounding. `false` says nothing (the exact distance decides): the cheap test for the most
+/// Whether two line segments are surely at least `limit` (≥ 0, with the rounding [`margin`]
+/// added) apart: they do not cross and every end is that far from the other segment, by
+/// squared distances. `false` says nothing (the exact distance decides): the cheap test for the most
 /// common pair, two lines that meet at a corner or lie side by side.
 #[inline]
 pub fn lines_clear(a: V2, b: V2, p: V2, q: V2, limit: f64) -> bool {
@@ -738,7 +790,7 @@ pub fn lines_clear(a: V2, b: V2, p: V2, q: V2, limit: f64) -> bool {
     {
         return false;
     }
-    let l2 = limit * limit * (1.0 + 1e-9);
+    let l2 = limit * limit;
     point_seg_sq(p, a, d) >= l2
         && point_seg_sq(q, a, d) >= l2
         && point_seg_sq(a, p, e) >= l2
@@ -761,8 +813,8 @@ fn point_seg_sq(x: V2, a: V2, d: V2) -> f64 {
     }
 }
 
-/// Whether `path` and `other` are surely at least `limit` (≥ 0) apart where one of them is an
-/// arc and [`clear_by_ends_of`] could not tell: an arc and a line by the few places their
+/// Whether `path` and `other` are surely at least `limit` (≥ 0, with the rounding [`margin`]
+/// added) apart where one of them is an arc and [`clear_by_ends_of`] could not tell: an arc and a line by the few places their
 /// closest points can be ([`arc_line_clear`]), two arcs by their whole circles. `false` says
 /// nothing (the exact distance decides).
 #[inline]
@@ -776,18 +828,14 @@ pub fn arcs_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
             // Circles apart, or one inside the other, `limit` clear of each other.
             let (r1, r2, d) = (path.r, a.dist(c2), c.dist(c2));
             let (small, big) = (r1.min(r2), r1.max(r2));
-            d >= (r1 + r2 + limit) * CLEAR_MARGIN || (d + small + limit) * CLEAR_MARGIN <= big
+            d >= r1 + r2 + limit || d + small + limit <= big
         }
         _ => false,
     }
 }
 
-/// A cheap test's margin for rounding (relative): far above the rounding of its few
-/// operations, far below the gouge tolerance's effect.
-const CLEAR_MARGIN: f64 = 1.0 + 1e-9;
-
 /// Whether the arc `arc` (radius `r`) and the line from `p` to `q` are surely at least `limit`
-/// (≥ 0) apart, by squared distances with a margin for rounding. Where the line crosses the
+/// (≥ 0, with the rounding [`margin`] added) apart, by squared distances. Where the line crosses the
 /// arc it says `false`; elsewhere the closest points are an end of either, or the arc's point
 /// towards (or away from) the foot of its centre on the line: the only places a distance
 /// between the two can be least.
@@ -796,11 +844,11 @@ pub fn arc_line_clear(arc: &Elem, r: f64, p: V2, q: V2, limit: f64) -> bool {
     let Elem::Arc { a, b, c, .. } = *arc else {
         return false;
     };
-    let l2 = limit * limit * CLEAR_MARGIN;
+    let l2 = limit * limit;
     // A distance δ from the circle along a radius: |ρ − r| ≥ limit, ρ² given.
-    let out = (r + limit) * (r + limit) * CLEAR_MARGIN;
+    let out = (r + limit) * (r + limit);
     let inside = if r > limit {
-        (r - limit) * (r - limit) / CLEAR_MARGIN
+        (r - limit) * (r - limit)
     } else {
         -1.0
     };
@@ -957,6 +1005,11 @@ mod clear_tests {
         ]
     }
 
+    /// `limit` with the cheap tests' rounding margin for the pair.
+    fn sure(limit: f64, path: &Elem, other: &Elem) -> f64 {
+        limit + margin(&Measured::new(*path), other)
+    }
+
     fn point() -> impl Strategy<Value = V2> {
         (-20.0..20.0f64, -20.0..20.0f64).prop_map(|(x, y)| v2(x, y))
     }
@@ -970,7 +1023,7 @@ mod clear_tests {
             a in point(), b in point(), p in point(), q in point(), limit in 0.0..12.0f64
         ) {
             let d = dist_elems(&Elem::Line { a, b }, &Elem::Line { a: p, b: q });
-            if lines_clear(a, b, p, q, limit) {
+            if lines_clear(a, b, p, q, sure(limit, &Elem::Line { a, b }, &Elem::Line { a: p, b: q })) {
                 prop_assert!(d >= limit, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
             } else {
                 prop_assert!(d <= limit * (1.0 + 1e-6) + 1e-9, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
@@ -985,7 +1038,7 @@ mod clear_tests {
             p in elem(), o in elem(), limit in 0.0..12.0f64
         ) {
             let d = dist_elems(&p, &o);
-            let clear = arcs_clear(&Measured::new(p), &o, limit);
+            let clear = arcs_clear(&Measured::new(p), &o, sure(limit, &p, &o));
             if clear {
                 prop_assert!(d >= limit, "{p:?} {o:?} limit {limit} dist {d}");
             } else if matches!((p, o), (Elem::Arc { .. }, Elem::Line { .. }) | (Elem::Line { .. }, Elem::Arc { .. })) {
@@ -1084,6 +1137,25 @@ mod clear_tests {
         );
     }
 
+    /// A path line whose end lies at exactly the tool radius from the next element (an outer
+    /// corner) is shown clear against the gouge tolerance, near the origin and kilometres
+    /// out: the rounding margin stays below the tolerance.
+    #[test]
+    fn a_neighbour_at_exactly_the_radius_is_shown_clear() {
+        for x0 in [0.0, 1234.5, 5.6e6] {
+            let r = 10.0;
+            let (a, b) = (v2(x0 - 28.0, 3.0 + r), v2(x0, 3.0 + r));
+            let (p, q) = (v2(x0, 3.0), v2(x0 + 20.0, -15.0));
+            let (path, next) = (Elem::Line { a, b }, Elem::Line { a: p, b: q });
+            let tol = 1e-9f64.max(1e-12 * x0);
+            assert!(
+                lines_clear(a, b, p, q, sure(r - tol, &path, &next)),
+                "at {x0}"
+            );
+            assert!(dist_elems(&path, &next) >= r - tol);
+        }
+    }
+
     /// The same pairs where one is an arc: the arcs' test is never wrong either, and shows
     /// most of those the ends' test leaves clear.
     #[test]
@@ -1092,7 +1164,7 @@ mod clear_tests {
         for (path, o, r) in shared_corner_cases() {
             let limit = r - 1e-9;
             let d = dist_elems(&path, &o);
-            if arcs_clear(&Measured::new(path), &o, limit) {
+            if arcs_clear(&Measured::new(path), &o, sure(limit, &path, &o)) {
                 assert!(d >= limit, "{path:?} {o:?} r {r} dist {d}");
                 shown += 1;
             }
