@@ -71,6 +71,8 @@ pub struct Preparation<'a> {
     group: Option<Group>,
     /// Preparation ended at a violation of the whole-program check.
     whole_stopped: bool,
+    /// Bytes of the main program's text.
+    source_len: usize,
 }
 
 /// Consecutive path blocks too close to one element (collected as one alarm).
@@ -122,7 +124,13 @@ impl<'a> Preparation<'a> {
         }
         let start = interp.axis_position();
         let front = Front::new(name, interp, md);
-        Self::with_front(name, FrontEnd::Local(Box::new(front)), start, md)
+        Self::with_front(
+            name,
+            FrontEnd::Local(Box::new(front)),
+            start,
+            md,
+            source.len(),
+        )
     }
 
     /// The same stream, with interpretation and compensation running ahead in a thread of
@@ -138,7 +146,7 @@ impl<'a> Preparation<'a> {
         let interp = Interpreter::new(name, source, md, tools);
         let start = interp.axis_position();
         let front = Front::new(name, interp, md).threaded(scope);
-        Self::with_front(name, FrontEnd::Threaded(front), start, md)
+        Self::with_front(name, FrontEnd::Threaded(front), start, md, source.len())
     }
 
     /// The kept macro variables (#500 …) as the program has left them so far (`None` with the
@@ -155,8 +163,10 @@ impl<'a> Preparation<'a> {
         front: FrontEnd<'a>,
         start: crate::frontend::block::AxisPos,
         md: &'a MachineData,
+        source_len: usize,
     ) -> Self {
         Preparation {
+            source_len,
             name,
             programs: &md.programs,
             front,
@@ -191,7 +201,13 @@ impl<'a> Preparation<'a> {
     /// against every programmed element of the run (prep/whole.rs), reacting as `mode`
     /// says.
     pub fn checking_whole(mut self, mode: WholeMode) -> Self {
-        self.whole = Some(Box::new(whole::WholeCheck::new()));
+        let mut whole = whole::WholeCheck::new();
+        // Room for about the blocks the main program's text holds (a CAM block takes two
+        // dozen bytes and more): the run's records then grow in place, page by page, instead
+        // of being copied at each doubling in bursts the front's thread would wait on. No
+        // more than a doubling would claim.
+        whole.reserve(self.source_len / 24);
+        self.whole = Some(Box::new(whole));
         self.whole_mode = mode;
         self
     }

@@ -21,6 +21,9 @@ use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{bounds, Elem, Fence, Measured};
 use core::sync::atomic::{AtomicUsize, Ordering};
 
+/// The most blocks [`WholeCheck::reserve`] makes room for (about 300 MB of address space).
+const RESERVE_BLOCKS: usize = 1 << 20;
+
 /// Consecutive elements a leaf of the tree holds (and the segments of their blocks): few, so
 /// a leaf meets its neighbour in a few box tests.
 const LEAF: usize = 4;
@@ -134,6 +137,16 @@ impl Tree {
         let mut t = Tree::default();
         t.clear();
         t
+    }
+
+    /// Room for `elements` elements and twice as many segments.
+    fn reserve(&mut self, elements: usize) {
+        let leaves = elements / LEAF + 1;
+        if let Some(l) = self.levels.first_mut() {
+            l.reserve(leaves);
+        }
+        self.first.reserve(leaves + 1);
+        self.leaf.reserve(2 * elements);
     }
 
     /// A new run: no leaves.
@@ -464,6 +477,18 @@ impl<'a> WholeCheck<'a> {
             join: None,
             last: None,
         }
+    }
+
+    /// Room for a run of about `blocks` blocks (at most `RESERVE_BLOCKS`; a longer run grows
+    /// its records as they come). Only the pages written are ever taken from the system.
+    pub fn reserve(&mut self, blocks: usize) {
+        let n = blocks.min(RESERVE_BLOCKS);
+        self.elements.reserve(n);
+        self.boxes.reserve(n);
+        // A contour block and its corner.
+        self.segments.reserve(2 * n);
+        self.reach.reserve(2 * n);
+        self.tree.reserve(n);
     }
 
     /// Long runs are checked by two workers at once through `join`.
