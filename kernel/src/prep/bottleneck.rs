@@ -152,10 +152,10 @@ impl PathPiece {
     }
 
     /// Where the tool circle (radius `r`, or a spiral's own) comes closer to `other` than
-    /// its radius, beyond rounding: the distance there and the tool radius.
+    /// its radius, beyond rounding: the distance there and the tool radius. `fence` gives the
+    /// element's fence ([`Fence::new`]), asked for only where the cheap test by the element's
+    /// ends is tried.
     #[inline]
-    /// `fence` gives the element's fence ([`Fence::new`]), asked for only where the cheap
-    /// test by the element's ends is tried.
     pub(super) fn too_close(
         &self,
         other: &Elem,

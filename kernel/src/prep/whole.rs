@@ -64,12 +64,6 @@ impl PathSegment {
     }
 }
 
-/// What the check reads of the run's elements.
-#[derive(Clone, Copy)]
-struct Run<'r> {
-    elements: &'r [Element],
-}
-
 /// The boxes under a node of the tree: of the path segments (each grown by its tool radius)
 /// and of the programmed elements.
 #[derive(Clone, Copy, Debug)]
@@ -415,10 +409,10 @@ impl Share {
             };
             tree.run(task, c.boxes, &mut |s, k| {
                 let seg = &c.segments[s as usize];
-                let Some(g) = gouge(seg, c.run, k as usize) else {
+                let Some(g) = gouge(seg, c.elements, k as usize) else {
                     return;
                 };
-                let span = *self.span.get_or_insert_with(|| loops(c.run.elements));
+                let span = *self.span.get_or_insert_with(|| loops(c.elements));
                 if part_of(span, k + 1) {
                     self.hits.push((s, k, g));
                 }
@@ -427,10 +421,10 @@ impl Share {
     }
 }
 
-/// What the workers read: the run and its segments.
+/// What the workers read: the run's elements and segments, and their boxes.
 #[derive(Clone, Copy)]
 struct Checked<'r> {
-    run: Run<'r>,
+    elements: &'r [Element],
     segments: &'r [PathSegment],
     boxes: Boxes<'r>,
 }
@@ -570,9 +564,8 @@ impl<'a> WholeCheck<'a> {
         let nodes = if long.is_some() { TASK_NODES } else { 1 };
         self.tree.tasks(nodes, &mut self.tasks);
         let (tree, tasks) = (&self.tree, &self.tasks[..]);
-        let run = Run { elements };
         let c = Checked {
-            run,
+            elements,
             segments,
             boxes: Boxes {
                 elements: boxes,
@@ -655,11 +648,11 @@ fn loops(elements: &[Element]) -> Span {
     closure.span()
 }
 
-/// The gouge of segment `s` at element `k` of `run` (their boxes overlap), if it comes too
-/// close (its own block's element and the other side's are not compared).
+/// The gouge of segment `s` at element `k` of the run's `elements` (their boxes overlap), if
+/// it comes too close (its own block's element and the other side's are not compared).
 #[inline]
-fn gouge(s: &PathSegment, run: Run<'_>, k: usize) -> Option<Gouge> {
-    let e = &run.elements[k];
+fn gouge(s: &PathSegment, elements: &[Element], k: usize) -> Option<Gouge> {
+    let e = &elements[k];
     if s.side != e.side || s.source.seq == e.source.seq {
         return None;
     }

@@ -578,17 +578,14 @@ pub struct Measured {
 
 impl Measured {
     pub fn new(e: Elem) -> Self {
-        let (r, c) = match e {
-            Elem::Line { a, .. } => (0.0, a),
-            Elem::Arc { a, c, .. } => (a.dist(c), c),
+        let r = match e {
+            Elem::Line { .. } => 0.0,
+            Elem::Arc { a, c, .. } => a.dist(c),
         };
-        let m = [e.start(), e.end(), c]
-            .iter()
-            .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
         Measured {
             e,
             r,
-            eta: 1e-14 * m,
+            eta: eta_of(&e),
         }
     }
 }
@@ -778,8 +775,8 @@ pub fn clear_by_ends(path: &Elem, other: &Elem, limit: f64) -> bool {
 
 /// Whether two line segments are surely at least `limit` (≥ 0, with the rounding [`margin`]
 /// added) apart: they do not cross and every end is that far from the other segment, by
-/// squared distances. `false` says nothing (the exact distance decides): the cheap test for the most
-/// common pair, two lines that meet at a corner or lie side by side.
+/// squared distances. `false` says nothing (the exact distance decides): the cheap test for
+/// the most common pair, two lines that meet at a corner or lie side by side.
 #[inline]
 pub fn lines_clear(a: V2, b: V2, p: V2, q: V2, limit: f64) -> bool {
     let (d, e) = (b - a, q - p);
@@ -814,9 +811,9 @@ fn point_seg_sq(x: V2, a: V2, d: V2) -> f64 {
 }
 
 /// Whether `path` and `other` are surely at least `limit` (≥ 0, with the rounding [`margin`]
-/// added) apart where one of them is an arc and [`clear_by_ends_of`] could not tell: an arc and a line by the few places their
-/// closest points can be ([`arc_line_clear`]), two arcs by their whole circles. `false` says
-/// nothing (the exact distance decides).
+/// added) apart where one of them is an arc and [`clear_by_ends_of`] could not tell: an arc
+/// and a line by the few places their closest points can be ([`arc_line_clear`]), two arcs by
+/// their whole circles. `false` says nothing (the exact distance decides).
 #[inline]
 pub fn arcs_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
     match (path.e, *other) {
@@ -835,10 +832,10 @@ pub fn arcs_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
 }
 
 /// Whether the arc `arc` (radius `r`) and the line from `p` to `q` are surely at least `limit`
-/// (≥ 0, with the rounding [`margin`] added) apart, by squared distances. Where the line crosses the
-/// arc it says `false`; elsewhere the closest points are an end of either, or the arc's point
-/// towards (or away from) the foot of its centre on the line: the only places a distance
-/// between the two can be least.
+/// (≥ 0, with the rounding [`margin`] added) apart, by squared distances. Where the line
+/// crosses the arc it says `false`; elsewhere the closest points are an end of either, or the
+/// arc's point towards (or away from) the foot of its centre on the line: the only places a
+/// distance between the two can be least.
 #[inline]
 pub fn arc_line_clear(arc: &Elem, r: f64, p: V2, q: V2, limit: f64) -> bool {
     let Elem::Arc { a, b, c, .. } = *arc else {
@@ -1022,8 +1019,9 @@ mod clear_tests {
         fn lines_clear_agrees_with_the_exact_distance(
             a in point(), b in point(), p in point(), q in point(), limit in 0.0..12.0f64
         ) {
-            let d = dist_elems(&Elem::Line { a, b }, &Elem::Line { a: p, b: q });
-            if lines_clear(a, b, p, q, sure(limit, &Elem::Line { a, b }, &Elem::Line { a: p, b: q })) {
+            let (path, other) = (Elem::Line { a, b }, Elem::Line { a: p, b: q });
+            let d = dist_elems(&path, &other);
+            if lines_clear(a, b, p, q, sure(limit, &path, &other)) {
                 prop_assert!(d >= limit, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
             } else {
                 prop_assert!(d <= limit * (1.0 + 1e-6) + 1e-9, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
