@@ -1189,7 +1189,7 @@ impl Spiral {
     }
 
     /// The whole circle of the largest radius, grown by the largest tool radius.
-    fn bbox(&self) -> [f64; 4] {
+    pub(super) fn bbox(&self) -> [f64; 4] {
         let g = self.r_max()
             + (self.r0 - self.rho)
                 .abs()
@@ -1386,8 +1386,11 @@ pub(super) fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
     [b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow]
 }
 
+/// How far apart two boxes may lie and still meet in `overlap`.
+pub(super) const OVERLAP_TOL: f64 = 1e-7;
+
 pub(super) fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
-    const TOL: f64 = 1e-7;
+    const TOL: f64 = OVERLAP_TOL;
     p[0] <= q[2] + TOL && q[0] <= p[2] + TOL && p[1] <= q[3] + TOL && q[1] <= p[3] + TOL
 }
 

@@ -14,7 +14,7 @@
 //! meets it where their boxes overlap — a cost close to linear in the length of the program.
 //! Under ISG masking the segments checked are the masked path (the window's output).
 
-use super::bottleneck::{elem_in, overlap, Gouge, PathPiece};
+use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
 use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
@@ -40,26 +40,58 @@ struct Element {
     side: i8,
 }
 
-/// A tool-centre segment as the run keeps it (its box lies apart: `WholeCheck::reach`).
+/// A tool-centre segment as the run keeps it, in 64 bytes: its shape and its block (its box
+/// lies apart: `WholeCheck::reach`). Small, because a long run keeps every one, and memory
+/// first written costs about 0.5 ms a megabyte on the benchmark machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
+    shape: Shape,
+    block: Block,
+}
+
+/// A path segment's shape: a line or circle, measured ([`Measured`]) only for a pair that
+/// needs it, or (rare: a radius change over an arc) an entry of `WholeCheck::spirals`.
+#[derive(Clone, Copy, Debug)]
+enum Shape {
+    Plain(Elem),
+    Spiral(u32),
+}
+
+/// A path segment's block, and so its tool radius and side: almost always the block of an
+/// element of the run (its index), otherwise an entry of `WholeCheck::orphans`.
+#[derive(Clone, Copy, Debug)]
+enum Block {
+    Own(u32),
+    Orphan(u32),
+}
+
+/// A path segment whose block has no element of the run: what the element would tell.
+#[derive(Clone, Copy, Debug)]
+struct Orphan {
     source: Source,
-    piece: PathPiece,
     r: f64,
     side: i8,
 }
 
-impl PathSegment {
-    /// Where the tool circle along the segment reaches: its box grown by the radius (an arc's
-    /// by its sweep, not its whole circle).
-    fn piece_box(&self) -> [f64; 4] {
-        match self.piece {
-            PathPiece::Plain(m) => {
-                let b = bounds(&m.e);
-                let r = self.r.abs();
+impl Shape {
+    /// Where the tool circle along the segment reaches with radius `r`: its box grown by the
+    /// radius (an arc's by its sweep, not its whole circle).
+    fn reach(&self, r: f64, spirals: &[Spiral]) -> [f64; 4] {
+        match *self {
+            Shape::Plain(e) => {
+                let b = bounds(&e);
+                let r = r.abs();
                 [b[0] - r, b[1] - r, b[2] + r, b[3] + r]
             }
-            _ => self.piece.bbox(self.r),
+            Shape::Spiral(i) => spirals[i as usize].bbox(),
+        }
+    }
+
+    /// As the window measures it.
+    fn piece(&self, spirals: &[Spiral]) -> PathPiece {
+        match *self {
+            Shape::Plain(e) => PathPiece::Plain(Measured::new(e)),
+            Shape::Spiral(i) => PathPiece::Spiral(spirals[i as usize]),
         }
     }
 }
@@ -68,19 +100,44 @@ impl PathSegment {
 /// and of the programmed elements.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    path: [f64; 4],
-    elements: [f64; 4],
+    path: Bx,
+    elements: Bx,
 }
 
+/// A box of the walk: single precision, rounded outward past the window's overlap tolerance,
+/// so that it meets every box the window's test (`bottleneck::overlap`) would and the walk
+/// reads half the memory. Which pairs it lets through decides only how many go on to the
+/// exact test, never a result.
+type Bx = [f32; 4];
+
 /// The empty box: every union leaves it, no overlap meets it.
-const NOTHING: [f64; 4] = [
-    f64::INFINITY,
-    f64::INFINITY,
-    f64::NEG_INFINITY,
-    f64::NEG_INFINITY,
+const NOTHING: Bx = [
+    f32::INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NEG_INFINITY,
 ];
 
-fn grow(bb: &mut [f64; 4], by: &[f64; 4]) {
+/// `b` as the walk keeps it: grown by the window's tolerance on every side (two such boxes
+/// meet wherever the window's test lets their f64 boxes meet), and by a millionth of each
+/// coordinate, which outweighs the rounding to single precision (2⁻²⁴ of it) and of the sums.
+/// A coordinate beyond single precision's range becomes infinite, which meets whatever the
+/// f64 one met.
+fn outward(b: &[f64; 4]) -> Bx {
+    const TOL: f64 = super::bottleneck::OVERLAP_TOL;
+    const K: f64 = 1.0 / (1u32 << 20) as f64;
+    let down = |x: f64| (x - TOL - x.abs() * K) as f32;
+    let up = |x: f64| (x + TOL + x.abs() * K) as f32;
+    [down(b[0]), down(b[1]), up(b[2]), up(b[3])]
+}
+
+/// Whether two boxes of the walk meet.
+#[inline]
+fn meets(p: &Bx, q: &Bx) -> bool {
+    p[0] <= q[2] && q[0] <= p[2] && p[1] <= q[3] && q[1] <= p[3]
+}
+
+fn grow(bb: &mut Bx, by: &Bx) {
     *bb = [
         bb[0].min(by[0]),
         bb[1].min(by[1]),
@@ -100,8 +157,8 @@ enum Task {
 /// The boxes the walk reads: each element's, and each segment's grown by its tool radius.
 #[derive(Clone, Copy)]
 struct Boxes<'r> {
-    elements: &'r [[f64; 4]],
-    segments: &'r [[f64; 4]],
+    elements: &'r [Bx],
+    segments: &'r [Bx],
 }
 
 /// A run's elements in their order along the contour, in a tree of boxes: leaf l holds
@@ -173,14 +230,14 @@ impl Tree {
     }
 
     /// Element `k` (they come in order) with box `bb`.
-    fn element(&mut self, k: usize, bb: &[f64; 4]) {
+    fn element(&mut self, k: usize, bb: &Bx) {
         let l = self.leaf_of(k);
         grow(&mut self.levels[0][l].elements, bb);
     }
 
     /// The next segment, anchored at element `k` (any element is right; one near it keeps
     /// the walk short), with box `bb` (grown by its tool radius).
-    fn segment(&mut self, k: usize, bb: &[f64; 4]) {
+    fn segment(&mut self, k: usize, bb: &Bx) {
         let l = self.leaf_of(k);
         grow(&mut self.levels[0][l].path, bb);
         self.first[l] += 1;
@@ -290,7 +347,7 @@ impl Tree {
     #[inline]
     fn meet(&self, level: usize, a: usize, b: usize) -> bool {
         let (na, nb) = (&self.levels[level][a], &self.levels[level][b]);
-        overlap(&na.path, &nb.elements) || overlap(&nb.path, &na.elements)
+        meets(&na.path, &nb.elements) || meets(&nb.path, &na.elements)
     }
 
     /// The pairs of children of nodes `a` and `b` of `level`.
@@ -339,10 +396,10 @@ impl Tree {
             return;
         }
         let (na, nb) = (&self.levels[0][a], &self.levels[0][b]);
-        if overlap(&na.path, &nb.elements) {
+        if meets(&na.path, &nb.elements) {
             self.leaves(a, b, boxes, f);
         }
-        if overlap(&nb.path, &na.elements) {
+        if meets(&nb.path, &na.elements) {
             self.leaves(b, a, boxes, f);
         }
     }
@@ -354,9 +411,9 @@ impl Tree {
         let near = &self.levels[0][b].elements;
         let mut meet = |s: usize| {
             let bb = &boxes.segments[s];
-            if overlap(bb, near) {
+            if meets(bb, near) {
                 for (i, e) in elements.iter().enumerate() {
-                    if overlap(bb, e) {
+                    if meets(bb, e) {
                         f(s as u32, (b * LEAF + i) as u32);
                     }
                 }
@@ -408,8 +465,7 @@ impl Share {
                 return;
             };
             tree.run(task, c.boxes, &mut |s, k| {
-                let seg = &c.segments[s as usize];
-                let Some(g) = gouge(seg, c.elements, k as usize) else {
+                let Some(g) = c.gouge(s as usize, k as usize) else {
                     return;
                 };
                 let span = *self.span.get_or_insert_with(|| loops(c.elements));
@@ -426,6 +482,8 @@ impl Share {
 struct Checked<'r> {
     elements: &'r [Element],
     segments: &'r [PathSegment],
+    orphans: &'r [Orphan],
+    spirals: &'r [Spiral],
     boxes: Boxes<'r>,
 }
 
@@ -437,10 +495,14 @@ pub struct WholeCheck<'a> {
     plane: Plane,
     elements: Vec<Element>,
     /// Each element's box, beside it.
-    boxes: Vec<[f64; 4]>,
+    boxes: Vec<Bx>,
     segments: Vec<PathSegment>,
+    /// The run's segments of blocks without an element.
+    orphans: Vec<Orphan>,
+    /// The run's segments whose tool radius changes over an arc.
+    spirals: Vec<Spiral>,
     /// Each segment's box grown by its tool radius, worked out as it comes.
-    reach: Vec<[f64; 4]>,
+    reach: Vec<Bx>,
     tree: Tree,
     tasks: Vec<Task>,
     /// The two workers of a long run (one does all of a short one).
@@ -464,6 +526,8 @@ impl<'a> WholeCheck<'a> {
             elements: Vec::new(),
             boxes: Vec::new(),
             segments: Vec::new(),
+            orphans: Vec::new(),
+            spirals: Vec::new(),
             reach: Vec::new(),
             tree: Tree::new(),
             tasks: Vec::new(),
@@ -503,7 +567,7 @@ impl<'a> WholeCheck<'a> {
             r,
             side,
         });
-        let bb = bounds(&elem);
+        let bb = outward(&bounds(&elem));
         self.tree.element(self.boxes.len(), &bb);
         self.boxes.push(bb);
     }
@@ -519,26 +583,30 @@ impl<'a> WholeCheck<'a> {
             return;
         }
         let (own, anchor) = self.own(seg.source.seq);
-        let own = own.copied();
-        let (r, side) = own.map(|e| (e.r, e.side)).or(self.last).unwrap_or((0.0, 0));
-        let piece = match (elem_in(seg, self.plane), own) {
-            (Some(e), _) => PathPiece::Plain(Measured::new(e)),
-            (None, Some(o)) => PathPiece::spiral(seg, self.plane, &o.elem),
-            (None, None) => PathPiece::Off,
+        let shape = match (elem_in(seg, self.plane), own) {
+            (Some(e), _) => Shape::Plain(e),
+            (None, Some(k)) => match PathPiece::spiral(seg, self.plane, &self.elements[k].elem) {
+                PathPiece::Spiral(sp) => {
+                    self.spirals.push(sp);
+                    Shape::Spiral(self.spirals.len() as u32 - 1)
+                }
+                _ => return,
+            },
+            (None, None) => return,
         };
-        if matches!(piece, PathPiece::Off) {
-            return;
-        }
-        let s = PathSegment {
-            source: seg.source,
-            piece,
-            r,
-            side,
+        let (block, r) = match own {
+            Some(k) => (Block::Own(k as u32), self.elements[k].r),
+            None => {
+                let (r, side) = self.last.unwrap_or((0.0, 0));
+                let source = seg.source;
+                self.orphans.push(Orphan { source, r, side });
+                (Block::Orphan(self.orphans.len() as u32 - 1), r)
+            }
         };
-        let bb = s.piece_box();
+        let bb = outward(&shape.reach(r, &self.spirals));
         self.tree.segment(anchor, &bb);
         self.reach.push(bb);
-        self.segments.push(s);
+        self.segments.push(PathSegment { shape, block });
     }
 
     /// The program ends: the last run is checked.
@@ -558,7 +626,7 @@ impl<'a> WholeCheck<'a> {
             return;
         }
         let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
-        let segments = &self.segments[..];
+        let (segments, orphans, spirals) = (&self.segments[..], &self.orphans, &self.spirals);
         let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
         self.tree.build(n);
         let nodes = if long.is_some() { TASK_NODES } else { 1 };
@@ -567,6 +635,8 @@ impl<'a> WholeCheck<'a> {
         let c = Checked {
             elements,
             segments,
+            orphans,
+            spirals,
             boxes: Boxes {
                 elements: boxes,
                 segments: &self.reach,
@@ -601,7 +671,7 @@ impl<'a> WholeCheck<'a> {
     /// is anchored at in the tree: the last of its block or before. Elements come in block
     /// order, and ahead of their segments by as many blocks as the bottleneck window holds
     /// back: the search goes back over those, no further (past them any anchor is right).
-    fn own(&self, seq: u32) -> (Option<&Element>, usize) {
+    fn own(&self, seq: u32) -> (Option<usize>, usize) {
         let n = self.elements.len();
         let back = self
             .elements
@@ -611,8 +681,8 @@ impl<'a> WholeCheck<'a> {
             .position(|e| (e.source.seq.wrapping_sub(seq) as i32) <= 0);
         match back {
             Some(i) => {
-                let e = &self.elements[n - 1 - i];
-                (Some(e).filter(|e| e.source.seq == seq), n - 1 - i)
+                let k = n - 1 - i;
+                (Some(k).filter(|&k| self.elements[k].source.seq == seq), k)
             }
             None => (None, n.saturating_sub(1)),
         }
@@ -622,6 +692,8 @@ impl<'a> WholeCheck<'a> {
     /// later block (the next run's first, read before its approach came out) stays.
     fn end_run(&mut self, seq: u32) {
         self.segments.clear();
+        self.orphans.clear();
+        self.spirals.clear();
         self.reach.clear();
         // Elements come in block order: those that stay are the last few.
         let gone = self
@@ -648,29 +720,51 @@ fn loops(elements: &[Element]) -> Span {
     closure.span()
 }
 
-/// The gouge of segment `s` at element `k` of the run's `elements` (their boxes overlap), if
-/// it comes too close (its own block's element and the other side's are not compared).
-#[inline]
-fn gouge(s: &PathSegment, elements: &[Element], k: usize) -> Option<Gouge> {
-    let e = &elements[k];
-    if s.side != e.side || s.source.seq == e.source.seq {
-        return None;
+impl Checked<'_> {
+    /// Segment `s`'s block, tool radius and side.
+    #[inline]
+    fn block(&self, s: &PathSegment) -> (&Source, f64, i8) {
+        match s.block {
+            Block::Own(k) => {
+                let e = &self.elements[k as usize];
+                (&e.source, e.r, e.side)
+            }
+            Block::Orphan(i) => {
+                let o = &self.orphans[i as usize];
+                (&o.source, o.r, o.side)
+            }
+        }
     }
-    // The fence is worked out here, for the few pairs that get that far: most elements are
-    // met by two or three segments, and a line beside a line never needs it.
-    let (distance, radius) = s.piece.too_close(&e.elem, || Fence::new(&e.elem), s.r)?;
-    Some(Gouge {
-        path: s.source,
-        element: e.source,
-        distance,
-        radius,
-        unjoined: false,
-    })
+
+    /// The gouge of segment `s` at element `k` (their boxes meet), if it comes too close
+    /// (its own block's element and the other side's are not compared).
+    #[inline]
+    fn gouge(&self, s: usize, k: usize) -> Option<Gouge> {
+        let (seg, e) = (&self.segments[s], &self.elements[k]);
+        let (source, r, side) = self.block(seg);
+        if side != e.side || source.seq == e.source.seq {
+            return None;
+        }
+        // The fence is worked out here, for the few pairs that get that far: most elements
+        // are met by two or three segments, and a line beside a line never needs it.
+        let (distance, radius) =
+            seg.shape
+                .piece(self.spirals)
+                .too_close(&e.elem, || Fence::new(&e.elem), r)?;
+        Some(Gouge {
+            path: *source,
+            element: e.source,
+            distance,
+            radius,
+            unjoined: false,
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prep::bottleneck::{overlap, OVERLAP_TOL};
     use crate::trc::geom::v2;
     use proptest::prelude::*;
 
@@ -689,8 +783,9 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
-        /// The walk meets every pair of a segment and an element whose boxes overlap, each
-        /// once, wherever the segments are anchored, whether in one task or cut into many.
+        /// The walk meets every pair of a segment and an element whose boxes meet, each once,
+        /// wherever the segments are anchored, whether in one task or cut into many; and
+        /// among them every pair the window's test lets overlap.
         #[test]
         fn the_tree_meets_every_pair_whose_boxes_overlap(
             elems in proptest::collection::vec(elem(), 1..120),
@@ -710,17 +805,18 @@ mod tests {
             if in_order {
                 reach.sort_by_key(|r| r.1);
             }
+            let kept: Vec<Bx> = boxes.iter().map(outward).collect();
+            let seg_boxes: Vec<Bx> = reach.iter().map(|r| outward(&r.0)).collect();
             // The segments anchored anywhere, beyond the run's elements too.
             let mut tree = Tree::new();
-            for (k, bb) in boxes.iter().enumerate() {
+            for (k, bb) in kept.iter().enumerate() {
                 tree.element(k, bb);
             }
-            for (bb, k) in &reach {
+            for (bb, (_, k)) in seg_boxes.iter().zip(&reach) {
                 tree.segment(*k, bb);
             }
             tree.build(boxes.len());
-            let seg_boxes: Vec<[f64; 4]> = reach.iter().map(|r| r.0).collect();
-            let all = Boxes { elements: &boxes, segments: &seg_boxes };
+            let all = Boxes { elements: &kept, segments: &seg_boxes };
             let mut tasks = Vec::new();
             tree.tasks(nodes, &mut tasks);
             let mut met = vec![0u32; reach.len() * boxes.len()];
@@ -730,8 +826,28 @@ mod tests {
             for (s, (bb, _)) in reach.iter().enumerate() {
                 for (k, ebb) in boxes.iter().enumerate() {
                     let m = met[s * boxes.len() + k];
-                    prop_assert_eq!(m, u32::from(overlap(bb, ebb)), "segment {} element {}", s, k);
+                    let meet = meets(&seg_boxes[s], &kept[k]);
+                    prop_assert_eq!(m, u32::from(meet), "segment {} element {}", s, k);
+                    prop_assert!(meet || !overlap(bb, ebb), "segment {} element {}", s, k);
                 }
+            }
+        }
+
+        /// Boxes the window's test lets overlap meet as the walk keeps them, at every scale
+        /// (the rounding to single precision is outward).
+        #[test]
+        fn kept_boxes_meet_where_the_windows_overlap(
+            x in -1e12..1e12f64,
+            scale in prop_oneof![Just(1e-9), Just(1e-3), Just(1.0), Just(1e4), Just(1e9), Just(1e40)],
+            w in 0.0..2.0f64,
+            gap in -1.0..1.0f64,
+        ) {
+            // q lies right of p by `gap` times the tolerance (touching or just apart).
+            let p = [x, x, x + w * scale, x + w * scale];
+            let q0 = p[2] + gap * OVERLAP_TOL;
+            let q = [q0, x, q0 + scale, x + scale];
+            if overlap(&p, &q) {
+                prop_assert!(meets(&outward(&p), &outward(&q)), "{:?} {:?}", p, q);
             }
         }
 
