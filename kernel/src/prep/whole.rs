@@ -781,6 +781,120 @@ mod tests {
         ]
     }
 
+    fn src(seq: u32) -> Source {
+        Source {
+            number: None,
+            line: seq,
+            col: 1,
+            seq,
+            program: 0,
+        }
+    }
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
+        Elem::Line {
+            a: v2(a.0, a.1),
+            b: v2(b.0, b.1),
+        }
+    }
+
+    /// A contour segment of block `seq` in XY.
+    fn segment(
+        seq: u32,
+        shape: crate::segment::Shape,
+        from: (f64, f64),
+        to: (f64, f64),
+    ) -> Segment {
+        Segment {
+            source: src(seq),
+            role: Role::Contour,
+            shape,
+            from: [from.0, from.1, 0.0],
+            to: [to.0, to.1, 0.0],
+            feed: 1000.0,
+            per_rev: false,
+            thread: false,
+            rapid: false,
+            exact_stop: false,
+        }
+    }
+
+    /// The violations of one run: `elements` (block, element, tool radius), then `segments`.
+    fn gouges(elements: &[(u32, Elem, f64)], segments: &[Segment]) -> Vec<Gouge> {
+        let mut w = WholeCheck::new();
+        for &(seq, e, r) in elements {
+            w.element(src(seq), e, r, 1);
+        }
+        let mut found = Vec::new();
+        for s in segments {
+            w.segment(s, &mut |g| {
+                found.push(g);
+                false
+            });
+        }
+        w.finish(&mut |g| {
+            found.push(g);
+            false
+        });
+        found
+    }
+
+    /// The window's spiral case (prep/bottleneck.rs): block 1 a quarter circle r 50 about the
+    /// origin, cut outside while the tool radius grows from 5 to 10 (the path a spiral from
+    /// radius 55 to 60), block 2 leaving westwards, block 3 `third`.
+    fn spiral_against(third: Elem) -> Vec<Gouge> {
+        let arc = Elem::Arc {
+            a: v2(50.0, 0.0),
+            b: v2(0.0, -50.0),
+            c: v2(0.0, 0.0),
+            ccw: false,
+        };
+        let spiral = crate::segment::Shape::Arc {
+            center: [0.0; 3],
+            center_end: [0.0; 3],
+            ccw: false,
+            r0: 55.0,
+            r1: 60.0,
+            plane: Plane::XY,
+        };
+        let elements = [
+            (1, arc, 5.0),
+            (2, line((0.0, -50.0), (-40.0, -50.0)), 10.0),
+            (3, third, 10.0),
+        ];
+        gouges(&elements, &[segment(1, spiral, (55.0, 0.0), (0.0, -60.0))])
+    }
+
+    #[test]
+    fn a_spiral_is_checked_with_the_tool_radius_at_each_point() {
+        // 65 below the centre: at the spiral's end the tool (radius 10) reaches 5 mm past it.
+        let g = spiral_against(line((-40.0, -65.0), (40.0, -65.0)));
+        assert_eq!(g.len(), 1, "{g:?}");
+        assert_eq!((g[0].path.seq, g[0].element.seq), (1, 3));
+        assert!((g[0].distance - 5.0).abs() < 1e-9 && (g[0].radius - 10.0).abs() < 1e-12);
+        // 75 below: 5 mm to spare.
+        assert!(spiral_against(line((-40.0, -75.0), (40.0, -75.0))).is_empty());
+    }
+
+    /// A segment of a block without an element of its own is measured with the last
+    /// element's tool radius and side, and named by its own block.
+    #[test]
+    fn a_segment_without_an_element_keeps_its_block() {
+        let elements = [
+            (1, line((0.0, 0.0), (100.0, 0.0)), 10.0),
+            (2, line((100.0, 0.0), (100.0, 50.0)), 10.0),
+        ];
+        // Block 3 has no element; its segment runs 4 mm left of block 2's element.
+        let near = segment(3, crate::segment::Shape::Line, (96.0, 10.0), (96.0, 40.0));
+        let g = gouges(&elements, &[near]);
+        assert_eq!(g.len(), 1, "{g:?}");
+        assert_eq!((g[0].path, g[0].element.seq), (src(3), 2));
+        assert!((g[0].distance - 4.0).abs() < 1e-9 && (g[0].radius - 10.0).abs() < 1e-12);
+        // 12 mm away: clear.
+        let far = segment(3, crate::segment::Shape::Line, (88.0, 12.0), (88.0, 40.0));
+        assert!(gouges(&elements, &[far]).is_empty());
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
         /// The walk meets every pair of a segment and an element whose boxes meet, each once,
