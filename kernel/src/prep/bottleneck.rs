@@ -1139,7 +1139,7 @@ pub(super) struct Spiral {
 impl Spiral {
     /// The spiral of a path segment whose programmed element `own` is an arc about the same
     /// centre; `None` for anything else.
-    fn new(s: &Segment, plane: Plane, own: &Elem) -> Option<Spiral> {
+    pub(super) fn new(s: &Segment, plane: Plane, own: &Elem) -> Option<Spiral> {
         let Shape::Arc {
             center,
             center_end,
@@ -1390,16 +1390,17 @@ pub(super) fn bbox(e: &Elem, grow: f64) -> [f64; 4] {
 pub(super) const OVERLAP_TOL: f64 = 1e-7;
 
 pub(super) fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
-    const TOL: f64 = OVERLAP_TOL;
-    p[0] <= q[2] + TOL && q[0] <= p[2] + TOL && p[1] <= q[3] + TOL && q[1] <= p[3] + TOL
+    let t = OVERLAP_TOL;
+    p[0] <= q[2] + t && q[0] <= p[2] + t && p[1] <= q[3] + t && q[1] <= p[3] + t
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::segment::Source;
 
-    fn src(seq: u32) -> Source {
+    /// Block `seq`, on line `seq` (the whole check's tests take it too).
+    pub(in crate::prep) fn src(seq: u32) -> Source {
         Source {
             number: None,
             line: seq,
@@ -1409,7 +1410,7 @@ mod tests {
         }
     }
 
-    fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
+    pub(in crate::prep) fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
         Elem::Line {
             a: v2(a.0, a.1),
             b: v2(b.0, b.1),

@@ -582,13 +582,13 @@ impl<'a> WholeCheck<'a> {
         let (own, anchor) = self.own(seg.source.seq);
         let shape = match (elem_in(seg, self.plane), own) {
             (Some(e), _) => Shape::Plain(e),
-            (None, Some(k)) => match PathPiece::spiral(seg, self.plane, &self.elements[k].elem) {
-                PathPiece::Spiral(sp) => {
-                    self.spirals.push(sp);
-                    Shape::Spiral(self.spirals.len() as u32 - 1)
-                }
-                _ => return,
-            },
+            (None, Some(k)) => {
+                let Some(sp) = Spiral::new(seg, self.plane, &self.elements[k].elem) else {
+                    return;
+                };
+                self.spirals.push(sp);
+                Shape::Spiral(self.spirals.len() as u32 - 1)
+            }
             (None, None) => return,
         };
         let (block, r) = match own {
@@ -761,6 +761,7 @@ impl Checked<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prep::bottleneck::tests::{line, src};
     use crate::prep::bottleneck::{overlap, OVERLAP_TOL};
     use crate::trc::geom::v2;
     use proptest::prelude::*;
@@ -776,23 +777,6 @@ mod tests {
                 ccw,
             }),
         ]
-    }
-
-    fn src(seq: u32) -> Source {
-        Source {
-            number: None,
-            line: seq,
-            col: 1,
-            seq,
-            program: 0,
-        }
-    }
-
-    fn line(a: (f64, f64), b: (f64, f64)) -> Elem {
-        Elem::Line {
-            a: v2(a.0, a.1),
-            b: v2(b.0, b.1),
-        }
     }
 
     /// A contour segment of block `seq` in XY.
