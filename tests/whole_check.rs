@@ -380,3 +380,26 @@ fn two_workers_report_a_long_run_as_one_does() {
         "{lines:?}"
     );
 }
+
+/// A compensation run still open where the program ends (no G40) is checked once at the end:
+/// both of its violations are reported, once each, and asking on after the end finds nothing
+/// more.
+#[test]
+fn a_run_open_at_the_end_is_checked_once() {
+    let open = far_program().replace("G40 G1 X-20 Y40\n", "");
+    assert!(!open.contains("G40"));
+    let found = collected(&open, None);
+    let at = |a: &String| a.split(':').nth(1).map(str::to_string);
+    let lines: Vec<_> = found.iter().filter_map(at).collect();
+    assert_eq!(lines, ["4", "207"], "{found:?}");
+    let md = machine(&["trc.bottleneck_window=0"]);
+    let tools = ToolTable::builtin();
+    let mut prep = nc_kernel::Preparation::new("open", &open, &md, &tools)
+        .checking_whole(nc_kernel::WholeMode::Collect);
+    while let Ok(Some(_)) = prep.next_item() {}
+    assert!(!prep.take_violations(true).is_empty());
+    for _ in 0..3 {
+        assert!(matches!(prep.next_item(), Ok(None)));
+        assert!(prep.take_violations(true).is_empty());
+    }
+}

@@ -576,7 +576,7 @@ impl<'a> WholeCheck<'a> {
     pub fn segment(&mut self, seg: &Segment, found: &mut impl FnMut(Gouge) -> bool) {
         if !matches!(seg.role, Role::Contour | Role::Corner | Role::Intermediate) {
             self.settle(Some(seg.source.seq), found);
-            self.end_run(seg.source.seq);
+            self.end_run(Some(seg.source.seq));
             return;
         }
         let (own, anchor) = self.own(seg.source.seq);
@@ -606,9 +606,11 @@ impl<'a> WholeCheck<'a> {
         self.segments.push(PathSegment { shape, block });
     }
 
-    /// The program ends: the last run is checked.
+    /// The program ends: the last run is checked, once (nothing of it stays to be checked
+    /// again).
     pub fn finish(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
         self.settle(None, found);
+        self.end_run(None);
     }
 
     /// The run's contour is complete (it ends before the block of `end`; the elements of
@@ -617,8 +619,7 @@ impl<'a> WholeCheck<'a> {
     /// it reaches); one of a lead is dropped. A long run is checked by two workers at
     /// once, task by task, where the runtime gave a [`Join`].
     fn settle(&mut self, end: Option<u32>, found: &mut impl FnMut(Gouge) -> bool) {
-        let before = |e: &Element| end.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0);
-        let n = self.elements.iter().take_while(|e| before(e)).count();
+        let n = self.before(end);
         if self.segments.is_empty() || n == 0 {
             return;
         }
@@ -685,19 +686,23 @@ impl<'a> WholeCheck<'a> {
         }
     }
 
-    /// The run ends before the block of `seq`: everything before it goes; an element of a
-    /// later block (the next run's first, read before its approach came out) stays.
-    fn end_run(&mut self, seq: u32) {
+    /// How many elements belong to blocks before the block of `seq` (all of them for
+    /// `None`). Elements come in block order: found by bisection, not a walk over a long run.
+    fn before(&self, seq: Option<u32>) -> usize {
+        self.elements
+            .partition_point(|e| seq.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0))
+    }
+
+    /// The run ends before the block of `seq` (or with the program): everything before it
+    /// goes; an element of a later block (the next run's first, read before its approach
+    /// came out) stays.
+    fn end_run(&mut self, seq: Option<u32>) {
         self.segments.clear();
         self.orphans.clear();
         self.spirals.clear();
         self.reach.clear();
-        // Elements come in block order: those that stay are the last few.
-        let gone = self
-            .elements
-            .iter()
-            .take_while(|e| (e.source.seq.wrapping_sub(seq) as i32) < 0)
-            .count();
+        // Those that stay are the last few.
+        let gone = self.before(seq);
         self.elements.drain(..gone);
         self.boxes.drain(..gone);
         self.tree.clear();
