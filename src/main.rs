@@ -4,7 +4,7 @@ use clap::{Args, Parser, Subcommand};
 use nc_kernel::jsonl;
 use nc_kernel::jsonl as prep_jsonl;
 use nc_kernel::Prepared;
-use nc_kernel::{Interpreter, MachineData, Preparation, ToolTable, WholeMode};
+use nc_kernel::{Interpreter, Lent, MachineData, Preparation, ToolTable, WholeMode};
 use nc_runtime::Failure;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -457,20 +457,29 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
     let mut alarms = 0u32;
     let mut warnings = 0u32;
     loop {
-        let item = prep.next_item();
+        // Segments lent, not copied out: the check only counts them.
+        let seen = match prep.next_ref() {
+            Ok(Some(Lent::Segment(_) | Lent::Item(Prepared::Segment(_)))) => {
+                Ok(Some(Seen::Segment))
+            }
+            Ok(Some(Lent::Item(Prepared::Warning(w)))) => Ok(Some(Seen::Warning(w))),
+            Ok(Some(Lent::Item(_))) => Ok(Some(Seen::Other)),
+            Ok(None) => Ok(None),
+            Err(a) => Err(a),
+        };
         // What the whole-program check found goes on record where it was found.
-        let end = !matches!(item, Ok(Some(_)));
+        let end = !matches!(seen, Ok(Some(_)));
         for v in prep.take_violations(end) {
             alarms += 1;
             eprintln!("{}", l.md.programs.render(&v, &l.source));
         }
-        match item {
-            Ok(Some(Prepared::Segment(_))) => segments += 1,
-            Ok(Some(Prepared::Warning(w))) => {
+        match seen {
+            Ok(Some(Seen::Segment)) => segments += 1,
+            Ok(Some(Seen::Warning(w))) => {
                 warnings += 1;
                 eprintln!("{}", render_warning(&w, &l.source));
             }
-            Ok(Some(_)) => {}
+            Ok(Some(Seen::Other)) => {}
             Ok(None) => break,
             Err(alarm) => {
                 alarms += 1;
@@ -500,6 +509,13 @@ fn check_run(l: &Loaded, prep: &mut Preparation, t0: std::time::Instant) -> Resu
     } else {
         Err(Failure::Reported)
     }
+}
+
+/// What `softnc check` takes of a record.
+enum Seen {
+    Segment,
+    Warning(nc_kernel::Alarm),
+    Other,
 }
 
 /// Runs `f` on the program's preparation, with the whole-program check in `whole` mode when

@@ -12,7 +12,7 @@ mod soup;
 
 use nc_kernel::Prepared;
 use nc_kernel::Role;
-use nc_kernel::{MachineData, Preparation, ToolTable};
+use nc_kernel::{Lent, MachineData, Preparation, ToolTable, WholeMode};
 use soup::{program, Rng};
 use std::path::Path;
 
@@ -162,4 +162,112 @@ fn threaded_decoding_gives_the_same_records() {
         }
     }
     assert!(compared > 8000, "{compared} records compared");
+}
+
+/// `next_ref` lends the path's segments where they lie and gives every other record as
+/// `next_item` does: the same records in the same order, the same violations collected at
+/// the same points and the same final alarm, on the soup with the checks `softnc check` runs
+/// (software limits tight enough to be reached, the whole-program check collecting or
+/// stopping) and in both threadings.
+#[test]
+fn lent_records_are_the_records() {
+    let mut rng = Rng(0x1e47_2026);
+    let tools = ToolTable::builtin();
+    let long =
+        nc_kernel::synthetic::compensated_program(3000, nc_kernel::synthetic::Header::Softnc);
+    let (mut compared, mut lent) = (0usize, 0usize);
+    for dialect in ["siemens-840c", "isg", "fanuc", "siemens-808d"] {
+        let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("config")
+            .join(format!("{dialect}.toml"));
+        for (limits, mode) in [
+            ("[-1e9,1e9]", WholeMode::Collect),
+            ("[-30,30]", WholeMode::Collect),
+            ("[-30,30]", WholeMode::Stop),
+            ("[-1e9,1e9]", WholeMode::Reaction),
+        ] {
+            let axes: &[&str] = if dialect == "siemens-808d" {
+                &["X", "Z"]
+            } else {
+                &["X", "Y", "Z"]
+            };
+            let over: Vec<String> = axes
+                .iter()
+                .map(|a| format!("axes.{a}.software_limits={limits}"))
+                .collect();
+            let md = MachineData::load(Some(&config), &over).unwrap();
+            let mut programs: Vec<String> = (0..150).map(|_| program(&mut rng, dialect)).collect();
+            if dialect == "siemens-840c" {
+                programs.push(long.clone());
+            }
+            for src in &programs {
+                let run = |threaded: bool, lend: bool| {
+                    let go = |p: Preparation| {
+                        let mut p = p.with_soft_limits(&md).checking_whole(mode);
+                        let mut lent = 0;
+                        let got = records_with_violations(|| {
+                            let item = if lend {
+                                p.next_ref().map(|x| {
+                                    x.map(|x| match x {
+                                        Lent::Segment(s) => {
+                                            lent += 1;
+                                            Prepared::Segment(*s)
+                                        }
+                                        Lent::Item(i) => i,
+                                    })
+                                })
+                            } else {
+                                p.next_item()
+                            };
+                            let end = !matches!(item, Ok(Some(_)));
+                            (item, p.take_violations(end))
+                        });
+                        (got, lent)
+                    };
+                    if threaded {
+                        std::thread::scope(|s| go(Preparation::threaded(s, "t", src, &md, &tools)))
+                    } else {
+                        go(Preparation::new("t", src, &md, &tools))
+                    }
+                };
+                let (items, _) = run(false, false);
+                for threaded in [false, true] {
+                    let (got, n) = run(threaded, true);
+                    assert_eq!(
+                        items, got,
+                        "{dialect} {limits} {mode:?} threaded {threaded}:\n{src}"
+                    );
+                    lent += n;
+                }
+                compared += items.len();
+            }
+        }
+    }
+    // Most segments of the collecting runs are lent, not moved.
+    assert!(
+        compared > 20_000 && lent > compared / 4,
+        "{compared} records, {lent} lent"
+    );
+}
+
+/// As `records`, with the violations collected so far after each record.
+fn records_with_violations(
+    mut next: impl FnMut() -> (
+        Result<Option<Prepared>, nc_kernel::Alarm>,
+        Vec<nc_kernel::Alarm>,
+    ),
+) -> Vec<String> {
+    let mut out = Vec::new();
+    loop {
+        let (item, violations) = next();
+        out.extend(violations.iter().map(|v| format!("violation {v:?}")));
+        match item {
+            Ok(Some(x)) => out.push(format!("{x:?}")),
+            Ok(None) => return out,
+            Err(a) => {
+                out.push(format!("alarm {a:?}"));
+                return out;
+            }
+        }
+    }
 }

@@ -6,7 +6,7 @@
 //! collecting, as `softnc check` prepares, every record taken; with `--threaded` a long run
 //! is checked by two workers, as there).
 
-use nc_kernel::{Preparation, Prepared, WholeMode};
+use nc_kernel::{Lent, Preparation, Prepared, WholeMode};
 
 #[path = "../benches/support/join.rs"]
 mod join;
@@ -17,12 +17,15 @@ fn drain(mut prep: Preparation, check: bool) -> (u64, usize) {
     loop {
         // Some(true): a segment; Some(false): another record; None: the end.
         let next = if check {
-            let item = prep.next_item();
+            // As `softnc check` takes them: segments lent.
+            let item = prep.next_ref().map(|i| {
+                i.map(|i| matches!(i, Lent::Segment(_) | Lent::Item(Prepared::Segment(_))))
+            });
             if let Some(v) = prep.take_violations(!matches!(item, Ok(Some(_)))).first() {
                 eprintln!("{v}");
                 std::process::exit(1);
             }
-            item.map(|i| i.map(|i| matches!(i, Prepared::Segment(_))))
+            item
         } else {
             prep.next_segment().map(|s| s.map(|_| true))
         };

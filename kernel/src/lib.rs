@@ -57,8 +57,8 @@ pub fn dialect_of(md: &MachineData) -> &'static dialect::Dialect {
 }
 pub use macro_variables::{format_kept_variables, parse_kept_variables};
 pub use prep::{
-    prepare, AuxFunction, Interruption, Join, Preparation, Prepared, Resumed, Stop, WholeMode,
-    MAX_WINDOW,
+    prepare, AuxFunction, Interruption, Join, Lent, Preparation, Prepared, Resumed, Stop,
+    WholeMode, MAX_WINDOW,
 };
 pub use programs::{LibraryProgram, ProgramKey, ProgramLibrary};
 pub use segment::{Role, Segment, Shape, Source};

@@ -75,6 +75,27 @@ pub struct Preparation<'a> {
     source_len: usize,
 }
 
+/// What the whole-program check settles at `seg` (more than one only where a run ends);
+/// all of them when collecting, else up to the first.
+fn whole_gouges(w: &mut whole::WholeCheck, seg: &Segment, mode: WholeMode) -> Vec<Gouge> {
+    let collect = mode == WholeMode::Collect;
+    let mut gouges = Vec::new();
+    w.segment(seg, &mut |g| {
+        gouges.push(g);
+        !collect
+    });
+    gouges
+}
+
+/// A record of [`Preparation::next_ref`]: a path segment lent, or any record moved out.
+// Boxing the record would allocate once per segment where the window holds the path.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug)]
+pub enum Lent<'p> {
+    Segment(&'p Segment),
+    Item(Prepared),
+}
+
 /// Consecutive path blocks too close to one element (collected as one alarm).
 #[derive(Clone, Copy, Debug)]
 struct Group {
@@ -355,6 +376,51 @@ impl<'a> Preparation<'a> {
         }
     }
 
+    /// The next record as [`Self::next_item`] gives it, a path segment lent where it lies
+    /// instead of moved out: a reader that only looks at the segments (`softnc check`) copies
+    /// none of them. Segments that wait for something (the window, S points, a tool tip,
+    /// additional axes) come the way `next_item` takes them.
+    pub fn next_ref(&mut self) -> Result<Option<Lent<'_>>, Alarm> {
+        let i = loop {
+            if !self.lends() {
+                return Ok(self.next_item()?.map(Lent::Item));
+            }
+            self.out.reclaim();
+            let Some(i) = self.out.take_index() else {
+                if !self.refill()? {
+                    return Ok(None);
+                }
+                continue;
+            };
+            // As `pop_path` checks a segment, in place.
+            if self.whole.is_some() && self.whole_segment_at(i) {
+                continue;
+            }
+            let seg = self.out.at(i);
+            if let Some(Err(o)) = self.limits.as_ref().map(|l| l.check(seg, None)) {
+                let at = seg.source;
+                self.overrun(&at, o);
+                continue;
+            }
+            self.s_points.pass(self.out.at(i));
+            break i;
+        };
+        Ok(Some(Lent::Segment(self.out.at(i))))
+    }
+
+    /// Whether the next segment, if the compensation has put one out, goes straight on: no
+    /// record waits before it, the window lets it pass and nothing is added to it.
+    #[inline]
+    fn lends(&self) -> bool {
+        self.ready.is_empty()
+            && self.released.is_empty()
+            && self.s_points.idle()
+            && self.tip.idle()
+            && self.axis_moves.is_empty()
+            && self.axes_out.is_none()
+            && (!self.windowed() || self.bottleneck.bypass(self.reaction()))
+    }
+
     /// The next path segment through the bottleneck window (held back there until the
     /// window has passed it). An alarm on the way ends preparation through `deferred`; no
     /// `Result` around the segment, which the hot path would copy once more.
@@ -464,12 +530,17 @@ impl<'a> Preparation<'a> {
         let (Some(w), Some(s)) = (&mut self.whole, seg) else {
             return false;
         };
-        let collect = self.whole_mode == WholeMode::Collect;
-        let mut gouges = Vec::new();
-        w.segment(s, &mut |g| {
-            gouges.push(g);
-            !collect
-        });
+        let gouges = whole_gouges(w, s, self.whole_mode);
+        gouges.iter().any(|g| self.whole_found(g))
+    }
+
+    /// As [`Self::whole_segment`], for the segment `out` holds at `i`.
+    #[inline(never)]
+    fn whole_segment_at(&mut self, i: usize) -> bool {
+        let Some(w) = &mut self.whole else {
+            return false;
+        };
+        let gouges = whole_gouges(w, self.out.at(i), self.whole_mode);
         gouges.iter().any(|g| self.whole_found(g))
     }
 

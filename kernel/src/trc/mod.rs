@@ -174,6 +174,34 @@ impl Out {
         Some(s)
     }
 
+    /// The index of the next segment, taken (it stays where it is until the next take, for
+    /// a reader that looks at it in place: [`Self::at`]).
+    #[inline]
+    pub fn take_index(&mut self) -> Option<usize> {
+        if self.next >= self.limit || self.next >= self.segs.len() {
+            return None;
+        }
+        self.next += 1;
+        Some(self.next - 1)
+    }
+
+    /// Segment `i` as put in.
+    #[inline]
+    pub fn at(&self, i: usize) -> &Segment {
+        &self.segs[i]
+    }
+
+    /// With every segment taken (and no reader's limit): starts again at the front, as
+    /// [`Self::pop_front`] does at once; a reader by [`Self::take_index`] calls it before
+    /// the next take.
+    #[inline]
+    pub fn reclaim(&mut self) {
+        if self.next == self.segs.len() && self.limit == usize::MAX {
+            self.segs.clear();
+            self.next = 0;
+        }
+    }
+
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.next >= self.segs.len().min(self.limit)
