@@ -577,6 +577,14 @@ impl Dialect {
             || (letter == b'R' && self.at_language)
     }
 
+    /// Some G code switches contour masking on (ISG G141): the bottleneck window may have
+    /// to make the path.
+    pub fn masks(&self) -> bool {
+        self.gcodes
+            .iter()
+            .any(|g| matches!(g.effect, GEffect::Masking(true)))
+    }
+
     pub fn gcode(&self, code: u16) -> Option<&'static GCodeDef> {
         if code as usize >= G_CODES {
             return self.gcodes.iter().find(|def| def.code == code);

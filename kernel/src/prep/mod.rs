@@ -44,6 +44,8 @@ pub struct Preparation<'a> {
     released: std::collections::VecDeque<Segment>,
     /// ISG contour masking (G141) in the last block.
     masking: bool,
+    /// The dialect can switch masking on.
+    can_mask: bool,
     /// The compensation holds back part of the path after the last block.
     holds_back: bool,
     /// An alarm waiting until the path before it is out.
@@ -202,6 +204,7 @@ impl<'a> Preparation<'a> {
                 bottleneck::held_for((md.trc.bottleneck_window as usize).clamp(3, MAX_WINDOW)) + 8,
             ),
             masking: false,
+            can_mask: crate::dialect::Dialect::get(md.dialect).masks(),
             holds_back: false,
             deferred: None,
             warn: md.trc.violation_reaction == ViolationReaction::Warn,
@@ -301,6 +304,14 @@ impl<'a> Preparation<'a> {
     #[inline]
     fn windowed(&self) -> bool {
         self.whole_mode != WholeMode::Collect || self.masking || !self.bottleneck.is_empty()
+    }
+
+    /// The window takes the programmed elements: wherever it may come to hold the path,
+    /// which under `softnc check`'s collecting check is only where masking can begin.
+    #[inline]
+    fn window_meets_elements(&self) -> bool {
+        let may_hold = self.whole_mode != WholeMode::Collect || self.can_mask;
+        may_hold && !self.bottleneck.bypass(self.reaction())
     }
 
     /// With the software limit switches of `md` (alarm 10720 for a segment beyond them):
@@ -720,7 +731,7 @@ impl<'a> Preparation<'a> {
             self.bottleneck.set_plane(info.plane);
             self.whole_element(source, element, info.plane, info.side);
             // The window meets every element (masking may begin with the next block).
-            if let (Some((e, r)), false) = (element, self.bottleneck.bypass(self.reaction())) {
+            if let (Some((e, r)), true) = (element, self.window_meets_elements()) {
                 let found = self
                     .bottleneck
                     .element(source, e, r, info.side, self.reaction());

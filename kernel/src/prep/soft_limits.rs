@@ -9,7 +9,7 @@
 //! the tolerance of a limit switch. An arc whose whole circle stays inside the limits (the
 //! common case) needs neither: no trigonometry per block for the check.
 
-use crate::frontend::block::{AxisMove, AXIS_NAMES};
+use crate::frontend::block::{AxisMove, Plane, Pos, AXIS_NAMES};
 use crate::machine_data::{MachineData, AXES};
 use crate::segment::{Curve, Segment, Shape};
 
@@ -83,6 +83,14 @@ impl SoftLimits {
     /// limit.
     #[inline]
     pub fn check(&self, seg: &Segment, axes: Option<&AxisMove>) -> Result<(), Overrun> {
+        if axes.is_none() && self.holds(seg) {
+            return Ok(());
+        }
+        self.exact(seg, axes)
+    }
+
+    /// `check` by the segment's exact extent.
+    fn exact(&self, seg: &Segment, axes: Option<&AxisMove>) -> Result<(), Overrun> {
         let (mut lo, mut hi) = ends(seg);
         if let Some((blo, bhi)) = circle_box(seg) {
             if self.first_past(&blo, &bhi, 3).is_some() {
@@ -100,6 +108,40 @@ impl SoftLimits {
             axes_checked = AXES;
         }
         self.first_past(&lo, &hi, axes_checked).map_or(Ok(()), Err)
+    }
+}
+
+impl SoftLimits {
+    /// Whether the geometry axes' limits hold all of `seg` by its ends and, for an arc, its
+    /// whole circle (the box `check` tries first): the common case, settled without the
+    /// per-axis arrays.
+    #[inline]
+    fn holds(&self, seg: &Segment) -> bool {
+        let within = |i: usize, lo: f64, hi: f64| lo >= self.lo[i] && hi <= self.hi[i];
+        if !(0..3).all(|i| {
+            let (p, q) = (seg.from[i], seg.to[i]);
+            within(i, p.min(q), p.max(q))
+        }) {
+            return false;
+        }
+        let Shape::Arc {
+            center,
+            center_end,
+            plane,
+            ..
+        } = seg.shape
+        else {
+            return true;
+        };
+        // |dx| + |dy| bounds the distance, with a margin far above rounding: a box at least
+        // as large as `circle_box`'s, without a square root.
+        let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+        let l1 = |p: &Pos, c: &Pos| (p[a] - c[a]).abs() + (p[o] - c[o]).abs();
+        let r = l1(&seg.from, &center).max(l1(&seg.to, &center_end)) * (1.0 + 1e-12) + 1e-9;
+        [a, o].into_iter().all(|i| {
+            let (c, d) = (center[i], center_end[i]);
+            within(i, c.min(d) - r, c.max(d) + r)
+        })
     }
 }
 
@@ -128,15 +170,23 @@ fn circle_box(seg: &Segment) -> Option<([f64; AXES], [f64; AXES])> {
         return None;
     };
     let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
-    let r0 = (seg.from[a] - center[a]).hypot(seg.from[o] - center[o]);
-    let r1 = (seg.to[a] - center_end[a]).hypot(seg.to[o] - center_end[o]);
-    let r = r0.max(r1) + 1e-9;
+    let r = circle_radius(seg, &center, &center_end, plane);
     let (mut lo, mut hi) = ends(seg);
     for i in [a, o] {
         lo[i] = center[i].min(center_end[i]) - r;
         hi[i] = center[i].max(center_end[i]) + r;
     }
     Some((lo, hi))
+}
+
+/// The radius of the circle that holds the arc `seg` about either centre (the larger of its
+/// ends' distances), with the rounding margin.
+#[inline]
+fn circle_radius(seg: &Segment, center: &Pos, center_end: &Pos, plane: Plane) -> f64 {
+    let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+    let r0 = (seg.from[a] - center[a]).hypot(seg.from[o] - center[o]);
+    let r1 = (seg.to[a] - center_end[a]).hypot(seg.to[o] - center_end[o]);
+    r0.max(r1) + 1e-9
 }
 
 /// Grows `lo`/`hi` (the ends) to the exact extent of the arc `seg`.
@@ -198,6 +248,7 @@ mod tests {
     use super::*;
     use crate::frontend::block::Plane;
     use crate::segment::{Role, Source};
+    use proptest::prelude::*;
 
     fn seg(from: [f64; 3], to: [f64; 3], shape: Shape) -> Segment {
         Segment {
@@ -250,6 +301,45 @@ mod tests {
         }
         let (lo, _) = extent(&cw);
         assert!((lo[1] + 10.0).abs() < 1e-12);
+    }
+
+    fn arc() -> impl Strategy<Value = Segment> {
+        let p = || prop::array::uniform3(-30.0..30.0f64);
+        (p(), p(), p(), any::<bool>(), 0usize..3).prop_map(|(from, to, c, ccw, k)| {
+            let plane = [Plane::XY, Plane::ZX, Plane::YZ][k];
+            let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+            let r = |q: [f64; 3]| (q[a] - c[a]).hypot(q[o] - c[o]);
+            let shape = Shape::Arc {
+                center: c,
+                center_end: c,
+                ccw,
+                r0: r(from),
+                r1: r(to),
+                plane,
+            };
+            seg(from, to, shape)
+        })
+    }
+
+    proptest! {
+        /// The quick test by ends and circle only ever says what the exact extent says: on
+        /// lines and arcs (spirals among them) near limits of every size.
+        #[test]
+        fn the_quick_test_agrees_with_the_exact_one(
+            s in prop_oneof![
+                (prop::array::uniform3(-30.0..30.0f64), prop::array::uniform3(-30.0..30.0f64))
+                    .prop_map(|(a, b)| seg(a, b, Shape::Line)),
+                arc(),
+            ],
+            limits in prop::array::uniform3((-40.0..5.0f64, -5.0..40.0f64)),
+        ) {
+            let mut l = SoftLimits { lo: [f64::NEG_INFINITY; AXES], hi: [f64::INFINITY; AXES] };
+            for (i, (lo, hi)) in limits.iter().enumerate() {
+                l.lo[i] = *lo;
+                l.hi[i] = *hi;
+            }
+            prop_assert_eq!(l.check(&s, None), l.exact(&s, None));
+        }
     }
 
     #[test]
