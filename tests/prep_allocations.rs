@@ -94,10 +94,11 @@ fn preparation_does_not_allocate_per_block() {
             );
             // One thread: the front's box and the window's buffers and their chunk rings
             // (sized by the window at the start), the same for any length. Threaded: the
-            // thread, the channels and the batch buffers — plus now and then one more when a
-            // thread parks at a different moment — a bound far below one per block.
+            // thread, the channels and the batch buffers (three for each of 32 batches) —
+            // plus now and then a few more when a thread parks at a different moment — the
+            // same for any length but for those few, and far below one per block.
             let ok = if threaded {
-                small <= 64 && large <= 64
+                large.abs_diff(small) <= 4 && large <= 160
             } else {
                 small == large && large <= 10
             };

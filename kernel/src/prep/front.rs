@@ -262,10 +262,14 @@ impl<'a> Front<'a> {
     }
 }
 
-/// Steps per batch and batches in flight: enough to ride out a scheduling hiccup of the other
-/// thread (~512 blocks), small enough to stay in the caches.
+/// Steps per batch and batches in flight. The front may run some 4000 blocks ahead: the
+/// back's bursts (fresh pages of the whole-program check's records, a window that meets a
+/// crowded stretch) do not stop it, and a batch comes back for refilling long after the back
+/// read it, when its lines have left the back's cache, so the front does not wait for them
+/// to be handed over. Four batches in flight leave the threaded front up to a third slower
+/// (docs/benchmarks.md); a batch is some 110 kB.
 const BATCH: usize = 128;
-const BATCHES: usize = 4;
+const BATCHES: usize = 32;
 
 /// A step as it crosses threads.
 // Nearly every step is a block: boxing it would allocate once per block.
