@@ -742,7 +742,12 @@ impl Checked<'_> {
     /// (its own block's element and the other side's are not compared).
     #[inline]
     fn gouge(&self, s: usize, k: usize) -> Option<Gouge> {
-        let (seg, e) = (&self.segments[s], &self.elements[k]);
+        let seg = &self.segments[s];
+        if matches!(seg.block, Block::Own(o) if o as usize == k) {
+            // Its own block's element: settled before either record is read further.
+            return None;
+        }
+        let e = &self.elements[k];
         let (source, r, side) = self.block(seg);
         if side != e.side || source.seq == e.source.seq {
             return None;
