@@ -1420,25 +1420,15 @@ pub(super) mod tests {
     /// Block 1: the quarter circle r 50 about the origin, clockwise from (50, 0) to
     /// (0, −50), cut on its outside while the tool radius grows from 5 to 10 over it (a D
     /// change over an arc): the path is the spiral from radius 55 to 60. Block 2 leaves
-    /// (0, −50) westwards. Block 3 is `third`: the window must measure the spiral's tool
-    /// circle, of the radius at each point, against it.
-    fn spiral_against(third: Elem) -> Result<(), Gouge> {
-        let mut b = Bottleneck::new(3);
-        let mut out = std::collections::VecDeque::new();
+    /// (0, −50) westwards. The blocks' elements with their tool radii, and block 1's path
+    /// (the whole check's tests take it too).
+    pub(in crate::prep) fn spiral_case() -> ([(u32, Elem, f64); 2], Segment) {
         let arc = Elem::Arc {
             a: v2(50.0, 0.0),
             b: v2(0.0, -50.0),
             c: v2(0.0, 0.0),
             ccw: false,
         };
-        b.element(src(1), arc, 5.0, 1, Reaction::Alarm)?;
-        b.element(
-            src(2),
-            line((0.0, -50.0), (-40.0, -50.0)),
-            10.0,
-            1,
-            Reaction::Alarm,
-        )?;
         let spiral = Segment {
             source: src(1),
             role: Role::Contour,
@@ -1458,6 +1448,19 @@ pub(super) mod tests {
             rapid: false,
             exact_stop: false,
         };
+        let elements = [(1, arc, 5.0), (2, line((0.0, -50.0), (-40.0, -50.0)), 10.0)];
+        (elements, spiral)
+    }
+
+    /// The spiral case with block 3 `third`: the window must measure the spiral's tool
+    /// circle, of the radius at each point, against it.
+    fn spiral_against(third: Elem) -> Result<(), Gouge> {
+        let mut b = Bottleneck::new(3);
+        let mut out = std::collections::VecDeque::new();
+        let (elements, spiral) = spiral_case();
+        for (seq, e, r) in elements {
+            b.element(src(seq), e, r, 1, Reaction::Alarm)?;
+        }
         b.push(spiral, Reaction::Alarm, &mut out)?;
         b.element(src(3), third, 10.0, 1, Reaction::Alarm)
             .map(|_| ())

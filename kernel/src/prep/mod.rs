@@ -438,7 +438,7 @@ impl<'a> Preparation<'a> {
     #[inline]
     fn pop_path(&mut self) -> Option<Segment> {
         let mut seg = self.pop_centre_path();
-        if self.whole.is_some() && seg.is_some() && self.whole_segment(seg.as_ref()) {
+        if self.whole.is_some() && seg.as_ref().is_some_and(|s| self.whole_segment(s)) {
             seg = None;
         }
         if let Some(s) = &mut seg {
@@ -537,11 +537,11 @@ impl<'a> Preparation<'a> {
     /// preparation (more than one is settled only where a run ends). Out of line: the
     /// per-segment path stays small when the check is off.
     #[inline(never)]
-    fn whole_segment(&mut self, seg: Option<&Segment>) -> bool {
-        let (Some(w), Some(s)) = (&mut self.whole, seg) else {
+    fn whole_segment(&mut self, seg: &Segment) -> bool {
+        let Some(w) = &mut self.whole else {
             return false;
         };
-        let gouges = whole_gouges(w, s, self.whole_mode);
+        let gouges = whole_gouges(w, seg, self.whole_mode);
         gouges.iter().any(|g| self.whole_found(g))
     }
 

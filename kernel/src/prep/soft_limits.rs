@@ -124,13 +124,7 @@ impl SoftLimits {
         }) {
             return false;
         }
-        let Shape::Arc {
-            center,
-            center_end,
-            plane,
-            ..
-        } = seg.shape
-        else {
+        let Some((center, center_end, plane)) = centres(seg) else {
             return true;
         };
         // |dx| + |dy| bounds the distance, with a margin far above rounding: a box at least
@@ -138,10 +132,9 @@ impl SoftLimits {
         let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
         let l1 = |p: &Pos, c: &Pos| (p[a] - c[a]).abs() + (p[o] - c[o]).abs();
         let r = l1(&seg.from, &center).max(l1(&seg.to, &center_end)) * (1.0 + 1e-12) + 1e-9;
-        [a, o].into_iter().all(|i| {
-            let (c, d) = (center[i], center_end[i]);
-            within(i, c.min(d) - r, c.max(d) + r)
-        })
+        about_centres(&center, &center_end, plane, r)
+            .into_iter()
+            .all(|(i, lo, hi)| within(i, lo, hi))
     }
 }
 
@@ -160,23 +153,35 @@ fn ends(seg: &Segment) -> ([f64; AXES], [f64; AXES]) {
 /// For an arc, a box that holds all of it: its circle (both centres, the larger radius of
 /// its two ends) in the plane, its ends along the normal.
 fn circle_box(seg: &Segment) -> Option<([f64; AXES], [f64; AXES])> {
-    let Shape::Arc {
-        center,
-        center_end,
-        plane,
-        ..
-    } = seg.shape
-    else {
-        return None;
-    };
-    let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
+    let (center, center_end, plane) = centres(seg)?;
     let r = circle_radius(seg, &center, &center_end, plane);
     let (mut lo, mut hi) = ends(seg);
-    for i in [a, o] {
-        lo[i] = center[i].min(center_end[i]) - r;
-        hi[i] = center[i].max(center_end[i]) + r;
+    for (i, l, h) in about_centres(&center, &center_end, plane, r) {
+        (lo[i], hi[i]) = (l, h);
     }
     Some((lo, hi))
+}
+
+/// An arc's centres (start and end) and plane; `None` for a line.
+fn centres(seg: &Segment) -> Option<(Pos, Pos, Plane)> {
+    match seg.shape {
+        Shape::Arc {
+            center,
+            center_end,
+            plane,
+            ..
+        } => Some((center, center_end, plane)),
+        Shape::Line => None,
+    }
+}
+
+/// The range of each plane axis (axis, low, high) that circles of radius `r` about both
+/// centres cover.
+fn about_centres(center: &Pos, center_end: &Pos, plane: Plane, r: f64) -> [(usize, f64, f64); 2] {
+    [plane.abscissa as usize, plane.ordinate as usize].map(|i| {
+        let (c, d) = (center[i], center_end[i]);
+        (i, c.min(d) - r, c.max(d) + r)
+    })
 }
 
 /// The radius of the circle that holds the arc `seg` about either centre (the larger of its

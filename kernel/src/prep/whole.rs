@@ -771,7 +771,7 @@ impl Checked<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::prep::bottleneck::tests::{line, src};
+    use crate::prep::bottleneck::tests::{line, spiral_case, src};
     use crate::prep::bottleneck::{overlap, OVERLAP_TOL};
     use crate::trc::geom::v2;
     use proptest::prelude::*;
@@ -830,30 +830,10 @@ mod tests {
         found
     }
 
-    /// The window's spiral case (prep/bottleneck.rs): block 1 a quarter circle r 50 about the
-    /// origin, cut outside while the tool radius grows from 5 to 10 (the path a spiral from
-    /// radius 55 to 60), block 2 leaving westwards, block 3 `third`.
+    /// The window's spiral case (`bottleneck::tests::spiral_case`) with block 3 `third`.
     fn spiral_against(third: Elem) -> Vec<Gouge> {
-        let arc = Elem::Arc {
-            a: v2(50.0, 0.0),
-            b: v2(0.0, -50.0),
-            c: v2(0.0, 0.0),
-            ccw: false,
-        };
-        let spiral = crate::segment::Shape::Arc {
-            center: [0.0; 3],
-            center_end: [0.0; 3],
-            ccw: false,
-            r0: 55.0,
-            r1: 60.0,
-            plane: Plane::XY,
-        };
-        let elements = [
-            (1, arc, 5.0),
-            (2, line((0.0, -50.0), (-40.0, -50.0)), 10.0),
-            (3, third, 10.0),
-        ];
-        gouges(&elements, &[segment(1, spiral, (55.0, 0.0), (0.0, -60.0))])
+        let ([first, second], spiral) = spiral_case();
+        gouges(&[first, second, (3, third, 10.0)], &[spiral])
     }
 
     #[test]

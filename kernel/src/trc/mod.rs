@@ -166,11 +166,7 @@ impl Out {
         }
         let s = *self.segs.get(self.next)?;
         self.next += 1;
-        if self.next == self.segs.len() && self.limit == usize::MAX {
-            // All taken (and no reader's limit on the indices): start again at the front.
-            self.segs.clear();
-            self.next = 0;
-        }
+        self.reclaim();
         Some(s)
     }
 
@@ -191,9 +187,9 @@ impl Out {
         &self.segs[i]
     }
 
-    /// With every segment taken (and no reader's limit): starts again at the front, as
-    /// [`Self::pop_front`] does at once; a reader by [`Self::take_index`] calls it before
-    /// the next take.
+    /// With every segment taken (and no reader's limit on the indices): starts again at the
+    /// front. [`Self::pop_front`] does so at once; a reader by [`Self::take_index`], whose
+    /// segment is still lent, before the next take.
     #[inline]
     pub fn reclaim(&mut self) {
         if self.next == self.segs.len() && self.limit == usize::MAX {
