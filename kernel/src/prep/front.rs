@@ -20,7 +20,7 @@ use crate::segment::Source;
 use crate::trc::cutting_edge::tip_vector;
 use crate::trc::geom::{v2, Elem, V2};
 use crate::trc::{Compensator, Out, TrcFault};
-use crossbeam::channel::{bounded, Receiver, Sender};
+use crossbeam::channel::{bounded, Receiver, RecvError, Sender, TryRecvError};
 
 /// What one block gave. Its segments went into the `out` the step was asked with.
 pub enum Step<'b> {
@@ -313,8 +313,9 @@ pub struct Threaded {
 
 impl Threaded {
     /// The next step; its segments go to `out`, which must be empty: it is the batch's own
-    /// segments (swapped in with the batch), shown one step's at a time.
-    pub fn step(&mut self, out: &mut Out) -> Step<'_> {
+    /// segments (swapped in with the batch), shown one step's at a time. While the front has
+    /// no batch ready, `idle` does some other work of this thread (false: none left).
+    pub fn step(&mut self, out: &mut Out, idle: &mut impl FnMut() -> bool) -> Step<'_> {
         loop {
             if self.next < self.batch.steps.len() {
                 let i = self.next;
@@ -374,7 +375,15 @@ impl Threaded {
                 let _ = self.empty.send(done);
             }
             self.next = 0;
-            match recv_soon(&self.full) {
+            let next = loop {
+                match self.full.try_recv() {
+                    Ok(b) => break Ok(b),
+                    Err(TryRecvError::Empty) if idle() => {}
+                    Err(TryRecvError::Empty) => break recv_soon(&self.full),
+                    Err(TryRecvError::Disconnected) => break Err(RecvError),
+                }
+            };
+            match next {
                 Ok(mut b) => {
                     // `out` is drained: it goes back with this batch, and the new batch's
                     // segments are read where the front put them.
@@ -391,14 +400,12 @@ impl Threaded {
 /// Receives, spinning a little before the thread sleeps: a batch is a few tens of
 /// microseconds of work, about what waking a sleeping thread costs on a VM (docs/benchmarks.md),
 /// so sleeping at every hand-over would halve the throughput.
-fn recv_soon<T>(rx: &Receiver<T>) -> Result<T, crossbeam::channel::RecvError> {
+fn recv_soon<T>(rx: &Receiver<T>) -> Result<T, RecvError> {
     for _ in 0..SPIN {
         match rx.try_recv() {
             Ok(x) => return Ok(x),
-            Err(crossbeam::channel::TryRecvError::Disconnected) => {
-                return Err(crossbeam::channel::RecvError)
-            }
-            Err(crossbeam::channel::TryRecvError::Empty) => std::hint::spin_loop(),
+            Err(TryRecvError::Disconnected) => return Err(RecvError),
+            Err(TryRecvError::Empty) => std::hint::spin_loop(),
         }
     }
     rx.recv()

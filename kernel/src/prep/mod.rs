@@ -673,7 +673,11 @@ impl<'a> Preparation<'a> {
             }
             let step = match &mut self.front {
                 FrontEnd::Local(f) => f.step(&mut self.out),
-                FrontEnd::Threaded(t) => t.step(&mut self.out),
+                // While the front has nothing ready, the whole-program check walks the
+                // run's complete part.
+                FrontEnd::Threaded(t) => t.step(&mut self.out, &mut || {
+                    self.whole.as_mut().is_some_and(|w| w.walk_some())
+                }),
             };
             let b = match step {
                 Step::Block(b) => b,

@@ -12,6 +12,9 @@
 //! itself: a pair of subtrees whose boxes are apart is left, so neighbours along the contour
 //! meet in a leaf or one level up, and a part of the contour that comes back near another
 //! meets it where their boxes overlap — a cost close to linear in the length of the program.
+//! Where preparation runs in two threads, the thread that takes the path walks the complete
+//! part of a run while it waits for the front ([`WholeCheck::walk_some`]), so that the end of
+//! the run finds less left to walk.
 //! Under ISG masking the segments checked are the masked path (the window's output).
 
 use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
@@ -178,7 +181,37 @@ struct Tree {
     in_order: bool,
     /// Elements under the leaves.
     elements: usize,
+    /// The levels are built ([`Tree::build`]): the run is complete.
+    built: bool,
+    /// The walk of the run's complete part while the run grows ([`WholeCheck::walk_some`]).
+    early: EarlyWalk,
 }
+
+/// The walk done while a run grows, in the time the thread that takes the path would wait
+/// for the front: a leaf is complete when all its elements are in and a segment of a later
+/// leaf has come (segments come in leaf order), and a subtree when its last leaf is; each
+/// complete subtree is walked against itself as soon as it is, so that the run's end finds
+/// little left but the subtrees its last leaves are in. A segment out of leaf order, or a
+/// run that turns out to end before a walked leaf, has the run walked whole at its end.
+#[derive(Default)]
+struct EarlyWalk {
+    /// Leaves whose subtrees are walked; the leaf after them, while its work is on `stack`.
+    walked: usize,
+    at: Option<usize>,
+    stack: Vec<Task>,
+    /// Where the segments of each leaf begin up to the one at hand (and the next's), while
+    /// `first` counts.
+    begin: Vec<u32>,
+    /// Each violation found so far, by segment and element (before the run's closed loops are
+    /// known: prep/leads.rs); the first `kept` are of walked leaves, the rest of the one at
+    /// hand.
+    hits: Vec<(u32, u32, Gouge)>,
+    kept: usize,
+}
+
+/// Pieces of the early walk done between two looks at the front's channel: some tens of
+/// microseconds, about what a batch takes the front.
+const EARLY_STEPS: usize = 32;
 
 impl Tree {
     fn new() -> Self {
@@ -206,6 +239,106 @@ impl Tree {
         self.leaf.clear();
         self.in_order = true;
         self.elements = 0;
+        self.built = false;
+        self.forget_early();
+    }
+
+    /// The walk of the run starts afresh at its end.
+    fn forget_early(&mut self) {
+        let e = &mut self.early;
+        (e.walked, e.at, e.kept) = (0, None, 0);
+        e.stack.clear();
+        e.begin.clear();
+        e.begin.push(0);
+        e.hits.clear();
+    }
+
+    /// Whether node `i` of `level` was walked against itself while the run grew.
+    #[inline]
+    fn walked(&self, level: usize, i: usize) -> bool {
+        (i + 1) << level <= self.early.walked
+    }
+
+    /// The work leaf `walked` completes, on the stack, if it is complete with `elements`
+    /// elements in: the leaf against itself, and each subtree it completes, its halves
+    /// against each other (the node is built here). False when it is not.
+    fn take_leaf(&mut self, elements: usize) -> bool {
+        let l = self.early.walked;
+        let segments_past = self.leaf.last().is_some_and(|&last| last as usize > l);
+        if !self.in_order || !segments_past || elements < (l + 1) * LEAF {
+            return false;
+        }
+        let next = self.early.begin[l] + self.first[l];
+        self.early.begin.push(next);
+        self.early.stack.push(Task::Within(0, l));
+        let mut level = 1;
+        while (l + 1).is_multiple_of(1 << level) {
+            let i = ((l + 1) >> level) - 1;
+            if self.levels.len() <= level {
+                self.levels.push(Vec::new());
+            }
+            let below = &self.levels[level - 1];
+            let mut n = below[2 * i];
+            grow(&mut n.path, &below[2 * i + 1].path);
+            grow(&mut n.elements, &below[2 * i + 1].elements);
+            self.levels[level].truncate(i);
+            self.levels[level].push(n);
+            self.early
+                .stack
+                .push(Task::Across(level - 1, 2 * i, 2 * i + 1));
+            level += 1;
+        }
+        self.early.at = Some(l);
+        true
+    }
+
+    /// Up to `steps` pieces of the walk of complete leaves, in leaf order, each pair of a
+    /// segment and an element whose boxes overlap to `f`. False when there was none to do.
+    fn work(
+        &mut self,
+        elements: usize,
+        steps: usize,
+        boxes: Boxes<'_>,
+        f: &mut impl FnMut(u32, u32),
+    ) -> bool {
+        for step in 0..steps {
+            let Some(task) = self.early.stack.pop() else {
+                if let Some(l) = self.early.at.take() {
+                    self.early.walked = l + 1;
+                }
+                if !self.take_leaf(elements) {
+                    return step > 0;
+                }
+                continue;
+            };
+            match task {
+                Task::Within(_, l) => self.leaves(l, l, boxes, f),
+                Task::Across(0, a, b) => self.across(0, a, b, boxes, f),
+                Task::Across(level, a, b) => {
+                    if self.meet(level, a, b) {
+                        let n = self.levels[level - 1].len();
+                        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            let (x, y) = (2 * a + i, 2 * b + j);
+                            if x < n && y < n {
+                                self.early.stack.push(Task::Across(level - 1, x, y));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// Whether the walk done while the run grew stands for the run complete with its first
+    /// `elements` elements: it met none of the next run's, and no segment goes into a walked
+    /// leaf at the end (`fold_beyond`).
+    fn early_stands(&self, elements: usize) -> bool {
+        let leaves = elements.div_ceil(LEAF).max(1);
+        let folded = self.leaf.last().is_some_and(|&l| l as usize >= leaves);
+        self.in_order
+            && self.early.walked * LEAF <= elements
+            && !(folded && leaves - 1 < self.early.walked)
     }
 
     /// The leaf of element `k`, there from now on.
@@ -265,6 +398,7 @@ impl Tree {
             }
         }
         self.build_levels();
+        self.built = true;
     }
 
     /// Leaves past the run's `leaves` hold the next run's first elements and no segment; one
@@ -315,6 +449,9 @@ impl Tree {
     }
 
     fn split_within(&self, level: usize, i: usize, at: usize, out: &mut Vec<Task>) {
+        if self.walked(level, i) {
+            return;
+        }
         if level <= at {
             out.push(Task::Within(level, i));
             return;
@@ -365,6 +502,9 @@ impl Tree {
     }
 
     fn within(&self, level: usize, i: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+        if self.walked(level, i) {
+            return;
+        }
         if level == 0 {
             return self.leaves(i, i, boxes, f);
         }
@@ -404,7 +544,12 @@ impl Tree {
     /// The segments of leaf `a` against the elements of leaf `b`, box by box.
     #[inline]
     fn leaves(&self, a: usize, b: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
-        let elements = &boxes.elements[b * LEAF..((b + 1) * LEAF).min(self.elements)];
+        let end = if self.built {
+            self.elements
+        } else {
+            usize::MAX
+        };
+        let elements = &boxes.elements[b * LEAF..((b + 1) * LEAF).min(end)];
         let near = &self.levels[0][b].elements;
         let mut meet = |s: usize| {
             let bb = &boxes.segments[s];
@@ -416,7 +561,12 @@ impl Tree {
                 }
             }
         };
-        let range = self.first[a] as usize..self.first[a + 1] as usize;
+        let starts = if self.built {
+            &self.first
+        } else {
+            &self.early.begin
+        };
+        let range = starts[a] as usize..starts[a + 1] as usize;
         if self.in_order {
             range.for_each(&mut meet);
         } else {
@@ -606,6 +756,33 @@ impl<'a> WholeCheck<'a> {
         self.segments.push(PathSegment { shape, block });
     }
 
+    /// Some of the run's walk, on its complete part (the front is ahead: this thread would
+    /// wait for it). False when there is nothing to walk yet.
+    pub fn walk_some(&mut self) -> bool {
+        let c = Checked {
+            elements: &self.elements,
+            segments: &self.segments,
+            orphans: &self.orphans,
+            spirals: &self.spirals,
+            boxes: Boxes {
+                elements: &self.boxes,
+                segments: &self.reach,
+            },
+        };
+        let mut hits = std::mem::take(&mut self.tree.early.hits);
+        let elements = self.elements.len();
+        let did = self.tree.work(elements, EARLY_STEPS, c.boxes, &mut |s, k| {
+            if let Some(g) = c.gouge(s as usize, k as usize) {
+                hits.push((s, k, g));
+            }
+        });
+        if self.tree.early.at.is_none() {
+            self.tree.early.kept = hits.len();
+        }
+        self.tree.early.hits = hits;
+        did
+    }
+
     /// The program ends: the last run is checked, once (nothing of it stays to be checked
     /// again).
     pub fn finish(&mut self, found: &mut impl FnMut(Gouge) -> bool) {
@@ -623,6 +800,7 @@ impl<'a> WholeCheck<'a> {
         if self.segments.is_empty() || n == 0 {
             return;
         }
+        self.finish_early(n);
         let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
         let (segments, orphans, spirals) = (&self.segments[..], &self.orphans, &self.spirals);
         let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
@@ -654,6 +832,11 @@ impl<'a> WholeCheck<'a> {
         // One violation a segment, in path order: the earliest element it reaches.
         let mut hits = std::mem::take(&mut first.hits);
         hits.append(&mut second.hits);
+        let early = &mut self.tree.early.hits;
+        if !early.is_empty() {
+            let span = loops(elements);
+            hits.extend(early.drain(..).filter(|&(_, k, _)| part_of(span, k + 1)));
+        }
         hits.sort_unstable_by_key(|&(s, k, _)| (s, k));
         let mut last = None;
         for &(s, _, g) in &hits {
@@ -663,6 +846,19 @@ impl<'a> WholeCheck<'a> {
         }
         hits.clear();
         first.hits = hits;
+    }
+
+    /// The walk done while the run grew, kept for the leaves it finished where it stands for
+    /// the run complete with its first `n` elements, or forgotten.
+    fn finish_early(&mut self, n: usize) {
+        let e = &mut self.tree.early;
+        if e.at.take().is_some() {
+            e.stack.clear();
+            e.hits.truncate(e.kept);
+        }
+        if !self.tree.early_stands(n) {
+            self.tree.forget_early();
+        }
     }
 
     /// The element of block `seq`, if the run has one, and the element a segment of the block
@@ -864,6 +1060,101 @@ mod tests {
         // 12 mm away: clear.
         let far = segment(3, crate::segment::Shape::Line, (88.0, 12.0), (88.0, 40.0));
         assert!(gouges(&elements, &[far]).is_empty());
+    }
+
+    /// What a program feeds the check, in order: the element of a block, a path segment, or
+    /// a look at the walk while the front is busy (`walk_some`).
+    #[derive(Clone, Debug)]
+    enum Feed {
+        Element(u32, Elem),
+        Segment(Segment),
+        Walk(usize),
+    }
+
+    /// A random program's feed: elements ahead of their blocks' segments by a few blocks, some
+    /// blocks with no element or several segments, a run ended by a move without
+    /// compensation now and then, and looks at the walk anywhere.
+    fn feed() -> impl Strategy<Value = Vec<Feed>> {
+        let block = (
+            prop::option::weighted(0.9, elem()),
+            proptest::collection::vec((elem(), any::<bool>()), 0..3),
+            0..4usize,
+            prop::bool::weighted(0.03),
+            0..6usize,
+        );
+        proptest::collection::vec(block, 1..160).prop_map(|blocks| {
+            let mut out = Vec::new();
+            let mut waiting: std::collections::VecDeque<Vec<Feed>> = Default::default();
+            for (seq, (element, segs, lag, ends, walks)) in blocks.into_iter().enumerate() {
+                let seq = seq as u32 + 1;
+                if let Some(e) = element {
+                    out.push(Feed::Element(seq, e));
+                }
+                let mut mine: Vec<Feed> = segs
+                    .into_iter()
+                    .map(|(e, ccw)| {
+                        let (a, b) = (e.start(), e.end());
+                        let shape = match e {
+                            Elem::Line { .. } => crate::segment::Shape::Line,
+                            Elem::Arc { c, .. } => crate::segment::Shape::Arc {
+                                center: [c.x, c.y, 0.0],
+                                center_end: [c.x, c.y, 0.0],
+                                ccw,
+                                r0: a.dist(c),
+                                r1: a.dist(c),
+                                plane: Plane::XY,
+                            },
+                        };
+                        let mut s = segment(seq, shape, (a.x, a.y), (b.x, b.y));
+                        if ends {
+                            s.role = Role::Approach;
+                        }
+                        Feed::Segment(s)
+                    })
+                    .collect();
+                mine.extend((0..walks).map(Feed::Walk));
+                waiting.push_back(mine);
+                while waiting.len() > lag {
+                    out.extend(waiting.pop_front().into_iter().flatten());
+                }
+            }
+            out.extend(waiting.into_iter().flatten());
+            out
+        })
+    }
+
+    /// Every violation `feed` gives, with or without its looks at the walk.
+    fn fed(feed: &[Feed], walks: bool) -> Vec<(u32, u32, u64)> {
+        let mut w = WholeCheck::new();
+        let mut found = Vec::new();
+        let mut take = |g: Gouge| {
+            found.push((g.path.seq, g.element.seq, g.distance.to_bits()));
+            false
+        };
+        for f in feed {
+            match f {
+                Feed::Element(seq, e) => w.element(src(*seq), *e, 6.0, 1),
+                Feed::Segment(s) => w.segment(s, &mut take),
+                Feed::Walk(n) if walks => {
+                    for _ in 0..=*n {
+                        w.walk_some();
+                    }
+                }
+                Feed::Walk(_) => {}
+            }
+        }
+        w.finish(&mut take);
+        found
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The walk done while a run grows, wherever it stops, and the walk at the run's end
+        /// find together what the walk at the end finds alone, in the same order.
+        #[test]
+        fn walking_early_finds_what_the_end_finds(feed in feed()) {
+            prop_assert_eq!(fed(&feed, true), fed(&feed, false));
+        }
     }
 
     proptest! {
