@@ -21,7 +21,7 @@ use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
 use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::Plane;
 use crate::segment::{Role, Segment, Source};
-use crate::trc::geom::{bounds, Elem, Fence, Measured};
+use crate::trc::geom::{bounds, Elem, Fence, Measured, V2};
 use core::sync::atomic::{AtomicUsize, Ordering};
 
 /// The most blocks [`WholeCheck::reserve`] makes room for (about 300 MB of address space).
@@ -31,41 +31,79 @@ const RESERVE_BLOCKS: usize = 1 << 20;
 /// a leaf meets its neighbour in a few box tests.
 const LEAF: usize = 4;
 
-/// A programmed element as the run keeps it. Its box lies apart (`WholeCheck::boxes`: the
-/// tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for a
-/// pair that needs it.
+/// A programmed element as the run keeps it, in 64 bytes: its ends, what it is, its tool
+/// radius and side by an index (they change seldom). Its box lies apart (`WholeCheck::boxes`:
+/// the tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for
+/// a pair that needs it. Small, because a long run keeps every one, and memory first written
+/// costs about 0.4 ms a megabyte on the benchmark machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
-    elem: Elem,
-    /// Tool radius the element is cut with.
-    r: f64,
-    side: i8,
+    a: V2,
+    b: V2,
+    kind: Kind,
+    /// Its tool radius and side: an entry of `Tables::tools`.
+    tool: u32,
 }
 
-/// A tool-centre segment as the run keeps it, in 64 bytes: its shape and its block (its box
-/// lies apart: `WholeCheck::reach`). Small, because a long run keeps every one, and memory
-/// first written costs about 0.5 ms a megabyte on the benchmark machine (docs/benchmarks.md).
+/// A tool-centre segment as the run keeps it, in 40 bytes: its ends, what it is and its block
+/// (its box lies apart: `WholeCheck::reach`).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
-    shape: Shape,
+    a: V2,
+    b: V2,
+    kind: Kind,
     block: Block,
 }
 
-/// A path segment's shape: a line or circle, measured ([`Measured`]) only for a pair that
-/// needs it, or (rare: a radius change over an arc) an entry of `WholeCheck::spirals`.
-#[derive(Clone, Copy, Debug)]
-enum Shape {
-    Plain(Elem),
-    Spiral(u32),
+/// What a record's piece is, in four bytes beside its ends: a line, an arc (its centre an
+/// entry of `Tables::centres`, and its direction), or — rare: a radius change over an arc — a
+/// spiral (an entry of `Tables::spirals`, which holds all of it). The kind in the top two
+/// bits, the index below them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Kind(u32);
+
+impl Kind {
+    const LINE: Kind = Kind(3 << 30);
+    const INDEX: u32 = (1 << 30) - 1;
+
+    fn arc(centre: usize, ccw: bool) -> Kind {
+        Kind(centre as u32 & Self::INDEX | u32::from(ccw) << 30)
+    }
+
+    fn spiral(i: usize) -> Kind {
+        Kind(i as u32 & Self::INDEX | 2 << 30)
+    }
+
+    fn index(self) -> usize {
+        (self.0 & Self::INDEX) as usize
+    }
+
+    fn spiral_index(self) -> Option<usize> {
+        (self.0 >> 30 == 2).then(|| self.index())
+    }
 }
 
 /// A path segment's block, and so its tool radius and side: almost always the block of an
-/// element of the run (its index), otherwise an entry of `WholeCheck::orphans`.
-#[derive(Clone, Copy, Debug)]
-enum Block {
-    Own(u32),
-    Orphan(u32),
+/// element of the run (its index), otherwise (the top bit) an entry of `Tables::orphans`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Block(u32);
+
+impl Block {
+    const ORPHAN: u32 = 1 << 31;
+
+    fn own(k: usize) -> Block {
+        Block(k as u32 & !Self::ORPHAN)
+    }
+
+    fn orphan(i: usize) -> Block {
+        Block(i as u32 | Self::ORPHAN)
+    }
+
+    /// The element's index, for a block that has one.
+    fn own_index(self) -> Option<usize> {
+        (self.0 & Self::ORPHAN == 0).then_some(self.0 as usize)
+    }
 }
 
 /// A path segment whose block has no element of the run: what the element would tell.
@@ -76,25 +114,70 @@ struct Orphan {
     side: i8,
 }
 
-impl Shape {
-    /// Where the tool circle along the segment reaches with radius `r`: its box grown by the
-    /// radius (an arc's by its sweep, not its whole circle).
-    fn reach(&self, r: f64, spirals: &[Spiral]) -> [f64; 4] {
-        match *self {
-            Shape::Plain(e) => {
-                let b = bounds(&e);
-                let r = r.abs();
-                [b[0] - r, b[1] - r, b[2] + r, b[3] + r]
+/// What the records of a run point to: arcs' centres, the tool radii and sides of its
+/// elements, the segments of blocks without an element, the spirals.
+#[derive(Default)]
+struct Tables {
+    centres: Vec<V2>,
+    tools: Vec<(f64, i8)>,
+    orphans: Vec<Orphan>,
+    spirals: Vec<Spiral>,
+}
+
+impl Tables {
+    fn clear(&mut self) {
+        self.centres.clear();
+        self.tools.clear();
+        self.orphans.clear();
+        self.spirals.clear();
+    }
+
+    /// `e` as a record keeps it: its ends and kind (an arc's centre goes into the table).
+    fn pack(&mut self, e: &Elem) -> (V2, V2, Kind) {
+        match *e {
+            Elem::Line { a, b } => (a, b, Kind::LINE),
+            Elem::Arc { a, b, c, ccw } => {
+                self.centres.push(c);
+                (a, b, Kind::arc(self.centres.len() - 1, ccw))
             }
-            Shape::Spiral(i) => spirals[i as usize].bbox(),
         }
     }
 
-    /// As the window measures it.
-    fn piece(&self, spirals: &[Spiral]) -> PathPiece {
-        match *self {
-            Shape::Plain(e) => PathPiece::Plain(Measured::new(e)),
-            Shape::Spiral(i) => PathPiece::Spiral(spirals[i as usize]),
+    /// The line or arc a record keeps (not a spiral).
+    #[inline]
+    fn elem(&self, a: V2, b: V2, kind: Kind) -> Elem {
+        match kind.0 >> 30 {
+            3 => Elem::Line { a, b },
+            ccw => Elem::Arc {
+                a,
+                b,
+                c: self.centres[kind.index()],
+                ccw: ccw == 1,
+            },
+        }
+    }
+
+    /// The index of tool radius `r` and `side`: the last entry, or a new one.
+    fn tool(&mut self, r: f64, side: i8) -> u32 {
+        if self.tools.last() != Some(&(r, side)) {
+            self.tools.push((r, side));
+        }
+        self.tools.len() as u32 - 1
+    }
+
+    fn element(&self, e: &Element) -> Elem {
+        self.elem(e.a, e.b, e.kind)
+    }
+
+    fn element_tool(&self, e: &Element) -> (f64, i8) {
+        self.tools[e.tool as usize]
+    }
+
+    /// Segment `s` as the window measures it.
+    fn piece(&self, s: &PathSegment) -> PathPiece {
+        match s.kind.spiral_index() {
+            Some(i) => PathPiece::Spiral(self.spirals[i]),
+            None => PathPiece::Plain(Measured::new(self.elem(s.a, s.b, s.kind))),
         }
     }
 }
@@ -615,7 +698,7 @@ impl Share {
                 let Some(g) = c.gouge(s as usize, k as usize) else {
                     return;
                 };
-                let span = *self.span.get_or_insert_with(|| loops(c.elements));
+                let span = *self.span.get_or_insert_with(|| loops(c.elements, c.tables));
                 if part_of(span, k + 1) {
                     self.hits.push((s, k, g));
                 }
@@ -629,8 +712,7 @@ impl Share {
 struct Checked<'r> {
     elements: &'r [Element],
     segments: &'r [PathSegment],
-    orphans: &'r [Orphan],
-    spirals: &'r [Spiral],
+    tables: &'r Tables,
     boxes: Boxes<'r>,
 }
 
@@ -644,10 +726,9 @@ pub struct WholeCheck<'a> {
     /// Each element's box, beside it.
     boxes: Vec<Bx>,
     segments: Vec<PathSegment>,
-    /// The run's segments of blocks without an element.
-    orphans: Vec<Orphan>,
-    /// The run's segments whose tool radius changes over an arc.
-    spirals: Vec<Spiral>,
+    tables: Tables,
+    /// The elements that stay when a run ends (their blocks' run goes on), while it ends.
+    staying: Vec<(Source, Elem, f64, i8)>,
     /// Each segment's box grown by its tool radius, worked out as it comes.
     reach: Vec<Bx>,
     tree: Tree,
@@ -673,8 +754,8 @@ impl<'a> WholeCheck<'a> {
             elements: Vec::new(),
             boxes: Vec::new(),
             segments: Vec::new(),
-            orphans: Vec::new(),
-            spirals: Vec::new(),
+            tables: Tables::default(),
+            staying: Vec::new(),
             reach: Vec::new(),
             tree: Tree::new(),
             tasks: Vec::new(),
@@ -708,11 +789,14 @@ impl<'a> WholeCheck<'a> {
     /// A programmed contour element of block `source`, cut with radius `r` on `side`.
     pub fn element(&mut self, source: Source, elem: Elem, r: f64, side: i8) {
         self.last = Some((r, side));
+        let (a, b, kind) = self.tables.pack(&elem);
+        let tool = self.tables.tool(r, side);
         self.elements.push(Element {
             source,
-            elem,
-            r,
-            side,
+            a,
+            b,
+            kind,
+            tool,
         });
         let bb = kept_box(&bounds(&elem));
         self.tree.element(self.boxes.len(), &bb);
@@ -731,29 +815,42 @@ impl<'a> WholeCheck<'a> {
         }
         let (own, anchor) = self.own(seg.source.seq);
         let shape = match (elem_in(seg, self.plane), own) {
-            (Some(e), _) => Shape::Plain(e),
+            (Some(e), _) => Ok(e),
             (None, Some(k)) => {
-                let Some(sp) = Spiral::new(seg, self.plane, &self.elements[k].elem) else {
+                let own = self.tables.element(&self.elements[k]);
+                let Some(sp) = Spiral::new(seg, self.plane, &own) else {
                     return;
                 };
-                self.spirals.push(sp);
-                Shape::Spiral(self.spirals.len() as u32 - 1)
+                Err(sp)
             }
             (None, None) => return,
         };
         let (block, r) = match own {
-            Some(k) => (Block::Own(k as u32), self.elements[k].r),
+            Some(k) => (Block::own(k), self.tables.element_tool(&self.elements[k]).0),
             None => {
                 let (r, side) = self.last.unwrap_or((0.0, 0));
                 let source = seg.source;
-                self.orphans.push(Orphan { source, r, side });
-                (Block::Orphan(self.orphans.len() as u32 - 1), r)
+                self.tables.orphans.push(Orphan { source, r, side });
+                (Block::orphan(self.tables.orphans.len() - 1), r)
             }
         };
-        let bb = kept_box(&shape.reach(r, &self.spirals));
+        let (a, b, kind, reach) = match shape {
+            Ok(e) => {
+                let bb = bounds(&e);
+                let r = r.abs();
+                let (a, b, kind) = self.tables.pack(&e);
+                (a, b, kind, [bb[0] - r, bb[1] - r, bb[2] + r, bb[3] + r])
+            }
+            Err(sp) => {
+                self.tables.spirals.push(sp);
+                let kind = Kind::spiral(self.tables.spirals.len() - 1);
+                (V2::default(), V2::default(), kind, sp.bbox())
+            }
+        };
+        let bb = kept_box(&reach);
         self.tree.segment(anchor, &bb);
         self.reach.push(bb);
-        self.segments.push(PathSegment { shape, block });
+        self.segments.push(PathSegment { a, b, kind, block });
     }
 
     /// Some of the run's walk, on its complete part (the front is ahead: this thread would
@@ -762,8 +859,7 @@ impl<'a> WholeCheck<'a> {
         let c = Checked {
             elements: &self.elements,
             segments: &self.segments,
-            orphans: &self.orphans,
-            spirals: &self.spirals,
+            tables: &self.tables,
             boxes: Boxes {
                 elements: &self.boxes,
                 segments: &self.reach,
@@ -802,7 +898,7 @@ impl<'a> WholeCheck<'a> {
         }
         self.finish_early(n);
         let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
-        let (segments, orphans, spirals) = (&self.segments[..], &self.orphans, &self.spirals);
+        let (segments, tables) = (&self.segments[..], &self.tables);
         let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
         self.tree.build(n);
         let nodes = if long.is_some() { TASK_NODES } else { 1 };
@@ -811,8 +907,7 @@ impl<'a> WholeCheck<'a> {
         let c = Checked {
             elements,
             segments,
-            orphans,
-            spirals,
+            tables,
             boxes: Boxes {
                 elements: boxes,
                 segments: &self.reach,
@@ -834,7 +929,7 @@ impl<'a> WholeCheck<'a> {
         hits.append(&mut second.hits);
         let early = &mut self.tree.early.hits;
         if !early.is_empty() {
-            let span = loops(elements);
+            let span = loops(elements, &self.tables);
             hits.extend(early.drain(..).filter(|&(_, k, _)| part_of(span, k + 1)));
         }
         hits.sort_unstable_by_key(|&(s, k, _)| (s, k));
@@ -894,26 +989,34 @@ impl<'a> WholeCheck<'a> {
     /// came out) stays.
     fn end_run(&mut self, seq: Option<u32>) {
         self.segments.clear();
-        self.orphans.clear();
-        self.spirals.clear();
         self.reach.clear();
-        // Those that stay are the last few.
+        // Those that stay are the last few: kept again, in fresh tables.
         let gone = self.before(seq);
-        self.elements.drain(..gone);
-        self.boxes.drain(..gone);
+        let mut stay = std::mem::take(&mut self.staying);
+        stay.clear();
+        stay.extend(self.elements[gone..].iter().map(|e| {
+            let (r, side) = self.tables.element_tool(e);
+            (e.source, self.tables.element(e), r, side)
+        }));
+        self.elements.clear();
+        self.boxes.clear();
+        self.tables.clear();
         self.tree.clear();
-        for (k, bb) in self.boxes.iter().enumerate() {
-            self.tree.element(k, bb);
+        let last = self.last;
+        for &(source, e, r, side) in &stay {
+            self.element(source, e, r, side);
         }
+        self.last = last;
+        self.staying = stay;
     }
 }
 
 /// The closed loops of a run's elements (prep/leads.rs).
 #[cold]
-fn loops(elements: &[Element]) -> Span {
+fn loops(elements: &[Element], tables: &Tables) -> Span {
     let mut closure = Closure::default();
     for e in elements {
-        closure.element(&e.elem);
+        closure.element(&tables.element(e));
     }
     closure.span()
 }
@@ -922,13 +1025,14 @@ impl Checked<'_> {
     /// Segment `s`'s block, tool radius and side.
     #[inline]
     fn block(&self, s: &PathSegment) -> (&Source, f64, i8) {
-        match s.block {
-            Block::Own(k) => {
-                let e = &self.elements[k as usize];
-                (&e.source, e.r, e.side)
+        match s.block.own_index() {
+            Some(k) => {
+                let e = &self.elements[k];
+                let (r, side) = self.tables.element_tool(e);
+                (&e.source, r, side)
             }
-            Block::Orphan(i) => {
-                let o = &self.orphans[i as usize];
+            None => {
+                let o = &self.tables.orphans[(s.block.0 & !Block::ORPHAN) as usize];
                 (&o.source, o.r, o.side)
             }
         }
@@ -939,21 +1043,22 @@ impl Checked<'_> {
     #[inline]
     fn gouge(&self, s: usize, k: usize) -> Option<Gouge> {
         let seg = &self.segments[s];
-        if matches!(seg.block, Block::Own(o) if o as usize == k) {
+        if seg.block == Block::own(k) {
             // Its own block's element: settled before either record is read further.
             return None;
         }
         let e = &self.elements[k];
         let (source, r, side) = self.block(seg);
-        if side != e.side || source.seq == e.source.seq {
+        if side != self.tables.element_tool(e).1 || source.seq == e.source.seq {
             return None;
         }
+        let elem = self.tables.element(e);
         // The fence is worked out here, for the few pairs that get that far: most elements
         // are met by two or three segments, and a line beside a line never needs it.
         let (distance, radius) =
-            seg.shape
-                .piece(self.spirals)
-                .too_close(&e.elem, || Fence::new(&e.elem), r)?;
+            self.tables
+                .piece(seg)
+                .too_close(&elem, || Fence::new(&elem), r)?;
         Some(Gouge {
             path: *source,
             element: e.source,
@@ -1024,6 +1129,14 @@ mod tests {
             false
         });
         found
+    }
+
+    /// A run keeps every element and segment: their records must not grow unnoticed
+    /// (docs/benchmarks.md measures what a megabyte of them costs).
+    #[test]
+    fn the_records_stay_small() {
+        assert!(std::mem::size_of::<Element>() <= 64);
+        assert!(std::mem::size_of::<PathSegment>() <= 40);
     }
 
     /// The window's spiral case (`bottleneck::tests::spiral_case`) with block 3 `third`.
