@@ -35,7 +35,7 @@ const LEAF: usize = 4;
 /// radius and side by an index (they change seldom). Its box lies apart (`WholeCheck::boxes`:
 /// the tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for
 /// a pair that needs it. Small, because a long run keeps every one, and memory first written
-/// costs about 0.4 ms a megabyte on the benchmark machine (docs/benchmarks.md).
+/// costs about 0.5 ms a megabyte on the benchmark machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
@@ -774,6 +774,8 @@ impl<'a> WholeCheck<'a> {
         // A contour block and its corner.
         self.segments.reserve(2 * n);
         self.reach.reserve(2 * n);
+        // A corner arc a block, and the arcs programmed.
+        self.tables.centres.reserve(n);
         self.tree.reserve(n);
     }
 
