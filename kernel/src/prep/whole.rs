@@ -31,26 +31,29 @@ const RESERVE_BLOCKS: usize = 1 << 20;
 /// a leaf meets its neighbour in a few box tests.
 const LEAF: usize = 4;
 
-/// A programmed element as the run keeps it, in 64 bytes: its ends, what it is, its tool
-/// radius and side by an index (they change seldom). Its box lies apart (`WholeCheck::boxes`:
+/// A programmed element as the run keeps it, in 48 bytes: its end (it starts where the one
+/// before it ends, or — the top bit of `tool` — at its entry in `Tables::element_starts`),
+/// what it is, its tool radius and side by an index (they change seldom). Its box lies apart (`WholeCheck::boxes`:
 /// the tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for
 /// a pair that needs it. Small, because a long run keeps every one, and memory first written
 /// costs about 0.5 ms a megabyte on the benchmark machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
-    a: V2,
     b: V2,
     kind: Kind,
-    /// Its tool radius and side: an entry of `Tables::tools`.
+    /// Its tool radius and side: an entry of `Tables::tools` (and `APART`).
     tool: u32,
 }
 
-/// A tool-centre segment as the run keeps it, in 40 bytes: its ends, what it is and its block
-/// (its box lies apart: `WholeCheck::reach`).
+/// An element that does not start where the one before it ends.
+const APART: u32 = 1 << 31;
+
+/// A tool-centre segment as the run keeps it, in 24 bytes: its end (it starts where the one
+/// before it ends, or — `Block::APART` — at its entry in `Tables::segment_starts`), what it is
+/// and its block (its box lies apart: `WholeCheck::reach`).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
-    a: V2,
     b: V2,
     kind: Kind,
     block: Block,
@@ -85,25 +88,43 @@ impl Kind {
 }
 
 /// A path segment's block, and so its tool radius and side: almost always the block of an
-/// element of the run (its index), otherwise (the top bit) an entry of `Tables::orphans`.
+/// element of the run (its index), otherwise (the top bit) an entry of `Tables::orphans`; the
+/// next bit tells a segment that does not start where the one before it ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Block(u32);
 
 impl Block {
     const ORPHAN: u32 = 1 << 31;
+    const APART: u32 = 1 << 30;
+    const INDEX: u32 = Self::APART - 1;
 
     fn own(k: usize) -> Block {
-        Block(k as u32 & !Self::ORPHAN)
+        Block(k as u32 & Self::INDEX)
     }
 
     fn orphan(i: usize) -> Block {
-        Block(i as u32 | Self::ORPHAN)
+        Block(i as u32 & Self::INDEX | Self::ORPHAN)
+    }
+
+    fn index(self) -> usize {
+        (self.0 & Self::INDEX) as usize
     }
 
     /// The element's index, for a block that has one.
     fn own_index(self) -> Option<usize> {
-        (self.0 & Self::ORPHAN == 0).then_some(self.0 as usize)
+        (self.0 & Self::ORPHAN == 0).then_some(self.index())
     }
+}
+
+/// Bit for bit the same point (a record that starts there needs no start of its own).
+fn same(p: V2, q: V2) -> bool {
+    p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits()
+}
+
+/// The start of record `i` among `starts` (record, start): those that start apart, in order.
+fn start_apart(starts: &[(u32, V2)], i: usize) -> V2 {
+    let k = starts.partition_point(|&(j, _)| (j as usize) < i);
+    starts[k].1
 }
 
 /// A path segment whose block has no element of the run: what the element would tell.
@@ -122,6 +143,8 @@ struct Tables {
     tools: Vec<(f64, i8)>,
     orphans: Vec<Orphan>,
     spirals: Vec<Spiral>,
+    element_starts: Vec<(u32, V2)>,
+    segment_starts: Vec<(u32, V2)>,
 }
 
 impl Tables {
@@ -130,6 +153,8 @@ impl Tables {
         self.tools.clear();
         self.orphans.clear();
         self.spirals.clear();
+        self.element_starts.clear();
+        self.segment_starts.clear();
     }
 
     /// `e` as a record keeps it: its ends and kind (an arc's centre goes into the table).
@@ -165,19 +190,34 @@ impl Tables {
         self.tools.len() as u32 - 1
     }
 
-    fn element(&self, e: &Element) -> Elem {
-        self.elem(e.a, e.b, e.kind)
+    /// Element `k` of `elements`.
+    #[inline]
+    fn element(&self, elements: &[Element], k: usize) -> Elem {
+        let e = &elements[k];
+        let a = match e.tool & APART {
+            0 => elements[k - 1].b,
+            _ => start_apart(&self.element_starts, k),
+        };
+        self.elem(a, e.b, e.kind)
     }
 
     fn element_tool(&self, e: &Element) -> (f64, i8) {
-        self.tools[e.tool as usize]
+        self.tools[(e.tool & !APART) as usize]
     }
 
-    /// Segment `s` as the window measures it.
-    fn piece(&self, s: &PathSegment) -> PathPiece {
-        match s.kind.spiral_index() {
+    /// Segment `s` of `segments` as the window measures it.
+    #[inline]
+    fn piece(&self, segments: &[PathSegment], s: usize) -> PathPiece {
+        let seg = &segments[s];
+        match seg.kind.spiral_index() {
             Some(i) => PathPiece::Spiral(self.spirals[i]),
-            None => PathPiece::Plain(Measured::new(self.elem(s.a, s.b, s.kind))),
+            None => {
+                let a = match seg.block.0 & Block::APART {
+                    0 => segments[s - 1].b,
+                    _ => start_apart(&self.segment_starts, s),
+                };
+                PathPiece::Plain(Measured::new(self.elem(a, seg.b, seg.kind)))
+            }
         }
     }
 }
@@ -792,10 +832,14 @@ impl<'a> WholeCheck<'a> {
     pub fn element(&mut self, source: Source, elem: Elem, r: f64, side: i8) {
         self.last = Some((r, side));
         let (a, b, kind) = self.tables.pack(&elem);
-        let tool = self.tables.tool(r, side);
+        let mut tool = self.tables.tool(r, side);
+        if self.elements.last().is_none_or(|p| !same(p.b, a)) {
+            tool |= APART;
+            let k = self.elements.len() as u32;
+            self.tables.element_starts.push((k, a));
+        }
         self.elements.push(Element {
             source,
-            a,
             b,
             kind,
             tool,
@@ -819,7 +863,7 @@ impl<'a> WholeCheck<'a> {
         let shape = match (elem_in(seg, self.plane), own) {
             (Some(e), _) => Ok(e),
             (None, Some(k)) => {
-                let own = self.tables.element(&self.elements[k]);
+                let own = self.tables.element(&self.elements, k);
                 let Some(sp) = Spiral::new(seg, self.plane, &own) else {
                     return;
                 };
@@ -849,10 +893,17 @@ impl<'a> WholeCheck<'a> {
                 (V2::default(), V2::default(), kind, sp.bbox())
             }
         };
+        let mut block = block;
+        let joined = self.segments.last().is_some_and(|p| same(p.b, a));
+        if kind.spiral_index().is_none() && !joined {
+            block.0 |= Block::APART;
+            let s = self.segments.len() as u32;
+            self.tables.segment_starts.push((s, a));
+        }
         let bb = kept_box(&reach);
         self.tree.segment(anchor, &bb);
         self.reach.push(bb);
-        self.segments.push(PathSegment { a, b, kind, block });
+        self.segments.push(PathSegment { b, kind, block });
     }
 
     /// Some of the run's walk, on its complete part (the front is ahead: this thread would
@@ -996,9 +1047,10 @@ impl<'a> WholeCheck<'a> {
         let gone = self.before(seq);
         let mut stay = std::mem::take(&mut self.staying);
         stay.clear();
-        stay.extend(self.elements[gone..].iter().map(|e| {
+        stay.extend((gone..self.elements.len()).map(|k| {
+            let e = &self.elements[k];
             let (r, side) = self.tables.element_tool(e);
-            (e.source, self.tables.element(e), r, side)
+            (e.source, self.tables.element(&self.elements, k), r, side)
         }));
         self.elements.clear();
         self.boxes.clear();
@@ -1017,8 +1069,8 @@ impl<'a> WholeCheck<'a> {
 #[cold]
 fn loops(elements: &[Element], tables: &Tables) -> Span {
     let mut closure = Closure::default();
-    for e in elements {
-        closure.element(&tables.element(e));
+    for k in 0..elements.len() {
+        closure.element(&tables.element(elements, k));
     }
     closure.span()
 }
@@ -1034,7 +1086,7 @@ impl Checked<'_> {
                 (&e.source, r, side)
             }
             None => {
-                let o = &self.tables.orphans[(s.block.0 & !Block::ORPHAN) as usize];
+                let o = &self.tables.orphans[s.block.index()];
                 (&o.source, o.r, o.side)
             }
         }
@@ -1045,7 +1097,7 @@ impl Checked<'_> {
     #[inline]
     fn gouge(&self, s: usize, k: usize) -> Option<Gouge> {
         let seg = &self.segments[s];
-        if seg.block == Block::own(k) {
+        if seg.block.own_index() == Some(k) {
             // Its own block's element: settled before either record is read further.
             return None;
         }
@@ -1054,12 +1106,12 @@ impl Checked<'_> {
         if side != self.tables.element_tool(e).1 || source.seq == e.source.seq {
             return None;
         }
-        let elem = self.tables.element(e);
+        let elem = self.tables.element(self.elements, k);
         // The fence is worked out here, for the few pairs that get that far: most elements
         // are met by two or three segments, and a line beside a line never needs it.
         let (distance, radius) =
             self.tables
-                .piece(seg)
+                .piece(self.segments, s)
                 .too_close(&elem, || Fence::new(&elem), r)?;
         Some(Gouge {
             path: *source,
@@ -1137,8 +1189,8 @@ mod tests {
     /// (docs/benchmarks.md measures what a megabyte of them costs).
     #[test]
     fn the_records_stay_small() {
-        assert!(std::mem::size_of::<Element>() <= 64);
-        assert!(std::mem::size_of::<PathSegment>() <= 40);
+        assert!(std::mem::size_of::<Element>() <= 48);
+        assert!(std::mem::size_of::<PathSegment>() <= 24);
     }
 
     /// The window's spiral case (`bottleneck::tests::spiral_case`) with block 3 `third`.
