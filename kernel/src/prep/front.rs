@@ -196,15 +196,15 @@ impl<'a> Front<'a> {
                 steps: Vec::with_capacity(BATCH),
                 segments: Out::with_capacity(4 * BATCH),
                 words: Vec::new(),
+                rare: Vec::new(),
+                alarms: Vec::new(),
             });
         }
         let mut front = self;
         scope.spawn(move || {
             // Batches are refilled in place: after the first round nothing is allocated.
             while let Ok(mut batch) = recv_soon(&empty_rx) {
-                batch.steps.clear();
-                batch.segments.clear();
-                batch.words.clear();
+                batch.clear();
                 let mut end = false;
                 while batch.steps.len() < BATCH && !end {
                     // The compensation appends the step's segments to the batch's.
@@ -212,27 +212,22 @@ impl<'a> Front<'a> {
                     let step = front.step(&mut batch.segments);
                     let segments = (first, batch.segments.len() as u32);
                     let w0 = batch.words.len() as u32;
-                    batch.steps.push(match step {
+                    let owned = match step {
                         Step::Block(b) => {
                             batch.words.extend_from_slice(b.words);
+                            let rare = batch.rare(b.fault, b.axes, b.warnings);
                             Owned::Block {
                                 info: b.info,
                                 words: (w0, batch.words.len() as u32),
                                 element: b.element,
                                 holds_back: b.holds_back,
-                                fault: b.fault,
-                                axes: b.axes,
-                                warnings: if b.warnings.is_empty() {
-                                    Vec::new()
-                                } else {
-                                    b.warnings.to_vec()
-                                },
+                                rare,
                                 segments,
                             }
                         }
                         Step::Decode(a) => {
                             end = true;
-                            Owned::Decode(Box::new(a))
+                            Owned::Decode(batch.alarm(a))
                         }
                         Step::End { holds_back } => {
                             end = true;
@@ -243,9 +238,10 @@ impl<'a> Front<'a> {
                         }
                         Step::EndFault(a) => {
                             end = true;
-                            Owned::EndFault(Box::new(a))
+                            Owned::EndFault(batch.alarm(a))
                         }
-                    });
+                    };
+                    batch.steps.push(owned);
                 }
                 if full_tx.send(batch).is_err() || end {
                     return;
@@ -271,9 +267,12 @@ impl<'a> Front<'a> {
 const BATCH: usize = 128;
 const BATCHES: usize = 32;
 
-/// A step as it crosses threads.
+/// A step as it crosses threads: what a few blocks have besides (an alarm, warnings, an
+/// additional axes' move) lies in the batch's `rare`, so that a step has nothing to drop and
+/// refilling a batch does not read its old steps again (lines the back had last).
 // Nearly every step is a block: boxing it would allocate once per block.
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy)]
 enum Owned {
     Block {
         info: BlockInfo,
@@ -281,18 +280,28 @@ enum Owned {
         words: (u32, u32),
         element: Option<(Elem, f64)>,
         holds_back: bool,
-        fault: Option<Box<Alarm>>,
-        axes: Option<Box<AxisMove>>,
-        warnings: Vec<Alarm>,
+        /// Its entry in the batch's `rare` (`PLAIN`: none).
+        rare: u32,
         /// The step's segments: a range of the batch's.
         segments: (u32, u32),
     },
-    Decode(Box<Alarm>),
+    /// The alarm: an entry of the batch's `alarms`.
+    Decode(u32),
     End {
         holds_back: bool,
         segments: (u32, u32),
     },
-    EndFault(Box<Alarm>),
+    EndFault(u32),
+}
+
+/// A block step with no entry in `rare`.
+const PLAIN: u32 = u32::MAX;
+
+/// What few blocks have besides their step.
+struct Rare {
+    fault: Option<Box<Alarm>>,
+    axes: Option<Box<AxisMove>>,
+    warnings: Vec<Alarm>,
 }
 
 #[derive(Default)]
@@ -300,6 +309,42 @@ struct Batch {
     steps: Vec<Owned>,
     segments: Out,
     words: Vec<AuxWord>,
+    rare: Vec<Rare>,
+    alarms: Vec<Alarm>,
+}
+
+impl Batch {
+    fn clear(&mut self) {
+        self.steps.clear();
+        self.segments.clear();
+        self.words.clear();
+        self.rare.clear();
+        self.alarms.clear();
+    }
+
+    /// The entry in `rare` of a block with these, if it has any.
+    fn rare(
+        &mut self,
+        fault: Option<Box<Alarm>>,
+        axes: Option<Box<AxisMove>>,
+        warnings: &[Alarm],
+    ) -> u32 {
+        if fault.is_none() && axes.is_none() && warnings.is_empty() {
+            return PLAIN;
+        }
+        let warnings = warnings.to_vec();
+        self.rare.push(Rare {
+            fault,
+            axes,
+            warnings,
+        });
+        self.rare.len() as u32 - 1
+    }
+
+    fn alarm(&mut self, a: Alarm) -> u32 {
+        self.alarms.push(a);
+        self.alarms.len() as u32 - 1
+    }
 }
 
 /// The back's side of a front thread.
@@ -320,33 +365,35 @@ impl Threaded {
             if self.next < self.batch.steps.len() {
                 let i = self.next;
                 self.next += 1;
-                let (steps, all_words) = (&mut self.batch.steps, &self.batch.words);
+                let b = &mut self.batch;
                 let mut take = |(_, last): (u32, u32)| out.limit_to(last as usize);
-                return match &mut steps[i] {
+                return match &b.steps[i] {
                     Owned::Block {
                         info,
                         words: w,
                         element,
                         holds_back,
-                        fault,
-                        axes,
-                        warnings,
+                        rare,
                         segments,
                     } => {
                         take(*segments);
+                        let (fault, axes, warnings) = match b.rare.get_mut(*rare as usize) {
+                            Some(r) => (r.fault.take(), r.axes.take(), &r.warnings[..]),
+                            None => (None, None, &[][..]),
+                        };
                         Step::Block(BlockStep {
                             info: *info,
-                            words: &all_words[w.0 as usize..w.1 as usize],
+                            words: &b.words[w.0 as usize..w.1 as usize],
                             element: *element,
                             holds_back: *holds_back,
-                            fault: fault.take(),
+                            fault,
                             warnings,
-                            axes: axes.take(),
+                            axes,
                         })
                     }
                     Owned::Decode(a) => {
                         self.ended = true;
-                        Step::Decode((**a).clone())
+                        Step::Decode(b.alarms[*a as usize].clone())
                     }
                     Owned::End {
                         holds_back,
@@ -360,7 +407,7 @@ impl Threaded {
                     }
                     Owned::EndFault(a) => {
                         self.ended = true;
-                        Step::EndFault((**a).clone())
+                        Step::EndFault(b.alarms[*a as usize].clone())
                     }
                 };
             }
