@@ -263,7 +263,7 @@ impl<'a> Front<'a> {
 /// crowded stretch) do not stop it, and a batch comes back for refilling long after the back
 /// read it, when its lines have left the back's cache, so the front does not wait for them
 /// to be handed over. Four batches in flight leave the threaded front up to a third slower
-/// (docs/benchmarks.md); a batch is some 110 kB.
+/// (docs/benchmarks.md); a batch is some 100 kB.
 const BATCH: usize = 128;
 const BATCHES: usize = 32;
 
