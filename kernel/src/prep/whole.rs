@@ -416,7 +416,9 @@ impl Tree {
     }
 
     /// Up to `steps` pieces of the walk of complete leaves, in leaf order, each pair of a
-    /// segment and an element whose boxes overlap to `f`. False when there was none to do.
+    /// segment and an element whose boxes overlap to `f`; it stops where a leaf's work is
+    /// done, so that the caller knows which of what `f` got belongs to walked leaves. False
+    /// when there was none to do.
     fn work(
         &mut self,
         elements: usize,
@@ -428,6 +430,7 @@ impl Tree {
             let Some(task) = self.early.stack.pop() else {
                 if let Some(l) = self.early.at.take() {
                     self.early.walked = l + 1;
+                    return true;
                 }
                 if !self.take_leaf(elements) {
                     return step > 0;
@@ -926,6 +929,7 @@ impl<'a> WholeCheck<'a> {
             }
         });
         if self.tree.early.at.is_none() {
+            // No leaf at hand: all found so far is of walked leaves.
             self.tree.early.kept = hits.len();
         }
         self.tree.early.hits = hits;
