@@ -33,10 +33,11 @@ const LEAF: usize = 4;
 
 /// A programmed element as the run keeps it, in 48 bytes: its end (it starts where the one
 /// before it ends, or — the top bit of `tool` — at its entry in `Tables::element_starts`),
-/// what it is, its tool radius and side by an index (they change seldom). Its box lies apart (`WholeCheck::boxes`:
-/// the tree's leaves read only the boxes, densely), and its [`Fence`] is worked out only for
-/// a pair that needs it. Small, because a long run keeps every one, and memory first written
-/// costs about 0.5 ms a megabyte on the benchmark machine (docs/benchmarks.md).
+/// what it is, its tool radius and side by an index (they change seldom). Its box lies
+/// apart (`WholeCheck::boxes`: the tree's leaves read only the boxes, densely), and its
+/// [`Fence`] is worked out only for a pair that needs it. Small, because a long run keeps
+/// every one, and memory first written costs about 0.5 ms a megabyte on the benchmark
+/// machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
     source: Source,
@@ -121,8 +122,23 @@ fn same(p: V2, q: V2) -> bool {
     p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits()
 }
 
-/// The start of record `i` among `starts` (record, start): those that start apart, in order.
-fn start_apart(starts: &[(u32, V2)], i: usize) -> V2 {
+/// Whether record `i`, starting at `a` after a record that ends at `prev`, needs a start of
+/// its own; if so, it goes into `starts` (record, start; in order).
+fn starts_apart(prev: Option<V2>, a: V2, i: usize, starts: &mut Vec<(u32, V2)>) -> bool {
+    let apart = prev.is_none_or(|p| !same(p, a));
+    if apart {
+        starts.push((i as u32, a));
+    }
+    apart
+}
+
+/// Where record `i` starts: where the one before it ends (`prev`), or, `apart`, at its entry
+/// in `starts`.
+#[inline]
+fn start_of(apart: bool, prev: impl FnOnce() -> V2, starts: &[(u32, V2)], i: usize) -> V2 {
+    if !apart {
+        return prev();
+    }
     let k = starts.partition_point(|&(j, _)| (j as usize) < i);
     starts[k].1
 }
@@ -194,10 +210,8 @@ impl Tables {
     #[inline]
     fn element(&self, elements: &[Element], k: usize) -> Elem {
         let e = &elements[k];
-        let a = match e.tool & APART {
-            0 => elements[k - 1].b,
-            _ => start_apart(&self.element_starts, k),
-        };
+        let apart = e.tool & APART != 0;
+        let a = start_of(apart, || elements[k - 1].b, &self.element_starts, k);
         self.elem(a, e.b, e.kind)
     }
 
@@ -212,10 +226,8 @@ impl Tables {
         match seg.kind.spiral_index() {
             Some(i) => PathPiece::Spiral(self.spirals[i]),
             None => {
-                let a = match seg.block.0 & Block::APART {
-                    0 => segments[s - 1].b,
-                    _ => start_apart(&self.segment_starts, s),
-                };
+                let apart = seg.block.0 & Block::APART != 0;
+                let a = start_of(apart, || segments[s - 1].b, &self.segment_starts, s);
                 PathPiece::Plain(Measured::new(self.elem(a, seg.b, seg.kind)))
             }
         }
@@ -443,12 +455,9 @@ impl Tree {
                 Task::Across(level, a, b) => {
                     if self.meet(level, a, b) {
                         let n = self.levels[level - 1].len();
-                        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                            let (x, y) = (2 * a + i, 2 * b + j);
-                            if x < n && y < n {
-                                self.early.stack.push(Task::Across(level - 1, x, y));
-                            }
-                        }
+                        let pairs =
+                            child_pairs(n, a, b).map(|(x, y)| Task::Across(level - 1, x, y));
+                        self.early.stack.extend(pairs);
                     }
                 }
             }
@@ -612,11 +621,7 @@ impl Tree {
 
     /// The pairs of children of nodes `a` and `b` of `level`.
     fn children(&self, level: usize, a: usize, b: usize) -> impl Iterator<Item = (usize, usize)> {
-        let n = self.levels[level - 1].len();
-        [(0, 0), (0, 1), (1, 0), (1, 1)]
-            .into_iter()
-            .map(move |(i, j)| (2 * a + i, 2 * b + j))
-            .filter(move |&(x, y)| x < n && y < n)
+        child_pairs(self.levels[level - 1].len(), a, b)
     }
 
     /// Each pair of a segment and an element of `task` whose boxes overlap, to `f`.
@@ -699,6 +704,14 @@ impl Tree {
             self.order[range].iter().for_each(|&s| meet(s as usize));
         }
     }
+}
+
+/// The pairs of children of nodes `a` and `b` of a level whose level below has `n` nodes.
+fn child_pairs(n: usize, a: usize, b: usize) -> impl Iterator<Item = (usize, usize)> {
+    [(0, 0), (0, 1), (1, 0), (1, 1)]
+        .into_iter()
+        .map(move |(i, j)| (2 * a + i, 2 * b + j))
+        .filter(move |&(x, y)| x < n && y < n)
 }
 
 /// Runs two pieces of work, at once where the runtime can: the core starts no thread of its
@@ -836,10 +849,10 @@ impl<'a> WholeCheck<'a> {
         self.last = Some((r, side));
         let (a, b, kind) = self.tables.pack(&elem);
         let mut tool = self.tables.tool(r, side);
-        if self.elements.last().is_none_or(|p| !same(p.b, a)) {
+        let prev = self.elements.last().map(|p| p.b);
+        let k = self.elements.len();
+        if starts_apart(prev, a, k, &mut self.tables.element_starts) {
             tool |= APART;
-            let k = self.elements.len() as u32;
-            self.tables.element_starts.push((k, a));
         }
         self.elements.push(Element {
             source,
@@ -874,7 +887,7 @@ impl<'a> WholeCheck<'a> {
             }
             (None, None) => return,
         };
-        let (block, r) = match own {
+        let (mut block, r) = match own {
             Some(k) => (Block::own(k), self.tables.element_tool(&self.elements[k]).0),
             None => {
                 let (r, side) = self.last.unwrap_or((0.0, 0));
@@ -896,12 +909,11 @@ impl<'a> WholeCheck<'a> {
                 (V2::default(), V2::default(), kind, sp.bbox())
             }
         };
-        let mut block = block;
-        let joined = self.segments.last().is_some_and(|p| same(p.b, a));
-        if kind.spiral_index().is_none() && !joined {
+        // A spiral keeps its start in its own entry.
+        let prev = self.segments.last().map(|p| p.b);
+        let starts = &mut self.tables.segment_starts;
+        if kind.spiral_index().is_none() && starts_apart(prev, a, self.segments.len(), starts) {
             block.0 |= Block::APART;
-            let s = self.segments.len() as u32;
-            self.tables.segment_starts.push((s, a));
         }
         let bb = kept_box(&reach);
         self.tree.segment(anchor, &bb);
@@ -1060,11 +1072,10 @@ impl<'a> WholeCheck<'a> {
         self.boxes.clear();
         self.tables.clear();
         self.tree.clear();
-        let last = self.last;
+        // They were the last elements in: `last` stays what it was.
         for &(source, e, r, side) in &stay {
             self.element(source, e, r, side);
         }
-        self.last = last;
         self.staying = stay;
     }
 }
