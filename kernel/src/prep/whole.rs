@@ -19,7 +19,7 @@
 
 use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
 use super::leads::{part_of, Closure, Span};
-use crate::frontend::block::Plane;
+use crate::frontend::block::{BlockNo, Plane};
 use crate::segment::{Role, Segment, Source};
 use crate::trc::geom::{bounds, Elem, Fence, Measured, V2};
 use core::sync::atomic::{AtomicUsize, Ordering};
@@ -31,16 +31,19 @@ const RESERVE_BLOCKS: usize = 1 << 20;
 /// a leaf meets its neighbour in a few box tests.
 const LEAF: usize = 4;
 
-/// A programmed element as the run keeps it, in 48 bytes: its end (it starts where the one
-/// before it ends, or — the top bit of `tool` — at its entry in `Tables::element_starts`),
-/// what it is, its tool radius and side by an index (they change seldom). Its box lies
-/// apart (`WholeCheck::boxes`: the tree's leaves read only the boxes, densely), and its
-/// [`Fence`] is worked out only for a pair that needs it. Small, because a long run keeps
-/// every one, and memory first written costs about 0.5 ms a megabyte on the benchmark
-/// machine (docs/benchmarks.md).
+/// A programmed element as the run keeps it, in 32 bytes: its block's place in execution
+/// order and line (the rest of the block's [`Source`] in `Tables::blocks` where it is not as
+/// the blocks before lead to expect), its end (it starts where the one before it ends, or —
+/// the top bit of `tool` — at its entry in `Tables::element_starts`), what it is, its tool
+/// radius and side by an index (they change seldom). Its box lies apart
+/// (`WholeCheck::boxes`: the tree's leaves read only the boxes, densely), and its [`Fence`]
+/// is worked out only for a pair that needs it. Small, because a long run keeps every one,
+/// and memory first written costs 0.5–0.7 ms a megabyte on the benchmark machine
+/// (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
-    source: Source,
+    seq: u32,
+    line: u32,
     b: V2,
     kind: Kind,
     /// Its tool radius and side: an entry of `Tables::tools` (and `APART`).
@@ -143,6 +146,55 @@ fn start_of(apart: bool, prev: impl FnOnce() -> V2, starts: &[(u32, V2)], i: usi
     starts[k].1
 }
 
+/// The part of an element's [`Source`] that the element does not keep: where it is not as
+/// the entry before predicts (the same column and file, the block number counted on by
+/// `step` for each block in execution order), it has an entry of its own in `Tables::blocks`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct BlockTail {
+    col: u32,
+    number: Option<BlockNo>,
+    program: u16,
+    /// What the block number grows by from one block to the next (learnt from the second
+    /// element of the entry).
+    step: u32,
+}
+
+impl BlockTail {
+    fn of(s: &Source) -> BlockTail {
+        BlockTail {
+            col: s.col,
+            number: s.number,
+            program: s.program,
+            step: 0,
+        }
+    }
+
+    /// The source of block `seq` on `line`, `seq - seq0` blocks after this entry's element.
+    fn source(&self, seq0: u32, seq: u32, line: u32) -> Source {
+        let ahead = seq.wrapping_sub(seq0);
+        Source {
+            number: self.number.map(|n| BlockNo {
+                value: n.value.wrapping_add(self.step.wrapping_mul(ahead)),
+                digits: n.digits,
+            }),
+            line,
+            col: self.col,
+            seq,
+            program: self.program,
+        }
+    }
+
+    /// The step that leads from this entry (block `seq0`) to `s`, if a whole one does.
+    fn step_to(&self, seq0: u32, s: &Source) -> Option<u32> {
+        let (Some(n0), Some(n)) = (self.number, s.number) else {
+            return None;
+        };
+        let ahead = s.seq.wrapping_sub(seq0);
+        let grown = n.value.wrapping_sub(n0.value);
+        (ahead > 0 && grown % ahead == 0).then(|| grown / ahead)
+    }
+}
+
 /// A path segment whose block has no element of the run: what the element would tell.
 #[derive(Clone, Copy, Debug)]
 struct Orphan {
@@ -161,6 +213,9 @@ struct Tables {
     spirals: Vec<Spiral>,
     element_starts: Vec<(u32, V2)>,
     segment_starts: Vec<(u32, V2)>,
+    /// The rest of the elements' sources: an entry (element, tail) where the prediction from
+    /// the one before fails (for a program of plain lines, one for the run).
+    blocks: Vec<(u32, BlockTail)>,
 }
 
 impl Tables {
@@ -171,6 +226,42 @@ impl Tables {
         self.spirals.clear();
         self.element_starts.clear();
         self.segment_starts.clear();
+        self.blocks.clear();
+    }
+
+    /// Keeps what element `elements.len()` (to come) does not of its block's `source`.
+    fn keep_block(&mut self, elements: &[Element], source: &Source) {
+        if let Some((j, tail)) = self.blocks.last_mut() {
+            let seq0 = elements[*j as usize].seq;
+            if tail.source(seq0, source.seq, source.line) == *source {
+                return;
+            }
+            // The entry's second element teaches it its block number step.
+            if *j as usize + 1 == elements.len() && tail.step == 0 {
+                let mut learnt = *tail;
+                learnt.step = tail.step_to(seq0, source).unwrap_or(0);
+                if learnt.source(seq0, source.seq, source.line) == *source {
+                    *tail = learnt;
+                    return;
+                }
+            }
+        }
+        let k = elements.len() as u32;
+        self.blocks.push((k, BlockTail::of(source)));
+    }
+
+    /// The source of element `k`'s block.
+    fn source(&self, elements: &[Element], k: usize) -> Source {
+        let i = self.blocks.partition_point(|&(j, _)| j as usize <= k);
+        let e = &elements[k];
+        match i.checked_sub(1).map(|i| self.blocks[i]) {
+            Some((j, tail)) => tail.source(elements[j as usize].seq, e.seq, e.line),
+            None => Source {
+                seq: e.seq,
+                line: e.line,
+                ..Source::default()
+            },
+        }
     }
 
     /// `e` as a record keeps it: its ends and kind (an arc's centre goes into the table).
@@ -854,8 +945,10 @@ impl<'a> WholeCheck<'a> {
         if starts_apart(prev, a, k, &mut self.tables.element_starts) {
             tool |= APART;
         }
+        self.tables.keep_block(&self.elements, &source);
         self.elements.push(Element {
-            source,
+            seq: source.seq,
+            line: source.line,
             b,
             kind,
             tool,
@@ -1036,11 +1129,11 @@ impl<'a> WholeCheck<'a> {
             .iter()
             .rev()
             .take(super::bottleneck::MAX_WINDOW + 8)
-            .position(|e| (e.source.seq.wrapping_sub(seq) as i32) <= 0);
+            .position(|e| (e.seq.wrapping_sub(seq) as i32) <= 0);
         match back {
             Some(i) => {
                 let k = n - 1 - i;
-                (Some(k).filter(|&k| self.elements[k].source.seq == seq), k)
+                (Some(k).filter(|&k| self.elements[k].seq == seq), k)
             }
             None => (None, n.saturating_sub(1)),
         }
@@ -1050,7 +1143,7 @@ impl<'a> WholeCheck<'a> {
     /// `None`). Elements come in block order: found by bisection, not a walk over a long run.
     fn before(&self, seq: Option<u32>) -> usize {
         self.elements
-            .partition_point(|e| seq.is_none_or(|q| (e.source.seq.wrapping_sub(q) as i32) < 0))
+            .partition_point(|e| seq.is_none_or(|q| (e.seq.wrapping_sub(q) as i32) < 0))
     }
 
     /// The run ends before the block of `seq` (or with the program): everything before it
@@ -1066,7 +1159,8 @@ impl<'a> WholeCheck<'a> {
         stay.extend((gone..self.elements.len()).map(|k| {
             let e = &self.elements[k];
             let (r, side) = self.tables.element_tool(e);
-            (e.source, self.tables.element(&self.elements, k), r, side)
+            let source = self.tables.source(&self.elements, k);
+            (source, self.tables.element(&self.elements, k), r, side)
         }));
         self.elements.clear();
         self.boxes.clear();
@@ -1091,19 +1185,28 @@ fn loops(elements: &[Element], tables: &Tables) -> Span {
 }
 
 impl Checked<'_> {
-    /// Segment `s`'s block, tool radius and side.
+    /// Segment `s`'s block (its place in execution order), tool radius and side.
     #[inline]
-    fn block(&self, s: &PathSegment) -> (&Source, f64, i8) {
+    fn block(&self, s: &PathSegment) -> (u32, f64, i8) {
         match s.block.own_index() {
             Some(k) => {
                 let e = &self.elements[k];
                 let (r, side) = self.tables.element_tool(e);
-                (&e.source, r, side)
+                (e.seq, r, side)
             }
             None => {
                 let o = &self.tables.orphans[s.block.index()];
-                (&o.source, o.r, o.side)
+                (o.source.seq, o.r, o.side)
             }
+        }
+    }
+
+    /// Segment `s`'s block.
+    #[cold]
+    fn block_source(&self, s: &PathSegment) -> Source {
+        match s.block.own_index() {
+            Some(k) => self.tables.source(self.elements, k),
+            None => self.tables.orphans[s.block.index()].source,
         }
     }
 
@@ -1117,8 +1220,8 @@ impl Checked<'_> {
             return None;
         }
         let e = &self.elements[k];
-        let (source, r, side) = self.block(seg);
-        if side != self.tables.element_tool(e).1 || source.seq == e.source.seq {
+        let (seq, r, side) = self.block(seg);
+        if side != self.tables.element_tool(e).1 || seq == e.seq {
             return None;
         }
         let elem = self.tables.element(self.elements, k);
@@ -1129,8 +1232,8 @@ impl Checked<'_> {
                 .piece(self.segments, s)
                 .too_close(&elem, || Fence::new(&elem), r)?;
         Some(Gouge {
-            path: *source,
-            element: e.source,
+            path: self.block_source(seg),
+            element: self.tables.source(self.elements, k),
             distance,
             radius,
             unjoined: false,
@@ -1204,8 +1307,92 @@ mod tests {
     /// (docs/benchmarks.md measures what a megabyte of them costs).
     #[test]
     fn the_records_stay_small() {
-        assert!(std::mem::size_of::<Element>() <= 48);
+        assert!(std::mem::size_of::<Element>() <= 32);
         assert!(std::mem::size_of::<PathSegment>() <= 24);
+    }
+
+    /// A block's source in steps: 1–3 blocks on in execution order and 0–4 lines on (loops
+    /// and calls go back), the column, number and file as they come.
+    fn sources() -> impl Strategy<Value = Vec<Source>> {
+        let step = (1u32..4, 0u32..5, 0u8..8, 0u32..40, 1u8..4, any::<bool>());
+        proptest::collection::vec(step, 1..60).prop_map(|steps| {
+            let mut at = Source {
+                number: None,
+                line: 1,
+                col: 1,
+                seq: 1,
+                program: 0,
+            };
+            let mut out = Vec::new();
+            for (ahead, lines, what, n, digits, in_file) in steps {
+                at.seq = at.seq.wrapping_add(ahead);
+                at.line += lines;
+                match what {
+                    // Numbered on by a step of 10 a block, or by some other.
+                    0..=2 => {
+                        let value = at.number.map_or(10, |b| b.value + 10 * ahead);
+                        let digits =
+                            std::num::NonZeroU8::new(digits).unwrap_or(std::num::NonZeroU8::MIN);
+                        at.number = Some(BlockNo { value, digits });
+                    }
+                    3 => {
+                        let digits =
+                            std::num::NonZeroU8::new(digits).unwrap_or(std::num::NonZeroU8::MIN);
+                        at.number = Some(BlockNo { value: n, digits });
+                    }
+                    4 => at.number = None,
+                    5 => at.col = n + 1,
+                    6 => at.program = u16::from(in_file),
+                    _ => {}
+                }
+                out.push(at);
+            }
+            out
+        })
+    }
+
+    proptest! {
+        /// Every element's block reads back as it came, however its numbers, columns and
+        /// files run (most of them from the entry before it).
+        #[test]
+        fn an_elements_block_reads_back_as_it_came(blocks in sources()) {
+            let mut w = WholeCheck::new();
+            for (i, s) in blocks.iter().enumerate() {
+                let x = i as f64;
+                w.element(*s, Elem::Line { a: v2(x, 0.0), b: v2(x + 1.0, 0.0) }, 1.0, 1);
+            }
+            for (k, s) in blocks.iter().enumerate() {
+                prop_assert_eq!(w.tables.source(&w.elements, k), *s, "element {}", k);
+            }
+        }
+    }
+
+    /// Blocks numbered N10, N20 … on consecutive lines take one entry for the whole run.
+    #[test]
+    fn numbered_blocks_on_consecutive_lines_take_one_entry() {
+        let mut w = WholeCheck::new();
+        for i in 0..100u32 {
+            let mut s = src(i + 1);
+            s.number = Some(BlockNo {
+                value: 10 * (i + 1),
+                digits: std::num::NonZeroU8::new(4).unwrap(),
+            });
+            let x = f64::from(i);
+            w.element(
+                s,
+                Elem::Line {
+                    a: v2(x, 0.0),
+                    b: v2(x + 1.0, 0.0),
+                },
+                1.0,
+                1,
+            );
+        }
+        assert_eq!(w.tables.blocks.len(), 1);
+        assert_eq!(
+            w.tables.source(&w.elements, 57).number.map(|n| n.value),
+            Some(580)
+        );
     }
 
     /// The window's spiral case (`bottleneck::tests::spiral_case`) with block 3 `third`.
