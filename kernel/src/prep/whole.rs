@@ -1367,6 +1367,99 @@ mod tests {
         }
     }
 
+    /// A run of blocks with an element each (lines and arcs, some starting apart) and a path
+    /// of segments: the equidistant-like piece of the block and, now and then, an arc about the
+    /// element's end, start or centre (a corner's, an arc's offset) or about some other point.
+    fn run_of_blocks() -> impl Strategy<Value = (Vec<Elem>, Vec<Segment>)> {
+        let block = (elem(), any::<bool>(), 0..5u8, any::<bool>(), -3.0..3.0f64);
+        proptest::collection::vec(block, 1..40).prop_map(|blocks| {
+            let (mut elements, mut segments) = (Vec::new(), Vec::new());
+            let mut end: Option<V2> = None;
+            for (i, (e, chained, about, ccw, d)) in blocks.into_iter().enumerate() {
+                let seq = i as u32 + 1;
+                // Most elements start where the one before ends.
+                let e = match (end, chained) {
+                    (Some(p), true) => match e {
+                        Elem::Line { b, .. } => Elem::Line { a: p, b },
+                        Elem::Arc { c, ccw, .. } => {
+                            let r = p.dist(c);
+                            Elem::Arc {
+                                a: p,
+                                b: v2(c.x, c.y + r),
+                                c,
+                                ccw,
+                            }
+                        }
+                    },
+                    _ => e,
+                };
+                end = Some(e.end());
+                elements.push(e);
+                let centre = match (about, e) {
+                    (0, _) => None,
+                    (1, _) => Some(e.end()),
+                    (2, _) => Some(e.start()),
+                    (3, Elem::Arc { c, .. }) => Some(c),
+                    _ => Some(v2(e.end().x + d, e.end().y - d)),
+                };
+                let (a, b) = (
+                    v2(e.start().x + d, e.start().y),
+                    v2(e.end().x, e.end().y + d),
+                );
+                let shape = match centre {
+                    None => crate::segment::Shape::Line,
+                    Some(c) => crate::segment::Shape::Arc {
+                        center: [c.x, c.y, 0.0],
+                        center_end: [c.x, c.y, 0.0],
+                        ccw,
+                        r0: a.dist(c),
+                        r1: a.dist(c),
+                        plane: Plane::XY,
+                    },
+                };
+                // An arc's end on its circle, as the compensation puts it.
+                let b = match centre {
+                    Some(c) => {
+                        let r = a.dist(c);
+                        v2(c.x - r, c.y)
+                    }
+                    None => b,
+                };
+                segments.push(segment(seq, shape, (a.x, a.y), (b.x, b.y)));
+            }
+            (elements, segments)
+        })
+    }
+
+    proptest! {
+        /// The records give back every element and path segment bit for bit: chained starts,
+        /// arc centres in their table.
+        #[test]
+        fn the_records_read_back_as_they_came((elements, segments) in run_of_blocks()) {
+            let mut w = WholeCheck::new();
+            for (i, e) in elements.iter().enumerate() {
+                w.element(src(i as u32 + 1), *e, 2.0, 1);
+            }
+            for s in &segments {
+                w.segment(s, &mut |_| false);
+            }
+            for (k, e) in elements.iter().enumerate() {
+                prop_assert_eq!(w.tables.element(&w.elements, k), *e, "element {}", k);
+            }
+            let mut i = 0;
+            for s in &segments {
+                let Some(want) = elem_in(s, Plane::XY) else { continue };
+                let got = match w.tables.piece(&w.segments, i) {
+                    PathPiece::Plain(m) => Some(m.e),
+                    _ => None,
+                };
+                prop_assert_eq!(got, Some(want), "segment {}", i);
+                i += 1;
+            }
+            prop_assert_eq!(i, w.segments.len());
+        }
+    }
+
     /// Blocks numbered N10, N20 … on consecutive lines take one entry for the whole run.
     #[test]
     fn numbered_blocks_on_consecutive_lines_take_one_entry() {
