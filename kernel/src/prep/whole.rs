@@ -401,9 +401,10 @@ struct Tree {
     /// where a segment came anchored before one of an earlier leaf (a counting sort).
     first: Vec<u32>,
     order: Vec<u32>,
-    /// Each segment's leaf, while they come in leaf order and then too (`order` is built
-    /// from it otherwise).
+    /// Each segment's leaf, once one has come out of leaf order (`order` is built from it);
+    /// while they come in order, the counts in `first` tell it. The last segment's leaf.
     leaf: Vec<u32>,
+    last_leaf: Option<u32>,
     in_order: bool,
     /// Elements under the leaves.
     elements: usize,
@@ -453,7 +454,6 @@ impl Tree {
             l.reserve(leaves);
         }
         self.first.reserve(leaves + 1);
-        self.leaf.reserve(2 * elements);
     }
 
     /// A new run: no leaves.
@@ -463,6 +463,7 @@ impl Tree {
         self.first.clear();
         self.order.clear();
         self.leaf.clear();
+        self.last_leaf = None;
         self.in_order = true;
         self.elements = 0;
         self.built = false;
@@ -490,7 +491,7 @@ impl Tree {
     /// against each other (the node is built here). False when it is not.
     fn take_leaf(&mut self, elements: usize) -> bool {
         let l = self.early.walked;
-        let segments_past = self.leaf.last().is_some_and(|&last| last as usize > l);
+        let segments_past = self.last_leaf.is_some_and(|last| last as usize > l);
         if !self.in_order || !segments_past || elements < (l + 1) * LEAF {
             return false;
         }
@@ -561,7 +562,7 @@ impl Tree {
     /// leaf at the end (`fold_beyond`).
     fn early_stands(&self, elements: usize) -> bool {
         let leaves = elements.div_ceil(LEAF).max(1);
-        let folded = self.leaf.last().is_some_and(|&l| l as usize >= leaves);
+        let folded = self.last_leaf.is_some_and(|l| l as usize >= leaves);
         self.in_order
             && self.early.walked * LEAF <= elements
             && !(folded && leaves - 1 < self.early.walked)
@@ -596,9 +597,20 @@ impl Tree {
     fn segment(&mut self, k: usize, bb: &Bx) {
         let l = self.leaf_of(k);
         grow(&mut self.levels[0][l].path, bb);
+        if self.in_order && self.last_leaf.is_some_and(|last| last as usize > l) {
+            // The first out of order: the leaves of those before it, from their counts.
+            self.in_order = false;
+            self.leaf.clear();
+            for (leaf, &n) in self.first.iter().enumerate() {
+                self.leaf
+                    .extend(std::iter::repeat_n(leaf as u32, n as usize));
+            }
+        }
         self.first[l] += 1;
-        self.in_order &= self.leaf.last().is_none_or(|&last| last as usize <= l);
-        self.leaf.push(l as u32);
+        if !self.in_order {
+            self.leaf.push(l as u32);
+        }
+        self.last_leaf = Some(l as u32);
     }
 
     /// The run is complete with its first `elements` elements (those after them belong to
@@ -628,7 +640,8 @@ impl Tree {
     }
 
     /// Leaves past the run's `leaves` hold the next run's first elements and no segment; one
-    /// anchored there all the same goes to the run's last leaf, so that none is left out.
+    /// anchored there all the same goes to the run's last leaf, so that none is left out (in
+    /// leaf order those are the last segments: the order holds).
     fn fold_beyond(&mut self, leaves: usize) {
         let extra: u32 = self.first[leaves..].iter().sum();
         if extra > 0 {
@@ -640,7 +653,6 @@ impl Tree {
             self.first[leaves - 1] += extra;
             for l in self.leaf.iter_mut().filter(|l| **l as usize >= leaves) {
                 *l = (leaves - 1) as u32;
-                self.in_order = false;
             }
         }
         self.levels[0].truncate(leaves);
