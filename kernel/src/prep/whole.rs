@@ -237,9 +237,9 @@ impl Tables {
                 return;
             }
             // The entry's second element teaches it its block number step.
-            if *j as usize + 1 == elements.len() && tail.step == 0 {
-                let mut learnt = *tail;
-                learnt.step = tail.step_to(seq0, source).unwrap_or(0);
+            let second = *j as usize + 1 == elements.len() && tail.step == 0;
+            if let Some(step) = tail.step_to(seq0, source).filter(|_| second) {
+                let learnt = BlockTail { step, ..*tail };
                 if learnt.source(seq0, source.seq, source.line) == *source {
                     *tail = learnt;
                     return;
@@ -1295,6 +1295,21 @@ mod tests {
         }
     }
 
+    /// A segment's shape in XY starting at `a`: a line, or an arc about `centre`.
+    fn shape_xy(a: V2, centre: Option<V2>, ccw: bool) -> crate::segment::Shape {
+        match centre {
+            None => crate::segment::Shape::Line,
+            Some(c) => crate::segment::Shape::Arc {
+                center: [c.x, c.y, 0.0],
+                center_end: [c.x, c.y, 0.0],
+                ccw,
+                r0: a.dist(c),
+                r1: a.dist(c),
+                plane: Plane::XY,
+            },
+        }
+    }
+
     /// The violations of one run: `elements` (block, element, tool radius), then `segments`.
     fn gouges(elements: &[(u32, Elem, f64)], segments: &[Segment]) -> Vec<Gouge> {
         let mut w = WholeCheck::new();
@@ -1339,19 +1354,14 @@ mod tests {
             for (ahead, lines, what, n, digits, in_file) in steps {
                 at.seq = at.seq.wrapping_add(ahead);
                 at.line += lines;
+                let digits = std::num::NonZeroU8::new(digits).unwrap_or(std::num::NonZeroU8::MIN);
                 match what {
                     // Numbered on by a step of 10 a block, or by some other.
                     0..=2 => {
                         let value = at.number.map_or(10, |b| b.value + 10 * ahead);
-                        let digits =
-                            std::num::NonZeroU8::new(digits).unwrap_or(std::num::NonZeroU8::MIN);
                         at.number = Some(BlockNo { value, digits });
                     }
-                    3 => {
-                        let digits =
-                            std::num::NonZeroU8::new(digits).unwrap_or(std::num::NonZeroU8::MIN);
-                        at.number = Some(BlockNo { value: n, digits });
-                    }
+                    3 => at.number = Some(BlockNo { value: n, digits }),
                     4 => at.number = None,
                     5 => at.col = n + 1,
                     6 => at.program = u16::from(in_file),
@@ -1418,17 +1428,7 @@ mod tests {
                     v2(e.start().x + d, e.start().y),
                     v2(e.end().x, e.end().y + d),
                 );
-                let shape = match centre {
-                    None => crate::segment::Shape::Line,
-                    Some(c) => crate::segment::Shape::Arc {
-                        center: [c.x, c.y, 0.0],
-                        center_end: [c.x, c.y, 0.0],
-                        ccw,
-                        r0: a.dist(c),
-                        r1: a.dist(c),
-                        plane: Plane::XY,
-                    },
-                };
+                let shape = shape_xy(a, centre, ccw);
                 // An arc's end on its circle, as the compensation puts it.
                 let b = match centre {
                     Some(c) => {
@@ -1568,17 +1568,11 @@ mod tests {
                     .into_iter()
                     .map(|(e, ccw)| {
                         let (a, b) = (e.start(), e.end());
-                        let shape = match e {
-                            Elem::Line { .. } => crate::segment::Shape::Line,
-                            Elem::Arc { c, .. } => crate::segment::Shape::Arc {
-                                center: [c.x, c.y, 0.0],
-                                center_end: [c.x, c.y, 0.0],
-                                ccw,
-                                r0: a.dist(c),
-                                r1: a.dist(c),
-                                plane: Plane::XY,
-                            },
+                        let centre = match e {
+                            Elem::Line { .. } => None,
+                            Elem::Arc { c, .. } => Some(c),
                         };
+                        let shape = shape_xy(a, centre, ccw);
                         let mut s = segment(seq, shape, (a.x, a.y), (b.x, b.y));
                         if ends {
                             s.role = Role::Approach;
