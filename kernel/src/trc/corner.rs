@@ -47,6 +47,19 @@ pub struct Corner {
     pub kind: CornerKind,
 }
 
+impl Corner {
+    /// No change of direction: the first element ends at `end1`, the second starts at
+    /// `start2`, nothing between them.
+    pub fn tangent(end1: V2, start2: V2) -> Self {
+        Corner {
+            end1,
+            start2,
+            pieces: heapless::Vec::new(),
+            kind: CornerKind::Tangent,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CornerKind {
     /// No change of direction.
@@ -114,55 +127,61 @@ pub fn corner(
     d: f64,
     s: &CornerSettings,
 ) -> Result<Corner, CornerError> {
+    let mut out = Corner::tangent(o1.end(), o2.start());
+    corner_into(o1, o2, c, d, s, &mut out).map(|()| out)
+}
+
+/// [`corner`] built in `out` (a corner with its pieces is some 200 bytes: built where the
+/// caller keeps it, not moved there).
+pub fn corner_into(
+    o1: &Elem,
+    o2: &Elem,
+    c: V2,
+    d: f64,
+    s: &CornerSettings,
+    out: &mut Corner,
+) -> Result<(), CornerError> {
     let (p1, p2) = (o1.end(), o2.start());
+    out.end1 = p1;
+    out.start2 = p2;
+    out.pieces.clear();
+    out.kind = CornerKind::Tangent;
     // Most transitions are tangent: tell them before normalising anything.
     let (h1, h2) = (o1.heading_at(p1), o2.heading_at(p2));
     if h1.dot(h2) > 0.0 && h1.cross(h2).abs() <= ANGLE_EPS * h1.dot(h2) {
-        return Ok(Corner {
-            end1: p1,
-            start2: p2,
-            pieces: heapless::Vec::new(),
-            kind: CornerKind::Tangent,
-        });
+        return Ok(());
     }
     let (t1, t2) = (h1.unit(), h2.unit());
-    let kind = classify(t1, t2, d);
-    let mut out = Corner {
-        end1: p1,
-        start2: p2,
-        pieces: heapless::Vec::new(),
-        kind,
-    };
-    if d.abs() <= EPS || kind == CornerKind::Tangent {
-        return Ok(out);
+    out.kind = classify(t1, t2, d);
+    if d.abs() <= EPS || out.kind == CornerKind::Tangent {
+        return Ok(());
     }
-    if kind == CornerKind::Inner {
+    if out.kind == CornerKind::Inner {
         // 840C 11.1: inner corners always get the intersection of the equidistants.
         let x = nearest_intersection(o1, o2, p1, p2).ok_or(CornerError::NoIntersection)?;
-        meet(&mut out, x);
-        return Ok(out);
+        meet(out, x);
+        return Ok(());
     }
     let g = Outer {
         o1,
         o2,
         c,
         d,
-        a: turn(t1, t2),
         t1,
         t2,
     };
     if p1.dist(p2) < s.suppression {
-        g.suppressed(&mut out);
-        return Ok(out);
+        g.suppressed(out);
+        return Ok(());
     }
     match s.outer {
-        OuterCorner::Circle => g.circle(&mut out),
-        OuterCorner::IntersectionBlocks { cap } => g.intersection_blocks(&mut out, cap, s),
-        OuterCorner::Intersection { limit } => g.intersection_limited(&mut out, limit),
-        OuterCorner::FanucC => g.fanuc_c(&mut out),
-        OuterCorner::LinearTransition => linear_transition(&mut out, o1, o2, g.a, d),
+        OuterCorner::Circle => g.circle(out),
+        OuterCorner::IntersectionBlocks { cap } => g.intersection_blocks(out, cap, s),
+        OuterCorner::Intersection { limit } => g.intersection_limited(out, limit),
+        OuterCorner::FanucC => g.fanuc_c(out),
+        OuterCorner::LinearTransition => linear_transition(out, o1, o2, g.a(), d),
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Both elements end at `x`, with no block between them.
@@ -179,12 +198,16 @@ struct Outer<'a> {
     o2: &'a Elem,
     c: V2,
     d: f64,
-    a: f64,
     t1: V2,
     t2: V2,
 }
 
 impl Outer<'_> {
+    /// The turn's angle: only the corner types that tell corners by it take the atan2.
+    fn a(&self) -> f64 {
+        turn(self.t1, self.t2)
+    }
+
     fn p1(&self) -> V2 {
         self.o1.end()
     }
@@ -227,10 +250,12 @@ impl Outer<'_> {
         let arcs = self.o1.is_arc() || self.o2.is_arc();
         if arcs && self.o1.is_arc() && self.o2.is_arc() && p1.dist(p2) < 2.0 * s.suppression {
             // 11.14: switch from intersection to transition circle at arc/arc.
-            self.circle(out);
-        } else if !arcs && self.a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+            return self.circle(out);
+        }
+        let a = self.a().abs();
+        if !arcs && a <= FRAC_PI_2 + ANGLE_EPS {
             meet(out, tangent_point(p1, t1, p2, t2));
-        } else if self.a.abs() <= cap {
+        } else if a <= cap {
             let x = tangent_point(p1, t1, p2, t2);
             push(out, Elem::Line { a: p1, b: x });
             push(out, Elem::Line { a: x, b: p2 });
@@ -246,7 +271,7 @@ impl Outer<'_> {
     /// 808D/840D G451: the intersection of the equidistants themselves up to `limit`;
     /// above it, or where they do not meet, the transition circle.
     fn intersection_limited(&self, out: &mut Corner, limit: f64) {
-        let x = if self.a.abs() > limit {
+        let x = if self.a().abs() > limit {
             None
         } else {
             outer_intersection(self.o1, self.o2, self.p1(), self.p2())
@@ -262,13 +287,13 @@ impl Outer<'_> {
     /// the linear transition with the extension |R|.
     fn fanuc_c(&self, out: &mut Corner) {
         let (o1, o2) = (self.o1, self.o2);
-        if self.a.abs() <= FRAC_PI_2 + ANGLE_EPS {
+        if self.a().abs() <= FRAC_PI_2 + ANGLE_EPS {
             if let Some(x) = outer_intersection(o1, o2, self.p1(), self.p2()) {
                 meet(out, x);
                 return;
             }
         }
-        linear_transition(out, o1, o2, self.a, self.d);
+        linear_transition(out, o1, o2, self.a(), self.d);
     }
 }
 
@@ -280,12 +305,7 @@ impl Outer<'_> {
 pub fn side_change(o1: &Elem, o2: &Elem) -> Corner {
     let (p1, p2) = (o1.end(), o2.start());
     let x = nearest_intersection(o1, o2, p1, p2).unwrap_or(p2);
-    Corner {
-        end1: x,
-        start2: x,
-        pieces: heapless::Vec::new(),
-        kind: CornerKind::Tangent,
-    }
+    Corner::tangent(x, x)
 }
 
 /// Fanuc C, G40 with I J K: where the equidistant `o1` (ending at P1) meets `o2` (starting

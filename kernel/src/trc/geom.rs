@@ -782,16 +782,30 @@ pub fn lines_clear(a: V2, b: V2, p: V2, q: V2, limit: f64) -> bool {
     let (d, e) = (b - a, q - p);
     let (s1, s2) = (d.cross(p - a), d.cross(q - a));
     let (s3, s4) = (e.cross(a - p), e.cross(b - p));
+    let l2 = limit * limit;
+    // One wholly beyond the other's line by the limit (the cross products are the ends'
+    // signed distances times the line's length): how a corner's neighbours lie.
+    if beyond(s1, s2, l2 * d.dot(d)) || beyond(s3, s4, l2 * e.dot(e)) {
+        return true;
+    }
     if (s1 <= 0.0 && s2 >= 0.0 || s1 >= 0.0 && s2 <= 0.0)
         && (s3 <= 0.0 && s4 >= 0.0 || s3 >= 0.0 && s4 <= 0.0)
     {
         return false;
     }
-    let l2 = limit * limit;
     point_seg_sq(p, a, d) >= l2
         && point_seg_sq(q, a, d) >= l2
         && point_seg_sq(a, p, e) >= l2
         && point_seg_sq(b, p, e) >= l2
+}
+
+/// Whether two points whose signed distances from a line, times its length, are `s1` and
+/// `s2` lie on one side of it, both at least the distance whose square times the length's
+/// square is `l2dd`.
+#[inline]
+fn beyond(s1: f64, s2: f64, l2dd: f64) -> bool {
+    let m = s1.abs().min(s2.abs());
+    s1 * s2 > 0.0 && m * m >= l2dd
 }
 
 /// Squared distance from `x` to the segment from `a` along `d`.

@@ -22,7 +22,7 @@ use crate::frontend::block::{
     Block, CornerPolicy, FeedAdaption, Motion, MotionKind, Plane, Pos, SelectionPolicy, TrcSide,
 };
 use crate::segment::{Role, Segment, Shape, Source};
-use corner::{CornerError, CornerSettings, OuterCorner};
+use corner::{Corner, CornerError, CornerSettings, OuterCorner};
 use geom::{v2, Elem, EPS, V2};
 use selection::InnerCornerError;
 
@@ -1293,23 +1293,21 @@ impl Compensator {
         d: f64,
         out: &mut Out,
     ) -> Result<V2, Fault> {
-        // Borrowed where it was built (a corner with its pieces is large).
+        // Built where it is kept (a corner with its pieces is large).
+        let mut c = Corner::tangent(p.carrier.end(), o2.start());
         let found = if std::mem::take(&mut self.switching) {
-            Ok(corner::side_change(&p.carrier, o2))
+            c = corner::side_change(&p.carrier, o2);
+            Ok(())
         } else {
-            corner::corner(&p.carrier, o2, e.start(), d, &self.settings())
+            corner::corner_into(&p.carrier, o2, e.start(), d, &self.settings(), &mut c)
         };
-        let gap;
-        let c = match &found {
-            Ok(c) => c,
+        match found {
+            Ok(()) => {}
             // ISG masking: the tool does not reach this corner; the bottleneck window closes
             // the gap where the equidistants meet further out (or raises the alarm).
-            Err(_) if self.masking => {
-                gap = corner::gap(&p.carrier, o2);
-                &gap
-            }
-            Err(x) => return Err(Self::corner_fault(tag, *x)),
-        };
+            Err(_) if self.masking => c = corner::gap(&p.carrier, o2),
+            Err(x) => return Err(Self::corner_fault(tag, x)),
+        }
         self.emit_pending(p, c.end1, out)?;
         self.flush_held(out);
         let w = self.tool_w;
