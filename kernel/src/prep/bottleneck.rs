@@ -24,7 +24,7 @@ use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
     arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear,
-    margin, sweep, v2, Elem, Fence, Measured, V2,
+    margin, max_abs, sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -298,14 +298,7 @@ fn programmed_for(depth: usize) -> usize {
 /// Distances below R by more than this are gouges (constructions are exact to ~1e-12 at
 /// part sizes; far from the origin the rounding of the coordinates themselves counts).
 fn gouge_tol(e: &Elem) -> f64 {
-    let m = e
-        .start()
-        .x
-        .abs()
-        .max(e.start().y.abs())
-        .max(e.end().x.abs())
-        .max(e.end().y.abs());
-    1e-9_f64.max(1e-12 * m)
+    1e-9_f64.max(1e-12 * max_abs(0.0, &[e.start(), e.end()]))
 }
 
 pub struct Bottleneck {

@@ -604,14 +604,19 @@ pub fn margin(path: &Measured, other: &Elem) -> f64 {
 /// least of 1 mm.
 #[inline]
 fn eta_of(e: &Elem) -> f64 {
-    let c = match *e {
-        Elem::Line { a, .. } => a,
-        Elem::Arc { c, .. } => c,
+    let m = match *e {
+        Elem::Line { a, b } => max_abs(1.0, &[a, b]),
+        Elem::Arc { a, b, c, .. } => max_abs(1.0, &[a, b, c]),
     };
-    let m = [e.start(), e.end(), c]
-        .iter()
-        .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
     1e-14 * m
+}
+
+/// The largest of `m` (not NaN) and the magnitudes of the points' coordinates: `f64::max`'s
+/// value (a NaN coordinate is passed over) by plain comparisons, which it costs several of.
+#[inline]
+pub fn max_abs(m: f64, points: &[V2]) -> f64 {
+    let up = |m: f64, v: f64| if v.abs() > m { v.abs() } else { m };
+    points.iter().fold(m, |m, p| up(up(m, p.x), p.y))
 }
 
 /// What [`clear_by_ends`] needs of the element a path must keep away from, worked out once

@@ -1031,7 +1031,7 @@ impl Compensator {
     /// Emits one segment from `a` to `b` (plane points, tool-axis values `w0`, `w1`) and moves
     /// the tool there.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(always)]
     fn put(
         &mut self,
         tag: Tag,
