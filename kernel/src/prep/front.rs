@@ -133,9 +133,14 @@ impl<'a> Front<'a> {
             self.trc.close_contour(closing_element(&self.interp));
         }
         let block = self.interp.current();
-        let motion = block
-            .motion
-            .map(|m| with_length(&m, &mut self.length, block));
+        let lengthened;
+        let motion = match &block.motion {
+            Some(m) if needs_length(m, self.length, block) => {
+                lengthened = with_length(m, &mut self.length, block);
+                Some(&lengthened)
+            }
+            m => m.as_ref(),
+        };
         let fault = if block.axes.is_some() && !self.trc.is_off() {
             // A deselection still waits for its plane move (840C G40 alone): the
             // compensation's pieces could not carry a rotary move (docs/axes.md).
@@ -146,7 +151,7 @@ impl<'a> Front<'a> {
             )))
         } else {
             self.trc
-                .block(block, motion.as_ref(), out)
+                .block(block, motion, out)
                 .err()
                 .map(|f| Box::new(alarm(self.name, self.programs, *f)))
         };
@@ -517,6 +522,19 @@ fn changed(last: &mut Technology, now: Technology) -> Option<Technology> {
         *last = now;
         now
     })
+}
+
+/// Whether [`with_length`] changes the motion or the length: a length to add, or one the
+/// block programs; a tool-axis coordinate of −0 becomes +0 there, so it takes that way too.
+#[inline]
+fn needs_length(m: &Motion, length: f64, b: &Block) -> bool {
+    let n = m.plane.normal as usize;
+    let negative_zero = |v: f64| v == 0.0 && v.is_sign_negative();
+    length != 0.0
+        || (m.programmed & (1 << n) != 0 && b.modal.length != 0.0)
+        || negative_zero(m.start[n])
+        || negative_zero(m.center[n])
+        || negative_zero(m.end[n])
 }
 
 /// The motion with the tool length on the tool axis: the old length up to a block that
