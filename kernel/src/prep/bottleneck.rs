@@ -23,8 +23,8 @@ use super::leads::{part_of, span_of};
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, intersections, lines_clear,
-    margin, max_abs, sweep, v2, Elem, Fence, Measured, V2,
+    arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, eta_of, intersections,
+    lines_clear, margin_by, max_abs, sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -297,7 +297,7 @@ fn programmed_for(depth: usize) -> usize {
 
 /// Distances below R by more than this are gouges (constructions are exact to ~1e-12 at
 /// part sizes; far from the origin the rounding of the coordinates themselves counts).
-fn gouge_tol(e: &Elem) -> f64 {
+pub(super) fn gouge_tol(e: &Elem) -> f64 {
     1e-9_f64.max(1e-12 * max_abs(0.0, &[e.start(), e.end()]))
 }
 
@@ -1089,8 +1089,22 @@ impl Bottleneck {
 /// corner; the rest get the exact distance.
 #[inline]
 fn too_close(path: &Measured, elem: &Elem, fence: impl FnOnce() -> Fence, r: f64) -> Option<f64> {
-    let limit = r - gouge_tol(&path.e);
-    let sure = limit.max(0.0) + margin(path, elem);
+    too_close_by(path, gouge_tol(&path.e), elem, eta_of(elem), fence, r)
+}
+
+/// [`too_close`] with the path's [`gouge_tol`] and the element's [`eta_of`] worked out
+/// before (once for every pair a record is in).
+#[inline]
+pub(super) fn too_close_by(
+    path: &Measured,
+    tol: f64,
+    elem: &Elem,
+    elem_eta: f64,
+    fence: impl FnOnce() -> Fence,
+    r: f64,
+) -> Option<f64> {
+    let limit = r - tol;
+    let sure = limit.max(0.0) + margin_by(path, elem_eta);
     if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (path.e, *elem) {
         if lines_clear(a, b, p, q, sure) {
             return None;

@@ -17,11 +17,11 @@
 //! the run finds less left to walk.
 //! Under ISG masking the segments checked are the masked path (the window's output).
 
-use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
+use super::bottleneck::{elem_in, gouge_tol, too_close_by, Gouge, PathPiece, Spiral};
 use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::{BlockNo, Plane};
 use crate::segment::{Role, Segment, Source};
-use crate::trc::geom::{bounds, Elem, Fence, Measured, V2};
+use crate::trc::geom::{bounds, eta_of, Elem, Fence, Measured, V2};
 use core::sync::atomic::{AtomicUsize, Ordering};
 
 /// The most blocks [`WholeCheck::reserve`] makes room for (about 300 MB of address space).
@@ -853,8 +853,9 @@ impl Share {
             let Some(&task) = tasks.get(i) else {
                 return;
             };
+            let mut pairs = Pairs::new(&c);
             tree.run(task, c.boxes, &mut |s, k| {
-                let Some(g) = c.gouge(s as usize, k as usize) else {
+                let Some(g) = pairs.gouge(s as usize, k as usize) else {
                     return;
                 };
                 let span = *self.span.get_or_insert_with(|| loops(c.elements, c.tables));
@@ -1040,8 +1041,9 @@ impl<'a> WholeCheck<'a> {
         };
         let mut hits = std::mem::take(&mut self.tree.early.hits);
         let elements = self.elements.len();
+        let mut pairs = Pairs::new(&c);
         let did = self.tree.work(elements, EARLY_STEPS, c.boxes, &mut |s, k| {
-            if let Some(g) = c.gouge(s as usize, k as usize) {
+            if let Some(g) = pairs.gouge(s as usize, k as usize) {
                 hits.push((s, k, g));
             }
         });
@@ -1222,30 +1224,109 @@ impl Checked<'_> {
         }
     }
 
+    /// What a pair's test first asks of segment `s`: its block, tool radius and side.
+    #[inline]
+    fn segment_view(&self, s: usize) -> SegmentView {
+        let (seq, r, side) = self.block(&self.segments[s]);
+        SegmentView {
+            s,
+            seq,
+            r,
+            side,
+            piece: None,
+        }
+    }
+
+    /// What a pair's test asks of element `k`.
+    #[inline]
+    fn element_view(&self, k: usize) -> ElementView {
+        let elem = self.tables.element(self.elements, k);
+        ElementView {
+            k,
+            elem,
+            eta: eta_of(&elem),
+            fence: None,
+        }
+    }
+}
+
+/// What a pair's test needs of a segment, worked out once for all the elements it meets: its
+/// block, and (for a pair that gets past the blocks' test) its piece and gouge tolerance.
+struct SegmentView {
+    s: usize,
+    seq: u32,
+    r: f64,
+    side: i8,
+    piece: Option<(PathPiece, f64)>,
+}
+
+/// What a pair's test needs of an element, worked out once for all the segments that meet
+/// it: the element, its rounding margin, and its fence once one pair has asked for it.
+struct ElementView {
+    k: usize,
+    elem: Elem,
+    eta: f64,
+    fence: Option<Fence>,
+}
+
+/// The pairs one worker tests, with the records at hand decoded once: the walk meets a
+/// segment's pairs one after another, and a leaf's elements (`LEAF` consecutive ones, a slot
+/// each) with every segment near them.
+struct Pairs<'c, 'r> {
+    c: &'c Checked<'r>,
+    segment: Option<SegmentView>,
+    elements: [Option<ElementView>; LEAF],
+}
+
+impl<'c, 'r> Pairs<'c, 'r> {
+    fn new(c: &'c Checked<'r>) -> Self {
+        Pairs {
+            c,
+            segment: None,
+            elements: Default::default(),
+        }
+    }
+
     /// The gouge of segment `s` at element `k` (their boxes meet), if it comes too close
     /// (its own block's element and the other side's are not compared).
     #[inline]
-    fn gouge(&self, s: usize, k: usize) -> Option<Gouge> {
-        let seg = &self.segments[s];
-        if seg.block.own_index() == Some(k) {
+    fn gouge(&mut self, s: usize, k: usize) -> Option<Gouge> {
+        let c = self.c;
+        if c.segments[s].block.own_index() == Some(k) {
             // Its own block's element: settled before either record is read further.
             return None;
         }
-        let e = &self.elements[k];
-        let (seq, r, side) = self.block(seg);
-        if side != self.tables.element_tool(e).1 || seq == e.seq {
+        let sv = match &mut self.segment {
+            Some(v) if v.s == s => v,
+            slot => slot.insert(c.segment_view(s)),
+        };
+        let e = &c.elements[k];
+        if sv.side != c.tables.element_tool(e).1 || sv.seq == e.seq {
             return None;
         }
-        let elem = self.tables.element(self.elements, k);
-        // The fence is worked out here, for the few pairs that get that far: most elements
-        // are met by two or three segments, and a line beside a line never needs it.
-        let (distance, radius) =
-            self.tables
-                .piece(self.segments, s)
-                .too_close(&elem, || Fence::new(&elem), r)?;
+        let ev = match &mut self.elements[k % LEAF] {
+            Some(v) if v.k == k => v,
+            slot => slot.insert(c.element_view(k)),
+        };
+        let (piece, tol) = sv.piece.get_or_insert_with(|| {
+            let piece = c.tables.piece(c.segments, s);
+            let tol = match &piece {
+                PathPiece::Plain(m) => gouge_tol(&m.e),
+                _ => 0.0,
+            };
+            (piece, tol)
+        });
+        let (elem, eta, r) = (ev.elem, ev.eta, sv.r);
+        // The fence is worked out for the few pairs that get that far (a line beside a line
+        // never needs it), once an element.
+        let fence = || *ev.fence.get_or_insert_with(|| Fence::with_eta(&elem, eta));
+        let (distance, radius) = match piece {
+            PathPiece::Plain(m) => too_close_by(m, *tol, &elem, eta, fence, r).map(|d| (d, r)),
+            other => other.too_close(&elem, fence, r),
+        }?;
         Some(Gouge {
-            path: self.block_source(seg),
-            element: self.tables.source(self.elements, k),
+            path: c.block_source(&c.segments[s]),
+            element: c.tables.source(c.elements, k),
             distance,
             radius,
             unjoined: false,

@@ -595,15 +595,21 @@ impl Measured {
 /// so a pair shown clear with the margin is clear by the exact distance; the margin lies far
 /// below the gouge tolerance (1e-9 mm, 1e-12 of the coordinates), so a neighbour at exactly
 /// the tool radius is still shown clear.
-#[inline]
+#[cfg(test)]
 pub fn margin(path: &Measured, other: &Elem) -> f64 {
-    4.0 * path.eta.max(eta_of(other))
+    margin_by(path, eta_of(other))
+}
+
+/// [`margin`] for an element whose [`eta_of`] is `other_eta`.
+#[inline]
+pub fn margin_by(path: &Measured, other_eta: f64) -> f64 {
+    4.0 * path.eta.max(other_eta)
 }
 
 /// Rounding margin of an element: 1e-14 of its largest coordinate (its centre's too), at
 /// least of 1 mm.
 #[inline]
-fn eta_of(e: &Elem) -> f64 {
+pub fn eta_of(e: &Elem) -> f64 {
     let m = match *e {
         Elem::Line { a, b } => max_abs(1.0, &[a, b]),
         Elem::Arc { a, b, c, .. } => max_abs(1.0, &[a, b, c]),
@@ -656,8 +662,12 @@ enum FenceShape {
 
 impl Fence {
     pub fn new(other: &Elem) -> Self {
+        Self::with_eta(other, eta_of(other))
+    }
+
+    /// [`Fence::new`] for an element whose [`eta_of`] is `eta`.
+    pub fn with_eta(other: &Elem, eta: f64) -> Self {
         let (a, b) = (other.start(), other.end());
-        let eta = eta_of(other);
         let shape = match *other {
             Elem::Line { .. } => {
                 let d = b - a;
