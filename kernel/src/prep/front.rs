@@ -135,8 +135,8 @@ impl<'a> Front<'a> {
         let block = self.interp.current();
         let lengthened;
         let motion = match &block.motion {
-            Some(m) if needs_length(m, self.length, block) => {
-                lengthened = with_length(m, &mut self.length, block);
+            Some(m) if needs_length(m, self.length, block.modal.length) => {
+                lengthened = with_length(m, &mut self.length, block.modal.length);
                 Some(&lengthened)
             }
             m => m.as_ref(),
@@ -527,11 +527,11 @@ fn changed(last: &mut Technology, now: Technology) -> Option<Technology> {
 /// Whether [`with_length`] changes the motion or the length: a length to add, or one the
 /// block programs; a tool-axis coordinate of −0 becomes +0 there, so it takes that way too.
 #[inline]
-fn needs_length(m: &Motion, length: f64, b: &Block) -> bool {
+fn needs_length(m: &Motion, length: f64, block_length: f64) -> bool {
     let n = m.plane.normal as usize;
     let negative_zero = |v: f64| v == 0.0 && v.is_sign_negative();
     length != 0.0
-        || (m.programmed & (1 << n) != 0 && b.modal.length != 0.0)
+        || (m.programmed & (1 << n) != 0 && block_length != 0.0)
         || negative_zero(m.start[n])
         || negative_zero(m.center[n])
         || negative_zero(m.end[n])
@@ -539,14 +539,60 @@ fn needs_length(m: &Motion, length: f64, b: &Block) -> bool {
 
 /// The motion with the tool length on the tool axis: the old length up to a block that
 /// programs the tool axis, the new one from its end on.
-fn with_length(m: &Motion, length: &mut f64, b: &Block) -> Motion {
+fn with_length(m: &Motion, length: &mut f64, block_length: f64) -> Motion {
     let n = m.plane.normal as usize;
     let mut m = *m;
     m.start[n] += *length;
     m.center[n] += *length;
     if m.programmed & (1 << n) != 0 {
-        *length = b.modal.length;
+        *length = block_length;
     }
     m.end[n] += *length;
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frontend::block::{MotionKind, Pos};
+    use proptest::prelude::*;
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![Just(0.0), Just(-0.0), -50.0..50.0f64]
+    }
+
+    fn motion() -> impl Strategy<Value = Motion> {
+        let pos = || [coordinate(), coordinate(), coordinate()];
+        (pos(), pos(), pos(), 0..8u16, 0..3usize).prop_map(|(start, end, center, programmed, p)| {
+            Motion {
+                kind: MotionKind::Linear,
+                plane: [Plane::XY, Plane::ZX, Plane::YZ][p],
+                start,
+                end,
+                center,
+                programmed,
+            }
+        })
+    }
+
+    proptest! {
+        /// A motion lent as it is (`needs_length` false) is what `with_length` would have
+        /// made of it, bit for bit, and the length stays.
+        #[test]
+        fn a_motion_lent_as_it_is_is_the_lengthened_one(
+            m in motion(),
+            length in prop_oneof![Just(0.0), -5.0..5.0f64],
+            block_length in prop_oneof![Just(0.0), -5.0..5.0f64],
+        ) {
+            let mut after = length;
+            let lengthened = with_length(&m, &mut after, block_length);
+            if !needs_length(&m, length, block_length) {
+                let bits = |p: &Pos| p.map(f64::to_bits);
+                prop_assert_eq!(bits(&lengthened.start), bits(&m.start));
+                prop_assert_eq!(bits(&lengthened.end), bits(&m.end));
+                prop_assert_eq!(bits(&lengthened.center), bits(&m.center));
+                prop_assert_eq!(after.to_bits(), length.to_bits());
+            }
+        }
+    }
 }

@@ -1553,6 +1553,55 @@ mod tests {
         }
     }
 
+    proptest! {
+        /// A pair's answer does not depend on what the worker decoded before it: every pair
+        /// of a run, taken in the walk's order, the other way round and in a scrambled one by
+        /// one worker, gives what a fresh worker gives for it alone (tool radii and sides
+        /// vary, so that pairs fail the blocks' test, pass it and gouge).
+        #[test]
+        fn a_pairs_answer_does_not_depend_on_what_was_decoded_before(
+            (elements, segments) in run_of_blocks(), seed in any::<u64>()
+        ) {
+            let mut w = WholeCheck::new();
+            for (i, e) in elements.iter().enumerate() {
+                let (r, side) = (1.0 + (i % 3) as f64, if i % 4 == 3 { -1 } else { 1 });
+                w.element(src(i as u32 + 1), *e, r, side);
+            }
+            for s in &segments {
+                w.segment(s, &mut |_| false);
+            }
+            let c = Checked {
+                elements: &w.elements,
+                segments: &w.segments,
+                tables: &w.tables,
+                boxes: Boxes { elements: &w.boxes, segments: &w.reach },
+            };
+            let answer = |g: Option<Gouge>| g.map(|g| (g.path.seq, g.element.seq, g.distance.to_bits()));
+            let (ns, nk) = (w.segments.len(), w.elements.len());
+            let mut pairs: Vec<(usize, usize)> =
+                (0..ns).flat_map(|s| (0..nk).map(move |k| (s, k))).collect();
+            let alone: Vec<_> = pairs.iter().map(|&(s, k)| answer(Pairs::new(&c).gouge(s, k))).collect();
+            let mut orders = vec![pairs.clone()];
+            pairs.sort_by_key(|&(s, k)| (k, s));
+            orders.push(pairs.clone());
+            let mut x = seed | 1;
+            pairs.sort_by_cached_key(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                x
+            });
+            orders.push(pairs);
+            for order in orders {
+                let mut worker = Pairs::new(&c);
+                for (s, k) in order {
+                    let want = alone[s * nk + k];
+                    prop_assert_eq!(answer(worker.gouge(s, k)), want, "segment {} element {}", s, k);
+                }
+            }
+        }
+    }
+
     /// Blocks numbered N10, N20 … on consecutive lines take one entry for the whole run.
     #[test]
     fn numbered_blocks_on_consecutive_lines_take_one_entry() {

@@ -332,9 +332,32 @@ impl Elem {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn close(a: V2, b: V2) -> bool {
         a.dist(b) < 1e-12
+    }
+
+    fn value() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            Just(f64::NAN),
+            Just(-0.0),
+            Just(f64::INFINITY),
+            -1e9..1e9f64
+        ]
+    }
+
+    proptest! {
+        /// `max_abs` is `f64::max` over the magnitudes, bit for bit, NaN coordinates passed
+        /// over as `f64::max` passes them.
+        #[test]
+        fn max_abs_is_f64_max_of_the_magnitudes(
+            m in 0.0..2.0f64, xs in proptest::collection::vec((value(), value()), 0..4)
+        ) {
+            let points: Vec<V2> = xs.iter().map(|&(x, y)| v2(x, y)).collect();
+            let want = points.iter().fold(m, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+            prop_assert_eq!(max_abs(m, &points).to_bits(), want.to_bits());
+        }
     }
 
     #[test]
