@@ -557,7 +557,9 @@ pub fn bounds(e: &Elem) -> [f64; 4] {
     let (a, b) = (e.start(), e.end());
     let mut bb = [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)];
     if let Elem::Arc { a, b, c, .. } = *e {
-        let r = a.dist(c).max(b.dist(c));
+        // One root: the root of the larger square is the larger root, bit for bit.
+        let (u, w) = (a - c, b - c);
+        let r = u.dot(u).max(w.dot(w)).sqrt();
         let full = a == b;
         let reach = |w: V2| full || in_sweep(e, w);
         if reach(v2(-1.0, 0.0)) {
