@@ -1360,7 +1360,7 @@ fn uv(p: &Pos, plane: Plane) -> V2 {
 pub(super) fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
     let (a, b) = (uv(&s.from, plane), uv(&s.to, plane));
     match s.shape {
-        Shape::Line => (a.dist(b) > 1e-9).then_some(Elem::Line { a, b }),
+        Shape::Line => longer_than_1e9(b - a).then_some(Elem::Line { a, b }),
         Shape::Arc {
             center,
             center_end,
@@ -1378,6 +1378,14 @@ pub(super) fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
             ccw,
         }),
     }
+}
+
+/// Whether `d` is longer than 1e-9 mm: `d.len() > 1e-9`, with the root taken only near the
+/// limit (above twice its square the length is surely longer, below half surely not).
+#[inline]
+fn longer_than_1e9(d: V2) -> bool {
+    let l2 = d.dot(d);
+    l2 > 2e-18 || (l2 > 0.5e-18 && l2.sqrt() > 1e-9)
 }
 
 /// Bounding box of an element in the plane, grown by `grow`: the whole circle for an arc
@@ -1405,6 +1413,19 @@ pub(super) fn overlap(p: &[f64; 4], q: &[f64; 4]) -> bool {
 pub(super) mod tests {
     use super::*;
     use crate::segment::Source;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The length test takes the root only near the limit and decides as the root does,
+        /// near the limit (lengths within a factor of two of it) and far from it.
+        #[test]
+        fn longer_than_1e9_decides_as_the_length_does(
+            l in prop_oneof![0.5e-9..2e-9f64, 0.0..1e-3f64], angle in 0.0..6.3f64
+        ) {
+            let d = v2(l * libm::cos(angle), l * libm::sin(angle));
+            prop_assert_eq!(longer_than_1e9(d), d.len() > 1e-9);
+        }
+    }
 
     /// Block `seq`, on line `seq` (the whole check's tests take it too).
     pub(in crate::prep) fn src(seq: u32) -> Source {
