@@ -24,7 +24,7 @@ use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
     arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, eta_of, intersections,
-    lines_clear, margin_by, max_abs, sweep, v2, Elem, Fence, Measured, V2,
+    lines_clear, margin, max_abs, sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -143,6 +143,14 @@ impl PathPiece {
         }
     }
 
+    /// The gouge tolerance of a plain piece ([`gouge_tol`]; a spiral has its own).
+    pub(super) fn gouge_tol(&self) -> f64 {
+        match self {
+            PathPiece::Plain(m) => gouge_tol(&m.e),
+            _ => 0.0,
+        }
+    }
+
     pub(super) fn bbox(&self, r: f64) -> [f64; 4] {
         match self {
             PathPiece::Plain(m) => bbox(&m.e, r),
@@ -162,8 +170,22 @@ impl PathPiece {
         fence: impl FnOnce() -> Fence,
         r: f64,
     ) -> Option<(f64, f64)> {
+        self.too_close_by(self.gouge_tol(), other, eta_of(other), fence, r)
+    }
+
+    /// [`Self::too_close`] with the piece's [`Self::gouge_tol`] and the element's [`eta_of`]
+    /// worked out before (once for every pair a record is in).
+    #[inline]
+    pub(super) fn too_close_by(
+        &self,
+        tol: f64,
+        other: &Elem,
+        other_eta: f64,
+        fence: impl FnOnce() -> Fence,
+        r: f64,
+    ) -> Option<(f64, f64)> {
         match self {
-            PathPiece::Plain(m) => too_close(m, other, fence, r).map(|d| (d, r)),
+            PathPiece::Plain(m) => too_close_by(m, tol, other, other_eta, fence, r).map(|d| (d, r)),
             PathPiece::Spiral(sp) => sp.too_close(other),
             PathPiece::Off => None,
         }
@@ -297,7 +319,7 @@ fn programmed_for(depth: usize) -> usize {
 
 /// Distances below R by more than this are gouges (constructions are exact to ~1e-12 at
 /// part sizes; far from the origin the rounding of the coordinates themselves counts).
-pub(super) fn gouge_tol(e: &Elem) -> f64 {
+fn gouge_tol(e: &Elem) -> f64 {
     1e-9_f64.max(1e-12 * max_abs(0.0, &[e.start(), e.end()]))
 }
 
@@ -1092,10 +1114,9 @@ fn too_close(path: &Measured, elem: &Elem, fence: impl FnOnce() -> Fence, r: f64
     too_close_by(path, gouge_tol(&path.e), elem, eta_of(elem), fence, r)
 }
 
-/// [`too_close`] with the path's [`gouge_tol`] and the element's [`eta_of`] worked out
-/// before (once for every pair a record is in).
+/// [`too_close`] with the path's [`gouge_tol`] and the element's [`eta_of`] worked out before.
 #[inline]
-pub(super) fn too_close_by(
+fn too_close_by(
     path: &Measured,
     tol: f64,
     elem: &Elem,
@@ -1104,7 +1125,7 @@ pub(super) fn too_close_by(
     r: f64,
 ) -> Option<f64> {
     let limit = r - tol;
-    let sure = limit.max(0.0) + margin_by(path, elem_eta);
+    let sure = limit.max(0.0) + margin(path, elem_eta);
     if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (path.e, *elem) {
         if lines_clear(a, b, p, q, sure) {
             return None;

@@ -17,7 +17,7 @@
 //! the run finds less left to walk.
 //! Under ISG masking the segments checked are the masked path (the window's output).
 
-use super::bottleneck::{elem_in, gouge_tol, too_close_by, Gouge, PathPiece, Spiral};
+use super::bottleneck::{elem_in, Gouge, PathPiece, Spiral};
 use super::leads::{part_of, Closure, Span};
 use crate::frontend::block::{BlockNo, Plane};
 use crate::segment::{Role, Segment, Source};
@@ -1310,20 +1310,14 @@ impl<'c, 'r> Pairs<'c, 'r> {
         };
         let (piece, tol) = sv.piece.get_or_insert_with(|| {
             let piece = c.tables.piece(c.segments, s);
-            let tol = match &piece {
-                PathPiece::Plain(m) => gouge_tol(&m.e),
-                _ => 0.0,
-            };
+            let tol = piece.gouge_tol();
             (piece, tol)
         });
         let (elem, eta, r) = (ev.elem, ev.eta, sv.r);
         // The fence is worked out for the few pairs that get that far (a line beside a line
         // never needs it), once an element.
         let fence = || *ev.fence.get_or_insert_with(|| Fence::with_eta(&elem, eta));
-        let (distance, radius) = match piece {
-            PathPiece::Plain(m) => too_close_by(m, *tol, &elem, eta, fence, r).map(|d| (d, r)),
-            other => other.too_close(&elem, fence, r),
-        }?;
+        let (distance, radius) = piece.too_close_by(*tol, &elem, eta, fence, r)?;
         Some(Gouge {
             path: c.block_source(&c.segments[s]),
             element: c.tables.source(c.elements, k),

@@ -619,15 +619,9 @@ impl Measured {
 /// 1e-14 of the pair's coordinates. Their operations round by about 1e-16 of the coordinates,
 /// so a pair shown clear with the margin is clear by the exact distance; the margin lies far
 /// below the gouge tolerance (1e-9 mm, 1e-12 of the coordinates), so a neighbour at exactly
-/// the tool radius is still shown clear.
-#[cfg(test)]
-pub fn margin(path: &Measured, other: &Elem) -> f64 {
-    margin_by(path, eta_of(other))
-}
-
-/// [`margin`] for an element whose [`eta_of`] is `other_eta`.
+/// the tool radius is still shown clear. `other_eta`: the other element's [`eta_of`].
 #[inline]
-pub fn margin_by(path: &Measured, other_eta: f64) -> f64 {
+pub fn margin(path: &Measured, other_eta: f64) -> f64 {
     4.0 * path.eta.max(other_eta)
 }
 
@@ -1058,7 +1052,7 @@ mod clear_tests {
 
     /// `limit` with the cheap tests' rounding margin for the pair.
     fn sure(limit: f64, path: &Elem, other: &Elem) -> f64 {
-        limit + margin(&Measured::new(*path), other)
+        limit + margin(&Measured::new(*path), eta_of(other))
     }
 
     fn point() -> impl Strategy<Value = V2> {
