@@ -164,10 +164,10 @@ impl PathPiece {
     /// element's fence ([`Fence::new`]), asked for only where the cheap test by the element's
     /// ends is tried.
     #[inline]
-    pub(super) fn too_close(
+    pub(super) fn too_close<'f>(
         &self,
         other: &Elem,
-        fence: impl FnOnce() -> Fence,
+        fence: impl FnOnce() -> &'f Fence,
         r: f64,
     ) -> Option<(f64, f64)> {
         self.too_close_by(self.gouge_tol(), other, eta_of(other), fence, r)
@@ -176,12 +176,12 @@ impl PathPiece {
     /// [`Self::too_close`] with the piece's [`Self::gouge_tol`] and the element's [`eta_of`]
     /// worked out before (once for every pair a record is in).
     #[inline]
-    pub(super) fn too_close_by(
+    pub(super) fn too_close_by<'f>(
         &self,
         tol: f64,
         other: &Elem,
         other_eta: f64,
-        fence: impl FnOnce() -> Fence,
+        fence: impl FnOnce() -> &'f Fence,
         r: f64,
     ) -> Option<(f64, f64)> {
         match self {
@@ -401,7 +401,7 @@ impl Bottleneck {
             if h.side != side || near(h.seg.source.seq, source.seq) || !overlap(&h.bb, &bb) {
                 continue;
             }
-            if let Some((d, radius)) = h.piece.too_close(&elem, || fence, h.r) {
+            if let Some((d, radius)) = h.piece.too_close(&elem, || &fence, h.r) {
                 if self.lead(newest) {
                     break;
                 }
@@ -909,7 +909,7 @@ impl Bottleneck {
         self.programmed
             .iter()
             .filter(|p| p.side == side && among(p) && overlap(&p.bb, &bb))
-            .all(|p| too_close(&path, &p.elem, || p.fence, r).is_none())
+            .all(|p| too_close(&path, &p.elem, || &p.fence, r).is_none())
     }
 
     /// Whether the tool circle at `x` keeps clear of every programmed element of its side.
@@ -1042,7 +1042,7 @@ impl Bottleneck {
                 if p.side != side || (!own && near(p.source.seq, path.seq)) || !overlap(&p.bb, bb) {
                     return None;
                 }
-                let (distance, radius) = piece.too_close(&p.elem, || p.fence, r)?;
+                let (distance, radius) = piece.too_close(&p.elem, || &p.fence, r)?;
                 // A lead of a closed contour is no surface (its own block's piece still is).
                 if p.source.seq != path.seq && self.lead(from + i) {
                     return None;
@@ -1110,28 +1110,34 @@ impl Bottleneck {
 /// (beyond rounding). The cheap test by the element's ends settles most pairs that share a
 /// corner; the rest get the exact distance.
 #[inline]
-fn too_close(path: &Measured, elem: &Elem, fence: impl FnOnce() -> Fence, r: f64) -> Option<f64> {
+fn too_close<'f>(
+    path: &Measured,
+    elem: &Elem,
+    fence: impl FnOnce() -> &'f Fence,
+    r: f64,
+) -> Option<f64> {
     too_close_by(path, gouge_tol(&path.e), elem, eta_of(elem), fence, r)
 }
 
 /// [`too_close`] with the path's [`gouge_tol`] and the element's [`eta_of`] worked out before.
 #[inline]
-fn too_close_by(
+fn too_close_by<'f>(
     path: &Measured,
     tol: f64,
     elem: &Elem,
     elem_eta: f64,
-    fence: impl FnOnce() -> Fence,
+    fence: impl FnOnce() -> &'f Fence,
     r: f64,
 ) -> Option<f64> {
     let limit = r - tol;
     let sure = limit.max(0.0) + margin(path, elem_eta);
-    if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (path.e, *elem) {
-        if lines_clear(a, b, p, q, sure) {
+    // Matched by reference: a copy of the two elements costs more than the test.
+    if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (&path.e, elem) {
+        if lines_clear(*a, *b, *p, *q, sure) {
             return None;
         }
     }
-    if clear_by_ends_of(path, elem, &fence(), limit) || arcs_clear(path, elem, sure) {
+    if clear_by_ends_of(path, elem, fence(), limit) || arcs_clear(path, elem, sure) {
         return None;
     }
     let d = dist_elems(&path.e, elem);
@@ -1378,6 +1384,9 @@ fn uv(p: &Pos, plane: Plane) -> V2 {
     v2(p[plane.abscissa as usize], p[plane.ordinate as usize])
 }
 
+// Inlined into its callers: an element returned through memory is written a coordinate at a
+// time and read a point at a time, and every such read waits for the stores (docs/benchmarks.md).
+#[inline(always)]
 pub(super) fn elem_in(s: &Segment, plane: Plane) -> Option<Elem> {
     let (a, b) = (uv(&s.from, plane), uv(&s.to, plane));
     match s.shape {

@@ -1313,11 +1313,17 @@ impl<'c, 'r> Pairs<'c, 'r> {
             let tol = piece.gouge_tol();
             (piece, tol)
         });
-        let (elem, eta, r) = (ev.elem, ev.eta, sv.r);
-        // The fence is worked out for the few pairs that get that far (a line beside a line
-        // never needs it), once an element.
-        let fence = || *ev.fence.get_or_insert_with(|| Fence::with_eta(&elem, eta));
-        let (distance, radius) = piece.too_close_by(*tol, &elem, eta, fence, r)?;
+        // The element is read where it is kept, not copied. The fence is worked out for the
+        // few pairs that get that far (a line beside a line never needs it), once an element.
+        let ElementView {
+            elem, eta, fence, ..
+        } = ev;
+        let (elem, eta) = (&*elem, *eta);
+        let fence = move || {
+            let slot = fence;
+            &*slot.get_or_insert_with(|| Fence::with_eta(elem, eta))
+        };
+        let (distance, radius) = piece.too_close_by(*tol, elem, eta, fence, sv.r)?;
         Some(Gouge {
             path: c.block_source(&c.segments[s]),
             element: c.tables.source(c.elements, k),

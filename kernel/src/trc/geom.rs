@@ -147,6 +147,7 @@ impl Elem {
     }
     /// The equidistant at `d` (> 0: left of the direction of travel). `None` when an arc
     /// would shrink to a point or turn inside out: the tool does not fit (alarm, never a path).
+    #[inline]
     pub fn offset(&self, d: f64) -> Option<Elem> {
         self.equidistant(d).filter(
             |o| !matches!((self, o), (Elem::Arc { ccw, .. }, Elem::Arc { ccw: k, .. }) if ccw != k),
@@ -156,6 +157,7 @@ impl Elem {
     /// circle of radius R − r about the same centre, run the other way, from normal position
     /// to normal position (a raw offset, for contour masking to leave out). `None` only where
     /// it shrinks to a point.
+    #[inline]
     pub fn equidistant(&self, d: f64) -> Option<Elem> {
         match *self {
             Elem::Line { a, b } => {
@@ -552,7 +554,9 @@ pub fn dist_elems(e1: &Elem, e2: &Elem) -> f64 {
 }
 
 /// The element's bounding box (x0, y0, x1, y1): an arc's ends and the points of its circle
-/// furthest along ±x and ±y that lie within its sweep.
+/// furthest along ±x and ±y that lie within its sweep. Inlined: the element is mostly one
+/// just built, which a call would read back from memory before its stores complete.
+#[inline(always)]
 pub fn bounds(e: &Elem) -> [f64; 4] {
     let (a, b) = (e.start(), e.end());
     let mut bb = [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)];

@@ -1110,6 +1110,7 @@ impl Compensator {
     /// The equidistant an element is cut along. Under masking, an arc the tool does not fit
     /// into gets its equidistant turned inside out (`Elem::equidistant`); the bottleneck
     /// window leaves it out and joins its neighbours.
+    #[inline]
     fn carrier(&self, tag: Tag, e: &Elem, d: f64) -> Result<Elem, Fault> {
         if self.masking {
             e.equidistant(d).map_or_else(|| self.offset(tag, e, d), Ok)
