@@ -530,6 +530,12 @@ impl Tree {
         boxes: Boxes<'_>,
         f: &mut impl FnMut(u32, u32),
     ) -> bool {
+        // A segment out of leaf order ends the early walk, wherever a leaf's work stands
+        // (the work on the stack reads the leaves' segments by their counts): the run is
+        // walked whole at its end (`early_stands`).
+        if !self.in_order {
+            return false;
+        }
         for step in 0..steps {
             let Some(task) = self.early.stack.pop() else {
                 if let Some(l) = self.early.at.take() {
@@ -1676,8 +1682,9 @@ mod tests {
     }
 
     /// A random program's feed: elements ahead of their blocks' segments by a few blocks, some
-    /// blocks with no element or several segments, a run ended by a move without
-    /// compensation now and then, and looks at the walk anywhere.
+    /// blocks with no element or several segments, a block's segments now and then ahead of
+    /// the block's before it (out of leaf order), a run ended by a move without compensation
+    /// now and then, and looks at the walk anywhere.
     fn feed() -> impl Strategy<Value = Vec<Feed>> {
         let block = (
             prop::option::weighted(0.9, elem()),
@@ -1685,11 +1692,12 @@ mod tests {
             0..4usize,
             prop::bool::weighted(0.03),
             0..6usize,
+            prop::bool::weighted(0.04),
         );
         proptest::collection::vec(block, 1..160).prop_map(|blocks| {
             let mut out = Vec::new();
             let mut waiting: std::collections::VecDeque<Vec<Feed>> = Default::default();
-            for (seq, (element, segs, lag, ends, walks)) in blocks.into_iter().enumerate() {
+            for (seq, (element, segs, lag, ends, walks, swap)) in blocks.into_iter().enumerate() {
                 let seq = seq as u32 + 1;
                 if let Some(e) = element {
                     out.push(Feed::Element(seq, e));
@@ -1712,6 +1720,16 @@ mod tests {
                     .collect();
                 mine.extend((0..walks).map(Feed::Walk));
                 waiting.push_back(mine);
+                // Now and then a block's segments ahead of the block's before it (within a
+                // run: a segment that ends one comes after all of the run's).
+                let n = waiting.len();
+                let ends_run = |g: &Vec<Feed>| {
+                    g.iter()
+                        .any(|f| matches!(f, Feed::Segment(s) if s.role != Role::Contour))
+                };
+                if swap && n >= 2 && !ends_run(&waiting[n - 1]) && !ends_run(&waiting[n - 2]) {
+                    waiting.swap(n - 1, n - 2);
+                }
                 while waiting.len() > lag {
                     out.extend(waiting.pop_front().into_iter().flatten());
                 }
