@@ -28,8 +28,9 @@ use core::sync::atomic::{AtomicUsize, Ordering};
 const RESERVE_BLOCKS: usize = 1 << 20;
 
 /// Consecutive elements a leaf of the tree holds (and the segments of their blocks): few, so
-/// a leaf meets its neighbour in a few box tests.
-const LEAF: usize = 4;
+/// a leaf meets its neighbour in a few box tests, and not fewer, which makes more nodes to
+/// build, visit and keep (8 against 4: 4 % less CPU for the check, docs/benchmarks.md).
+const LEAF: usize = 8;
 
 /// A programmed element as the run keeps it, in 32 bytes: its block's place in execution
 /// order and line (the rest of the block's [`Source`] in `Tables::blocks` where it is not as
