@@ -141,3 +141,67 @@ fn alarms_in_a_spf_file_name_that_file() {
     assert!(text.contains("BAD_SUB.SPF:2:1: alarm 10720"), "{text}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The folder's files are listed when the program loads and read when it first calls one: a
+/// file no call reaches is never read, and one that went since the load is alarm 14011 at
+/// the call that needs it, naming the file.
+#[test]
+fn files_are_read_at_their_first_call() {
+    let d = folder("lazy");
+    let main = d.join("main.nc");
+    write(
+        &main,
+        "O0001\nG90 G0 X0. Y0. Z0.\nM98 P2000\nM98 P3000\nM30\n",
+    );
+    write(&d.join("O2000.nc"), "O2000\nG1 X1. F100.\nM99\n");
+    write(&d.join("O3000.nc"), "O3000\nG1 X2. F100.\nM99\n");
+    write(&d.join("O4000.nc"), "O4000\nnever called\nM99\n");
+    // What the program loaded with: O2000 as it was, O3000 gone, O4000 not read at all.
+    let (blocks, shown, md) = interpreted_after(&main, FANUC, &d.join("O3000.nc"));
+    assert!(blocks >= 2, "O2000 ran first: {blocks} blocks");
+    assert!(shown.contains("main.nc:4:5: alarm 14011"), "{shown}");
+    assert!(shown.contains("O3000.nc cannot be read"), "{shown}");
+    let (_, o4000) = md.programs.find(4000).unwrap();
+    assert!(format!("{o4000:?}").contains("read: None"), "{o4000:?}");
+    // A SINUMERIK call by name the same way.
+    let main = d.join("main.mpf");
+    write(&main, "G0 X0 Y0 Z0\nPOCKET\nM30\n");
+    write(&d.join("POCKET.SPF"), "G1 X1 F100\nM17\n");
+    let (_, shown, _) = interpreted_after(&main, SIEMENS_840D, &d.join("POCKET.SPF"));
+    assert!(shown.contains("main.mpf:2:1: alarm 14011"), "{shown}");
+    assert!(shown.contains("POCKET.SPF cannot be read"), "{shown}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The blocks `main` gives up to its first alarm (shown as `softnc` shows it), with its
+/// program library listed at the load and `gone` deleted after it.
+fn interpreted_after(
+    main: &Path,
+    machine: &str,
+    gone: &Path,
+) -> (usize, String, nc_kernel::MachineData) {
+    use nc_kernel::{Interpreter, MachineData, ToolTable};
+    let library = nc_runtime::program_library(main, &[]).unwrap();
+    std::fs::remove_file(gone).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut md = MachineData::load(Some(&root.join(machine)), &[]).unwrap();
+    md.programs = std::sync::Arc::new(library);
+    let tools = ToolTable::builtin();
+    let text = std::fs::read_to_string(main).unwrap();
+    let name = main.file_name().unwrap().to_str().unwrap();
+    let mut blocks = 0;
+    for item in Interpreter::new(name, &text, &md, &tools) {
+        match item {
+            Ok(_) => blocks += 1,
+            Err(a) => {
+                let shown = md.programs.render(&a, &text);
+                return (blocks, shown, md);
+            }
+        }
+    }
+    panic!(
+        "{} ran to its end without {}",
+        main.display(),
+        gone.display()
+    );
+}

@@ -60,7 +60,7 @@ pub use prep::{
     prepare, AuxFunction, Interruption, Join, Lent, Preparation, Prepared, Resumed, Stop,
     WholeMode, MAX_WINDOW,
 };
-pub use programs::{LibraryProgram, ProgramKey, ProgramLibrary};
+pub use programs::{LibraryProgram, ProgramKey, ProgramLibrary, ReadText};
 pub use segment::{Role, Segment, Shape, Source};
 pub use tools::{
     check_edit, offset_label, write_atomic, LiveEdit, LiveEdits, ToolOffset, ToolTable,

@@ -1,7 +1,10 @@
 //! The programs a part program can call besides those in its own file: the subprogram files
 //! of the program's folder and of the machine data's search path (`program.search_path`).
-//! The runtime reads the files (the core reads none) and hands them in with the machine
-//! data, as it does the work offsets.
+//! The runtime lists the files and hands them in with the machine data, with the means to
+//! read one (the core reads none); a file is read when a program first calls it, so that a
+//! folder of long part programs costs nothing until one of them is called (`softnc check`
+//! of one program beside fifty others read only its own). Read once, its text stays for the
+//! preparation that checks the program and the one that runs it alike.
 //!
 //! A file is a callable program when its name says which one it is:
 //! - Fanuc M98/G65/G66 P: the name without extension is an O number: `O1000`, `O1000.nc`,
@@ -24,15 +27,56 @@ pub enum ProgramKey {
     Named { name: String, main: bool },
 }
 
-/// One program file: what names it, how alarms name it (its path) and its text.
-#[derive(Clone, Debug, PartialEq)]
+/// Reads a program file's text by the name the library knows it by (its path), or says why
+/// it cannot: given by the runtime. Unwind-safe, so that the machine data stays so (the
+/// fuzz tests run the kernel under `catch_unwind`).
+pub type ReadText = dyn Fn(&str) -> Result<String, String>
+    + Send
+    + Sync
+    + std::panic::RefUnwindSafe
+    + std::panic::UnwindSafe;
+
+/// One program file: what names it, how alarms name it (its path) and its text, read at its
+/// first use.
+#[derive(Clone)]
 pub struct LibraryProgram {
     pub key: ProgramKey,
     pub name: String,
-    pub text: String,
+    text: std::sync::OnceLock<Result<String, String>>,
+    read: Option<std::sync::Arc<ReadText>>,
+}
+
+/// The same file: its key and name (whether its text is read yet does not matter).
+impl PartialEq for LibraryProgram {
+    fn eq(&self, other: &Self) -> bool {
+        self.key == other.key && self.name == other.name
+    }
+}
+
+impl std::fmt::Debug for LibraryProgram {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LibraryProgram")
+            .field("key", &self.key)
+            .field("name", &self.name)
+            .field("read", &self.text.get().map(|t| t.is_ok()))
+            .finish()
+    }
 }
 
 impl LibraryProgram {
+    /// Its text, read now if it was not before; why it cannot be read (the file went, or
+    /// cannot be opened).
+    pub fn text(&self) -> Result<&str, &str> {
+        let read = || match &self.read {
+            Some(read) => read(&self.name),
+            None => Err("no text".to_string()),
+        };
+        match self.text.get_or_init(read) {
+            Ok(t) => Ok(t),
+            Err(e) => Err(e),
+        }
+    }
+
     /// Its O number, if it is a Fanuc program.
     pub fn number(&self) -> Option<u32> {
         match self.key {
@@ -71,16 +115,43 @@ impl ProgramLibrary {
         Self::number_of(file_name).map(ProgramKey::Number)
     }
 
-    /// Adds a file; a number, or a name of the same kind, that is there already keeps its
-    /// first file. False if the file names no program or its program was there.
+    /// Adds a file with its text; a number, or a name of the same kind, that is there
+    /// already keeps its first file. False if the file names no program or its program was
+    /// there.
     pub fn add(&mut self, file_name: &str, name: String, text: String) -> bool {
+        self.push(file_name, name, std::sync::OnceLock::from(Ok(text)), None)
+    }
+
+    /// Adds a file whose text `read` gives at its first use, as [`Self::add`] does.
+    pub fn add_file(
+        &mut self,
+        file_name: &str,
+        name: String,
+        read: std::sync::Arc<ReadText>,
+    ) -> bool {
+        self.push(file_name, name, std::sync::OnceLock::new(), Some(read))
+    }
+
+    fn push(
+        &mut self,
+        file_name: &str,
+        name: String,
+        text: std::sync::OnceLock<Result<String, String>>,
+        read: Option<std::sync::Arc<ReadText>>,
+    ) -> bool {
         let Some(key) = Self::key_of(file_name) else {
             return false;
         };
         if self.programs.iter().any(|p| p.key == key) {
             return false;
         }
-        self.programs.push(LibraryProgram { key, name, text });
+        let p = LibraryProgram {
+            key,
+            name,
+            text,
+            read,
+        };
+        self.programs.push(p);
         true
     }
 
@@ -132,7 +203,7 @@ impl ProgramLibrary {
         self.programs
             .iter()
             .find(|p| p.name == name)
-            .map(|p| p.text.as_str())
+            .and_then(|p| p.text().ok())
     }
 
     /// An alarm as a compiler diagnostic, with the line of the file it is in: a subprogram
@@ -175,8 +246,8 @@ mod tests {
         assert!(!l.add("O1000.NC", "b/O1000.NC".into(), "second".into()));
         let (k, p) = l.find(1000).unwrap();
         assert_eq!(
-            (k, p.text.as_str(), l.name(k)),
-            (1, "first", Some("a/O1000.nc"))
+            (k, p.text(), l.name(k)),
+            (1, Ok("first"), Some("a/O1000.nc"))
         );
         assert_eq!(l.name(0), None);
     }
@@ -203,7 +274,7 @@ mod tests {
         assert!(l.add("TOOL.MPF", "a/TOOL.MPF".into(), "main tool".into()));
         assert!(l.add("TOOL.SPF", "b/TOOL.SPF".into(), "sub tool b".into()));
         assert!(!l.add("Part.SPF", "b/Part.SPF".into(), "sub b".into()));
-        let text = |name, main| l.find_named(name, main).map(|(_, p)| p.text.as_str());
+        let text = |name, main| l.find_named(name, main).and_then(|(_, p)| p.text().ok());
         // The folder's subprogram before its main program; the first folder before the next.
         assert_eq!(text("Part", None), Some("sub a"));
         assert_eq!(text("PART", Some(true)), Some("main a"));
@@ -211,5 +282,31 @@ mod tests {
         assert_eq!(text("TOOL", Some(false)), Some("sub tool b"));
         assert_eq!(text("NONE", None), None);
         assert_eq!(l.find(1000), None);
+    }
+
+    #[test]
+    fn a_file_is_read_at_its_first_use_once() {
+        use std::sync::atomic::{AtomicU32, Ordering};
+        use std::sync::Arc;
+        let reads = Arc::new(AtomicU32::new(0));
+        let counted = reads.clone();
+        let read: Arc<ReadText> = Arc::new(move |name: &str| {
+            counted.fetch_add(1, Ordering::Relaxed);
+            match name {
+                "a/O1000.nc" => Ok("O1000\nM99\n".to_string()),
+                _ => Err(format!("{name}: No such file or directory")),
+            }
+        });
+        let mut l = ProgramLibrary::default();
+        assert!(l.add_file("O1000.nc", "a/O1000.nc".into(), read.clone()));
+        assert!(l.add_file("O2000.nc", "a/O2000.nc".into(), read));
+        assert_eq!(reads.load(Ordering::Relaxed), 0, "listed, not read");
+        let (_, p) = l.find(1000).unwrap();
+        assert_eq!(p.text(), Ok("O1000\nM99\n"));
+        assert_eq!(p.text(), Ok("O1000\nM99\n"));
+        assert_eq!(reads.load(Ordering::Relaxed), 1, "read once");
+        let (_, gone) = l.find(2000).unwrap();
+        assert_eq!(gone.text(), Err("a/O2000.nc: No such file or directory"));
+        assert_eq!(l.text_of("a/O2000.nc"), None);
     }
 }

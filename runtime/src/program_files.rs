@@ -1,9 +1,10 @@
-//! The subprogram files a program can call (kernel/src/programs.rs): read from the
+//! The subprogram files a program can call (kernel/src/programs.rs): listed from the
 //! program's own folder, then from each folder of `program.search_path`: Fanuc O-number files
-//! and SINUMERIK `.SPF`/`.MPF` files.
+//! and SINUMERIK `.SPF`/`.MPF` files. A file is read when the program first calls it.
 
-use nc_kernel::ProgramLibrary;
+use nc_kernel::{ProgramLibrary, ReadText};
 use std::path::Path;
+use std::sync::Arc;
 
 /// Largest subprogram file read (a part program larger than this is no subprogram).
 const MAX_FILE: u64 = 64 << 20;
@@ -22,6 +23,22 @@ pub fn program_library(program: &Path, search_path: &[String]) -> Result<Program
     Ok(library)
 }
 
+/// A program file's text, at its first call: anything but UTF-8 kept and reported where the
+/// lexer meets it.
+fn read_text(path: &Path) -> Result<String, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let len = file.metadata().map_err(|e| e.to_string())?.len();
+    if len > MAX_FILE {
+        return Err(format!(
+            "{len} bytes, more than a subprogram file may have ({MAX_FILE})"
+        ));
+    }
+    let mut text = Vec::with_capacity(len as usize);
+    std::io::Read::read_to_end(&mut &file, &mut text).map_err(|e| e.to_string())?;
+    Ok(String::from_utf8(text)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+}
+
 fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> std::io::Result<()> {
     let mut entries: Vec<_> = std::fs::read_dir(folder)?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -38,10 +55,9 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
         if !small || ProgramLibrary::key_of(file).is_none() || same_file(&path, program) {
             continue;
         }
-        let text = std::fs::read(&path)?;
-        let text = String::from_utf8(text)
-            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
-        library.add(file, path.display().to_string(), text);
+        let (file, name) = (file.to_string(), path.display().to_string());
+        let read: Arc<ReadText> = Arc::new(move |_: &str| read_text(&path));
+        library.add_file(&file, name, read);
     }
     Ok(())
 }

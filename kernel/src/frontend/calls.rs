@@ -287,7 +287,7 @@ impl<'a> Interpreter<'a> {
     pub(super) fn library_text(&self, k: u16) -> Text<'a> {
         let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
         let p = library.find_index(k)?;
-        Some((p.name.as_str(), p.text.as_bytes(), k))
+        Some((p.name.as_str(), p.text().ok()?.as_bytes(), k))
     }
 
     /// Starts reading a program at `start` (its O line) in `text` (name, text, library
@@ -403,7 +403,10 @@ impl<'a> Interpreter<'a> {
         }
         let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
         match library.find(number) {
-            Some((k, p)) => Ok((Some((p.name.as_str(), p.text.as_bytes(), k)), (0, 1, 0))),
+            Some((k, p)) => match p.text() {
+                Ok(text) => Ok((Some((p.name.as_str(), text.as_bytes(), k)), (0, 1, 0))),
+                Err(why) => Err(unreadable(p, why, at)),
+            },
             None => Err(fault(
                 AlarmCode::MissingProgram,
                 at,
@@ -534,4 +537,16 @@ fn index_labels(
         }
     }
     out
+}
+
+/// Alarm 14011 for a program file that is listed but cannot be read at its call (it went
+/// since the program was loaded, or cannot be opened).
+#[cold]
+pub(super) fn unreadable(
+    p: &crate::programs::LibraryProgram,
+    why: &str,
+    at: usize,
+) -> Box<super::fault::Fault> {
+    let m = format!("program file {} cannot be read: {why}", p.name);
+    fault(AlarmCode::MissingProgram, at, m)
 }

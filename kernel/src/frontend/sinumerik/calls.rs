@@ -153,9 +153,12 @@ impl Interpreter<'_> {
         let name = call_name(c)?;
         let (stem, main) = program_key(&name);
         let library = &self.md.programs;
-        let Some((program, _)) = library.find_named(stem, main) else {
+        let Some((program, file)) = library.find_named(stem, main) else {
             return Err(self.missing_program(stem, main, name_at));
         };
+        if let Err(why) = file.text() {
+            return Err(super::super::calls::unreadable(file, why, name_at));
+        }
         let params = if self.d.sinumerik {
             self.callee_structure(program, stem)?;
             let decl = self
