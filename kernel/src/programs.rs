@@ -27,10 +27,10 @@ pub enum ProgramKey {
     Named { name: String, main: bool },
 }
 
-/// Reads a program file's text by the name the library knows it by (its path), or says why
-/// it cannot: given by the runtime. Unwind-safe, so that the machine data stays so (the
-/// fuzz tests run the kernel under `catch_unwind`).
-pub type ReadText = dyn Fn(&str) -> Result<String, String>
+/// Reads one program file's text, or says why it cannot: given by the runtime for each file
+/// it lists. Unwind-safe, so that the machine data stays so (the fuzz tests run the kernel
+/// under `catch_unwind`).
+pub type ReadText = dyn Fn() -> Result<String, String>
     + Send
     + Sync
     + std::panic::RefUnwindSafe
@@ -68,7 +68,7 @@ impl LibraryProgram {
     /// cannot be opened).
     pub fn text(&self) -> Result<&str, &str> {
         let read = || match &self.read {
-            Some(read) => read(&self.name),
+            Some(read) => read(),
             None => Err("no text".to_string()),
         };
         match self.text.get_or_init(read) {
@@ -289,24 +289,24 @@ mod tests {
         use std::sync::atomic::{AtomicU32, Ordering};
         use std::sync::Arc;
         let reads = Arc::new(AtomicU32::new(0));
-        let counted = reads.clone();
-        let read: Arc<ReadText> = Arc::new(move |name: &str| {
-            counted.fetch_add(1, Ordering::Relaxed);
-            match name {
-                "a/O1000.nc" => Ok("O1000\nM99\n".to_string()),
-                _ => Err(format!("{name}: No such file or directory")),
-            }
-        });
+        let file = |text: Option<&'static str>| -> Arc<ReadText> {
+            let counted = reads.clone();
+            Arc::new(move || {
+                counted.fetch_add(1, Ordering::Relaxed);
+                text.map(str::to_string)
+                    .ok_or_else(|| "No such file or directory".to_string())
+            })
+        };
         let mut l = ProgramLibrary::default();
-        assert!(l.add_file("O1000.nc", "a/O1000.nc".into(), read.clone()));
-        assert!(l.add_file("O2000.nc", "a/O2000.nc".into(), read));
+        assert!(l.add_file("O1000.nc", "a/O1000.nc".into(), file(Some("O1000\nM99\n"))));
+        assert!(l.add_file("O2000.nc", "a/O2000.nc".into(), file(None)));
         assert_eq!(reads.load(Ordering::Relaxed), 0, "listed, not read");
         let (_, p) = l.find(1000).unwrap();
         assert_eq!(p.text(), Ok("O1000\nM99\n"));
         assert_eq!(p.text(), Ok("O1000\nM99\n"));
         assert_eq!(reads.load(Ordering::Relaxed), 1, "read once");
         let (_, gone) = l.find(2000).unwrap();
-        assert_eq!(gone.text(), Err("a/O2000.nc: No such file or directory"));
+        assert_eq!(gone.text(), Err("No such file or directory"));
         assert_eq!(l.text_of("a/O2000.nc"), None);
     }
 }

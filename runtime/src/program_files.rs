@@ -56,7 +56,7 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
             continue;
         }
         let (file, name) = (file.to_string(), path.display().to_string());
-        let read: Arc<ReadText> = Arc::new(move |_: &str| read_text(&path));
+        let read: Arc<ReadText> = Arc::new(move || read_text(&path));
         library.add_file(&file, name, read);
     }
     Ok(())
