@@ -403,10 +403,7 @@ impl<'a> Interpreter<'a> {
         }
         let library: &'a crate::programs::ProgramLibrary = &self.md.programs;
         match library.find(number) {
-            Some((k, p)) => match p.text() {
-                Ok(text) => Ok((Some((p.name.as_str(), text.as_bytes(), k)), (0, 1, 0))),
-                Err(why) => Err(unreadable(p, why, at)),
-            },
+            Some((k, p)) => Ok((Some((p.name.as_str(), file_text(p, at)?.as_bytes(), k)), (0, 1, 0))),
             None => Err(fault(
                 AlarmCode::MissingProgram,
                 at,
@@ -539,14 +536,12 @@ fn index_labels(
     out
 }
 
-/// Alarm 14011 for a program file that is listed but cannot be read at its call (it went
-/// since the program was loaded, or cannot be opened).
-#[cold]
-pub(super) fn unreadable(
-    p: &crate::programs::LibraryProgram,
-    why: &str,
-    at: usize,
-) -> Box<super::fault::Fault> {
-    let m = format!("program file {} cannot be read: {why}", p.name);
-    fault(AlarmCode::MissingProgram, at, m)
+/// The text of library file `p`, called at `at`: read now if it was not before, or alarm
+/// 14011 where it is listed but cannot be read (it went since the program was loaded, or
+/// cannot be opened).
+pub(super) fn file_text(p: &crate::programs::LibraryProgram, at: usize) -> R<&str> {
+    p.text().map_err(|why| {
+        let m = format!("program file {} cannot be read: {why}", p.name);
+        fault(AlarmCode::MissingProgram, at, m)
+    })
 }

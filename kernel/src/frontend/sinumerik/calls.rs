@@ -156,9 +156,7 @@ impl Interpreter<'_> {
         let Some((program, file)) = library.find_named(stem, main) else {
             return Err(self.missing_program(stem, main, name_at));
         };
-        if let Err(why) = file.text() {
-            return Err(super::super::calls::unreadable(file, why, name_at));
-        }
+        super::super::calls::file_text(file, name_at)?;
         let params = if self.d.sinumerik {
             self.callee_structure(program, stem)?;
             let decl = self

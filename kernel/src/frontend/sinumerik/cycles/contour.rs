@@ -128,12 +128,9 @@ impl<'a> Interpreter<'a> {
             let m = format!("contour program {stem} not found: no {stem}.SPF or {stem}.MPF in the program's folder or the search path");
             return Err(fault(AlarmCode::MissingProgram, at, m));
         };
-        let src = p
-            .text()
-            .map_err(|why| super::super::super::calls::unreadable(p, why, at))?;
         Ok(ContourText {
             name: p.name.as_str(),
-            src,
+            src: super::super::super::calls::file_text(p, at)?,
             start: (0, 1, 0),
         })
     }
