@@ -23,8 +23,8 @@ use super::leads::{part_of, span_of};
 use crate::frontend::block::{Plane, Pos};
 use crate::segment::{Role, Segment, Shape};
 use crate::trc::geom::{
-    arcs_clear, clear_by_ends_of, contains, dist_elems, dist_point, eta_of, intersections,
-    lines_clear, margin, max_abs, sweep, v2, Elem, Fence, Measured, V2,
+    arcs_clear, circles_clear, clear_by_ends_of, contains, dist_elems, dist_point, eta_of,
+    intersections, margin, max_abs, sweep, v2, Elem, Fence, Measured, V2,
 };
 
 /// Largest window, in blocks.
@@ -1131,13 +1131,10 @@ fn too_close_by<'f>(
 ) -> Option<f64> {
     let limit = r - tol;
     let sure = limit.max(0.0) + margin(path, elem_eta);
-    // Matched by reference: a copy of the two elements costs more than the test.
-    if let (Elem::Line { a, b }, Elem::Line { a: p, b: q }) = (&path.e, elem) {
-        if lines_clear(*a, *b, *p, *q, sure) {
-            return None;
-        }
-    }
-    if clear_by_ends_of(path, elem, fence(), limit) || arcs_clear(path, elem, sure) {
+    if circles_clear(path, elem, sure)
+        || clear_by_ends_of(path, elem, fence(), limit)
+        || arcs_clear(path, elem, sure)
+    {
         return None;
     }
     let d = dist_elems(&path.e, elem);

@@ -939,6 +939,61 @@ pub fn arc_line_clear(arc: &Elem, r: f64, p: V2, q: V2, limit: f64) -> bool {
     end_clear(p) && end_clear(q) && point_seg_sq(a, p, d) >= l2 && point_seg_sq(b, p, d) >= l2
 }
 
+/// Whether a path piece and an element are surely at least `limit` (≥ 0, with the rounding
+/// [`margin`] added) apart by their circles alone: the few multiplications that settle a
+/// tool-centre path against the elements beside its own block. An arc about an end of a
+/// line ([`corner_arc_clear`]: the corner round a programmed corner against the element that
+/// meets it there); an arc's whole disc apart from a line; a line wholly outside or inside
+/// an arc's circle; two circles apart or one inside the other. `false` says nothing.
+#[inline]
+pub fn circles_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
+    match (path.e, *other) {
+        (Elem::Line { a, b }, Elem::Line { a: p, b: q }) => lines_clear(a, b, p, q, limit),
+        (Elem::Arc { a, b, c, ccw }, Elem::Line { a: p, b: q }) => {
+            let about = |p: V2, q: V2| {
+                same_point(c, p) && corner_arc_clear(a - c, b - c, ccw, q - p, limit)
+            };
+            let reach = path.r + limit;
+            about(p, q) || about(q, p) || point_seg_sq(c, p, q - p) >= reach * reach
+        }
+        (Elem::Line { a, b }, Elem::Arc { a: s, c, .. }) => {
+            let rho = s.dist(c);
+            let (out, inner) = (rho + limit, rho - limit);
+            let far = (a - c).dot(a - c).max((b - c).dot(b - c));
+            point_seg_sq(c, a, b - a) >= out * out || inner > 0.0 && far <= inner * inner
+        }
+        (Elem::Arc { c, .. }, Elem::Arc { a, c: c2, .. }) => {
+            let (r1, r2, d) = (path.r, a.dist(c2), c.dist(c2));
+            let (small, big) = (r1.min(r2), r1.max(r2));
+            d >= r1 + r2 + limit || d + small + limit <= big
+        }
+    }
+}
+
+/// Bit for bit the same point.
+#[inline]
+fn same_point(p: V2, q: V2) -> bool {
+    p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits()
+}
+
+/// Whether an arc about a point `p` (radius |`wa`|, from direction `wa` to direction `wb`,
+/// `ccw`) keeps at least `limit` (≥ 0) from the line that leaves `p` along `u`. Every point of
+/// the arc lies |wa| from `p`, which is the line's nearest point to it while the arc stays
+/// behind `p` along `u`; reaching ahead by t brings the line to √(|wa|² − t²). t² is allowed
+/// half of the room |wa|² − limit² (the rest covers rounding). Over less than a half turn,
+/// and `u` not within it, the arc reaches farthest along `u` at an end; a longer arc, or an
+/// end off the circle, says `false`.
+#[inline]
+pub fn corner_arc_clear(wa: V2, wb: V2, ccw: bool, u: V2, limit: f64) -> bool {
+    let r2 = wa.dot(wa);
+    let room = r2 - limit * limit;
+    let turn = if ccw { 1.0 } else { -1.0 };
+    let short = turn * wa.cross(wb) > 0.0 && (wb.dot(wb) - r2).abs() <= 1e-9 * r2;
+    let within = turn * wa.cross(u) > 0.0 && turn * u.cross(wb) > 0.0;
+    let t = wa.dot(u).max(wb.dot(u)).max(0.0);
+    limit >= 0.0 && room > 1e-12 * r2 && short && !within && t * t <= 0.5 * room * u.dot(u)
+}
+
 /// [`clear_by_ends`] with the path measured and the element's fence worked out beforehand
 /// (`fence` is `Fence::new(other)`): the bottleneck window's hot path.
 #[inline]
@@ -1054,6 +1109,65 @@ mod clear_tests {
         ]
     }
 
+    #[test]
+    fn a_corner_arc_is_shown_clear_of_the_lines_that_meet_it_at_its_centre() {
+        // A convex corner at P = (0,0): along +X, then down -Y; tool left at R = 10 goes
+        // round P clockwise from (0,10) to (10,0). Both lines are exactly R from the arc.
+        let arc = Measured::new(Elem::Arc {
+            a: v2(0.0, 10.0),
+            b: v2(10.0, 0.0),
+            c: v2(0.0, 0.0),
+            ccw: false,
+        });
+        let (first, second) = (
+            line((-50.0, 0.0), (0.0, 0.0)),
+            line((0.0, 0.0), (0.0, -50.0)),
+        );
+        let limit = 10.0 - 1e-9;
+        assert!(circles_clear(&arc, &first, limit));
+        assert!(circles_clear(&arc, &second, limit));
+        // Exactly R is no more than R: the arc touches both.
+        assert!(!circles_clear(&arc, &second, 10.0));
+        // A line that leaves P into the arc's side comes closer.
+        let into = line((0.0, 0.0), (30.0, 30.0));
+        assert!(!circles_clear(&arc, &into, limit));
+        assert!(dist_elems(&arc.e, &into) < 1e-9);
+        // Leaving P just ahead of the arc's end by 1e-3 rad: 10·(1 − cos 1e-3) = 5e-6 closer.
+        let (s, c) = (1e-3f64.sin(), 1e-3f64.cos());
+        let ahead = line((0.0, 0.0), (40.0 * s, -40.0 * c));
+        assert!(!circles_clear(&arc, &ahead, limit));
+        assert!(circles_clear(&arc, &ahead, limit - 1e-5));
+    }
+
+    /// An arc about `p` of less than a half turn, and a line from `p`.
+    fn corner() -> impl Strategy<Value = (Elem, Elem)> {
+        (
+            point(),
+            0.5..15.0f64,
+            -3.2..3.2f64,
+            0.01..3.1f64,
+            any::<bool>(),
+            -3.2..3.2f64,
+            0.0..30.0f64,
+        )
+            .prop_map(|(p, r, t0, s, ccw, phi, len)| {
+                let t1 = if ccw { t0 + s } else { t0 - s };
+                let arc = Elem::Arc {
+                    a: p + V2::from_angle(t0) * r,
+                    b: p + V2::from_angle(t1) * r,
+                    c: p,
+                    ccw,
+                };
+                (
+                    arc,
+                    Elem::Line {
+                        a: p,
+                        b: p + V2::from_angle(phi) * len,
+                    },
+                )
+            })
+    }
+
     /// `limit` with the cheap tests' rounding margin for the pair.
     fn sure(limit: f64, path: &Elem, other: &Elem) -> f64 {
         limit + margin(&Measured::new(*path), eta_of(other))
@@ -1077,6 +1191,40 @@ mod clear_tests {
                 prop_assert!(d >= limit, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
             } else {
                 prop_assert!(d <= limit * (1.0 + 1e-6) + 1e-9, "{a:?} {b:?} {p:?} {q:?} limit {limit} dist {d}");
+            }
+        }
+
+        /// A pair shown clear by its circles is as far apart as the exact distance says.
+        #[test]
+        fn circles_clear_agrees_with_the_exact_distance(
+            p in elem(), o in elem(), limit in 0.0..12.0f64
+        ) {
+            if circles_clear(&Measured::new(p), &o, sure(limit, &p, &o)) {
+                let d = dist_elems(&p, &o);
+                prop_assert!(d >= limit, "{p:?} {o:?} limit {limit} dist {d}");
+            }
+        }
+
+        /// An arc about a line's end shown clear of it is; one that stays behind the line's
+        /// start by a clear angle is shown clear at just under its radius, either way round.
+        #[test]
+        fn a_corner_arc_is_shown_clear_where_it_is((arc, l) in corner(), below in 1e-10..0.5f64) {
+            let Elem::Arc { a, b, c, .. } = arc else { unreachable!() };
+            let r = a.dist(c);
+            let limit = r * (1.0 - below);
+            let d = dist_elems(&arc, &l);
+            let back = Elem::Line { a: l.end(), b: l.start() };
+            for other in [l, back] {
+                if circles_clear(&Measured::new(arc), &other, sure(limit, &arc, &other)) {
+                    prop_assert!(d >= limit, "{arc:?} {other:?} limit {limit} dist {d}");
+                }
+            }
+            let u = l.end() - l.start();
+            let behind = |w: V2| w.dot(u) <= -0.01 * r * u.len();
+            if u.len() > 1e-3 && behind(a - c) && behind(b - c) && !in_sweep(&arc, u) {
+                for other in [l, back] {
+                    prop_assert!(circles_clear(&Measured::new(arc), &other, sure(limit, &arc, &other)));
+                }
             }
         }
 
