@@ -940,27 +940,33 @@ pub fn arc_line_clear(arc: &Elem, r: f64, p: V2, q: V2, limit: f64) -> bool {
 }
 
 /// Whether a path piece and an element are surely at least `limit` (≥ 0, with the rounding
-/// [`margin`] added) apart by their circles alone: the few multiplications that settle a
-/// tool-centre path against the elements beside its own block. An arc about an end of a
-/// line ([`corner_arc_clear`]: the corner round a programmed corner against the element that
-/// meets it there); an arc's whole disc apart from a line; a line wholly outside or inside
-/// an arc's circle; two circles apart or one inside the other. `false` says nothing.
+/// [`margin`] added) apart by a few products: the tests that settle a tool-centre path against
+/// the elements beside its own block. Two lines by [`lines_clear`]; an arc and a line by the
+/// arc's disc apart from the line, or by the arc lying behind an end of the line
+/// ([`arc_behind_clear`]: how the path goes round a corner against the elements that meet
+/// there, and how an element arc leaves a path line's end); two circles apart or one inside
+/// the other. `false` says nothing.
 #[inline]
 pub fn circles_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
+    let behind = |arc: &Elem, rho: f64, p: V2, q: V2| {
+        arc_behind_clear(arc, rho, p, q - p, limit) || arc_behind_clear(arc, rho, q, p - q, limit)
+    };
     match (path.e, *other) {
         (Elem::Line { a, b }, Elem::Line { a: p, b: q }) => lines_clear(a, b, p, q, limit),
-        (Elem::Arc { a, b, c, ccw }, Elem::Line { a: p, b: q }) => {
-            let about = |p: V2, q: V2| {
-                same_point(c, p) && corner_arc_clear(a - c, b - c, ccw, q - p, limit)
-            };
+        (Elem::Arc { c, .. }, Elem::Line { a: p, b: q }) => {
+            // Behind an end only as a corner: about that end (a trimmed arc at an inner
+            // corner is left to the fence).
+            let about = |p: V2, q: V2| c == p && arc_behind_clear(&path.e, path.r, p, q - p, limit);
             let reach = path.r + limit;
-            about(p, q) || about(q, p) || point_seg_sq(c, p, q - p) >= reach * reach
+            point_seg_sq(c, p, q - p) >= reach * reach || about(p, q) || about(q, p)
         }
         (Elem::Line { a, b }, Elem::Arc { a: s, c, .. }) => {
             let rho = s.dist(c);
             let (out, inner) = (rho + limit, rho - limit);
             let far = (a - c).dot(a - c).max((b - c).dot(b - c));
-            point_seg_sq(c, a, b - a) >= out * out || inner > 0.0 && far <= inner * inner
+            point_seg_sq(c, a, b - a) >= out * out
+                || inner > 0.0 && far <= inner * inner
+                || behind(other, rho, a, b)
         }
         (Elem::Arc { c, .. }, Elem::Arc { a, c: c2, .. }) => {
             let (r1, r2, d) = (path.r, a.dist(c2), c.dist(c2));
@@ -970,28 +976,32 @@ pub fn circles_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
     }
 }
 
-/// Bit for bit the same point.
+/// Whether an arc (radius `rho`) and the line from `p` to `p + u` are at least `limit` (≥ 0)
+/// apart because the arc lies behind `p` along `u`. A point of the arc is at least the arc's
+/// distance d from `p`, and that is its distance from the line while it lies behind `p`;
+/// reaching ahead of `p` by t, it comes to √(d² − t²). t² may take half the room d² − limit²
+/// (the rest is for rounding). The arc reaches farthest along `u` at an end, or where its
+/// sweep holds `u`'s direction. An end off the circle says `false`.
 #[inline]
-fn same_point(p: V2, q: V2) -> bool {
-    p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits()
-}
-
-/// Whether an arc about a point `p` (radius |`wa`|, from direction `wa` to direction `wb`,
-/// `ccw`) keeps at least `limit` (≥ 0) from the line that leaves `p` along `u`. Every point of
-/// the arc lies |wa| from `p`, which is the line's nearest point to it while the arc stays
-/// behind `p` along `u`; reaching ahead by t brings the line to √(|wa|² − t²). t² is allowed
-/// half of the room |wa|² − limit² (the rest covers rounding). Over less than a half turn,
-/// and `u` not within it, the arc reaches farthest along `u` at an end; a longer arc, or an
-/// end off the circle, says `false`.
-#[inline]
-pub fn corner_arc_clear(wa: V2, wb: V2, ccw: bool, u: V2, limit: f64) -> bool {
-    let r2 = wa.dot(wa);
-    let room = r2 - limit * limit;
-    let turn = if ccw { 1.0 } else { -1.0 };
-    let short = turn * wa.cross(wb) > 0.0 && (wb.dot(wb) - r2).abs() <= 1e-9 * r2;
-    let within = turn * wa.cross(u) > 0.0 && turn * u.cross(wb) > 0.0;
-    let t = wa.dot(u).max(wb.dot(u)).max(0.0);
-    limit >= 0.0 && room > 1e-12 * r2 && short && !within && t * t <= 0.5 * room * u.dot(u)
+pub fn arc_behind_clear(arc: &Elem, rho: f64, p: V2, u: V2, limit: f64) -> bool {
+    let Elem::Arc { a, b, c, .. } = *arc else {
+        return false;
+    };
+    let (wa, wb, w) = (a - c, b - c, p - c);
+    let on_circle = (wb.dot(wb) - rho * rho).abs() <= 1e-9 * rho * rho;
+    let ahead = if in_sweep(arc, u) {
+        rho * u.len()
+    } else {
+        wa.dot(u).max(wb.dot(u))
+    };
+    let t = (ahead - w.dot(u)).max(0.0);
+    let d = if in_sweep(arc, w) {
+        (w.len() - rho).abs()
+    } else {
+        p.dist(a).min(p.dist(b))
+    };
+    let room = d * d - limit * limit;
+    on_circle && limit >= 0.0 && room > 0.0 && t * t <= 0.5 * room * u.dot(u)
 }
 
 /// [`clear_by_ends`] with the path measured and the element's fence worked out beforehand
@@ -1225,6 +1235,22 @@ mod clear_tests {
                 for other in [l, back] {
                     prop_assert!(circles_clear(&Measured::new(arc), &other, sure(limit, &arc, &other)));
                 }
+            }
+        }
+
+        /// A line that ends near where an arc starts (a path line beside the next block's
+        /// element), shown clear, is as far apart as the exact distance says.
+        #[test]
+        fn a_line_beside_an_arcs_start_is_clear_where_shown(
+            arc in elem(), r in 0.5..12.0f64, dir in -3.2..3.2f64, back in -3.2..3.2f64,
+            len in 0.0..30.0f64, below in 1e-10..0.5f64
+        ) {
+            let end = arc.start() + V2::from_angle(dir) * r;
+            let path = Elem::Line { a: end + V2::from_angle(back) * len, b: end };
+            let limit = r * (1.0 - below);
+            if circles_clear(&Measured::new(path), &arc, sure(limit, &path, &arc)) {
+                let d = dist_elems(&path, &arc);
+                prop_assert!(d >= limit, "{path:?} {arc:?} limit {limit} dist {d}");
             }
         }
 
