@@ -951,16 +951,17 @@ pub fn circles_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
     let behind = |arc: &Elem, rho: f64, p: V2, q: V2| {
         arc_behind_clear(arc, rho, p, q - p, limit) || arc_behind_clear(arc, rho, q, p - q, limit)
     };
-    match (path.e, *other) {
-        (Elem::Line { a, b }, Elem::Line { a: p, b: q }) => lines_clear(a, b, p, q, limit),
-        (Elem::Arc { c, .. }, Elem::Line { a: p, b: q }) => {
+    // Matched by reference: a copy of the two elements costs more than most of the tests.
+    match (&path.e, other) {
+        (&Elem::Line { a, b }, &Elem::Line { a: p, b: q }) => lines_clear(a, b, p, q, limit),
+        (&Elem::Arc { c, .. }, &Elem::Line { a: p, b: q }) => {
             // Behind an end only as a corner: about that end (a trimmed arc at an inner
             // corner is left to the fence).
             let about = |p: V2, q: V2| c == p && arc_behind_clear(&path.e, path.r, p, q - p, limit);
             let reach = path.r + limit;
             point_seg_sq(c, p, q - p) >= reach * reach || about(p, q) || about(q, p)
         }
-        (Elem::Line { a, b }, Elem::Arc { a: s, c, .. }) => {
+        (&Elem::Line { a, b }, &Elem::Arc { a: s, c, .. }) => {
             let rho = s.dist(c);
             let (out, inner) = (rho + limit, rho - limit);
             let far = (a - c).dot(a - c).max((b - c).dot(b - c));
@@ -968,7 +969,7 @@ pub fn circles_clear(path: &Measured, other: &Elem, limit: f64) -> bool {
                 || inner > 0.0 && far <= inner * inner
                 || behind(other, rho, a, b)
         }
-        (Elem::Arc { c, .. }, Elem::Arc { a, c: c2, .. }) => {
+        (&Elem::Arc { c, .. }, &Elem::Arc { a, c: c2, .. }) => {
             let (r1, r2, d) = (path.r, a.dist(c2), c.dist(c2));
             let (small, big) = (r1.min(r2), r1.max(r2));
             d >= r1 + r2 + limit || d + small + limit <= big
