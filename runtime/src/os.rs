@@ -162,6 +162,48 @@ pub fn setup_cyclic_thread(_priority: i32, _slack_ns: u64) -> (RtReport, Option<
     )
 }
 
+/// The rest of `file` (opened, `len` bytes by its metadata), read into memory whose pages are
+/// taken in one request before the read (`MADV_POPULATE_WRITE`), so that the copy meets no
+/// page fault: a 6.5 MB program is read in 3.0 ms instead of 3.6 (docs/benchmarks.md). Where
+/// the request is refused (an older kernel, another OS) the read takes its pages as it goes.
+pub fn read_file(mut file: &std::fs::File, len: u64) -> std::io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    let too_large = |_| std::io::Error::new(std::io::ErrorKind::OutOfMemory, "file too large");
+    bytes
+        .try_reserve_exact(usize::try_from(len).unwrap_or(usize::MAX))
+        .map_err(too_large)?;
+    take_pages(bytes.spare_capacity_mut());
+    std::io::Read::read_to_end(&mut file, &mut bytes)?;
+    Ok(bytes)
+}
+
+/// Takes the whole pages of `room` ahead of writing them (nothing written, nothing read).
+#[cfg(target_os = "linux")]
+fn take_pages(room: &mut [std::mem::MaybeUninit<u8>]) {
+    // SAFETY: sysconf reads no memory of ours.
+    let page = usize::try_from(unsafe { libc::sysconf(libc::_SC_PAGESIZE) }).unwrap_or(0);
+    if room.len() < 16 * page.max(1) {
+        return;
+    }
+    let start = room.as_mut_ptr() as usize;
+    let (first, end) = (
+        start.next_multiple_of(page),
+        (start + room.len()) / page * page,
+    );
+    // SAFETY: [first, end) lies within `room`, memory this process owns and may write;
+    // MADV_POPULATE_WRITE only faults its pages in (their contents stay what they are).
+    unsafe {
+        libc::madvise(
+            first as *mut libc::c_void,
+            end - first,
+            libc::MADV_POPULATE_WRITE,
+        );
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn take_pages(_room: &mut [std::mem::MaybeUninit<u8>]) {}
+
 /// Asks the process `pid` to end (SIGTERM): a child of this process, not yet reaped, so the
 /// pid is still its own.
 #[cfg(unix)]
@@ -175,6 +217,26 @@ pub fn terminate(pid: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_reads_back_whole_small_or_large() {
+        let dir = std::env::temp_dir().join(format!("softnc-os-read-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for n in [0usize, 1, 4095, 4096, 70_000, 1 << 20, (1 << 20) + 17] {
+            let text: Vec<u8> = (0..n).map(|i| b'0' + (i % 10) as u8).collect();
+            let path = dir.join(format!("{n}.nc"));
+            std::fs::write(&path, &text).unwrap();
+            let file = std::fs::File::open(&path).unwrap();
+            let len = file.metadata().unwrap().len();
+            assert_eq!(read_file(&file, len).unwrap(), text);
+            // A file that grew since its length was taken is read whole all the same.
+            assert_eq!(
+                read_file(&std::fs::File::open(&path).unwrap(), 0).unwrap(),
+                text
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn sleeping_to_a_deadline_wakes_after_it() {

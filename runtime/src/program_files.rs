@@ -33,8 +33,7 @@ fn read_text(path: &Path) -> Result<String, String> {
             "{len} bytes, more than a subprogram file may have ({MAX_FILE})"
         ));
     }
-    let mut text = Vec::with_capacity(len as usize);
-    std::io::Read::read_to_end(&mut &file, &mut text).map_err(|e| e.to_string())?;
+    let text = crate::os::read_file(&file, len).map_err(|e| e.to_string())?;
     Ok(String::from_utf8(text)
         .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
 }
