@@ -1,6 +1,7 @@
 //! The operating system's part of a cyclic thread: the monotonic clock, sleeping to an
-//! absolute deadline, SCHED_FIFO, locked memory and the timer slack. Linux only; elsewhere
-//! every request reports "not supported" and sleeping falls back to `std::thread::sleep`.
+//! absolute deadline, SCHED_FIFO, locked memory and the timer slack; and a program file read
+//! into pages taken ahead. Linux only; elsewhere every request reports "not supported",
+//! sleeping falls back to `std::thread::sleep` and a file is read as it comes.
 
 use std::fmt;
 
