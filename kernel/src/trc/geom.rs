@@ -996,12 +996,16 @@ pub fn arc_behind_clear(arc: &Elem, rho: f64, p: V2, u: V2, limit: f64) -> bool 
         wa.dot(u).max(wb.dot(u))
     };
     let t = (ahead - w.dot(u)).max(0.0);
-    let d = if in_sweep(arc, w) {
-        (w.len() - rho).abs()
+    // The arc's distance from `p` as `dist_point` takes it: its circle's where the sweep holds
+    // `p`'s direction, and its two ends (an end may lie off the circle by rounding).
+    let ends = (p - a).dot(p - a).min((p - b).dot(p - b));
+    let d2 = if in_sweep(arc, w) {
+        let off = w.len() - rho;
+        ends.min(off * off)
     } else {
-        p.dist(a).min(p.dist(b))
+        ends
     };
-    let room = d * d - limit * limit;
+    let room = d2 - limit * limit;
     on_circle && limit >= 0.0 && room > 0.0 && t * t <= 0.5 * room * u.dot(u)
 }
 
@@ -1148,6 +1152,23 @@ mod clear_tests {
         let ahead = line((0.0, 0.0), (40.0 * s, -40.0 * c));
         assert!(!circles_clear(&arc, &ahead, limit));
         assert!(circles_clear(&arc, &ahead, limit - 1e-5));
+    }
+
+    #[test]
+    fn an_arc_end_off_its_circle_counts_where_it_lies() {
+        // A quarter circle about the origin whose end lies 4e-9 inside its circle (within
+        // rounding), and a line leaving (0,5) away from it: the end, not the circle, is nearest.
+        let arc = Elem::Arc {
+            a: v2(10.0, 0.0),
+            b: v2(0.0, 10.0 - 4e-9),
+            c: v2(0.0, 0.0),
+            ccw: true,
+        };
+        let (p, u) = (v2(0.0, 5.0), v2(-3.0, -3.0));
+        let line = Elem::Line { a: p, b: p + u };
+        assert!(dist_elems(&arc, &line) < 5.0 - 3e-9);
+        assert!(!arc_behind_clear(&arc, 10.0, p, u, 5.0 - 2e-9));
+        assert!(arc_behind_clear(&arc, 10.0, p, u, 5.0 - 8e-9));
     }
 
     /// An arc about `p` of less than a half turn, and a line from `p`.
