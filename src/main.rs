@@ -337,27 +337,16 @@ fn load(a: &ProgramArgs) -> Result<Loaded, Failure> {
         tools.apply_set(s).map_err(fail)?;
     }
     let name = a.program.display().to_string();
-    let bytes = read_program(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
+    let source = nc_runtime::read_program(&a.program).map_err(|e| fail(format!("{name}: {e}")))?;
     md.programs = std::sync::Arc::new(
         nc_runtime::program_library(&a.program, &md.program.search_path).map_err(fail)?,
     );
-    // Part programs are ASCII; anything else is kept and reported where the lexer meets it.
-    // A valid file is taken as it is (no copy of a multi-megabyte program).
-    let source = String::from_utf8(bytes)
-        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
     Ok(Loaded {
         name,
         source,
         md,
         tools,
     })
-}
-
-/// The program's bytes (the runtime takes the memory's pages in one request before the read).
-fn read_program(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
-    let file = std::fs::File::open(path)?;
-    let len = file.metadata()?.len();
-    nc_runtime::os::read_file(&file, len)
 }
 
 fn parse(input: &ProgramArgs, output: Option<&PathBuf>) -> Result<(), Failure> {

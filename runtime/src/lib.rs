@@ -24,7 +24,7 @@ mod wire_tools;
 pub use clock::{CycleClock, Tick};
 pub use failure::{exit, Failure};
 pub use join::Threads;
-pub use program_files::program_library;
+pub use program_files::{program_library, read_program};
 pub use wire_axes::WireAxes;
 pub use wire_tools::{tool_table, tool_table_msg};
 

@@ -23,19 +23,26 @@ pub fn program_library(program: &Path, search_path: &[String]) -> Result<Program
     Ok(library)
 }
 
-/// A program file's text, at its first call: anything but UTF-8 kept and reported where the
-/// lexer meets it.
+/// A program file's text (the main program's, or a called one's): part programs are ASCII;
+/// anything else is kept and reported where the lexer meets it, and a valid file is taken as
+/// it is (no copy of a multi-megabyte program).
+pub fn read_program(path: &Path) -> std::io::Result<String> {
+    let file = std::fs::File::open(path)?;
+    let len = file.metadata()?.len();
+    let bytes = crate::os::read_file(&file, len)?;
+    Ok(String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+}
+
+/// A subprogram file's text, at its first call.
 fn read_text(path: &Path) -> Result<String, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let len = file.metadata().map_err(|e| e.to_string())?.len();
+    let len = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
     if len > MAX_FILE {
         return Err(format!(
             "{len} bytes, more than a subprogram file may have ({MAX_FILE})"
         ));
     }
-    let text = crate::os::read_file(&file, len).map_err(|e| e.to_string())?;
-    Ok(String::from_utf8(text)
-        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+    read_program(path).map_err(|e| e.to_string())
 }
 
 fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> std::io::Result<()> {
