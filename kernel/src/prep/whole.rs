@@ -36,11 +36,10 @@ const LEAF: usize = 8;
 /// order and line (the rest of the block's [`Source`] in `Tables::blocks` where it is not as
 /// the blocks before lead to expect), its end (it starts where the one before it ends, or —
 /// the top bit of `tool` — at its entry in `Tables::element_starts`), what it is, its tool
-/// radius and side by an index (they change seldom). Its box lies apart
-/// (`WholeCheck::boxes`: the tree's leaves read only the boxes, densely), and its [`Fence`]
-/// is worked out only for a pair that needs it. Small, because a long run keeps every one,
-/// and memory first written costs 0.5–0.7 ms a megabyte on the benchmark machine
-/// (docs/benchmarks.md).
+/// radius and side by an index (they change seldom). Its box is worked out again where the
+/// walk meets its leaf ([`BoxCache`]), and its [`Fence`] only for a pair that needs it.
+/// Small, because a long run keeps every one, and memory first written costs 0.5–0.7 ms a
+/// megabyte on the benchmark machine (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug)]
 struct Element {
     seq: u32,
@@ -56,7 +55,7 @@ const APART: u32 = 1 << 31;
 
 /// A tool-centre segment as the run keeps it, in 24 bytes: its end (it starts where the one
 /// before it ends, or — `Block::APART` — at its entry in `Tables::segment_starts`), what it is
-/// and its block (its box lies apart: `WholeCheck::reach`).
+/// and its block (its box is worked out again where the walk meets its leaf: [`BoxCache`]).
 #[derive(Clone, Copy, Debug)]
 struct PathSegment {
     b: V2,
@@ -381,11 +380,122 @@ enum Task {
     Across(usize, usize, usize),
 }
 
-/// The boxes the walk reads: each element's, and each segment's grown by its tool radius.
+/// An element's box as the walk keeps it.
+#[inline]
+fn element_box(e: &Elem) -> Bx {
+    kept_box(&bounds(e))
+}
+
+/// A segment's box grown by its tool radius `r`, as the walk keeps it.
+#[inline]
+fn reach_box(e: &Elem, r: f64) -> Bx {
+    let (bb, r) = (bounds(e), r.abs());
+    kept_box(&[bb[0] - r, bb[1] - r, bb[2] + r, bb[3] + r])
+}
+
+/// A leaf's segments: a range of the run's in path order, or listed (some came out of order).
 #[derive(Clone, Copy)]
-struct Boxes<'r> {
-    elements: &'r [Bx],
-    segments: &'r [Bx],
+enum LeafSegments<'t> {
+    /// From the first, how many.
+    Run(usize, usize),
+    Listed(&'t [u32]),
+}
+
+impl LeafSegments<'_> {
+    fn len(&self) -> usize {
+        match self {
+            LeafSegments::Run(_, n) => *n,
+            LeafSegments::Listed(l) => l.len(),
+        }
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> usize {
+        match self {
+            LeafSegments::Run(first, _) => first + i,
+            LeafSegments::Listed(l) => l[i] as usize,
+        }
+    }
+}
+
+/// Where the walk takes its boxes: those of the elements `ks` of one leaf, and those of the
+/// segments `ss` of a leaf (each grown by its tool radius), in the order given.
+trait LeafBoxes {
+    fn boxes(
+        &mut self,
+        a: usize,
+        ss: LeafSegments<'_>,
+        b: usize,
+        ks: core::ops::Range<usize>,
+    ) -> (&[Bx], &[Bx]);
+}
+
+/// Leaves whose boxes a [`BoxCache`] keeps: the walk takes a leaf against itself and then
+/// against its neighbours, and in a subtree of this many leaves the halves' leaves at the
+/// seam are still kept when the halves meet (so nearly every box is worked out once a walk).
+const SLOTS: usize = 64;
+
+/// The boxes of the leaves a walk met lately, worked out from the records (the records keep
+/// none: 16 bytes a record would be a third of a run's memory, and memory first written costs
+/// more here than working the boxes out again, docs/benchmarks.md). A slot a leaf modulo
+/// [`SLOTS`], for its elements and for its segments apart: a pair of leaves never contends.
+#[derive(Default)]
+struct BoxCache {
+    /// The run it was filled for ([`Tree::generation`]).
+    generation: u64,
+    /// Per slot: the leaf + 1 (0: none) and how many of its elements, their boxes.
+    elements: Vec<(usize, usize, [Bx; LEAF])>,
+    /// Per slot: the leaf + 1 (0: none), its segments' boxes.
+    segments: Vec<(usize, Vec<Bx>)>,
+}
+
+impl BoxCache {
+    /// Empty, for the run of `generation`.
+    fn clear(&mut self, generation: u64) {
+        self.generation = generation;
+        self.elements.clear();
+        self.elements.resize(SLOTS, (0, 0, [NOTHING; LEAF]));
+        self.segments.resize_with(SLOTS, Default::default);
+        for slot in &mut self.segments {
+            slot.0 = 0;
+        }
+    }
+}
+
+/// The boxes of a run's records, worked out through a [`BoxCache`].
+struct RecordBoxes<'c, 'r> {
+    c: Checked<'r>,
+    cache: &'c mut BoxCache,
+}
+
+impl LeafBoxes for RecordBoxes<'_, '_> {
+    #[inline]
+    fn boxes(
+        &mut self,
+        a: usize,
+        ss: LeafSegments<'_>,
+        b: usize,
+        ks: core::ops::Range<usize>,
+    ) -> (&[Bx], &[Bx]) {
+        let c = &self.c;
+        let (sa, sb) = (a % SLOTS, b % SLOTS);
+        let slot = &mut self.cache.segments[sa];
+        if slot.0 != a + 1 || slot.1.len() != ss.len() {
+            slot.0 = a + 1;
+            slot.1.clear();
+            slot.1
+                .extend((0..ss.len()).map(|i| c.segment_box(ss.get(i))));
+        }
+        let slot = &mut self.cache.elements[sb];
+        if slot.0 != b + 1 || slot.1 != ks.len() {
+            (slot.0, slot.1) = (b + 1, ks.len());
+            for (bb, k) in slot.2.iter_mut().zip(ks.clone()) {
+                *bb = element_box(&c.tables.element(c.elements, k));
+            }
+        }
+        let n = self.cache.elements[sb].1;
+        (&self.cache.segments[sa].1, &self.cache.elements[sb].2[..n])
+    }
 }
 
 /// A run's elements in their order along the contour, in a tree of boxes: leaf l holds
@@ -413,6 +523,9 @@ struct Tree {
     built: bool,
     /// The walk of the run's complete part while the run grows ([`WholeCheck::walk_some`]).
     early: EarlyWalk,
+    /// Counts the runs and the early walks started afresh: boxes kept for one
+    /// ([`BoxCache`]) are not read for another.
+    generation: u64,
 }
 
 /// The walk done while a run grows, in the time the thread that takes the path would wait
@@ -473,6 +586,7 @@ impl Tree {
 
     /// The walk of the run starts afresh at its end.
     fn forget_early(&mut self) {
+        self.generation += 1;
         let e = &mut self.early;
         (e.walked, e.at, e.kept) = (0, None, 0);
         e.stack.clear();
@@ -528,7 +642,7 @@ impl Tree {
         &mut self,
         elements: usize,
         steps: usize,
-        boxes: Boxes<'_>,
+        boxes: &mut impl LeafBoxes,
         f: &mut impl FnMut(u32, u32),
     ) -> bool {
         // A segment out of leaf order ends the early walk, wherever a leaf's work stands
@@ -735,14 +849,20 @@ impl Tree {
     }
 
     /// Each pair of a segment and an element of `task` whose boxes overlap, to `f`.
-    fn run(&self, task: Task, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+    fn run(&self, task: Task, boxes: &mut impl LeafBoxes, f: &mut impl FnMut(u32, u32)) {
         match task {
             Task::Within(level, i) => self.within(level, i, boxes, f),
             Task::Across(level, a, b) => self.across(level, a, b, boxes, f),
         }
     }
 
-    fn within(&self, level: usize, i: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+    fn within(
+        &self,
+        level: usize,
+        i: usize,
+        boxes: &mut impl LeafBoxes,
+        f: &mut impl FnMut(u32, u32),
+    ) {
         if self.walked(level, i) {
             return;
         }
@@ -762,7 +882,7 @@ impl Tree {
         level: usize,
         a: usize,
         b: usize,
-        boxes: Boxes<'_>,
+        boxes: &mut impl LeafBoxes,
         f: &mut impl FnMut(u32, u32),
     ) {
         if level > 0 {
@@ -784,23 +904,11 @@ impl Tree {
 
     /// The segments of leaf `a` against the elements of leaf `b`, box by box.
     #[inline]
-    fn leaves(&self, a: usize, b: usize, boxes: Boxes<'_>, f: &mut impl FnMut(u32, u32)) {
+    fn leaves(&self, a: usize, b: usize, boxes: &mut impl LeafBoxes, f: &mut impl FnMut(u32, u32)) {
         let end = if self.built {
             self.elements
         } else {
             usize::MAX
-        };
-        let elements = &boxes.elements[b * LEAF..((b + 1) * LEAF).min(end)];
-        let near = &self.levels[0][b].elements;
-        let mut meet = |s: usize| {
-            let bb = &boxes.segments[s];
-            if meets(bb, near) {
-                for (i, e) in elements.iter().enumerate() {
-                    if meets(bb, e) {
-                        f(s as u32, (b * LEAF + i) as u32);
-                    }
-                }
-            }
         };
         let starts = if self.built {
             &self.first
@@ -808,10 +916,21 @@ impl Tree {
             &self.early.begin
         };
         let range = starts[a] as usize..starts[a + 1] as usize;
-        if self.in_order {
-            range.for_each(&mut meet);
+        let ss = if self.in_order {
+            LeafSegments::Run(range.start, range.len())
         } else {
-            self.order[range].iter().for_each(|&s| meet(s as usize));
+            LeafSegments::Listed(&self.order[range])
+        };
+        let (segments, elements) = boxes.boxes(a, ss, b, b * LEAF..((b + 1) * LEAF).min(end));
+        let near = &self.levels[0][b].elements;
+        for (i, bb) in segments.iter().enumerate() {
+            if meets(bb, near) {
+                for (j, e) in elements.iter().enumerate() {
+                    if meets(bb, e) {
+                        f(ss.get(i) as u32, (b * LEAF + j) as u32);
+                    }
+                }
+            }
         }
     }
 }
@@ -847,6 +966,7 @@ struct Share {
     hits: Vec<(u32, u32, Gouge)>,
     /// The run's closed loops, worked out at the worker's first violation (prep/leads.rs).
     span: Option<Span>,
+    boxes: BoxCache,
 }
 
 impl Share {
@@ -855,13 +975,18 @@ impl Share {
     fn take(&mut self, tasks: &[Task], next: &AtomicUsize, tree: &Tree, c: Checked<'_>) {
         self.hits.clear();
         self.span = None;
+        self.boxes.clear(tree.generation);
+        let mut boxes = RecordBoxes {
+            c,
+            cache: &mut self.boxes,
+        };
         loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
             let Some(&task) = tasks.get(i) else {
                 return;
             };
             let mut pairs = Pairs::new(&c);
-            tree.run(task, c.boxes, &mut |s, k| {
+            tree.run(task, &mut boxes, &mut |s, k| {
                 let Some(g) = pairs.gouge(s as usize, k as usize) else {
                     return;
                 };
@@ -874,13 +999,12 @@ impl Share {
     }
 }
 
-/// What the workers read: the run's elements and segments, and their boxes.
+/// What the workers read: the run's elements and segments.
 #[derive(Clone, Copy)]
 struct Checked<'r> {
     elements: &'r [Element],
     segments: &'r [PathSegment],
     tables: &'r Tables,
-    boxes: Boxes<'r>,
 }
 
 /// The whole-program check of one preparation: the run's elements and segments are kept as
@@ -890,15 +1014,13 @@ struct Checked<'r> {
 pub struct WholeCheck<'a> {
     plane: Plane,
     elements: Vec<Element>,
-    /// Each element's box, beside it.
-    boxes: Vec<Bx>,
     segments: Vec<PathSegment>,
     tables: Tables,
     /// The elements that stay when a run ends (their blocks' run goes on), while it ends.
     staying: Vec<(Source, Elem, f64, i8)>,
-    /// Each segment's box grown by its tool radius, worked out as it comes.
-    reach: Vec<Bx>,
     tree: Tree,
+    /// The boxes the walk done while the run grows met lately.
+    early_boxes: BoxCache,
     tasks: Vec<Task>,
     /// The two workers of a long run (one does all of a short one).
     shares: [Share; 2],
@@ -919,12 +1041,11 @@ impl<'a> WholeCheck<'a> {
         WholeCheck {
             plane: Plane::XY,
             elements: Vec::new(),
-            boxes: Vec::new(),
             segments: Vec::new(),
             tables: Tables::default(),
             staying: Vec::new(),
-            reach: Vec::new(),
             tree: Tree::new(),
+            early_boxes: BoxCache::default(),
             tasks: Vec::new(),
             shares: Default::default(),
             join: None,
@@ -937,10 +1058,8 @@ impl<'a> WholeCheck<'a> {
     pub fn reserve(&mut self, blocks: usize) {
         let n = blocks.min(RESERVE_BLOCKS);
         self.elements.reserve(n);
-        self.boxes.reserve(n);
         // A contour block and its corner.
         self.segments.reserve(2 * n);
-        self.reach.reserve(2 * n);
         // A corner arc a block, and the arcs programmed.
         self.tables.centres.reserve(n);
         self.tree.reserve(n);
@@ -973,9 +1092,7 @@ impl<'a> WholeCheck<'a> {
             kind,
             tool,
         });
-        let bb = kept_box(&bounds(&elem));
-        self.tree.element(self.boxes.len(), &bb);
-        self.boxes.push(bb);
+        self.tree.element(k, &element_box(&elem));
     }
 
     /// A segment of the tool-centre path as it goes out. A segment that is no contour,
@@ -1011,15 +1128,13 @@ impl<'a> WholeCheck<'a> {
         };
         let (a, b, kind, reach) = match shape {
             Ok(e) => {
-                let bb = bounds(&e);
-                let r = r.abs();
                 let (a, b, kind) = self.tables.pack(&e);
-                (a, b, kind, [bb[0] - r, bb[1] - r, bb[2] + r, bb[3] + r])
+                (a, b, kind, reach_box(&e, r))
             }
             Err(sp) => {
                 self.tables.spirals.push(sp);
                 let kind = Kind::spiral(self.tables.spirals.len() - 1);
-                (V2::default(), V2::default(), kind, sp.bbox())
+                (V2::default(), V2::default(), kind, kept_box(&sp.bbox()))
             }
         };
         // A spiral keeps its start in its own entry.
@@ -1028,9 +1143,7 @@ impl<'a> WholeCheck<'a> {
         if kind.spiral_index().is_none() && starts_apart(prev, a, self.segments.len(), starts) {
             block.0 |= Block::APART;
         }
-        let bb = kept_box(&reach);
-        self.tree.segment(anchor, &bb);
-        self.reach.push(bb);
+        self.tree.segment(anchor, &reach);
         self.segments.push(PathSegment { b, kind, block });
     }
 
@@ -1041,19 +1154,26 @@ impl<'a> WholeCheck<'a> {
             elements: &self.elements,
             segments: &self.segments,
             tables: &self.tables,
-            boxes: Boxes {
-                elements: &self.boxes,
-                segments: &self.reach,
-            },
+        };
+        if self.early_boxes.generation != self.tree.generation
+            || self.early_boxes.elements.is_empty()
+        {
+            self.early_boxes.clear(self.tree.generation);
+        }
+        let mut boxes = RecordBoxes {
+            c,
+            cache: &mut self.early_boxes,
         };
         let mut hits = std::mem::take(&mut self.tree.early.hits);
         let elements = self.elements.len();
         let mut pairs = Pairs::new(&c);
-        let did = self.tree.work(elements, EARLY_STEPS, c.boxes, &mut |s, k| {
-            if let Some(g) = pairs.gouge(s as usize, k as usize) {
-                hits.push((s, k, g));
-            }
-        });
+        let did = self
+            .tree
+            .work(elements, EARLY_STEPS, &mut boxes, &mut |s, k| {
+                if let Some(g) = pairs.gouge(s as usize, k as usize) {
+                    hits.push((s, k, g));
+                }
+            });
         if self.tree.early.at.is_none() {
             // No leaf at hand: all found so far is of walked leaves.
             self.tree.early.kept = hits.len();
@@ -1080,7 +1200,7 @@ impl<'a> WholeCheck<'a> {
             return;
         }
         self.finish_early(n);
-        let (elements, boxes) = (&self.elements[..n], &self.boxes[..n]);
+        let elements = &self.elements[..n];
         let (segments, tables) = (&self.segments[..], &self.tables);
         let long = self.join.filter(|_| segments.len() >= PARALLEL_SEGMENTS);
         self.tree.build(n);
@@ -1091,10 +1211,6 @@ impl<'a> WholeCheck<'a> {
             elements,
             segments,
             tables,
-            boxes: Boxes {
-                elements: boxes,
-                segments: &self.reach,
-            },
         };
         let [first, second] = &mut self.shares;
         let next = AtomicUsize::new(0);
@@ -1172,7 +1288,6 @@ impl<'a> WholeCheck<'a> {
     /// came out) stays.
     fn end_run(&mut self, seq: Option<u32>) {
         self.segments.clear();
-        self.reach.clear();
         // Those that stay are the last few: kept again, in fresh tables.
         let gone = self.before(seq);
         let mut stay = std::mem::take(&mut self.staying);
@@ -1184,7 +1299,6 @@ impl<'a> WholeCheck<'a> {
             (source, self.tables.element(&self.elements, k), r, side)
         }));
         self.elements.clear();
-        self.boxes.clear();
         self.tables.clear();
         self.tree.clear();
         // They were the last elements in: `last` stays what it was.
@@ -1229,6 +1343,22 @@ impl Checked<'_> {
             Some(k) => self.tables.source(self.elements, k),
             None => self.tables.orphans[s.block.index()].source,
         }
+    }
+
+    /// Segment `s`'s box grown by its tool radius, as it was when it came.
+    fn segment_box(&self, s: usize) -> Bx {
+        let seg = &self.segments[s];
+        if let Some(i) = seg.kind.spiral_index() {
+            return kept_box(&self.tables.spirals[i].bbox());
+        }
+        let apart = seg.block.0 & Block::APART != 0;
+        let a = start_of(
+            apart,
+            || self.segments[s - 1].b,
+            &self.tables.segment_starts,
+            s,
+        );
+        reach_box(&self.tables.elem(a, seg.b, seg.kind), self.block(seg).1)
     }
 
     /// What a pair's test first asks of segment `s`: its block, tool radius and side.
@@ -1418,6 +1548,28 @@ mod tests {
         found
     }
 
+    /// The walk's boxes from slices of them, for the tree alone.
+    struct SliceBoxes<'a> {
+        elements: &'a [Bx],
+        segments: &'a [Bx],
+        listed: Vec<Bx>,
+    }
+
+    impl LeafBoxes for SliceBoxes<'_> {
+        fn boxes(
+            &mut self,
+            _: usize,
+            ss: LeafSegments<'_>,
+            _: usize,
+            ks: core::ops::Range<usize>,
+        ) -> (&[Bx], &[Bx]) {
+            self.listed.clear();
+            self.listed
+                .extend((0..ss.len()).map(|i| self.segments[ss.get(i)]));
+            (&self.listed, &self.elements[ks])
+        }
+    }
+
     /// A run keeps every element and segment: their records must not grow unnoticed
     /// (docs/benchmarks.md measures what a megabyte of them costs).
     #[test]
@@ -1561,6 +1713,43 @@ mod tests {
     }
 
     proptest! {
+        /// The boxes the walk works out from the records are those of the elements and of the
+        /// segments (grown by their blocks' tool radii) as they came, bit for bit.
+        #[test]
+        fn the_walks_boxes_are_those_of_the_records_as_they_came(
+            (elements, segments) in run_of_blocks()
+        ) {
+            let radius = |k: usize| 0.5 + (k % 3) as f64;
+            let mut w = WholeCheck::new();
+            for (k, e) in elements.iter().enumerate() {
+                w.element(src(k as u32 + 1), *e, radius(k), 1);
+            }
+            for s in &segments {
+                w.segment(s, &mut |_| false);
+            }
+            prop_assert_eq!(w.segments.len(), segments.len());
+            let c = Checked { elements: &w.elements, segments: &w.segments, tables: &w.tables };
+            let mut cache = BoxCache::default();
+            cache.clear(w.tree.generation);
+            let mut boxes = RecordBoxes { c, cache: &mut cache };
+            let n = elements.len();
+            for leaf in 0..n.div_ceil(LEAF) {
+                let ks = leaf * LEAF..((leaf + 1) * LEAF).min(n);
+                let ss = LeafSegments::Run(0, segments.len());
+                let (sb, eb) = boxes.boxes(leaf, ss, leaf, ks.clone());
+                for (bb, k) in eb.iter().zip(ks) {
+                    prop_assert_eq!(*bb, element_box(&elements[k]), "element {}", k);
+                }
+                for (bb, seg) in sb.iter().zip(&segments) {
+                    let e = elem_in(seg, Plane::XY).expect("a line or an arc in XY");
+                    let k = seg.source.seq as usize - 1;
+                    prop_assert_eq!(*bb, reach_box(&e, radius(k)), "segment of block {}", k + 1);
+                }
+            }
+        }
+    }
+
+    proptest! {
         /// A pair's answer does not depend on what the worker decoded before it: every pair
         /// of a run, taken in the walk's order, the other way round and in a scrambled one by
         /// one worker, gives what a fresh worker gives for it alone (tool radii and sides
@@ -1581,7 +1770,6 @@ mod tests {
                 elements: &w.elements,
                 segments: &w.segments,
                 tables: &w.tables,
-                boxes: Boxes { elements: &w.boxes, segments: &w.reach },
             };
             let answer = |g: Option<Gouge>| g.map(|g| (g.path.seq, g.element.seq, g.distance.to_bits()));
             let (ns, nk) = (w.segments.len(), w.elements.len());
@@ -1809,12 +1997,12 @@ mod tests {
                 tree.segment(*k, bb);
             }
             tree.build(boxes.len());
-            let all = Boxes { elements: &kept, segments: &seg_boxes };
+            let mut all = SliceBoxes { elements: &kept, segments: &seg_boxes, listed: Vec::new() };
             let mut tasks = Vec::new();
             tree.tasks(nodes, &mut tasks);
             let mut met = vec![0u32; reach.len() * boxes.len()];
             for &t in &tasks {
-                tree.run(t, all, &mut |s, k| met[s as usize * boxes.len() + k as usize] += 1);
+                tree.run(t, &mut all, &mut |s, k| met[s as usize * boxes.len() + k as usize] += 1);
             }
             for (s, (bb, _)) in reach.iter().enumerate() {
                 for (k, ebb) in boxes.iter().enumerate() {
