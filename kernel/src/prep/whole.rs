@@ -64,9 +64,11 @@ struct PathSegment {
 }
 
 /// What a record's piece is, in four bytes beside its ends: a line, an arc (its centre an
-/// entry of `Tables::centres`, and its direction), or — rare: a radius change over an arc — a
-/// spiral (an entry of `Tables::spirals`, which holds all of it). The kind in the top two
-/// bits, the index below them.
+/// entry of `Tables::centres` — or, for a path arc, a point of its block's element: a
+/// corner's arc turns about the corner, an arc's equidistant about the arc's centre — and
+/// its direction), or — rare: a radius change over an arc — a spiral (an entry of
+/// `Tables::spirals`, which holds all of it). The kind in the top two bits, the index below
+/// them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Kind(u32);
 
@@ -74,8 +76,17 @@ impl Kind {
     const LINE: Kind = Kind(3 << 30);
     const INDEX: u32 = (1 << 30) - 1;
 
+    /// A path arc's centre: its element's start, end or centre (indices no table reaches).
+    const ABOUT_START: u32 = Self::INDEX;
+    const ABOUT_END: u32 = Self::INDEX - 1;
+    const ABOUT_CENTRE: u32 = Self::INDEX - 2;
+
     fn arc(centre: usize, ccw: bool) -> Kind {
         Kind(centre as u32 & Self::INDEX | u32::from(ccw) << 30)
+    }
+
+    fn arc_about(point: u32, ccw: bool) -> Kind {
+        Kind(point | u32::from(ccw) << 30)
     }
 
     fn spiral(i: usize) -> Kind {
@@ -275,6 +286,55 @@ impl Tables {
         }
     }
 
+    /// A path segment `e` of the block of element `own`, as its record keeps it: an arc's
+    /// centre goes into the table only where it is no point of that element.
+    fn pack_segment(
+        &mut self,
+        e: &Elem,
+        elements: &[Element],
+        own: Option<usize>,
+    ) -> (V2, V2, Kind) {
+        let (Elem::Arc { a, b, c, ccw }, Some(k)) = (*e, own) else {
+            return self.pack(e);
+        };
+        let o = self.element(elements, k);
+        let about = if same(c, o.start()) {
+            Kind::ABOUT_START
+        } else if same(c, o.end()) {
+            Kind::ABOUT_END
+        } else if matches!(o, Elem::Arc { c: oc, .. } if same(c, oc)) {
+            Kind::ABOUT_CENTRE
+        } else {
+            return self.pack(e);
+        };
+        (a, b, Kind::arc_about(about, ccw))
+    }
+
+    /// Segment `seg`'s line or arc (not a spiral), starting at `a`.
+    #[inline(always)]
+    fn segment_elem(&self, elements: &[Element], seg: &PathSegment, a: V2) -> Elem {
+        let i = seg.kind.index() as u32;
+        if seg.kind == Kind::LINE || i < Kind::ABOUT_CENTRE {
+            return self.elem(a, seg.b, seg.kind);
+        }
+        // Only a segment of a block with an element is packed about it.
+        let k = seg.block.index();
+        let c = match i {
+            Kind::ABOUT_START => {
+                let apart = elements[k].tool & APART != 0;
+                start_of(apart, || elements[k - 1].b, &self.element_starts, k)
+            }
+            Kind::ABOUT_END => elements[k].b,
+            _ => self.centres[elements[k].kind.index()],
+        };
+        Elem::Arc {
+            a,
+            b: seg.b,
+            c,
+            ccw: seg.kind.0 >> 30 == 1,
+        }
+    }
+
     /// The line or arc a record keeps (not a spiral).
     #[inline]
     fn elem(&self, a: V2, b: V2, kind: Kind) -> Elem {
@@ -310,18 +370,22 @@ impl Tables {
         self.tools[(e.tool & !APART) as usize]
     }
 
-    /// Segment `s` of `segments` as the window measures it.
+    /// Segment `s` of `segments` (of the run of `elements`) as the window measures it.
     #[inline]
-    fn piece(&self, segments: &[PathSegment], s: usize) -> PathPiece {
-        let seg = &segments[s];
-        match seg.kind.spiral_index() {
+    fn piece(&self, elements: &[Element], segments: &[PathSegment], s: usize) -> PathPiece {
+        match segments[s].kind.spiral_index() {
             Some(i) => PathPiece::Spiral(self.spirals[i]),
-            None => {
-                let apart = seg.block.0 & Block::APART != 0;
-                let a = start_of(apart, || segments[s - 1].b, &self.segment_starts, s);
-                PathPiece::Plain(Measured::new(self.elem(a, seg.b, seg.kind)))
-            }
+            None => PathPiece::Plain(Measured::new(self.segment(elements, segments, s))),
         }
+    }
+
+    /// Segment `s` of `segments`, a line or an arc.
+    #[inline(always)]
+    fn segment(&self, elements: &[Element], segments: &[PathSegment], s: usize) -> Elem {
+        let seg = &segments[s];
+        let apart = seg.block.0 & Block::APART != 0;
+        let a = start_of(apart, || segments[s - 1].b, &self.segment_starts, s);
+        self.segment_elem(elements, seg, a)
     }
 }
 
@@ -1060,7 +1124,7 @@ impl<'a> WholeCheck<'a> {
         self.elements.reserve(n);
         // A contour block and its corner.
         self.segments.reserve(2 * n);
-        // A corner arc a block, and the arcs programmed.
+        // The arcs programmed (a path arc about a point of its element takes no entry).
         self.tables.centres.reserve(n);
         self.tree.reserve(n);
     }
@@ -1128,7 +1192,7 @@ impl<'a> WholeCheck<'a> {
         };
         let (a, b, kind, reach) = match shape {
             Ok(e) => {
-                let (a, b, kind) = self.tables.pack(&e);
+                let (a, b, kind) = self.tables.pack_segment(&e, &self.elements, own);
                 (a, b, kind, reach_box(&e, r))
             }
             Err(sp) => {
@@ -1351,14 +1415,8 @@ impl Checked<'_> {
         if let Some(i) = seg.kind.spiral_index() {
             return kept_box(&self.tables.spirals[i].bbox());
         }
-        let apart = seg.block.0 & Block::APART != 0;
-        let a = start_of(
-            apart,
-            || self.segments[s - 1].b,
-            &self.tables.segment_starts,
-            s,
-        );
-        reach_box(&self.tables.elem(a, seg.b, seg.kind), self.block(seg).1)
+        let e = self.tables.segment(self.elements, self.segments, s);
+        reach_box(&e, self.block(seg).1)
     }
 
     /// What a pair's test first asks of segment `s`: its block, tool radius and side.
@@ -1446,7 +1504,7 @@ impl<'c, 'r> Pairs<'c, 'r> {
             slot => slot.insert(c.element_view(k)),
         };
         let (piece, tol) = sv.piece.get_or_insert_with(|| {
-            let piece = c.tables.piece(c.segments, s);
+            let piece = c.tables.piece(c.elements, c.segments, s);
             let tol = piece.gouge_tol();
             (piece, tol)
         });
@@ -1701,7 +1759,7 @@ mod tests {
             let mut i = 0;
             for s in &segments {
                 let Some(want) = elem_in(s, Plane::XY) else { continue };
-                let got = match w.tables.piece(&w.segments, i) {
+                let got = match w.tables.piece(&w.elements, &w.segments, i) {
                     PathPiece::Plain(m) => Some(m.e),
                     _ => None,
                 };
