@@ -117,11 +117,13 @@ impl SoftLimits {
     /// per-axis arrays.
     #[inline]
     fn holds(&self, seg: &Segment) -> bool {
-        let within = |i: usize, lo: f64, hi: f64| lo >= self.lo[i] && hi <= self.hi[i];
-        if !(0..3).all(|i| {
-            let (p, q) = (seg.from[i], seg.to[i]);
-            within(i, p.min(q), p.max(q))
-        }) {
+        // Plain comparisons, and-ed without short cuts: the common segment passes all of them
+        // (a NaN fails one and goes to `exact`, which decides as before).
+        let inside = |i: usize, v: f64| (v >= self.lo[i]) & (v <= self.hi[i]);
+        let ends = (0..3).fold(true, |ok, i| {
+            ok & inside(i, seg.from[i]) & inside(i, seg.to[i])
+        });
+        if !ends {
             return false;
         }
         let Some((center, center_end, plane)) = centres(seg) else {
@@ -131,10 +133,13 @@ impl SoftLimits {
         // as large as `circle_box`'s, without a square root.
         let (a, o) = (plane.abscissa as usize, plane.ordinate as usize);
         let l1 = |p: &Pos, c: &Pos| (p[a] - c[a]).abs() + (p[o] - c[o]).abs();
-        let r = l1(&seg.from, &center).max(l1(&seg.to, &center_end)) * (1.0 + 1e-12) + 1e-9;
-        about_centres(&center, &center_end, plane, r)
-            .into_iter()
-            .all(|(i, lo, hi)| within(i, lo, hi))
+        let (r0, r1) = (l1(&seg.from, &center), l1(&seg.to, &center_end));
+        let r = if r0 >= r1 { r0 } else { r1 } * (1.0 + 1e-12) + 1e-9;
+        let circle = |i: usize| {
+            let (c, d) = (center[i], center_end[i]);
+            inside(i, c - r) & inside(i, c + r) & inside(i, d - r) & inside(i, d + r)
+        };
+        circle(a) & circle(o)
     }
 }
 
