@@ -51,14 +51,19 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
         .collect();
     // A fixed order, so that the first file of a number is always the same one.
     entries.sort();
+    // The names first: a folder may hold many other files, each a system call to look at.
+    let program = program.canonicalize().ok();
     for path in entries {
         let Some(file) = path.file_name().and_then(|f| f.to_str()) else {
             continue;
         };
+        if ProgramLibrary::key_of(file).is_none() {
+            continue;
+        }
         let small = path
             .metadata()
             .is_ok_and(|m| m.is_file() && m.len() <= MAX_FILE);
-        if !small || ProgramLibrary::key_of(file).is_none() || same_file(&path, program) {
+        if !small || (program.is_some() && path.canonicalize().ok() == program) {
             continue;
         }
         let (file, name) = (file.to_string(), path.display().to_string());
@@ -68,9 +73,29 @@ fn add_folder(library: &mut ProgramLibrary, folder: &Path, program: &Path) -> st
     Ok(())
 }
 
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The folder's files that name a program are listed, the main program itself (however
+    /// its path is written) and files that name none are not.
+    #[test]
+    fn a_folder_lists_its_programs_but_the_main_one() {
+        let dir = std::env::temp_dir().join(format!("softnc-library-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text) in [
+            ("O0001.nc", "G0 X1\nM30\n"),
+            ("O0002.nc", "G0 X2\nM99\n"),
+            ("notes.txt", "not a program\n"),
+        ] {
+            std::fs::write(dir.join(name), text).unwrap();
+        }
+        let main = dir.join(".").join("O0001.nc");
+        let library = program_library(&main, &[]).unwrap();
+        let listed = library.len();
+        let (two, one) = (library.find(2).is_some(), library.find(1).is_some());
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(listed, 1);
+        assert!(two && !one);
     }
 }
