@@ -280,6 +280,9 @@ impl Tables {
         match *e {
             Elem::Line { a, b } => (a, b, Kind::LINE),
             Elem::Arc { a, b, c, ccw } => {
+                // Indices wrap at 2^30 like the blocks' (a run of a billion arcs is some 16 GB
+                // of centres); the last three name an element's points.
+                debug_assert!(self.centres.len() < Kind::ABOUT_CENTRE as usize);
                 self.centres.push(c);
                 (a, b, Kind::arc(self.centres.len() - 1, ccw))
             }
