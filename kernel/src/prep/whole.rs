@@ -300,17 +300,26 @@ impl Tables {
         let (Elem::Arc { a, b, c, ccw }, Some(k)) = (*e, own) else {
             return self.pack(e);
         };
-        let o = self.element(elements, k);
-        let about = if same(c, o.start()) {
-            Kind::ABOUT_START
-        } else if same(c, o.end()) {
-            Kind::ABOUT_END
-        } else if matches!(o, Elem::Arc { c: oc, .. } if same(c, oc)) {
-            Kind::ABOUT_CENTRE
-        } else {
-            return self.pack(e);
-        };
-        (a, b, Kind::arc_about(about, ccw))
+        let arc = elements[k].kind != Kind::LINE;
+        let about = [Kind::ABOUT_START, Kind::ABOUT_END, Kind::ABOUT_CENTRE]
+            .into_iter()
+            .filter(|&p| p != Kind::ABOUT_CENTRE || arc)
+            .find(|&p| same(c, self.element_point(elements, k, p)));
+        match about {
+            Some(p) => (a, b, Kind::arc_about(p, ccw)),
+            None => self.pack(e),
+        }
+    }
+
+    /// Point `about` (`Kind::ABOUT_*`) of element `k`: its start, its end, or its centre (an
+    /// arc's: a path arc is packed about it only then).
+    #[inline(always)]
+    fn element_point(&self, elements: &[Element], k: usize, about: u32) -> V2 {
+        match about {
+            Kind::ABOUT_START => self.element_start(elements, k),
+            Kind::ABOUT_END => elements[k].b,
+            _ => self.centres[elements[k].kind.index()],
+        }
     }
 
     /// Segment `seg`'s line or arc (not a spiral), starting at `a`.
@@ -321,19 +330,10 @@ impl Tables {
             return self.elem(a, seg.b, seg.kind);
         }
         // Only a segment of a block with an element is packed about it.
-        let k = seg.block.index();
-        let c = match i {
-            Kind::ABOUT_START => {
-                let apart = elements[k].tool & APART != 0;
-                start_of(apart, || elements[k - 1].b, &self.element_starts, k)
-            }
-            Kind::ABOUT_END => elements[k].b,
-            _ => self.centres[elements[k].kind.index()],
-        };
         Elem::Arc {
             a,
             b: seg.b,
-            c,
+            c: self.element_point(elements, seg.block.index(), i),
             ccw: seg.kind.0 >> 30 == 1,
         }
     }
@@ -364,9 +364,14 @@ impl Tables {
     #[inline]
     fn element(&self, elements: &[Element], k: usize) -> Elem {
         let e = &elements[k];
-        let apart = e.tool & APART != 0;
-        let a = start_of(apart, || elements[k - 1].b, &self.element_starts, k);
-        self.elem(a, e.b, e.kind)
+        self.elem(self.element_start(elements, k), e.b, e.kind)
+    }
+
+    /// Where element `k` of `elements` starts.
+    #[inline]
+    fn element_start(&self, elements: &[Element], k: usize) -> V2 {
+        let apart = elements[k].tool & APART != 0;
+        start_of(apart, || elements[k - 1].b, &self.element_starts, k)
     }
 
     fn element_tool(&self, e: &Element) -> (f64, i8) {
@@ -517,6 +522,13 @@ struct BoxCache {
 }
 
 impl BoxCache {
+    /// Ready for the run of `generation`: emptied where it was filled for another.
+    fn keep_for(&mut self, generation: u64) {
+        if self.generation != generation || self.elements.is_empty() {
+            self.clear(generation);
+        }
+    }
+
     /// Empty, for the run of `generation`.
     fn clear(&mut self, generation: u64) {
         self.generation = generation;
@@ -1222,11 +1234,7 @@ impl<'a> WholeCheck<'a> {
             segments: &self.segments,
             tables: &self.tables,
         };
-        if self.early_boxes.generation != self.tree.generation
-            || self.early_boxes.elements.is_empty()
-        {
-            self.early_boxes.clear(self.tree.generation);
-        }
+        self.early_boxes.keep_for(self.tree.generation);
         let mut boxes = RecordBoxes {
             c,
             cache: &mut self.early_boxes,
