@@ -254,6 +254,35 @@ fn lone(tag: &str) -> Lone {
 }
 
 /// The answer has status `want` and a message that says something.
+/// A program with a byte that is not UTF-8 in a comment (an old editor's Latin-1 `Ø`): the
+/// control loads, runs and shows it as `softnc check` reads it, the byte as U+FFFD (in a word
+/// the byte is an alarm at its line and column, as any character the language does not know).
+#[test]
+fn a_latin1_byte_in_a_comment_runs_and_shows_as_softnc_check_reads_it() {
+    let prog = scratch("latin1.mpf");
+    std::fs::write(
+        &prog,
+        b"N10 G0 X0 Y0 Z0 (\xD8 10 mm)\nN20 G1 X10 F3000\nM30\n",
+    )
+    .unwrap();
+    let check = std::process::Command::new(env!("CARGO_BIN_EXE_softnc"))
+        .arg("check")
+        .arg(&prog)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&check.stderr);
+    assert!(check.status.success(), "{said}");
+    let st = station("latin1", Some(&prog), &[], &[]);
+    let end = st.until_end(Duration::from_secs(30));
+    assert!((pos(&end)[0] - 10.0).abs() < 1e-6, "{end}");
+    let shown = st.bridge.get("/api/program").unwrap();
+    assert_eq!(shown.status, 200, "{}", shown.body);
+    let text = "N10 G0 X0 Y0 Z0 (\u{FFFD} 10 mm)\nN20 G1 X10 F3000\nM30\n";
+    assert_eq!(shown.json()["text"], json!(text));
+    let plot = st.bridge.get("/api/plot").unwrap();
+    assert_eq!(plot.status, 200, "{}", plot.body);
+}
+
 fn refused(a: hmi_bridge::client::Answer, want: u16, what: &str) -> String {
     assert_eq!(a.status, want, "{what}: {}", a.body);
     let msg = a.json()["error"].as_str().unwrap_or("").to_string();

@@ -46,6 +46,13 @@ fn refuse(code: u16, m: impl Into<String>) -> Refuse {
 
 type Answer = Result<(u16, Value), Refuse>;
 
+/// The program's text as the kernel reads it (`nc_runtime::read_program`: a byte that is not
+/// UTF-8 shows as U+FFFD, where the kernel reports it if it is not in a comment).
+fn read_program(path: &str) -> Result<String, Refuse> {
+    nc_runtime::read_program(std::path::Path::new(path))
+        .map_err(|e| refuse(404, format!("{path}: {e}")))
+}
+
 impl Api {
     pub fn new(link: Link, token: Option<String>, md: MachineData, programs: PathBuf) -> Self {
         Api {
@@ -332,8 +339,7 @@ impl Api {
         let Some(path) = snap.program_path else {
             return Ok((200, json!({ "path": null, "text": null })));
         };
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| refuse(404, format!("{path}: {e}")))?;
+        let text = read_program(&path)?;
         Ok((200, json!({ "path": path, "text": text })))
     }
 
@@ -356,8 +362,7 @@ impl Api {
                 return Ok((200, serde_json::from_str(&c.json).unwrap_or(Value::Null)));
             }
         }
-        let source =
-            std::fs::read_to_string(&path).map_err(|e| refuse(404, format!("{path}: {e}")))?;
+        let source = read_program(&path)?;
         let mut md = self.md.clone();
         if let Some(w) = &snap.work_offsets {
             md.work_offsets = plot::work_offsets(w, &self.md);

@@ -23,9 +23,12 @@ pub fn program_library(program: &Path, search_path: &[String]) -> Result<Program
     Ok(library)
 }
 
-/// A program file's text (the main program's, or a called one's): part programs are ASCII;
-/// anything else is kept and reported where the lexer meets it, and a valid file is taken as
-/// it is (no copy of a multi-megabyte program).
+/// A program file's text (the main program's, or a called one's), read the same way wherever
+/// softnc reads a part program (`softnc check`, the control's processes, replay, the HMI), so
+/// that what the check passes the control loads: part programs are ASCII; a byte that is not
+/// UTF-8 (an old editor's Latin-1 `Ø` in a comment) becomes U+FFFD, harmless in a comment and
+/// reported with its line and column where the lexer meets it in a word; a valid file is taken
+/// as it is (no copy of a multi-megabyte program).
 pub fn read_program(path: &Path) -> std::io::Result<String> {
     let file = std::fs::File::open(path)?;
     let len = file.metadata()?.len();

@@ -59,7 +59,7 @@ pub fn main(args: KernelArgs) -> Result<(), Failure> {
         ..Default::default()
     };
     let name = program.display().to_string();
-    let source = std::fs::read_to_string(program).map_err(|e| format!("{name}: {e}"))?;
+    let source = crate::read_program(program).map_err(|e| format!("{name}: {e}"))?;
     md.programs = std::sync::Arc::new(crate::program_library(program, &md.program.search_path)?);
     let mut setpoints = 0u64;
     let stats = run(&name, &source, &md, &tools, &opts, &mut |_sp| {

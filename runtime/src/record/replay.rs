@@ -343,7 +343,8 @@ impl Replay<'_> {
                 fingerprint: f,
                 at,
             } => {
-                let source = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+                let source = crate::read_program(std::path::Path::new(path))
+                    .map_err(|e| format!("{path}: {e}"))?;
                 if fingerprint(source.as_bytes()) != *f {
                     return Err(format!("{path} differs from the text the run loaded"));
                 }

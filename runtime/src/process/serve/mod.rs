@@ -278,7 +278,8 @@ fn load(
     id: u32,
     at: Option<nc_kernel::AxisPos>,
 ) -> Result<(Box<Program>, Loaded), (u32, String)> {
-    let source = std::fs::read_to_string(path).map_err(|e| (0, format!("{path}: {e}")))?;
+    let source =
+        crate::read_program(std::path::Path::new(path)).map_err(|e| (0, format!("{path}: {e}")))?;
     let mut md = md.clone();
     md.programs = std::sync::Arc::new(
         crate::program_library(std::path::Path::new(path), &md.program.search_path)
